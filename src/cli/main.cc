@@ -1,0 +1,2 @@
+// camdyn command line: placeholder until the CLI lands.
+int main() { return 0; }

@@ -1,0 +1,72 @@
+// The follower motion law s(θ): displacement of the follower above its lowest
+// position as a function of cam angle, periodic in 2π, with derivatives to
+// third order (velocity, acceleration and jerk per unit cam speed). Built from
+// piecewise segments (rise / dwell / return with the classic laws or a spline
+// segment), a whole-cycle periodic spline, or a lift table (physics.md §1,
+// interface.md `mechanism.cam.motion_law`).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "io/config.h"
+
+namespace camdyn {
+
+/// s and its derivatives with respect to cam angle at one θ.
+struct LawSample {
+  double s = 0.0;    ///< displacement [m] (or [rad] for an oscillating arm)
+  double ds = 0.0;   ///< ds/dθ [m/rad]
+  double d2s = 0.0;  ///< d²s/dθ² [m/rad²]
+  double d3s = 0.0;  ///< d³s/dθ³ [m/rad³]
+};
+
+/// A normalised rise f(x) on x ∈ [0, 1] with f(0) = 0, f(1) = 1; derivatives in x.
+class NormalisedRise {
+ public:
+  virtual ~NormalisedRise() = default;
+  virtual LawSample eval(double x) const = 0;
+};
+
+/// Immutable, periodic motion law. Cheap to evaluate (no allocation); safe to
+/// share between threads.
+class MotionLaw {
+ public:
+  /// Evaluates at any real θ [rad]; θ is reduced modulo 2π.
+  LawSample eval(double theta) const;
+
+  /// Total lift (max s − min s) [m].
+  double lift() const { return max_s_ - min_s_; }
+
+  /// One piece of the law: θ ∈ [start, end) [rad], s = base + sign·lift·f((θ − start)/(end − start)).
+  struct Piece {
+    double start = 0.0, end = 0.0;  ///< [rad]
+    double base = 0.0;              ///< s at the piece start [m]
+    double lift = 0.0;              ///< signed lift over the piece [m] (0 for a dwell)
+    std::shared_ptr<const NormalisedRise> shape;  ///< null for a dwell
+  };
+
+  /// A law made of pieces that cover [0, 2π) in order.
+  explicit MotionLaw(std::vector<Piece> pieces);
+
+  const std::vector<Piece>& pieces() const { return pieces_; }
+
+ private:
+  std::vector<Piece> pieces_;
+  double min_s_ = 0.0, max_s_ = 0.0;
+};
+
+/// Builds the law from config. `path` is the dotted path of the motion_law
+/// object and `file` the config file, both for InputError messages: segments
+/// not covering 360°, unknown law, lift mismatch between rises and returns,
+/// bad spline data, unreadable table file, etc.
+MotionLaw build_motion_law(const MotionLawConfig& config, const std::string& file,
+                           const std::string& path = "mechanism.cam.motion_law");
+
+/// The classic normalised rise laws by name ("cycloidal", "polynomial_345",
+/// "polynomial_4567", "harmonic", "modified_trapezoid", "modified_sine").
+/// Returns null for an unknown name.
+std::shared_ptr<const NormalisedRise> classic_rise(const std::string& name);
+
+}  // namespace camdyn

@@ -1,0 +1,182 @@
+// The scene configuration: one struct per JSON object of
+// ../shared/spec/interface.md. Defaults live in the member initialisers (and
+// nowhere else); io/config.cc maps each struct to and from JSON in exactly one
+// function that lists every field, so unknown keys are rejected and the fully
+// resolved config can be printed back.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace camdyn {
+
+using Json = nlohmann::ordered_json;
+
+// ---------------------------------------------------------------- motion law
+
+/// One segment of a piecewise motion law (`mechanism.cam.motion_law.segments[i]`).
+struct SegmentConfig {
+  std::string type;            ///< "rise", "dwell" or "return"
+  std::string law;             ///< rise/return only: "cycloidal", "polynomial_345", "polynomial_4567",
+                               ///< "harmonic", "modified_trapezoid", "modified_sine", "spline"
+  double end_deg = 0.0;        ///< cam angle where the segment ends [deg], in (start, 360]
+  std::optional<double> lift;  ///< rise/return: lift magnitude [m] (translating follower)
+  std::optional<double> lift_deg;  ///< rise/return: arm rotation [deg] (oscillating follower)
+  int degree = 5;              ///< spline only: polynomial degree (>= 3)
+  std::vector<double> control_points;  ///< spline only: free interior control points,
+                                       ///< normalised lift (0 = segment start, 1 = end)
+};
+
+/// Whole-cycle periodic spline through given lifts (`motion_law.spline`).
+struct PeriodicSplineConfig {
+  int degree = 5;
+  std::vector<double> knots_deg;  ///< increasing, within [0, 360)
+  std::vector<double> lift;       ///< [m], one per knot
+};
+
+/// Whole-cycle lift table read from CSV (`motion_law.table`).
+struct TableConfig {
+  std::string file;  ///< relative to the config file that names it (resolved to absolute on load)
+  std::string angle_column = "angle_deg";
+  std::string lift_column = "lift";
+  int degree = 5;
+};
+
+/// Exactly one of `segments`, `spline`, `table` is set after loading.
+struct MotionLawConfig {
+  std::vector<SegmentConfig> segments;
+  std::optional<PeriodicSplineConfig> spline;
+  std::optional<TableConfig> table;
+  std::string source;  ///< profile file it came from, if given as "profiles/NAME.json" (not serialised)
+};
+
+// ---------------------------------------------------------------- mechanism
+
+struct DriveConfig {
+  std::string type = "constant_speed";  ///< "constant_speed" (shaft: a later issue)
+};
+
+struct CamConfig {
+  double base_radius = 0.0;        ///< r_b [m], > 0
+  double rpm = 0.0;                ///< cam speed [rev/min], >= 0 (0 holds the cam still)
+  std::string direction = "ccw";   ///< "ccw" or "cw"
+  double initial_angle_deg = 0.0;  ///< cam angle at t = 0 [deg]
+  MotionLawConfig motion_law;
+  DriveConfig drive;
+};
+
+struct ShapeConfig {
+  std::string type = "roller";  ///< "roller" (flat, mushroom: a later issue)
+  double radius = 0.0;          ///< r_r [m], > 0
+  double inertia = 0.0;         ///< roller spin inertia about its axle [kg m^2], >= 0
+};
+
+struct SpringConfig {
+  double stiffness = 0.0;  ///< k [N/m], >= 0
+  double preload = 0.0;    ///< spring force at the lowest follower position [N], >= 0
+};
+
+struct InitialConfig {
+  std::optional<double> position;  ///< displacement above the lowest position [m]; null = on the law, in equilibrium
+  double velocity = 0.0;           ///< along the follower axis, + away from the cam [m/s]
+};
+
+struct FollowerConfig {
+  std::string motion = "translating";  ///< "translating" (oscillating: a later issue)
+  double offset = 0.0;                 ///< e: follower axis is the line x = e [m]
+  ShapeConfig shape;
+  double mass = 0.0;     ///< m [kg], > 0
+  SpringConfig spring;
+  double damping = 0.0;  ///< viscous damper c [N s/m], >= 0
+  InitialConfig initial;
+};
+
+/// Contact stiffness estimated from materials (Hertz / line contact).
+struct MaterialsConfig {
+  double E1 = 0.0, nu1 = 0.3;   ///< cam: Young's modulus [Pa], Poisson ratio [-]
+  double E2 = 0.0, nu2 = 0.3;   ///< follower
+  std::optional<double> width;  ///< contact width [m]: given = line contact (n = 1), else point contact (n = 1.5)
+};
+
+struct FrictionConfig {
+  double mu = 0.0;                          ///< Coulomb coefficient [-], >= 0
+  double regularization_velocity = 1e-4;    ///< v_reg [m/s], > 0
+  std::string regularization = "tanh";      ///< "tanh" or "linear"
+};
+
+struct ContactConfig {
+  std::string model = "lankarani_nikravesh";  ///< hertz, kelvin_voigt, hunt_crossley, lankarani_nikravesh, flores
+  std::optional<double> stiffness;             ///< K [N/m^n]; exactly one of stiffness / from_materials
+  std::optional<MaterialsConfig> from_materials;  ///< JSON: "stiffness": { "from_materials": {...} }
+  double exponent = 1.5;                       ///< n [-], > 0
+  double restitution = 0.8;                    ///< target e [-], in (0, 1]
+  std::optional<double> damping;               ///< kelvin_voigt c [N s/m]
+  double reference_velocity = 0.01;            ///< floor of v0 [m/s], > 0
+  FrictionConfig friction;
+  std::string tracking = "differential";       ///< "differential" or "newton"
+};
+
+struct MechanismConfig {
+  CamConfig cam;
+  FollowerConfig follower;
+  ContactConfig contact;
+};
+
+// ---------------------------------------------------------------- run control
+
+struct SimulationConfig {
+  std::optional<double> cycles;           ///< cam revolutions (default 4 when rpm > 0)
+  int discard_cycles = 1;                 ///< transient revolutions left out of the metrics
+  std::optional<double> duration;         ///< [s]; required when rpm = 0, replaces cycles
+  std::optional<double> output_step_deg;  ///< time-series step in cam angle [deg] (default 0.5)
+  std::optional<double> output_step;      ///< time-series step [s] (required instead when rpm = 0)
+};
+
+struct IntegratorConfig {
+  std::string method = "cvode_bdf";  ///< cvode_bdf (others: a later issue)
+  double rtol = 1e-8;                ///< relative tolerance, in (0, 1)
+  double atol = 1e-12;               ///< absolute tolerance, > 0
+  std::optional<double> max_step;    ///< [s]
+  std::optional<double> step;        ///< fixed step for rk4 [s]
+  long max_steps = 5'000'000;        ///< step budget for the whole run
+  double max_wall_time_s = 600.0;    ///< wall-time budget for one run [s]
+};
+
+/// A complete `simulate` scene.
+struct SceneConfig {
+  std::string name = "camdyn";
+  std::string study = "simulate";
+  MechanismConfig mechanism;
+  double gravity = 0.0;  ///< acceleration pulling the follower towards the cam (-y) [m/s^2]
+  SimulationConfig simulation;
+  IntegratorConfig integrator;
+};
+
+// ---------------------------------------------------------------- loading
+
+/// Where a config came from: the file (for error messages and relative paths).
+struct ConfigSource {
+  std::string file;  ///< path as given by the user
+  std::string dir;   ///< directory that relative paths in it are resolved against
+};
+
+/// Reads a JSON file, resolves `extends` (paths relative to each file), applies
+/// `--set KEY=VALUE` overrides (VALUE parsed as JSON, else taken as a string),
+/// and returns the merged JSON document. Throws InputError (file, dotted path, reason).
+Json load_config_json(const std::string& file, const std::vector<std::string>& overrides = {});
+
+/// Maps a merged JSON document to a SceneConfig, rejecting unknown keys (with the
+/// closest valid key suggested), wrong types and out-of-range values, and
+/// resolving `motion_law` given as a profile path and `table.file`.
+SceneConfig scene_from_json(const Json& json, const ConfigSource& source);
+
+/// The fully resolved config (every field, defaults filled in).
+Json to_json(const SceneConfig& scene);
+
+/// load_config_json + scene_from_json.
+SceneConfig load_scene(const std::string& file, const std::vector<std::string>& overrides = {});
+
+}  // namespace camdyn
