@@ -1,2 +1,133 @@
-// camdyn command line: placeholder until the CLI lands.
-int main() { return 0; }
+// camdyn command line (interface.md): `camdyn run CONFIG`, `camdyn validate
+// CONFIG`, `--version`. Exit codes: 0 success, 2 invalid input, 3 numerical
+// failure, 1 anything else. Progress goes to stderr on a terminal; results to
+// files; stdout gets a short summary.
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "common/errors.h"
+#include "dynamics/model.h"
+#include "dynamics/simulation.h"
+#include "io/config.h"
+#include "io/json_writer.h"
+#include "io/simulation_output.h"
+
+namespace {
+
+constexpr int kExitOk = 0, kExitOther = 1, kExitInput = 2, kExitNumerical = 3;
+
+struct RunArgs {
+  std::string config;
+  std::string out;
+  int jobs = 0;
+  bool quiet = false;
+  std::vector<std::string> overrides;
+};
+
+// A progress line on stderr, redrawn in place, only on a terminal.
+class Progress {
+ public:
+  explicit Progress(bool enabled) : enabled_(enabled && isatty(STDERR_FILENO)) {}
+  void operator()(double fraction) const {
+    if (!enabled_) return;
+    std::fprintf(stderr, "\r  simulating %5.1f %%", 100.0 * fraction);
+    if (fraction >= 1.0) std::fprintf(stderr, "\n");
+    std::fflush(stderr);
+  }
+  bool enabled() const { return enabled_; }
+
+ private:
+  bool enabled_;
+};
+
+int run_simulate(const RunArgs& args, const camdyn::SceneConfig& scene) {
+  const camdyn::Model model = camdyn::build_model(scene, args.config);
+  camdyn::Workspace ws;
+  const Progress progress(!args.quiet);
+  camdyn::SimulationOptions options;
+  if (progress.enabled()) options.progress = [&](double f) { progress(f); };
+  const camdyn::SimulationResult result = camdyn::simulate(scene, model, ws, options);
+  const std::filesystem::path out = args.out.empty() ? std::filesystem::path("out") / scene.name : std::filesystem::path(args.out);
+  camdyn::write_simulation_outputs(out, scene, model, result);
+
+  const camdyn::Metrics& m = result.metrics;
+  std::printf("%s: %s, %.6g rpm (rigid-model jump speed %.6g rpm)\n", scene.name.c_str(),
+              m.separation_fraction > 0.0 ? "follower SEPARATES" : "follower stays in contact",
+              scene.mechanism.cam.rpm, m.jump_speed_rpm);
+  std::printf("  separation_fraction %.4g, impacts %ld, peak_contact_force %.6g N, min_contact_force %.6g N\n",
+              m.separation_fraction, m.impact_count, m.peak_contact_force, m.min_contact_force);
+  std::printf("  energy_residual %.3g, %ld steps, %ld RHS evaluations, %.3g s\n", m.energy_residual,
+              result.solver.counters.steps, result.solver.counters.rhs_evaluations, result.solver.run_time_s);
+  std::printf("  report: %s\n", std::filesystem::absolute(out / "report.html").lexically_normal().c_str());
+  return kExitOk;
+}
+
+int report_input_error(const camdyn::InputError& e, const std::string& config) {
+  // Errors raised below the config layer may not know the file: name it here.
+  if (e.file().empty())
+    std::cerr << "camdyn: error: " << config << ": " << e.what() << "\n";
+  else
+    std::cerr << "camdyn: error: " << e.what() << "\n";
+  return kExitInput;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"camdyn: cam-follower mechanisms that do not jump and do not hammer"};
+  app.set_version_flag("--version", std::string("camdyn ") + CAMDYN_VERSION);
+  app.require_subcommand(1);
+
+  RunArgs run_args;
+  CLI::App* run = app.add_subcommand("run", "Run the study a config describes (simulate)");
+  run->add_option("config", run_args.config, "Config file (JSON)")->required();
+  run->add_option("--out", run_args.out, "Output folder (default out/<name>)");
+  run->add_option("--jobs", run_args.jobs, "Parallel jobs for studies with many runs (default: cores)")
+      ->check(CLI::NonNegativeNumber);
+  run->add_flag("--quiet", run_args.quiet, "No progress on stderr");
+  run->add_option("--set", run_args.overrides, "Override a field: --set contact.stiffness=2e9 (repeatable)");
+
+  RunArgs validate_args;
+  CLI::App* validate = app.add_subcommand("validate", "Check a config and print it fully resolved");
+  validate->add_option("config", validate_args.config, "Config file (JSON)")->required();
+  validate->add_option("--set", validate_args.overrides, "Override a field (repeatable)");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? kExitOk : kExitInput;
+  }
+
+  const RunArgs& args = run->parsed() ? run_args : validate_args;
+  try {
+    const camdyn::SceneConfig scene = camdyn::load_scene(args.config, args.overrides);
+    if (validate->parsed()) {
+      // Building the model checks what the config layer cannot: the motion
+      // law, the cam geometry (undercut, pressure angle) and the contact law.
+      const camdyn::Model model = camdyn::build_model(scene, args.config);
+      std::cout << camdyn::dump_json(camdyn::to_json(scene)) << "\n";
+      std::cerr << "camdyn: " << args.config << " is valid (" << model.state_size << " states: ";
+      for (size_t i = 0; i < model.state_names.size(); ++i) std::cerr << (i ? ", " : "") << model.state_names[i];
+      std::cerr << ")\n";
+      return kExitOk;
+    }
+    return run_simulate(args, scene);
+  } catch (const camdyn::InputError& e) {
+    return report_input_error(e, args.config);
+  } catch (const camdyn::NumericalError& e) {
+    std::cerr << "camdyn: numerical failure: " << args.config << ": " << e.what() << "\n";
+    return kExitNumerical;
+  } catch (const std::exception& e) {
+    std::cerr << "camdyn: error: " << e.what() << "\n";
+    return kExitOther;
+  }
+}

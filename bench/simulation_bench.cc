@@ -1,0 +1,84 @@
+// Simulation cost on the quickstart scene: wall time per cam cycle, steps and
+// RHS evaluations per cycle, and the time of one right-hand-side evaluation
+// (which must not allocate: checked by counting operator new calls).
+//
+//   build/release/bench/simulation_bench --benchmark_out=bench/results.json --benchmark_out_format=json
+#include <atomic>
+#include <cstdlib>
+#include <new>
+
+#include <benchmark/benchmark.h>
+
+#include "dynamics/model.h"
+#include "dynamics/simulation.h"
+#include "io/config.h"
+
+namespace {
+
+std::atomic<long> g_allocations{0};
+
+camdyn::SceneConfig quickstart() {
+  return camdyn::load_scene(std::string(CAMDYN_SOURCE_DIR) + "/studies/quickstart.json");
+}
+
+void BM_QuickstartCycle(benchmark::State& state) {
+  camdyn::SceneConfig scene = quickstart();
+  scene.mechanism.contact.tracking = state.range(0) == 0 ? "differential" : "newton";
+  const camdyn::Model model = camdyn::build_model(scene, "quickstart");
+  camdyn::Workspace ws;
+  camdyn::SimulationOptions options;
+  options.record_series = false;
+  const double cycles = scene.simulation.cycles.value_or(4.0);
+  long steps = 0, rhs = 0;
+  for (auto _ : state) {
+    const camdyn::SimulationResult r = camdyn::simulate(scene, model, ws, options);
+    steps = r.solver.counters.steps;
+    rhs = r.solver.counters.rhs_evaluations;
+    benchmark::DoNotOptimize(r.metrics.peak_contact_force);
+  }
+  state.SetLabel(scene.mechanism.contact.tracking);
+  state.counters["cycles"] = cycles;
+  state.counters["s_per_cycle"] = benchmark::Counter(cycles, benchmark::Counter::kIsIterationInvariantRate |
+                                                                  benchmark::Counter::kInvert);
+  state.counters["steps_per_cycle"] = static_cast<double>(steps) / cycles;
+  state.counters["rhs_per_cycle"] = static_cast<double>(rhs) / cycles;
+}
+BENCHMARK(BM_QuickstartCycle)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
+void BM_RightHandSide(benchmark::State& state) {
+  camdyn::SceneConfig scene = quickstart();
+  scene.mechanism.contact.tracking = state.range(0) == 0 ? "differential" : "newton";
+  const camdyn::Model model = camdyn::build_model(scene, "quickstart");
+  camdyn::Workspace ws;
+  camdyn::Evaluation ev;
+  double y[4] = {0.01, 0.5, 1.0, 0.0}, y_dot[4];
+  ws.u_warm = 1.0;
+  double t = 1.0 / (scene.mechanism.cam.rpm / 60.0) * (1.0 / (2.0 * 3.141592653589793));
+  const long before = g_allocations.load();
+  for (auto _ : state) {
+    camdyn::evaluate(model, ws, t, y, ev);
+    camdyn::state_derivative(model, ev, y_dot);
+    benchmark::DoNotOptimize(y_dot[1]);
+  }
+  state.SetLabel(scene.mechanism.contact.tracking);
+  state.counters["allocations"] = static_cast<double>(g_allocations.load() - before);
+  if (g_allocations.load() != before) state.SkipWithError("the right-hand side allocated memory");
+}
+BENCHMARK(BM_RightHandSide)->Arg(0)->Arg(1);
+
+}  // namespace
+
+// Counting allocator: the RHS benchmark fails if the right-hand side allocates.
+// Replacement allocation functions pair malloc with free by design.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+void* operator new(std::size_t size) {
+  ++g_allocations;
+  if (void* p = std::malloc(size ? size : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+#pragma GCC diagnostic pop
+
+BENCHMARK_MAIN();

@@ -1,0 +1,77 @@
+#include "contact/force_law.h"
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+namespace camdyn {
+
+ContactModel contact_model_from_string(const std::string& name) {
+  if (name == "hertz") return ContactModel::hertz;
+  if (name == "kelvin_voigt") return ContactModel::kelvin_voigt;
+  if (name == "hunt_crossley") return ContactModel::hunt_crossley;
+  if (name == "lankarani_nikravesh") return ContactModel::lankarani_nikravesh;
+  if (name == "flores") return ContactModel::flores;
+  throw std::invalid_argument("unknown contact model '" + name + "'");
+}
+
+const char* to_string(ContactModel model) {
+  switch (model) {
+    case ContactModel::hertz: return "hertz";
+    case ContactModel::kelvin_voigt: return "kelvin_voigt";
+    case ContactModel::hunt_crossley: return "hunt_crossley";
+    case ContactModel::lankarani_nikravesh: return "lankarani_nikravesh";
+    case ContactModel::flores: return "flores";
+  }
+  return "?";
+}
+
+double ForceLaw::chi() const {
+  const double e = restitution;
+  switch (model) {
+    case ContactModel::hunt_crossley: return 1.5 * (1.0 - e);
+    case ContactModel::lankarani_nikravesh: return 0.75 * (1.0 - e * e);
+    case ContactModel::flores: return 1.6 * (1.0 - e) / e;
+    default: return 0.0;
+  }
+}
+
+double ForceLaw::elastic_force(double delta) const {
+  return delta > 0.0 ? stiffness * std::pow(delta, exponent) : 0.0;
+}
+
+double ForceLaw::elastic_energy(double delta) const {
+  return delta > 0.0 ? stiffness * std::pow(delta, exponent + 1.0) / (exponent + 1.0) : 0.0;
+}
+
+double ForceLaw::force(double delta, double delta_rate, double v0) const {
+  if (delta <= 0.0) return 0.0;
+  const double elastic = stiffness * std::pow(delta, exponent);
+  double f = elastic;
+  if (model == ContactModel::kelvin_voigt) {
+    f += damping * delta_rate;
+  } else if (model != ContactModel::hertz) {
+    f *= 1.0 + chi() * delta_rate / v0;
+  }
+  return f > 0.0 ? f : 0.0;
+}
+
+double ForceLaw::clamp_switch(double delta, double delta_rate, double v0) const {
+  switch (model) {
+    case ContactModel::hertz: return 1.0;
+    case ContactModel::kelvin_voigt:
+      // Odd extension of K δ^n keeps the function continuous through δ = 0.
+      return stiffness * std::copysign(std::pow(std::abs(delta), exponent), delta) + damping * delta_rate;
+    default: return 1.0 + chi() * delta_rate / v0;
+  }
+}
+
+double stiffness_from_materials(double E1, double nu1, double E2, double nu2, double R1, double R2,
+                                bool line_contact, double width) {
+  const double e_star = 1.0 / ((1.0 - nu1 * nu1) / E1 + (1.0 - nu2 * nu2) / E2);
+  if (line_contact) return std::numbers::pi / 4.0 * e_star * width;
+  const double r_star = 1.0 / (1.0 / R1 + 1.0 / R2);
+  return 4.0 / 3.0 * e_star * std::sqrt(r_star);
+}
+
+}  // namespace camdyn

@@ -1,0 +1,56 @@
+// Normal contact force laws of physics.md §3: F_n = K δ^n + D(δ) δ̇, never
+// adhesive (clamped at zero), with the hysteresis damping of
+//   Hunt & Crossley 1975:          D = 3 K (1 − e)  / (2 v₀)   δ^n
+//   Lankarani & Nikravesh 1990:    D = 3 K (1 − e²) / (4 v₀)   δ^n
+//   Flores et al. 2011:            D = 8 K (1 − e)  / (5 e v₀) δ^n
+// The last three share the form F = K δ^n (1 + χ δ̇ / v₀) with a model factor χ.
+#pragma once
+
+#include <string>
+
+namespace camdyn {
+
+enum class ContactModel { hertz, kelvin_voigt, hunt_crossley, lankarani_nikravesh, flores };
+
+ContactModel contact_model_from_string(const std::string& name);  // throws std::invalid_argument
+const char* to_string(ContactModel model);
+
+struct ForceLaw {
+  ContactModel model = ContactModel::hertz;
+  double stiffness = 0.0;           ///< K [N/m^n], > 0
+  double exponent = 1.5;            ///< n [-], > 0
+  double restitution = 1.0;         ///< target e [-], in (0, 1]
+  double damping = 0.0;             ///< c [N s/m], kelvin_voigt only
+  double reference_velocity = 0.01; ///< floor of v₀ [m/s]
+
+  /// χ of F = K δ^n (1 + χ δ̇/v₀) for the hysteresis models, 0 otherwise.
+  double chi() const;
+
+  /// Normal force [N] at penetration δ [m] and penetration rate δ̇ [m/s] in a
+  /// contact episode whose onset approach speed was v₀ [m/s] (already floored).
+  /// Zero for δ ≤ 0; clamped at zero (never adhesive).
+  double force(double delta, double delta_rate, double v0) const;
+
+  /// Elastic part K δ^n [N] (0 for δ ≤ 0).
+  double elastic_force(double delta) const;
+
+  /// Elastic energy K δ^{n+1}/(n+1) [J] (0 for δ ≤ 0).
+  double elastic_energy(double delta) const;
+
+  /// A function of (δ, δ̇), smooth for all δ, whose sign is the sign of the
+  /// unclamped force while δ > 0: its zeros are where the clamp switches on or
+  /// off, located by the integrator's root finding. Returns 1 for hertz.
+  double clamp_switch(double delta, double delta_rate, double v0) const;
+
+  /// True when the law has a force clamp switch (a root function to watch).
+  bool has_clamp_switch() const { return model != ContactModel::hertz; }
+};
+
+/// Effective stiffness from materials: point contact (no width) gives the Hertz
+/// K = (4/3) E* sqrt(R*) with n = 1.5; line contact of width L gives the
+/// linearised K = (π/4) E* L with n = 1. E* = 1 / ((1−ν₁²)/E₁ + (1−ν₂²)/E₂),
+/// 1/R* = 1/R₁ + 1/R₂ (R₁ the cam's base radius, R₂ the roller radius).
+double stiffness_from_materials(double E1, double nu1, double E2, double nu2, double R1, double R2,
+                                bool line_contact, double width);
+
+}  // namespace camdyn

@@ -1,0 +1,103 @@
+// Interference tracking of physics.md §2 in its one-parameter form: a circle
+// (the roller, radius r_r) against a smooth profile reduces to the roller
+// centre c against the profile offset by r_r (for the translating roller that
+// offset is the cam's pitch curve P(u)). The common-normal condition becomes
+//   f(u) = P'(u) · (c − P(u)) = 0,   with  f_u = P''·(c − P) − |P'|² < 0
+// at a local minimum of distance (or maximum of interference depth), and the
+// signed gap is g = n(u) · (c − P(u)) with n the outward unit normal. The
+// pair is tracked from the previous instant without a global search: either
+// by warm-started Newton on f, or differentially (u̇ from ḟ = −α f). A global
+// sampled search initialises the pair and recovers when tracking is lost.
+#pragma once
+
+#include <cmath>
+
+#include <Eigen/Core>
+
+#include "geometry/cam_roller.h"
+
+namespace camdyn {
+
+/// The tracked pair at one instant (all in the profile's frame).
+struct TrackedPair {
+  double u = 0.0;             ///< profile parameter of the pair [rad]
+  double gap = 0.0;           ///< g [m]: > 0 apart, < 0 interference (δ = −g)
+  double f = 0.0;             ///< common-normal residual f(u) [m²/rad]
+  double f_u = 0.0;           ///< ∂f/∂u [m²/rad²]
+  Eigen::Vector2d point;      ///< P(u) [m]
+  Eigen::Vector2d tangent_u;  ///< P'(u) [m/rad]
+  Eigen::Vector2d normal;     ///< outward unit normal at u [-]
+};
+
+/// Outward unit normal of a profile that is star-shaped about its frame's
+/// origin (check_cam guarantees it for cams): the unit normal pointing away
+/// from the origin, whichever way the parameter runs (n·r has the sign of r × r').
+inline Eigen::Vector2d outward_normal(const Eigen::Vector2d& r, const Eigen::Vector2d& dr) {
+  const Eigen::Vector2d n = Eigen::Vector2d(dr.y(), -dr.x()).normalized();
+  return n.dot(r) >= 0.0 ? n : Eigen::Vector2d(-n);
+}
+
+/// Evaluates the pair quantities at parameter u for point c.
+template <class Profile>
+TrackedPair evaluate_pair(const Profile& profile, const Eigen::Vector2d& c, double u) {
+  const CurvePoint p = profile.pitch(u);
+  TrackedPair pair;
+  pair.u = u;
+  pair.point = p.r;
+  pair.tangent_u = p.dr;
+  const Eigen::Vector2d d = c - p.r;
+  pair.f = p.dr.dot(d);
+  pair.f_u = p.d2r.dot(d) - p.dr.squaredNorm();
+  pair.normal = outward_normal(p.r, p.dr);
+  pair.gap = pair.normal.dot(d);
+  return pair;
+}
+
+/// Warm-started Newton on f(u) = 0 from u. Returns false when it does not
+/// converge in `max_iterations`, when f_u ≥ 0 (not a distance minimum: the
+/// pair is lost) or when the step exceeds `max_step` [rad].
+template <class Profile>
+bool newton_track(const Profile& profile, const Eigen::Vector2d& c, double& u, TrackedPair& pair,
+                  int max_iterations = 8, double tolerance_u = 1e-13, double max_step = 0.5) {
+  double x = u;
+  for (int it = 0; it < max_iterations; ++it) {
+    pair = evaluate_pair(profile, c, x);
+    if (!(pair.f_u < 0.0)) return false;
+    const double step = -pair.f / pair.f_u;
+    if (!std::isfinite(step) || std::abs(step) > max_step) return false;
+    x += step;
+    if (std::abs(step) <= tolerance_u * (1.0 + std::abs(x))) {
+      pair = evaluate_pair(profile, c, x);
+      u = x;
+      return pair.f_u < 0.0;
+    }
+  }
+  return false;
+}
+
+/// Global initialisation: samples the closed profile at `samples` points over
+/// one period [u_ref − π, u_ref + π), keeps the sample with the smallest signed
+/// gap among those where the normal faces c, and refines it by Newton. The
+/// result stays on the branch nearest u_ref (so an unwrapped u keeps tracking
+/// the cam angle across revolutions). Returns false if no valid pair exists.
+template <class Profile>
+bool global_pair(const Profile& profile, const Eigen::Vector2d& c, double u_ref, double& u, TrackedPair& pair,
+                 int samples = 720) {
+  constexpr double kTwoPi = 6.283185307179586;
+  double best_u = u_ref, best_distance = INFINITY;
+  for (int i = 0; i < samples; ++i) {
+    const double x = u_ref - kTwoPi / 2 + kTwoPi * i / samples;
+    const CurvePoint p = profile.pitch(x);
+    const double distance = (c - p.r).norm();
+    if (distance < best_distance) {
+      best_distance = distance;
+      best_u = x;
+    }
+  }
+  double x = best_u;
+  if (!newton_track(profile, c, x, pair, 50, 1e-13, kTwoPi / samples * 4)) return false;
+  u = x;
+  return true;
+}
+
+}  // namespace camdyn

@@ -1,0 +1,82 @@
+// One simulation run of a scene: initial conditions, integration with event
+// location at contact onset / separation (physics.md §4), the energy balance
+// (§5), the metrics over the evaluated cycles (§6) and the time series.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "dynamics/model.h"
+#include "integrate/ode_system.h"
+#include "io/config.h"
+
+namespace camdyn {
+
+/// Columns of timeseries.csv (interface.md), one entry per output step.
+struct TimeSeries {
+  std::vector<double> time, cam_angle_deg, follower_position, follower_velocity, follower_acceleration,
+      kinematic_position, gap, contact_force, friction_force, energy_residual;
+  static std::vector<std::string> column_names();
+  std::vector<const std::vector<double>*> columns() const;
+};
+
+/// A contact onset or separation located by root finding.
+struct ContactEvent {
+  double time = 0.0;           ///< [s]
+  double cam_angle_deg = 0.0;  ///< [deg]
+  bool onset = true;           ///< onset (gap closes) or separation (gap opens)
+  double speed = 0.0;          ///< normal approach speed at onset, separation speed at separation [m/s]
+  bool impact = false;         ///< onset after a separation
+};
+
+struct Metrics {
+  double separation_fraction = 0.0;
+  double max_separation_gap = 0.0;  ///< [m]
+  long impact_count = 0;
+  double max_impact_velocity = 0.0;  ///< [m/s]
+  double peak_contact_force = 0.0;   ///< [N]
+  double min_contact_force = 0.0;    ///< [N]
+  double max_penetration = 0.0;      ///< [m]
+  double max_kinematic_error = 0.0;  ///< [m]
+  double energy_residual = 0.0;      ///< [-]
+  double max_pressure_angle_deg = 0.0;
+  double min_radius_of_curvature = 0.0;  ///< [m]
+  double jump_speed_rpm = 0.0;           ///< +inf when the law never decelerates (written as null)
+};
+
+struct SolverSummary {
+  std::string method;
+  double rtol = 0.0, atol = 0.0;
+  SolverCounters counters;
+  long events = 0;            ///< roots located (onsets, separations, force clamp switches)
+  long tracking_resets = 0;   ///< global re-initialisations of the contact pair
+  long projections = 0;       ///< drift projections of the differential tracking
+  double run_time_s = 0.0;
+};
+
+struct SimulationResult {
+  Metrics metrics;
+  SolverSummary solver;
+  TimeSeries series;
+  std::vector<ContactEvent> events;
+  double evaluated_from = 0.0;  ///< start of the evaluated window [s]
+  double end_time = 0.0;        ///< [s]
+};
+
+struct SimulationOptions {
+  bool record_series = true;
+  /// Called now and then with the fraction of simulated time done, in [0, 1].
+  std::function<void(double)> progress;
+};
+
+/// Runs the scene. Throws NumericalError (exit 3) when the integrator gives up
+/// or a budget (steps, wall time) is exceeded, naming the time and cam angle.
+SimulationResult simulate(const SceneConfig& scene, const Model& model, Workspace& ws,
+                          const SimulationOptions& options = {});
+
+/// Builds the model and runs it (throws InputError for bad geometry).
+SimulationResult simulate_scene(const SceneConfig& scene, const std::string& file,
+                                const SimulationOptions& options = {});
+
+}  // namespace camdyn

@@ -1,0 +1,195 @@
+#include "integrate/cvode_integrator.h"
+
+#include <cstdio>
+#include <vector>
+
+#include <cvodes/cvodes.h>
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_context.h>
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunmatrix/sunmatrix_dense.h>
+
+#include "common/errors.h"
+
+namespace camdyn {
+
+struct CvodeIntegrator::Impl {
+  OdeSystem* system = nullptr;
+  SUNContext context = nullptr;
+  void* mem = nullptr;
+  N_Vector y = nullptr, q = nullptr, scratch = nullptr, scratch_q = nullptr;
+  SUNMatrix matrix = nullptr;
+  SUNLinearSolver linear_solver = nullptr;
+  std::string last_message;
+  SolverCounters before_reinit;  // counters of earlier integrations (CVodeReInit resets them)
+  double t = 0.0;
+
+  void check(int flag, const char* call) const {
+    if (flag >= 0) return;
+    throw NumericalError(std::string("CVODES ") + call + " failed (" + CVodeGetReturnFlagName(flag) +
+                         ") at t = " + std::to_string(t) + " s" +
+                         (last_message.empty() ? std::string() : ": " + last_message));
+  }
+  void check_created(const void* p, const char* what) const {
+    if (p == nullptr) throw NumericalError(std::string("SUNDIALS could not create ") + what);
+  }
+
+  static int rhs(realtype t, N_Vector y, N_Vector y_dot, void* data) {
+    return static_cast<Impl*>(data)->system->rhs(t, N_VGetArrayPointer(y), N_VGetArrayPointer(y_dot));
+  }
+  static int quad(realtype t, N_Vector y, N_Vector q_dot, void* data) {
+    return static_cast<Impl*>(data)->system->quadrature(t, N_VGetArrayPointer(y), N_VGetArrayPointer(q_dot));
+  }
+  static int roots(realtype t, N_Vector y, realtype* g, void* data) {
+    return static_cast<Impl*>(data)->system->roots(t, N_VGetArrayPointer(y), g);
+  }
+  static void error_handler(int, const char* module, const char* function, char* message, void* data) {
+    static_cast<Impl*>(data)->last_message = std::string(module) + "/" + function + ": " + message;
+  }
+
+  SolverCounters current() const {
+    SolverCounters c;
+    long v = 0;
+    check(CVodeGetNumSteps(mem, &v), "CVodeGetNumSteps");
+    c.steps = v;
+    check(CVodeGetNumRhsEvals(mem, &v), "CVodeGetNumRhsEvals");
+    c.rhs_evaluations = v;
+    check(CVodeGetNumLinRhsEvals(mem, &v), "CVodeGetNumLinRhsEvals");
+    c.rhs_evaluations += v;
+    check(CVodeGetNumErrTestFails(mem, &v), "CVodeGetNumErrTestFails");
+    c.error_test_failures = v;
+    check(CVodeGetNumNonlinSolvIters(mem, &v), "CVodeGetNumNonlinSolvIters");
+    c.nonlinear_iterations = v;
+    check(CVodeGetNumJacEvals(mem, &v), "CVodeGetNumJacEvals");
+    c.jacobian_evaluations = v;
+    return c;
+  }
+
+  ~Impl() {
+    if (mem) CVodeFree(&mem);
+    if (linear_solver) SUNLinSolFree(linear_solver);
+    if (matrix) SUNMatDestroy(matrix);
+    for (N_Vector v : {y, q, scratch, scratch_q})
+      if (v) N_VDestroy(v);
+    if (context) SUNContext_Free(&context);
+  }
+};
+
+CvodeIntegrator::CvodeIntegrator(OdeSystem& system, const CvodeOptions& options, double t0, const double* y0,
+                                 const double* q0)
+    : impl_(std::make_unique<Impl>()), t_(t0), t_prev_(t0) {
+  Impl& m = *impl_;
+  m.system = &system;
+  m.t = t0;
+  const sunindextype n = system.size();
+  const sunindextype nq = system.quadrature_size();
+  if (SUNContext_Create(nullptr, &m.context) != 0) throw NumericalError("SUNDIALS could not create a context");
+  m.y = N_VNew_Serial(n, m.context);
+  m.check_created(m.y, "the state vector");
+  m.scratch = N_VNew_Serial(n, m.context);
+  m.check_created(m.scratch, "a work vector");
+  for (sunindextype i = 0; i < n; ++i) NV_Ith_S(m.y, i) = y0[i];
+  m.mem = CVodeCreate(options.bdf ? CV_BDF : CV_ADAMS, m.context);
+  m.check_created(m.mem, "the CVODES solver");
+  m.check(CVodeSetErrHandlerFn(m.mem, &Impl::error_handler, &m), "CVodeSetErrHandlerFn");
+  m.check(CVodeInit(m.mem, &Impl::rhs, t0, m.y), "CVodeInit");
+  m.check(CVodeSetUserData(m.mem, &m), "CVodeSetUserData");
+  m.check(CVodeSStolerances(m.mem, options.rtol, options.atol), "CVodeSStolerances");
+  m.check(CVodeSetMaxNumSteps(m.mem, options.max_steps_per_call), "CVodeSetMaxNumSteps");
+  if (options.max_step > 0.0) m.check(CVodeSetMaxStep(m.mem, options.max_step), "CVodeSetMaxStep");
+  m.matrix = SUNDenseMatrix(n, n, m.context);
+  m.check_created(m.matrix, "the dense Jacobian matrix");
+  m.linear_solver = SUNLinSol_Dense(m.y, m.matrix, m.context);
+  m.check_created(m.linear_solver, "the dense linear solver");
+  m.check(CVodeSetLinearSolver(m.mem, m.linear_solver, m.matrix), "CVodeSetLinearSolver");
+  if (nq > 0) {
+    m.q = N_VNew_Serial(nq, m.context);
+    m.check_created(m.q, "the quadrature vector");
+    m.scratch_q = N_VNew_Serial(nq, m.context);
+    m.check_created(m.scratch_q, "a quadrature work vector");
+    for (sunindextype i = 0; i < nq; ++i) NV_Ith_S(m.q, i) = q0[i];
+    m.check(CVodeQuadInit(m.mem, &Impl::quad, m.q), "CVodeQuadInit");
+    m.check(CVodeQuadSStolerances(m.mem, options.rtol, options.quadrature_atol), "CVodeQuadSStolerances");
+    m.check(CVodeSetQuadErrCon(m.mem, SUNTRUE), "CVodeSetQuadErrCon");
+  }
+  if (system.root_count() > 0) {
+    m.check(CVodeRootInit(m.mem, system.root_count(), &Impl::roots), "CVodeRootInit");
+    m.check(CVodeSetNoInactiveRootWarn(m.mem), "CVodeSetNoInactiveRootWarn");
+  }
+}
+
+CvodeIntegrator::~CvodeIntegrator() = default;
+
+CvodeIntegrator::Result CvodeIntegrator::step(double t_stop) {
+  Impl& m = *impl_;
+  m.check(CVodeSetStopTime(m.mem, t_stop), "CVodeSetStopTime");
+  double t_reached = t_;
+  const int flag = CVode(m.mem, t_stop, m.y, &t_reached, CV_ONE_STEP);
+  m.t = t_reached;
+  m.check(flag, "CVode");
+  double h_last = 0.0;
+  m.check(CVodeGetLastStep(m.mem, &h_last), "CVodeGetLastStep");
+  double t_current = t_reached;
+  m.check(CVodeGetCurrentTime(m.mem, &t_current), "CVodeGetCurrentTime");
+  // Dense output is valid over the last internal step [t_current − h, t_current];
+  // after a root the returned time lies inside it.
+  t_prev_ = std::max(t_, t_current - h_last);
+  t_ = t_reached;
+  if (flag == CV_ROOT_RETURN) return Result::root;
+  if (flag == CV_TSTOP_RETURN) return Result::stop;
+  return Result::step;
+}
+
+const double* CvodeIntegrator::state() const { return N_VGetArrayPointer(impl_->y); }
+
+void CvodeIntegrator::dense(double t, double* out) const {
+  Impl& m = *impl_;
+  m.check(CVodeGetDky(m.mem, t, 0, m.scratch), "CVodeGetDky");
+  const double* p = N_VGetArrayPointer(m.scratch);
+  for (int i = 0; i < m.system->size(); ++i) out[i] = p[i];
+}
+
+void CvodeIntegrator::dense_quadrature(double t, double* out) const {
+  Impl& m = *impl_;
+  if (!m.q) return;
+  m.check(CVodeGetQuadDky(m.mem, t, 0, m.scratch_q), "CVodeGetQuadDky");
+  const double* p = N_VGetArrayPointer(m.scratch_q);
+  for (int i = 0; i < m.system->quadrature_size(); ++i) out[i] = p[i];
+}
+
+void CvodeIntegrator::root_info(int* directions) const {
+  impl_->check(CVodeGetRootInfo(impl_->mem, directions), "CVodeGetRootInfo");
+}
+
+void CvodeIntegrator::reinit(double t, const double* y, const double* q) {
+  Impl& m = *impl_;
+  const SolverCounters c = m.current();
+  m.before_reinit.steps += c.steps;
+  m.before_reinit.rhs_evaluations += c.rhs_evaluations;
+  m.before_reinit.error_test_failures += c.error_test_failures;
+  m.before_reinit.nonlinear_iterations += c.nonlinear_iterations;
+  m.before_reinit.jacobian_evaluations += c.jacobian_evaluations;
+  ++m.before_reinit.reinitialisations;
+  for (int i = 0; i < m.system->size(); ++i) NV_Ith_S(m.y, i) = y[i];
+  m.t = t;
+  m.check(CVodeReInit(m.mem, t, m.y), "CVodeReInit");
+  if (m.q) {
+    for (int i = 0; i < m.system->quadrature_size(); ++i) NV_Ith_S(m.q, i) = q[i];
+    m.check(CVodeQuadReInit(m.mem, m.q), "CVodeQuadReInit");
+  }
+  t_ = t_prev_ = t;
+}
+
+SolverCounters CvodeIntegrator::counters() const {
+  SolverCounters c = impl_->current();
+  const SolverCounters& b = impl_->before_reinit;
+  c.steps += b.steps;
+  c.rhs_evaluations += b.rhs_evaluations;
+  c.error_test_failures += b.error_test_failures;
+  c.nonlinear_iterations += b.nonlinear_iterations;
+  c.jacobian_evaluations += b.jacobian_evaluations;
+  c.reinitialisations = b.reinitialisations;
+  return c;
+}
+
+}  // namespace camdyn

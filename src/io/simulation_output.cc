@@ -1,0 +1,192 @@
+#include "io/simulation_output.h"
+
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+
+#include "io/csv_writer.h"
+#include "io/json_writer.h"
+
+namespace camdyn {
+
+namespace {
+
+constexpr double kRadToDeg = 180.0 / std::numbers::pi;
+
+Plot make_plot(std::string title, std::string xlabel, std::string ylabel, std::vector<Series> series) {
+  Plot plot;
+  plot.title = std::move(title);
+  plot.xlabel = std::move(xlabel);
+  plot.ylabel = std::move(ylabel);
+  plot.series = std::move(series);
+  return plot;
+}
+
+Json finite_or_null(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
+
+std::string format(double v, const char* unit = "") {
+  if (!std::isfinite(v)) return "–";
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.6g%s%s", v, *unit ? " " : "", unit);
+  return buffer;
+}
+
+Json metrics_json(const Metrics& m) {
+  return Json{{"separation_fraction", m.separation_fraction},
+              {"max_separation_gap", m.max_separation_gap},
+              {"impact_count", m.impact_count},
+              {"max_impact_velocity", m.max_impact_velocity},
+              {"peak_contact_force", m.peak_contact_force},
+              {"min_contact_force", m.min_contact_force},
+              {"max_penetration", m.max_penetration},
+              {"max_kinematic_error", m.max_kinematic_error},
+              {"energy_residual", m.energy_residual},
+              {"max_pressure_angle_deg", m.max_pressure_angle_deg},
+              {"min_radius_of_curvature", m.min_radius_of_curvature},
+              {"jump_speed_rpm", finite_or_null(m.jump_speed_rpm)}};
+}
+
+}  // namespace
+
+double rigid_contact_force(const Model& model, double theta) {
+  const LawSample s = model.law->eval(theta);
+  const double x0 = model.spring_stiffness > 0.0 ? model.spring_preload / model.spring_stiffness : 0.0;
+  const double spring = model.spring_stiffness > 0.0 ? model.spring_stiffness * (s.s + x0) : model.spring_preload;
+  const double axial = model.mass * model.omega * model.omega * s.d2s + model.damping * model.omega * s.ds + spring +
+                       model.mass * model.gravity;
+  return axial / std::cos(model.cam.pressure_angle(theta));
+}
+
+Json summary_json(const SceneConfig& scene, const Model& model, const SimulationResult& result) {
+  const SolverSummary& s = result.solver;
+  Json summary;
+  summary["name"] = scene.name;
+  summary["study"] = "simulate";
+  summary["camdyn_version"] = CAMDYN_VERSION;
+  summary["metrics"] = metrics_json(result.metrics);
+  summary["solver"] = Json{{"method", s.method},
+                           {"rtol", s.rtol},
+                           {"atol", s.atol},
+                           {"steps", s.counters.steps},
+                           {"rhs_evaluations", s.counters.rhs_evaluations},
+                           {"events", s.events},
+                           {"tracking_resets", s.tracking_resets},
+                           {"run_time_s", s.run_time_s},
+                           {"error_test_failures", s.counters.error_test_failures},
+                           {"nonlinear_iterations", s.counters.nonlinear_iterations},
+                           {"jacobian_evaluations", s.counters.jacobian_evaluations},
+                           {"restarts", s.counters.reinitialisations},
+                           {"tracking_projections", s.projections},
+                           {"tracking", model.tracking == Tracking::newton ? "newton" : "differential"},
+                           {"simulated_time_s", result.end_time},
+                           {"evaluated_from_s", result.evaluated_from}};
+  summary["model"] = Json{{"state_size", model.state_size},
+                          {"states", model.state_names},
+                          {"elements", model.elements},
+                          {"quadratures", {"drive_work", "damper_work", "hysteresis_work", "friction_work"}},
+                          {"cam", model.omega > 0.0 ? "constant_speed" : "stationary"},
+                          {"contact_pair", "roller: point against pitch curve (one-parameter reduction)"}};
+  summary["config"] = to_json(scene);
+  return summary;
+}
+
+Report simulation_report(const SceneConfig& scene, const Model& model, const SimulationResult& result) {
+  const Metrics& m = result.metrics;
+  const TimeSeries& ts = result.series;
+  Report report;
+  report.title = "camdyn: " + scene.name;
+  report.subtitle = "simulate — translating roller follower, contact model " + scene.mechanism.contact.model;
+  report.facts = {{"cam speed", format(scene.mechanism.cam.rpm, "rpm")},
+                  {"rigid-model jump speed", format(m.jump_speed_rpm, "rpm")},
+                  {"simulated", format(result.end_time, "s")},
+                  {"metrics from", format(result.evaluated_from, "s")},
+                  {"integrator", result.solver.method + ", rtol " + format(result.solver.rtol)},
+                  {"run time", format(result.solver.run_time_s, "s")},
+                  {"energy residual", format(m.energy_residual)}};
+
+  Table metrics{"Metrics (evaluated cycles)", {"metric", "value", "unit"}, {}, true};
+  auto add = [&](const char* name, double v, const char* unit) { metrics.rows.push_back({name, format(v), unit}); };
+  add("separation_fraction", m.separation_fraction, "–");
+  add("max_separation_gap", m.max_separation_gap, "m");
+  add("impact_count", static_cast<double>(m.impact_count), "–");
+  add("max_impact_velocity", m.max_impact_velocity, "m/s");
+  add("peak_contact_force", m.peak_contact_force, "N");
+  add("min_contact_force", m.min_contact_force, "N");
+  add("max_penetration", m.max_penetration, "m");
+  add("max_kinematic_error", m.max_kinematic_error, "m");
+  add("energy_residual", m.energy_residual, "–");
+  add("max_pressure_angle_deg", m.max_pressure_angle_deg, "deg");
+  add("min_radius_of_curvature", m.min_radius_of_curvature, "m");
+  add("jump_speed_rpm", m.jump_speed_rpm, "rpm");
+  report.tables.push_back(std::move(metrics));
+
+  const SolverSummary& s = result.solver;
+  Table solver{"Solver", {"counter", "value"}, {}, false};
+  auto count = [&](const char* name, long v) { solver.rows.push_back({name, std::to_string(v)}); };
+  count("steps", s.counters.steps);
+  count("rhs_evaluations", s.counters.rhs_evaluations);
+  count("events", s.events);
+  count("restarts", s.counters.reinitialisations);
+  count("tracking_resets", s.tracking_resets);
+  count("tracking_projections", s.projections);
+  count("error_test_failures", s.counters.error_test_failures);
+  report.tables.push_back(std::move(solver));
+
+  // Time-series plots against cam angle (or time when the cam stands still).
+  const bool by_angle = model.omega > 0.0;
+  const std::vector<double>& x = by_angle ? ts.cam_angle_deg : ts.time;
+  const std::string xlabel = by_angle ? "cam angle [deg]" : "time [s]";
+  auto scaled = [](const std::vector<double>& v, double k) {
+    std::vector<double> out(v.size());
+    for (size_t i = 0; i < v.size(); ++i) out[i] = v[i] * k;
+    return out;
+  };
+  report.plots.push_back(make_plot("Follower motion against the motion law", xlabel, "displacement [mm]",
+                          {{"follower", x, scaled(ts.follower_position, 1e3)},
+                           {"motion law", x, scaled(ts.kinematic_position, 1e3)}}));
+  report.plots.push_back(make_plot("Gap between roller and cam (> 0 separated, < 0 penetration)", xlabel, "gap [µm]",
+                          {{"gap", x, scaled(ts.gap, 1e6)}}));
+  Plot force = make_plot("Contact force", xlabel, "force [N]", {{"contact force", x, ts.contact_force}});
+  if (by_angle) {
+    std::vector<double> rigid(x.size());
+    for (size_t i = 0; i < x.size(); ++i) rigid[i] = rigid_contact_force(model, x[i] / kRadToDeg);
+    force.series.push_back({"rigid model", x, rigid});
+  }
+  if (model.has_spin) force.series.push_back({"friction force", x, ts.friction_force});
+  report.plots.push_back(std::move(force));
+  report.plots.push_back(make_plot("Energy balance residual (physics.md §5)", "time [s]", "(E − E₀) / scale [–]",
+                          {{"energy residual", ts.time, ts.energy_residual}}));
+  report.notes.push_back("Model: " + std::to_string(model.state_size) + " states; elements assembled: " +
+                         [&] {
+                           std::string list;
+                           for (const auto& e : model.elements) list += (list.empty() ? "" : ", ") + e;
+                           return list;
+                         }());
+  return report;
+}
+
+void write_simulation_outputs(const std::filesystem::path& dir, const SceneConfig& scene, const Model& model,
+                              const SimulationResult& result) {
+  std::filesystem::create_directories(dir);
+  {
+    CsvWriter csv(dir / "timeseries.csv", TimeSeries::column_names());
+    const auto columns = result.series.columns();
+    std::vector<double> row(columns.size());
+    for (size_t i = 0; i < result.series.time.size(); ++i) {
+      for (size_t c = 0; c < columns.size(); ++c) row[c] = (*columns[c])[i];
+      csv.row(std::span<const double>(row));
+    }
+    csv.commit();
+  }
+  {
+    CsvWriter csv(dir / "events.csv", {"time", "cam_angle_deg", "kind", "speed", "impact"});
+    for (const ContactEvent& e : result.events)
+      csv.row({CsvCell(e.time), CsvCell(e.cam_angle_deg), CsvCell(e.onset ? "onset" : "separation"),
+               CsvCell(e.speed), CsvCell(e.impact ? 1 : 0)});
+    csv.commit();
+  }
+  write_json_atomic(dir / "summary.json", summary_json(scene, model, result));
+  write_report(dir / "report.html", simulation_report(scene, model, result));
+}
+
+}  // namespace camdyn

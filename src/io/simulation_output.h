@@ -1,0 +1,34 @@
+// The outputs of a `simulate` run (interface.md): summary.json,
+// timeseries.csv, events.csv and report.html, each written atomically.
+#pragma once
+
+#include <filesystem>
+
+#include "dynamics/model.h"
+#include "dynamics/simulation.h"
+#include "io/config.h"
+#include "io/report.h"
+
+namespace camdyn {
+
+/// summary.json: name, study, version, metrics, solver counters, the model
+/// that was assembled and the fully resolved config. No NaN/inf: an infinite
+/// jump speed (a law that never decelerates) is written as null.
+Json summary_json(const SceneConfig& scene, const Model& model, const SimulationResult& result);
+
+/// The report a user looks at first: follower motion against the law, gap,
+/// contact force against cam angle (with the rigid-model force), energy
+/// residual, metrics and solver tables.
+Report simulation_report(const SceneConfig& scene, const Model& model, const SimulationResult& result);
+
+/// Writes summary.json, timeseries.csv, events.csv and report.html into `dir`
+/// (created if missing).
+void write_simulation_outputs(const std::filesystem::path& dir, const SceneConfig& scene, const Model& model,
+                              const SimulationResult& result);
+
+/// Rigid-model normal contact force of a follower on the law (physics.md §6),
+/// P / cos φ with P = m ω² s'' + c ω s' + k (s + x₀) + m g [N] (negative: the
+/// follower would need to be pulled).
+double rigid_contact_force(const Model& model, double theta);
+
+}  // namespace camdyn

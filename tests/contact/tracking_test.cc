@@ -1,0 +1,68 @@
+// The one-parameter common-normal tracker against analytic distances.
+#include "contact/point_curve_tracking.h"
+
+#include <cmath>
+#include <numbers>
+
+#include <gtest/gtest.h>
+
+namespace camdyn {
+namespace {
+
+// An ellipse x = a cos u, y = b sin u (counter-clockwise), star-shaped about the origin.
+struct Ellipse {
+  double a = 0.05, b = 0.03;
+  CurvePoint pitch(double u) const {
+    const double c = std::cos(u), s = std::sin(u);
+    return {{a * c, b * s}, {-a * s, b * c}, {-a * c, -b * s}, {a * s, -b * c}};
+  }
+};
+
+TEST(Tracking, ResidualDerivativeMatchesFiniteDifference) {
+  const Ellipse e;
+  const Eigen::Vector2d c(0.06, 0.02);
+  for (double u : {0.1, 0.7, 2.0, 4.0}) {
+    const double h = 1e-6;
+    const double fd = (evaluate_pair(e, c, u + h).f - evaluate_pair(e, c, u - h).f) / (2 * h);
+    EXPECT_NEAR(evaluate_pair(e, c, u).f_u, fd, 1e-8 * std::abs(fd) + 1e-14);
+  }
+}
+
+TEST(Tracking, GapOnEllipseAxesIsExact) {
+  const Ellipse e;
+  TrackedPair pair;
+  double u = 0.0;
+  // A point outside the ellipse on its major axis: gap = x − a; inside: negative.
+  for (double x : {0.07, 0.051, 0.0499}) {
+    ASSERT_TRUE(global_pair(e, Eigen::Vector2d(x, 0.0), 0.0, u, pair));
+    EXPECT_NEAR(pair.gap, x - e.a, 1e-15);
+    EXPECT_NEAR(std::remainder(u, 2 * std::numbers::pi), 0.0, 1e-12);
+  }
+}
+
+TEST(Tracking, NewtonFindsTheFootPointOfAGeneralPoint) {
+  const Ellipse e;
+  const Eigen::Vector2d c(0.04, 0.035);
+  double u = 1.0;
+  TrackedPair pair;
+  ASSERT_TRUE(newton_track(e, c, u, pair));
+  // The foot point: c − P(u) is parallel to the normal, and |gap| = distance.
+  EXPECT_NEAR(std::abs(pair.f), 0.0, 1e-16);
+  EXPECT_NEAR(std::abs(pair.gap), (c - pair.point).norm(), 1e-15);
+  // Brute force minimum distance over a fine sampling agrees.
+  double best = INFINITY;
+  for (int i = 0; i < 200000; ++i) best = std::min(best, (c - e.pitch(2 * std::numbers::pi * i / 200000).r).norm());
+  EXPECT_NEAR(pair.gap, best, 1e-10);
+}
+
+TEST(Tracking, GlobalPairStaysOnTheBranchNearTheReference) {
+  const Ellipse e;
+  double u = 0.0;
+  TrackedPair pair;
+  const double ref = 10 * std::numbers::pi + 0.3;  // five turns on
+  ASSERT_TRUE(global_pair(e, Eigen::Vector2d(0.05, 0.01), ref, u, pair));
+  EXPECT_LT(std::abs(u - ref), std::numbers::pi);
+}
+
+}  // namespace
+}  // namespace camdyn

@@ -1,0 +1,179 @@
+// A translating roller follower on a running cam, against the rigid model of
+// physics.md §6 computed here independently of the library.
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include <gtest/gtest.h>
+
+#include "dynamics/simulation.h"
+#include "geometry/motion_law.h"
+#include "scenes.h"
+
+namespace camdyn {
+namespace {
+
+constexpr double kTwoPi = 2 * std::numbers::pi;
+
+// Independent rigid-model quantities for the test scene (no offset, ccw).
+struct Rigid {
+  const SceneConfig& scene;
+  MotionLaw law;
+  explicit Rigid(const SceneConfig& s) : scene(s), law(build_motion_law(s.mechanism.cam.motion_law, "test")) {}
+
+  double force(double theta, double omega) const {
+    const auto& f = scene.mechanism.follower;
+    const LawSample s = law.eval(theta);
+    const double x0 = f.spring.preload / f.spring.stiffness;
+    const double axial = f.mass * omega * omega * s.d2s + f.damping * omega * s.ds +
+                         f.spring.stiffness * (s.s + x0) + f.mass * scene.gravity;
+    const double y0 = scene.mechanism.cam.base_radius + f.shape.radius;
+    const double phi = std::atan((s.ds - f.offset) / (y0 + s.s));
+    return axial / std::cos(phi);
+  }
+
+  double jump_rpm() const {
+    const auto& f = scene.mechanism.follower;
+    double best = INFINITY;
+    for (int i = 0; i < 36000; ++i) {
+      const LawSample s = law.eval(kTwoPi * i / 36000);
+      if (s.d2s < 0)
+        best = std::min(best, std::sqrt(f.spring.stiffness * (s.s + f.spring.preload / f.spring.stiffness) /
+                                        (-f.mass * s.d2s)));
+    }
+    return best * 60 / kTwoPi;
+  }
+};
+
+void expect_finite(const TimeSeries& ts) {
+  const auto names = TimeSeries::column_names();
+  const auto columns = ts.columns();
+  for (size_t c = 0; c < columns.size(); ++c) {
+    ASSERT_FALSE(columns[c]->empty()) << names[c];
+    for (double v : *columns[c]) ASSERT_TRUE(std::isfinite(v)) << names[c];
+  }
+}
+
+TEST(CamScene, LowSpeedFollowsTheLawAndRigidForce) {
+  SceneConfig scene = test::cycloidal_cam_scene(100.0, "lankarani_nikravesh");
+  const SimulationResult r = simulate_scene(scene, "test");
+  expect_finite(r.series);
+  const Rigid rigid(scene);
+  const double omega = 100.0 * kTwoPi / 60.0;
+  EXPECT_EQ(r.metrics.separation_fraction, 0.0);
+  EXPECT_EQ(r.metrics.impact_count, 0);
+  double worst = 0.0, f_max = 0.0;
+  for (size_t i = 0; i < r.series.time.size(); ++i) {
+    if (r.series.time[i] < r.evaluated_from) continue;
+    const double expected = rigid.force(r.series.cam_angle_deg[i] * kTwoPi / 360.0, omega);
+    worst = std::max(worst, std::abs(r.series.contact_force[i] / expected - 1.0));
+    f_max = std::max(f_max, expected);
+  }
+  EXPECT_LT(worst, 5e-3);  // acceptance: within 0.5 % of the rigid-model force
+  const double static_deflection = std::pow(f_max / *scene.mechanism.contact.stiffness, 1.0 / 1.5);
+  EXPECT_LT(r.metrics.max_kinematic_error, 2.0 * static_deflection);
+  EXPECT_NEAR(r.metrics.peak_contact_force / f_max, 1.0, 5e-3);
+}
+
+TEST(CamScene, JumpSpeedMatchesIndependentRigidModel) {
+  const SceneConfig scene = test::cycloidal_cam_scene(1000.0);
+  const SimulationResult r = simulate_scene(scene, "test");
+  EXPECT_NEAR(r.metrics.jump_speed_rpm / Rigid(scene).jump_rpm(), 1.0, 1e-6);
+}
+
+TEST(CamScene, NoSeparationBelowJumpSpeedSeparationAbove) {
+  const double jump = Rigid(test::cycloidal_cam_scene(1000.0)).jump_rpm();
+  {
+    const SimulationResult r = simulate_scene(test::cycloidal_cam_scene(0.9 * jump, "lankarani_nikravesh"), "test");
+    EXPECT_EQ(r.metrics.separation_fraction, 0.0);
+    EXPECT_GT(r.metrics.min_contact_force, 0.0);
+  }
+  {
+    const SceneConfig scene = test::cycloidal_cam_scene(1.15 * jump, "lankarani_nikravesh");
+    const SimulationResult r = simulate_scene(scene, "test");
+    EXPECT_GT(r.metrics.separation_fraction, 0.0);
+    EXPECT_EQ(r.metrics.min_contact_force, 0.0);
+    const double evaluated_cycles = *scene.simulation.cycles - scene.simulation.discard_cycles;
+    EXPECT_GE(static_cast<double>(r.metrics.impact_count), evaluated_cycles);
+    EXPECT_GT(r.metrics.max_impact_velocity, 0.0);
+  }
+}
+
+TEST(CamScene, ConservativeSceneClosesEnergyBalance) {
+  const double jump = Rigid(test::cycloidal_cam_scene(1000.0)).jump_rpm();
+  SceneConfig scene = test::cycloidal_cam_scene(1.15 * jump, "hertz");  // with impacts
+  const SimulationResult r = simulate_scene(scene, "test");
+  EXPECT_GT(r.metrics.impact_count, 0);
+  EXPECT_LT(r.metrics.energy_residual, 1e-6);
+}
+
+TEST(CamScene, DampedFrictionalSceneClosesEnergyBalance) {
+  const double jump = Rigid(test::cycloidal_cam_scene(1000.0)).jump_rpm();
+  SceneConfig scene = test::cycloidal_cam_scene(1.15 * jump, "lankarani_nikravesh");
+  scene.mechanism.follower.damping = 5.0;
+  scene.mechanism.follower.shape.inertia = 2e-6;
+  scene.mechanism.contact.friction.mu = 0.1;
+  scene.mechanism.contact.friction.regularization_velocity = 1e-3;
+  const SimulationResult r = simulate_scene(scene, "test");
+  EXPECT_GT(r.metrics.impact_count, 0);
+  EXPECT_LT(r.metrics.energy_residual, 1e-6);
+  double max_friction = 0.0;
+  for (double f : r.series.friction_force) max_friction = std::max(max_friction, std::abs(f));
+  EXPECT_GT(max_friction, 0.0);  // friction acts (skidding at impacts)
+}
+
+class TrackingModes : public ::testing::TestWithParam<double> {};
+
+TEST_P(TrackingModes, DifferentialAndNewtonAgree) {
+  const double jump = Rigid(test::cycloidal_cam_scene(1000.0)).jump_rpm();
+  SceneConfig scene = test::cycloidal_cam_scene(GetParam() * jump, "lankarani_nikravesh");
+  scene.integrator.rtol = 1e-10;
+  scene.integrator.atol = 1e-15;
+  scene.mechanism.contact.tracking = "differential";
+  const SimulationResult d = simulate_scene(scene, "test");
+  scene.mechanism.contact.tracking = "newton";
+  const SimulationResult n = simulate_scene(scene, "test");
+  expect_finite(d.series);
+  expect_finite(n.series);
+  // Agreement to within the integration tolerance, propagated: the runs differ
+  // by their own integration errors only (rtol 1e-10), amplified by the
+  // sensitivity of the flight after a separation; 1e-5 relative covers it.
+  const Metrics& a = d.metrics;
+  const Metrics& b = n.metrics;
+  EXPECT_NEAR(a.peak_contact_force, b.peak_contact_force, 1e-5 * b.peak_contact_force);
+  EXPECT_NEAR(a.min_contact_force, b.min_contact_force, 1e-5 * b.peak_contact_force);
+  EXPECT_NEAR(a.separation_fraction, b.separation_fraction, 1e-5);
+  EXPECT_NEAR(a.max_separation_gap, b.max_separation_gap, 1e-5 * std::max(b.max_separation_gap, 1e-6));
+  EXPECT_NEAR(a.max_penetration, b.max_penetration, 1e-5 * b.max_penetration);
+  EXPECT_NEAR(a.max_kinematic_error, b.max_kinematic_error, 1e-5 * b.max_kinematic_error);
+  EXPECT_EQ(a.impact_count, b.impact_count);
+  EXPECT_NEAR(a.max_impact_velocity, b.max_impact_velocity, 1e-5 * std::max(b.max_impact_velocity, 1e-3));
+  EXPECT_LT(d.metrics.energy_residual, 1e-6);
+  EXPECT_LT(n.metrics.energy_residual, 1e-6);
+}
+
+INSTANTIATE_TEST_SUITE_P(BelowAndAboveJump, TrackingModes, ::testing::Values(0.5, 1.15));
+
+TEST(CamScene, ModelHoldsOnlyWhatTheSceneNeeds) {
+  SceneConfig scene = test::cycloidal_cam_scene(500.0);
+  scene.mechanism.contact.tracking = "newton";
+  Model m = build_model(scene, "test");
+  EXPECT_EQ(m.state_size, 2);
+  EXPECT_EQ(m.elements, (std::vector<std::string>{"follower_mass", "spring", "contact:hertz"}));
+  scene.mechanism.contact.tracking = "differential";
+  EXPECT_EQ(build_model(scene, "test").state_size, 3);
+  scene.mechanism.contact.friction.mu = 0.2;  // no roller inertia: rolls freely, no friction work
+  EXPECT_EQ(build_model(scene, "test").state_size, 3);
+  scene.mechanism.follower.shape.inertia = 1e-6;
+  m = build_model(scene, "test");
+  EXPECT_EQ(m.state_size, 4);
+  EXPECT_EQ(m.elements.back(), "friction:coulomb_tanh");
+  scene.mechanism.follower.damping = 1.0;
+  scene.gravity = 9.81;
+  m = build_model(scene, "test");
+  EXPECT_NE(std::find(m.elements.begin(), m.elements.end(), "damper"), m.elements.end());
+  EXPECT_NE(std::find(m.elements.begin(), m.elements.end(), "gravity"), m.elements.end());
+}
+
+}  // namespace
+}  // namespace camdyn

@@ -1,0 +1,61 @@
+// Scenes built in code for the physics tests.
+#pragma once
+
+#include "io/config.h"
+
+namespace camdyn::test {
+
+/// A cam with a 20 mm cycloidal rise over 120°, dwell, cycloidal return over
+/// 120°, dwell; base radius 40 mm, roller 10 mm, follower 0.3 kg on a 5 kN/m
+/// spring with 40 N preload; Hertz-type contact K = 1e10 N/m^1.5.
+inline SceneConfig cycloidal_cam_scene(double rpm, const std::string& model = "hertz") {
+  SceneConfig s;
+  s.name = "test-cycloidal";
+  CamConfig& cam = s.mechanism.cam;
+  cam.base_radius = 0.04;
+  cam.rpm = rpm;
+  SegmentConfig rise{"rise", "cycloidal", 120.0, 0.02, std::nullopt, 5, {}};
+  SegmentConfig dwell1{"dwell", "", 180.0, std::nullopt, std::nullopt, 5, {}};
+  SegmentConfig ret{"return", "cycloidal", 300.0, 0.02, std::nullopt, 5, {}};
+  SegmentConfig dwell2{"dwell", "", 360.0, std::nullopt, std::nullopt, 5, {}};
+  cam.motion_law.segments = {rise, dwell1, ret, dwell2};
+  FollowerConfig& f = s.mechanism.follower;
+  f.shape.radius = 0.01;
+  f.mass = 0.3;
+  f.spring.stiffness = 5000.0;
+  f.spring.preload = 40.0;
+  ContactConfig& c = s.mechanism.contact;
+  c.model = model;
+  c.stiffness = 1e10;
+  c.exponent = 1.5;
+  c.restitution = 0.8;
+  s.simulation.cycles = 3;
+  s.simulation.discard_cycles = 1;
+  s.simulation.output_step_deg = 0.5;
+  s.integrator.rtol = 1e-9;
+  s.integrator.atol = 1e-13;
+  return s;
+}
+
+/// A drop test: the cam held still with its base circle under the roller,
+/// no spring, no gravity; the follower starts `gap` above contact moving
+/// towards the cam at `v0`.
+inline SceneConfig drop_scene(const std::string& model, double restitution, double v0 = 1.0, double gap = 1e-4) {
+  SceneConfig s = cycloidal_cam_scene(0.0, model);
+  s.name = "test-drop";
+  s.mechanism.cam.initial_angle_deg = 330.0;  // base-circle dwell under the roller
+  s.mechanism.follower.spring = {};
+  s.mechanism.follower.mass = 0.1;
+  s.mechanism.follower.initial.position = gap;
+  s.mechanism.follower.initial.velocity = -v0;
+  s.mechanism.contact.stiffness = 1e9;
+  s.mechanism.contact.restitution = restitution;
+  s.simulation.cycles.reset();
+  s.simulation.duration = 1.5e-3;
+  s.simulation.output_step = 1e-6;
+  s.integrator.rtol = 1e-10;
+  s.integrator.atol = 1e-14;
+  return s;
+}
+
+}  // namespace camdyn::test
