@@ -46,6 +46,14 @@ struct TranslatingRollerCam {
 
   /// Signed radius of curvature of the pitch curve at u [m] (> 0 convex).
   double pitch_radius_of_curvature(double u) const;
+
+  /// Outward unit normal of the pitch curve at u, in the cam frame (away from
+  /// the cam centre side; the contour is pitch − r_r·normal).
+  Eigen::Vector2d pitch_normal(double u) const;
+
+  /// Signed curvature of the pitch curve at u [1/m] (> 0 convex); finite where
+  /// the radius of curvature is infinite (straight pieces).
+  double pitch_curvature(double u) const;
 };
 
 struct CamGeometryReport {

@@ -39,7 +39,14 @@ class MotionLaw {
   /// Total lift (max s − min s) [m].
   double lift() const { return max_s_ - min_s_; }
 
+  /// Lowest and highest s over the cycle [m] (sampled densely, exact at piece
+  /// ends). Laws built from segments have min_s() = 0.
+  double min_s() const { return min_s_; }
+  double max_s() const { return max_s_; }
+
   /// One piece of the law: θ ∈ [start, end) [rad], s = base + sign·lift·f((θ − start)/(end − start)).
+  /// A whole-cycle spline or table law is one piece [0, 2π) with base 0 and
+  /// lift 1 whose shape returns s itself [m] (it is not a normalised rise).
   struct Piece {
     double start = 0.0, end = 0.0;  ///< [rad]
     double base = 0.0;              ///< s at the piece start [m]
@@ -68,5 +75,8 @@ MotionLaw build_motion_law(const MotionLawConfig& config, const std::string& fil
 /// "polynomial_4567", "harmonic", "modified_trapezoid", "modified_sine").
 /// Returns null for an unknown name.
 std::shared_ptr<const NormalisedRise> classic_rise(const std::string& name);
+
+/// The names classic_rise() accepts, for error messages and parameterised tests.
+const std::vector<std::string>& classic_rise_names();
 
 }  // namespace camdyn

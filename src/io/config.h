@@ -28,6 +28,8 @@ struct SegmentConfig {
   int degree = 5;              ///< spline only: polynomial degree (>= 3)
   std::vector<double> control_points;  ///< spline only: free interior control points,
                                        ///< normalised lift (0 = segment start, 1 = end)
+
+  bool operator==(const SegmentConfig&) const = default;
 };
 
 /// Whole-cycle periodic spline through given lifts (`motion_law.spline`).
@@ -35,6 +37,8 @@ struct PeriodicSplineConfig {
   int degree = 5;
   std::vector<double> knots_deg;  ///< increasing, within [0, 360)
   std::vector<double> lift;       ///< [m], one per knot
+
+  bool operator==(const PeriodicSplineConfig&) const = default;
 };
 
 /// Whole-cycle lift table read from CSV (`motion_law.table`).
@@ -43,6 +47,8 @@ struct TableConfig {
   std::string angle_column = "angle_deg";
   std::string lift_column = "lift";
   int degree = 5;
+
+  bool operator==(const TableConfig&) const = default;
 };
 
 /// Exactly one of `segments`, `spline`, `table` is set after loading.
@@ -51,12 +57,16 @@ struct MotionLawConfig {
   std::optional<PeriodicSplineConfig> spline;
   std::optional<TableConfig> table;
   std::string source;  ///< profile file it came from, if given as "profiles/NAME.json" (not serialised)
+
+  bool operator==(const MotionLawConfig&) const = default;
 };
 
 // ---------------------------------------------------------------- mechanism
 
 struct DriveConfig {
   std::string type = "constant_speed";  ///< "constant_speed" (shaft: a later issue)
+
+  bool operator==(const DriveConfig&) const = default;
 };
 
 struct CamConfig {
@@ -66,22 +76,30 @@ struct CamConfig {
   double initial_angle_deg = 0.0;  ///< cam angle at t = 0 [deg]
   MotionLawConfig motion_law;
   DriveConfig drive;
+
+  bool operator==(const CamConfig&) const = default;
 };
 
 struct ShapeConfig {
   std::string type = "roller";  ///< "roller" (flat, mushroom: a later issue)
   double radius = 0.0;          ///< r_r [m], > 0
   double inertia = 0.0;         ///< roller spin inertia about its axle [kg m^2], >= 0
+
+  bool operator==(const ShapeConfig&) const = default;
 };
 
 struct SpringConfig {
   double stiffness = 0.0;  ///< k [N/m], >= 0
   double preload = 0.0;    ///< spring force at the lowest follower position [N], >= 0
+
+  bool operator==(const SpringConfig&) const = default;
 };
 
 struct InitialConfig {
   std::optional<double> position;  ///< displacement above the lowest position [m]; null = on the law, in equilibrium
   double velocity = 0.0;           ///< along the follower axis, + away from the cam [m/s]
+
+  bool operator==(const InitialConfig&) const = default;
 };
 
 struct FollowerConfig {
@@ -92,6 +110,8 @@ struct FollowerConfig {
   SpringConfig spring;
   double damping = 0.0;  ///< viscous damper c [N s/m], >= 0
   InitialConfig initial;
+
+  bool operator==(const FollowerConfig&) const = default;
 };
 
 /// Contact stiffness estimated from materials (Hertz / line contact).
@@ -99,12 +119,16 @@ struct MaterialsConfig {
   double E1 = 0.0, nu1 = 0.3;   ///< cam: Young's modulus [Pa], Poisson ratio [-]
   double E2 = 0.0, nu2 = 0.3;   ///< follower
   std::optional<double> width;  ///< contact width [m]: given = line contact (n = 1), else point contact (n = 1.5)
+
+  bool operator==(const MaterialsConfig&) const = default;
 };
 
 struct FrictionConfig {
   double mu = 0.0;                          ///< Coulomb coefficient [-], >= 0
   double regularization_velocity = 1e-4;    ///< v_reg [m/s], > 0
   std::string regularization = "tanh";      ///< "tanh" or "linear"
+
+  bool operator==(const FrictionConfig&) const = default;
 };
 
 struct ContactConfig {
@@ -117,12 +141,16 @@ struct ContactConfig {
   double reference_velocity = 0.01;            ///< floor of v0 [m/s], > 0
   FrictionConfig friction;
   std::string tracking = "differential";       ///< "differential" or "newton"
+
+  bool operator==(const ContactConfig&) const = default;
 };
 
 struct MechanismConfig {
   CamConfig cam;
   FollowerConfig follower;
   ContactConfig contact;
+
+  bool operator==(const MechanismConfig&) const = default;
 };
 
 // ---------------------------------------------------------------- run control
@@ -133,16 +161,25 @@ struct SimulationConfig {
   std::optional<double> duration;         ///< [s]; required when rpm = 0, replaces cycles
   std::optional<double> output_step_deg;  ///< time-series step in cam angle [deg] (default 0.5)
   std::optional<double> output_step;      ///< time-series step [s] (required instead when rpm = 0)
+
+  /// Filled in by scene_from_json when rpm > 0 and neither cycles nor duration
+  /// (resp. neither output step) is given, so the resolved config shows them.
+  static constexpr double kDefaultCycles = 4.0;
+  static constexpr double kDefaultOutputStepDeg = 0.5;
+
+  bool operator==(const SimulationConfig&) const = default;
 };
 
 struct IntegratorConfig {
-  std::string method = "cvode_bdf";  ///< cvode_bdf (others: a later issue)
-  double rtol = 1e-8;                ///< relative tolerance, in (0, 1)
+  std::string method = "cvode_bdf";  ///< cvode_bdf, cvode_adams, arkode_erk, arkode_dirk, rk4 (needs step)
+  double rtol = 1e-8;                ///< relative tolerance, in (0, 0.1]
   double atol = 1e-12;               ///< absolute tolerance, > 0
   std::optional<double> max_step;    ///< [s]
   std::optional<double> step;        ///< fixed step for rk4 [s]
   long max_steps = 5'000'000;        ///< step budget for the whole run
   double max_wall_time_s = 600.0;    ///< wall-time budget for one run [s]
+
+  bool operator==(const IntegratorConfig&) const = default;
 };
 
 /// A complete `simulate` scene.
@@ -153,6 +190,8 @@ struct SceneConfig {
   double gravity = 0.0;  ///< acceleration pulling the follower towards the cam (-y) [m/s^2]
   SimulationConfig simulation;
   IntegratorConfig integrator;
+
+  bool operator==(const SceneConfig&) const = default;
 };
 
 // ---------------------------------------------------------------- loading
@@ -161,6 +200,8 @@ struct SceneConfig {
 struct ConfigSource {
   std::string file;  ///< path as given by the user
   std::string dir;   ///< directory that relative paths in it are resolved against
+
+  bool operator==(const ConfigSource&) const = default;
 };
 
 /// Reads a JSON file, resolves `extends` (paths relative to each file), applies
@@ -175,6 +216,13 @@ SceneConfig scene_from_json(const Json& json, const ConfigSource& source);
 
 /// The fully resolved config (every field, defaults filled in).
 Json to_json(const SceneConfig& scene);
+
+/// Sets `dotted_path` (e.g. "mechanism.cam.rpm", "mechanism.cam.motion_law.segments[0].lift";
+/// a leading "cam.", "follower." or "contact." means "mechanism.…") in a config
+/// document to `value`, creating missing objects on the way; array elements
+/// must exist. Throws InputError("--set", dotted_path, reason). Unknown keys
+/// are left for scene_from_json to reject.
+void set_config_value(Json& document, const std::string& dotted_path, const Json& value);
 
 /// load_config_json + scene_from_json.
 SceneConfig load_scene(const std::string& file, const std::vector<std::string>& overrides = {});

@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# The CI test run: builds and tests the ci preset (optimised, assertions on,
+# warnings are errors), then the asan preset (AddressSanitizer + UBSan).
+# Every phase runs even if an earlier one failed, so one report shows all
+# failures; the exit status is non-zero if any phase failed.
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+
+failed=()
+summary=()
+
+# phase NAME COMMAND...: runs COMMAND, records its elapsed time and outcome.
+phase() {
+  local name="$1"
+  shift
+  echo "==> $name: $*"
+  local start=$SECONDS outcome=ok
+  if ! "$@"; then
+    outcome=FAILED
+    failed+=("$name")
+  fi
+  local elapsed=$((SECONDS - start))
+  summary+=("$(printf '%-12s %-7s %4dm%02ds' "$name" "$outcome" $((elapsed / 60)) $((elapsed % 60)))")
+  echo "==> $name: $outcome after ${elapsed}s"
+}
+
+for preset in ci asan; do
+  phase "build $preset" bash scripts/setup.sh "$preset"
+  if [[ " ${failed[*]-} " == *" build $preset "* ]]; then
+    echo "==> test $preset: skipped, the build failed"
+    summary+=("$(printf '%-12s %-7s' "test $preset" skipped)")
+    continue
+  fi
+  phase "test $preset" ctest --preset "$preset"
+done
+
+echo
+echo "==> summary"
+printf '    %s\n' "${summary[@]}"
+if ((${#failed[@]} > 0)); then
+  echo "==> FAILED: ${failed[*]}"
+  exit 1
+fi
+echo "==> all phases passed"

@@ -1,0 +1,179 @@
+#include "geometry/bspline.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <utility>
+
+namespace camdyn {
+
+int find_span(int n, int p, double x, const std::vector<double>& knots) {
+  assert(static_cast<int>(knots.size()) >= n + 1 && n > p);
+  // Last span i with knots[i] ≤ x among i ∈ [p, n − 1]; repeated knots give
+  // empty spans that upper_bound skips.
+  const auto first = knots.begin() + p;
+  const auto last = knots.begin() + n;  // knots[n] closes the domain
+  const auto it = std::upper_bound(first, last, x);
+  const int span = static_cast<int>(it - knots.begin()) - 1;
+  return std::clamp(span, p, n - 1);
+}
+
+BasisDerivatives basis_derivatives(int span, double x, int p, const std::vector<double>& knots) {
+  assert(p >= 0 && p <= kMaxSplineDegree);
+  constexpr int kN = kMaxSplineDegree + 1;
+  const int nd = std::min(3, p);  // derivatives above p vanish
+  // ndu: basis functions (upper triangle) and knot differences (lower triangle).
+  double ndu[kN][kN];
+  double left[kN], right[kN];
+  ndu[0][0] = 1.0;
+  for (int j = 1; j <= p; ++j) {
+    left[j] = x - knots[span + 1 - j];
+    right[j] = knots[span + j] - x;
+    double saved = 0.0;
+    for (int r = 0; r < j; ++r) {
+      ndu[j][r] = right[r + 1] + left[j - r];
+      const double temp = ndu[r][j - 1] / ndu[j][r];
+      ndu[r][j] = saved + right[r + 1] * temp;
+      saved = left[j - r] * temp;
+    }
+    ndu[j][j] = saved;
+  }
+  BasisDerivatives out;
+  auto& ders = out.ders;
+  for (int j = 0; j <= p; ++j) ders[0][j] = ndu[j][p];
+  double a[2][kN];
+  for (int r = 0; r <= p; ++r) {
+    int s1 = 0, s2 = 1;
+    a[0][0] = 1.0;
+    for (int k = 1; k <= nd; ++k) {
+      double d = 0.0;
+      const int rk = r - k, pk = p - k;
+      if (r >= k) {
+        a[s2][0] = a[s1][0] / ndu[pk + 1][rk];
+        d = a[s2][0] * ndu[rk][pk];
+      }
+      const int j1 = rk >= -1 ? 1 : -rk;
+      const int j2 = r - 1 <= pk ? k - 1 : p - r;
+      for (int j = j1; j <= j2; ++j) {
+        a[s2][j] = (a[s1][j] - a[s1][j - 1]) / ndu[pk + 1][rk + j];
+        d += a[s2][j] * ndu[rk + j][pk];
+      }
+      if (r <= pk) {
+        a[s2][k] = -a[s1][k - 1] / ndu[pk + 1][r];
+        d += a[s2][k] * ndu[r][pk];
+      }
+      ders[k][r] = d;
+      std::swap(s1, s2);
+    }
+  }
+  double factor = p;
+  for (int k = 1; k <= nd; ++k) {
+    for (int j = 0; j <= p; ++j) ders[k][j] *= factor;
+    factor *= p - k;
+  }
+  return out;
+}
+
+// ---------------------------------------------------------------- clamped
+
+std::vector<double> ClampedBSpline::uniform_knots(int degree, int n, double a, double b) {
+  assert(n >= degree + 1);
+  std::vector<double> knots(n + degree + 1);
+  const int spans = n - degree;
+  for (int i = 0; i <= degree; ++i) {
+    knots[i] = a;
+    knots[n + i] = b;
+  }
+  for (int j = 1; j < spans; ++j) knots[degree + j] = a + (b - a) * j / spans;
+  return knots;
+}
+
+ClampedBSpline::ClampedBSpline(int degree, std::vector<double> knots,
+                               std::vector<double> coefficients)
+    : degree_(degree), knots_(std::move(knots)), coefficients_(std::move(coefficients)) {
+  assert(degree_ >= 1 && degree_ <= kMaxSplineDegree);
+  assert(knots_.size() == coefficients_.size() + degree_ + 1);
+}
+
+Derivatives3 ClampedBSpline::eval(double x) const {
+  const int n = static_cast<int>(coefficients_.size());
+  x = std::clamp(x, knots_.front(), knots_.back());
+  const int span = find_span(n, degree_, x, knots_);
+  const BasisDerivatives b = basis_derivatives(span, x, degree_, knots_);
+  Derivatives3 out{};
+  for (int k = 0; k < 4; ++k)
+    for (int j = 0; j <= degree_; ++j) out[k] += b.ders[k][j] * coefficients_[span - degree_ + j];
+  return out;
+}
+
+// ---------------------------------------------------------------- periodic
+
+std::optional<PeriodicBSpline> PeriodicBSpline::interpolate(int degree,
+                                                            const std::vector<double>& sites,
+                                                            const std::vector<double>& values,
+                                                            double period) {
+  const int m = static_cast<int>(sites.size());
+  const int p = degree;
+  assert(p >= 1 && p <= kMaxSplineDegree && m >= p + 1 && values.size() == sites.size());
+  PeriodicBSpline spline;
+  spline.degree_ = p;
+  spline.period_ = period;
+  spline.m_ = m;
+
+  std::vector<double> breaks(sites);
+  if (p % 2 == 0) {
+    for (int j = 0; j < m; ++j)
+      breaks[j] = 0.5 * (sites[j] + (j + 1 < m ? sites[j + 1] : sites[0] + period));
+  }
+  // Unwrapped knots: U[k] = breaks[(k − p) mod m] + period · floor((k − p) / m).
+  spline.knots_.resize(m + 2 * p + 1);
+  for (int k = 0; k < m + 2 * p + 1; ++k) {
+    const int q = k - p;
+    const int wraps = q >= 0 ? q / m : -((-q + m - 1) / m);
+    spline.knots_[k] = breaks[q - wraps * m] + period * wraps;
+  }
+
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(m, m);
+  Eigen::VectorXd rhs(m);
+  for (int j = 0; j < m; ++j) {
+    const double x = spline.reduce(sites[j]);
+    const int span = find_span(m + p, p, x, spline.knots_);
+    const BasisDerivatives b = basis_derivatives(span, x, p, spline.knots_);
+    for (int r = 0; r <= p; ++r) a(j, (span - p + r) % m) += b.ders[0][r];
+    rhs(j) = values[j];
+  }
+  const Eigen::PartialPivLU<Eigen::MatrixXd> lu(a);
+  // B-spline collocation matrices of reasonable site spacing have rcond ~ 1e-2;
+  // far below that the sites are (nearly) coincident or misplaced.
+  if (!(lu.rcond() > 1e-10)) return std::nullopt;
+  const Eigen::VectorXd c = lu.solve(rhs);
+  spline.coefficients_.assign(c.data(), c.data() + m);
+  return spline;
+}
+
+double PeriodicBSpline::reduce(double x) const {
+  const double start = knots_[degree_];
+  double y = x - period_ * std::floor((x - start) / period_);
+  // Rounding can land y an ulp outside [start, start + period).
+  if (y >= start + period_) y -= period_;
+  if (y < start) y = start;
+  return y;
+}
+
+Derivatives3 PeriodicBSpline::eval(double x) const {
+  const int p = degree_;
+  const double y = reduce(x);
+  const int span = find_span(m_ + p, p, y, knots_);
+  const BasisDerivatives b = basis_derivatives(span, y, p, knots_);
+  Derivatives3 out{};
+  for (int k = 0; k < 4; ++k)
+    for (int j = 0; j <= p; ++j) out[k] += b.ders[k][j] * coefficients_[(span - p + j) % m_];
+  return out;
+}
+
+std::vector<double> PeriodicBSpline::breakpoints() const {
+  return {knots_.begin() + degree_, knots_.begin() + degree_ + m_};
+}
+
+}  // namespace camdyn

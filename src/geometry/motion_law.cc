@@ -1,0 +1,509 @@
+#include "geometry/motion_law.h"
+
+#include <algorithm>
+#include <array>
+#include <cassert>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <limits>
+#include <numbers>
+#include <utility>
+
+#include "common/errors.h"
+#include "geometry/bspline.h"
+#include "io/csv_reader.h"
+
+namespace camdyn {
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+
+double deg_to_rad(double deg) { return deg * (kPi / 180.0); }
+
+std::string num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.10g", v);
+  return buf;
+}
+
+std::string indexed(const std::string& path, std::size_t i) {
+  return path + "[" + std::to_string(i) + "]";
+}
+
+// ---------------------------------------------------------------- classic rises
+
+/// Cycloidal: f = x − sin(2πx)/2π; zero velocity and acceleration at both ends.
+class Cycloidal final : public NormalisedRise {
+ public:
+  LawSample eval(double x) const override {
+    const double w = kTwoPi * x;
+    return {x - std::sin(w) / kTwoPi, 1.0 - std::cos(w), kTwoPi * std::sin(w),
+            kTwoPi * kTwoPi * std::cos(w)};
+  }
+};
+
+/// Simple harmonic: f = (1 − cos πx)/2; zero velocity but ±π²/2 acceleration at the ends.
+class Harmonic final : public NormalisedRise {
+ public:
+  LawSample eval(double x) const override {
+    const double w = kPi * x;
+    return {0.5 * (1.0 - std::cos(w)), 0.5 * kPi * std::sin(w), 0.5 * kPi * kPi * std::cos(w),
+            -0.5 * kPi * kPi * kPi * std::sin(w)};
+  }
+};
+
+/// Polynomial f = Σ c_i x^i.
+class Polynomial final : public NormalisedRise {
+ public:
+  explicit Polynomial(std::array<double, 8> c) : c_(c) {}
+  LawSample eval(double x) const override {
+    double d[4] = {0.0, 0.0, 0.0, 0.0};
+    // Horner on each derivative: d^k/dx^k Σ c_i x^i = Σ_{i ≥ k} c_i i!/(i − k)! x^{i − k}.
+    for (int k = 0; k < 4; ++k) {
+      for (int i = 7; i >= k; --i) {
+        double falling = 1.0;
+        for (int j = 0; j < k; ++j) falling *= i - j;
+        d[k] = d[k] * x + c_[i] * falling;
+      }
+    }
+    return {d[0], d[1], d[2], d[3]};
+  }
+
+ private:
+  std::array<double, 8> c_;
+};
+
+/// A rise whose acceleration is piecewise c0 + c1·sin(ω(x − x0) + ψ), integrated
+/// exactly from f(0) = f'(0) = 0 and scaled so that f(1) = 1. This gives the
+/// modified sine and modified trapezoid laws without rounded textbook
+/// coefficients.
+class PiecewiseSinusoidRise final : public NormalisedRise {
+ public:
+  struct Span {
+    double x0;                  ///< start of the span (spans are contiguous, the first at 0)
+    double c0, c1;              ///< constant and sinusoid amplitude of the unscaled acceleration
+    double omega;               ///< angular frequency in x (any nonzero value when c1 = 0)
+    double psi;                 ///< phase at x0
+    double v0 = 0.0, f0 = 0.0;  ///< unscaled f' and f at x0 (filled by the constructor)
+  };
+
+  explicit PiecewiseSinusoidRise(std::vector<Span> spans) : spans_(std::move(spans)) {
+    double v = 0.0, f = 0.0;
+    for (std::size_t i = 0; i < spans_.size(); ++i) {
+      spans_[i].v0 = v;
+      spans_[i].f0 = f;
+      const double x1 = i + 1 < spans_.size() ? spans_[i + 1].x0 : 1.0;
+      const LawSample end = unscaled(spans_[i], x1 - spans_[i].x0);
+      v = end.ds;
+      f = end.s;
+    }
+    // The shapes are antisymmetric in acceleration, so the velocity returns to 0.
+    assert(std::abs(v) < 1e-12);
+    scale_ = 1.0 / f;
+  }
+
+  LawSample eval(double x) const override {
+    std::size_t i = spans_.size() - 1;
+    while (i > 0 && x < spans_[i].x0) --i;
+    const LawSample u = unscaled(spans_[i], x - spans_[i].x0);
+    return {scale_ * u.s, scale_ * u.ds, scale_ * u.d2s, scale_ * u.d3s};
+  }
+
+ private:
+  static LawSample unscaled(const Span& sp, double t) {
+    const double w = sp.omega, phase = sp.omega * t + sp.psi;
+    const double k = sp.c1 / w;
+    return {sp.f0 + sp.v0 * t + 0.5 * sp.c0 * t * t -
+                k * ((std::sin(phase) - std::sin(sp.psi)) / w - t * std::cos(sp.psi)),
+            sp.v0 + sp.c0 * t - k * (std::cos(phase) - std::cos(sp.psi)),
+            sp.c0 + sp.c1 * std::sin(phase), sp.c1 * w * std::cos(phase)};
+  }
+
+  std::vector<Span> spans_;
+  double scale_ = 1.0;
+};
+
+std::shared_ptr<const NormalisedRise> modified_sine() {
+  // a ∝ sin 4πx on [0, 1/8], cos((4π/3)(x − 1/8)) on [1/8, 7/8], sin 4πx on [7/8, 1].
+  constexpr double w = 4.0 * kPi;
+  return std::make_shared<PiecewiseSinusoidRise>(std::vector<PiecewiseSinusoidRise::Span>{
+      {0.0, 0.0, 1.0, w, 0.0},
+      {0.125, 0.0, 1.0, w / 3.0, 0.5 * kPi},
+      {0.875, 0.0, 1.0, w, 1.5 * kPi},
+  });
+}
+
+std::shared_ptr<const NormalisedRise> modified_trapezoid() {
+  // a ∝ sin 4πx, 1, sin(4πx − π), −1, sin 4πx on the eighths 1, 2, 2, 2, 1.
+  constexpr double w = 4.0 * kPi;
+  return std::make_shared<PiecewiseSinusoidRise>(std::vector<PiecewiseSinusoidRise::Span>{
+      {0.0, 0.0, 1.0, w, 0.0},
+      {0.125, 1.0, 0.0, 1.0, 0.0},
+      {0.375, 0.0, 1.0, w, 0.5 * kPi},
+      {0.625, -1.0, 0.0, 1.0, 0.0},
+      {0.875, 0.0, 1.0, w, 1.5 * kPi},
+  });
+}
+
+// ---------------------------------------------------------------- spline shapes
+
+/// A spline segment's normalised rise: clamped B-spline on x ∈ [0, 1].
+class SplineRise final : public NormalisedRise {
+ public:
+  explicit SplineRise(ClampedBSpline spline) : spline_(std::move(spline)) {}
+  LawSample eval(double x) const override {
+    const Derivatives3 d = spline_.eval(x);
+    return {d[0], d[1], d[2], d[3]};
+  }
+
+ private:
+  ClampedBSpline spline_;
+};
+
+/// A whole-cycle periodic spline with parameter x = θ/2π; returns s itself [m].
+class PeriodicShape final : public NormalisedRise {
+ public:
+  explicit PeriodicShape(PeriodicBSpline spline) : spline_(std::move(spline)) {}
+  LawSample eval(double x) const override {
+    const Derivatives3 d = spline_.eval(x);
+    return {d[0], d[1], d[2], d[3]};
+  }
+
+ private:
+  PeriodicBSpline spline_;
+};
+
+// ---------------------------------------------------------------- segments
+
+/// A validated segment.
+struct Segment {
+  double start = 0.0, end = 0.0;  ///< [rad]
+  double lift = 0.0;              ///< signed [m or rad]; 0 for a dwell
+  bool spline = false;
+  std::shared_ptr<const NormalisedRise> shape;  ///< classic law; spline: built later
+};
+
+/// s' and s'' [per rad] at the start (x = 0) or end (x = 1) of a segment, as a
+/// spline neighbour sees them. A dwell has none, and a neighbouring spline
+/// segment is taken to have zero velocity and acceleration at the shared
+/// boundary: its own boundary points are built from this same assumption, so
+/// both sides agree without solving the two splines together.
+std::pair<double, double> boundary_rates(const Segment& seg, double x) {
+  if (!seg.shape || seg.spline) return {0.0, 0.0};
+  const double len = seg.end - seg.start;
+  const LawSample f = seg.shape->eval(x);
+  return {seg.lift * f.ds / len, seg.lift * f.d2s / (len * len)};
+}
+
+/// Builds the clamped spline of a spline segment: p + 1 ≤ n = free + 6 control
+/// points, uniform interior knots, and the 3 control points at each end chosen
+/// so that f, f', f'' match (f(0), f'(0), f''(0)) = (0, d0[0], d0[1]) and
+/// (f(1), f'(1), f''(1)) = (1, d1[0], d1[1]), in the normalised variable.
+std::shared_ptr<const NormalisedRise> spline_segment_shape(int p, const std::vector<double>& free,
+                                                           std::array<double, 2> d0,
+                                                           std::array<double, 2> d1) {
+  const int n = static_cast<int>(free.size()) + 6;
+  std::vector<double> knots = ClampedBSpline::uniform_knots(p, n);
+  std::vector<double> c(n, 0.0);
+  std::copy(free.begin(), free.end(), c.begin() + 3);
+
+  // At a clamped end only the first k + 1 basis functions have a nonzero k-th
+  // derivative, so the boundary conditions form a triangular system.
+  const std::array<double, 3> start_values = {0.0, d0[0], d0[1]};
+  const BasisDerivatives b0 = basis_derivatives(p, 0.0, p, knots);  // N_0..N_p
+  for (int k = 0; k < 3; ++k) {
+    double r = start_values[k];
+    for (int i = 0; i < k; ++i) r -= b0.ders[k][i] * c[i];
+    c[k] = r / b0.ders[k][k];
+  }
+  const std::array<double, 3> end_values = {1.0, d1[0], d1[1]};
+  const BasisDerivatives b1 = basis_derivatives(n - 1, 1.0, p, knots);  // N_{n−1−p}..N_{n−1}
+  for (int k = 0; k < 3; ++k) {
+    double r = end_values[k];
+    for (int i = 0; i < k; ++i) r -= b1.ders[k][p - i] * c[n - 1 - i];
+    c[n - 1 - k] = r / b1.ders[k][p - k];
+  }
+  return std::make_shared<SplineRise>(ClampedBSpline(p, std::move(knots), std::move(c)));
+}
+
+MotionLaw law_from_segments(const std::vector<SegmentConfig>& configs, const std::string& file,
+                            const std::string& path) {
+  const std::string segs_path = path + ".segments";
+  std::vector<Segment> segs(configs.size());
+  double prev_end_deg = 0.0;
+  double rise_total = 0.0, return_total = 0.0;
+  int lift_in_deg = -1;  // unit of the first rise/return: 0 metres, 1 degrees
+  for (std::size_t i = 0; i < configs.size(); ++i) {
+    const SegmentConfig& sc = configs[i];
+    const std::string at = indexed(segs_path, i);
+    Segment& seg = segs[i];
+
+    if (!std::isfinite(sc.end_deg) || sc.end_deg <= prev_end_deg)
+      throw InputError(file, at + ".end_deg",
+                       num(sc.end_deg) + " must be greater than where the segment starts (" +
+                           num(prev_end_deg) + "°)");
+    if (sc.end_deg > 360.0)
+      throw InputError(file, at + ".end_deg", num(sc.end_deg) + " is beyond 360°");
+    seg.start = deg_to_rad(prev_end_deg);
+    seg.end = i + 1 == configs.size() ? kTwoPi : deg_to_rad(sc.end_deg);
+    prev_end_deg = sc.end_deg;
+
+    if (sc.type == "dwell") {
+      if (sc.lift || sc.lift_deg) throw InputError(file, at, "a dwell has no lift");
+      if (!sc.law.empty()) throw InputError(file, at + ".law", "a dwell has no law");
+      continue;
+    }
+    if (sc.type != "rise" && sc.type != "return")
+      throw InputError(file, at + ".type",
+                       "unknown segment type '" + sc.type + "' (use rise, dwell or return)");
+
+    if (sc.lift.has_value() == sc.lift_deg.has_value())
+      throw InputError(file, at,
+                       "give exactly one of lift [m] (translating follower) or lift_deg "
+                       "(oscillating follower)");
+    const int in_deg = sc.lift_deg ? 1 : 0;
+    const std::string lift_path = at + (in_deg ? ".lift_deg" : ".lift");
+    if (lift_in_deg >= 0 && lift_in_deg != in_deg)
+      throw InputError(file, lift_path, "mixes lift and lift_deg segments in one law");
+    lift_in_deg = in_deg;
+    const double given = in_deg ? *sc.lift_deg : *sc.lift;
+    if (!std::isfinite(given) || given <= 0.0)
+      throw InputError(file, lift_path, num(given) + " must be > 0");
+    const double lift = in_deg ? deg_to_rad(given) : given;
+    (sc.type == "rise" ? rise_total : return_total) += lift;
+    seg.lift = sc.type == "rise" ? lift : -lift;
+
+    if (sc.law == "spline") {
+      seg.spline = true;
+      if (sc.degree < 3 || sc.degree > kMaxSplineDegree)
+        throw InputError(file, at + ".degree",
+                         std::to_string(sc.degree) + " must be in [3, " +
+                             std::to_string(kMaxSplineDegree) + "]");
+      const std::size_t total = sc.control_points.size() + 6;
+      if (total < static_cast<std::size_t>(sc.degree) + 1)
+        throw InputError(file, at + ".control_points",
+                         "a degree-" + std::to_string(sc.degree) + " spline needs at least " +
+                             std::to_string(sc.degree + 1) +
+                             " control points: 6 boundary ones (added by the program) plus at "
+                             "least " +
+                             std::to_string(sc.degree - 5) + " free ones, " +
+                             std::to_string(sc.control_points.size()) + " given");
+      for (std::size_t j = 0; j < sc.control_points.size(); ++j)
+        if (!std::isfinite(sc.control_points[j]))
+          throw InputError(file, indexed(at + ".control_points", j), "must be finite");
+    } else {
+      seg.shape = classic_rise(sc.law);
+      if (!seg.shape) {
+        std::string names;
+        for (const auto& n : classic_rise_names()) names += n + ", ";
+        throw InputError(file, at + ".law",
+                         "unknown law '" + sc.law + "' (use " + names + "spline)");
+      }
+    }
+  }
+  if (configs.empty()) throw InputError(file, segs_path, "no segments");
+  if (prev_end_deg != 360.0)
+    throw InputError(file, indexed(segs_path, configs.size() - 1) + ".end_deg",
+                     "the last segment ends at " + num(prev_end_deg) +
+                         "°: segments must cover the whole turn, ending at exactly 360");
+  if (std::abs(rise_total - return_total) > 1e-12 * std::max(rise_total, return_total))
+    throw InputError(file, segs_path,
+                     "lift mismatch: the rises add up to " + num(rise_total) +
+                         " but the returns to " + num(return_total) +
+                         (lift_in_deg == 1 ? " rad" : " m") + "; the law must close over a turn");
+
+  // Close the cycle exactly: the last rise/return takes up the rounding-level
+  // difference the tolerance above allowed.
+  for (std::size_t i = segs.size(); i-- > 0;) {
+    if (segs[i].lift == 0.0) continue;
+    double others = 0.0;
+    for (std::size_t j = 0; j < segs.size(); ++j)
+      if (j != i) others += segs[j].lift;
+    segs[i].lift = -others;
+    break;
+  }
+
+  const std::size_t count = segs.size();
+  for (std::size_t i = 0; i < count; ++i) {
+    if (!segs[i].spline) continue;
+    // Neighbours wrap around: the law is periodic.
+    const Segment& prev = segs[(i + count - 1) % count];
+    const Segment& next = segs[(i + 1) % count];
+    const auto [v_in, a_in] = boundary_rates(prev, 1.0);
+    const auto [v_out, a_out] = boundary_rates(next, 0.0);
+    // θ-rates to the normalised variable x = (θ − start)/L of s = base + lift·f(x).
+    const double len = segs[i].end - segs[i].start, lift = segs[i].lift;
+    segs[i].shape = spline_segment_shape(configs[i].degree, configs[i].control_points,
+                                         {v_in * len / lift, a_in * len * len / lift},
+                                         {v_out * len / lift, a_out * len * len / lift});
+  }
+
+  std::vector<MotionLaw::Piece> pieces;
+  double level = 0.0;
+  for (const Segment& seg : segs) {
+    pieces.push_back({seg.start, seg.end, level, seg.lift, seg.shape});
+    level += seg.lift;
+  }
+  // Lowest s is 0 (a law may start with a return, a spline may undershoot).
+  const double low = MotionLaw(pieces).min_s();
+  for (auto& piece : pieces) piece.base -= low;
+  return MotionLaw(std::move(pieces));
+}
+
+// ---------------------------------------------------------------- periodic spline
+
+/// Builds the InputError for knot j (j < 0: the whole list); field is "knots" or "lift".
+using KnotError =
+    std::function<InputError(const std::string& field, int j, const std::string& reason)>;
+
+MotionLaw periodic_law(int degree, const std::vector<double>& knots_deg,
+                       const std::vector<double>& lift, const KnotError& error) {
+  const int m = static_cast<int>(knots_deg.size());
+  if (lift.size() != knots_deg.size())
+    throw error("lift", -1,
+                std::to_string(lift.size()) + " lift values for " + std::to_string(m) + " knots");
+  if (m < degree + 1)
+    throw error("knots", -1,
+                std::to_string(m) + " knots; a degree-" + std::to_string(degree) +
+                    " periodic spline needs at least " + std::to_string(degree + 1));
+  for (int j = 0; j < m; ++j) {
+    const double k = knots_deg[j];
+    if (!std::isfinite(k) || k < 0.0 || k >= 360.0)
+      throw error("knots", j, num(k) + "° is outside [0, 360)");
+    if (j > 0 && k <= knots_deg[j - 1])
+      throw error(
+          "knots", j,
+          num(k) + "° must be greater than the previous knot (" + num(knots_deg[j - 1]) + "°)");
+    if (!std::isfinite(lift[j])) throw error("lift", j, "must be finite");
+  }
+  std::vector<double> sites(m);
+  for (int j = 0; j < m; ++j) sites[j] = knots_deg[j] / 360.0;  // x = θ/2π
+  std::optional<PeriodicBSpline> spline = PeriodicBSpline::interpolate(degree, sites, lift, 1.0);
+  if (!spline)
+    throw error("knots", -1,
+                "the periodic interpolation system is singular: knots too unevenly spaced for "
+                "degree " +
+                    std::to_string(degree));
+  std::vector<MotionLaw::Piece> pieces{
+      {0.0, kTwoPi, 0.0, 1.0, std::make_shared<PeriodicShape>(std::move(*spline))}};
+  return MotionLaw(std::move(pieces));
+}
+
+void check_degree(int degree, const std::string& file, const std::string& at) {
+  if (degree < 3 || degree > kMaxSplineDegree)
+    throw InputError(
+        file, at,
+        std::to_string(degree) + " must be in [3, " + std::to_string(kMaxSplineDegree) + "]");
+}
+
+MotionLaw law_from_spline(const PeriodicSplineConfig& sc, const std::string& file,
+                          const std::string& path) {
+  const std::string at = path + ".spline";
+  check_degree(sc.degree, file, at + ".degree");
+  return periodic_law(sc.degree, sc.knots_deg, sc.lift,
+                      [&](const std::string& field, int j, const std::string& reason) {
+                        std::string p = at + (field == "knots" ? ".knots_deg" : ".lift");
+                        if (j >= 0) p = indexed(p, static_cast<std::size_t>(j));
+                        return InputError(file, p, reason);
+                      });
+}
+
+MotionLaw law_from_table(const TableConfig& tc, const std::string& file, const std::string& path) {
+  const std::string at = path + ".table";
+  check_degree(tc.degree, file, at + ".degree");
+  if (tc.file.empty()) throw InputError(file, at + ".file", "no file given");
+  const CsvColumns csv = read_csv(tc.file, {tc.angle_column, tc.lift_column});
+  std::vector<double> angles = csv[tc.angle_column], lifts = csv[tc.lift_column];
+  // A closing row at 360° that repeats the 0° row is redundant for a periodic law.
+  if (angles.size() > 1 && angles.back() == 360.0 && angles.front() == 0.0) {
+    const double scale = std::max(std::abs(lifts.front()), std::abs(lifts.back()));
+    if (std::abs(lifts.back() - lifts.front()) > 1e-12 * scale)
+      throw InputError(tc.file, "line " + std::to_string(csv.lines.back()),
+                       "the row at 360° must repeat the row at 0° (" + tc.lift_column + " " +
+                           num(lifts.back()) + " ≠ " + num(lifts.front()) + ")");
+    angles.pop_back();
+    lifts.pop_back();
+  }
+  return periodic_law(
+      tc.degree, angles, lifts, [&](const std::string& field, int j, const std::string& reason) {
+        if (j >= 0) return InputError(tc.file, "line " + std::to_string(csv.lines[j]), reason);
+        return InputError(
+            tc.file, "column " + (field == "knots" ? tc.angle_column : tc.lift_column), reason);
+      });
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------- public
+
+const std::vector<std::string>& classic_rise_names() {
+  static const std::vector<std::string> names = {"cycloidal",          "polynomial_345",
+                                                 "polynomial_4567",    "harmonic",
+                                                 "modified_trapezoid", "modified_sine"};
+  return names;
+}
+
+std::shared_ptr<const NormalisedRise> classic_rise(const std::string& name) {
+  if (name == "cycloidal") return std::make_shared<Cycloidal>();
+  if (name == "polynomial_345")  // 10x³ − 15x⁴ + 6x⁵
+    return std::make_shared<Polynomial>(std::array<double, 8>{0, 0, 0, 10, -15, 6, 0, 0});
+  if (name == "polynomial_4567")  // 35x⁴ − 84x⁵ + 70x⁶ − 20x⁷
+    return std::make_shared<Polynomial>(std::array<double, 8>{0, 0, 0, 0, 35, -84, 70, -20});
+  if (name == "harmonic") return std::make_shared<Harmonic>();
+  if (name == "modified_trapezoid") return modified_trapezoid();
+  if (name == "modified_sine") return modified_sine();
+  return nullptr;
+}
+
+MotionLaw::MotionLaw(std::vector<Piece> pieces) : pieces_(std::move(pieces)) {
+  assert(!pieces_.empty() && pieces_.front().start == 0.0 && pieces_.back().end == kTwoPi);
+  min_s_ = std::numeric_limits<double>::infinity();
+  max_s_ = -min_s_;
+  for (std::size_t i = 0; i < pieces_.size(); ++i) {
+    const Piece& pc = pieces_[i];
+    assert(pc.end > pc.start && (i == 0 || pc.start == pieces_[i - 1].end));
+    // Classic laws are monotone (extremes at piece ends); splines may overshoot
+    // between knots, so sample densely (~4096 points per turn, ≥ 64 per piece).
+    const int n = 64 + static_cast<int>(std::ceil(4096.0 * (pc.end - pc.start) / kTwoPi));
+    for (int k = 0; k <= n; ++k) {
+      const double s =
+          pc.shape ? pc.base + pc.lift * pc.shape->eval(static_cast<double>(k) / n).s : pc.base;
+      min_s_ = std::min(min_s_, s);
+      max_s_ = std::max(max_s_, s);
+    }
+  }
+}
+
+LawSample MotionLaw::eval(double theta) const {
+  // fmod is exact, so the reduction is as good as 2π's double representation;
+  // a tiny negative θ can round to t = 2π after the shift.
+  double t = std::fmod(theta, kTwoPi);
+  if (t < 0.0) t += kTwoPi;
+  if (t >= kTwoPi) t = 0.0;
+  const auto it = std::upper_bound(pieces_.begin(), pieces_.end(), t,
+                                   [](double v, const Piece& pc) { return v < pc.start; });
+  const Piece& pc = it == pieces_.begin() ? pieces_.front() : *(it - 1);
+  if (!pc.shape) return {pc.base, 0.0, 0.0, 0.0};
+  const double len = pc.end - pc.start;
+  const LawSample f = pc.shape->eval((t - pc.start) / len);
+  const double k1 = pc.lift / len, k2 = k1 / len, k3 = k2 / len;
+  return {pc.base + pc.lift * f.s, k1 * f.ds, k2 * f.d2s, k3 * f.d3s};
+}
+
+MotionLaw build_motion_law(const MotionLawConfig& config, const std::string& file,
+                           const std::string& path) {
+  const int given =
+      (config.segments.empty() ? 0 : 1) + (config.spline ? 1 : 0) + (config.table ? 1 : 0);
+  if (given != 1)
+    throw InputError(file, path,
+                     given == 0 ? "give one of segments, spline or table"
+                                : "give only one of segments, spline or table");
+  if (config.spline) return law_from_spline(*config.spline, file, path);
+  if (config.table) return law_from_table(*config.table, file, path);
+  return law_from_segments(config.segments, file, path);
+}
+
+}  // namespace camdyn

@@ -1,0 +1,40 @@
+// Atomic output files: everything camdyn writes goes to a temporary name in the
+// same directory and is renamed over the final name only once complete, so a
+// killed run never leaves a truncated file that looks finished
+// (../shared/spec/interface.md, "Outputs are written to a temporary name").
+#pragma once
+
+#include <filesystem>
+#include <fstream>
+#include <string_view>
+
+namespace camdyn {
+
+/// Writes `content` to `path` atomically (parent directories are created).
+/// Throws std::runtime_error naming the path and the OS error.
+void write_file_atomic(const std::filesystem::path& path, std::string_view content);
+
+/// A streaming atomic file. Writes go to `<path>.tmp.<pid>`; commit() flushes,
+/// checks the stream, fsyncs and renames it over `path`. Destroying an
+/// uncommitted AtomicFile removes the temporary file, leaving `path` untouched.
+class AtomicFile {
+ public:
+  explicit AtomicFile(std::filesystem::path path);
+  ~AtomicFile();
+  AtomicFile(const AtomicFile&) = delete;
+  AtomicFile& operator=(const AtomicFile&) = delete;
+
+  /// The stream to write to; valid until commit().
+  std::ostream& stream() { return out_; }
+  void commit();
+
+  const std::filesystem::path& path() const { return path_; }
+  const std::filesystem::path& temp_path() const { return temp_; }
+
+ private:
+  std::filesystem::path path_, temp_;
+  std::ofstream out_;
+  bool committed_ = false;
+};
+
+}  // namespace camdyn

@@ -1,0 +1,516 @@
+// Config loading: each struct of config.h is mapped to and from JSON by one
+// `visit` function listing its fields and their checks (io/json_archive.h).
+// Checks between fields use `require`; defaults stay in config.h.
+#include "io/config.h"
+
+#include <cmath>
+#include <cstddef>
+#include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "common/errors.h"
+#include "io/json_archive.h"
+
+namespace camdyn {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::vector<std::string> kSegmentLaws = {"cycloidal", "polynomial_345",     "polynomial_4567",
+                                               "harmonic",  "modified_trapezoid", "modified_sine",
+                                               "spline"};
+const std::vector<std::string> kContactModels = {"hertz", "kelvin_voigt", "hunt_crossley",
+                                                 "lankarani_nikravesh", "flores"};
+const std::vector<std::string> kMethods = {"cvode_bdf", "cvode_adams", "arkode_erk", "arkode_dirk",
+                                           "rk4"};
+
+/// `name` becomes the output folder out/<name>.
+Check plain_name() {
+  Check check;
+  check.expected = "a non-empty name";
+  check.text = [](const std::string& s) -> std::string {
+    if (s.empty()) return "must not be empty";
+    if (s == "." || s == "..") return "must be a plain name (it names the output folder)";
+    if (s.find_first_of("/\\") != std::string::npos) {
+      return "must not contain '/' or '\\' (it names the output folder), got " +
+             describe_json(Json(s));
+    }
+    return "";
+  };
+  return check;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------- motion law
+
+template <class A>
+void visit(A& a, SegmentConfig& s) {
+  a.field("type", s.type, one_of({"rise", "dwell", "return"}));
+  if (s.type == "dwell") {
+    a.forbid({"law", "lift", "lift_deg", "degree", "control_points"},
+             "a dwell segment has only 'type' and 'end_deg'");
+    a.field("end_deg", s.end_deg, open_closed(0, 360));
+    return;
+  }
+  a.field("law", s.law, one_of(kSegmentLaws));
+  a.field("end_deg", s.end_deg, open_closed(0, 360));
+  a.field("lift", s.lift, positive());
+  a.field("lift_deg", s.lift_deg, positive());
+  a.require(!(s.lift && s.lift_deg), "lift_deg",
+            "give either 'lift' [m] or 'lift_deg' [deg], not both");
+  // A return without a lift goes back down by the total rise (the geometry
+  // module checks that rises and returns balance).
+  a.require(s.type != "rise" || s.lift || s.lift_deg, "lift",
+            "missing: a rise segment needs 'lift' [m] (or 'lift_deg' for an oscillating follower)");
+  if (s.law == "spline") {
+    a.field("degree", s.degree, at_least(3));
+    a.field("control_points", s.control_points);
+  } else {
+    a.forbid({"degree", "control_points"},
+             "only a segment with law 'spline' has 'degree' and 'control_points'");
+  }
+}
+
+template <class A>
+void visit(A& a, PeriodicSplineConfig& p) {
+  a.field("degree", p.degree, at_least(3));
+  a.field("knots_deg", p.knots_deg, non_empty(), closed_open(0, 360));
+  a.field("lift", p.lift, non_empty());
+  a.require(p.lift.size() == p.knots_deg.size(), "lift",
+            "needs one lift per knot: " + std::to_string(p.knots_deg.size()) + " knots, " +
+                std::to_string(p.lift.size()) + " lifts");
+}
+
+template <class A>
+void visit(A& a, TableConfig& t) {
+  a.path_field("file", t.file, non_empty());
+  a.field("angle_column", t.angle_column, non_empty());
+  a.field("lift_column", t.lift_column, non_empty());
+  a.field("degree", t.degree, at_least(3));
+}
+
+template <class A>
+void visit(A& a, MotionLawConfig& m) {
+  a.forbid({"contour"}, "contour cams are not supported yet (issue 4)");
+  const bool segments = a.given("segments", !m.segments.empty());
+  const bool spline = a.given("spline", m.spline.has_value());
+  const bool table = a.given("table", m.table.has_value());
+  a.require(segments + spline + table == 1, "",
+            "needs exactly one of 'segments', 'spline' or 'table'");
+  if (segments) a.field("segments", m.segments, non_empty());
+  if (spline) a.field("spline", m.spline);
+  if (table) a.field("table", m.table);
+}
+
+// ---------------------------------------------------------------- mechanism
+
+template <class A>
+void visit(A& a, DriveConfig& d) {
+  a.field("type", d.type, one_of({"constant_speed"}, {"shaft"}));
+}
+
+template <class A>
+void visit(A& a, CamConfig& c) {
+  a.field("base_radius", c.base_radius, positive());
+  a.field("rpm", c.rpm, non_negative());
+  a.field("direction", c.direction, one_of({"ccw", "cw"}));
+  a.field("initial_angle_deg", c.initial_angle_deg);
+  a.field_or_file("motion_law", c.motion_law, &c.motion_law.source);
+  a.field("drive", c.drive);
+}
+
+template <class A>
+void visit(A& a, ShapeConfig& s) {
+  a.field("type", s.type, one_of({"roller"}, {"flat", "mushroom"}));
+  a.field("radius", s.radius, positive());
+  a.field("inertia", s.inertia, non_negative());
+}
+
+template <class A>
+void visit(A& a, SpringConfig& s) {
+  a.field("stiffness", s.stiffness, non_negative());
+  a.field("preload", s.preload, non_negative());
+}
+
+template <class A>
+void visit(A& a, InitialConfig& i) {
+  a.field("position", i.position, non_negative());
+  a.field("velocity", i.velocity);
+}
+
+template <class A>
+void visit(A& a, FollowerConfig& f) {
+  a.field("motion", f.motion, one_of({"translating"}, {"oscillating"}));
+  a.field("offset", f.offset);
+  a.field("shape", f.shape);
+  a.field("mass", f.mass, positive());
+  a.field("spring", f.spring);
+  a.field("damping", f.damping, non_negative());
+  a.field("initial", f.initial);
+}
+
+template <class A>
+void visit(A& a, MaterialsConfig& m) {
+  a.field("E1", m.E1, positive());
+  a.field("nu1", m.nu1, open_closed(-1, 0.5));
+  a.field("E2", m.E2, positive());
+  a.field("nu2", m.nu2, open_closed(-1, 0.5));
+  a.field("width", m.width, positive());
+}
+
+template <class A>
+void visit(A& a, FrictionConfig& f) {
+  a.field("mu", f.mu, non_negative());
+  a.field("regularization_velocity", f.regularization_velocity, positive());
+  a.field("regularization", f.regularization, one_of({"tanh", "linear"}));
+}
+
+namespace {
+/// The JSON shape `"stiffness": { "from_materials": {...} }`.
+struct StiffnessFromMaterials {
+  MaterialsConfig from_materials;
+};
+template <class A>
+void visit(A& a, StiffnessFromMaterials& s) {
+  a.field("from_materials", s.from_materials);
+}
+}  // namespace
+
+template <class A>
+void visit(A& a, ContactConfig& c) {
+  a.field("model", c.model, one_of(kContactModels));
+  if (a.given_object("stiffness", c.from_materials.has_value())) {
+    StiffnessFromMaterials wrapper{c.from_materials.value_or(MaterialsConfig{})};
+    a.field("stiffness", wrapper);
+    c.from_materials = wrapper.from_materials;
+    c.stiffness.reset();
+  } else {
+    a.field("stiffness", c.stiffness, positive());
+    c.from_materials.reset();
+  }
+  a.require(c.stiffness || c.from_materials, "stiffness",
+            "missing (expected a number > 0 [N/m^n] or { \"from_materials\": {...} })");
+  a.field("exponent", c.exponent, open_closed(0, 5));
+  a.field("restitution", c.restitution, open_closed(0, 1));
+  a.field("damping", c.damping, non_negative());
+  if (c.model == "kelvin_voigt") {
+    a.require(c.damping.has_value(), "damping",
+              "missing: model 'kelvin_voigt' needs 'damping' [N s/m] >= 0");
+  } else {
+    a.require(!c.damping, "damping",
+              "only model 'kelvin_voigt' uses 'damping' (model '" + c.model +
+                  "' derives it from 'restitution'); set it to null");
+  }
+  a.field("reference_velocity", c.reference_velocity, positive());
+  a.field("friction", c.friction);
+  a.field("tracking", c.tracking, one_of({"differential", "newton"}));
+}
+
+template <class A>
+void visit(A& a, MechanismConfig& m) {
+  a.field("cam", m.cam);
+  a.field("follower", m.follower);
+  a.field("contact", m.contact);
+  const double reach = m.cam.base_radius + m.follower.shape.radius;
+  a.require(std::abs(m.follower.offset) < reach, "follower.offset",
+            "|offset| must be < base_radius + roller radius = " + format_shortest(reach) +
+                " m, got " + format_shortest(m.follower.offset));
+  if (m.follower.motion == "translating") {
+    const auto& segments = m.cam.motion_law.segments;
+    for (std::size_t i = 0; i < segments.size(); ++i) {
+      a.require(!segments[i].lift_deg,
+                "cam.motion_law.segments[" + std::to_string(i) + "].lift_deg",
+                "'lift_deg' is for an oscillating follower; a translating one needs 'lift' [m]");
+    }
+  }
+}
+
+// ---------------------------------------------------------------- run control
+
+template <class A>
+void visit(A& a, SimulationConfig& s) {
+  a.field("cycles", s.cycles, positive());
+  a.field("discard_cycles", s.discard_cycles, non_negative());
+  a.field("duration", s.duration, positive());
+  a.field("output_step_deg", s.output_step_deg, open_closed(0, 90));
+  a.field("output_step", s.output_step, positive());
+}
+
+template <class A>
+void visit(A& a, IntegratorConfig& i) {
+  a.field("method", i.method, one_of(kMethods));
+  a.field("rtol", i.rtol, open_closed(0, 0.1));
+  a.field("atol", i.atol, positive());
+  a.field("max_step", i.max_step, positive());
+  a.field("step", i.step, positive());
+  a.require(i.method != "rk4" || i.step, "step", "missing: method 'rk4' needs a fixed 'step' [s]");
+  a.field("max_steps", i.max_steps, at_least(1));
+  a.field("max_wall_time_s", i.max_wall_time_s, positive());
+}
+
+/// Run length and output step depend on whether the cam turns.
+template <class A>
+void check_run_control(A& a, const SceneConfig& scene) {
+  const double rpm = scene.mechanism.cam.rpm;
+  const SimulationConfig& s = scene.simulation;
+  if (rpm == 0) {
+    const std::string still = "the cam stands still (mechanism.cam.rpm = 0): ";
+    a.require(s.duration.has_value(), "simulation.duration", still + "give 'duration' [s]");
+    a.require(s.output_step.has_value(), "simulation.output_step",
+              still + "give 'output_step' [s]");
+    a.require(!s.cycles, "simulation.cycles", still + "use 'duration' [s] instead of 'cycles'");
+    a.require(!s.output_step_deg, "simulation.output_step_deg",
+              still + "use 'output_step' [s] instead of 'output_step_deg'");
+    return;
+  }
+  a.require(!(s.cycles && s.duration), "simulation.duration",
+            "give either 'cycles' or 'duration', not both");
+  a.require(!(s.output_step && s.output_step_deg), "simulation.output_step",
+            "give either 'output_step_deg' or 'output_step', not both");
+  const double cycles = s.cycles     ? *s.cycles
+                        : s.duration ? *s.duration * rpm / 60.0
+                                     : SimulationConfig::kDefaultCycles;
+  a.require(cycles > s.discard_cycles, "simulation.discard_cycles",
+            "must be less than the number of cycles simulated (" + format_shortest(cycles) +
+                "), got " + std::to_string(s.discard_cycles));
+}
+
+template <class A>
+void visit(A& a, SceneConfig& s) {
+  a.field("name", s.name, plain_name());
+  a.field("study", s.study,
+          one_of({"simulate"}, {"optimize", "identify", "compare", "convergence"},
+                 "study '{}' is not available in this version of camdyn (see the open issues)"));
+  a.allow("description", Json::value_t::string);
+  a.forbid({"extends"}, "'extends' is resolved when the file is loaded (load_config_json)");
+  a.field("mechanism", s.mechanism);
+  a.field("gravity", s.gravity);
+  a.field("simulation", s.simulation);
+  a.field("integrator", s.integrator);
+  check_run_control(a, s);
+}
+
+// ---------------------------------------------------------------- loading
+
+namespace {
+
+std::string directory_of(const std::string& file) {
+  return fs::absolute(fs::path(file)).parent_path().string();
+}
+
+/// The motion law is one thing: a child config replaces it whole (so that
+/// switching from segments to a table does not leave both).
+const char* const kReplacedWhole[] = {"mechanism.cam.motion_law"};
+
+/// Deep merge: objects merge key by key (patch wins), anything else is replaced.
+void merge_into(Json& base, const Json& patch, const std::string& path) {
+  for (const auto& item : patch.items()) {
+    const std::string key_path = path.empty() ? item.key() : path + "." + item.key();
+    bool whole = false;
+    for (const char* p : kReplacedWhole) whole = whole || key_path == p;
+    auto it = base.find(item.key());
+    if (!whole && it != base.end() && it->is_object() && item.value().is_object()) {
+      merge_into(*it, item.value(), key_path);
+    } else {
+      base[item.key()] = item.value();
+    }
+  }
+}
+
+/// Makes the relative file names of a config that is extended absolute
+/// against its own directory, before its content is merged into a config that
+/// may live elsewhere.
+void rebase_paths(Json& document, const std::string& dir) {
+  if (!document.contains("mechanism") || !document["mechanism"].is_object()) return;
+  Json& mechanism = document["mechanism"];
+  if (!mechanism.contains("cam") || !mechanism["cam"].is_object()) return;
+  Json& cam = mechanism["cam"];
+  if (!cam.contains("motion_law")) return;
+  Json& law = cam["motion_law"];
+  if (law.is_string()) {
+    // Only when it is there: otherwise the cwd / repository fallbacks still apply.
+    const fs::path candidate = fs::path(dir) / law.get<std::string>();
+    std::error_code ec;
+    if (!fs::path(law.get<std::string>()).is_absolute() && fs::is_regular_file(candidate, ec)) {
+      law = absolute_path(law.get<std::string>(), dir);
+    }
+  } else if (law.is_object() && law.contains("table") && law["table"].is_object()) {
+    Json& table = law["table"];
+    if (table.contains("file") && table["file"].is_string() &&
+        !table["file"].get<std::string>().empty()) {
+      table["file"] = absolute_path(table["file"].get<std::string>(), dir);
+    }
+  }
+}
+
+Json load_with_extends(const std::string& file, std::vector<std::string>& chain) {
+  std::error_code ec;
+  chain.push_back(fs::weakly_canonical(fs::absolute(file), ec).string());
+  Json document = read_json_file(file);
+  if (!document.is_object()) {
+    throw InputError(file, "",
+                     "expected a JSON object at the top level, got " + describe_json(document));
+  }
+  const auto it = document.find("extends");
+  if (it != document.end()) {
+    if (!it->is_string() || it->get<std::string>().empty()) {
+      throw InputError(file, "extends", "expected a file name, got " + describe_json(*it));
+    }
+    const std::string name = it->get<std::string>();
+    const std::string parent = absolute_path(name, directory_of(file));
+    const std::string canonical = fs::weakly_canonical(parent, ec).string();
+    for (const std::string& seen : chain) {
+      if (seen != canonical) continue;
+      std::string cycle;
+      for (const std::string& c : chain) cycle += c + " -> ";
+      throw InputError(file, "extends", "extends cycle: " + cycle + canonical);
+    }
+    if (!fs::is_regular_file(parent, ec)) {
+      throw InputError(file, "extends", "cannot open '" + name + "' (resolved to " + parent + ")");
+    }
+    Json base = load_with_extends(parent, chain);
+    rebase_paths(base, directory_of(parent));
+    document.erase("extends");
+    merge_into(base, document, "");
+    document = std::move(base);
+  }
+  chain.pop_back();
+  return document;
+}
+
+/// One step of a dotted path: an object key, or an array index.
+struct PathStep {
+  std::string key;  ///< empty for an index
+  std::size_t index = 0;
+};
+
+/// "a.b[2].c" → {"a", "b", 2, "c"}; a leading cam/follower/contact gets "mechanism".
+std::vector<PathStep> parse_dotted_path(const std::string& path) {
+  const auto bad = [&](const std::string& why) -> InputError {
+    return InputError("--set", path,
+                      why +
+                          " (expected a dotted path like mechanism.cam.rpm "
+                          "or mechanism.cam.motion_law.segments[0].lift)");
+  };
+  std::vector<PathStep> steps;
+  std::size_t i = 0;
+  while (true) {
+    std::string key;
+    while (i < path.size() && path[i] != '.' && path[i] != '[') {
+      const char c = path[i++];
+      const bool ok =
+          (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
+      if (!ok) throw bad(std::string("unexpected character '") + c + "'");
+      key += c;
+    }
+    if (key.empty()) throw bad("empty key");
+    steps.push_back({key, 0});
+    while (i < path.size() && path[i] == '[') {
+      const std::size_t close = path.find(']', i);
+      const std::string digits =
+          close == std::string::npos ? "" : path.substr(i + 1, close - i - 1);
+      if (digits.empty() || digits.size() > 9 ||
+          digits.find_first_not_of("0123456789") != std::string::npos) {
+        throw bad("bad array index");
+      }
+      steps.push_back({"", static_cast<std::size_t>(std::stoul(digits))});
+      i = close + 1;
+    }
+    if (i == path.size()) break;
+    if (path[i] != '.') throw bad("unexpected character after ']'");
+    ++i;
+  }
+  const std::string& first = steps.front().key;
+  if (first == "cam" || first == "follower" || first == "contact") {
+    steps.insert(steps.begin(), PathStep{"mechanism", 0});
+  }
+  return steps;
+}
+
+}  // namespace
+
+void set_config_value(Json& document, const std::string& dotted_path, const Json& value) {
+  const std::vector<PathStep> steps = parse_dotted_path(dotted_path);
+  Json* node = &document;
+  std::string walked;
+  for (const PathStep& step : steps) {
+    if (!step.key.empty()) {
+      if (node->is_null()) *node = Json::object();
+      if (!node->is_object()) {
+        throw InputError("--set", dotted_path,
+                         "'" + walked + "' is " + describe_json(*node) + ", not an object");
+      }
+      node = &(*node)[step.key];
+      walked += (walked.empty() ? "" : ".") + step.key;
+    } else {
+      const std::size_t index = step.index;
+      if (!node->is_array()) {
+        throw InputError("--set", dotted_path,
+                         "'" + walked + "' is " + describe_json(*node) + ", not an array");
+      }
+      if (index >= node->size()) {
+        throw InputError("--set", dotted_path,
+                         "index " + std::to_string(index) + " is out of range: '" + walked +
+                             "' has " + std::to_string(node->size()) + " elements");
+      }
+      node = &(*node)[index];
+      walked += "[" + std::to_string(index) + "]";
+    }
+  }
+  *node = value;
+}
+
+Json load_config_json(const std::string& file, const std::vector<std::string>& overrides) {
+  std::vector<std::string> chain;
+  Json document = load_with_extends(file, chain);
+  for (const std::string& assignment : overrides) {
+    const std::size_t equals = assignment.find('=');
+    if (equals == std::string::npos) {
+      throw InputError("--set", assignment, "expected KEY=VALUE");
+    }
+    const std::string key = assignment.substr(0, equals);
+    const std::string text = assignment.substr(equals + 1);
+    // JSON if it parses (numbers, true, null, arrays, objects, "quoted"), else a bare string.
+    Json value = Json::parse(text, nullptr, /*allow_exceptions=*/false);
+    if (value.is_discarded()) value = text;
+    set_config_value(document, key, value);
+  }
+  return document;
+}
+
+SceneConfig scene_from_json(const Json& json, const ConfigSource& source) {
+  if (!json.is_object()) {
+    throw InputError(source.file, "",
+                     "expected a JSON object at the top level, got " + describe_json(json));
+  }
+  SceneConfig scene;
+  JsonReader reader(json, "", source);
+  visit(reader, scene);
+  reader.finish();
+  // Defaults that depend on other fields (see SimulationConfig).
+  SimulationConfig& s = scene.simulation;
+  if (scene.mechanism.cam.rpm > 0) {
+    if (!s.cycles && !s.duration) s.cycles = SimulationConfig::kDefaultCycles;
+    if (!s.output_step_deg && !s.output_step)
+      s.output_step_deg = SimulationConfig::kDefaultOutputStepDeg;
+  }
+  return scene;
+}
+
+Json to_json(const SceneConfig& scene) {
+  SceneConfig copy = scene;
+  JsonWriter writer;
+  visit(writer, copy);
+  return writer.json();
+}
+
+SceneConfig load_scene(const std::string& file, const std::vector<std::string>& overrides) {
+  const Json document = load_config_json(file, overrides);
+  return scene_from_json(document, ConfigSource{file, directory_of(file)});
+}
+
+}  // namespace camdyn

@@ -1,0 +1,136 @@
+#include "io/csv_reader.h"
+
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <stdexcept>
+#include <string_view>
+
+#include "common/errors.h"
+
+namespace camdyn {
+
+namespace {
+
+std::string_view trim(std::string_view s) {
+  const auto first = s.find_first_not_of(" \t");
+  if (first == std::string_view::npos) return {};
+  const auto last = s.find_last_not_of(" \t");
+  return s.substr(first, last - first + 1);
+}
+
+/// Trimmed fields of one line; a pair of surrounding double quotes is removed.
+/// (No embedded commas or escaped quotes: these files are numeric.)
+std::vector<std::string_view> split_fields(std::string_view line) {
+  std::vector<std::string_view> fields;
+  std::size_t begin = 0;
+  while (true) {
+    const std::size_t comma = line.find(',', begin);
+    std::string_view field = trim(line.substr(begin, comma - begin));
+    if (field.size() >= 2 && field.front() == '"' && field.back() == '"')
+      field = trim(field.substr(1, field.size() - 2));
+    fields.push_back(field);
+    if (comma == std::string_view::npos) break;
+    begin = comma + 1;
+  }
+  return fields;
+}
+
+/// Parses the whole field as a double; false if it is not a number.
+bool parse_double(std::string_view field, double& value) {
+  if (!field.empty() && field.front() == '+') field.remove_prefix(1);  // from_chars rejects '+'
+  const char* end = field.data() + field.size();
+  const auto [ptr, ec] = std::from_chars(field.data(), end, value);
+  return ec == std::errc() && ptr == end;
+}
+
+std::string join(const std::vector<std::string_view>& names) {
+  std::string out;
+  for (const auto& n : names) out += (out.empty() ? "" : ", ") + std::string(n);
+  return out;
+}
+
+}  // namespace
+
+const std::vector<double>& CsvColumns::operator[](const std::string& name) const {
+  for (std::size_t k = 0; k < names.size(); ++k)
+    if (names[k] == name) return values[k];
+  throw std::out_of_range("column '" + name + "' was not read from " + file);
+}
+
+CsvColumns read_csv(const std::string& file, const std::vector<std::string>& columns,
+                    std::size_t min_rows) {
+  std::ifstream in(file);
+  if (!in) throw InputError(file, "", "cannot open the file");
+
+  CsvColumns out;
+  out.file = file;
+  out.names = columns;
+  out.values.resize(columns.size());
+  std::vector<std::size_t> index(columns.size());  // field index of each requested column
+  std::size_t header_fields = 0;
+  bool have_header = false;
+
+  std::string raw;
+  int line_no = 0;
+  while (std::getline(in, raw)) {
+    ++line_no;
+    std::string_view line = raw;
+    if (line_no == 1 && line.starts_with("\xEF\xBB\xBF")) line.remove_prefix(3);  // UTF-8 BOM
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    line = trim(line);
+    if (line.empty() || line.front() == '#') continue;
+    const std::vector<std::string_view> fields = split_fields(line);
+
+    if (!have_header) {
+      have_header = true;
+      header_fields = fields.size();
+      for (std::size_t k = 0; k < columns.size(); ++k) {
+        std::size_t found = 0, count = 0;
+        for (std::size_t f = 0; f < fields.size(); ++f) {
+          if (fields[f] == columns[k]) {
+            found = f;
+            ++count;
+          }
+        }
+        if (count == 0)
+          throw InputError(
+              file, "column " + columns[k],
+              "not in the header (line " + std::to_string(line_no) + " has: " + join(fields) + ")");
+        if (count > 1)
+          throw InputError(file, "column " + columns[k], "appears more than once in the header");
+        index[k] = found;
+      }
+      continue;
+    }
+
+    const std::string where = "line " + std::to_string(line_no);
+    if (fields.size() != header_fields)
+      throw InputError(file, where,
+                       "has " + std::to_string(fields.size()) + " fields, the header has " +
+                           std::to_string(header_fields));
+    for (std::size_t k = 0; k < columns.size(); ++k) {
+      const std::string_view field = fields[index[k]];
+      double value = 0.0;
+      if (field.empty()) throw InputError(file, where, "column " + columns[k] + " is empty");
+      if (!parse_double(field, value))
+        throw InputError(file, where,
+                         "column " + columns[k] + ": '" + std::string(field) + "' is not a number");
+      if (!std::isfinite(value))
+        throw InputError(file, where,
+                         "column " + columns[k] + ": '" + std::string(field) +
+                             "' is not finite (NaN or infinity)");
+      out.values[k].push_back(value);
+    }
+    out.lines.push_back(line_no);
+  }
+  if (in.bad()) throw InputError(file, "", "read error");
+  if (!have_header) throw InputError(file, "", "no header row (the file is empty or all comments)");
+  if (out.rows() < min_rows)
+    throw InputError(file, "",
+                     "has " + std::to_string(out.rows()) + " data rows, at least " +
+                         std::to_string(min_rows) + " are needed");
+  return out;
+}
+
+}  // namespace camdyn

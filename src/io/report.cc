@@ -1,0 +1,539 @@
+#include "io/report.h"
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <iostream>
+#include <iterator>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+#include <system_error>
+
+#include "io/atomic_file.h"
+
+extern char** environ;  // NOLINT: POSIX, passed on to gnuplot
+
+namespace camdyn {
+namespace {
+
+constexpr double kBreak = std::numeric_limits<double>::quiet_NaN();
+
+bool is_break(double x, double y) { return std::isnan(x) || std::isnan(y); }
+
+// ------------------------------------------------------------------ gnuplot
+
+// A gnuplot single-quoted string: only the quote itself needs escaping (doubled).
+// Control characters (a newline would end the command) become spaces.
+std::string gp_quote(std::string_view s) {
+  std::string out = "'";
+  for (char c : s) {
+    if (c == '\'') {
+      out += "''";
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      out += ' ';
+    } else {
+      out += c;
+    }
+  }
+  out += '\'';
+  return out;
+}
+
+std::string gp_number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
+// Non-finite points, and non-positive ones on a log axis, cannot be drawn:
+// they become a break in the line, so that no segment bridges a gap in the data.
+Series drawable_points(const Series& s, bool logx, bool logy) {
+  Series out{s.label, {}, {}, s.style};
+  out.x.reserve(s.x.size());
+  out.y.reserve(s.y.size());
+  for (std::size_t i = 0; i < s.x.size(); ++i) {
+    const double x = s.x[i], y = s.y[i];
+    const bool ok = std::isfinite(x) && std::isfinite(y) && !(logx && x <= 0.0) &&
+                    !(logy && y <= 0.0);
+    if (ok) {
+      out.x.push_back(x);
+      out.y.push_back(y);
+    } else if (!out.x.empty() && !is_break(out.x.back(), out.y.back())) {
+      out.x.push_back(kBreak);
+      out.y.push_back(kBreak);
+    }
+  }
+  if (!out.x.empty() && is_break(out.x.back(), out.y.back())) {
+    out.x.pop_back();
+    out.y.pop_back();
+  }
+  return out;
+}
+
+// A private directory for one gnuplot run, removed with everything in it.
+class TempDir {
+ public:
+  TempDir() {
+    std::string pattern = (std::filesystem::temp_directory_path() / "camdyn-plot-XXXXXX").string();
+    if (::mkdtemp(pattern.data()) == nullptr) {
+      throw std::runtime_error("cannot create a temporary directory in " +
+                               std::filesystem::temp_directory_path().string() + ": " +
+                               std::strerror(errno));
+    }
+    path_ = pattern;
+  }
+  ~TempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path_, ec);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+std::string read_all(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// gnuplot's messages collapsed to one short line, for the placeholder and the warning.
+std::string one_line(const std::string& text, std::size_t max_chars = 300) {
+  std::string out;
+  for (char c : text) {
+    const bool space = std::isspace(static_cast<unsigned char>(c)) != 0;
+    if (space && (out.empty() || out.back() == ' ')) continue;
+    out += space ? ' ' : c;
+  }
+  while (!out.empty() && out.back() == ' ') out.pop_back();
+  if (out.size() > max_chars) out = out.substr(0, max_chars) + "...";
+  return out;
+}
+
+// Runs `program script` with stdin from /dev/null and stdout+stderr to `log`.
+// Returns an empty string on success, else the reason.
+std::string run_gnuplot(const std::string& program, const std::filesystem::path& script,
+                        const std::filesystem::path& log) {
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, 2, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+  posix_spawn_file_actions_adddup2(&actions, 2, 1);
+  std::string script_arg = script.string();
+  std::string program_arg = program;
+  char* argv[] = {program_arg.data(), script_arg.data(), nullptr};
+  pid_t pid = 0;
+  const int rc = ::posix_spawnp(&pid, program.c_str(), &actions, nullptr, argv, environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (rc != 0) return "cannot run '" + program + "': " + std::strerror(rc);
+
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0) {
+    if (errno != EINTR) return std::string("waiting for gnuplot failed: ") + std::strerror(errno);
+  }
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return {};
+  const std::string messages = one_line(read_all(log));
+  std::string reason = WIFEXITED(status)
+                           ? "gnuplot exited with status " + std::to_string(WEXITSTATUS(status))
+                           : "gnuplot killed by signal " + std::to_string(WTERMSIG(status));
+  if (!messages.empty()) reason += ": " + messages;
+  return reason;
+}
+
+std::string placeholder_svg(const std::string& title, const std::string& message) {
+  std::string svg =
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 800 450\" role=\"img\">\n"
+      "<title>" + escape_html(title) + "</title>\n"
+      "<rect x=\"0.5\" y=\"0.5\" width=\"799\" height=\"449\" fill=\"#fafafa\" stroke=\"#cccccc\"/>\n";
+  if (!title.empty()) {
+    svg += "<text x=\"400\" y=\"40\" text-anchor=\"middle\" font-family=\"sans-serif\" "
+           "font-size=\"14\" fill=\"#333333\">" + escape_html(title) + "</text>\n";
+  }
+  svg += "<text x=\"400\" y=\"225\" text-anchor=\"middle\" font-family=\"sans-serif\" "
+         "font-size=\"14\" fill=\"#777777\">" + escape_html(message) + "</text>\n</svg>\n";
+  return svg;
+}
+
+std::string unavailable(const Plot& plot, const std::string& reason) {
+  // One warning per process: a report with ten plots should not print ten.
+  static std::atomic<bool> warned{false};
+  if (!warned.exchange(true)) {
+    std::cerr << "camdyn: warning: plot unavailable: " << reason
+              << " (reports will show placeholders)\n";
+  }
+  return placeholder_svg(plot.title, "plot unavailable: " + reason);
+}
+
+// Data for gnuplot: one "x y" line per point, a blank line for a break.
+void write_data(const std::filesystem::path& path, const Series& s) {
+  std::ofstream out(path);
+  char buf[64];
+  for (std::size_t i = 0; i < s.x.size(); ++i) {
+    if (is_break(s.x[i], s.y[i])) {
+      out << '\n';
+      continue;
+    }
+    // 10 digits are far below a pixel; the full 17 would only grow the file.
+    std::snprintf(buf, sizeof buf, "%.10g %.10g\n", s.x[i], s.y[i]);
+    out << buf;
+  }
+  if (!out) throw std::runtime_error("cannot write " + path.string());
+}
+
+std::string gnuplot_script(const Plot& plot, const std::vector<std::filesystem::path>& data,
+                           const std::vector<const Series*>& series,
+                           const std::filesystem::path& svg) {
+  std::ostringstream gp;
+  gp << "set encoding utf8\n"
+     << "set terminal svg size 800,450 dynamic enhanced font 'sans,11' background '#ffffff'\n"
+     << "set output " << gp_quote(svg.string()) << "\n"
+     << "set grid\nset key below\nset border 3\nset tics nomirror\n";
+  // A colour-blind-safe palette that reads on screen and in print.
+  const char* colours[] = {"#0072b2", "#d55e00", "#009e73", "#cc79a7",
+                           "#e69f00", "#56b4e9", "#000000", "#f0e442"};
+  for (int i = 0; i < 8; ++i) {
+    gp << "set linetype " << i + 1 << " lc rgb '" << colours[i] << "' lw 1.5 pt " << i + 1
+       << " ps 0.6\n";
+  }
+  gp << "set linetype cycle 8\n";
+  // noenhanced everywhere: a user's "cam_angle" must not turn into a subscript.
+  if (!plot.title.empty()) gp << "set title " << gp_quote(plot.title) << " noenhanced\n";
+  gp << "set xlabel " << gp_quote(plot.xlabel) << " noenhanced\n";
+  gp << "set ylabel " << gp_quote(plot.ylabel) << " noenhanced\n";
+  if (plot.logx) gp << "set logscale x\n";
+  if (plot.logy) gp << "set logscale y\n";
+  if (plot.xrange) {
+    const auto [lo, hi] = *plot.xrange;
+    const bool usable = std::isfinite(lo) && std::isfinite(hi) && lo < hi && !(plot.logx && lo <= 0);
+    if (usable) gp << "set xrange [" << gp_number(lo) << ":" << gp_number(hi) << "]\n";
+  }
+  gp << "plot ";
+  for (std::size_t i = 0; i < series.size(); ++i) {
+    const std::string& style = series[i]->style;
+    const bool known = style == "lines" || style == "points" || style == "linespoints";
+    gp << (i > 0 ? ", \\\n     " : "") << gp_quote(data[i].string()) << " using 1:2 with "
+       << (known ? style : std::string("lines")) << " title " << gp_quote(series[i]->label)
+       << " noenhanced";
+  }
+  gp << "\nunset output\n";
+  return gp.str();
+}
+
+// Several gnuplot SVGs inlined in one page would repeat the same ids
+// (gpPt0, gnuplot_canvas, ...); ids must be unique in an HTML document, so
+// each plot's ids and the references to them get a prefix. Only tag text is
+// rewritten, never the text content of labels.
+std::string prefix_svg_ids(const std::string& svg, const std::string& prefix) {
+  static const char* const kPatterns[] = {" id=\"", " id='", "href=\"#", "href='#", "url(#"};
+  std::string out;
+  out.reserve(svg.size() + 1024);
+  bool in_tag = false;
+  for (std::size_t i = 0; i < svg.size(); ++i) {
+    const char c = svg[i];
+    if (c == '<') in_tag = true;
+    if (c == '>') in_tag = false;
+    out += c;
+    if (!in_tag) continue;
+    for (const char* pattern : kPatterns) {
+      const std::size_t n = std::strlen(pattern);
+      if (svg.compare(i, n, pattern) == 0) {
+        out.append(pattern + 1, n - 1);
+        out += prefix;
+        i += n - 1;
+        break;
+      }
+    }
+  }
+  return out;
+}
+
+bool looks_numeric(const std::string& s) {
+  if (s.empty()) return false;
+  char* end = nullptr;
+  std::strtod(s.c_str(), &end);
+  while (end != nullptr && *end == ' ') ++end;
+  return end != nullptr && *end == '\0' && !std::isspace(static_cast<unsigned char>(s[0]));
+}
+
+constexpr const char* kStyle = R"css(
+:root { --fg: #1d2330; --muted: #5b6475; --line: #d8dde6; --panel: #ffffff; }
+* { box-sizing: border-box; }
+body { margin: 0; color: var(--fg); background: #f4f6f9;
+  font: 15px/1.5 system-ui, -apple-system, "Segoe UI", Roboto, "Helvetica Neue", Arial, sans-serif; }
+header, main, footer { max-width: 1100px; margin: 0 auto; padding: 0 24px; }
+header { padding-top: 28px; }
+h1 { font-size: 1.7em; margin: 0 0 4px; }
+h2 { font-size: 1.2em; margin: 0 0 10px; }
+.subtitle { color: var(--muted); margin: 0 0 16px; }
+dl.facts { display: grid; grid-template-columns: repeat(auto-fill, minmax(220px, 1fr)); gap: 8px 20px;
+  margin: 0; padding: 14px 16px; background: var(--panel); border: 1px solid var(--line); border-radius: 8px; }
+dl.facts dt { font-size: .78em; text-transform: uppercase; letter-spacing: .04em; color: var(--muted); }
+dl.facts dd { margin: 0; font-variant-numeric: tabular-nums; overflow-wrap: anywhere; }
+section { margin: 28px 0; }
+.table-wrap { overflow-x: auto; background: var(--panel); border: 1px solid var(--line); border-radius: 8px; }
+table { border-collapse: collapse; width: 100%; font-size: .92em; }
+th, td { padding: 6px 12px; border-bottom: 1px solid var(--line); text-align: left; white-space: nowrap; }
+td.num { text-align: right; font-variant-numeric: tabular-nums; }
+thead th { background: #eef1f6; }
+table.sortable th { cursor: pointer; user-select: none; }
+table.sortable th::after { content: " \2195"; color: #a8afbd; }
+table.sortable th[aria-sort="ascending"]::after { content: " \2191"; color: var(--fg); }
+table.sortable th[aria-sort="descending"]::after { content: " \2193"; color: var(--fg); }
+tbody tr:nth-child(even) { background: #fafbfd; }
+tbody tr:hover { background: #eef5fc; }
+.empty { color: var(--muted); padding: 8px 12px; margin: 0; }
+figure { margin: 0 0 24px; padding: 12px; background: var(--panel); border: 1px solid var(--line); border-radius: 8px; }
+figure svg { display: block; width: 100%; height: auto; }
+figcaption { color: var(--muted); font-size: .92em; padding-top: 6px; }
+.notes li { margin: 4px 0; }
+footer { color: var(--muted); font-size: .85em; padding-bottom: 28px; }
+@media print { body { background: #fff; } figure, .table-wrap { break-inside: avoid; } }
+)css";
+
+// Click (or Enter on) a header of a sortable table to sort by that column:
+// numbers numerically and before text, text in natural order; again to reverse.
+constexpr const char* kSortScript = R"js(
+(function () {
+  'use strict';
+  function sortKey(cell) {
+    var text = cell ? cell.textContent.trim() : '';
+    var num = text === '' ? NaN : Number(text);
+    return { text: text, num: isFinite(num) ? num : null };
+  }
+  function compare(a, b) {
+    if (a.num !== null && b.num !== null) return a.num - b.num;
+    if (a.num !== null) return -1;
+    if (b.num !== null) return 1;
+    return a.text.localeCompare(b.text, undefined, { numeric: true, sensitivity: 'base' });
+  }
+  var tables = document.querySelectorAll('table.sortable');
+  Array.prototype.forEach.call(tables, function (table) {
+    if (!table.tHead || !table.tBodies.length) return;
+    var headers = table.tHead.rows[0].cells;
+    Array.prototype.forEach.call(headers, function (th, column) {
+      th.tabIndex = 0;
+      function sort() {
+        var ascending = th.getAttribute('aria-sort') !== 'ascending';
+        Array.prototype.forEach.call(headers, function (h) { h.removeAttribute('aria-sort'); });
+        th.setAttribute('aria-sort', ascending ? 'ascending' : 'descending');
+        var body = table.tBodies[0];
+        var rows = Array.prototype.map.call(body.rows, function (row, index) {
+          return { row: row, index: index, key: sortKey(row.cells[column]) };
+        });
+        rows.sort(function (a, b) {
+          var c = compare(a.key, b.key);
+          return (ascending ? c : -c) || a.index - b.index;
+        });
+        rows.forEach(function (r) { body.appendChild(r.row); });
+      }
+      th.addEventListener('click', sort);
+      th.addEventListener('keydown', function (event) {
+        if (event.key === 'Enter' || event.key === ' ') { event.preventDefault(); sort(); }
+      });
+    });
+  });
+})();
+)js";
+
+void render_table(std::ostringstream& html, const Table& table) {
+  for (std::size_t r = 0; r < table.rows.size(); ++r) {
+    if (table.rows[r].size() != table.columns.size()) {
+      throw std::logic_error("report table '" + table.title + "' row " + std::to_string(r + 1) +
+                             " has " + std::to_string(table.rows[r].size()) + " cells for " +
+                             std::to_string(table.columns.size()) + " columns");
+    }
+  }
+  html << "<section class=\"table\">\n";
+  if (!table.title.empty()) html << "<h2>" << escape_html(table.title) << "</h2>\n";
+  html << "<div class=\"table-wrap\">\n<table" << (table.sortable ? " class=\"sortable\"" : "")
+       << ">\n<thead><tr>";
+  for (const auto& column : table.columns) html << "<th scope=\"col\">" << escape_html(column) << "</th>";
+  html << "</tr></thead>\n<tbody>\n";
+  for (const auto& row : table.rows) {
+    html << "<tr>";
+    for (const auto& cell : row) {
+      html << (looks_numeric(cell) ? "<td class=\"num\">" : "<td>") << escape_html(cell) << "</td>";
+    }
+    html << "</tr>\n";
+  }
+  html << "</tbody>\n</table>\n";
+  if (table.rows.empty()) html << "<p class=\"empty\">No rows.</p>\n";
+  html << "</div>\n</section>\n";
+}
+
+}  // namespace
+
+std::string escape_html(std::string_view text) {
+  std::string out;
+  out.reserve(text.size());
+  for (char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&#39;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+std::string format_number(double value, int significant) {
+  if (!std::isfinite(value)) return "n/a";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*g", std::clamp(significant, 1, 17), value);
+  return buf;
+}
+
+Series decimate_minmax(const Series& series, std::size_t max_points) {
+  const std::size_t n = std::min(series.x.size(), series.y.size());
+  if (n <= max_points || max_points < 4) return series;
+  Series out{series.label, {}, {}, series.style};
+  out.x.reserve(max_points + 4);
+  out.y.reserve(max_points + 4);
+  auto emit = [&](std::size_t i) {
+    const bool brk = is_break(series.x[i], series.y[i]);
+    if (brk && (out.x.empty() || is_break(out.x.back(), out.y.back()))) return;  // collapse breaks
+    out.x.push_back(brk ? kBreak : series.x[i]);
+    out.y.push_back(brk ? kBreak : series.y[i]);
+  };
+  const std::size_t buckets = (max_points - 2) / 2;
+  emit(0);
+  for (std::size_t b = 0; b < buckets; ++b) {
+    // Bucket b covers [begin, end) of the points strictly between the two ends.
+    const std::size_t begin = 1 + b * (n - 2) / buckets;
+    const std::size_t end = 1 + (b + 1) * (n - 2) / buckets;
+    std::size_t lo = end, hi = end, brk = end;
+    for (std::size_t i = begin; i < end; ++i) {
+      if (is_break(series.x[i], series.y[i])) {
+        if (brk == end) brk = i;
+        continue;
+      }
+      if (lo == end || series.y[i] < series.y[lo]) lo = i;
+      if (hi == end || series.y[i] > series.y[hi]) hi = i;
+    }
+    // Emit the bucket's extremes and its first break in their original order.
+    std::size_t picks[3] = {lo, hi, brk};
+    std::sort(std::begin(picks), std::end(picks));
+    for (std::size_t k = 0; k < 3; ++k) {
+      if (picks[k] != end && (k == 0 || picks[k] != picks[k - 1])) emit(picks[k]);
+    }
+  }
+  emit(n - 1);
+  return out;
+}
+
+std::string render_svg(const Plot& plot) {
+  std::vector<Series> prepared;
+  for (const auto& s : plot.series) {
+    if (s.x.size() != s.y.size()) {
+      throw std::logic_error("plot '" + plot.title + "' series '" + s.label + "': " +
+                             std::to_string(s.x.size()) + " x values for " +
+                             std::to_string(s.y.size()) + " y values");
+    }
+    Series drawable = decimate_minmax(drawable_points(s, plot.logx, plot.logy));
+    if (!drawable.x.empty()) prepared.push_back(std::move(drawable));
+  }
+  // Nothing to draw is a property of the data, not a failure of gnuplot: no warning.
+  if (prepared.empty()) return placeholder_svg(plot.title, "no data to plot");
+
+  const char* env = std::getenv("CAMDYN_GNUPLOT");
+  const std::string program = env != nullptr && *env != '\0' ? env : "gnuplot";
+  try {
+    TempDir dir;
+    std::vector<std::filesystem::path> data;
+    std::vector<const Series*> series;
+    for (std::size_t i = 0; i < prepared.size(); ++i) {
+      data.push_back(dir.path() / ("series" + std::to_string(i) + ".dat"));
+      write_data(data.back(), prepared[i]);
+      series.push_back(&prepared[i]);
+    }
+    const auto svg_path = dir.path() / "plot.svg";
+    const auto script_path = dir.path() / "plot.gp";
+    {
+      std::ofstream script(script_path);
+      script << gnuplot_script(plot, data, series, svg_path);
+      if (!script) throw std::runtime_error("cannot write " + script_path.string());
+    }
+    const std::string error = run_gnuplot(program, script_path, dir.path() / "gnuplot.log");
+    if (!error.empty()) return unavailable(plot, error);
+    const std::string svg = read_all(svg_path);
+    const std::size_t start = svg.find("<svg");
+    if (start == std::string::npos) return unavailable(plot, "gnuplot wrote no SVG");
+    // Drop the XML prolog (not allowed inside HTML) and name the figure after the plot.
+    std::string element = svg.substr(start);
+    const std::string default_title = "<title>Gnuplot</title>";
+    if (const auto t = element.find(default_title); t != std::string::npos) {
+      element.replace(t, default_title.size(), "<title>" + escape_html(plot.title) + "</title>");
+    }
+    return element;
+  } catch (const std::exception& e) {  // temp files: a report must not die for a plot
+    return unavailable(plot, e.what());
+  }
+}
+
+std::string render_html(const Report& report) {
+  std::ostringstream html;
+  const std::string title = report.title.empty() ? "camdyn report" : report.title;
+  html << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+       << "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n"
+       << "<title>" << escape_html(title) << "</title>\n<style>" << kStyle << "</style>\n"
+       << "</head>\n<body>\n<header>\n<h1>" << escape_html(title) << "</h1>\n";
+  if (!report.subtitle.empty()) {
+    html << "<p class=\"subtitle\">" << escape_html(report.subtitle) << "</p>\n";
+  }
+  if (!report.facts.empty()) {
+    html << "<dl class=\"facts\">\n";
+    for (const auto& [key, value] : report.facts) {
+      html << "<div><dt>" << escape_html(key) << "</dt><dd>" << escape_html(value)
+           << "</dd></div>\n";
+    }
+    html << "</dl>\n";
+  }
+  html << "</header>\n<main>\n";
+  for (const auto& table : report.tables) render_table(html, table);
+  if (!report.plots.empty()) html << "<section class=\"plots\">\n";
+  for (std::size_t i = 0; i < report.plots.size(); ++i) {
+    // The caption carries the title, so the picture does not repeat it.
+    Plot untitled = report.plots[i];
+    untitled.title.clear();
+    const std::string number = std::to_string(i + 1);
+    html << "<figure id=\"figure-" << number << "\">\n"
+         << prefix_svg_ids(render_svg(untitled), "fig" + number + "-")
+         << "<figcaption>Figure " << number << ". " << escape_html(report.plots[i].title)
+         << "</figcaption>\n</figure>\n";
+  }
+  if (!report.plots.empty()) html << "</section>\n";
+  if (!report.notes.empty()) {
+    html << "<section class=\"notes\">\n<h2>Notes</h2>\n<ul>\n";
+    for (const auto& note : report.notes) html << "<li>" << escape_html(note) << "</li>\n";
+    html << "</ul>\n</section>\n";
+  }
+  html << "</main>\n<footer>Generated by camdyn"
+#ifdef CAMDYN_VERSION
+       << " " CAMDYN_VERSION
+#endif
+       << ".</footer>\n<script>" << kSortScript << "</script>\n</body>\n</html>\n";
+  return html.str();
+}
+
+void write_report(const std::filesystem::path& path, const Report& report) {
+  write_file_atomic(path, render_html(report));
+}
+
+}  // namespace camdyn

@@ -1,0 +1,78 @@
+// The HTML report shared by every study type (simulate, optimize, identify,
+// convergence, compare), so that all reports look alike: a header with facts,
+// sortable tables, gnuplot-rendered SVG plots and notes, in one self-contained
+// HTML5 file that works offline (inline CSS/SVG/script, no external resources).
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace camdyn {
+
+/// One curve of a plot; `x` and `y` have the same length. Non-finite points
+/// (and non-positive ones on a log axis) are left out and break the line.
+struct Series {
+  std::string label;
+  std::vector<double> x, y;
+  std::string style = "lines";  ///< "lines", "points" or "linespoints"
+};
+
+struct Plot {
+  std::string title, xlabel, ylabel;
+  std::vector<Series> series;
+  bool logx = false, logy = false;
+  std::optional<std::pair<double, double>> xrange;  ///< [min, max]; autoscaled if unset
+};
+
+/// Cells are preformatted text (see format_number).
+struct Table {
+  std::string title;
+  std::vector<std::string> columns;
+  std::vector<std::vector<std::string>> rows;  ///< each as long as `columns`
+  bool sortable = true;                        ///< click a header to sort (numeric-aware)
+};
+
+struct Report {
+  std::string title;
+  std::string subtitle;
+  std::vector<std::pair<std::string, std::string>> facts;  ///< key-value list at the top
+  std::vector<Table> tables;
+  std::vector<Plot> plots;
+  std::vector<std::string> notes;
+};
+
+/// Most points a series keeps in a plot; more only bloat the SVG.
+inline constexpr std::size_t kMaxPlotPoints = 20000;
+
+/// Renders `plot` with gnuplot to an SVG element (`<svg ...>...</svg>`). If
+/// gnuplot is missing or fails, returns a placeholder SVG saying "plot
+/// unavailable: <reason>" and warns once per process on stderr; never throws
+/// for that. The gnuplot executable is `$CAMDYN_GNUPLOT` if set, else `gnuplot`.
+/// Throws std::logic_error if a series has x and y of different lengths.
+std::string render_svg(const Plot& plot);
+
+/// The whole report as one self-contained HTML5 page; all text is escaped.
+std::string render_html(const Report& report);
+
+/// render_html written atomically to `path`.
+void write_report(const std::filesystem::path& path, const Report& report);
+
+/// Reduces a series to at most `max_points` points (plus its two ends) by
+/// keeping, in each of max_points/2 buckets of consecutive points, the
+/// minimum and the maximum of y, so peaks survive. A NaN in x or y marks a
+/// break in the line and is kept (collapsed) as such. Shorter series are
+/// returned unchanged.
+Series decimate_minmax(const Series& series, std::size_t max_points = kMaxPlotPoints);
+
+/// `value` with `significant` digits for a table cell ("%.6g"); "n/a" if not finite.
+std::string format_number(double value, int significant = 6);
+
+/// `text` with & < > " ' replaced by entities.
+std::string escape_html(std::string_view text);
+
+}  // namespace camdyn

@@ -1,0 +1,162 @@
+// The camdyn command line end to end: exit codes, messages naming file and
+// field, outputs written (interface.md).
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Outcome {
+  int code = -1;
+  std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+fs::path scratch_dir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("camdyn_cli_test_" + std::to_string(::getpid())) / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+Outcome camdyn(const std::string& args) {
+  const fs::path dir = scratch_dir("io");
+  const std::string cmd = std::string(CAMDYN_BINARY) + " " + args + " >" + (dir / "out").string() + " 2>" +
+                          (dir / "err").string() + " </dev/null";
+  const int status = std::system(cmd.c_str());
+  Outcome o;
+  o.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  o.out = slurp(dir / "out");
+  o.err = slurp(dir / "err");
+  return o;
+}
+
+const std::string kData = CAMDYN_TEST_DATA_DIR;
+const std::string kQuickstart = std::string(CAMDYN_SOURCE_DIR) + "/studies/quickstart.json";
+
+TEST(Cli, VersionAndHelpSucceed) {
+  EXPECT_EQ(camdyn("--version").code, 0);
+  EXPECT_NE(camdyn("--version").out.find("camdyn"), std::string::npos);
+  EXPECT_EQ(camdyn("--help").code, 0);
+  EXPECT_EQ(camdyn("run --help").code, 0);
+}
+
+TEST(Cli, UsageErrorIsExitTwo) {
+  EXPECT_EQ(camdyn("").code, 2);
+  EXPECT_EQ(camdyn("run").code, 2);
+  EXPECT_EQ(camdyn("frobnicate x.json").code, 2);
+}
+
+// Every bad config of the corpus: exit 2, the file and the field named.
+TEST(Cli, BadConfigCorpusGivesExitTwoNamingFileAndField) {
+  const auto expected = nlohmann::json::parse(slurp(kData + "/bad_configs/expected.json"));
+  int count = 0;
+  for (const auto& [file, want] : expected["files"].items()) {
+    const std::string path = kData + "/bad_configs/" + file;
+    const Outcome o = camdyn("validate " + path);
+    EXPECT_EQ(o.code, 2) << file << ": " << o.err;
+    EXPECT_NE(o.err.find(want["path"].get<std::string>()), std::string::npos) << file << ": " << o.err;
+    EXPECT_NE(o.err.find(".json"), std::string::npos) << file << " (file not named): " << o.err;
+    if (want.contains("message")) {
+      EXPECT_NE(o.err.find(want["message"].get<std::string>()), std::string::npos) << file << ": " << o.err;
+    }
+    ++count;
+  }
+  EXPECT_GE(count, 15);
+}
+
+TEST(Cli, GeometryErrorsNameTheCamAngle) {
+  const Outcome o = camdyn("validate " + kData + "/bad_configs/undercut.json");
+  EXPECT_EQ(o.code, 2);
+  EXPECT_NE(o.err.find("at cam angle"), std::string::npos) << o.err;
+}
+
+TEST(Cli, MissingConfigFileIsExitTwo) {
+  const Outcome o = camdyn("run /nonexistent/scene.json");
+  EXPECT_EQ(o.code, 2);
+  EXPECT_NE(o.err.find("/nonexistent/scene.json"), std::string::npos) << o.err;
+}
+
+TEST(Cli, ValidatePrintsTheResolvedConfig) {
+  const Outcome o = camdyn("validate " + kQuickstart + " --set mechanism.cam.rpm=900");
+  ASSERT_EQ(o.code, 0) << o.err;
+  const auto resolved = nlohmann::json::parse(o.out);
+  EXPECT_EQ(resolved["mechanism"]["cam"]["rpm"].get<double>(), 900.0);
+  EXPECT_TRUE(resolved["mechanism"]["cam"]["motion_law"].contains("segments"));  // profile inlined
+  EXPECT_TRUE(resolved["integrator"].contains("max_steps"));                      // defaults filled in
+}
+
+TEST(Cli, RunWritesEveryOutputWithoutNaN) {
+  const fs::path out = scratch_dir("run");
+  const Outcome o = camdyn("run " + kQuickstart + " --quiet --out " + out.string() +
+                           " --set simulation.cycles=2 --set mechanism.contact.tracking=newton");
+  ASSERT_EQ(o.code, 0) << o.err;
+  for (const char* f : {"summary.json", "timeseries.csv", "events.csv", "report.html"})
+    EXPECT_TRUE(fs::exists(out / f)) << f;
+  for (const auto& entry : fs::directory_iterator(out))
+    EXPECT_EQ(entry.path().string().find(".tmp."), std::string::npos) << "temporary file left: " << entry.path();
+
+  const auto summary = nlohmann::json::parse(slurp(out / "summary.json"));
+  for (const char* key : {"separation_fraction", "max_separation_gap", "impact_count", "max_impact_velocity",
+                          "peak_contact_force", "min_contact_force", "max_penetration", "max_kinematic_error",
+                          "energy_residual", "max_pressure_angle_deg", "min_radius_of_curvature", "jump_speed_rpm"})
+    EXPECT_TRUE(summary["metrics"].contains(key)) << key;
+  for (const char* key : {"method", "rtol", "atol", "steps", "rhs_evaluations", "events", "tracking_resets",
+                          "run_time_s"})
+    EXPECT_TRUE(summary["solver"].contains(key)) << key;
+  EXPECT_EQ(summary["model"]["state_size"].get<int>(), 2);  // newton tracking, frictionless: y, ẏ only
+  EXPECT_GT(summary["metrics"]["separation_fraction"].get<double>(), 0.0);  // quickstart runs above jump speed
+
+  std::ifstream csv(out / "timeseries.csv");
+  std::string header;
+  std::getline(csv, header);
+  EXPECT_EQ(header,
+            "time,cam_angle_deg,follower_position,follower_velocity,follower_acceleration,kinematic_position,gap,"
+            "contact_force,friction_force,energy_residual");
+  std::string line;
+  int rows = 0;
+  while (std::getline(csv, line)) {
+    ++rows;
+    EXPECT_EQ(line.find("nan"), std::string::npos) << line;
+    EXPECT_EQ(line.find("inf"), std::string::npos) << line;
+  }
+  EXPECT_EQ(rows, 2 * 360 * 4 + 1);  // 2 cycles at 0.25°, both ends included
+
+  const std::string html = slurp(out / "report.html");
+  EXPECT_NE(html.find("<svg"), std::string::npos);
+  EXPECT_NE(html.find("peak_contact_force"), std::string::npos);
+}
+
+TEST(Cli, StepBudgetExceededIsExitThreeWithTimeAndAngle) {
+  const fs::path out = scratch_dir("budget");
+  const Outcome o = camdyn("run " + kQuickstart + " --quiet --out " + out.string() + " --set integrator.max_steps=50");
+  EXPECT_EQ(o.code, 3) << o.err;
+  EXPECT_NE(o.err.find("step budget"), std::string::npos) << o.err;
+  EXPECT_NE(o.err.find("cam angle"), std::string::npos) << o.err;
+  EXPECT_FALSE(fs::exists(out / "summary.json"));
+}
+
+TEST(Cli, UnknownOverrideKeyIsExitTwoWithSuggestion) {
+  const Outcome o = camdyn("validate " + kQuickstart + " --set mechanism.cam.rmp=900");
+  EXPECT_EQ(o.code, 2);
+  EXPECT_NE(o.err.find("rpm"), std::string::npos) << o.err;
+}
+
+}  // namespace

@@ -1,0 +1,106 @@
+#include "io/atomic_file.h"
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <stdexcept>
+#include <string>
+
+#include <gtest/gtest.h>
+
+namespace camdyn {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A fresh directory per test, removed afterwards.
+class AtomicFileTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() /
+           ("camdyn-atomic-" + std::string(info->name()) + "-" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  static std::string read(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  }
+  // Everything in the directory: temporary files must not linger.
+  std::size_t entries() const {
+    return static_cast<std::size_t>(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()));
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(AtomicFileTest, WriteCreatesParentsAndLeavesNoTempFile) {
+  const fs::path path = dir_ / "a" / "b" / "out.txt";
+  write_file_atomic(path, "hello\n");
+  EXPECT_EQ(read(path), "hello\n");
+  EXPECT_EQ(std::distance(fs::directory_iterator(path.parent_path()), fs::directory_iterator()), 1);
+}
+
+TEST_F(AtomicFileTest, WriteReplacesExistingFile) {
+  const fs::path path = dir_ / "out.txt";
+  write_file_atomic(path, "old content that is longer");
+  write_file_atomic(path, "new");
+  EXPECT_EQ(read(path), "new");
+  EXPECT_EQ(entries(), 1u);
+}
+
+TEST_F(AtomicFileTest, NothingVisibleUntilCommit) {
+  const fs::path path = dir_ / "out.txt";
+  AtomicFile file(path);
+  file.stream() << "partial";
+  EXPECT_FALSE(fs::exists(path));
+  EXPECT_TRUE(fs::exists(file.temp_path()));
+  EXPECT_EQ(file.temp_path().parent_path(), path.parent_path());
+  file.commit();
+  EXPECT_EQ(read(path), "partial");
+  EXPECT_FALSE(fs::exists(file.temp_path()));
+}
+
+TEST_F(AtomicFileTest, UncommittedLeavesNeitherFile) {
+  const fs::path path = dir_ / "out.txt";
+  fs::path temp;
+  {
+    AtomicFile file(path);
+    temp = file.temp_path();
+    file.stream() << "abandoned";
+  }
+  EXPECT_FALSE(fs::exists(path));
+  EXPECT_FALSE(fs::exists(temp));
+  EXPECT_EQ(entries(), 0u);
+}
+
+TEST_F(AtomicFileTest, UncommittedKeepsPreviousVersion) {
+  const fs::path path = dir_ / "out.txt";
+  write_file_atomic(path, "complete");
+  {
+    AtomicFile file(path);
+    file.stream() << "truncated";
+  }
+  EXPECT_EQ(read(path), "complete");
+  EXPECT_EQ(entries(), 1u);
+}
+
+TEST_F(AtomicFileTest, UnwritableDirectoryThrowsWithPath) {
+  fs::create_directories(dir_);
+  const fs::path blocker = dir_ / "file";
+  write_file_atomic(blocker, "x");
+  // A regular file where a directory is needed.
+  try {
+    write_file_atomic(blocker / "out.txt", "y");
+    FAIL() << "expected std::runtime_error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(blocker.string()), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace camdyn

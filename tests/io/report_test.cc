@@ -1,0 +1,207 @@
+#include "io/report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+namespace camdyn {
+namespace {
+
+std::size_t count(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (auto p = text.find(what); p != std::string::npos; p = text.find(what, p + 1)) ++n;
+  return n;
+}
+
+bool gnuplot_available() {
+  static const bool available = std::system("gnuplot --version >/dev/null 2>&1") == 0;
+  return available;
+}
+
+Plot make_plot(std::string title, std::string xlabel, std::string ylabel) {
+  Plot plot;
+  plot.title = std::move(title);
+  plot.xlabel = std::move(xlabel);
+  plot.ylabel = std::move(ylabel);
+  return plot;
+}
+
+Series make_series(std::string label, std::vector<double> x, std::vector<double> y,
+                   std::string style = "lines") {
+  Series s;
+  s.label = std::move(label);
+  s.x = std::move(x);
+  s.y = std::move(y);
+  s.style = std::move(style);
+  return s;
+}
+
+Table make_table(std::string title, std::vector<std::string> columns,
+                 std::vector<std::vector<std::string>> rows, bool sortable = true) {
+  Table t;
+  t.title = std::move(title);
+  t.columns = std::move(columns);
+  t.rows = std::move(rows);
+  t.sortable = sortable;
+  return t;
+}
+
+#define REQUIRE_GNUPLOT() \
+  if (!gnuplot_available()) GTEST_SKIP() << "gnuplot is not installed"
+
+Plot sine_plot() {
+  Plot plot = make_plot("Follower lift", "cam angle [deg]", "lift [m]");
+  Series s = make_series("follower_position", {}, {});
+  for (int i = 0; i <= 360; ++i) {
+    s.x.push_back(i);
+    s.y.push_back(0.01 * (1.0 - std::cos(i * 3.14159265358979 / 180.0)));
+  }
+  plot.series.push_back(s);
+  return plot;
+}
+
+TEST(Report, GnuplotSvgHasAPath) {
+  REQUIRE_GNUPLOT();
+  const std::string svg = render_svg(sine_plot());
+  EXPECT_EQ(svg.rfind("<svg", 0), 0u) << svg.substr(0, 200);  // no XML prolog: it is inlined
+  EXPECT_NE(svg.find("<path"), std::string::npos);
+  EXPECT_EQ(svg.find("plot unavailable"), std::string::npos);
+  // The label is printed literally: '_' is not an enhanced-text subscript.
+  EXPECT_NE(svg.find("follower_position"), std::string::npos);
+}
+
+TEST(Report, LogAxesDropNonPositiveValues) {
+  REQUIRE_GNUPLOT();
+  Plot plot = make_plot("Work precision", "rtol", "error");
+  plot.logx = plot.logy = true;
+  plot.series.push_back(make_series("bdf", {1e-4, 1e-6, 0.0, 1e-8, -1.0}, {1e-3, 0.0, 1e-5, 1e-7, 1.0},
+                         "linespoints"));
+  const std::string svg = render_svg(plot);
+  EXPECT_NE(svg.find("<path"), std::string::npos);
+  EXPECT_EQ(svg.find("plot unavailable"), std::string::npos) << svg;
+}
+
+TEST(Report, EmptyOrUndrawableSeriesGiveAPlaceholder) {
+  Plot plot = make_plot("Nothing", "x", "y");
+  plot.logy = true;
+  plot.series.push_back(make_series("empty", {}, {}));
+  plot.series.push_back(make_series("negative", {1.0, 2.0}, {-1.0, 0.0}));
+  const std::string svg = render_svg(plot);
+  EXPECT_NE(svg.find("<svg"), std::string::npos);
+  EXPECT_NE(svg.find("no data"), std::string::npos);
+}
+
+TEST(Report, MismatchedSeriesLengthsAreAProgrammingError) {
+  Plot plot = make_plot("Bad", "x", "y");
+  plot.series.push_back(make_series("s", {1.0, 2.0}, {1.0}));
+  EXPECT_THROW(render_svg(plot), std::logic_error);
+}
+
+TEST(Report, MissingGnuplotGivesAPlaceholderNotAnException) {
+  ::setenv("CAMDYN_GNUPLOT", "/nonexistent/gnuplot", 1);
+  std::string svg;
+  EXPECT_NO_THROW(svg = render_svg(sine_plot()));
+  ::unsetenv("CAMDYN_GNUPLOT");
+  EXPECT_NE(svg.find("<svg"), std::string::npos);
+  EXPECT_NE(svg.find("plot unavailable"), std::string::npos);
+}
+
+TEST(Report, DecimationKeepsThePeak) {
+  Series s = make_series("force", {}, {});
+  const std::size_t n = 200000;
+  for (std::size_t i = 0; i < n; ++i) {
+    s.x.push_back(static_cast<double>(i));
+    s.y.push_back(std::sin(static_cast<double>(i) * 1e-3));
+  }
+  const std::size_t peak = 123457;  // a one-sample impact spike
+  s.y[peak] = 1000.0;
+  const Series d = decimate_minmax(s);
+  EXPECT_LE(d.x.size(), kMaxPlotPoints + 2);
+  EXPECT_GT(d.x.size(), kMaxPlotPoints / 2);
+  ASSERT_EQ(d.x.size(), d.y.size());
+  EXPECT_EQ(*std::max_element(d.y.begin(), d.y.end()), 1000.0);
+  EXPECT_DOUBLE_EQ(d.x.front(), 0.0);
+  EXPECT_DOUBLE_EQ(d.x.back(), static_cast<double>(n - 1));
+  EXPECT_TRUE(std::is_sorted(d.x.begin(), d.x.end()));
+}
+
+TEST(Report, DecimatedPlotStillReachesThePeak) {
+  REQUIRE_GNUPLOT();
+  Plot plot = make_plot("Contact force", "time [s]", "force [N]");
+  Series s = make_series("contact_force", {}, {});
+  for (std::size_t i = 0; i < 200000; ++i) {
+    s.x.push_back(static_cast<double>(i) * 1e-5);
+    s.y.push_back(i == 150001 ? 1000.0 : 1.0);
+  }
+  plot.series.push_back(s);
+  const std::string svg = render_svg(plot);
+  EXPECT_LT(svg.size(), 2'000'000u);
+  // The autoscaled y axis reaches 1000 only if the spike was kept.
+  EXPECT_NE(svg.find(" 1000<"), std::string::npos);  // the top tic label
+}
+
+Report sample_report() {
+  Report r;
+  r.title = "roller <script>alert(1)</script>";
+  r.subtitle = "simulate & check";
+  r.facts = {{"rpm", "1200"}, {"name", "a\"b'c"}};
+  r.tables.push_back(make_table("Metrics", {"metric", "value <unit>"}, {{"peak_contact_force", "1234.5"},
+                                                              {"separation_fraction", "0"}}));
+  r.tables.push_back(make_table("Solver", {"steps", "rhs_evaluations"}, {{"10", "20"}}, false));
+  r.plots.push_back(sine_plot());
+  Plot second = sine_plot();
+  second.title = "Second <b>plot</b>";
+  r.plots.push_back(second);
+  r.notes = {"note with <script>evil()</script>"};
+  return r;
+}
+
+TEST(Report, HtmlHasHeadersEscapedTextAndOneSvgPerPlot) {
+  const Report r = sample_report();
+  const std::string html = render_html(r);
+  EXPECT_EQ(html.rfind("<!DOCTYPE html>", 0), 0u);
+  for (const auto& table : r.tables) {
+    for (const auto& column : table.columns) {
+      EXPECT_NE(html.find(">" + escape_html(column) + "</th>"), std::string::npos) << column;
+    }
+  }
+  EXPECT_EQ(html.find("<script>alert"), std::string::npos);
+  EXPECT_EQ(html.find("<script>evil"), std::string::npos);
+  EXPECT_NE(html.find("&lt;script&gt;alert(1)&lt;/script&gt;"), std::string::npos);
+  EXPECT_NE(html.find("a&quot;b&#39;c"), std::string::npos);
+  EXPECT_EQ(count(html, "<svg"), r.plots.size());
+  EXPECT_EQ(count(html, "<figure"), r.plots.size());
+  EXPECT_EQ(count(html, "<table class=\"sortable\">"), 1u);
+  // Only the page's own sorting script; nothing fetched from elsewhere.
+  EXPECT_EQ(count(html, "<script"), 1u);
+  EXPECT_EQ(html.find("src="), std::string::npos);
+  EXPECT_EQ(html.find("http://www.w3.org/1999/xhtml"), std::string::npos);
+}
+
+TEST(Report, HtmlSvgIdsAreUniqueAcrossPlots) {
+  REQUIRE_GNUPLOT();
+  const std::string html = render_html(sample_report());
+  EXPECT_NE(html.find("id='fig1-gpPt0'"), std::string::npos);
+  EXPECT_NE(html.find("id='fig2-gpPt0'"), std::string::npos);
+  EXPECT_EQ(html.find("id='gpPt0'"), std::string::npos);
+  EXPECT_EQ(html.find("href='#gpPt"), std::string::npos);
+}
+
+TEST(Report, RaggedTableRowIsAProgrammingError) {
+  Report r;
+  r.tables.push_back(make_table("T", {"a", "b"}, {{"1"}}));
+  EXPECT_THROW(render_html(r), std::logic_error);
+}
+
+TEST(Report, FormatNumber) {
+  EXPECT_EQ(format_number(1234.56789), "1234.57");
+  EXPECT_EQ(format_number(1e-9, 3), "1e-09");
+  EXPECT_EQ(format_number(std::nan("")), "n/a");
+}
+
+}  // namespace
+}  // namespace camdyn
