@@ -269,7 +269,12 @@ SimulationResult simulate(const SceneConfig& scene, const Model& model, Workspac
   const double projection_tolerance = std::max(1e-9, 10.0 * ic.rtol);  // [rad]
 
   while (integrator.time() < p.t_end) {
-    const auto result_kind = integrator.step(p.t_end);
+    CvodeIntegrator::Result result_kind;
+    try {
+      result_kind = integrator.step(p.t_end);
+    } catch (const NumericalError& e) {
+      throw NumericalError(std::string(e.what()) + " (integrating " + where(model, integrator.time()) + ")");
+    }
     stepped = true;
     const double t = integrator.time();
     const double t0 = integrator.last_step_start();

@@ -89,8 +89,7 @@ std::vector<double> ClampedBSpline::uniform_knots(int degree, int n, double a, d
   return knots;
 }
 
-ClampedBSpline::ClampedBSpline(int degree, std::vector<double> knots,
-                               std::vector<double> coefficients)
+ClampedBSpline::ClampedBSpline(int degree, std::vector<double> knots, std::vector<double> coefficients)
     : degree_(degree), knots_(std::move(knots)), coefficients_(std::move(coefficients)) {
   assert(degree_ >= 1 && degree_ <= kMaxSplineDegree);
   assert(knots_.size() == coefficients_.size() + degree_ + 1);
@@ -109,10 +108,8 @@ Derivatives3 ClampedBSpline::eval(double x) const {
 
 // ---------------------------------------------------------------- periodic
 
-std::optional<PeriodicBSpline> PeriodicBSpline::interpolate(int degree,
-                                                            const std::vector<double>& sites,
-                                                            const std::vector<double>& values,
-                                                            double period) {
+std::optional<PeriodicBSpline> PeriodicBSpline::interpolate(int degree, const std::vector<double>& sites,
+                                                            const std::vector<double>& values, double period) {
   const int m = static_cast<int>(sites.size());
   const int p = degree;
   assert(p >= 1 && p <= kMaxSplineDegree && m >= p + 1 && values.size() == sites.size());
@@ -123,8 +120,7 @@ std::optional<PeriodicBSpline> PeriodicBSpline::interpolate(int degree,
 
   std::vector<double> breaks(sites);
   if (p % 2 == 0) {
-    for (int j = 0; j < m; ++j)
-      breaks[j] = 0.5 * (sites[j] + (j + 1 < m ? sites[j + 1] : sites[0] + period));
+    for (int j = 0; j < m; ++j) breaks[j] = 0.5 * (sites[j] + (j + 1 < m ? sites[j + 1] : sites[0] + period));
   }
   // Unwrapped knots: U[k] = breaks[(k − p) mod m] + period · floor((k − p) / m).
   spline.knots_.resize(m + 2 * p + 1);

@@ -63,8 +63,7 @@ class PeriodicBSpline {
   /// singular for uniform sites, de Boor, *A Practical Guide to Splines*, ch. XIII).
   /// Returns nullopt when the interpolation system is singular (badly spaced sites).
   static std::optional<PeriodicBSpline> interpolate(int degree, const std::vector<double>& sites,
-                                                    const std::vector<double>& values,
-                                                    double period);
+                                                    const std::vector<double>& values, double period);
 
   /// Value and x-derivatives at any real x (reduced modulo the period).
   Derivatives3 eval(double x) const;
@@ -81,8 +80,8 @@ class PeriodicBSpline {
 
   int degree_ = 0;
   double period_ = 1.0;
-  int m_ = 0;                  ///< basis functions (= breakpoints) per period
-  std::vector<double> knots_;  ///< unwrapped: m + 2p + 1 knots, domain [knots_[p], knots_[p + m]]
+  int m_ = 0;                         ///< basis functions (= breakpoints) per period
+  std::vector<double> knots_;         ///< unwrapped: m + 2p + 1 knots, domain [knots_[p], knots_[p + m]]
   std::vector<double> coefficients_;  ///< m coefficients; index i is used as i mod m
 };
 

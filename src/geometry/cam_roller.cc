@@ -19,9 +19,7 @@ constexpr double kTwoPi = 2.0 * std::numbers::pi;
 /// J·v: v turned by +90°.
 Eigen::Vector2d perp(const Eigen::Vector2d& v) { return {-v.y(), v.x()}; }
 
-double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  return a.x() * b.y() - a.y() * b.x();
-}
+double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
 
 Eigen::Matrix2d rotation(double angle) {
   const double c = std::cos(angle), s = std::sin(angle);
@@ -129,9 +127,7 @@ Eigen::Vector2d TranslatingRollerCam::pitch_normal(double u) const {
   return static_cast<double>(direction) * perp(d) / d.norm();
 }
 
-Eigen::Vector2d TranslatingRollerCam::contour(double u) const {
-  return pitch(u).r - roller_radius * pitch_normal(u);
-}
+Eigen::Vector2d TranslatingRollerCam::contour(double u) const { return pitch(u).r - roller_radius * pitch_normal(u); }
 
 double TranslatingRollerCam::pressure_angle(double theta) const {
   // World frame: the cam-fixed normal turned by the cam rotation R(σθ). The
@@ -152,19 +148,17 @@ double TranslatingRollerCam::pitch_radius_of_curvature(double u) const {
   return kappa == 0.0 ? std::numeric_limits<double>::infinity() : 1.0 / kappa;
 }
 
-CamGeometryReport check_cam(const TranslatingRollerCam& cam, const std::string& file,
-                            const std::string& path, int samples) {
+CamGeometryReport check_cam(const TranslatingRollerCam& cam, const std::string& file, const std::string& path,
+                            int samples) {
   assert(cam.law != nullptr);
   const double rb = cam.base_radius, rr = cam.roller_radius, e = cam.offset;
-  if (!(rb > 0.0) || !std::isfinite(rb))
-    throw InputError(file, path + ".base_radius", num(rb) + " m must be > 0");
+  if (!(rb > 0.0) || !std::isfinite(rb)) throw InputError(file, path + ".base_radius", num(rb) + " m must be > 0");
   if (!(rr > 0.0) || !std::isfinite(rr))
     throw InputError(file, sibling(path, "follower.shape.radius"), num(rr) + " m must be > 0");
   if (!std::isfinite(e) || std::abs(e) >= rb + rr)
-    throw InputError(file, sibling(path, "follower.offset"),
-                     "|offset| = " + num(std::abs(e)) +
-                         " m must be less than base radius + roller radius = " + num(rb + rr) +
-                         " m");
+    throw InputError(
+        file, sibling(path, "follower.offset"),
+        "|offset| = " + num(std::abs(e)) + " m must be less than base radius + roller radius = " + num(rb + rr) + " m");
   if (cam.direction != 1 && cam.direction != -1)
     throw InputError(file, path + ".direction", "must be +1 (ccw) or -1 (cw)");
 
@@ -175,8 +169,7 @@ CamGeometryReport check_cam(const TranslatingRollerCam& cam, const std::string& 
   for (int i = 0; i < n_uniform; ++i) us.push_back(kTwoPi * i / n_uniform);
   for (const auto& piece : cam.law->pieces()) {
     constexpr int kPerPiece = 16;
-    for (int k = 0; k < kPerPiece; ++k)
-      us.push_back(piece.start + (piece.end - piece.start) * (k + 0.5) / kPerPiece);
+    for (int k = 0; k < kPerPiece; ++k) us.push_back(piece.start + (piece.end - piece.start) * (k + 0.5) / kPerPiece);
   }
   std::sort(us.begin(), us.end());
 
@@ -214,8 +207,7 @@ CamGeometryReport check_cam(const TranslatingRollerCam& cam, const std::string& 
   if (worst_kappa.value * rr >= 1.0)
     throw InputError(file, path,
                      "the pitch curve's radius of curvature " + num(1.0 / worst_kappa.value) +
-                         " m is not larger than the roller radius " + num(rr) + " m" +
-                         at(worst_kappa.u) +
+                         " m is not larger than the roller radius " + num(rr) + " m" + at(worst_kappa.u) +
                          ": the cam contour has a cusp or undercut (use a larger base radius, a "
                          "smaller roller or a gentler law)");
 

@@ -29,9 +29,7 @@ std::string num(double v) {
   return buf;
 }
 
-std::string indexed(const std::string& path, std::size_t i) {
-  return path + "[" + std::to_string(i) + "]";
-}
+std::string indexed(const std::string& path, std::size_t i) { return path + "[" + std::to_string(i) + "]"; }
 
 // ---------------------------------------------------------------- classic rises
 
@@ -40,8 +38,7 @@ class Cycloidal final : public NormalisedRise {
  public:
   LawSample eval(double x) const override {
     const double w = kTwoPi * x;
-    return {x - std::sin(w) / kTwoPi, 1.0 - std::cos(w), kTwoPi * std::sin(w),
-            kTwoPi * kTwoPi * std::cos(w)};
+    return {x - std::sin(w) / kTwoPi, 1.0 - std::cos(w), kTwoPi * std::sin(w), kTwoPi * kTwoPi * std::cos(w)};
   }
 };
 
@@ -116,10 +113,10 @@ class PiecewiseSinusoidRise final : public NormalisedRise {
   static LawSample unscaled(const Span& sp, double t) {
     const double w = sp.omega, phase = sp.omega * t + sp.psi;
     const double k = sp.c1 / w;
-    return {sp.f0 + sp.v0 * t + 0.5 * sp.c0 * t * t -
-                k * ((std::sin(phase) - std::sin(sp.psi)) / w - t * std::cos(sp.psi)),
-            sp.v0 + sp.c0 * t - k * (std::cos(phase) - std::cos(sp.psi)),
-            sp.c0 + sp.c1 * std::sin(phase), sp.c1 * w * std::cos(phase)};
+    return {
+        sp.f0 + sp.v0 * t + 0.5 * sp.c0 * t * t - k * ((std::sin(phase) - std::sin(sp.psi)) / w - t * std::cos(sp.psi)),
+        sp.v0 + sp.c0 * t - k * (std::cos(phase) - std::cos(sp.psi)), sp.c0 + sp.c1 * std::sin(phase),
+        sp.c1 * w * std::cos(phase)};
   }
 
   std::vector<Span> spans_;
@@ -203,8 +200,7 @@ std::pair<double, double> boundary_rates(const Segment& seg, double x) {
 /// so that f, f', f'' match (f(0), f'(0), f''(0)) = (0, d0[0], d0[1]) and
 /// (f(1), f'(1), f''(1)) = (1, d1[0], d1[1]), in the normalised variable.
 std::shared_ptr<const NormalisedRise> spline_segment_shape(int p, const std::vector<double>& free,
-                                                           std::array<double, 2> d0,
-                                                           std::array<double, 2> d1) {
+                                                           std::array<double, 2> d0, std::array<double, 2> d1) {
   const int n = static_cast<int>(free.size()) + 6;
   std::vector<double> knots = ClampedBSpline::uniform_knots(p, n);
   std::vector<double> c(n, 0.0);
@@ -243,10 +239,8 @@ MotionLaw law_from_segments(const std::vector<SegmentConfig>& configs, const std
 
     if (!std::isfinite(sc.end_deg) || sc.end_deg <= prev_end_deg)
       throw InputError(file, at + ".end_deg",
-                       num(sc.end_deg) + " must be greater than where the segment starts (" +
-                           num(prev_end_deg) + "°)");
-    if (sc.end_deg > 360.0)
-      throw InputError(file, at + ".end_deg", num(sc.end_deg) + " is beyond 360°");
+                       num(sc.end_deg) + " must be greater than where the segment starts (" + num(prev_end_deg) + "°)");
+    if (sc.end_deg > 360.0) throw InputError(file, at + ".end_deg", num(sc.end_deg) + " is beyond 360°");
     seg.start = deg_to_rad(prev_end_deg);
     seg.end = i + 1 == configs.size() ? kTwoPi : deg_to_rad(sc.end_deg);
     prev_end_deg = sc.end_deg;
@@ -257,8 +251,7 @@ MotionLaw law_from_segments(const std::vector<SegmentConfig>& configs, const std
       continue;
     }
     if (sc.type != "rise" && sc.type != "return")
-      throw InputError(file, at + ".type",
-                       "unknown segment type '" + sc.type + "' (use rise, dwell or return)");
+      throw InputError(file, at + ".type", "unknown segment type '" + sc.type + "' (use rise, dwell or return)");
 
     if (sc.lift.has_value() == sc.lift_deg.has_value())
       throw InputError(file, at,
@@ -270,8 +263,7 @@ MotionLaw law_from_segments(const std::vector<SegmentConfig>& configs, const std
       throw InputError(file, lift_path, "mixes lift and lift_deg segments in one law");
     lift_in_deg = in_deg;
     const double given = in_deg ? *sc.lift_deg : *sc.lift;
-    if (!std::isfinite(given) || given <= 0.0)
-      throw InputError(file, lift_path, num(given) + " must be > 0");
+    if (!std::isfinite(given) || given <= 0.0) throw InputError(file, lift_path, num(given) + " must be > 0");
     const double lift = in_deg ? deg_to_rad(given) : given;
     (sc.type == "rise" ? rise_total : return_total) += lift;
     seg.lift = sc.type == "rise" ? lift : -lift;
@@ -280,27 +272,26 @@ MotionLaw law_from_segments(const std::vector<SegmentConfig>& configs, const std
       seg.spline = true;
       if (sc.degree < 3 || sc.degree > kMaxSplineDegree)
         throw InputError(file, at + ".degree",
-                         std::to_string(sc.degree) + " must be in [3, " +
-                             std::to_string(kMaxSplineDegree) + "]");
+                         std::to_string(sc.degree) + " must be in [3, " + std::to_string(kMaxSplineDegree) + "]");
       const std::size_t total = sc.control_points.size() + 6;
       if (total < static_cast<std::size_t>(sc.degree) + 1)
-        throw InputError(file, at + ".control_points",
-                         "a degree-" + std::to_string(sc.degree) + " spline needs at least " +
-                             std::to_string(sc.degree + 1) +
-                             " control points: 6 boundary ones (added by the program) plus at "
-                             "least " +
-                             std::to_string(sc.degree - 5) + " free ones, " +
-                             std::to_string(sc.control_points.size()) + " given");
+        throw InputError(
+            file, at + ".control_points",
+            "a degree-" + std::to_string(sc.degree) + " spline needs at least " + std::to_string(sc.degree + 1) +
+                " control points: 6 boundary ones (added by the program) plus at "
+                "least " +
+                std::to_string(sc.degree - 5) + " free ones, " + std::to_string(sc.control_points.size()) + " given");
       for (std::size_t j = 0; j < sc.control_points.size(); ++j)
         if (!std::isfinite(sc.control_points[j]))
           throw InputError(file, indexed(at + ".control_points", j), "must be finite");
     } else {
+      if (!sc.control_points.empty())
+        throw InputError(file, at + ".control_points", "only a spline segment has control points");
       seg.shape = classic_rise(sc.law);
       if (!seg.shape) {
         std::string names;
         for (const auto& n : classic_rise_names()) names += n + ", ";
-        throw InputError(file, at + ".law",
-                         "unknown law '" + sc.law + "' (use " + names + "spline)");
+        throw InputError(file, at + ".law", "unknown law '" + sc.law + "' (use " + names + "spline)");
       }
     }
   }
@@ -309,11 +300,13 @@ MotionLaw law_from_segments(const std::vector<SegmentConfig>& configs, const std
     throw InputError(file, indexed(segs_path, configs.size() - 1) + ".end_deg",
                      "the last segment ends at " + num(prev_end_deg) +
                          "°: segments must cover the whole turn, ending at exactly 360");
-  if (std::abs(rise_total - return_total) > 1e-12 * std::max(rise_total, return_total))
+  if (std::abs(rise_total - return_total) > 1e-12 * std::max(rise_total, return_total)) {
+    const double unit = lift_in_deg == 1 ? kPi / 180.0 : 1.0;  // report in the given unit
     throw InputError(file, segs_path,
-                     "lift mismatch: the rises add up to " + num(rise_total) +
-                         " but the returns to " + num(return_total) +
-                         (lift_in_deg == 1 ? " rad" : " m") + "; the law must close over a turn");
+                     "lift mismatch: the rises add up to " + num(rise_total / unit) + " but the returns to " +
+                         num(return_total / unit) + (lift_in_deg == 1 ? "°" : " m") +
+                         "; the law must close over a turn");
+  }
 
   // Close the cycle exactly: the last rise/return takes up the rounding-level
   // difference the tolerance above allowed.
@@ -336,9 +329,9 @@ MotionLaw law_from_segments(const std::vector<SegmentConfig>& configs, const std
     const auto [v_out, a_out] = boundary_rates(next, 0.0);
     // θ-rates to the normalised variable x = (θ − start)/L of s = base + lift·f(x).
     const double len = segs[i].end - segs[i].start, lift = segs[i].lift;
-    segs[i].shape = spline_segment_shape(configs[i].degree, configs[i].control_points,
-                                         {v_in * len / lift, a_in * len * len / lift},
-                                         {v_out * len / lift, a_out * len * len / lift});
+    segs[i].shape =
+        spline_segment_shape(configs[i].degree, configs[i].control_points, {v_in * len / lift, a_in * len * len / lift},
+                             {v_out * len / lift, a_out * len * len / lift});
   }
 
   std::vector<MotionLaw::Piece> pieces;
@@ -356,27 +349,22 @@ MotionLaw law_from_segments(const std::vector<SegmentConfig>& configs, const std
 // ---------------------------------------------------------------- periodic spline
 
 /// Builds the InputError for knot j (j < 0: the whole list); field is "knots" or "lift".
-using KnotError =
-    std::function<InputError(const std::string& field, int j, const std::string& reason)>;
+using KnotError = std::function<InputError(const std::string& field, int j, const std::string& reason)>;
 
-MotionLaw periodic_law(int degree, const std::vector<double>& knots_deg,
-                       const std::vector<double>& lift, const KnotError& error) {
+MotionLaw periodic_law(int degree, const std::vector<double>& knots_deg, const std::vector<double>& lift,
+                       const KnotError& error) {
   const int m = static_cast<int>(knots_deg.size());
   if (lift.size() != knots_deg.size())
-    throw error("lift", -1,
-                std::to_string(lift.size()) + " lift values for " + std::to_string(m) + " knots");
+    throw error("lift", -1, std::to_string(lift.size()) + " lift values for " + std::to_string(m) + " knots");
   if (m < degree + 1)
     throw error("knots", -1,
-                std::to_string(m) + " knots; a degree-" + std::to_string(degree) +
-                    " periodic spline needs at least " + std::to_string(degree + 1));
+                std::to_string(m) + " knots; a degree-" + std::to_string(degree) + " periodic spline needs at least " +
+                    std::to_string(degree + 1));
   for (int j = 0; j < m; ++j) {
     const double k = knots_deg[j];
-    if (!std::isfinite(k) || k < 0.0 || k >= 360.0)
-      throw error("knots", j, num(k) + "° is outside [0, 360)");
+    if (!std::isfinite(k) || k < 0.0 || k >= 360.0) throw error("knots", j, num(k) + "° is outside [0, 360)");
     if (j > 0 && k <= knots_deg[j - 1])
-      throw error(
-          "knots", j,
-          num(k) + "° must be greater than the previous knot (" + num(knots_deg[j - 1]) + "°)");
+      throw error("knots", j, num(k) + "° must be greater than the previous knot (" + num(knots_deg[j - 1]) + "°)");
     if (!std::isfinite(lift[j])) throw error("lift", j, "must be finite");
   }
   std::vector<double> sites(m);
@@ -387,20 +375,16 @@ MotionLaw periodic_law(int degree, const std::vector<double>& knots_deg,
                 "the periodic interpolation system is singular: knots too unevenly spaced for "
                 "degree " +
                     std::to_string(degree));
-  std::vector<MotionLaw::Piece> pieces{
-      {0.0, kTwoPi, 0.0, 1.0, std::make_shared<PeriodicShape>(std::move(*spline))}};
+  std::vector<MotionLaw::Piece> pieces{{0.0, kTwoPi, 0.0, 1.0, std::make_shared<PeriodicShape>(std::move(*spline))}};
   return MotionLaw(std::move(pieces));
 }
 
 void check_degree(int degree, const std::string& file, const std::string& at) {
   if (degree < 3 || degree > kMaxSplineDegree)
-    throw InputError(
-        file, at,
-        std::to_string(degree) + " must be in [3, " + std::to_string(kMaxSplineDegree) + "]");
+    throw InputError(file, at, std::to_string(degree) + " must be in [3, " + std::to_string(kMaxSplineDegree) + "]");
 }
 
-MotionLaw law_from_spline(const PeriodicSplineConfig& sc, const std::string& file,
-                          const std::string& path) {
+MotionLaw law_from_spline(const PeriodicSplineConfig& sc, const std::string& file, const std::string& path) {
   const std::string at = path + ".spline";
   check_degree(sc.degree, file, at + ".degree");
   return periodic_law(sc.degree, sc.knots_deg, sc.lift,
@@ -422,17 +406,15 @@ MotionLaw law_from_table(const TableConfig& tc, const std::string& file, const s
     const double scale = std::max(std::abs(lifts.front()), std::abs(lifts.back()));
     if (std::abs(lifts.back() - lifts.front()) > 1e-12 * scale)
       throw InputError(tc.file, "line " + std::to_string(csv.lines.back()),
-                       "the row at 360° must repeat the row at 0° (" + tc.lift_column + " " +
-                           num(lifts.back()) + " ≠ " + num(lifts.front()) + ")");
+                       "the row at 360° must repeat the row at 0° (" + tc.lift_column + " " + num(lifts.back()) +
+                           " ≠ " + num(lifts.front()) + ")");
     angles.pop_back();
     lifts.pop_back();
   }
-  return periodic_law(
-      tc.degree, angles, lifts, [&](const std::string& field, int j, const std::string& reason) {
-        if (j >= 0) return InputError(tc.file, "line " + std::to_string(csv.lines[j]), reason);
-        return InputError(
-            tc.file, "column " + (field == "knots" ? tc.angle_column : tc.lift_column), reason);
-      });
+  return periodic_law(tc.degree, angles, lifts, [&](const std::string& field, int j, const std::string& reason) {
+    if (j >= 0) return InputError(tc.file, "line " + std::to_string(csv.lines[j]), reason);
+    return InputError(tc.file, "column " + (field == "knots" ? tc.angle_column : tc.lift_column), reason);
+  });
 }
 
 }  // namespace
@@ -440,9 +422,8 @@ MotionLaw law_from_table(const TableConfig& tc, const std::string& file, const s
 // ---------------------------------------------------------------- public
 
 const std::vector<std::string>& classic_rise_names() {
-  static const std::vector<std::string> names = {"cycloidal",          "polynomial_345",
-                                                 "polynomial_4567",    "harmonic",
-                                                 "modified_trapezoid", "modified_sine"};
+  static const std::vector<std::string> names = {"cycloidal", "polynomial_345",     "polynomial_4567",
+                                                 "harmonic",  "modified_trapezoid", "modified_sine"};
   return names;
 }
 
@@ -469,8 +450,7 @@ MotionLaw::MotionLaw(std::vector<Piece> pieces) : pieces_(std::move(pieces)) {
     // between knots, so sample densely (~4096 points per turn, ≥ 64 per piece).
     const int n = 64 + static_cast<int>(std::ceil(4096.0 * (pc.end - pc.start) / kTwoPi));
     for (int k = 0; k <= n; ++k) {
-      const double s =
-          pc.shape ? pc.base + pc.lift * pc.shape->eval(static_cast<double>(k) / n).s : pc.base;
+      const double s = pc.shape ? pc.base + pc.lift * pc.shape->eval(static_cast<double>(k) / n).s : pc.base;
       min_s_ = std::min(min_s_, s);
       max_s_ = std::max(max_s_, s);
     }
@@ -483,8 +463,8 @@ LawSample MotionLaw::eval(double theta) const {
   double t = std::fmod(theta, kTwoPi);
   if (t < 0.0) t += kTwoPi;
   if (t >= kTwoPi) t = 0.0;
-  const auto it = std::upper_bound(pieces_.begin(), pieces_.end(), t,
-                                   [](double v, const Piece& pc) { return v < pc.start; });
+  const auto it =
+      std::upper_bound(pieces_.begin(), pieces_.end(), t, [](double v, const Piece& pc) { return v < pc.start; });
   const Piece& pc = it == pieces_.begin() ? pieces_.front() : *(it - 1);
   if (!pc.shape) return {pc.base, 0.0, 0.0, 0.0};
   const double len = pc.end - pc.start;
@@ -493,14 +473,12 @@ LawSample MotionLaw::eval(double theta) const {
   return {pc.base + pc.lift * f.s, k1 * f.ds, k2 * f.d2s, k3 * f.d3s};
 }
 
-MotionLaw build_motion_law(const MotionLawConfig& config, const std::string& file,
-                           const std::string& path) {
-  const int given =
-      (config.segments.empty() ? 0 : 1) + (config.spline ? 1 : 0) + (config.table ? 1 : 0);
+MotionLaw build_motion_law(const MotionLawConfig& config, const std::string& file, const std::string& path) {
+  const int given = (config.segments.empty() ? 0 : 1) + (config.spline ? 1 : 0) + (config.table ? 1 : 0);
   if (given != 1)
-    throw InputError(file, path,
-                     given == 0 ? "give one of segments, spline or table"
-                                : "give only one of segments, spline or table");
+    throw InputError(
+        file, path,
+        given == 0 ? "give one of segments, spline or table" : "give only one of segments, spline or table");
   if (config.spline) return law_from_spline(*config.spline, file, path);
   if (config.table) return law_from_table(*config.table, file, path);
   return law_from_segments(config.segments, file, path);

@@ -58,8 +58,7 @@ const std::vector<double>& CsvColumns::operator[](const std::string& name) const
   throw std::out_of_range("column '" + name + "' was not read from " + file);
 }
 
-CsvColumns read_csv(const std::string& file, const std::vector<std::string>& columns,
-                    std::size_t min_rows) {
+CsvColumns read_csv(const std::string& file, const std::vector<std::string>& columns, std::size_t min_rows) {
   std::ifstream in(file);
   if (!in) throw InputError(file, "", "cannot open the file");
 
@@ -94,11 +93,9 @@ CsvColumns read_csv(const std::string& file, const std::vector<std::string>& col
           }
         }
         if (count == 0)
-          throw InputError(
-              file, "column " + columns[k],
-              "not in the header (line " + std::to_string(line_no) + " has: " + join(fields) + ")");
-        if (count > 1)
-          throw InputError(file, "column " + columns[k], "appears more than once in the header");
+          throw InputError(file, "column " + columns[k],
+                           "not in the header (line " + std::to_string(line_no) + " has: " + join(fields) + ")");
+        if (count > 1) throw InputError(file, "column " + columns[k], "appears more than once in the header");
         index[k] = found;
       }
       continue;
@@ -106,20 +103,18 @@ CsvColumns read_csv(const std::string& file, const std::vector<std::string>& col
 
     const std::string where = "line " + std::to_string(line_no);
     if (fields.size() != header_fields)
-      throw InputError(file, where,
-                       "has " + std::to_string(fields.size()) + " fields, the header has " +
-                           std::to_string(header_fields));
+      throw InputError(
+          file, where,
+          "has " + std::to_string(fields.size()) + " fields, the header has " + std::to_string(header_fields));
     for (std::size_t k = 0; k < columns.size(); ++k) {
       const std::string_view field = fields[index[k]];
       double value = 0.0;
       if (field.empty()) throw InputError(file, where, "column " + columns[k] + " is empty");
       if (!parse_double(field, value))
-        throw InputError(file, where,
-                         "column " + columns[k] + ": '" + std::string(field) + "' is not a number");
+        throw InputError(file, where, "column " + columns[k] + ": '" + std::string(field) + "' is not a number");
       if (!std::isfinite(value))
         throw InputError(file, where,
-                         "column " + columns[k] + ": '" + std::string(field) +
-                             "' is not finite (NaN or infinity)");
+                         "column " + columns[k] + ": '" + std::string(field) + "' is not finite (NaN or infinity)");
       out.values[k].push_back(value);
     }
     out.lines.push_back(line_no);
@@ -127,9 +122,9 @@ CsvColumns read_csv(const std::string& file, const std::vector<std::string>& col
   if (in.bad()) throw InputError(file, "", "read error");
   if (!have_header) throw InputError(file, "", "no header row (the file is empty or all comments)");
   if (out.rows() < min_rows)
-    throw InputError(file, "",
-                     "has " + std::to_string(out.rows()) + " data rows, at least " +
-                         std::to_string(min_rows) + " are needed");
+    throw InputError(
+        file, "",
+        "has " + std::to_string(out.rows()) + " data rows, at least " + std::to_string(min_rows) + " are needed");
   return out;
 }
 

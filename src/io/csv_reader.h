@@ -16,7 +16,7 @@ struct CsvColumns {
   std::string file;                         ///< as given to read_csv
   std::vector<std::string> names;           ///< requested column names, in request order
   std::vector<std::vector<double>> values;  ///< values[k]: column names[k], one entry per data row
-  std::vector<int> lines;  ///< 1-based file line of each data row (for error messages)
+  std::vector<int> lines;                   ///< 1-based file line of each data row (for error messages)
 
   /// The values of a requested column; throws std::out_of_range for a name not requested.
   const std::vector<double>& operator[](const std::string& name) const;
@@ -30,7 +30,6 @@ struct CsvColumns {
 /// ("column NAME"), a row with the wrong number of fields, an empty,
 /// non-numeric, NaN or infinite value ("line N"), or fewer than `min_rows`
 /// data rows.
-CsvColumns read_csv(const std::string& file, const std::vector<std::string>& columns,
-                    std::size_t min_rows = 1);
+CsvColumns read_csv(const std::string& file, const std::vector<std::string>& columns, std::size_t min_rows = 1);
 
 }  // namespace camdyn

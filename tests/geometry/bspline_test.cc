@@ -39,8 +39,8 @@ TEST(BSplineBasis, BezierKnotsGiveBernsteinPolynomialsAndTheirDerivatives) {
           for (int j = 0; j <= k; ++j) {
             const int a = i - j, c = p - i - (k - j);
             if (a < 0 || c < 0) continue;
-            d += binomial(k, j) * falling(i, j) * std::pow(x, a) * falling(p - i, k - j) *
-                 std::pow(1.0 - x, c) * ((k - j) % 2 ? -1.0 : 1.0);
+            d += binomial(k, j) * falling(i, j) * std::pow(x, a) * falling(p - i, k - j) * std::pow(1.0 - x, c) *
+                 ((k - j) % 2 ? -1.0 : 1.0);
           }
           d *= binomial(p, i);
           // Values are O(1), derivatives up to p³·2^p: relative rounding of a few ulps.

@@ -41,9 +41,7 @@ struct Variant {
   double offset;  ///< [m]
   int sigma;
 };
-void PrintTo(const Variant& v, std::ostream* os) {
-  *os << "e=" << v.offset << " sigma=" << v.sigma;
-}
+void PrintTo(const Variant& v, std::ostream* os) { *os << "e=" << v.offset << " sigma=" << v.sigma; }
 
 class CamVariant : public ::testing::TestWithParam<Variant> {};
 
@@ -73,12 +71,9 @@ TEST_P(CamVariant, PitchDerivativesMatchFiniteDifferences) {
     const double u = kTwoPi * (i + 0.3) / 50;  // ≥ 0.5° from the law's breakpoints
     const CurvePoint p = cam.pitch(u);
     for (int axis = 0; axis < 2; ++axis) {
-      const auto d1 =
-          test::central_difference([&](double t) { return cam.pitch(t).r[axis]; }, u, h);
-      const auto d2 =
-          test::central_difference([&](double t) { return cam.pitch(t).dr[axis]; }, u, h);
-      const auto d3 =
-          test::central_difference([&](double t) { return cam.pitch(t).d2r[axis]; }, u, h);
+      const auto d1 = test::central_difference([&](double t) { return cam.pitch(t).r[axis]; }, u, h);
+      const auto d2 = test::central_difference([&](double t) { return cam.pitch(t).dr[axis]; }, u, h);
+      const auto d3 = test::central_difference([&](double t) { return cam.pitch(t).d2r[axis]; }, u, h);
       EXPECT_NEAR(p.dr[axis], d1.value, d1.tolerance) << "P' at u = " << u;
       EXPECT_NEAR(p.d2r[axis], d2.value, d2.tolerance) << "P'' at u = " << u;
       EXPECT_NEAR(p.d3r[axis], d3.value, d3.tolerance) << "P''' at u = " << u;
@@ -108,8 +103,7 @@ TEST_P(CamVariant, PressureAngleMatchesTheClosedForm) {
   for (int i = 0; i < 72; ++i) {
     const double th = i * 5 * kDeg;
     const LawSample l = law.eval(th);
-    EXPECT_NEAR(cam.pressure_angle(th), sg * std::atan((l.ds - sg * e) / (cam.y0() + l.s)), 1e-14)
-        << "θ = " << th;
+    EXPECT_NEAR(cam.pressure_angle(th), sg * std::atan((l.ds - sg * e) / (cam.y0() + l.s)), 1e-14) << "θ = " << th;
   }
 }
 
@@ -130,8 +124,8 @@ TEST_P(CamVariant, CurvatureIsTheCurveFormulaInPolarForm) {
 }
 
 INSTANTIATE_TEST_SUITE_P(OffsetsAndDirections, CamVariant,
-                         ::testing::Values(Variant{0.0, 1}, Variant{0.0, -1}, Variant{0.012, 1},
-                                           Variant{0.012, -1}, Variant{-0.008, 1}));
+                         ::testing::Values(Variant{0.0, 1}, Variant{0.0, -1}, Variant{0.012, 1}, Variant{0.012, -1},
+                                           Variant{-0.008, 1}));
 
 // ---------------------------------------------------------------- check_cam
 
@@ -163,8 +157,7 @@ TEST(CheckCam, BaseCircleDwellHasContourRadiusEqualToBaseRadius) {
   const MotionLaw law = dwell_law();
   const CamGeometryReport r = check_cam(make_cam(law, 0.005, -1), "scene.json");
   EXPECT_NEAR(r.min_radius_of_curvature, 0.04, 1e-12);
-  EXPECT_NEAR(r.max_pressure_angle_deg,
-              std::atan(0.005 / std::sqrt(0.05 * 0.05 - 0.005 * 0.005)) / kDeg, 1e-10);
+  EXPECT_NEAR(r.max_pressure_angle_deg, std::atan(0.005 / std::sqrt(0.05 * 0.05 - 0.005 * 0.005)) / kDeg, 1e-10);
 }
 
 /// The cam angle [deg] that an InputError message names ("at cam angle 22.5°").
@@ -179,9 +172,8 @@ TEST(CheckCam, RollerTooBigForASharpRiseIsAnUndercut) {
   // r_b = 20 mm, a 20 mm cycloidal rise in 30°: the nose after the rise has a
   // pitch radius ≈ r²/(r + |s''|) ≈ 5 mm < r_r = 10 mm, near 3/4 of the rise
   // where s'' is most negative.
-  const MotionLaw law =
-      test::build(segments({segment("rise", "cycloidal", 30, 0.02), dwell(180),
-                            segment("return", "cycloidal", 300, 0.02), dwell(360)}));
+  const MotionLaw law = test::build(segments(
+      {segment("rise", "cycloidal", 30, 0.02), dwell(180), segment("return", "cycloidal", 300, 0.02), dwell(360)}));
   TranslatingRollerCam cam = make_cam(law, 0.0, 1);
   cam.base_radius = 0.02;
   try {
@@ -235,9 +227,8 @@ TEST(CheckCam, NonPositiveRadii) {
 TEST(CheckCam, PitchCurveTurningBackIsNotMakeable) {
   // Large offset with a steep rise: |q|² < σ·e·s' (q = (e, y₀ + s)) in mid-rise,
   // so the pitch curve folds back about the cam centre.
-  const MotionLaw law =
-      test::build(segments({segment("rise", "cycloidal", 30, 0.02), dwell(180),
-                            segment("return", "cycloidal", 300, 0.02), dwell(360)}));
+  const MotionLaw law = test::build(segments(
+      {segment("rise", "cycloidal", 30, 0.02), dwell(180), segment("return", "cycloidal", 300, 0.02), dwell(360)}));
   TranslatingRollerCam cam = make_cam(law, 0.02, 1);
   cam.base_radius = 0.02;
   cam.roller_radius = 0.005;

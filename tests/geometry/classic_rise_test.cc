@@ -83,15 +83,14 @@ TEST_P(ClassicRise, PeakCoefficientsMatchTextbookValues) {
   EXPECT_NEAR(peak_a, GetParam().peak_acceleration, 0.01);
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    AllLaws, ClassicRise,
-    ::testing::Values(ClassicCase{"cycloidal", 2.0, 2 * kPi, 0.0, 0.0},
-                      ClassicCase{"polynomial_345", 1.875, 5.77, 0.0, 0.0},
-                      ClassicCase{"polynomial_4567", 2.1875, 7.52, 0.0, 0.0},
-                      ClassicCase{"harmonic", kPi / 2, kPi* kPi / 2, kPi* kPi / 2, -kPi* kPi / 2},
-                      ClassicCase{"modified_trapezoid", 2.0, 4.89, 0.0, 0.0},
-                      ClassicCase{"modified_sine", 1.76, 5.53, 0.0, 0.0}),
-    [](const ::testing::TestParamInfo<ClassicCase>& tp) { return tp.param.name; });
+INSTANTIATE_TEST_SUITE_P(AllLaws, ClassicRise,
+                         ::testing::Values(ClassicCase{"cycloidal", 2.0, 2 * kPi, 0.0, 0.0},
+                                           ClassicCase{"polynomial_345", 1.875, 5.77, 0.0, 0.0},
+                                           ClassicCase{"polynomial_4567", 2.1875, 7.52, 0.0, 0.0},
+                                           ClassicCase{"harmonic", kPi / 2, kPi* kPi / 2, kPi* kPi / 2, -kPi* kPi / 2},
+                                           ClassicCase{"modified_trapezoid", 2.0, 4.89, 0.0, 0.0},
+                                           ClassicCase{"modified_sine", 1.76, 5.53, 0.0, 0.0}),
+                         [](const ::testing::TestParamInfo<ClassicCase>& tp) { return tp.param.name; });
 
 TEST(ClassicRiseNames, UnknownNameGivesNull) {
   EXPECT_EQ(classic_rise("cubic"), nullptr);

@@ -28,8 +28,7 @@ FdEstimate central_difference(const G& g, double x, double h, double g_scale = 0
   const double gp1 = g(x + h), gm1 = g(x - h), gp2 = g(x + 2 * h), gm2 = g(x - 2 * h);
   const double d1 = (gp1 - gm1) / (2 * h);
   const double d2 = (gp2 - gm2) / (4 * h);
-  const double scale =
-      std::max({std::abs(gp1), std::abs(gm1), std::abs(gp2), std::abs(gm2), g_scale});
+  const double scale = std::max({std::abs(gp1), std::abs(gm1), std::abs(gp2), std::abs(gm2), g_scale});
   const double truncation = 2.0 * std::abs(d2 - d1) / 3.0;
   const double rounding = kEvalUlps * eps * scale / h;
   return {d1, truncation + rounding};

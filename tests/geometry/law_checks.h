@@ -39,9 +39,7 @@ inline MotionLawConfig segments(std::vector<SegmentConfig> segs) {
   return c;
 }
 
-inline MotionLaw build(const MotionLawConfig& c) {
-  return build_motion_law(c, kConfigFile, kLawPath);
-}
+inline MotionLaw build(const MotionLawConfig& c) { return build_motion_law(c, kConfigFile, kLawPath); }
 
 /// Largest |s'|, |s''|, |s'''| found on a dense grid (bounds for the continuity test).
 struct RateBounds {
@@ -73,16 +71,13 @@ inline void expect_c2_at(const MotionLaw& law, double theta_b, const std::string
 }
 
 /// s', s'', s''' against central differences at n points avoiding ±3h around `breaks` [rad].
-inline void expect_derivatives_match_fd(const MotionLaw& law, const std::vector<double>& breaks,
-                                        int n = 97) {
+inline void expect_derivatives_match_fd(const MotionLaw& law, const std::vector<double>& breaks, int n = 97) {
   constexpr double h = 1e-4;  // [rad], ≪ the shortest segment checked (≥ 30°)
   // Rounding is relative to the size of s, s', s'' over the law, not at the point.
   const RateBounds size = sampled_bounds(law);
   for (int i = 0; i < n; ++i) {
     const double th = 2 * std::numbers::pi * (i + 0.3) / n;
-    if (std::any_of(breaks.begin(), breaks.end(),
-                    [&](double b) { return std::abs(th - b) < 3 * h; }))
-      continue;
+    if (std::any_of(breaks.begin(), breaks.end(), [&](double b) { return std::abs(th - b) < 3 * h; })) continue;
     const LawSample exact = law.eval(th);
     const auto d1 = central_difference([&](double t) { return law.eval(t).s; }, th, h, law.max_s());
     const auto d2 = central_difference([&](double t) { return law.eval(t).ds; }, th, h, size.ds);
@@ -95,8 +90,7 @@ inline void expect_derivatives_match_fd(const MotionLaw& law, const std::vector<
 
 /// Builds the law and expects an InputError whose path is `path` and whose
 /// reason contains `reason_part`.
-inline void expect_input_error(const MotionLawConfig& c, const std::string& path,
-                               const std::string& reason_part = "") {
+inline void expect_input_error(const MotionLawConfig& c, const std::string& path, const std::string& reason_part = "") {
   try {
     build(c);
     ADD_FAILURE() << "no InputError, expected one at " << path;

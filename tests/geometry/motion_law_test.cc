@@ -25,16 +25,14 @@ const std::string kSegs = kLawPath + ".segments";
 
 /// Rise 0–120°, dwell to 180°, return 180–300°, dwell to 360° with one law.
 MotionLawConfig rise_dwell_return(const std::string& law, double lift = 0.02) {
-  return segments(
-      {segment("rise", law, 120, lift), dwell(180), segment("return", law, 300, lift), dwell(360)});
+  return segments({segment("rise", law, 120, lift), dwell(180), segment("return", law, 300, lift), dwell(360)});
 }
 
 class SegmentLaw : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(SegmentLaw, IsC2AcrossSegmentBoundaries) {
   const MotionLaw law = build(rise_dwell_return(GetParam()));
-  for (double deg : {0.0, 120.0, 180.0, 300.0})
-    test::expect_c2_at(law, deg * kDeg, std::to_string(deg) + "°");
+  for (double deg : {0.0, 120.0, 180.0, 300.0}) test::expect_c2_at(law, deg * kDeg, std::to_string(deg) + "°");
 }
 
 TEST_P(SegmentLaw, ReachesTheLiftAndStartsAtZero) {
@@ -71,8 +69,8 @@ TEST_P(SegmentLaw, DerivativesMatchFiniteDifferences) {
 }
 
 INSTANTIATE_TEST_SUITE_P(C2Laws, SegmentLaw,
-                         ::testing::Values("cycloidal", "polynomial_345", "polynomial_4567",
-                                           "modified_trapezoid", "modified_sine"));
+                         ::testing::Values("cycloidal", "polynomial_345", "polynomial_4567", "modified_trapezoid",
+                                           "modified_sine"));
 
 TEST(SegmentLawHarmonic, AccelerationJumpsAtADwell) {
   // Harmonic is only C¹ next to a dwell; this also shows the C² check can fail.
@@ -83,8 +81,8 @@ TEST(SegmentLawHarmonic, AccelerationJumpsAtADwell) {
 }
 
 TEST(SegmentLawBuild, StartingWithAReturnShiftsTheBaseToZero) {
-  const MotionLaw law = build(segments({dwell(30), segment("return", "cycloidal", 150, 0.01),
-                                        dwell(200), segment("rise", "polynomial_345", 360, 0.01)}));
+  const MotionLaw law = build(segments({dwell(30), segment("return", "cycloidal", 150, 0.01), dwell(200),
+                                        segment("rise", "polynomial_345", 360, 0.01)}));
   EXPECT_NEAR(law.eval(10 * kDeg).s, 0.01, 1e-17);
   EXPECT_NEAR(law.eval(170 * kDeg).s, 0.0, 1e-17);
   EXPECT_NEAR(law.min_s(), 0.0, 1e-17);
@@ -94,9 +92,8 @@ TEST(SegmentLawBuild, StartingWithAReturnShiftsTheBaseToZero) {
 TEST(SegmentLawBuild, RoundingLevelLiftMismatchIsClosedExactly) {
   // 0.1 + 0.2 ≠ 0.3 in binary, a relative 2e-16 apart: accepted, and the law
   // still closes (s just below 2π equals s(0) to rounding).
-  const MotionLaw law =
-      build(segments({segment("rise", "cycloidal", 60, 0.1), segment("rise", "cycloidal", 120, 0.2),
-                      segment("return", "cycloidal", 360, 0.3)}));
+  const MotionLaw law = build(segments({segment("rise", "cycloidal", 60, 0.1), segment("rise", "cycloidal", 120, 0.2),
+                                        segment("return", "cycloidal", 360, 0.3)}));
   EXPECT_NEAR(law.eval(kTwoPi - 1e-12).s, 0.0, 1e-16);
 }
 

@@ -34,8 +34,7 @@ TEST(NoAllocation, EvaluatingLawsAndPitchCurveDoesNotAllocate) {
   MotionLawConfig periodic;
   periodic.spline = PeriodicSplineConfig{5, {0, 60, 120, 180, 240, 300}, {0, 1, 3, 2, 1, 0.5}};
   const std::vector<MotionLaw> laws = {
-      test::build(test::segments(
-          {segment("rise", "modified_sine", 120, 0.01), dwell(180), spline, dwell(360)})),
+      test::build(test::segments({segment("rise", "modified_sine", 120, 0.01), dwell(180), spline, dwell(360)})),
       test::build(periodic)};
   for (const MotionLaw& law : laws) {
     TranslatingRollerCam cam;

@@ -22,8 +22,8 @@ using test::segments;
 
 constexpr double kTwoPi = 2 * std::numbers::pi;
 
-SegmentConfig spline(const std::string& type, double end_deg, double lift,
-                     std::vector<double> control_points, int degree = 5) {
+SegmentConfig spline(const std::string& type, double end_deg, double lift, std::vector<double> control_points,
+                     int degree = 5) {
   SegmentConfig s = segment(type, "spline", end_deg, lift);
   s.degree = degree;
   s.control_points = std::move(control_points);
@@ -33,8 +33,8 @@ SegmentConfig spline(const std::string& type, double end_deg, double lift,
 // ---------------------------------------------------------------- segments
 
 TEST(SplineSegment, IsC2BetweenDwells) {
-  const MotionLaw law = build(segments({dwell(30), spline("rise", 150, 0.02, {0.1, 0.5, 0.9}),
-                                        dwell(200), segment("return", "cycloidal", 360, 0.02)}));
+  const MotionLaw law = build(segments(
+      {dwell(30), spline("rise", 150, 0.02, {0.1, 0.5, 0.9}), dwell(200), segment("return", "cycloidal", 360, 0.02)}));
   for (double deg : {30.0, 150.0}) test::expect_c2_at(law, deg * kDeg, std::to_string(deg) + "°");
   EXPECT_NEAR(law.eval(30 * kDeg).s, 0.0, 1e-17);
   EXPECT_NEAR(law.eval(150 * kDeg).s, 0.02, 1e-16);
@@ -43,21 +43,17 @@ TEST(SplineSegment, IsC2BetweenDwells) {
 TEST(SplineSegment, IsC2WithHarmonicAndCycloidalNeighbours) {
   // Harmonic ends with f'' = −π²/2 ≠ 0, which the spline has to pick up.
   const MotionLaw law =
-      build(segments({segment("rise", "harmonic", 60, 0.01), spline("rise", 150, 0.01, {0.3, 0.6}),
-                      dwell(200), spline("return", 300, 0.01, {0.2, 0.5, 0.8}, 7),
-                      segment("return", "cycloidal", 360, 0.01)}));
+      build(segments({segment("rise", "harmonic", 60, 0.01), spline("rise", 150, 0.01, {0.3, 0.6}), dwell(200),
+                      spline("return", 300, 0.01, {0.2, 0.5, 0.8}, 7), segment("return", "cycloidal", 360, 0.01)}));
   const double a60 = law.eval(60 * kDeg).d2s;
   EXPECT_LT(a60, -0.01);  // the boundary acceleration is really nonzero
-  for (double deg : {60.0, 150.0, 200.0, 300.0})
-    test::expect_c2_at(law, deg * kDeg, std::to_string(deg) + "°");
-  test::expect_derivatives_match_fd(law,
-                                    {0.0, 60 * kDeg, 150 * kDeg, 200 * kDeg, 300 * kDeg, kTwoPi});
+  for (double deg : {60.0, 150.0, 200.0, 300.0}) test::expect_c2_at(law, deg * kDeg, std::to_string(deg) + "°");
+  test::expect_derivatives_match_fd(law, {0.0, 60 * kDeg, 150 * kDeg, 200 * kDeg, 300 * kDeg, kTwoPi});
 }
 
 TEST(SplineSegment, AdjacentSplinesMeetAtRest) {
   // A spline next to a spline uses zero velocity and acceleration at their boundary.
-  const MotionLaw law = build(
-      segments({spline("rise", 120, 0.01, {0.5}, 3), spline("return", 360, 0.01, {0.4, 0.6})}));
+  const MotionLaw law = build(segments({spline("rise", 120, 0.01, {0.5}, 3), spline("return", 360, 0.01, {0.4, 0.6})}));
   for (double deg : {0.0, 120.0}) {
     const LawSample l = law.eval(deg * kDeg);
     EXPECT_NEAR(l.ds, 0.0, 1e-15) << deg;
@@ -73,9 +69,8 @@ TEST_P(SplineSegmentDegree, LinearRampControlPointsGiveAMonotoneRise) {
   // so the spline is monotone (variation diminishing property).
   std::vector<double> ramp(6);
   for (int j = 0; j < 6; ++j) ramp[j] = (j + 1) / 7.0;
-  const MotionLaw law =
-      build(segments({dwell(20), spline("rise", 110, 0.015, ramp, GetParam()), dwell(200),
-                      segment("return", "polynomial_345", 360, 0.015)}));
+  const MotionLaw law = build(segments({dwell(20), spline("rise", 110, 0.015, ramp, GetParam()), dwell(200),
+                                        segment("return", "polynomial_345", 360, 0.015)}));
   double max_ds = 0.0, min_ds = 0.0;
   for (int i = 0; i <= 9000; ++i) {
     const double ds = law.eval((20 + 90.0 * i / 9000) * kDeg).ds;
@@ -93,23 +88,23 @@ TEST_P(SplineSegmentDegree, LinearRampControlPointsGiveAMonotoneRise) {
 INSTANTIATE_TEST_SUITE_P(Degrees, SplineSegmentDegree, ::testing::Values(3, 5, 7));
 
 TEST(SplineSegment, WorksWithOnlyTheBoundaryControlPoints) {
-  const MotionLaw law = build(segments(
-      {spline("rise", 90, 0.01, {}), dwell(180), segment("return", "modified_sine", 360, 0.01)}));
+  const MotionLaw law =
+      build(segments({spline("rise", 90, 0.01, {}), dwell(180), segment("return", "modified_sine", 360, 0.01)}));
   EXPECT_NEAR(law.eval(90 * kDeg).s, 0.01, 1e-16);
   EXPECT_NEAR(law.eval(45 * kDeg).s, 0.005, 1e-16);  // degree 5 Bézier 0,0,0,1,1,1 is symmetric
   test::expect_c2_at(law, 90 * kDeg, "90°");
 }
 
 TEST(SplineSegment, TooFewControlPointsForTheDegree) {
-  test::expect_input_error(segments({spline("rise", 90, 0.01, {0.5}, 7), dwell(180),
-                                     segment("return", "cycloidal", 360, 0.01)}),
-                           kLawPath + ".segments[0].control_points", "at least 8");
+  test::expect_input_error(
+      segments({spline("rise", 90, 0.01, {0.5}, 7), dwell(180), segment("return", "cycloidal", 360, 0.01)}),
+      kLawPath + ".segments[0].control_points", "at least 8");
 }
 
 TEST(SplineSegment, DegreeBelowThree) {
-  test::expect_input_error(segments({spline("rise", 90, 0.01, {0.5}, 2), dwell(180),
-                                     segment("return", "cycloidal", 360, 0.01)}),
-                           kLawPath + ".segments[0].degree", "[3,");
+  test::expect_input_error(
+      segments({spline("rise", 90, 0.01, {0.5}, 2), dwell(180), segment("return", "cycloidal", 360, 0.01)}),
+      kLawPath + ".segments[0].degree", "[3,");
 }
 
 // ---------------------------------------------------------------- periodic
@@ -118,8 +113,7 @@ const std::vector<double> kKnotsDeg = {0, 30, 60, 90, 120, 150, 180, 210, 240, 2
 const std::vector<double> kLifts = {0.0,   0.001, 0.004, 0.008, 0.0115, 0.0125,
                                     0.012, 0.009, 0.005, 0.002, 0.0005, 0.0};  // [m]
 const std::vector<double> kUnevenKnotsDeg = {0, 20, 45, 90, 100, 150, 200, 260, 300, 340};
-const std::vector<double> kUnevenLifts = {0.0,   0.002, 0.006, 0.010, 0.011,
-                                          0.012, 0.007, 0.003, 0.001, 0.0};
+const std::vector<double> kUnevenLifts = {0.0, 0.002, 0.006, 0.010, 0.011, 0.012, 0.007, 0.003, 0.001, 0.0};
 
 MotionLawConfig periodic(int degree, std::vector<double> knots, std::vector<double> lift) {
   MotionLawConfig c;
@@ -137,9 +131,7 @@ void PrintTo(const PeriodicCase& c, std::ostream* os) {
 
 class PeriodicSpline : public ::testing::TestWithParam<PeriodicCase> {
  protected:
-  const std::vector<double>& knots() const {
-    return GetParam().uneven ? kUnevenKnotsDeg : kKnotsDeg;
-  }
+  const std::vector<double>& knots() const { return GetParam().uneven ? kUnevenKnotsDeg : kKnotsDeg; }
   const std::vector<double>& lifts() const { return GetParam().uneven ? kUnevenLifts : kLifts; }
   MotionLaw law() const { return build(periodic(GetParam().degree, knots(), lifts())); }
   /// Breakpoints [deg]: the knots for odd degree, the midpoints between them for even.
@@ -190,12 +182,10 @@ TEST_P(PeriodicSpline, DerivativesMatchFiniteDifferences) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Degrees, PeriodicSpline,
-                         ::testing::Values(PeriodicCase{3, false}, PeriodicCase{4, false},
-                                           PeriodicCase{5, false}, PeriodicCase{5, true},
-                                           PeriodicCase{6, true}, PeriodicCase{7, false}),
+                         ::testing::Values(PeriodicCase{3, false}, PeriodicCase{4, false}, PeriodicCase{5, false},
+                                           PeriodicCase{5, true}, PeriodicCase{6, true}, PeriodicCase{7, false}),
                          [](const ::testing::TestParamInfo<PeriodicCase>& tp) {
-                           return "degree" + std::to_string(tp.param.degree) +
-                                  (tp.param.uneven ? "Uneven" : "Uniform");
+                           return "degree" + std::to_string(tp.param.degree) + (tp.param.uneven ? "Uneven" : "Uniform");
                          });
 
 TEST(PeriodicTable, GivesTheSameLawAsTheInlineSpline) {
@@ -261,8 +251,7 @@ TEST(PeriodicSplineErrors, NameTheFieldAndIndex) {
   knots = kKnotsDeg;
   knots.back() = 360;
   test::expect_input_error(periodic(5, knots, kLifts), at + ".knots_deg[11]", "[0, 360)");
-  test::expect_input_error(periodic(5, {0, 60, 120, 180, 240}, {0, 1, 2, 1, 0}), at + ".knots_deg",
-                           "at least 6");
+  test::expect_input_error(periodic(5, {0, 60, 120, 180, 240}, {0, 1, 2, 1, 0}), at + ".knots_deg", "at least 6");
   test::expect_input_error(periodic(5, kKnotsDeg, {0.0, 0.001}), at + ".lift", "2 lift values");
   auto lifts = kLifts;
   lifts[2] = std::nan("");

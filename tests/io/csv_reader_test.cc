@@ -22,9 +22,8 @@ class CsvReader : public ::testing::Test {
   }
 
   /// Reads and expects an InputError with this path and a reason containing `reason_part`.
-  void expect_error(const std::string& file, const std::vector<std::string>& columns,
-                    const std::string& path, const std::string& reason_part,
-                    std::size_t min_rows = 1) {
+  void expect_error(const std::string& file, const std::vector<std::string>& columns, const std::string& path,
+                    const std::string& reason_part, std::size_t min_rows = 1) {
     try {
       read_csv(file, columns, min_rows);
       ADD_FAILURE() << "no InputError for " << file;
@@ -55,8 +54,7 @@ TEST_F(CsvReader, ReadsRequestedColumnsSkippingCommentsAndOtherColumns) {
 }
 
 TEST_F(CsvReader, ReadsTheGeometryTestTable) {
-  const CsvColumns csv =
-      read_csv(CAMDYN_TEST_DATA_DIR "/geometry/periodic_lift.csv", {"angle_deg", "lift"}, 4);
+  const CsvColumns csv = read_csv(CAMDYN_TEST_DATA_DIR "/geometry/periodic_lift.csv", {"angle_deg", "lift"}, 4);
   ASSERT_EQ(csv.rows(), 13u);
   EXPECT_EQ(csv["angle_deg"].back(), 360.0);
   EXPECT_EQ(csv["lift"][5], 0.0125);
