@@ -3,19 +3,15 @@
 // (which must not allocate: checked by counting operator new calls).
 //
 //   build/release/bench/simulation_bench --benchmark_out=bench/results.json --benchmark_out_format=json
-#include <atomic>
-#include <cstdlib>
-#include <new>
-
 #include <benchmark/benchmark.h>
+
+#include "allocation_counter.h"
 
 #include "dynamics/model.h"
 #include "dynamics/simulation.h"
 #include "io/config.h"
 
 namespace {
-
-std::atomic<long> g_allocations{0};
 
 camdyn::SceneConfig quickstart() {
   return camdyn::load_scene(std::string(CAMDYN_SOURCE_DIR) + "/studies/quickstart.json");
@@ -55,12 +51,12 @@ void BM_RightHandSide(benchmark::State& state) {
   ws.u_warm = 1.0;
   double t = 1.0 / (scene.mechanism.cam.rpm / 60.0) * (1.0 / (2.0 * 3.141592653589793));
   // Allocation check outside the timed loop (the benchmark loop itself may allocate).
-  const long before = g_allocations.load();
+  const long before = camdyn::test::allocation_count();
   for (int i = 0; i < 1000; ++i) {
     camdyn::evaluate(model, ws, t, y, ev);
     camdyn::state_derivative(model, ev, y_dot);
   }
-  const long allocations = g_allocations.load() - before;
+  const long allocations = camdyn::test::allocation_count() - before;
   for (auto _ : state) {
     camdyn::evaluate(model, ws, t, y, ev);
     camdyn::state_derivative(model, ev, y_dot);
@@ -75,16 +71,5 @@ BENCHMARK(BM_RightHandSide)->Arg(0)->Arg(1);
 }  // namespace
 
 // Counting allocator: the RHS benchmark fails if the right-hand side allocates.
-// Replacement allocation functions pair malloc with free by design.
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-void* operator new(std::size_t size) {
-  ++g_allocations;
-  if (void* p = std::malloc(size ? size : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-#pragma GCC diagnostic pop
 
 BENCHMARK_MAIN();

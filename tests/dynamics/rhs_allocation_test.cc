@@ -6,24 +6,11 @@
 
 #include <gtest/gtest.h>
 
+#include "allocation_counter.h"
+
 #include "dynamics/model.h"
 #include "scenes.h"
 
-namespace {
-std::atomic<long> g_allocations{0};
-}
-
-// Replacement allocation functions pair malloc with free by design.
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-void* operator new(std::size_t size) {
-  ++g_allocations;
-  if (void* p = std::malloc(size ? size : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-#pragma GCC diagnostic pop
 
 namespace camdyn {
 namespace {
@@ -39,7 +26,7 @@ TEST(RightHandSide, AllocatesNothingInEveryTrackingMode) {
     Evaluation ev;
     double y[4] = {0.005, 0.3, 0.8, 100.0}, y_dot[4], q_dot[4], g[2];
     ws.u_warm = 0.8;
-    const long before = g_allocations.load();
+    const long before = camdyn::test::allocation_count();
     for (int i = 0; i < 100; ++i) {
       const double t = 1e-4 * i;
       evaluate(model, ws, t, y, ev);
@@ -47,7 +34,7 @@ TEST(RightHandSide, AllocatesNothingInEveryTrackingMode) {
       quadrature_derivative(ev, q_dot);
       root_functions(model, ws, ev, g);
     }
-    EXPECT_EQ(g_allocations.load() - before, 0) << tracking;
+    EXPECT_EQ(camdyn::test::allocation_count() - before, 0) << tracking;
   }
 }
 

@@ -3,6 +3,8 @@
 // for this test executable) while evaluating every kind of law.
 #include <gtest/gtest.h>
 
+#include "allocation_counter.h"
+
 #include <atomic>
 #include <cstdlib>
 #include <new>
@@ -10,17 +12,6 @@
 #include "geometry/cam_roller.h"
 #include "law_checks.h"
 
-namespace {
-std::atomic<long> g_allocations{0};
-}  // namespace
-
-void* operator new(std::size_t size) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 namespace camdyn {
 namespace {
@@ -41,13 +32,13 @@ TEST(NoAllocation, EvaluatingLawsAndPitchCurveDoesNotAllocate) {
     cam.law = &law;
     cam.base_radius = 0.04;
     cam.roller_radius = 0.01;
-    const long before = g_allocations.load();
+    const long before = camdyn::test::allocation_count();
     double sink = 0.0;
     for (int i = -500; i < 500; ++i) {
       const double th = i * 0.0137;
       sink += law.eval(th).d3s + cam.pitch(th).d3r.x() + cam.pressure_angle(th);
     }
-    EXPECT_EQ(g_allocations.load(), before);
+    EXPECT_EQ(camdyn::test::allocation_count(), before);
     EXPECT_TRUE(std::isfinite(sink));
   }
 }
