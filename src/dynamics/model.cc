@@ -184,6 +184,7 @@ void quadrature_derivative(const Evaluation& ev, double* q_dot) {
   q_dot[1] = ev.power_damper;
   q_dot[2] = ev.power_hysteresis;
   q_dot[3] = ev.power_friction;
+  q_dot[4] = ev.gap > 0.0 ? ev.gap : 0.0;  // smooth within a step: g = 0 is a root
 }
 
 void root_functions(const Model& model, const Workspace& ws, const Evaluation& ev, double* g) {

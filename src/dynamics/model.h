@@ -52,7 +52,8 @@ struct Model {
   int state_size = 2;
   int index_u = -1;
   int index_spin = -1;
-  static constexpr int kQuadratures = 4;  ///< W_drive, W_damper, W_hysteresis, W_friction [J]
+  /// W_drive, W_damper, W_hysteresis, W_friction [J], and ∫ max(g, 0) dt [m s].
+  static constexpr int kQuadratures = 5;
 
   std::vector<std::string> state_names;  ///< for summary.json `model`
   std::vector<std::string> elements;     ///< force elements assembled

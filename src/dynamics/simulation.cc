@@ -236,8 +236,22 @@ SimulationResult simulate(const SceneConfig& scene, const Model& model, Workspac
   };
 
   TimeSeries& ts = result.series;
-  std::vector<double> energy_deviation;
+  std::vector<double> energy_deviation, sample_energy_deviation;
+  auto push_row = [&](TimeSeries& series, double t) {
+    series.time.push_back(t);
+    series.cam_angle_deg.push_back(ev.theta * kRadToDeg);
+    series.follower_position.push_back(ev.y);
+    series.follower_velocity.push_back(ev.v);
+    series.follower_acceleration.push_back(ev.acceleration);
+    series.kinematic_position.push_back(model.law->eval(ev.theta).s);
+    series.gap.push_back(ev.gap);
+    series.contact_force.push_back(ev.normal_force);
+    series.friction_force.push_back(ev.friction_force);
+  };
   long next_output = 0;
+  size_t next_sample = 0;
+  double separation_integral_at_eval = 0.0;
+  bool eval_start_seen = p.t_eval <= 0.0;
   auto record_outputs_until = [&](double t_hi) {
     for (;; ++next_output) {
       const double t_nominal = static_cast<double>(next_output) * p.output_dt;
@@ -246,16 +260,18 @@ SimulationResult simulate(const SceneConfig& scene, const Model& model, Workspac
       if (t_nominal > p.t_end * (1.0 + 1e-12)) break;
       const double de = observe(t_out);
       if (!options.record_series) continue;
-      ts.time.push_back(t_out);
-      ts.cam_angle_deg.push_back(ev.theta * kRadToDeg);
-      ts.follower_position.push_back(ev.y);
-      ts.follower_velocity.push_back(ev.v);
-      ts.follower_acceleration.push_back(ev.acceleration);
-      ts.kinematic_position.push_back(model.law->eval(ev.theta).s);
-      ts.gap.push_back(ev.gap);
-      ts.contact_force.push_back(ev.normal_force);
-      ts.friction_force.push_back(ev.friction_force);
+      push_row(ts, t_out);
       energy_deviation.push_back(de);
+    }
+    for (; next_sample < options.sample_times.size() && options.sample_times[next_sample] <= t_hi; ++next_sample) {
+      const double t_sample = options.sample_times[next_sample];
+      sample_energy_deviation.push_back(observe(t_sample));
+      push_row(result.samples, t_sample);
+    }
+    if (!eval_start_seen && p.t_eval <= t_hi) {
+      observe(p.t_eval);
+      separation_integral_at_eval = qs[4];
+      eval_start_seen = true;
     }
   };
 
@@ -365,6 +381,10 @@ SimulationResult simulate(const SceneConfig& scene, const Model& model, Workspac
   m.min_radius_of_curvature = model.geometry.min_radius_of_curvature;
   m.jump_speed_rpm = jump_speed_rpm(model);
   for (double de : energy_deviation) ts.energy_residual.push_back(energy_scale > 0.0 ? de / energy_scale : 0.0);
+  for (double de : sample_energy_deviation)
+    result.samples.energy_residual.push_back(energy_scale > 0.0 ? de / energy_scale : 0.0);
+  integrator.dense_quadrature(integrator.time(), q.data());
+  m.separation_integral = q[4] - separation_integral_at_eval;
 
   result.solver.method = ic.method;
   result.solver.rtol = ic.rtol;

@@ -39,6 +39,7 @@ struct Metrics {
   double min_contact_force = 0.0;    ///< [N]
   double max_penetration = 0.0;      ///< [m]
   double max_kinematic_error = 0.0;  ///< [m]
+  double separation_integral = 0.0;  ///< ∫ max(g, 0) dt over the evaluated window [m s]: a smooth measure of jump
   double energy_residual = 0.0;      ///< [-]
   double max_pressure_angle_deg = 0.0;
   double min_radius_of_curvature = 0.0;  ///< [m]
@@ -59,6 +60,7 @@ struct SimulationResult {
   Metrics metrics;
   SolverSummary solver;
   TimeSeries series;
+  TimeSeries samples;  ///< at SimulationOptions::sample_times
   std::vector<ContactEvent> events;
   double evaluated_from = 0.0;  ///< start of the evaluated window [s]
   double end_time = 0.0;        ///< [s]
@@ -66,6 +68,10 @@ struct SimulationResult {
 
 struct SimulationOptions {
   bool record_series = true;
+  /// Extra times [s] (ascending, within the run) at which the state is sampled
+  /// from the integrator's dense output into SimulationResult::samples (for
+  /// comparing with measured data on its own time base).
+  std::vector<double> sample_times;
   /// Called now and then with the fraction of simulated time done, in [0, 1].
   std::function<void(double)> progress;
 };

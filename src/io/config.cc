@@ -508,9 +508,10 @@ Json to_json(const SceneConfig& scene) {
   return writer.json();
 }
 
+ConfigSource config_source(const std::string& file) { return ConfigSource{file, directory_of(file)}; }
+
 SceneConfig load_scene(const std::string& file, const std::vector<std::string>& overrides) {
-  const Json document = load_config_json(file, overrides);
-  return scene_from_json(document, ConfigSource{file, directory_of(file)});
+  return scene_from_json(load_config_json(file, overrides), config_source(file));
 }
 
 }  // namespace camdyn

@@ -224,6 +224,9 @@ Json to_json(const SceneConfig& scene);
 /// are left for scene_from_json to reject.
 void set_config_value(Json& document, const std::string& dotted_path, const Json& value);
 
+/// The source of a config file: the file and the directory its relative paths resolve against.
+ConfigSource config_source(const std::string& file);
+
 /// load_config_json + scene_from_json.
 SceneConfig load_scene(const std::string& file, const std::vector<std::string>& overrides = {});
 

@@ -40,6 +40,7 @@ Json metrics_json(const Metrics& m) {
               {"min_contact_force", m.min_contact_force},
               {"max_penetration", m.max_penetration},
               {"max_kinematic_error", m.max_kinematic_error},
+              {"separation_integral", m.separation_integral},
               {"energy_residual", m.energy_residual},
               {"max_pressure_angle_deg", m.max_pressure_angle_deg},
               {"min_radius_of_curvature", m.min_radius_of_curvature},
@@ -114,6 +115,7 @@ Report simulation_report(const SceneConfig& scene, const Model& model, const Sim
   add("min_contact_force", m.min_contact_force, "N");
   add("max_penetration", m.max_penetration, "m");
   add("max_kinematic_error", m.max_kinematic_error, "m");
+  add("separation_integral", m.separation_integral, "m s");
   add("energy_residual", m.energy_residual, "–");
   add("max_pressure_angle_deg", m.max_pressure_angle_deg, "deg");
   add("min_radius_of_curvature", m.min_radius_of_curvature, "m");

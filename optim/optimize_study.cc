@@ -1,0 +1,11 @@
+#include "optim/optimize_study.h"
+
+#include "common/errors.h"
+
+namespace camdyn::optim {
+
+int run_optimize_study(const Json&, const StudyContext& ctx) {
+  throw InputError(ctx.config_file, "study", "the optimize study is not available in this version of camdyn");
+}
+
+}  // namespace camdyn::optim
