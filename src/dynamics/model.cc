@@ -172,6 +172,103 @@ void evaluate(const Model& model, Workspace& ws, double t, const double* state, 
   ev.power_friction = -ev.friction_force * ev.slip;
 }
 
+void state_jacobian(const Model& model, Workspace& ws, double t, const double* state, double* jacobian) {
+  using Row = Eigen::Matrix<double, 1, 4>;  // gradient over the state (at most y, ẏ, u, Ω)
+  const int n = model.state_size;
+  const int iy = 0, iv = 1, iu = model.index_u, iw = model.index_spin;
+  const double sigma = model.direction;
+  Evaluation ev;
+  evaluate(model, ws, t, state, ev);
+  const double phi = sigma * ev.theta;
+  const Eigen::Vector2d c_world(model.cam.offset, model.cam.y0() + ev.y);
+  const Eigen::Vector2d c_cam = rotate(c_world, -phi);
+  const Eigen::Vector2d v_cam = rotate(Eigen::Vector2d(0.0, ev.v) - sigma * model.omega * perp(c_world), -phi);
+  // ∂c/∂y and ∂v_c/∂y, ∂v_c/∂ẏ in the cam frame.
+  const Eigen::Vector2d e_y = rotate(Eigen::Vector2d(0.0, 1.0), -phi);
+  const Eigen::Vector2d dvc_dy = rotate(Eigen::Vector2d(sigma * model.omega, 0.0), -phi);
+
+  // Pair geometry at u and its u-derivatives.
+  const CurvePoint p = model.cam.pitch(ev.pair.u);
+  const Eigen::Vector2d d = c_cam - p.r;
+  const double speed = p.dr.norm();
+  const Eigen::Vector2d& nrm = ev.pair.normal;
+  const double orientation = nrm.dot(Eigen::Vector2d(p.dr.y(), -p.dr.x())) > 0.0 ? 1.0 : -1.0;
+  const Eigen::Vector2d n_u =
+      orientation * Eigen::Vector2d(p.d2r.y(), -p.d2r.x()) / speed - nrm * (p.dr.dot(p.d2r) / (speed * speed));
+  const Eigen::Vector2d t_dir = perp(nrm), t_u = perp(n_u);
+  const double f_u = ev.pair.f_u;
+
+  // ∂u/∂x: a state (differential) or the implicit solution of f(c, u) = 0 (Newton).
+  Row du = Row::Zero();
+  if (iu >= 0) du(iu) = 1.0;
+  else du(iy) = -p.dr.dot(e_y) / f_u;
+  Row dc_n = Row::Zero();  // n · ∂c/∂x
+  dc_n(iy) = nrm.dot(e_y);
+  const Row gap = dc_n + (n_u.dot(d)) * du;
+  Row gap_rate = Row::Zero();
+  gap_rate(iy) = nrm.dot(dvc_dy);
+  gap_rate(iv) = nrm.dot(e_y);
+  gap_rate += n_u.dot(v_cam) * du;
+
+  // Normal force.
+  Row force_n = Row::Zero();
+  if (ev.normal_force > 0.0) {
+    const ForceLaw& law = model.contact;
+    const double delta_n = std::pow(ev.delta, law.exponent);
+    double df_ddelta = law.exponent * law.stiffness * delta_n / ev.delta, df_drate = 0.0;
+    if (law.model == ContactModel::kelvin_voigt) {
+      df_drate = law.damping;
+    } else if (law.model != ContactModel::hertz) {
+      df_ddelta *= 1.0 + law.chi() * ev.delta_rate / ws.v0;
+      df_drate = law.stiffness * delta_n * law.chi() / ws.v0;
+    }
+    force_n = -df_ddelta * gap - df_drate * gap_rate;
+  }
+
+  // Friction and roller spin.
+  Row force_t = Row::Zero();
+  if (model.has_spin) {
+    Row slip = Row::Zero();
+    slip(iy) = t_dir.dot(dvc_dy);
+    slip(iv) = t_dir.dot(e_y);
+    slip += t_u.dot(v_cam) * du;
+    slip(iw) -= model.cam.roller_radius;
+    const FrictionLaw& fr = model.friction;
+    const double x = ev.slip / fr.regularization_velocity;
+    const double shape = fr.coefficient(ev.slip) / fr.mu;
+    const double dshape = fr.linear_ramp ? (std::abs(x) < 1.0 ? 1.0 / fr.regularization_velocity : 0.0)
+                                         : (1.0 - shape * shape) / fr.regularization_velocity;
+    force_t = -fr.mu * (dshape * ev.normal_force * slip + shape * force_n);
+  }
+
+  // World y-component of the contact force F = F_n n + F_t t (rotated by φ).
+  const double sp = std::sin(phi), cp = std::cos(phi);
+  auto world_y = [&](const Eigen::Vector2d& v) { return sp * v.x() + cp * v.y(); };
+  const Row force_y = world_y(nrm) * force_n + ev.normal_force * world_y(n_u) * du + world_y(t_dir) * force_t +
+                      ev.friction_force * world_y(t_u) * du;
+
+  Eigen::Map<Eigen::MatrixXd> J(jacobian, n, n);
+  J.setZero();
+  J(0, iv) = 1.0;
+  Row accel = force_y;
+  accel(iy) -= model.spring_stiffness;
+  accel(iv) -= model.damping;
+  J.row(1) = (accel / model.mass).head(n);
+  if (iw >= 0) J.row(iw) = (-model.cam.roller_radius / model.roller_inertia * force_t).head(n);
+  if (iu >= 0) {
+    // u̇ = (−α f − P'·v_c) / f_u.
+    Row f = Row::Zero(), pv = Row::Zero(), fu = Row::Zero();
+    f(iy) = p.dr.dot(e_y);
+    f(iu) = f_u;
+    pv(iy) = p.dr.dot(dvc_dy);
+    pv(iv) = p.dr.dot(e_y);
+    pv(iu) = p.d2r.dot(v_cam);
+    fu(iy) = p.d2r.dot(e_y);
+    fu(iu) = p.d3r.dot(d) - 3.0 * p.dr.dot(p.d2r);
+    J.row(iu) = ((-model.tracking_gain * f - pv - ev.u_rate * fu) / f_u).head(n);
+  }
+}
+
 void state_derivative(const Model& model, const Evaluation& ev, double* state_dot) {
   state_dot[0] = ev.v;
   state_dot[1] = ev.acceleration;

@@ -105,6 +105,12 @@ void state_derivative(const Model& model, const Evaluation& ev, double* state_do
 /// Quadrature integrands (powers) from an evaluation.
 void quadrature_derivative(const Evaluation& ev, double* q_dot);
 
+/// Analytic Jacobian ∂ẋ/∂x of the state derivative at (t, state), contact,
+/// friction and tracking included, written column-major into `jacobian`
+/// (jacobian[i + n j] = ∂ẋ_i/∂x_j, n = model.state_size). Allocates nothing.
+/// Checked against finite differences in tests/dynamics/jacobian_test.cc.
+void state_jacobian(const Model& model, Workspace& ws, double t, const double* state, double* jacobian);
+
 /// Root functions: [0] gap g, [1] force clamp switch (where the law has one).
 void root_functions(const Model& model, const Workspace& ws, const Evaluation& ev, double* g);
 
