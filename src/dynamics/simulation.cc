@@ -9,7 +9,7 @@
 #include <sstream>
 
 #include "common/errors.h"
-#include "integrate/cvode_integrator.h"
+#include "integrate/integrator.h"
 
 namespace camdyn {
 
@@ -41,6 +41,11 @@ class SceneOde final : public OdeSystem {
   int roots(double t, const double* y, double* g) override {
     evaluate(model_, ws_, t, y, ev_);
     root_functions(model_, ws_, ev_, g);
+    return 0;
+  }
+  bool has_jacobian() const override { return true; }
+  int jacobian(double t, const double* y, double* J) override {
+    state_jacobian(model_, ws_, t, y, J);
     return 0;
   }
 
@@ -171,9 +176,6 @@ SimulationResult simulate(const SceneConfig& scene, const Model& model, Workspac
                           const SimulationOptions& options) {
   const auto wall_start = std::chrono::steady_clock::now();
   const IntegratorConfig& ic = scene.integrator;
-  if (ic.method != "cvode_bdf" && ic.method != "cvode_adams")
-    throw InputError("", "integrator.method",
-                     "method '" + ic.method + "' is not available yet (this version runs cvode_bdf and cvode_adams)");
   const RunPlan p = plan(scene, model);
   SimulationResult result;
   result.evaluated_from = p.t_eval;
@@ -185,13 +187,16 @@ SimulationResult simulate(const SceneConfig& scene, const Model& model, Workspac
   std::array<double, Model::kQuadratures> q{};
 
   SceneOde ode(model, ws);
-  CvodeOptions copt;
-  copt.bdf = ic.method == "cvode_bdf";
-  copt.rtol = ic.rtol;
-  copt.atol = ic.atol;
-  copt.quadrature_atol = ic.atol;
-  copt.max_step = p.max_step;
-  CvodeIntegrator integrator(ode, copt, 0.0, y.data(), q.data());
+  IntegratorOptions io;
+  io.method = ic.method;
+  io.rtol = ic.rtol;
+  io.atol = ic.atol;
+  io.quadrature_atol = ic.atol;
+  io.max_step = p.max_step;
+  io.fixed_step = ic.step.value_or(0.0);
+  io.analytic_jacobian = ic.jacobian == "analytic";
+  const std::unique_ptr<Integrator> integrator_ptr = make_integrator(ode, io, 0.0, y.data(), q.data());
+  Integrator& integrator = *integrator_ptr;
 
   Metrics& m = result.metrics;
   m.min_contact_force = std::numeric_limits<double>::infinity();
@@ -285,7 +290,7 @@ SimulationResult simulate(const SceneConfig& scene, const Model& model, Workspac
   const double projection_tolerance = std::max(1e-9, 10.0 * ic.rtol);  // [rad]
 
   while (integrator.time() < p.t_end) {
-    CvodeIntegrator::Result result_kind;
+    Integrator::Result result_kind;
     try {
       result_kind = integrator.step(p.t_end);
     } catch (const NumericalError& e) {
@@ -310,7 +315,7 @@ SimulationResult simulate(const SceneConfig& scene, const Model& model, Workspac
     if (model.tracking == Tracking::newton) ws.u_warm = ev.pair.u;
     bool restart = false;
 
-    if (result_kind == CvodeIntegrator::Result::root) {
+    if (result_kind == Integrator::Result::root) {
       integrator.root_info(root_dirs.data());
       ++result.solver.events;
       if (root_dirs[0] < 0) {  // gap closing: contact onset
@@ -369,7 +374,7 @@ SimulationResult simulate(const SceneConfig& scene, const Model& model, Workspac
       last_progress = wall;
       options.progress(t / p.t_end);
     }
-    if (result_kind == CvodeIntegrator::Result::stop) break;
+    if (result_kind == Integrator::Result::stop) break;
   }
   record_outputs_until(p.t_end);
 

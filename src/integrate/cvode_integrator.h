@@ -7,45 +7,30 @@
 #include <memory>
 #include <string>
 
-#include "integrate/ode_system.h"
+#include "integrate/integrator.h"
 
 namespace camdyn {
 
-struct CvodeOptions {
-  bool bdf = true;         ///< BDF (stiff) or Adams–Moulton
-  double rtol = 1e-8;      ///< relative tolerance
-  double atol = 1e-12;     ///< absolute tolerance of the state
-  double quadrature_atol = 1e-12;  ///< absolute tolerance of the quadratures
-  double max_step = 0.0;   ///< 0: unlimited [s]
-  long max_steps_per_call = 100000;
-};
-
-class CvodeIntegrator {
+/// CVODES BDF (options.method "cvode_bdf", dense direct linear solver with the
+/// system's analytic Jacobian when it has one) or Adams–Moulton ("cvode_adams",
+/// Newton iteration as well, the CVODES default).
+class CvodeIntegrator final : public Integrator {
  public:
-  enum class Result { step, root, stop };
-
-  CvodeIntegrator(OdeSystem& system, const CvodeOptions& options, double t0, const double* y0, const double* q0);
-  ~CvodeIntegrator();
+  CvodeIntegrator(OdeSystem& system, const IntegratorOptions& options, double t0, const double* y0,
+                  const double* q0);
+  ~CvodeIntegrator() override;
   CvodeIntegrator(const CvodeIntegrator&) = delete;
   CvodeIntegrator& operator=(const CvodeIntegrator&) = delete;
 
-  /// Takes one internal step towards t_stop (never past it). `root` when a
-  /// root function changed sign: the integrator then stands at the root.
-  Result step(double t_stop);
-  /// Time the integrator stands at (the returned step end or root) [s].
-  double time() const { return t_; }
-  /// Start of the last internal step [s] (dense output is valid in [start, end]).
-  double last_step_start() const { return t_prev_; }
-  /// State at time(), after step().
-  const double* state() const;
-  /// Dense output of the state (k = 0) or its k-th derivative, t within the last step.
-  void dense(double t, double* out) const;
-  void dense_quadrature(double t, double* out) const;
-  /// Which roots fired at the last `root` result: +1 rising, −1 falling, 0 none.
-  void root_info(int* directions) const;
-  /// Restarts at (t, y, q), e.g. after an event changed the right-hand side.
-  void reinit(double t, const double* y, const double* q);
-  SolverCounters counters() const;
+  Result step(double t_stop) override;
+  double time() const override { return t_; }
+  double last_step_start() const override { return t_prev_; }
+  const double* state() const override;
+  void dense(double t, double* out) const override;
+  void dense_quadrature(double t, double* out) const override;
+  void root_info(int* directions) const override;
+  void reinit(double t, const double* y, const double* q) override;
+  SolverCounters counters() const override;
 
  private:
   struct Impl;

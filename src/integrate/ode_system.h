@@ -16,6 +16,10 @@ class OdeSystem {
   virtual int rhs(double t, const double* y, double* y_dot) = 0;
   virtual int quadrature(double t, const double* y, double* q_dot) = 0;
   virtual int roots(double t, const double* y, double* g) = 0;
+  /// Analytic Jacobian ∂f/∂y, column-major (J[i + n j] = ∂f_i/∂y_j); return
+  /// -1 when the system has none (a finite-difference one is used instead).
+  virtual int jacobian(double /*t*/, const double* /*y*/, double* /*J*/) { return -1; }
+  virtual bool has_jacobian() const { return false; }
 };
 
 /// Solver counters, accumulated over re-initialisations.
@@ -26,6 +30,17 @@ struct SolverCounters {
   long nonlinear_iterations = 0;
   long jacobian_evaluations = 0;
   long reinitialisations = 0;
+
+  /// Adds the counts of another integration (a restart resets SUNDIALS' own).
+  SolverCounters& operator+=(const SolverCounters& other) {
+    steps += other.steps;
+    rhs_evaluations += other.rhs_evaluations;
+    error_test_failures += other.error_test_failures;
+    nonlinear_iterations += other.nonlinear_iterations;
+    jacobian_evaluations += other.jacobian_evaluations;
+    reinitialisations += other.reinitialisations;
+    return *this;
+  }
 };
 
 }  // namespace camdyn

@@ -250,6 +250,8 @@ void visit(A& a, IntegratorConfig& i) {
   a.require(i.method != "rk4" || i.step, "step", "missing: method 'rk4' needs a fixed 'step' [s]");
   a.field("max_steps", i.max_steps, at_least(1));
   a.field("max_wall_time_s", i.max_wall_time_s, positive());
+  a.field("jacobian", i.jacobian, one_of({"analytic", "finite_difference"}));
+  a.field("error_estimate", i.error_estimate, one_of({"energy", "richardson"}));
 }
 
 /// Run length and output step depend on whether the cam turns.
@@ -467,19 +469,21 @@ void set_config_value(Json& document, const std::string& dotted_path, const Json
 Json load_config_json(const std::string& file, const std::vector<std::string>& overrides) {
   std::vector<std::string> chain;
   Json document = load_with_extends(file, chain);
-  for (const std::string& assignment : overrides) {
-    const std::size_t equals = assignment.find('=');
-    if (equals == std::string::npos) {
-      throw InputError("--set", assignment, "expected KEY=VALUE");
-    }
-    const std::string key = assignment.substr(0, equals);
-    const std::string text = assignment.substr(equals + 1);
-    // JSON if it parses (numbers, true, null, arrays, objects, "quoted"), else a bare string.
-    Json value = Json::parse(text, nullptr, /*allow_exceptions=*/false);
-    if (value.is_discarded()) value = text;
-    set_config_value(document, key, value);
-  }
+  for (const std::string& assignment : overrides) apply_assignment(document, assignment);
   return document;
+}
+
+void apply_assignment(Json& document, const std::string& assignment) {
+  const std::size_t equals = assignment.find('=');
+  if (equals == std::string::npos) {
+    throw InputError("--set", assignment, "expected KEY=VALUE");
+  }
+  const std::string key = assignment.substr(0, equals);
+  const std::string text = assignment.substr(equals + 1);
+  // JSON if it parses (numbers, true, null, arrays, objects, "quoted"), else a bare string.
+  Json value = Json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (value.is_discarded()) value = text;
+  set_config_value(document, key, value);
 }
 
 SceneConfig scene_from_json(const Json& json, const ConfigSource& source) {

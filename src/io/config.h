@@ -178,6 +178,10 @@ struct IntegratorConfig {
   std::optional<double> step;        ///< fixed step for rk4 [s]
   long max_steps = 5'000'000;        ///< step budget for the whole run
   double max_wall_time_s = 600.0;    ///< wall-time budget for one run [s]
+  std::string jacobian = "analytic";  ///< implicit methods: "analytic" or "finite_difference"
+  /// "energy": the energy residual only; "richardson": also the difference to
+  /// a run at a 100× tighter tolerance (costs that second run).
+  std::string error_estimate = "energy";
 
   bool operator==(const IntegratorConfig&) const = default;
 };
@@ -223,6 +227,10 @@ Json to_json(const SceneConfig& scene);
 /// must exist. Throws InputError("--set", dotted_path, reason). Unknown keys
 /// are left for scene_from_json to reject.
 void set_config_value(Json& document, const std::string& dotted_path, const Json& value);
+
+/// Applies one "dotted.path=VALUE" assignment (VALUE parsed as JSON if it
+/// parses, else taken as a string), as `--set` does.
+void apply_assignment(Json& document, const std::string& assignment);
 
 /// The source of a config file: the file and the directory its relative paths resolve against.
 ConfigSource config_source(const std::string& file);
