@@ -68,7 +68,8 @@ int run_simulate(const camdyn::Json& doc, const camdyn::StudyContext& ctx) {
   const Progress progress(ctx.progress);
   camdyn::SimulationOptions options;
   if (progress.enabled()) options.progress = [&](double f) { progress(f); };
-  const camdyn::SimulationResult result = camdyn::simulate(scene, model, ws, options);
+  camdyn::SimulationResult result = camdyn::simulate(scene, model, ws, options);
+  camdyn::estimate_error(scene, model, result);
   const std::filesystem::path& out = ctx.out_dir;
   camdyn::write_simulation_outputs(out, scene, model, result);
 
@@ -80,6 +81,9 @@ int run_simulate(const camdyn::Json& doc, const camdyn::StudyContext& ctx) {
               m.separation_fraction, m.impact_count, m.peak_contact_force, m.min_contact_force);
   std::printf("  energy_residual %.3g, %ld steps, %ld RHS evaluations, %.3g s\n", m.energy_residual,
               result.solver.counters.steps, result.solver.counters.rhs_evaluations, result.solver.run_time_s);
+  if (result.error.richardson)
+    std::printf("  error estimate (run at 100x tighter tolerance): position %.3g m, peak force %.3g\n",
+                result.error.position, result.error.peak_contact_force);
   std::printf("  report: %s\n", std::filesystem::absolute(out / "report.html").lexically_normal().c_str());
   return kExitOk;
 }

@@ -382,6 +382,7 @@ SimulationResult simulate(const SceneConfig& scene, const Model& model, Workspac
   m.separation_fraction = evaluated > 0.0 ? separated_time / evaluated : 0.0;
   if (!std::isfinite(m.min_contact_force)) m.min_contact_force = 0.0;
   m.energy_residual = energy_scale > 0.0 ? energy_max_dev / energy_scale : 0.0;
+  result.error.energy_residual = m.energy_residual;
   m.max_pressure_angle_deg = model.geometry.max_pressure_angle_deg;
   m.min_radius_of_curvature = model.geometry.min_radius_of_curvature;
   m.jump_speed_rpm = jump_speed_rpm(model);
@@ -402,10 +403,36 @@ SimulationResult simulate(const SceneConfig& scene, const Model& model, Workspac
   return result;
 }
 
+void estimate_error(const SceneConfig& scene, const Model& model, SimulationResult& result) {
+  if (scene.integrator.error_estimate != "richardson") return;
+  SceneConfig tight = scene;
+  if (scene.integrator.method == "rk4") {
+    tight.integrator.step = scene.integrator.step.value_or(0.0) / std::pow(100.0, 0.25);
+  } else {
+    tight.integrator.rtol = scene.integrator.rtol / 100.0;
+    tight.integrator.atol = scene.integrator.atol / 100.0;
+  }
+  Workspace ws;
+  const SimulationResult reference = simulate(tight, model, ws);
+  ErrorEstimate& e = result.error;
+  e.richardson = true;
+  e.position = 0.0;
+  const TimeSeries& a = result.series;
+  const TimeSeries& b = reference.series;
+  for (size_t i = 0; i < std::min(a.time.size(), b.time.size()); ++i)
+    if (a.time[i] >= result.evaluated_from)
+      e.position = std::max(e.position, std::abs(a.follower_position[i] - b.follower_position[i]));
+  const double f_ref = reference.metrics.peak_contact_force;
+  e.peak_contact_force = f_ref > 0.0 ? std::abs(result.metrics.peak_contact_force / f_ref - 1.0) : 0.0;
+  e.tight_run_time_s = reference.solver.run_time_s;
+}
+
 SimulationResult simulate_scene(const SceneConfig& scene, const std::string& file, const SimulationOptions& options) {
   const Model model = build_model(scene, file);
   Workspace ws;
-  return simulate(scene, model, ws, options);
+  SimulationResult result = simulate(scene, model, ws, options);
+  estimate_error(scene, model, result);
+  return result;
 }
 
 }  // namespace camdyn

@@ -56,12 +56,22 @@ struct SolverSummary {
   double run_time_s = 0.0;
 };
 
+/// How accurate a run is (summary.json `solver.error_estimate`).
+struct ErrorEstimate {
+  double energy_residual = 0.0;  ///< physics.md §5, always available
+  bool richardson = false;       ///< the fields below were computed
+  double position = 0.0;         ///< max |y − y_tight| over the evaluated cycles [m]
+  double peak_contact_force = 0.0;  ///< |F_peak / F_peak,tight − 1| [-]
+  double tight_run_time_s = 0.0;    ///< cost of the tighter run [s]
+};
+
 struct SimulationResult {
   Metrics metrics;
   SolverSummary solver;
   TimeSeries series;
   TimeSeries samples;  ///< at SimulationOptions::sample_times
   std::vector<ContactEvent> events;
+  ErrorEstimate error;
   double evaluated_from = 0.0;  ///< start of the evaluated window [s]
   double end_time = 0.0;        ///< [s]
 };
@@ -80,6 +90,11 @@ struct SimulationOptions {
 /// or a budget (steps, wall time) is exceeded, naming the time and cam angle.
 SimulationResult simulate(const SceneConfig& scene, const Model& model, Workspace& ws,
                           const SimulationOptions& options = {});
+
+/// With `integrator.error_estimate = "richardson"`, runs the scene again at a
+/// tolerance 100× tighter (rk4: a step 100^(1/4)× shorter, the same factor
+/// on its error) and stores the difference in result.error.
+void estimate_error(const SceneConfig& scene, const Model& model, SimulationResult& result);
 
 /// Builds the model and runs it (throws InputError for bad geometry).
 SimulationResult simulate_scene(const SceneConfig& scene, const std::string& file,

@@ -47,6 +47,19 @@ Json metrics_json(const Metrics& m) {
               {"jump_speed_rpm", finite_or_null(m.jump_speed_rpm)}};
 }
 
+Json error_estimate_json(const ErrorEstimate& e) {
+  Json j{{"energy_residual", e.energy_residual}};
+  if (e.richardson) {
+    j["method"] = "richardson";
+    j["position"] = e.position;
+    j["peak_contact_force"] = e.peak_contact_force;
+    j["tight_run_time_s"] = e.tight_run_time_s;
+  } else {
+    j["method"] = "energy";
+  }
+  return j;
+}
+
 }  // namespace
 
 double rigid_contact_force(const Model& model, double theta) {
@@ -73,6 +86,7 @@ Json summary_json(const SceneConfig& scene, const Model& model, const Simulation
                            {"events", s.events},
                            {"tracking_resets", s.tracking_resets},
                            {"run_time_s", s.run_time_s},
+                           {"error_estimate", error_estimate_json(result.error)},
                            {"error_test_failures", s.counters.error_test_failures},
                            {"nonlinear_iterations", s.counters.nonlinear_iterations},
                            {"jacobian_evaluations", s.counters.jacobian_evaluations},

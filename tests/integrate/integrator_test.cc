@@ -1,0 +1,144 @@
+// Every integration method on camdyn scenes: convergence order on a smooth
+// scene, error falling with tolerance on an impacting one, and event location
+// (a drop test) with each method.
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "../dynamics/scenes.h"
+#include "dynamics/simulation.h"
+
+namespace camdyn {
+namespace {
+
+// A smooth scene: a whole-cycle quintic spline law (C⁴), soft Hertz contact,
+// follower always in contact, slow cam. No event, so every method shows its
+// own order.
+SceneConfig smooth_scene() {
+  SceneConfig s = test::cycloidal_cam_scene(300.0, "hertz");
+  s.mechanism.cam.motion_law.segments.clear();
+  s.mechanism.cam.motion_law.spline = PeriodicSplineConfig{5, {0, 60, 120, 180, 240, 300}, {0, 0.006, 0.015, 0.02, 0.012, 0.004}};
+  s.mechanism.contact.stiffness = 1e8;
+  s.simulation.cycles = 2;
+  s.simulation.discard_cycles = 1;
+  return s;
+}
+
+SimulationResult run(SceneConfig s, const std::string& method, double rtol, double step = 0.0) {
+  s.integrator.method = method;
+  s.integrator.rtol = rtol;
+  s.integrator.atol = rtol * 1e-4;
+  if (step > 0) s.integrator.step = step;
+  return simulate_scene(s, "test");
+}
+
+double position_error(const SimulationResult& a, const SimulationResult& ref) {
+  double worst = 0.0;
+  for (size_t i = 0; i < a.series.time.size(); ++i)
+    if (a.series.time[i] >= a.evaluated_from)
+      worst = std::max(worst, std::abs(a.series.follower_position[i] - ref.series.follower_position[i]));
+  return worst;
+}
+
+TEST(Integrators, Rk4ConvergesAtFourthOrderOnASmoothScene) {
+  const SceneConfig s = smooth_scene();
+  const SimulationResult ref = run(s, "cvode_bdf", 1e-12);
+  const double omega = 300.0 * 2 * std::numbers::pi / 60;
+  double previous = 0.0;
+  for (double deg : {0.5, 0.25, 0.125}) {
+    const double e = position_error(run(s, "rk4", 0.0, deg * std::numbers::pi / 180 / omega), ref);
+    if (previous > 0) {
+      // Halving the step divides the error by 2⁴ = 16 (allowing 10…24 for pre-asymptotic terms).
+      EXPECT_GT(previous / e, 10.0) << deg;
+      EXPECT_LT(previous / e, 24.0) << deg;
+    }
+    previous = e;
+  }
+}
+
+class AdaptiveMethod : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(AdaptiveMethod, ErrorIsProportionalToToleranceOnASmoothScene) {
+  const SceneConfig s = smooth_scene();
+  const SimulationResult ref = run(s, "cvode_bdf", 1e-12);
+  const double e6 = position_error(run(s, GetParam(), 1e-6), ref);
+  const double e8 = position_error(run(s, GetParam(), 1e-8), ref);
+  // Tolerance proportionality: 100× tighter tolerance, at least 20× smaller error.
+  EXPECT_LT(e8, e6 / 20.0) << "e(1e-6) = " << e6 << ", e(1e-8) = " << e8;
+  EXPECT_LT(e8, 1e-8);  // y ~ 0.02 m: 1e-8 rtol means ~2e-10 m locally
+}
+
+TEST_P(AdaptiveMethod, ErrorFallsAsToleranceTightensOnAnImpactingScene) {
+  SceneConfig s = test::cycloidal_cam_scene(1350.0, "lankarani_nikravesh");
+  s.mechanism.follower.damping = 20.0;  // the bouncing decays: errors do not grow chaotically
+  const SimulationResult ref = run(s, "cvode_bdf", 1e-12);
+  ASSERT_GT(ref.metrics.impact_count, 0);
+  double previous = INFINITY;
+  for (double rtol : {1e-5, 1e-7, 1e-9}) {
+    const SimulationResult r = run(s, GetParam(), rtol);
+    const double e = position_error(r, ref);
+    EXPECT_LT(e, previous) << GetParam() << " rtol " << rtol;
+    EXPECT_EQ(r.metrics.impact_count, ref.metrics.impact_count) << GetParam() << " rtol " << rtol;
+    previous = e;
+  }
+  EXPECT_LT(previous, 1e-7);
+}
+
+TEST_P(AdaptiveMethod, LocatesImpactEventsInADropTest) {
+  SceneConfig s = test::drop_scene("hertz", 1.0);
+  s.integrator.method = GetParam();
+  s.integrator.rtol = 1e-9;
+  s.integrator.atol = 1e-14;
+  const SimulationResult r = simulate_scene(s, "drop");
+  ASSERT_GE(r.events.size(), 2u);
+  EXPECT_TRUE(r.events[0].onset);
+  EXPECT_FALSE(r.events[1].onset);
+  EXPECT_NEAR(r.events[0].speed, 1.0, 1e-6);
+  EXPECT_NEAR(r.events[1].speed / r.events[0].speed, 1.0, 1e-4);  // Hertz: no dissipation
+  EXPECT_NEAR(r.events[0].time, 1e-4, 1e-9);                        // free flight of 0.1 mm at 1 m/s
+}
+
+INSTANTIATE_TEST_SUITE_P(Methods, AdaptiveMethod,
+                         ::testing::Values("cvode_bdf", "cvode_adams", "arkode_erk", "arkode_dirk"));
+
+TEST(Integrators, Rk4LocatesEventsByBisection) {
+  SceneConfig s = test::drop_scene("hertz", 1.0);
+  s.integrator.method = "rk4";
+  s.integrator.step = 2e-7;
+  const SimulationResult r = simulate_scene(s, "drop");
+  ASSERT_GE(r.events.size(), 2u);
+  EXPECT_NEAR(r.events[0].time, 1e-4, 1e-12);
+  EXPECT_NEAR(r.events[1].speed / r.events[0].speed, 1.0, 1e-4);
+}
+
+TEST(Integrators, AnalyticAndFiniteDifferenceJacobiansGiveTheSameRun) {
+  SceneConfig s = test::cycloidal_cam_scene(1000.0, "lankarani_nikravesh");
+  s.simulation.cycles = 2;
+  for (const char* method : {"cvode_bdf", "arkode_dirk"}) {
+    s.integrator.method = method;
+    s.integrator.jacobian = "analytic";
+    const SimulationResult a = simulate_scene(s, "test");
+    s.integrator.jacobian = "finite_difference";
+    const SimulationResult b = simulate_scene(s, "test");
+    // Both converge the same Newton systems to the tolerance: results agree to ~rtol.
+    EXPECT_NEAR(a.metrics.peak_contact_force / b.metrics.peak_contact_force, 1.0, 1e-6) << method;
+    EXPECT_GT(a.solver.counters.jacobian_evaluations, 0) << method;
+  }
+}
+
+TEST(Integrators, RichardsonEstimateBoundsTheActualError) {
+  SceneConfig s = smooth_scene();
+  s.integrator.error_estimate = "richardson";
+  s.integrator.rtol = 1e-6;
+  s.integrator.atol = 1e-10;
+  const SimulationResult r = simulate_scene(s, "test");
+  ASSERT_TRUE(r.error.richardson);
+  const double actual = position_error(r, run(smooth_scene(), "cvode_bdf", 1e-12));
+  // The difference to a 100× tighter run is the error of the looser run up to ~1 %.
+  EXPECT_NEAR(r.error.position / actual, 1.0, 0.1);
+}
+
+}  // namespace
+}  // namespace camdyn
