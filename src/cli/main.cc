@@ -21,6 +21,7 @@
 #include "io/simulation_output.h"
 #include "optim/identify_study.h"
 #include "optim/optimize_study.h"
+#include "study/compare_study.h"
 #include "study/convergence_study.h"
 #include "study/study.h"
 
@@ -140,6 +141,7 @@ int main(int argc, char** argv) {
     const std::string study =
         doc.contains("study") && doc["study"].is_string() ? doc["study"].get<std::string>() : "simulate";
     if (study == "convergence") return camdyn::run_convergence_study(doc, ctx);
+    if (study == "compare") return camdyn::run_compare_study(doc, ctx);
     if (study == "optimize") return camdyn::optim::run_optimize_study(doc, ctx);
     if (study == "identify") return camdyn::optim::run_identify_study(doc, ctx);
     return run_simulate(doc, ctx);  // simulate; any other study name is reported by the config layer

@@ -361,6 +361,13 @@ SimulationResult simulate(const SceneConfig& scene, const Model& model, Workspac
       integrator.reinit(t, y.data(), q.data());
     }
 
+    // A penetration beyond half the roller radius means the contact is far too
+    // soft for its load: the compliant-contact model no longer describes it.
+    if (ev.delta > 0.5 * model.cam.roller_radius)
+      throw NumericalError("contact penetration " + std::to_string(ev.delta) +
+                           " m exceeds half the roller radius (the contact stiffness is far too low for the load) " +
+                           where(model, t));
+
     const SolverCounters c = integrator.counters();
     if (c.steps > step_budget)
       throw NumericalError("step budget of " + std::to_string(step_budget) + " steps (integrator.max_steps) exceeded " +

@@ -7,6 +7,7 @@
 #include <iostream>
 #include <mutex>
 #include <numbers>
+#include <optional>
 
 #include "common/errors.h"
 #include "dynamics/simulation.h"
@@ -25,6 +26,9 @@ namespace {
 struct SceneVariant {
   std::string name = "base";
   std::vector<std::string> set;
+  std::optional<std::vector<double>> tolerances;  ///< overrides the study's for this scene
+  std::optional<double> reference_rtol;           ///< overrides reference.rtol for this scene
+  std::optional<std::vector<double>> rk4_steps_deg;  ///< overrides the study's for this scene
 };
 
 struct ReferenceConfig {
@@ -47,6 +51,9 @@ template <class A>
 void visit(A& a, SceneVariant& v) {
   a.field("name", v.name, non_empty());
   a.field("set", v.set);
+  a.field("tolerances", v.tolerances, non_empty(), open_closed(0, 0.1));
+  a.field("reference_rtol", v.reference_rtol, open_closed(0, 0.1));
+  a.field("rk4_steps_deg", v.rk4_steps_deg, non_empty(), positive());
 }
 
 template <class A>
@@ -151,8 +158,8 @@ int run_convergence_study(const Json& doc, const StudyContext& ctx) {
   // Reference runs.
   std::vector<SimulationResult> references(scenes.size());
   parallel_for(scenes.size(), threads, [&](size_t k) {
-    SceneConfig s = configure(scenes[k], config.reference.method, config.tracking.front(), config.reference.rtol,
-                              config.atol_factor, 0.0);
+    SceneConfig s = configure(scenes[k], config.reference.method, config.tracking.front(),
+                              config.scenes[k].reference_rtol.value_or(config.reference.rtol), config.atol_factor, 0.0);
     try {
       references[k] = simulate_scene(s, ctx.config_file);
     } catch (const NumericalError& e) {
@@ -166,12 +173,13 @@ int run_convergence_study(const Json& doc, const StudyContext& ctx) {
     for (const std::string& method : config.methods)
       for (const std::string& tracking : config.tracking) {
         if (method == "rk4") {
-          for (double deg : config.rk4_steps_deg) {
+          for (double deg : config.scenes[k].rk4_steps_deg.value_or(config.rk4_steps_deg)) {
             runs.push_back(make_run(k, method, tracking, 0.0,
                                     omega > 0 ? deg * std::numbers::pi / 180 / omega : deg * 1e-6));
           }
         } else {
-          for (double tol : config.tolerances) runs.push_back(make_run(k, method, tracking, tol, 0.0));
+          for (double tol : config.scenes[k].tolerances.value_or(config.tolerances))
+            runs.push_back(make_run(k, method, tracking, tol, 0.0));
         }
       }
   }

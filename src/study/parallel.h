@@ -1,11 +1,14 @@
 // A parallel for over independent jobs (simulation runs of a study): worker
 // threads take the next index from a shared counter, so long and short runs
-// balance themselves. Exceptions are the caller's to catch inside `job`.
+// balance themselves. The first exception a job throws stops the hand-out of
+// new jobs and is rethrown on the calling thread once every worker is done.
 #pragma once
 
 #include <algorithm>
 #include <atomic>
 #include <cstddef>
+#include <exception>
+#include <mutex>
 #include <thread>
 #include <vector>
 
@@ -15,8 +18,18 @@ namespace camdyn {
 template <class Job>
 void parallel_for(std::size_t count, int threads, Job&& job) {
   std::atomic<std::size_t> next{0};
+  std::exception_ptr failure;
+  std::mutex failure_mutex;
   auto worker = [&] {
-    for (std::size_t i = next++; i < count; i = next++) job(i);
+    for (std::size_t i = next++; i < count; i = next++) {
+      try {
+        job(i);
+      } catch (...) {
+        const std::lock_guard<std::mutex> lock(failure_mutex);
+        if (!failure) failure = std::current_exception();
+        next = count;
+      }
+    }
   };
   const int extra = std::max(0, std::min<int>(threads, static_cast<int>(count)) - 1);
   std::vector<std::thread> pool;
@@ -24,6 +37,7 @@ void parallel_for(std::size_t count, int threads, Job&& job) {
   for (int k = 0; k < extra; ++k) pool.emplace_back(worker);
   worker();
   for (std::thread& t : pool) t.join();
+  if (failure) std::rethrow_exception(failure);
 }
 
 }  // namespace camdyn

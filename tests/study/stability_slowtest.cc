@@ -1,0 +1,61 @@
+// The stability sweep of studies/stability.json (360 stiff and extreme runs,
+// several minutes: label `slow`). Every run ends ok with finite metrics and a
+// closed energy balance, or failed with a stated reason; never a crash, a
+// hang or NaN.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+namespace {
+
+TEST(StabilitySweep, EveryCaseIsOkOrFailsWithAReason) {
+  namespace fs = std::filesystem;
+  const fs::path out = fs::temp_directory_path() / ("camdyn_stability_" + std::to_string(::getpid()));
+  const std::string cmd = std::string(CAMDYN_BINARY) + " run " + CAMDYN_SOURCE_DIR +
+                          "/studies/stability.json --quiet --out " + out.string() + " > /dev/null 2>&1";
+  const int status = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  ASSERT_EQ(WEXITSTATUS(status), 0);
+  std::ifstream in(out / "comparison.csv");
+  std::string line;
+  std::getline(in, line);
+  std::stringstream hs(line);
+  std::vector<std::string> header;
+  for (std::string cell; std::getline(hs, cell, ',');) header.push_back(cell);
+  auto column = [&](const std::string& name) {
+    for (size_t i = 0; i < header.size(); ++i)
+      if (header[i] == name) return i;
+    ADD_FAILURE() << "no column " << name;
+    return size_t{0};
+  };
+  const size_t status_col = column("status"), error_col = column("error"), energy_col = column("energy_residual");
+  int rows = 0, ok = 0;
+  while (std::getline(in, line)) {
+    ++rows;
+    EXPECT_EQ(line.find("nan"), std::string::npos) << line;
+    std::vector<std::string> cells;
+    std::stringstream ls(line);
+    for (std::string cell; std::getline(ls, cell, ',');) cells.push_back(cell);
+    cells.resize(header.size());
+    if (cells[status_col] == "ok") {
+      ++ok;
+      EXPECT_LT(std::stod(cells[energy_col]), 1e-3) << line;
+    } else {
+      EXPECT_EQ(cells[status_col], "failed") << line;
+      EXPECT_FALSE(cells[error_col].empty()) << line;
+    }
+  }
+  EXPECT_GE(rows, 200);
+  EXPECT_GT(ok, rows / 2);
+  fs::remove_all(out);
+}
+
+}  // namespace
