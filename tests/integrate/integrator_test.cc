@@ -142,3 +142,31 @@ TEST(Integrators, RichardsonEstimateBoundsTheActualError) {
 
 }  // namespace
 }  // namespace camdyn
+
+namespace camdyn {
+namespace {
+
+// Acceptance (issue 3): on a scene with contact stiffness 1e12 N/m^1.5 the
+// implicit BDF reaches the explicit method's accuracy with < 1/50 of its
+// right-hand-side evaluations: the explicit steps are held by stability alone.
+TEST(Integrators, BdfNeedsUnderOneFiftiethOfTheExplicitWorkOnAStiffContact) {
+  SceneConfig s = test::cycloidal_cam_scene(60.0, "flores");
+  s.mechanism.contact.stiffness = 1e12;
+  s.mechanism.contact.restitution = 0.1;
+  s.mechanism.follower.damping = 20.0;
+  for (SegmentConfig& seg : s.mechanism.cam.motion_law.segments)
+    if (!seg.law.empty()) seg.law = "polynomial_4567";
+  s.simulation.cycles = 0.5;
+  s.simulation.discard_cycles = 0;
+  const SimulationResult ref = run(s, "cvode_bdf", 1e-10);
+  const SimulationResult erk = run(s, "arkode_erk", 1e-4);  // its loosest sensible tolerance
+  const double erk_error = position_error(erk, ref);
+  const SimulationResult bdf = run(s, "cvode_bdf", 1e-8);
+  const double bdf_error = position_error(bdf, ref);
+  EXPECT_LE(bdf_error, erk_error) << "BDF " << bdf_error << " m, ERK " << erk_error << " m";
+  EXPECT_LT(50 * bdf.solver.counters.rhs_evaluations, erk.solver.counters.rhs_evaluations)
+      << "BDF " << bdf.solver.counters.rhs_evaluations << ", ERK " << erk.solver.counters.rhs_evaluations;
+}
+
+}  // namespace
+}  // namespace camdyn
