@@ -1,5 +1,6 @@
 #include "study/compare_study.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -276,6 +277,29 @@ int run_compare_study(const Json& doc, const StudyContext& ctx) {
       for (auto& [label, s] : lines) plot.series.push_back(std::move(s));
       report.plots.push_back(std::move(plot));
     }
+  }
+  // Pass/fail map over the first two numeric grid axes (every case and
+  // value of the other axes overlaid: a point fails if any run there failed).
+  if (grid.size() >= 2 && grid[0].values.front().is_number() && grid[1].values.front().is_number()) {
+    Plot map;
+    map.title = "Pass/fail map: " + grid[0].key + " against " + grid[1].key;
+    map.xlabel = grid[0].key;
+    map.ylabel = grid[1].key;
+    map.logx = std::all_of(grid[0].values.begin(), grid[0].values.end(), [](const Json& v) { return v.get<double>() > 0; });
+    map.logy = std::all_of(grid[1].values.begin(), grid[1].values.end(), [](const Json& v) { return v.get<double>() > 0; });
+    std::map<std::pair<double, double>, bool> any_failed;
+    for (const Point& p : points) {
+      auto& f = any_failed[{p.values[0].get<double>(), p.values[1].get<double>()}];
+      f = f || !p.ok;
+    }
+    Series ok_points{"all runs ok", {}, {}, "points"}, failed_points{"some runs failed (see the table)", {}, {}, "points"};
+    for (const auto& [xy, failed_here] : any_failed) {
+      Series& s = failed_here ? failed_points : ok_points;
+      s.x.push_back(xy.first);
+      s.y.push_back(xy.second);
+    }
+    map.series = {ok_points, failed_points};
+    report.plots.insert(report.plots.begin(), std::move(map));
   }
   Table failures{"Failed runs", {"case", "grid point", "reason"}, {}, false};
   for (const Point& p : points)
