@@ -24,7 +24,7 @@ TEST(RightHandSide, AllocatesNothingInEveryTrackingMode) {
     const Model model = build_model(scene, "test");
     Workspace ws;
     Evaluation ev;
-    double y[4] = {0.005, 0.3, 0.8, 100.0}, y_dot[4], q_dot[4], g[2];
+    double y[4] = {0.005, 0.3, 0.8, 100.0}, y_dot[4], q_dot[Model::kQuadratures], g[2];
     ws.u_warm = 0.8;
     const long before = camdyn::test::allocation_count();
     for (int i = 0; i < 100; ++i) {
