@@ -26,7 +26,7 @@ struct Plot {
   std::string title, xlabel, ylabel;
   std::vector<Series> series;
   bool logx = false, logy = false;
-  std::optional<std::pair<double, double>> xrange;  ///< [min, max]; autoscaled if unset
+  std::optional<std::pair<double, double>> xrange = std::nullopt;  ///< [min, max]; autoscaled if unset
 };
 
 /// Cells are preformatted text (see format_number).

@@ -13,15 +13,6 @@ namespace {
 
 constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 
-Plot make_plot(std::string title, std::string xlabel, std::string ylabel, std::vector<Series> series) {
-  Plot plot;
-  plot.title = std::move(title);
-  plot.xlabel = std::move(xlabel);
-  plot.ylabel = std::move(ylabel);
-  plot.series = std::move(series);
-  return plot;
-}
-
 Json finite_or_null(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
 
 std::string format(double v, const char* unit = "") {
@@ -157,12 +148,12 @@ Report simulation_report(const SceneConfig& scene, const Model& model, const Sim
     for (size_t i = 0; i < v.size(); ++i) out[i] = v[i] * k;
     return out;
   };
-  report.plots.push_back(make_plot("Follower motion against the motion law", xlabel, "displacement [mm]",
+  report.plots.push_back(Plot{"Follower motion against the motion law", xlabel, "displacement [mm]",
                           {{"follower", x, scaled(ts.follower_position, 1e3)},
-                           {"motion law", x, scaled(ts.kinematic_position, 1e3)}}));
-  report.plots.push_back(make_plot("Gap between roller and cam (> 0 separated, < 0 penetration)", xlabel, "gap [µm]",
-                          {{"gap", x, scaled(ts.gap, 1e6)}}));
-  Plot force = make_plot("Contact force", xlabel, "force [N]", {{"contact force", x, ts.contact_force}});
+                           {"motion law", x, scaled(ts.kinematic_position, 1e3)}}});
+  report.plots.push_back(Plot{"Gap between roller and cam (> 0 separated, < 0 penetration)", xlabel, "gap [µm]",
+                          {{"gap", x, scaled(ts.gap, 1e6)}}});
+  Plot force{"Contact force", xlabel, "force [N]", {{"contact force", x, ts.contact_force}}};
   if (by_angle) {
     std::vector<double> rigid(x.size());
     for (size_t i = 0; i < x.size(); ++i) rigid[i] = rigid_contact_force(model, x[i] / kRadToDeg);
@@ -170,8 +161,8 @@ Report simulation_report(const SceneConfig& scene, const Model& model, const Sim
   }
   if (model.has_spin) force.series.push_back({"friction force", x, ts.friction_force});
   report.plots.push_back(std::move(force));
-  report.plots.push_back(make_plot("Energy balance residual (physics.md §5)", "time [s]", "(E − E₀) / scale [–]",
-                          {{"energy residual", ts.time, ts.energy_residual}}));
+  report.plots.push_back(Plot{"Energy balance residual (physics.md §5)", "time [s]", "(E − E₀) / scale [–]",
+                          {{"energy residual", ts.time, ts.energy_residual}}});
   report.notes.push_back("Model: " + std::to_string(model.state_size) + " states; elements assembled: " +
                          [&] {
                            std::string list;
