@@ -1,11 +1,53 @@
 #include "optim/identify_study.h"
 
-#include "common/errors.h"
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+
+#include "io/json_writer.h"
+#include "optim/identify.h"
+#include "optim/identify_output.h"
 
 namespace camdyn::optim {
 
-int run_identify_study(const Json&, const StudyContext& ctx) {
-  throw InputError(ctx.config_file, "study", "the identify study is not available in this version of camdyn");
+int run_identify_study(const Json& doc, const StudyContext& ctx) {
+  Json resolved;
+  const IdentifyProblem problem = load_identify_problem(doc, ctx.source, &resolved);
+  if (ctx.validate_only) {
+    std::cout << dump_json(resolved);
+    std::cerr << "camdyn: " << ctx.config_file << " is valid (" << problem.parameters.size() << " parameter"
+              << (problem.parameters.size() == 1 ? "" : "s") << ", " << problem.experiments.size() << " record"
+              << (problem.experiments.size() == 1 ? "" : "s") << ", " << problem.residual_count()
+              << " measured values)\n";
+    return 0;
+  }
+
+  IdentifyOptions options;
+  options.threads = ctx.threads();
+  if (ctx.progress) {
+    options.progress = [](int iteration, double cost) {
+      std::fprintf(stderr, "\r  identify: iteration %3d, cost %.6g   ", iteration, cost);
+      std::fflush(stderr);
+    };
+  }
+  const IdentifyResult result = identify(problem, options);
+  if (ctx.progress) std::fprintf(stderr, "\n");
+  write_identify_outputs(ctx.out_dir, problem, result, resolved);
+
+  std::printf("%s: %s after %d iterations (%s), %ld simulations, %.3g s\n", problem.scene.name.c_str(),
+              result.identifiable ? "identified" : "NOT IDENTIFIABLE", result.iterations, result.termination.c_str(),
+              result.simulations, result.run_time_s);
+  for (const ParameterEstimate& p : result.parameters) {
+    if (p.std_error)
+      std::printf("  %-28s %.8g ± %.3g (%.3g %%)\n", p.name.c_str(), p.value, *p.std_error,
+                  p.value != 0.0 ? 100.0 * *p.std_error / std::abs(p.value) : 0.0);
+    else
+      std::printf("  %-28s %.8g ± undetermined\n", p.name.c_str(), p.value);
+  }
+  std::printf("  rms_residual %.4g (weighted), final_cost %.6g\n", result.rms_residual, result.final_cost);
+  for (const std::string& w : result.warnings) std::printf("  warning: %s\n", w.c_str());
+  std::printf("  report: %s\n", std::filesystem::absolute(ctx.out_dir / "report.html").lexically_normal().c_str());
+  return 0;
 }
 
 }  // namespace camdyn::optim

@@ -16,13 +16,9 @@
 #include <Eigen/Core>
 
 #include "geometry/motion_law.h"
+#include "geometry/planar_curve.h"
 
 namespace camdyn {
-
-/// A point of a planar curve and its derivatives with respect to the curve parameter.
-struct CurvePoint {
-  Eigen::Vector2d r, dr, d2r, d3r;
-};
 
 struct TranslatingRollerCam {
   const MotionLaw* law = nullptr;  ///< not owned; outlives this object

@@ -1,0 +1,90 @@
+// The design vector of an optimize study: the free interior control points of
+// the spline segments that replace the baseline's designed rise / return
+// segments (interface.md `motion_law` spline segments: the boundary control
+// points that keep s, s', s'' continuous with the neighbours are added by the
+// geometry code), plus optional segment end angles. Every variable has finite
+// bounds, so NLopt's global algorithms can use them as they are.
+//
+// With `monotone` the control points of a segment are parametrised by
+// "stick breaking": variable w_j ∈ [0, 1] moves control point j the share w_j
+// of the way from the previous control point to the segment's top boundary
+// level, c_j = c_{j−1} + w_j (c_hi − c_{j−1}). Any w in the box gives an
+// ordered control polygon, hence (B-spline variation diminishing property) a
+// monotone lift, with bounds alone and no extra constraint.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "io/config.h"
+#include "optim/optimize_config.h"
+
+namespace camdyn::optim {
+
+struct DesignVariable {
+  std::string name;    ///< e.g. "segments[0].control_points[2]", "segments[0].end_deg"
+  double lower = 0.0;  ///< bound (normalised: control points in lift units, angles as a share of their range)
+  double upper = 1.0;
+};
+
+/// How closely the initial design (least-squares fit) reproduces the baseline law.
+struct FitQuality {
+  double max_lift_error = 0.0;          ///< max |f_fit − f_base| over designed segments, share of the lift [-]
+  double max_acceleration_error = 0.0;  ///< max |f''_fit − f''_base| / max |f''_base| [-]
+};
+
+class DesignSpace {
+ public:
+  /// Throws InputError (naming `file` and `design.*` or the segment) when the
+  /// baseline has no segment of a designed type, an end-angle range is
+  /// inconsistent with its neighbours, or the baseline law cannot be built.
+  DesignSpace(const SceneConfig& baseline, const DesignConfig& config, const std::string& file);
+
+  int dimension() const { return static_cast<int>(variables_.size()); }
+  const std::vector<DesignVariable>& variables() const { return variables_; }
+  std::vector<double> lower() const;
+  std::vector<double> upper() const;
+
+  /// The design that reproduces the baseline as closely as the spline allows:
+  /// control points fitted by least squares to the baseline law (value and
+  /// its first two derivatives), end angles at their baseline values.
+  const std::vector<double>& initial() const { return initial_; }
+  const FitQuality& fit_quality() const { return fit_; }
+
+  /// The baseline scene with the designed segments replaced by the spline
+  /// segments of design `x` (dimension() values within the bounds).
+  SceneConfig scene(const std::vector<double>& x) const;
+
+  /// Indices (into motion_law.segments) of the designed segments.
+  std::vector<std::size_t> designed_segments() const;
+
+ private:
+  struct Designed {
+    std::size_t index = 0;              ///< segment index
+    int first_variable = 0;             ///< index of its first control-point variable
+    int angle_variable = -1;            ///< index of its end-angle variable, or −1
+    double end_lo = 0.0, end_hi = 0.0;  ///< end-angle range [deg]
+  };
+  /// Control-point levels c_2 and c_{n−3}: the free ones lie between them.
+  struct Levels {
+    double low = 0.0, high = 1.0;
+  };
+
+  /// The baseline with spline segments (control points all 0) and the end angles of `x`.
+  SceneConfig skeleton(const std::vector<double>& x) const;
+  std::vector<Levels> levels(const SceneConfig& skeleton) const;
+  std::vector<double> control_points(const Designed& d, const Levels& lv, const std::vector<double>& x) const;
+
+  SceneConfig baseline_;
+  DesignConfig config_;
+  std::string file_;
+  std::vector<Designed> designed_;
+  std::vector<DesignVariable> variables_;
+  std::vector<double> initial_;
+  FitQuality fit_;
+  bool levels_vary_ = false;  ///< the boundary levels depend on the end angles
+  std::vector<Levels> fixed_levels_;
+};
+
+}  // namespace camdyn::optim

@@ -1,0 +1,1017 @@
+#include "optim/identify.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstddef>
+#include <cstdio>
+#include <exception>
+#include <memory>
+#include <mutex>
+#include <sstream>
+#include <thread>
+#include <utility>
+
+#include <Eigen/Dense>
+#include <ceres/ceres.h>
+
+#include "common/errors.h"
+#include "dynamics/model.h"
+#include "dynamics/simulation.h"
+#include "io/csv_reader.h"
+#include "io/json_archive.h"
+#include "io/suggest.h"
+#include "study/study.h"
+
+namespace camdyn::optim {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+/// Relative cost and step tolerance of the smoothed continuation stages.
+constexpr double kStageTolerance = 1e-4;
+
+// ---------------------------------------------------------------- dotted paths
+
+/// set_config_value's short form: a leading cam/follower/contact means mechanism.….
+std::string full_path(const std::string& path) {
+  for (const char* head : {"cam", "follower", "contact"}) {
+    const std::string h(head);
+    if (path == h || path.starts_with(h + ".") || path.starts_with(h + "[")) return "mechanism." + path;
+  }
+  return path;
+}
+
+/// The value at a dotted path ("mechanism.cam.motion_law.segments[0].lift") of a
+/// resolved scene, or null with `why` saying which step is missing.
+const Json* find_field(const Json& doc, const std::string& path, std::string& why) {
+  const Json* node = &doc;
+  std::string walked;
+  std::size_t i = 0;
+  while (i < path.size()) {
+    if (path[i] == '[') {
+      const std::size_t close = path.find(']', i);
+      const std::string digits = close == std::string::npos ? "" : path.substr(i + 1, close - i - 1);
+      if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos || digits.size() > 9) {
+        why = "bad array index after '" + walked + "'";
+        return nullptr;
+      }
+      const std::size_t index = std::stoul(digits);
+      if (!node->is_array() || index >= node->size()) {
+        why = "'" + walked + "' has no element " + digits;
+        return nullptr;
+      }
+      node = &(*node)[index];
+      walked += "[" + digits + "]";
+      i = close + 1;
+      if (i < path.size() && path[i] == '.') ++i;
+      continue;
+    }
+    std::size_t end = i;
+    while (end < path.size() && path[end] != '.' && path[end] != '[') ++end;
+    const std::string key = path.substr(i, end - i);
+    if (!node->is_object() || !node->contains(key)) {
+      std::vector<std::string> keys;
+      if (node->is_object())
+        for (const auto& item : node->items()) keys.push_back(item.key());
+      why = "'" + key + "' is not a field of " + (walked.empty() ? std::string("the scene") : "'" + walked + "'") +
+            did_you_mean(key, keys);
+      return nullptr;
+    }
+    node = &(*node)[key];
+    walked += (walked.empty() ? "" : ".") + key;
+    i = end;
+    if (i < path.size() && path[i] == '.') ++i;
+  }
+  return node;
+}
+
+/// Simulated run length of a scene [s] (as simulate() plans it).
+double run_end(const SceneConfig& scene) {
+  if (scene.simulation.duration) return *scene.simulation.duration;
+  const double rpm = scene.mechanism.cam.rpm;
+  const double cycles = scene.simulation.cycles.value_or(SimulationConfig::kDefaultCycles);
+  return rpm > 0.0 ? cycles * 60.0 / rpm : 0.0;
+}
+
+std::string fmt(double x) { return format_shortest(x); }
+
+/// The samples of a timeseries column.
+const std::vector<double>& column(const TimeSeries& series, const std::string& name) {
+  const std::vector<std::string> names = TimeSeries::column_names();
+  const auto columns = series.columns();
+  for (std::size_t k = 0; k < names.size(); ++k)
+    if (names[k] == name) return *columns[k];
+  throw std::logic_error("no timeseries column " + name);
+}
+
+// ---------------------------------------------------------------- parallel simulations
+
+/// Simulates experiments at parameter vectors, in parallel. Each run builds its
+/// own scene and model (parameters may change anything in them) and its own
+/// workspace; nothing is shared between threads but the read-only problem.
+class Simulator {
+ public:
+  struct Run {
+    bool ok = false;
+    std::string error;               ///< why the simulation failed
+    std::exception_ptr input_error;  ///< an InputError building the scene (a parameter value it rejects)
+    TimeSeries samples;
+  };
+
+  Simulator(const IdentifyProblem& problem, int threads) : problem_(problem), threads_(std::max(1, threads)) {}
+
+  /// runs[j][k]: experiment k at parameter vector points[j].
+  std::vector<std::vector<Run>> run(const std::vector<std::vector<double>>& points) {
+    const std::size_t experiments = problem_.experiments.size();
+    const std::size_t tasks = points.size() * experiments;
+    std::vector<std::vector<Run>> runs(points.size(), std::vector<Run>(experiments));
+    std::atomic<std::size_t> next{0};
+    auto worker = [&] {
+      for (std::size_t task = next++; task < tasks; task = next++) {
+        const std::size_t j = task / experiments, k = task % experiments;
+        runs[j][k] = simulate_one(problem_.experiments[k], points[j]);
+      }
+    };
+    const std::size_t n_threads = std::min<std::size_t>(static_cast<std::size_t>(threads_), tasks);
+    std::vector<std::thread> pool;
+    for (std::size_t t = 1; t < n_threads; ++t) pool.emplace_back(worker);
+    worker();
+    for (std::thread& t : pool) t.join();
+    simulations_ += static_cast<long>(tasks);
+    return runs;
+  }
+
+  long simulations() const { return simulations_; }
+
+ private:
+  Run simulate_one(const FitExperiment& experiment, const std::vector<double>& values) const {
+    Run run;
+    try {
+      const SceneConfig scene = scene_with(experiment.scene_json, problem_.parameters, values, problem_.source);
+      const Model model = build_model(scene, problem_.config_file);
+      Workspace ws;
+      SimulationOptions options;
+      options.record_series = false;
+      options.sample_times = experiment.record.time;
+      SimulationResult result = simulate(scene, model, ws, options);
+      if (result.samples.time.size() != experiment.record.time.size()) {
+        run.error = "experiment '" + experiment.name + "': the simulation ended at " + fmt(result.end_time) +
+                    " s, before the last measured time";
+        return run;
+      }
+      run.samples = std::move(result.samples);
+      run.ok = true;
+    } catch (const InputError& e) {
+      run.error = std::string("experiment '") + experiment.name + "': " + e.what();
+      run.input_error = std::current_exception();
+    } catch (const std::exception& e) {
+      run.error = std::string("experiment '") + experiment.name + "': " + e.what();
+    }
+    if (!run.ok) {
+      std::string at;
+      for (std::size_t i = 0; i < values.size(); ++i)
+        at += (i ? ", " : "") + problem_.parameters[i].name + " = " + fmt(values[i]);
+      run.error += " (at " + at + ")";
+    }
+    return run;
+  }
+
+  const IdentifyProblem& problem_;
+  int threads_;
+  std::atomic<long> simulations_{0};
+};
+
+// ---------------------------------------------------------------- residuals and their derivatives
+
+/// Moving average of d over the samples within ±width/2 [s] of each sample
+/// time, applied twice (a triangular kernel, so the result has a continuous
+/// derivative in a time shift).
+void smooth(const std::vector<double>& t, double* d, double width) {
+  const std::size_t n = t.size();
+  std::vector<double> prefix(n + 1);
+  for (int pass = 0; pass < 2; ++pass) {
+    prefix[0] = 0.0;
+    for (std::size_t i = 0; i < n; ++i) prefix[i + 1] = prefix[i] + d[i];
+    std::size_t lo = 0, hi = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      while (t[lo] < t[i] - 0.5 * width) ++lo;
+      while (hi + 1 < n && t[hi + 1] <= t[i] + 0.5 * width) ++hi;
+      d[i] = (prefix[hi + 1] - prefix[lo]) / static_cast<double>(hi - lo + 1);
+    }
+  }
+}
+
+/// The weighted residuals of every experiment, in order (experiment, signal,
+/// sample); smoothed over `smoothing` [s] in the continuation stages.
+void weighted_residuals(const IdentifyProblem& problem, const std::vector<Simulator::Run>& runs, double smoothing,
+                        double* r) {
+  std::size_t row = 0;
+  for (std::size_t k = 0; k < problem.experiments.size(); ++k) {
+    const MeasuredRecord& rec = problem.experiments[k].record;
+    for (std::size_t s = 0; s < rec.signals.size(); ++s) {
+      const std::vector<double>& sim = column(runs[k].samples, rec.signals[s]);
+      double* group = r + row;
+      for (std::size_t i = 0; i < rec.time.size(); ++i) r[row++] = rec.weights[s] * (sim[i] - rec.values[s][i]);
+      if (smoothing > 0.0) smooth(rec.time, group, smoothing);
+    }
+  }
+}
+
+/// Parameter transforms: the solver works on z = ln p (log scale) or z = p.
+double to_value(const FitParameter& p, double z) { return p.log_scale ? std::exp(z) : z; }
+double to_scaled(const FitParameter& p, double value) { return p.log_scale ? std::log(value) : value; }
+double scaled_lower(const FitParameter& p) {
+  if (p.log_scale) return p.lower > 0.0 && std::isfinite(p.lower) ? std::log(p.lower) : -kInf;
+  return p.lower;
+}
+double scaled_upper(const FitParameter& p) { return p.log_scale ? std::log(p.upper) : p.upper; }
+
+/// The weighted residual vector and its Jacobian in the scaled parameters,
+/// by central differences whose E·(2p+1) simulations all run in parallel.
+/// Steps near a bound turn one-sided so that no simulation runs outside the
+/// bounds (where the scene may be invalid). The last point is cached: Ceres
+/// asks for every residual block at the same point, evaluates the cost at a
+/// trial point and then, once it is accepted, the Jacobian there.
+class FitEvaluator {
+ public:
+  FitEvaluator(const IdentifyProblem& problem, Simulator& simulator, double smoothing)
+      : problem_(problem),
+        simulator_(simulator),
+        smoothing_(smoothing),
+        n_(problem.residual_count()),
+        p_(problem.parameters.size()) {}
+
+  /// Residuals (and the Jacobian) at z; false if a simulation failed there.
+  /// Exceptions are kept, not thrown: they must not cross Ceres.
+  bool evaluate(const double* z, bool jacobian) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const bool same = !z_.empty() && std::equal(z_.begin(), z_.end(), z);
+    if (same && (!ok_ || !jacobian || !j_.empty())) return ok_;
+    try {
+      ok_ = compute(z, jacobian, same && ok_);
+    } catch (...) {
+      if (!exception_) exception_ = std::current_exception();
+      ok_ = false;
+    }
+    z_.assign(z, z + p_);
+    if (!ok_) j_.clear();
+    return ok_;
+  }
+
+  const std::vector<double>& residuals() const { return r_; }
+  /// Row-major n × p.
+  const std::vector<double>& jacobian() const { return j_; }
+
+  /// The first InputError met (a parameter value the scene rejects), or null.
+  std::exception_ptr input_error() const { return input_error_; }
+  std::exception_ptr exception() const { return exception_; }
+  const std::string& last_failure() const { return last_failure_; }
+  std::size_t failures() const { return failures_; }
+
+ private:
+  bool compute(const double* z, bool jacobian, bool have_residuals) {
+    std::vector<double> centre(p_);
+    for (std::size_t i = 0; i < p_; ++i) centre[i] = to_value(problem_.parameters[i], z[i]);
+
+    std::vector<std::vector<double>> points;
+    if (!have_residuals) points.push_back(centre);
+    std::vector<double> z_plus(p_), z_minus(p_);
+    std::vector<int> plus_index(p_, -1), minus_index(p_, -1);
+    if (jacobian) {
+      const double h = problem_.solver.fd_relative_step;
+      for (std::size_t i = 0; i < p_; ++i) {
+        const FitParameter& par = problem_.parameters[i];
+        const double step = par.log_scale ? h : h * std::max(std::abs(centre[i]), par.scale);
+        const double lo = scaled_lower(par), hi = scaled_upper(par);
+        z_plus[i] = z[i] + step;
+        z_minus[i] = z[i] - step;
+        if (z_plus[i] > hi) z_plus[i] = z[i];    // backward difference at the upper bound
+        if (z_minus[i] < lo) z_minus[i] = z[i];  // forward difference at the lower bound
+        if (z_plus[i] == z[i] && z_minus[i] == z[i]) {
+          // Bounds closer than one step: use the whole interval.
+          z_plus[i] = hi;
+          z_minus[i] = lo;
+        }
+        auto add_point = [&](double zi, std::vector<int>& index) {
+          if (zi == z[i]) return;  // the centre itself
+          std::vector<double> point = centre;
+          point[i] = to_value(par, zi);
+          index[i] = static_cast<int>(points.size());
+          points.push_back(std::move(point));
+        };
+        add_point(z_plus[i], plus_index);
+        add_point(z_minus[i], minus_index);
+      }
+    }
+
+    const std::vector<std::vector<Simulator::Run>> runs = simulator_.run(points);
+    for (const auto& point_runs : runs) {
+      for (const Simulator::Run& run : point_runs) {
+        if (run.ok) continue;
+        ++failures_;
+        last_failure_ = run.error;
+        if (run.input_error && !input_error_) input_error_ = run.input_error;
+        return false;
+      }
+    }
+    if (!have_residuals) {
+      r_.assign(n_, 0.0);
+      weighted_residuals(problem_, runs[0], smoothing_, r_.data());
+    }
+    j_.clear();
+    if (!jacobian) return true;
+
+    j_.assign(n_ * p_, 0.0);
+    std::vector<double> r_plus(n_), r_minus(n_);
+    for (std::size_t i = 0; i < p_; ++i) {
+      if (plus_index[i] >= 0)
+        weighted_residuals(problem_, runs[static_cast<std::size_t>(plus_index[i])], smoothing_, r_plus.data());
+      else
+        r_plus = r_;
+      if (minus_index[i] >= 0)
+        weighted_residuals(problem_, runs[static_cast<std::size_t>(minus_index[i])], smoothing_, r_minus.data());
+      else
+        r_minus = r_;
+      const double dz = z_plus[i] - z_minus[i];
+      for (std::size_t row = 0; row < n_; ++row) j_[row * p_ + i] = (r_plus[row] - r_minus[row]) / dz;
+    }
+    return true;
+  }
+
+  const IdentifyProblem& problem_;
+  Simulator& simulator_;
+  double smoothing_;  ///< [s], 0 for the raw signals
+  std::size_t n_, p_;
+  std::mutex mutex_;
+  std::vector<double> z_, r_, j_;
+  bool ok_ = false;
+  std::exception_ptr exception_, input_error_;
+  std::string last_failure_;
+  std::size_t failures_ = 0;
+};
+
+/// One measured sample as a Ceres residual block, so that a robust loss acts
+/// on each sample (Ceres applies it to the squared norm of a whole block).
+/// All blocks share the evaluator, which simulates once per point.
+class SampleCost final : public ceres::CostFunction {
+ public:
+  SampleCost(FitEvaluator& evaluator, std::size_t row, int parameters) : evaluator_(evaluator), row_(row) {
+    set_num_residuals(1);
+    mutable_parameter_block_sizes()->push_back(parameters);
+  }
+
+  bool Evaluate(double const* const* parameters, double* r, double** jacobians) const override {
+    const bool jacobian = jacobians != nullptr && jacobians[0] != nullptr;
+    if (!evaluator_.evaluate(parameters[0], jacobian)) return false;
+    r[0] = evaluator_.residuals()[row_];
+    if (jacobian) {
+      const auto p = static_cast<std::size_t>(parameter_block_sizes()[0]);
+      const double* row = evaluator_.jacobian().data() + row_ * p;
+      std::copy(row, row + p, jacobians[0]);
+    }
+    return true;
+  }
+
+ private:
+  FitEvaluator& evaluator_;
+  std::size_t row_;
+};
+
+class ProgressCallback final : public ceres::IterationCallback {
+ public:
+  explicit ProgressCallback(std::function<void(int, double)> progress) : progress_(std::move(progress)) {}
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary& summary) override {
+    if (progress_) progress_(summary.iteration, summary.cost);
+    return ceres::SOLVER_CONTINUE;
+  }
+
+ private:
+  std::function<void(int, double)> progress_;
+};
+
+ceres::LossFunction* make_loss(const std::string& loss, double scale) {
+  if (loss == "huber") return new ceres::HuberLoss(scale);
+  if (loss == "cauchy") return new ceres::CauchyLoss(scale);
+  if (loss == "soft_l1") return new ceres::SoftLOneLoss(scale);
+  return nullptr;  // "none": plain least squares
+}
+
+std::string percent(double x) {
+  std::ostringstream s;
+  s.precision(3);
+  s << 100.0 * x << " %";
+  return s.str();
+}
+
+std::string join_names(const std::vector<std::string>& names) {
+  std::string out;
+  for (std::size_t i = 0; i < names.size(); ++i)
+    out += (i == 0 ? "" : i + 1 == names.size() ? " and " : ", ") + names[i];
+  return out;
+}
+
+/// One least-squares solve (a continuation stage): the problem stays alive for the covariance.
+struct Stage {
+  std::unique_ptr<FitEvaluator> evaluator;
+  std::unique_ptr<ceres::LossFunction> loss;
+  std::unique_ptr<ceres::Problem> problem;
+  ceres::Solver::Summary summary;
+};
+
+std::unique_ptr<Stage> solve_stage(const IdentifyProblem& problem, Simulator& simulator, const SolverSpec& spec,
+                                   double smoothing, double loss_scale, const IdentifyOptions& options,
+                                   std::vector<double>& z) {
+  auto stage = std::make_unique<Stage>();
+  stage->evaluator = std::make_unique<FitEvaluator>(problem, simulator, smoothing);
+  // One loss object for all blocks; the problem must then not delete it per block.
+  ceres::Problem::Options problem_options;
+  problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  stage->loss.reset(make_loss(spec.loss, loss_scale));
+  stage->problem = std::make_unique<ceres::Problem>(problem_options);
+  const int p = static_cast<int>(problem.parameters.size());
+  for (std::size_t row = 0; row < problem.residual_count(); ++row)
+    stage->problem->AddResidualBlock(new SampleCost(*stage->evaluator, row, p), stage->loss.get(), z.data());
+  for (std::size_t i = 0; i < problem.parameters.size(); ++i) {
+    const double lo = scaled_lower(problem.parameters[i]), hi = scaled_upper(problem.parameters[i]);
+    if (std::isfinite(lo)) stage->problem->SetParameterLowerBound(z.data(), static_cast<int>(i), lo);
+    if (std::isfinite(hi)) stage->problem->SetParameterUpperBound(z.data(), static_cast<int>(i), hi);
+  }
+
+  ceres::Solver::Options solver_options;
+  solver_options.minimizer_type = ceres::TRUST_REGION;
+  solver_options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  solver_options.linear_solver_type = ceres::DENSE_QR;
+  solver_options.max_num_iterations = spec.max_iterations;
+  solver_options.initial_trust_region_radius = spec.initial_trust_region_radius;
+  // A smoothed stage only has to bring the next one into its basin.
+  solver_options.function_tolerance =
+      smoothing > 0.0 ? std::max(spec.function_tolerance, kStageTolerance) : spec.function_tolerance;
+  solver_options.gradient_tolerance = spec.gradient_tolerance;
+  solver_options.parameter_tolerance =
+      smoothing > 0.0 ? std::max(spec.parameter_tolerance, kStageTolerance) : spec.parameter_tolerance;
+  // With bounds, Ceres runs a projected Armijo line search on each step; its
+  // cubic interpolation wants the gradient at every trial, which here is a
+  // whole finite-difference Jacobian. Bisection needs only the cost.
+  solver_options.line_search_interpolation_type = ceres::BISECTION;
+  solver_options.num_threads = 1;  // one residual block; the simulations run in parallel inside it
+  solver_options.logging_type = ceres::SILENT;
+  solver_options.minimizer_progress_to_stdout = false;
+  ProgressCallback callback(options.progress);
+  solver_options.callbacks.push_back(&callback);
+  std::string options_error;
+  if (!solver_options.IsValid(&options_error)) throw std::logic_error("Ceres options: " + options_error);
+
+  ceres::Solve(solver_options, stage->problem.get(), &stage->summary);
+  const FitEvaluator& cost = *stage->evaluator;
+  if (cost.input_error()) std::rethrow_exception(cost.input_error());
+  if (!stage->summary.IsSolutionUsable()) {
+    std::string why = stage->summary.message;
+    if (!cost.last_failure().empty()) why += "; last failed simulation: " + cost.last_failure();
+    if (cost.exception() && cost.last_failure().empty()) {
+      try {
+        std::rethrow_exception(cost.exception());
+      } catch (const std::exception& e) {
+        why += std::string("; ") + e.what();
+      }
+    }
+    throw NumericalError(
+        "identification failed (" + std::string(ceres::TerminationTypeToString(stage->summary.termination_type)) +
+        (smoothing > 0.0 ? ", stage smoothed over " + fmt(smoothing) + " s" : std::string()) + "): " + why);
+  }
+  return stage;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------- data
+
+double estimate_noise(const std::vector<double>& y) {
+  if (y.size() < 3) return 0.0;
+  std::vector<double> d(y.size() - 1);
+  for (std::size_t i = 0; i + 1 < y.size(); ++i) d[i] = y[i + 1] - y[i];
+  auto median = [](std::vector<double> v) {
+    const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+    std::nth_element(v.begin(), mid, v.end());
+    return *mid;
+  };
+  const double m = median(d);
+  for (double& x : d) x = std::abs(x - m);
+  // Differences of white noise have variance 2σ²; 1.4826 MAD estimates a Gaussian σ.
+  return 1.4826 * median(d) / std::sqrt(2.0);
+}
+
+MeasuredRecord read_reference(const ReferenceSpec& reference, double t_end) {
+  std::vector<std::string> columns{reference.time_column};
+  for (const auto& [signal, file_column] : reference.signals) {
+    if (file_column == reference.time_column)
+      throw InputError(reference.file, "column " + file_column,
+                       "is the time column and cannot also be signal " + signal);
+    columns.push_back(file_column);
+  }
+  const CsvColumns csv = read_csv(reference.file, columns, 1);
+  MeasuredRecord rec;
+  rec.time = csv.values[0];
+  rec.lines = csv.lines;
+  if (rec.time.size() < kMinSamples)
+    throw InputError(reference.file, "line " + std::to_string(rec.lines.back()),
+                     "the record ends after " + std::to_string(rec.time.size()) + " samples; at least " +
+                         std::to_string(kMinSamples) + " are needed");
+  for (std::size_t i = 0; i < rec.time.size(); ++i) {
+    const std::string line = "line " + std::to_string(rec.lines[i]);
+    if (i > 0 && !(rec.time[i] > rec.time[i - 1]))
+      throw InputError(reference.file, line,
+                       "time (column " + reference.time_column + ") must increase: " + fmt(rec.time[i]) +
+                           " s follows " + fmt(rec.time[i - 1]) + " s on line " + std::to_string(rec.lines[i - 1]));
+    if (rec.time[i] < 0.0)
+      throw InputError(reference.file, line,
+                       "time " + fmt(rec.time[i]) + " s is before the start of the simulation (0 s)");
+    if (rec.time[i] > t_end * (1.0 + 1e-12))
+      throw InputError(reference.file, line,
+                       "time " + fmt(rec.time[i]) + " s is after the end of the simulated run (" + fmt(t_end) +
+                           " s): lengthen simulation.duration or simulation.cycles");
+  }
+  for (std::size_t k = 0; k < reference.signals.size(); ++k) {
+    const auto& [signal, file_column] = reference.signals[k];
+    const std::vector<double>& y = csv.values[k + 1];
+    double sum2 = 0.0;
+    for (double v : y) sum2 += v * v;
+    const double rms = std::sqrt(sum2 / static_cast<double>(y.size()));
+    double weight = 0.0;
+    for (const auto& [name, w] : reference.weights)
+      if (name == signal) weight = w;
+    if (weight == 0.0) {
+      if (!(rms > 0.0))
+        throw InputError(reference.file, "column " + file_column,
+                         "is zero everywhere, so it has no scale to weight it by: give reference.weights." + signal);
+      weight = 1.0 / rms;
+    }
+    rec.signals.push_back(signal);
+    rec.values.push_back(y);
+    rec.weights.push_back(weight);
+    rec.scale.push_back(rms);
+    rec.noise.push_back(estimate_noise(y));
+  }
+  return rec;
+}
+
+// ---------------------------------------------------------------- problem set-up
+
+std::size_t IdentifyProblem::residual_count() const {
+  std::size_t n = 0;
+  for (const FitExperiment& e : experiments) n += e.record.time.size() * e.record.signals.size();
+  return n;
+}
+
+SceneConfig scene_with(const Json& scene_json, const std::vector<FitParameter>& parameters,
+                       const std::vector<double>& values, const ConfigSource& source) {
+  Json doc = scene_json;
+  for (std::size_t i = 0; i < parameters.size(); ++i) set_config_value(doc, parameters[i].path, values[i]);
+  return scene_from_json(doc, source);
+}
+
+IdentifyProblem prepare_identify(const SceneConfig& scene, const IdentifySpec& spec, const ConfigSource& source) {
+  IdentifyProblem problem;
+  problem.config_file = source.file;
+  problem.source = source;
+  problem.scene = scene;
+  problem.solver = spec.solver;
+  const Json base = to_json(scene);
+
+  for (const ParameterSpec& ps : spec.parameters) {
+    const std::string at = "parameters." + ps.path;
+    FitParameter p;
+    p.name = ps.path;
+    p.path = full_path(ps.path);
+    for (const FitParameter& other : problem.parameters)
+      if (other.path == p.path)
+        throw InputError(source.file, at, "'" + ps.path + "' is the same field as '" + other.name + "'");
+    std::string why;
+    const Json* field = find_field(base, p.path, why);
+    if (field == nullptr) throw InputError(source.file, at, why);
+    if (!field->is_number() && !field->is_null())
+      throw InputError(source.file, at,
+                       "'" + p.path + "' is " + describe_json(*field) + ", not a numeric field of the scene");
+    if (ps.initial) {
+      p.initial = *ps.initial;
+    } else if (field->is_number()) {
+      p.initial = field->get<double>();
+    } else {
+      throw InputError(source.file, at + ".initial",
+                       "missing: the scene has no value for '" + p.path + "' to start from");
+    }
+    p.log_scale = ps.log_scale;
+    p.lower = ps.lower.value_or(-kInf);
+    p.upper = ps.upper.value_or(kInf);
+    if (p.log_scale && !(p.initial > 0.0))
+      throw InputError(source.file, at + ".initial",
+                       "must be > 0 with log_scale, the scene has " + fmt(p.initial) + ": give 'initial'");
+    if (p.initial < p.lower || p.initial > p.upper)
+      throw InputError(source.file, at + ".initial",
+                       "the scene's value " + fmt(p.initial) + " is outside [lower, upper] = [" + fmt(p.lower) + ", " +
+                           fmt(p.upper) + "]: give 'initial'");
+    p.scale = std::abs(p.initial) > 0.0                          ? std::abs(p.initial)
+              : std::isfinite(p.lower) && std::isfinite(p.upper) ? p.upper - p.lower
+                                                                 : 1.0;
+    problem.parameters.push_back(p);
+  }
+
+  std::vector<double> initial;
+  for (const FitParameter& p : problem.parameters) initial.push_back(p.initial);
+
+  for (std::size_t k = 0; k < spec.experiments.size(); ++k) {
+    const ExperimentSpec& es = spec.experiments[k];
+    const std::string at = spec.single_reference ? "reference" : "experiments[" + std::to_string(k) + "]";
+    FitExperiment e;
+    e.name = es.name;
+    e.reference = es.reference;
+    e.scene_json = base;
+    for (const auto& [path, value] : es.set) {
+      for (const FitParameter& p : problem.parameters)
+        if (full_path(path) == p.path)
+          throw InputError(source.file, at + ".set." + path,
+                           "'" + path + "' is a fitted parameter (shared by all experiments), it cannot be set here");
+      try {
+        set_config_value(e.scene_json, path, value);
+      } catch (const InputError& error) {
+        throw InputError(source.file, at + ".set." + path, error.reason());
+      }
+    }
+    try {
+      scene_from_json(e.scene_json, source);
+    } catch (const InputError& error) {
+      throw InputError(source.file, at + ".set", "makes an invalid scene: " + error.path() + ": " + error.reason());
+    }
+    // The scene must be valid at the initial values and at every bound, so the
+    // solver never meets a parameter value the scene rejects.
+    const std::string for_experiment = spec.single_reference ? std::string() : " for experiment '" + e.name + "'";
+    auto check = [&](const std::vector<double>& values, const std::string& where, bool keep) {
+      try {
+        SceneConfig s = scene_with(e.scene_json, problem.parameters, values, source);
+        build_model(s, source.file);
+        if (keep) e.scene = std::move(s);
+      } catch (const InputError& error) {
+        throw InputError(source.file, where,
+                         "makes an invalid scene" + for_experiment + ": " +
+                             (error.path().empty() ? std::string() : error.path() + ": ") + error.reason());
+      }
+    };
+    check(initial, "parameters", true);
+    for (std::size_t i = 0; i < problem.parameters.size(); ++i) {
+      const FitParameter& par = problem.parameters[i];
+      for (const bool upper : {false, true}) {
+        std::vector<double> values = initial;
+        values[i] = upper ? par.upper : par.lower;
+        if (std::isfinite(values[i])) check(values, "parameters." + par.name + (upper ? ".upper" : ".lower"), false);
+      }
+    }
+    e.record = read_reference(e.reference, run_end(e.scene));
+    problem.experiments.push_back(std::move(e));
+  }
+  if (problem.residual_count() <= problem.parameters.size())
+    throw InputError(source.file, "parameters",
+                     std::to_string(problem.parameters.size()) + " parameters cannot be fitted to " +
+                         std::to_string(problem.residual_count()) + " measured values");
+  return problem;
+}
+
+IdentifyProblem load_identify_problem(const Json& doc, const ConfigSource& source, Json* resolved) {
+  if (!doc.is_object())
+    throw InputError(source.file, "", "expected a JSON object at the top level, got " + describe_json(doc));
+  // A near miss of a study key would otherwise be reported by the scene with scene keys only.
+  const std::vector<std::string>& keys = identify_study_keys();
+  for (const auto& item : doc.items()) {
+    if (std::find(keys.begin(), keys.end(), item.key()) != keys.end()) continue;
+    const std::string hint = did_you_mean(item.key(), keys);
+    if (!hint.empty()) throw InputError(source.file, item.key(), "unknown key '" + item.key() + "'" + hint);
+  }
+  Json part;
+  const SceneConfig scene = scene_from_study_json(doc, source, keys, part);
+  const IdentifySpec spec = identify_spec_from_json(part, source);
+  IdentifyProblem problem = prepare_identify(scene, spec, source);
+  if (resolved != nullptr) *resolved = resolved_study_json(scene, "identify", to_json(spec));
+  return problem;
+}
+
+// ---------------------------------------------------------------- the fit
+
+IdentifyResult identify(const IdentifyProblem& problem, const IdentifyOptions& options) {
+  const auto wall_start = std::chrono::steady_clock::now();
+  const std::size_t p = problem.parameters.size();
+  const std::size_t n = problem.residual_count();
+  const SolverSpec& spec = problem.solver;
+  Simulator simulator(problem, options.threads);
+  IdentifyResult result;
+
+  // Robust loss scale: three noise standard deviations (weighted units), pooled over the signals.
+  double noise2 = 0.0;
+  std::size_t signals = 0;
+  for (const FitExperiment& e : problem.experiments) {
+    for (std::size_t s = 0; s < e.record.signals.size(); ++s, ++signals) {
+      const double w = e.record.weights[s] * e.record.noise[s];
+      noise2 += w * w;
+    }
+  }
+  const double pooled_noise = std::sqrt(noise2 / static_cast<double>(std::max<std::size_t>(signals, 1)));
+  result.loss = spec.loss;
+  result.loss_scale = spec.loss == "none" ? 0.0 : spec.loss_scale.value_or(std::max(3.0 * pooled_noise, 1e-6));
+
+  std::vector<double> z(p);
+  for (std::size_t i = 0; i < p; ++i) z[i] = to_scaled(problem.parameters[i], problem.parameters[i].initial);
+
+  // Continuation: fit the smoothed signals first (widest window first), so
+  // that simulated and measured impacts overlap and pull together, then the
+  // raw signals, whose fit gives the estimates and their covariance.
+  std::vector<double> widths = spec.smoothing;
+  std::sort(widths.begin(), widths.end(), std::greater<>());
+  widths.push_back(0.0);
+  std::unique_ptr<Stage> stage;
+  for (const double width : widths) {
+    stage = solve_stage(problem, simulator, spec, width, result.loss_scale, options, z);
+    const ceres::Solver::Summary& summary = stage->summary;
+    std::vector<double> stage_values(p);
+    for (std::size_t i = 0; i < p; ++i) stage_values[i] = to_value(problem.parameters[i], z[i]);
+    result.stages.push_back({width, static_cast<int>(summary.iterations.size()) - 1, summary.initial_cost,
+                             summary.final_cost, ceres::TerminationTypeToString(summary.termination_type),
+                             stage_values});
+    result.iterations += result.stages.back().iterations;
+    if (stage->evaluator->failures() > 0)
+      result.warnings.push_back(
+          std::to_string(stage->evaluator->failures()) +
+          " trial steps failed to simulate and were rejected; the last: " + stage->evaluator->last_failure());
+  }
+  FitEvaluator* cost = stage->evaluator.get();
+  ceres::Problem& ceres_problem = *stage->problem;
+  const ceres::LossFunction* loss = stage->loss.get();
+  const ceres::Solver::Summary& summary = stage->summary;
+  result.initial_cost = summary.initial_cost;
+  result.final_cost = summary.final_cost;
+  result.termination = ceres::TerminationTypeToString(summary.termination_type);
+  result.message = summary.message;
+  if (summary.termination_type == ceres::NO_CONVERGENCE)
+    result.warnings.push_back("the solver stopped after " + std::to_string(result.stages.back().iterations) +
+                              " iterations without converging (solver.max_iterations): " + summary.message);
+
+  // Residuals and Jacobian (scaled parameters, without the loss) at the optimum.
+  if (!cost->evaluate(z.data(), true))
+    throw NumericalError("identification: the Jacobian at the optimum could not be evaluated: " + cost->last_failure());
+  const std::vector<double> r = cost->residuals();
+  Eigen::MatrixXd jac(n, p);
+  for (std::size_t row = 0; row < n; ++row)
+    for (std::size_t i = 0; i < p; ++i)
+      jac(static_cast<Eigen::Index>(row), static_cast<Eigen::Index>(i)) = cost->jacobian()[row * p + i];
+  double sum2 = 0.0;
+  for (double x : r) sum2 += x * x;
+  result.residuals = n;
+  result.rms_residual = std::sqrt(sum2 / static_cast<double>(n));
+  const double dof = static_cast<double>(n) - static_cast<double>(p);
+  result.residual_sigma = std::sqrt(2.0 * result.final_cost / dof);
+
+  std::vector<double> values(p);
+  for (std::size_t i = 0; i < p; ++i) values[i] = to_value(problem.parameters[i], z[i]);
+
+  // Identifiability: singular values of the Jacobian with unit-norm columns, so
+  // that the parameters' units do not matter. A direction whose effect is
+  // below the finite-difference noise (integration error / step) is one the
+  // data cannot see at all.
+  double max_rtol = 0.0;
+  for (const FitExperiment& e : problem.experiments) max_rtol = std::max(max_rtol, e.scene.integrator.rtol);
+  const double rank_tolerance = std::clamp(10.0 * max_rtol / spec.fd_relative_step, 1e-10, 1e-2);
+  Eigen::VectorXd norms = jac.colwise().norm().transpose();
+  std::vector<bool> no_effect(p, false);
+  Eigen::MatrixXd equilibrated = jac;
+  for (std::size_t i = 0; i < p; ++i) {
+    const auto c = static_cast<Eigen::Index>(i);
+    // RMS change of the weighted signals (each of RMS 1) per relative change
+    // of the parameter: below the integration noise over the step, the
+    // parameter has no effect the simulation can resolve.
+    const FitParameter& par = problem.parameters[i];
+    const double sensitivity =
+        norms(c) * (par.log_scale ? 1.0 : std::max(std::abs(values[i]), par.scale)) / std::sqrt(static_cast<double>(n));
+    if (!(sensitivity > rank_tolerance)) {
+      no_effect[i] = true;
+      equilibrated.col(c).setZero();
+    } else {
+      equilibrated.col(c) /= norms(c);
+    }
+  }
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(equilibrated, Eigen::ComputeThinV);
+  const Eigen::VectorXd sv = svd.singularValues();
+  for (Eigen::Index i = 0; i < sv.size(); ++i) result.singular_values.push_back(sv(i));
+  const double sv_max = sv.size() > 0 ? sv(0) : 0.0;
+  const double sv_min = sv.size() > 0 ? sv(sv.size() - 1) : 0.0;
+  result.condition_number = sv_min > 0.0 ? sv_max / sv_min : kInf;
+
+  std::vector<bool> undetermined(p, false);  // standard error undefined
+  std::vector<bool> unidentifiable(p, false);
+  auto names_of = [&](const std::vector<std::size_t>& idx) {
+    std::vector<std::string> names;
+    for (std::size_t i : idx) names.push_back(problem.parameters[i].name);
+    return names;
+  };
+  for (std::size_t i = 0; i < p; ++i) {
+    if (!no_effect[i]) continue;
+    undetermined[i] = unidentifiable[i] = true;
+    result.warnings.push_back(
+        "not identifiable: " + problem.parameters[i].name +
+        " has no effect on the fitted signals (a change of it changes them by less than the integration error)");
+  }
+  for (Eigen::Index k = 0; k < sv.size(); ++k) {
+    if (sv(k) >= rank_tolerance * sv_max) continue;
+    const Eigen::VectorXd v = svd.matrixV().col(k);
+    std::vector<std::size_t> involved;
+    for (std::size_t i = 0; i < p; ++i)
+      if (!no_effect[i] && std::abs(v(static_cast<Eigen::Index>(i))) >= 0.1) involved.push_back(i);
+    if (involved.empty()) continue;
+    std::ostringstream dir;
+    dir.precision(3);
+    for (std::size_t j = 0; j < involved.size(); ++j) {
+      const FitParameter& par = problem.parameters[involved[j]];
+      const double c = v(static_cast<Eigen::Index>(involved[j]));
+      dir << (j == 0 ? (c < 0 ? "-" : "") : (c < 0 ? " - " : " + ")) << std::abs(c) << " "
+          << (par.log_scale ? "ln " : "") << par.name;
+    }
+    for (std::size_t i : involved) undetermined[i] = unidentifiable[i] = true;
+    std::ostringstream msg;
+    msg.precision(3);
+    msg << "not identifiable: the data cannot separate " << join_names(names_of(involved))
+        << " (rank-deficient Jacobian, singular value ratio " << sv(k) / sv_max << " below the finite-difference noise "
+        << rank_tolerance << "); changing them along (" << dir.str()
+        << ") [unit-normalised] leaves the fit unchanged. Fix one of them or add data that separates them.";
+    result.warnings.push_back(msg.str());
+  }
+
+  // Covariance of the scaled parameters. The weights normalise units, not
+  // noise, so each record's signal gets its own residual variance σ_g² (records
+  // of different drops or sensors are not equally noisy) and the covariance is
+  // the sandwich A (Σ_g σ_g² J_gᵀ J_g) A with A = (Σ ψ'(r) JᵀJ)⁻¹ from Ceres
+  // (pseudo-inverse where rank-deficient; ψ = ρ'(r²) r is the influence of a
+  // residual under the robust loss ρ, ψ' = 1 without one) and σ_g² the mean
+  // ψ² of the record: with one record and no loss this is σ² (JᵀJ)⁻¹, with a
+  // loss the M-estimator covariance (Huber 1981, ch. 7).
+  Eigen::MatrixXd cov_z = Eigen::MatrixXd::Constant(static_cast<Eigen::Index>(p), static_cast<Eigen::Index>(p),
+                                                    std::numeric_limits<double>::quiet_NaN());
+  bool have_covariance = false;
+  if (dof <= 0.0) {
+    result.warnings.push_back("no standard errors: as many parameters as measured values");
+  } else {
+    ceres::Covariance::Options cov_options;
+    cov_options.algorithm_type = ceres::DENSE_SVD;
+    cov_options.null_space_rank = -1;
+    cov_options.min_reciprocal_condition_number = 1e-14;
+    cov_options.apply_loss_function = true;
+    cov_options.num_threads = 1;
+    ceres::Covariance covariance(cov_options);
+    std::vector<std::pair<const double*, const double*>> blocks = {{z.data(), z.data()}};
+    if (!covariance.Compute(blocks, &ceres_problem)) {
+      result.warnings.push_back("no standard errors: Ceres could not compute the covariance at the optimum");
+    } else {
+      std::vector<double> c(p * p);
+      if (!covariance.GetCovarianceBlock(z.data(), z.data(), c.data())) {
+        result.warnings.push_back("no standard errors: Ceres could not return the covariance block");
+      } else {
+        const auto pp = static_cast<Eigen::Index>(p);
+        const Eigen::MatrixXd a =
+            Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(c.data(), pp, pp);
+        Eigen::MatrixXd b = Eigen::MatrixXd::Zero(pp, pp);
+        Eigen::Index row = 0;
+        for (const FitExperiment& e : problem.experiments) {
+          const auto rows = static_cast<Eigen::Index>(e.record.time.size());
+          for (std::size_t s = 0; s < e.record.signals.size(); ++s, row += rows) {
+            double group2 = 0.0;
+            for (Eigen::Index i = row; i < row + rows; ++i) {
+              const double ri = r[static_cast<std::size_t>(i)];
+              double rho[3] = {ri * ri, 1.0, 0.0};
+              if (loss != nullptr) loss->Evaluate(ri * ri, rho);
+              group2 += rho[1] * rho[1] * ri * ri;  // ψ²
+            }
+            const double group_dof = static_cast<double>(rows) * dof / static_cast<double>(n);
+            const auto j_g = jac.middleRows(row, rows);
+            b.noalias() += (group2 / group_dof) * (j_g.transpose() * j_g);
+          }
+        }
+        cov_z = a * b * a;
+        have_covariance = true;
+      }
+    }
+  }
+  if (cost->input_error()) std::rethrow_exception(cost->input_error());
+
+  // Estimates; the delta method scales log-parameter errors back: σ_p = p σ_ln p.
+  std::vector<double> std_z(p, std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t i = 0; i < p; ++i) {
+    const FitParameter& par = problem.parameters[i];
+    ParameterEstimate est;
+    est.name = par.name;
+    est.path = par.path;
+    est.value = values[i];
+    est.initial = par.initial;
+    est.log_scale = par.log_scale;
+    if (std::isfinite(par.lower)) est.lower = par.lower;
+    if (std::isfinite(par.upper)) est.upper = par.upper;
+    const double lo = scaled_lower(par), hi = scaled_upper(par);
+    const double tol = 1e-9 * std::max(1.0, std::abs(z[i]));
+    est.at_bound = (std::isfinite(lo) && z[i] - lo <= tol) || (std::isfinite(hi) && hi - z[i] <= tol);
+    const double var = cov_z(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(i));
+    if (have_covariance && !undetermined[i] && std::isfinite(var) && var >= 0.0) {
+      std_z[i] = std::sqrt(var);
+      est.std_error = par.log_scale ? values[i] * std_z[i] : std_z[i];
+    }
+    if (est.at_bound)
+      result.warnings.push_back(par.name + " ended on its " +
+                                (std::isfinite(lo) && z[i] - lo <= tol ? std::string("lower") : std::string("upper")) +
+                                " bound (" + fmt(values[i]) +
+                                "): the optimum may lie beyond it and its standard error is not meaningful");
+    result.parameters.push_back(est);
+  }
+  result.correlation.assign(p, std::vector<std::optional<double>>(p));
+  for (std::size_t i = 0; i < p; ++i) {
+    for (std::size_t j = 0; j < p; ++j) {
+      if (!(std_z[i] > 0.0) || !(std_z[j] > 0.0)) continue;
+      const double rho = cov_z(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) / (std_z[i] * std_z[j]);
+      if (std::isfinite(rho)) result.correlation[i][j] = i == j ? 1.0 : std::clamp(rho, -1.0, 1.0);
+    }
+  }
+
+  // Practical identifiability: a parameter known only to worse than
+  // max_relative_std_error of its value is not determined by these data. The
+  // weakest direction of the Jacobian says which parameters trade off with it.
+  std::vector<std::size_t> weak;
+  for (std::size_t i = 0; i < p; ++i) {
+    const ParameterEstimate& est = result.parameters[i];
+    if (unidentifiable[i] || !est.std_error) continue;
+    const double rel = *est.std_error / (est.value != 0.0 ? std::abs(est.value) : problem.parameters[i].scale);
+    if (rel > spec.max_relative_std_error) weak.push_back(i);
+  }
+  if (!weak.empty()) {
+    std::vector<std::size_t> involved = weak;
+    const Eigen::VectorXd v = svd.matrixV().col(svd.matrixV().cols() - 1);
+    bool weak_in_direction = false;
+    for (std::size_t i : weak)
+      weak_in_direction = weak_in_direction || std::abs(v(static_cast<Eigen::Index>(i))) >= 0.2;
+    if (weak_in_direction) {
+      for (std::size_t i = 0; i < p; ++i)
+        if (std::abs(v(static_cast<Eigen::Index>(i))) >= 0.2 &&
+            std::find(involved.begin(), involved.end(), i) == involved.end())
+          involved.push_back(i);
+      std::sort(involved.begin(), involved.end());
+    }
+    std::ostringstream msg;
+    msg.precision(3);
+    msg << "not identifiable: the data do not determine " << join_names(names_of(involved))
+        << " (relative standard error";
+    for (std::size_t j = 0; j < involved.size(); ++j) {
+      const ParameterEstimate& est = result.parameters[involved[j]];
+      msg << (j == 0 ? " " : ", ")
+          << (est.std_error ? percent(*est.std_error / std::max(std::abs(est.value), 1e-300))
+                            : std::string("undefined"));
+    }
+    msg << "; limit solver.max_relative_std_error = " << percent(spec.max_relative_std_error) << ")";
+    if (involved.size() == 2 && result.correlation[involved[0]][involved[1]])
+      msg << ", correlation " << *result.correlation[involved[0]][involved[1]];
+    if (involved.size() > 1)
+      msg << ": they trade off against each other. Fix one of them or add data that separates them"
+             " (other drop heights, other speeds).";
+    else
+      msg << ": the signals hardly depend on it. Fix it or add data that excites it.";
+    result.warnings.push_back(msg.str());
+    for (std::size_t i : involved) unidentifiable[i] = true;
+  }
+  result.identifiable = std::none_of(unidentifiable.begin(), unidentifiable.end(), [](bool b) { return b; });
+  for (std::size_t i = 0; i < p; ++i) result.parameters[i].identifiable = !unidentifiable[i];
+
+  // Measured against fitted, at the optimum.
+  const std::vector<std::vector<Simulator::Run>> runs = simulator.run({values});
+  for (std::size_t k = 0; k < problem.experiments.size(); ++k) {
+    const FitExperiment& e = problem.experiments[k];
+    const Simulator::Run& run = runs[0][k];
+    if (!run.ok) throw NumericalError("identification: the simulation at the optimum failed: " + run.error);
+    ExperimentFit fit;
+    fit.name = e.name;
+    fit.time = e.record.time;
+    fit.signals = e.record.signals;
+    fit.measured = e.record.values;
+    fit.weights = e.record.weights;
+    fit.noise = e.record.noise;
+    for (const std::string& s : e.record.signals) fit.fitted.push_back(column(run.samples, s));
+    for (std::size_t s = 0; s < fit.signals.size(); ++s) {
+      double e2 = 0.0;
+      for (std::size_t i = 0; i < fit.time.size(); ++i) e2 += std::pow(fit.fitted[s][i] - fit.measured[s][i], 2);
+      fit.rms_error.push_back(std::sqrt(e2 / static_cast<double>(fit.time.size())));
+      // A misfit well above the measurement noise means the model cannot reproduce the record.
+      if (fit.noise[s] > 0.0 && fit.rms_error.back() > 3.0 * fit.noise[s])
+        result.warnings.push_back("experiment '" + e.name + "', " + fit.signals[s] + ": RMS misfit " +
+                                  fmt(fit.rms_error.back()) +
+                                  " is more than three times the noise estimated from the record (" +
+                                  fmt(fit.noise[s]) + "): the model or its fixed parameters may not match the data");
+    }
+    result.fits.push_back(std::move(fit));
+  }
+  result.identified_scene = scene_with(to_json(problem.scene), problem.parameters, values, problem.source);
+  result.simulations = simulator.simulations();
+  result.run_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  return result;
+}
+
+}  // namespace camdyn::optim

@@ -1,0 +1,35 @@
+#include "optim/kinematics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace camdyn::optim {
+
+LawKinematics law_kinematics(const MotionLaw& law, const std::vector<SegmentConfig>& segments, int samples) {
+  LawKinematics k;
+  const auto& pieces = law.pieces();
+  for (std::size_t i = 0; i < pieces.size(); ++i) {
+    const MotionLaw::Piece& pc = pieces[i];
+    if (!pc.shape) continue;  // a dwell
+    const double beta = pc.end - pc.start;
+    double f1 = 0.0, f2 = 0.0, f3 = 0.0;  // peaks of the normalised shape's derivatives
+    for (int j = 0; j <= samples; ++j) {
+      const LawSample f = pc.shape->eval(static_cast<double>(j) / samples);
+      f1 = std::max(f1, std::abs(f.ds));
+      f2 = std::max(f2, std::abs(f.d2s));
+      f3 = std::max(f3, std::abs(f.d3s));
+    }
+    const double h = std::abs(pc.lift);
+    k.peak_velocity = std::max(k.peak_velocity, h * f1 / beta);
+    k.peak_acceleration = std::max(k.peak_acceleration, h * f2 / (beta * beta));
+    k.peak_jerk = std::max(k.peak_jerk, h * f3 / (beta * beta * beta));
+    if (i < segments.size() && segments.size() == pieces.size()) {
+      constexpr double kDeg = 180.0 / std::numbers::pi;
+      k.segments.push_back({i, segments[i].type, pc.start * kDeg, pc.end * kDeg, h, f1, f2, f3});
+    }
+  }
+  return k;
+}
+
+}  // namespace camdyn::optim

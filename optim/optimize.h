@@ -1,0 +1,86 @@
+// One optimize run, from the baseline scene and the study fields to the
+// optimised design: evaluate the baseline (the normalisation comes from it),
+// search with NLopt using the cheaper loop settings, then re-evaluate the best
+// designs with the scene's own settings and keep the first that satisfies every
+// constraint there. The optimised scene is built, written and read back
+// exactly as optimized.json will be, so `camdyn run optimized.json`
+// reproduces the reported metrics.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "io/config.h"
+#include "optim/design.h"
+#include "optim/objectives.h"
+#include "optim/optimize_config.h"
+#include "optim/search.h"
+
+namespace camdyn::optim {
+
+/// One row of history.csv: an evaluation of the search loop.
+struct HistoryRecord {
+  long evaluation = 0;  ///< 1-based
+  int start = 0;
+  PointKind kind = PointKind::nlopt;
+  bool valid = true;
+  std::string error;
+  double objective = 0.0;
+  std::vector<ConstraintValue> constraints;
+  bool feasible = false;
+  double best_objective = 0.0;  ///< best feasible objective so far (the first objective until one is feasible)
+  bool best_feasible = false;
+};
+
+struct OptimizeOptions {
+  int threads = 1;        ///< simulation threads (one per operating speed is enough)
+  bool progress = false;  ///< progress lines on stderr
+};
+
+struct OptimizeOutcome {
+  OptimizeStudyConfig config;
+  std::vector<DesignVariable> variables;
+  std::vector<double> x_initial, x_optimized;
+  FitQuality fit;
+  std::vector<ConstraintSpec> constraints;
+  Normalisation normalisation;
+  bool loop_simulated = false;  ///< the loop ran simulations (else kinematics and geometry only)
+
+  DesignEvaluation baseline;    ///< the baseline law, scene settings, time series kept
+  DesignEvaluation initial;     ///< the spline fit to the baseline (the first start), loop settings
+  DesignEvaluation optimized;   ///< the chosen design, scene settings, time series kept
+  SceneConfig optimized_scene;  ///< the `simulate` config written to optimized.json
+  int candidates_tried = 0;     ///< designs re-evaluated at the scene settings to find a feasible one
+
+  SearchResult search;
+  std::vector<HistoryRecord> history;
+  long simulations = 0;       ///< all simulations of the run
+  long loop_simulations = 0;  ///< simulations of the search loop
+  double loop_time_s = 0.0;   ///< wall time of the search loop [s]
+  double run_time_s = 0.0;    ///< whole run [s]
+};
+
+/// The two halves of an optimize study config.
+struct OptimizeStudy {
+  SceneConfig baseline;
+  OptimizeStudyConfig config;
+};
+
+/// Reads an optimize study document (after load_config_json): the baseline
+/// scene and the study fields, each with its unknown keys rejected. The
+/// baseline's `mechanism.cam.rpm` is not used (the operating speeds are), so
+/// it may be left out and defaults to the top operating speed, which is also
+/// the speed of optimized.json. Throws InputError.
+OptimizeStudy read_optimize_study(const Json& doc, const ConfigSource& source);
+
+/// Runs the study. Throws InputError for a design that cannot be set up or a
+/// baseline that cannot be built, NumericalError when the baseline cannot be
+/// simulated or the search found no valid design at all.
+OptimizeOutcome run_optimize(const SceneConfig& baseline, const OptimizeStudyConfig& config, const std::string& file,
+                             const OptimizeOptions& options = {});
+
+/// Checks what run_optimize would check before simulating (design space,
+/// baseline model, loop settings against the scene); throws InputError.
+void check_optimize(const SceneConfig& baseline, const OptimizeStudyConfig& config, const std::string& file);
+
+}  // namespace camdyn::optim

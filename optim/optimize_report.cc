@@ -1,0 +1,251 @@
+#include "optim/optimize_report.h"
+
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <utility>
+#include <vector>
+
+#include "common/errors.h"
+#include "geometry/motion_law.h"
+
+namespace camdyn::optim {
+
+namespace {
+
+constexpr double kBreak = std::numeric_limits<double>::quiet_NaN();
+constexpr double kDegPerRad = 180.0 / std::numbers::pi;
+constexpr double kLawStepDeg = 0.25;
+
+Plot make_plot(std::string title, std::string xlabel, std::string ylabel, std::vector<Series> series) {
+  Plot plot;
+  plot.title = std::move(title);
+  plot.xlabel = std::move(xlabel);
+  plot.ylabel = std::move(ylabel);
+  plot.series = std::move(series);
+  plot.xrange = std::pair{0.0, 360.0};
+  return plot;
+}
+
+/// s, s', s'', s''' of a scene's law at every kLawStepDeg, scaled to mm.
+struct LawCurves {
+  std::vector<double> angle, s, v, a, j;
+};
+LawCurves law_curves(const SceneConfig& scene) {
+  LawCurves c;
+  const MotionLaw law = build_motion_law(scene.mechanism.cam.motion_law, "");
+  const int n = static_cast<int>(360.0 / kLawStepDeg);
+  for (int i = 0; i <= n; ++i) {
+    const double deg = i * kLawStepDeg;
+    const LawSample x = law.eval(std::min(deg, 360.0 - 1e-9) / kDegPerRad);
+    c.angle.push_back(deg);
+    c.s.push_back(1e3 * x.s);
+    c.v.push_back(1e3 * x.ds);
+    c.a.push_back(1e3 * x.d2s);
+    c.j.push_back(1e3 * x.d3s);
+  }
+  return c;
+}
+
+/// One column of the last simulated revolution against cam angle in [0, 360).
+Series last_cycle(const SpeedResult& s, const std::vector<double>& column, double scale, std::string label) {
+  Series out;
+  out.label = std::move(label);
+  const TimeSeries& ts = s.result.series;
+  const double period = 60.0 / s.rpm;
+  const double from = s.result.end_time - period * (1.0 + 1e-9);
+  double previous = -1.0;
+  for (std::size_t i = 0; i < ts.time.size(); ++i) {
+    if (ts.time[i] < from) continue;
+    const double deg = std::fmod(ts.cam_angle_deg[i], 360.0);
+    if (deg < previous) {  // wrapped: break the line
+      out.x.push_back(kBreak);
+      out.y.push_back(kBreak);
+    }
+    previous = deg;
+    out.x.push_back(deg);
+    out.y.push_back(scale * column[i]);
+  }
+  return out;
+}
+
+std::string yes_no(bool b) { return b ? "yes" : "NO"; }
+
+const SpeedResult* at_rpm(const DesignEvaluation& e, double rpm) {
+  for (const SpeedResult& s : e.speeds)
+    if (s.rpm == rpm) return &s;
+  return nullptr;
+}
+
+}  // namespace
+
+Report optimize_report(const OptimizeOutcome& o, const std::string& name) {
+  Report r;
+  r.title = "camdyn optimize: " + name;
+  r.subtitle = "Spline cam design with NLopt: baseline against the optimised design";
+  const DesignEvaluation& b = o.baseline;
+  const DesignEvaluation& p = o.optimized;
+  std::string speeds;
+  for (double rpm : o.config.operating_rpm) speeds += (speeds.empty() ? "" : ", ") + format_number(rpm);
+  r.facts = {
+      {"algorithm", o.search.method},
+      {"stop reason", o.search.stop_reason},
+      {"evaluations", std::to_string(o.search.evaluations) + " (" + std::to_string(o.search.invalid_evaluations) +
+                          " invalid designs)"},
+      {"simulations", std::to_string(o.simulations)},
+      {"run time",
+       format_number(o.run_time_s, 4) + " s (search loop " + format_number(o.loop_time_s, 4) + " s, " +
+           format_number(o.loop_time_s > 0 ? static_cast<double>(o.search.evaluations) / o.loop_time_s : 0.0, 4) +
+           " evaluations/s)"},
+      {"operating speeds", speeds + " rpm (" + o.config.objective.aggregate + " case)"},
+      {"objective", format_number(b.objective) + " → " + format_number(p.objective)},
+      {"all constraints hold", "baseline: " + yes_no(b.feasible) + ", optimised: " + yes_no(p.feasible)}};
+
+  // Constraints with margins.
+  Table constraints{"Constraints (value at the worst operating speed)",
+                    {"constraint", "limit", "unit", "baseline", "optimised", "margin", "holds"},
+                    {},
+                    true};
+  for (std::size_t i = 0; i < o.constraints.size(); ++i) {
+    const ConstraintSpec& spec = o.constraints[i];
+    const std::string limit = spec.sense == ConstraintSpec::Sense::at_most    ? "≤ " + format_number(spec.limit)
+                              : spec.sense == ConstraintSpec::Sense::at_least ? "≥ " + format_number(spec.limit)
+                                                                              : "= 0";
+    constraints.rows.push_back({spec.name, limit, spec.unit, format_number(b.constraints[i].value),
+                                format_number(p.constraints[i].value), format_number(p.constraints[i].margin),
+                                yes_no(p.constraints[i].holds)});
+  }
+  if (!constraints.rows.empty()) r.tables.push_back(constraints);
+
+  Table terms{"Objective terms (normalised value = value / scale; objective = Σ weight × normalised)",
+              {"term", "weight", "unit", "baseline", "optimised", "baseline normalised", "optimised normalised"},
+              {},
+              true};
+  for (std::size_t i = 0; i < p.terms.size() && i < b.terms.size(); ++i) {
+    terms.rows.push_back({p.terms[i].name, format_number(p.terms[i].weight), p.terms[i].unit,
+                          format_number(b.terms[i].value), format_number(p.terms[i].value),
+                          format_number(b.terms[i].normalised), format_number(p.terms[i].normalised)});
+  }
+  r.tables.push_back(terms);
+
+  Table metrics{"Metrics per operating speed (baseline → optimised)",
+                {"rpm", "separation_fraction", "impacts", "peak_contact_force [N]", "min_contact_force [N]",
+                 "max_impact_velocity [m/s]"},
+                {},
+                true};
+  for (double rpm : o.config.operating_rpm) {
+    const SpeedResult* sb = at_rpm(b, rpm);
+    const SpeedResult* sp = at_rpm(p, rpm);
+    if (!sb || !sp) continue;
+    const Metrics& mb = sb->result.metrics;
+    const Metrics& mp = sp->result.metrics;
+    auto pair = [](double x, double y) { return format_number(x) + " → " + format_number(y); };
+    metrics.rows.push_back({format_number(rpm), pair(mb.separation_fraction, mp.separation_fraction),
+                            std::to_string(mb.impact_count) + " → " + std::to_string(mp.impact_count),
+                            pair(mb.peak_contact_force, mp.peak_contact_force),
+                            pair(mb.min_contact_force, mp.min_contact_force),
+                            pair(mb.max_impact_velocity, mp.max_impact_velocity)});
+  }
+  r.tables.push_back(metrics);
+
+  Table segments{"Rise and return segments: C_v = v β/h, C_a = a β²/h, C_j = j β³/h (cycloidal 2, 6.28, 39.5)",
+                 {"segment", "type", "design", "start [deg]", "end [deg]", "C_v", "C_a", "C_j"},
+                 {},
+                 true};
+  for (const auto* e : {&b, &p}) {
+    for (const SegmentKinematics& s : e->kinematics.segments) {
+      segments.rows.push_back({std::to_string(s.index), s.type, e == &b ? "baseline" : "optimised",
+                               format_number(s.start_deg), format_number(s.end_deg),
+                               format_number(s.velocity_coefficient), format_number(s.acceleration_coefficient),
+                               format_number(s.jerk_coefficient)});
+    }
+  }
+  r.tables.push_back(segments);
+
+  Table starts{"Starts", {"start", "stop reason", "evaluations", "best objective", "feasible", "message"}, {}, true};
+  for (const StartResult& s : o.search.starts) {
+    starts.rows.push_back({std::to_string(s.index + 1), s.stop_reason, std::to_string(s.evaluations),
+                           s.found ? format_number(s.best_objective) : "–", yes_no(s.found && s.best_feasible),
+                           s.message});
+  }
+  r.tables.push_back(starts);
+
+  Table vars{"Design variables (monotone: share of the remaining rise; end angles: share of their range)",
+             {"variable", "lower", "upper", "initial (fit)", "optimised"},
+             {},
+             true};
+  for (std::size_t i = 0; i < o.variables.size(); ++i) {
+    vars.rows.push_back({o.variables[i].name, format_number(o.variables[i].lower), format_number(o.variables[i].upper),
+                         format_number(o.x_initial[i]),
+                         i < o.x_optimized.size() ? format_number(o.x_optimized[i]) : "–"});
+  }
+  r.tables.push_back(vars);
+
+  // Kinematics against cam angle.
+  const LawCurves lb = law_curves(b.scene), lp = law_curves(p.scene);
+  const std::string xlabel = "cam angle [deg]";
+  r.plots.push_back(make_plot("Lift", xlabel, "s [mm]", {{"baseline", lb.angle, lb.s}, {"optimised", lp.angle, lp.s}}));
+  r.plots.push_back(make_plot("Velocity per unit cam speed", xlabel, "ds/dθ [mm/rad]",
+                              {{"baseline", lb.angle, lb.v}, {"optimised", lp.angle, lp.v}}));
+  r.plots.push_back(make_plot("Acceleration per unit cam speed squared", xlabel, "d²s/dθ² [mm/rad²]",
+                              {{"baseline", lb.angle, lb.a}, {"optimised", lp.angle, lp.a}}));
+  r.plots.push_back(make_plot("Jerk per unit cam speed cubed", xlabel, "d³s/dθ³ [mm/rad³]",
+                              {{"baseline", lb.angle, lb.j}, {"optimised", lp.angle, lp.j}}));
+
+  // Dynamics at each operating speed (last simulated revolution).
+  for (double rpm : o.config.operating_rpm) {
+    const SpeedResult* sb = at_rpm(b, rpm);
+    const SpeedResult* sp = at_rpm(p, rpm);
+    if (!sb || !sp) continue;
+    const std::string at = " at " + format_number(rpm) + " rpm (last revolution)";
+    r.plots.push_back(make_plot("Contact force" + at, xlabel, "force [N]",
+                                {last_cycle(*sb, sb->result.series.contact_force, 1.0, "baseline"),
+                                 last_cycle(*sp, sp->result.series.contact_force, 1.0, "optimised")}));
+    r.plots.push_back(make_plot("Gap" + at + " (> 0 separated)", xlabel, "gap [µm]",
+                                {last_cycle(*sb, sb->result.series.gap, 1e6, "baseline"),
+                                 last_cycle(*sp, sp->result.series.gap, 1e6, "optimised")}));
+  }
+
+  // Convergence (valid designs only: the penalty of invalid ones would flatten the plot).
+  Series all{"objective of each evaluation", {}, {}, "points"}, feasible{"feasible designs", {}, {}, "points"},
+      best{"best so far", {}, {}, "lines"};
+  for (const HistoryRecord& h : o.history) {
+    if (!h.valid) continue;
+    const double n = static_cast<double>(h.evaluation);
+    (h.feasible ? feasible : all).x.push_back(n);
+    (h.feasible ? feasible : all).y.push_back(h.objective);
+    best.x.push_back(n);
+    best.y.push_back(h.best_objective);
+  }
+  bool positive = true;
+  for (const Series* se : {&all, &feasible, &best})
+    for (double y : se->y) positive = positive && y > 0.0;
+  Plot convergence =
+      make_plot("Convergence (search loop settings)", "evaluation", "objective [–]", {all, feasible, best});
+  convergence.xrange.reset();
+  convergence.logy = positive && !best.y.empty();
+  r.plots.push_back(convergence);
+
+  const Normalisation& nm = o.normalisation;
+  r.notes.push_back("Normalisation: forces by " + format_number(nm.force) +
+                    " N (baseline peak rigid-model contact force at the top speed), separation by a mean gap of " +
+                    format_number(nm.mean_gap) + " m, peak acceleration by " + format_number(nm.acceleration) +
+                    " m/rad², peak jerk by " + format_number(nm.jerk) + " m/rad³ (baseline values).");
+  const OptimizerConfig& oc = o.config.optimizer;
+  r.notes.push_back(
+      std::string("The search loop ") +
+      (o.loop_simulated
+           ? "simulates with " +
+                 (oc.evaluation_cycles ? format_number(*oc.evaluation_cycles) + " cycles" : "the scene's cycles") +
+                 " and rtol " + (oc.evaluation_rtol ? format_number(*oc.evaluation_rtol) : "of the scene")
+           : "evaluates kinematics and geometry only (no term or constraint needs a simulation)") +
+      "; the baseline and the optimised design are evaluated with the scene's own settings (" +
+      std::to_string(o.candidates_tried) + " best design(s) re-evaluated to find one that holds every constraint).");
+  r.notes.push_back("Initial design: least-squares spline fit to the baseline law, max lift error " +
+                    format_number(o.fit.max_lift_error, 3) + " of the lift, max acceleration error " +
+                    format_number(o.fit.max_acceleration_error, 3) + " of the peak.");
+  if (!p.feasible) r.notes.push_back("WARNING: the optimised design does not satisfy every constraint.");
+  return r;
+}
+
+}  // namespace camdyn::optim

@@ -1,0 +1,349 @@
+#include "optim/search.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <new>
+#include <nlopt.hpp>
+#include <random>
+#include <stdexcept>
+#include <utility>
+
+#include "common/errors.h"
+
+namespace camdyn::optim {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+/// Constraint tolerance handed to NLopt: residuals are normalised (O(1)), so
+/// this is a relative violation that counts as satisfied by NLopt's own tests.
+constexpr double kConstraintTolerance = 1e-8;
+/// How many of the best points the caller gets to re-evaluate.
+constexpr std::size_t kCandidates = 8;
+
+nlopt::algorithm algorithm_of(const std::string& name) {
+  if (name == "LN_COBYLA") return nlopt::LN_COBYLA;
+  if (name == "LN_BOBYQA") return nlopt::LN_BOBYQA;
+  if (name == "LN_SBPLX") return nlopt::LN_SBPLX;
+  if (name == "LD_SLSQP") return nlopt::LD_SLSQP;
+  if (name == "LD_MMA") return nlopt::LD_MMA;
+  if (name == "GN_ISRES") return nlopt::GN_ISRES;
+  if (name == "GN_CRS2_LM") return nlopt::GN_CRS2_LM;
+  if (name == "GN_DIRECT_L") return nlopt::GN_DIRECT_L;
+  throw InputError("", "optimizer.algorithm", "unknown algorithm '" + name + "'");
+}
+
+bool is_global(const std::string& name) { return name.rfind("GN_", 0) == 0; }
+bool uses_gradient(const std::string& name) { return name.rfind("LD_", 0) == 0; }
+bool has_native_constraints(const std::string& name) {
+  return name == "LN_COBYLA" || name == "LD_SLSQP" || name == "LD_MMA" || name == "GN_ISRES";
+}
+
+/// Thrown by our callbacks when the evaluation budget of a start is used up
+/// (NLopt's own maxeval does not count finite-difference probes); nlopt.hpp
+/// turns it into a forced stop.
+struct BudgetExhausted : nlopt::forced_stop {};
+
+struct Entry {
+  PointValue value;
+  double violation = 0.0;
+  long order = 0;
+};
+
+/// Callback state of one start: the evaluation cache, finite differences,
+/// the budget and the best point.
+class StartRun {
+ public:
+  StartRun(const SearchProblem& problem, const OptimizerConfig& config, int index, long budget, Clock::time_point t0,
+           long& total, long& invalid, std::map<std::vector<double>, Entry>& all,
+           const std::function<void(const SearchProgress&)>& progress, int starts)
+      : problem_(problem),
+        config_(config),
+        index_(index),
+        budget_(budget),
+        t0_(t0),
+        total_(total),
+        invalid_(invalid),
+        all_(all),
+        progress_(progress),
+        starts_(starts) {}
+
+  static double objective(unsigned n, const double* x, double* grad, void* data) {
+    auto* self = static_cast<StartRun*>(data);
+    const std::vector<double> point(x, x + n);
+    const PointValue& v = self->value(point, PointKind::nlopt);
+    if (grad != nullptr) {
+      const Gradient& g = self->gradient(point);
+      std::copy(g.objective.begin(), g.objective.end(), grad);
+    }
+    return v.objective;
+  }
+
+  static void constraints(unsigned m, double* result, unsigned n, const double* x, double* grad, void* data) {
+    auto* self = static_cast<StartRun*>(data);
+    const std::vector<double> point(x, x + n);
+    const PointValue& v = self->value(point, PointKind::nlopt);
+    std::copy(v.residuals.begin(), v.residuals.begin() + m, result);
+    if (grad != nullptr) {
+      const Gradient& g = self->gradient(point);
+      std::copy(g.jacobian.begin(), g.jacobian.end(), grad);  // row-major m × n
+    }
+  }
+
+  bool budget_exhausted() const { return exhausted_; }
+  long evaluations() const { return evaluations_; }
+  bool found() const { return has_best_; }
+  const std::vector<double>& best_x() const { return best_x_; }
+  const Entry& best() const { return best_; }
+
+ private:
+  struct Gradient {
+    std::vector<double> objective;  ///< n
+    std::vector<double> jacobian;   ///< m × n, row-major
+  };
+
+  const PointValue& value(const std::vector<double>& x, PointKind kind) {
+    if (auto it = cache_.find(x); it != cache_.end()) return it->second;
+    if (evaluations_ >= budget_) {
+      exhausted_ = true;
+      throw BudgetExhausted();
+    }
+    PointValue v = problem_.evaluate(x, index_, kind);
+    if (v.residuals.size() != static_cast<std::size_t>(problem_.constraint_count))
+      throw std::logic_error("search: evaluate returned the wrong number of constraint residuals");
+    ++evaluations_;
+    ++total_;
+    Entry e{v, 0.0, total_};
+    if (!v.valid) ++invalid_;
+    for (double r : v.residuals) e.violation += std::max(0.0, r);
+    if (v.valid && (!has_best_ || better(e, best_))) {
+      has_best_ = true;
+      best_ = e;
+      best_x_ = x;
+    }
+    if (v.valid) all_.emplace(x, e);
+    report();
+    return cache_.emplace(x, std::move(v)).first->second;
+  }
+
+  const Gradient& gradient(const std::vector<double>& x) {
+    if (auto it = gradients_.find(x); it != gradients_.end()) return it->second;
+    const PointValue base = value(x, PointKind::nlopt);
+    const std::size_t n = x.size(), m = base.residuals.size();
+    Gradient g{std::vector<double>(n), std::vector<double>(m * n)};
+    for (std::size_t j = 0; j < n; ++j) {
+      std::vector<double> probe = x;
+      double h = config_.gradient_step * (problem_.upper[j] - problem_.lower[j]);
+      if (probe[j] + h > problem_.upper[j]) h = -h;  // stay inside the box
+      probe[j] += h;
+      h = probe[j] - x[j];  // the step actually taken
+      const PointValue& v = value(probe, PointKind::gradient);
+      g.objective[j] = (v.objective - base.objective) / h;
+      for (std::size_t i = 0; i < m; ++i) g.jacobian[i * n + j] = (v.residuals[i] - base.residuals[i]) / h;
+    }
+    return gradients_.emplace(x, std::move(g)).first->second;
+  }
+
+  void report() {
+    if (!progress_) return;
+    const double elapsed = std::chrono::duration<double>(Clock::now() - t0_).count();
+    progress_({total_, index_, starts_, best_.value.objective, has_best_ && best_.value.feasible,
+               elapsed > 0.0 ? static_cast<double>(total_) / elapsed : 0.0});
+  }
+
+ public:
+  /// Feasible before infeasible; then by objective, or by violation.
+  static bool better(const Entry& a, const Entry& b) {
+    if (a.value.feasible != b.value.feasible) return a.value.feasible;
+    if (a.value.feasible) return a.value.objective < b.value.objective;
+    if (a.violation != b.violation) return a.violation < b.violation;
+    return a.value.objective < b.value.objective;
+  }
+
+ private:
+  const SearchProblem& problem_;
+  const OptimizerConfig& config_;
+  int index_;
+  long budget_;
+  Clock::time_point t0_;
+  long& total_;
+  long& invalid_;
+  std::map<std::vector<double>, Entry>& all_;
+  const std::function<void(const SearchProgress&)>& progress_;
+  int starts_;
+
+  std::map<std::vector<double>, PointValue> cache_;
+  std::map<std::vector<double>, Gradient> gradients_;
+  long evaluations_ = 0;
+  bool exhausted_ = false;
+  bool has_best_ = false;
+  Entry best_;
+  std::vector<double> best_x_;
+};
+
+/// Sets the stopping criteria shared by an optimiser and its subsidiary.
+void set_tolerances(nlopt::opt& opt, const OptimizerConfig& config) {
+  opt.set_xtol_rel(config.xtol_rel);
+  opt.set_ftol_rel(config.ftol_rel);
+}
+
+}  // namespace
+
+std::string nlopt_result_name(int code) {
+  switch (code) {
+    case NLOPT_SUCCESS:
+      return "success";
+    case NLOPT_STOPVAL_REACHED:
+      return "stopval_reached";
+    case NLOPT_FTOL_REACHED:
+      return "ftol_reached";
+    case NLOPT_XTOL_REACHED:
+      return "xtol_reached";
+    case NLOPT_MAXEVAL_REACHED:
+      return "maxeval_reached";
+    case NLOPT_MAXTIME_REACHED:
+      return "maxtime_reached";
+    case NLOPT_FAILURE:
+      return "failure";
+    case NLOPT_INVALID_ARGS:
+      return "invalid_args";
+    case NLOPT_OUT_OF_MEMORY:
+      return "out_of_memory";
+    case NLOPT_ROUNDOFF_LIMITED:
+      return "roundoff_limited";
+    case NLOPT_FORCED_STOP:
+      return "forced_stop";
+    default:
+      return "unknown_status_" + std::to_string(code);
+  }
+}
+
+SearchResult run_search(const SearchProblem& problem, const OptimizerConfig& config,
+                        const std::function<void(const SearchProgress&)>& progress) {
+  const std::size_t n = problem.x0.size();
+  if (n == 0) throw InputError("", "design", "the design has no variables");
+  if (problem.lower.size() != n || problem.upper.size() != n)
+    throw std::logic_error("search: bounds and x0 differ in size");
+  for (std::size_t j = 0; j < n; ++j) {
+    if (!(problem.lower[j] < problem.upper[j]))
+      throw InputError("", "design", "variable " + std::to_string(j) + " has empty bounds");
+  }
+  const auto t0 = Clock::now();
+  const nlopt::algorithm algorithm = algorithm_of(config.algorithm);
+  const bool auglag = problem.constraint_count > 0 && !has_native_constraints(config.algorithm);
+
+  SearchResult out;
+  out.algorithm = config.algorithm;
+  out.method = auglag ? "AUGLAG(" + config.algorithm + ")" : config.algorithm;
+  const int starts = is_global(config.algorithm) ? 1 : config.starts;
+  std::mt19937_64 rng(static_cast<unsigned long>(config.seed));
+  std::map<std::vector<double>, Entry> all;
+  long total = 0, invalid = 0;
+  std::vector<double> step(n);
+  for (std::size_t j = 0; j < n; ++j) step[j] = config.initial_step * (problem.upper[j] - problem.lower[j]);
+
+  for (int s = 0; s < starts; ++s) {
+    StartResult sr;
+    sr.index = s;
+    sr.x0 = problem.x0;
+    if (s > 0) {
+      for (std::size_t j = 0; j < n; ++j)
+        sr.x0[j] = std::uniform_real_distribution<double>(problem.lower[j], problem.upper[j])(rng);
+    }
+    for (std::size_t j = 0; j < n; ++j) sr.x0[j] = std::clamp(sr.x0[j], problem.lower[j], problem.upper[j]);
+    const long budget = config.max_evaluations / starts + (s < config.max_evaluations % starts ? 1 : 0);
+    StartRun run(problem, config, s, budget, t0, total, invalid, all, progress, starts);
+
+    try {
+      // Reproducible stochastic algorithms (ISRES, CRS2) for a given seed.
+      nlopt::srand(static_cast<unsigned long>(config.seed) + static_cast<unsigned long>(s));
+      nlopt::opt opt(auglag ? nlopt::AUGLAG : algorithm, static_cast<unsigned>(n));
+      opt.set_lower_bounds(problem.lower);
+      opt.set_upper_bounds(problem.upper);
+      opt.set_min_objective(&StartRun::objective, &run);
+      if (problem.constraint_count > 0) {
+        opt.add_inequality_mconstraint(&StartRun::constraints, &run,
+                                       std::vector<double>(problem.constraint_count, kConstraintTolerance));
+      }
+      set_tolerances(opt, config);
+      // NLopt counts its own calls only; with finite differences each gradient
+      // costs n more, so its budget is cut to match ours (ours is enforced too).
+      const long nlopt_budget =
+          uses_gradient(config.algorithm) ? std::max<long>(1, budget / static_cast<long>(n + 1)) : budget;
+      opt.set_maxeval(static_cast<int>(nlopt_budget));
+      if (config.max_time_s) {
+        const double left = *config.max_time_s - std::chrono::duration<double>(Clock::now() - t0).count();
+        opt.set_maxtime(std::max(left, 1e-3));
+      }
+      if (!is_global(config.algorithm) && !uses_gradient(config.algorithm)) opt.set_initial_step(step);
+      if (auglag) {
+        nlopt::opt sub(algorithm, static_cast<unsigned>(n));
+        sub.set_lower_bounds(problem.lower);
+        sub.set_upper_bounds(problem.upper);
+        set_tolerances(sub, config);
+        // A global subsidiary would spend the whole budget on the first
+        // penalty parameter: give each subproblem a share.
+        if (is_global(config.algorithm))
+          sub.set_maxeval(static_cast<int>(std::max<long>(1, budget / 4)));
+        else
+          sub.set_initial_step(step);
+        opt.set_local_optimizer(sub);
+      }
+      std::vector<double> x = sr.x0;
+      double f = 0.0;
+      const nlopt::result r = opt.optimize(x, f);
+      sr.stop_reason = nlopt_result_name(r);
+    } catch (const BudgetExhausted&) {
+      sr.stop_reason = "maxeval_reached";
+      sr.message = "evaluation budget used up (finite-difference probes included)";
+    } catch (const nlopt::roundoff_limited&) {
+      sr.stop_reason = "roundoff_limited";
+      sr.message = "NLopt stopped: roundoff errors limited progress (the best point found is kept)";
+    } catch (const nlopt::forced_stop&) {
+      sr.stop_reason = run.budget_exhausted() ? "maxeval_reached" : "forced_stop";
+      if (run.budget_exhausted()) sr.message = "evaluation budget used up (finite-difference probes included)";
+    } catch (const std::invalid_argument& e) {
+      sr.stop_reason = "invalid_args";
+      sr.message = e.what();
+    } catch (const std::bad_alloc&) {
+      sr.stop_reason = "out_of_memory";
+    } catch (const std::runtime_error& e) {
+      sr.stop_reason = "failure";
+      sr.message = e.what();
+    }
+    sr.evaluations = run.evaluations();
+    sr.found = run.found();
+    if (sr.found) {
+      sr.best_x = run.best_x();
+      sr.best_objective = run.best().value.objective;
+      sr.best_feasible = run.best().value.feasible;
+    }
+    out.starts.push_back(std::move(sr));
+  }
+
+  // The chosen start: the one whose best point is best.
+  std::vector<std::pair<std::vector<double>, Entry>> ranked(all.begin(), all.end());
+  std::sort(ranked.begin(), ranked.end(), [](const auto& a, const auto& b) {
+    if (StartRun::better(a.second, b.second)) return true;
+    if (StartRun::better(b.second, a.second)) return false;
+    return a.second.order < b.second.order;
+  });
+  for (std::size_t i = 0; i < ranked.size() && i < kCandidates; ++i) {
+    out.candidates.push_back(ranked[i].first);
+    if (ranked[i].second.value.feasible) ++out.feasible_candidates;
+  }
+  out.stop_reason = out.starts.front().stop_reason;
+  if (!out.candidates.empty()) {
+    for (const StartResult& sr : out.starts)
+      if (sr.found && sr.best_x == out.candidates.front()) out.stop_reason = sr.stop_reason;
+  }
+  out.evaluations = total;
+  out.invalid_evaluations = invalid;
+  out.run_time_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  return out;
+}
+
+}  // namespace camdyn::optim

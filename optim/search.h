@@ -1,0 +1,93 @@
+// The NLopt driver of the optimize study, independent of cams: minimises an
+// objective f(x) subject to inequality constraints c_i(x) ≤ 0 inside a box,
+// with the algorithms of optimizer.algorithm.
+//
+//   LN_COBYLA, LD_SLSQP, LD_MMA, GN_ISRES   constraints handled natively
+//   LN_BOBYQA, LN_SBPLX, GN_CRS2_LM,         no constraint support: wrapped in
+//   GN_DIRECT_L                              NLOPT_AUGLAG (augmented Lagrangian)
+//                                            with the algorithm as subsidiary
+//   LD_*                                     gradients by forward differences
+//                                            (the simulations have none)
+//
+// Local algorithms run from several starts (the given x0, then seeded random
+// points in the box); the evaluation budget is shared evenly between them.
+// Every NLopt status and exception becomes a `stop_reason` name; a start that
+// fails keeps what it found and never stops the others. The objective and
+// constraint functions of one point are evaluated once (cached: NLopt asks
+// for them separately), and the best point is tracked here rather than taken
+// from NLopt, so no status can lose it.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "optim/optimize_config.h"
+
+namespace camdyn::optim {
+
+/// The value of one point: objective, constraint residuals (≤ 0 feasible) and
+/// whether the point could be evaluated at all and satisfies every constraint.
+struct PointValue {
+  double objective = 0.0;
+  std::vector<double> residuals;
+  bool valid = true;
+  bool feasible = false;
+};
+
+/// Why a point is evaluated: a point NLopt asked for, or a finite-difference probe.
+enum class PointKind { nlopt, gradient };
+
+struct SearchProblem {
+  std::vector<double> lower, upper;  ///< finite bounds
+  std::vector<double> x0;            ///< first start
+  int constraint_count = 0;
+  /// Must not throw; `start` is the index of the start that asks.
+  std::function<PointValue(const std::vector<double>& x, int start, PointKind kind)> evaluate;
+};
+
+struct SearchProgress {
+  long evaluations = 0;
+  int start = 0, starts = 1;
+  double best_objective = 0.0;
+  bool best_feasible = false;
+  double evaluations_per_second = 0.0;
+};
+
+struct StartResult {
+  int index = 0;
+  std::vector<double> x0;
+  std::string stop_reason;  ///< NLopt status name, e.g. "xtol_reached", "roundoff_limited"
+  std::string message;      ///< detail for failures (empty otherwise)
+  long evaluations = 0;
+  bool found = false;  ///< evaluated at least one valid point
+  std::vector<double> best_x;
+  double best_objective = 0.0;
+  bool best_feasible = false;
+};
+
+struct SearchResult {
+  std::string algorithm;    ///< as configured
+  std::string method;       ///< what ran, e.g. "AUGLAG(LN_BOBYQA)"
+  std::string stop_reason;  ///< of the start that found the chosen point
+  long evaluations = 0;
+  long invalid_evaluations = 0;
+  double run_time_s = 0.0;
+  std::vector<StartResult> starts;
+  /// Distinct evaluated points, best first: feasible ones by objective, then
+  /// infeasible ones by total constraint violation, invalid ones never.
+  std::vector<std::vector<double>> candidates;
+  int feasible_candidates = 0;  ///< how many of the leading candidates are feasible
+};
+
+/// Runs the search. Throws InputError only for a problem that cannot be set
+/// up (dimension 0, bounds not ordered); NLopt failures are stop reasons.
+SearchResult run_search(const SearchProblem& problem, const OptimizerConfig& config,
+                        const std::function<void(const SearchProgress&)>& progress = {});
+
+/// NLopt's result code as a stop reason: "success", "stopval_reached",
+/// "ftol_reached", "xtol_reached", "maxeval_reached", "maxtime_reached",
+/// "failure", "invalid_args", "out_of_memory", "roundoff_limited", "forced_stop".
+std::string nlopt_result_name(int code);
+
+}  // namespace camdyn::optim

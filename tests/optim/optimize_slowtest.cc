@@ -1,0 +1,101 @@
+// The optimize studies of studies/ run as shipped (label `slow`: about half a
+// minute each on two cores). Acceptance of the design optimisation: the
+// optimised jump study separates at no operating speed, holds every
+// constraint, hammers less than the baseline, and `camdyn run optimized.json`
+// reproduces its metrics.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+fs::path scratch(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("camdyn_optimize_slowtest_" + std::to_string(::getpid())) / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+int camdyn(const std::string& args, const fs::path& log) {
+  const std::string cmd = std::string(CAMDYN_BINARY) + " " + args + " >" + (log / "stdout").string() + " 2>" +
+                          (log / "stderr").string() + " </dev/null";
+  const int status = std::system(cmd.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+double relative(double a, double b) { return std::abs(a - b) / std::max({std::abs(a), std::abs(b), 1e-300}); }
+
+/// Runs a study from studies/, checks that every constraint holds and that
+/// `camdyn run optimized.json` gives the top speed's metrics to 1e-9.
+Json run_study(const std::string& name) {
+  const fs::path dir = scratch(name);
+  const std::string config = std::string(CAMDYN_SOURCE_DIR) + "/studies/" + name + ".json";
+  const int code = camdyn("run " + config + " --out " + (dir / "out").string() + " --jobs 2", dir);
+  EXPECT_EQ(code, 0) << slurp(dir / "stderr");
+  const Json result = Json::parse(slurp(dir / "out" / "result.json"));
+  for (const auto& [key, c] : result["optimized"]["constraints"].items()) EXPECT_TRUE(c["holds"].get<bool>()) << key;
+  EXPECT_TRUE(result["optimized"]["feasible"].get<bool>());
+
+  EXPECT_EQ(
+      camdyn("run " + (dir / "out" / "optimized.json").string() + " --out " + (dir / "rerun").string() + " --quiet",
+             dir),
+      0)
+      << slurp(dir / "stderr");
+  const Json summary = Json::parse(slurp(dir / "rerun" / "summary.json"));
+  const Json& top = result["optimized"]["metrics"].back();
+  EXPECT_EQ(summary["config"]["mechanism"]["cam"]["rpm"], top["rpm"]);
+  for (const auto& [key, value] : summary["metrics"].items()) {
+    if (value.is_null()) continue;  // an infinite jump speed
+    EXPECT_LE(relative(value.get<double>(), top[key].get<double>()), 1e-9) << key;
+  }
+  return result;
+}
+
+TEST(OptimizeStudies, JumpStudyStopsTheJumpAndTheHammering) {
+  const Json r = run_study("optimize_jump");
+  const Json& base = r["baseline"]["metrics"];
+  const Json& opt = r["optimized"]["metrics"];
+  ASSERT_EQ(opt.size(), 3u);
+  EXPECT_GT(base[2]["separation_fraction"].get<double>(), 0.0);  // the baseline jumps at 1300 rpm
+  double base_peak = 0.0, opt_peak = 0.0;
+  for (std::size_t i = 0; i < opt.size(); ++i) {
+    EXPECT_EQ(opt[i]["separation_fraction"].get<double>(), 0.0) << opt[i]["rpm"];
+    EXPECT_EQ(opt[i]["impact_count"].get<long>(), 0) << opt[i]["rpm"];
+    base_peak = std::max(base_peak, base[i]["peak_contact_force"].get<double>());
+    opt_peak = std::max(opt_peak, opt[i]["peak_contact_force"].get<double>());
+  }
+  EXPECT_LT(opt_peak, base_peak);  // worst case over the speeds, which the objective minimises
+  EXPECT_LT(r["optimized"]["objective"]["value"].get<double>(), r["baseline"]["objective"]["value"].get<double>());
+}
+
+TEST(OptimizeStudies, ForceStudyLowersThePeakForceWithoutSeparation) {
+  const Json r = run_study("optimize_force");
+  double base_peak = 0.0, opt_peak = 0.0;
+  for (const Json& m : r["baseline"]["metrics"]) base_peak = std::max(base_peak, m["peak_contact_force"].get<double>());
+  for (const Json& m : r["optimized"]["metrics"]) {
+    opt_peak = std::max(opt_peak, m["peak_contact_force"].get<double>());
+    EXPECT_EQ(m["separation_fraction"].get<double>(), 0.0);
+  }
+  EXPECT_LT(opt_peak, 0.9 * base_peak);
+}
+
+}  // namespace

@@ -1,0 +1,331 @@
+// The optimize study end to end, on budgets small enough for CI: the
+// kinematic bound on the peak acceleration coefficient, constraint values
+// recomputed from the optimised profile, invalid designs, parallel
+// simulations, and the command line (files, `camdyn run optimized.json`
+// reproducing result.json). The full studies run in optimize_slowtest.cc.
+#include "optim/optimize.h"
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "dynamics/model.h"
+#include "dynamics/simulation.h"
+#include "io/config.h"
+#include "io/json_archive.h"
+#include "optim/objectives.h"
+#include "optim/optimize_config.h"
+#include "optim/optimize_output.h"
+#include "optim/simulation_pool.h"
+#include "study/study.h"
+
+namespace camdyn::optim {
+namespace {
+
+namespace fs = std::filesystem;
+
+const ConfigSource kSource{"test.json", CAMDYN_SOURCE_DIR};
+// Same scene, same deterministic integration: only summation order could
+// differ, and it does not; 1e-12 leaves room for nothing but that.
+constexpr double kReproduced = 1e-12;
+
+struct Study {
+  SceneConfig scene;
+  OptimizeStudyConfig config;
+};
+
+Study study_from(const std::string& text) {
+  Json part;
+  SceneConfig scene = scene_from_study_json(Json::parse(text), kSource, optimize_study_keys(), part);
+  return {scene, optimize_config_from_json(part, kSource)};
+}
+
+/// The quickstart mechanism (cycloidal rise/return, 20 mm) with cheap run settings.
+std::string mechanism(double base_radius = 0.04, double roller = 0.01) {
+  return R"("mechanism": {
+    "cam": { "base_radius": )" +
+         std::to_string(base_radius) + R"(, "rpm": 1000,
+             "motion_law": "profiles/cycloidal_rise_return.json" },
+    "follower": { "shape": { "type": "roller", "radius": )" +
+         std::to_string(roller) + R"( }, "mass": 0.3,
+                  "spring": { "stiffness": 5000, "preload": 40 } },
+    "contact": { "stiffness": 1e10 } },
+  "simulation": { "cycles": 2, "discard_cycles": 1, "output_step_deg": 1 },
+  "integrator": { "rtol": 1e-6 })";
+}
+
+fs::path scratch(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("camdyn_optimize_test_" + std::to_string(::getpid())) / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+double relative(double a, double b) { return std::abs(a - b) / std::max({std::abs(a), std::abs(b), 1e-300}); }
+
+// Acceptance: minimising the peak acceleration of a rest-to-rest spline rise
+// gives C_a = a_max β²/h below the cycloidal 2π and the 3-4-5 10/√3, and
+// never below 4 (constant acceleration, the lower bound for any rise).
+TEST(Optimize, PeakAccelerationCoefficientBeatsClassicLawsAndRespectsTheBound) {
+  Study s = study_from(R"({
+    "mechanism": {
+      "cam": { "base_radius": 0.05, "rpm": 300, "motion_law": { "segments": [
+        { "type": "rise", "law": "cycloidal", "end_deg": 120, "lift": 0.01 },
+        { "type": "dwell", "end_deg": 150 },
+        { "type": "return", "law": "cycloidal", "end_deg": 330, "lift": 0.01 },
+        { "type": "dwell", "end_deg": 360 } ] } },
+      "follower": { "shape": { "type": "roller", "radius": 0.01 }, "mass": 0.3,
+                    "spring": { "stiffness": 5000, "preload": 40 } },
+      "contact": { "stiffness": 1e10 } },
+    "simulation": { "cycles": 2, "discard_cycles": 1 },
+    "integrator": { "rtol": 1e-6 },
+    "design": { "segments": ["rise"], "control_points": 8, "degree": 5 },
+    "operating_rpm": [300],
+    "objective": { "separation": 0, "peak_acceleration": 1 },
+    "constraints": { "max_pressure_angle_deg": null },
+    "optimizer": { "algorithm": "LN_BOBYQA", "max_evaluations": 400, "xtol_rel": 1e-5 } })");
+  const OptimizeOutcome o = run_optimize(s.scene, s.config, "test.json");
+  EXPECT_FALSE(o.loop_simulated);
+  EXPECT_EQ(o.loop_simulations, 0);
+  ASSERT_EQ(o.optimized.kinematics.segments.size(), 2u);
+  const SegmentKinematics& rise = o.optimized.kinematics.segments[0];
+  ASSERT_EQ(rise.type, "rise");
+  EXPECT_NEAR(o.baseline.kinematics.segments[0].acceleration_coefficient, 2.0 * std::numbers::pi, 1e-6);
+  EXPECT_LT(rise.acceleration_coefficient, 10.0 / std::sqrt(3.0));  // 5.7735, the 3-4-5 polynomial
+  EXPECT_GT(rise.acceleration_coefficient, 4.0);
+  // The return (180° long) stays well below, so the rise sets the peak.
+  EXPECT_NEAR(o.optimized.kinematics.peak_acceleration,
+              rise.acceleration_coefficient * 0.01 / std::pow(2.0 * std::numbers::pi / 3.0, 2), 1e-12);
+  EXPECT_TRUE(o.optimized.feasible);
+  EXPECT_LT(o.optimized.objective, 5.77 / (2.0 * std::numbers::pi));
+}
+
+// Acceptance: every constraint's reported value is what the geometry code and
+// the simulator give for the optimised profile, recomputed from scratch.
+TEST(Optimize, ConstraintValuesEqualTheValuesRecomputedFromTheOptimisedProfile) {
+  Study s = study_from("{" + mechanism() + R"(,
+    "design": { "segments": ["rise", "return"], "control_points": 5, "degree": 5 },
+    "operating_rpm": [700, 900],
+    "objective": { "separation": 0, "peak_acceleration": 1, "peak_contact_force": 0.5 },
+    "constraints": { "max_pressure_angle_deg": 17, "min_radius_of_curvature": 0.006,
+                     "max_peak_contact_force": 200, "min_contact_force": 5, "no_separation": true },
+    "optimizer": { "algorithm": "LN_COBYLA", "max_evaluations": 30 } })");
+  OptimizeOptions options;
+  options.threads = 2;
+  const OptimizeOutcome o = run_optimize(s.scene, s.config, "test.json", options);
+  ASSERT_TRUE(o.optimized.valid);
+  ASSERT_EQ(o.constraints.size(), 5u);
+
+  const Model model = build_model(o.optimized_scene, "test.json");
+  double peak = 0.0, lowest = INFINITY, fraction = 0.0;
+  for (double rpm : s.config.operating_rpm) {
+    SceneConfig at = o.optimized_scene;
+    at.mechanism.cam.rpm = rpm;
+    const Metrics m = simulate_scene(at, "test.json").metrics;
+    peak = std::max(peak, m.peak_contact_force);
+    lowest = std::min(lowest, m.min_contact_force);
+    fraction = std::max(fraction, m.separation_fraction);
+  }
+  for (std::size_t i = 0; i < o.constraints.size(); ++i) {
+    const ConstraintSpec& spec = o.constraints[i];
+    const ConstraintValue& c = o.optimized.constraints[i];
+    double expected = 0.0;
+    if (spec.name == "max_pressure_angle_deg") expected = model.geometry.max_pressure_angle_deg;
+    if (spec.name == "min_radius_of_curvature") expected = model.geometry.min_radius_of_curvature;
+    if (spec.name == "max_peak_contact_force") expected = peak;
+    if (spec.name == "min_contact_force") expected = lowest;
+    if (spec.name == "no_separation") expected = fraction;
+    if (spec.dynamic)
+      EXPECT_LE(relative(c.value, expected), kReproduced) << spec.name << ": " << c.value << " vs " << expected;
+    else
+      EXPECT_EQ(c.value, expected) << spec.name;  // the same function on the same law
+    const bool holds = spec.sense == ConstraintSpec::Sense::at_most    ? expected <= spec.limit
+                       : spec.sense == ConstraintSpec::Sense::at_least ? expected >= spec.limit
+                                                                       : expected == 0.0;
+    EXPECT_EQ(c.holds, holds) << spec.name;
+  }
+
+  // The same values in result.json, and optimized.json is the scene evaluated.
+  const fs::path dir = scratch("constraints");
+  write_optimize_outputs(dir, o, "constraints", "test.json");
+  const Json result = Json::parse(slurp(dir / "result.json"));
+  for (std::size_t i = 0; i < o.constraints.size(); ++i) {
+    const Json& c = result["optimized"]["constraints"][o.constraints[i].name];
+    EXPECT_EQ(c["value"].get<double>(), o.optimized.constraints[i].value) << o.constraints[i].name;
+    EXPECT_EQ(c["holds"].get<bool>(), o.optimized.constraints[i].holds);
+  }
+  const SceneConfig reloaded = load_scene((dir / "optimized.json").string());
+  EXPECT_EQ(to_json(reloaded), to_json(o.optimized_scene));
+  EXPECT_EQ(reloaded.mechanism.cam.rpm, 900.0);
+  EXPECT_EQ(reloaded.study, "simulate");
+}
+
+// Undercut cams inside an evaluation are invalid designs, not a failed run.
+TEST(Optimize, InvalidDesignsAreCountedAndReportedNotFatal) {
+  Study s = study_from(R"({
+    "mechanism": {
+      "cam": { "base_radius": 0.02, "rpm": 300, "motion_law": { "segments": [
+        { "type": "rise", "law": "cycloidal", "end_deg": 90, "lift": 0.02 },
+        { "type": "dwell", "end_deg": 150 },
+        { "type": "return", "law": "cycloidal", "end_deg": 300, "lift": 0.02 },
+        { "type": "dwell", "end_deg": 360 } ] } },
+      "follower": { "shape": { "type": "roller", "radius": 0.02 }, "mass": 0.3,
+                    "spring": { "stiffness": 5000, "preload": 40 } },
+      "contact": { "stiffness": 1e10 } },
+    "simulation": { "cycles": 2, "discard_cycles": 1 },
+    "integrator": { "rtol": 1e-6 },
+    "design": { "segments": ["rise"], "control_points": 6, "degree": 5 },
+    "operating_rpm": [300],
+    "objective": { "separation": 0, "peak_jerk": 1 },
+    "constraints": { "max_pressure_angle_deg": null, "min_radius_of_curvature": 0.001 },
+    "optimizer": { "algorithm": "GN_CRS2_LM", "max_evaluations": 40, "seed": 2 } })");
+  const OptimizeOutcome o = run_optimize(s.scene, s.config, "test.json");
+  EXPECT_GT(o.search.invalid_evaluations, 0);
+  EXPECT_TRUE(o.optimized.valid);
+  long invalid = 0;
+  for (const HistoryRecord& h : o.history) {
+    if (h.valid) continue;
+    ++invalid;
+    EXPECT_NE(h.error.find("undercut"), std::string::npos) << h.error;
+    EXPECT_TRUE(std::isfinite(h.objective));
+    EXPECT_FALSE(h.feasible);
+  }
+  EXPECT_EQ(invalid, o.search.invalid_evaluations);
+
+  const fs::path dir = scratch("invalid");
+  write_optimize_outputs(dir, o, "invalid", "test.json");  // throws on any NaN
+  const std::string history = slurp(dir / "history.csv");
+  EXPECT_EQ(history.substr(0, history.find('\n')),
+            "evaluation,objective,min_radius_of_curvature,feasible,start,kind,valid,best_objective,error");
+  EXPECT_NE(history.find(",1000,,0,0,nlopt,0,"), std::string::npos);  // empty constraint cell, invalid
+  EXPECT_EQ(Json::parse(slurp(dir / "result.json"))["invalid_evaluations"].get<long>(), o.search.invalid_evaluations);
+}
+
+TEST(SimulationPool, ParallelRunsEqualSerialRuns) {
+  const SceneConfig base = load_scene(std::string(CAMDYN_SOURCE_DIR) + "/studies/quickstart.json");
+  std::vector<SceneConfig> scenes;
+  for (double rpm : {800.0, 1100.0, 1300.0}) {
+    SceneConfig s = base;
+    s.mechanism.cam.rpm = rpm;
+    s.simulation.cycles = 2.0;
+    scenes.push_back(s);
+  }
+  scenes.push_back(scenes.front());
+  scenes.back().mechanism.follower.shape.radius = 0.05;  // the worker's error, not the batch's
+  scenes.back().mechanism.cam.base_radius = 0.002;
+  SimulationOptions options;
+  options.record_series = false;
+  SimulationPool serial(1, "test.json"), parallel(3, "test.json");
+  for (int round = 0; round < 2; ++round) {  // workers are reused
+    const auto a = serial.run(scenes, options), b = parallel.run(scenes, options);
+    ASSERT_EQ(a.size(), scenes.size());
+    ASSERT_EQ(b.size(), scenes.size());
+    for (std::size_t i = 0; i + 1 < scenes.size(); ++i) {
+      ASSERT_EQ(a[i].status, SimulationOutcome::Status::ok) << a[i].error;
+      ASSERT_EQ(b[i].status, SimulationOutcome::Status::ok) << b[i].error;
+      EXPECT_EQ(a[i].result.metrics.peak_contact_force, b[i].result.metrics.peak_contact_force);
+      EXPECT_EQ(a[i].result.metrics.separation_integral, b[i].result.metrics.separation_integral);
+      EXPECT_EQ(a[i].result.solver.counters.steps, b[i].result.solver.counters.steps);
+    }
+    EXPECT_EQ(a.back().status, SimulationOutcome::Status::input_error);
+    EXPECT_EQ(b.back().status, SimulationOutcome::Status::input_error);
+  }
+  EXPECT_EQ(parallel.simulations(), 8);
+}
+
+// ---------------------------------------------------------------- command line
+
+struct Outcome {
+  int code = -1;
+  std::string out, err;
+};
+
+Outcome camdyn(const std::string& args) {
+  const fs::path dir = scratch("io");
+  const std::string cmd = std::string(CAMDYN_BINARY) + " " + args + " >" + (dir / "out").string() + " 2>" +
+                          (dir / "err").string() + " </dev/null";
+  const int status = std::system(cmd.c_str());
+  Outcome o;
+  o.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  o.out = slurp(dir / "out");
+  o.err = slurp(dir / "err");
+  return o;
+}
+
+const std::string kJump = std::string(CAMDYN_SOURCE_DIR) + "/studies/optimize_jump.json";
+
+TEST(OptimizeCli, ValidatePrintsTheResolvedStudyAndNamesBadFields) {
+  const Outcome ok = camdyn("validate " + kJump);
+  ASSERT_EQ(ok.code, 0) << ok.err;
+  const Json resolved = Json::parse(ok.out);
+  EXPECT_EQ(resolved["study"], "optimize");
+  EXPECT_EQ(resolved["optimizer"]["algorithm"], "LN_COBYLA");
+  EXPECT_TRUE(resolved["optimizer"].contains("evaluation_rtol"));
+  EXPECT_EQ(resolved["mechanism"]["cam"]["rpm"], 1300.0);  // defaults to the top operating speed
+  EXPECT_EQ(resolved["design"]["control_points"], 6);
+
+  const Outcome typo = camdyn("validate " + kJump + " --set design.control_point=4");
+  EXPECT_EQ(typo.code, 2);
+  EXPECT_NE(typo.err.find("optimize_jump.json: design.control_point"), std::string::npos) << typo.err;
+  EXPECT_NE(typo.err.find("control_points"), std::string::npos) << typo.err;
+  const Outcome range = camdyn("validate " + kJump + " --set optimizer.evaluation_cycles=1");
+  EXPECT_EQ(range.code, 2);
+  EXPECT_NE(range.err.find("optimizer.evaluation_cycles"), std::string::npos) << range.err;
+}
+
+// Acceptance (reduced budget): the outputs exist, and `camdyn run
+// optimized.json` reproduces the optimized metrics of result.json.
+TEST(OptimizeCli, OptimizedConfigReproducesTheReportedMetrics) {
+  const fs::path dir = scratch("jump");
+  const Outcome run = camdyn("run " + kJump + " --out " + dir.string() +
+                             " --jobs 2 --set optimizer.max_evaluations=12 --set simulation.cycles=2");
+  ASSERT_EQ(run.code, 0) << run.err;
+  for (const char* f : {"result.json", "history.csv", "optimized.json", "report.html"})
+    EXPECT_TRUE(fs::exists(dir / f)) << f;
+  const Json result = Json::parse(slurp(dir / "result.json"));
+  for (const char* key : {"evaluations", "run_time_s", "algorithm", "stop_reason", "baseline", "optimized"})
+    EXPECT_TRUE(result.contains(key)) << key;
+  EXPECT_EQ(result["evaluations"].get<long>(), 12);
+  EXPECT_EQ(result["baseline"]["metrics"].size(), 3u);
+  EXPECT_GT(result["baseline"]["metrics"][2]["separation_fraction"].get<double>(), 0.0);  // it jumps at 1300 rpm
+  const std::string history = slurp(dir / "history.csv");
+  EXPECT_EQ(history.substr(0, history.find('\n')),
+            "evaluation,objective,max_pressure_angle_deg,min_radius_of_curvature,min_contact_force,no_separation,"
+            "feasible,start,kind,valid,best_objective,error");
+  EXPECT_EQ(std::count(history.begin(), history.end(), '\n'), 13);
+
+  const fs::path rerun = dir / "rerun";
+  const Outcome again = camdyn("run " + (dir / "optimized.json").string() + " --out " + rerun.string() + " --quiet");
+  ASSERT_EQ(again.code, 0) << again.err;
+  const Json summary = Json::parse(slurp(rerun / "summary.json"));
+  const Json& top = result["optimized"]["metrics"][2];
+  EXPECT_EQ(top["rpm"].get<double>(), 1300.0);
+  for (const auto& [key, value] : summary["metrics"].items()) {
+    ASSERT_TRUE(top.contains(key)) << key;
+    if (value.is_null()) {
+      EXPECT_TRUE(top[key].is_null()) << key;
+      continue;
+    }
+    EXPECT_LE(relative(value.get<double>(), top[key].get<double>()), 1e-9) << key;
+  }
+}
+
+}  // namespace
+}  // namespace camdyn::optim
