@@ -11,57 +11,35 @@
 #include <string>
 
 #include <gtest/gtest.h>
+
+#include "cli_run.h"
 #include <nlohmann/json.hpp>
 
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Outcome {
-  int code = -1;
-  std::string out, err;
-};
+using camdyn::test::Outcome;
+using camdyn::test::slurp;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+fs::path scratch_dir(const std::string& name) { return camdyn::test::scratch_dir("cli_test", name); }
 
-fs::path scratch_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("camdyn_cli_test_" + std::to_string(::getpid())) / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-Outcome camdyn(const std::string& args) {
-  const fs::path dir = scratch_dir("io");
-  const std::string cmd = std::string(CAMDYN_BINARY) + " " + args + " >" + (dir / "out").string() + " 2>" +
-                          (dir / "err").string() + " </dev/null";
-  const int status = std::system(cmd.c_str());
-  Outcome o;
-  o.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  o.out = slurp(dir / "out");
-  o.err = slurp(dir / "err");
-  return o;
-}
+Outcome run_cli(const std::string& args) { return camdyn::test::run_camdyn(args, scratch_dir("io")); }
 
 const std::string kData = CAMDYN_TEST_DATA_DIR;
 const std::string kQuickstart = std::string(CAMDYN_SOURCE_DIR) + "/studies/quickstart.json";
 
 TEST(Cli, VersionAndHelpSucceed) {
-  EXPECT_EQ(camdyn("--version").code, 0);
-  EXPECT_NE(camdyn("--version").out.find("camdyn"), std::string::npos);
-  EXPECT_EQ(camdyn("--help").code, 0);
-  EXPECT_EQ(camdyn("run --help").code, 0);
+  EXPECT_EQ(run_cli("--version").code, 0);
+  EXPECT_NE(run_cli("--version").out.find("camdyn"), std::string::npos);
+  EXPECT_EQ(run_cli("--help").code, 0);
+  EXPECT_EQ(run_cli("run --help").code, 0);
 }
 
 TEST(Cli, UsageErrorIsExitTwo) {
-  EXPECT_EQ(camdyn("").code, 2);
-  EXPECT_EQ(camdyn("run").code, 2);
-  EXPECT_EQ(camdyn("frobnicate x.json").code, 2);
+  EXPECT_EQ(run_cli("").code, 2);
+  EXPECT_EQ(run_cli("run").code, 2);
+  EXPECT_EQ(run_cli("frobnicate x.json").code, 2);
 }
 
 // Every bad config of the corpus: exit 2, the file and the field named.
@@ -70,7 +48,7 @@ TEST(Cli, BadConfigCorpusGivesExitTwoNamingFileAndField) {
   int count = 0;
   for (const auto& [file, want] : expected["files"].items()) {
     const std::string path = kData + "/bad_configs/" + file;
-    const Outcome o = camdyn("validate " + path);
+    const Outcome o = run_cli("validate " + path);
     EXPECT_EQ(o.code, 2) << file << ": " << o.err;
     EXPECT_NE(o.err.find(want["path"].get<std::string>()), std::string::npos) << file << ": " << o.err;
     EXPECT_NE(o.err.find(".json"), std::string::npos) << file << " (file not named): " << o.err;
@@ -83,19 +61,19 @@ TEST(Cli, BadConfigCorpusGivesExitTwoNamingFileAndField) {
 }
 
 TEST(Cli, GeometryErrorsNameTheCamAngle) {
-  const Outcome o = camdyn("validate " + kData + "/bad_configs/undercut.json");
+  const Outcome o = run_cli("validate " + kData + "/bad_configs/undercut.json");
   EXPECT_EQ(o.code, 2);
   EXPECT_NE(o.err.find("at cam angle"), std::string::npos) << o.err;
 }
 
 TEST(Cli, MissingConfigFileIsExitTwo) {
-  const Outcome o = camdyn("run /nonexistent/scene.json");
+  const Outcome o = run_cli("run /nonexistent/scene.json");
   EXPECT_EQ(o.code, 2);
   EXPECT_NE(o.err.find("/nonexistent/scene.json"), std::string::npos) << o.err;
 }
 
 TEST(Cli, ValidatePrintsTheResolvedConfig) {
-  const Outcome o = camdyn("validate " + kQuickstart + " --set mechanism.cam.rpm=900");
+  const Outcome o = run_cli("validate " + kQuickstart + " --set mechanism.cam.rpm=900");
   ASSERT_EQ(o.code, 0) << o.err;
   const auto resolved = nlohmann::json::parse(o.out);
   EXPECT_EQ(resolved["mechanism"]["cam"]["rpm"].get<double>(), 900.0);
@@ -105,7 +83,7 @@ TEST(Cli, ValidatePrintsTheResolvedConfig) {
 
 TEST(Cli, RunWritesEveryOutputWithoutNaN) {
   const fs::path out = scratch_dir("run");
-  const Outcome o = camdyn("run " + kQuickstart + " --quiet --out " + out.string() +
+  const Outcome o = run_cli("run " + kQuickstart + " --quiet --out " + out.string() +
                            " --set simulation.cycles=2 --set mechanism.contact.tracking=newton");
   ASSERT_EQ(o.code, 0) << o.err;
   for (const char* f : {"summary.json", "timeseries.csv", "events.csv", "report.html"})
@@ -146,7 +124,7 @@ TEST(Cli, RunWritesEveryOutputWithoutNaN) {
 
 TEST(Cli, StepBudgetExceededIsExitThreeWithTimeAndAngle) {
   const fs::path out = scratch_dir("budget");
-  const Outcome o = camdyn("run " + kQuickstart + " --quiet --out " + out.string() + " --set integrator.max_steps=50");
+  const Outcome o = run_cli("run " + kQuickstart + " --quiet --out " + out.string() + " --set integrator.max_steps=50");
   EXPECT_EQ(o.code, 3) << o.err;
   EXPECT_NE(o.err.find("step budget"), std::string::npos) << o.err;
   EXPECT_NE(o.err.find("cam angle"), std::string::npos) << o.err;
@@ -154,7 +132,7 @@ TEST(Cli, StepBudgetExceededIsExitThreeWithTimeAndAngle) {
 }
 
 TEST(Cli, UnknownOverrideKeyIsExitTwoWithSuggestion) {
-  const Outcome o = camdyn("validate " + kQuickstart + " --set mechanism.cam.rmp=900");
+  const Outcome o = run_cli("validate " + kQuickstart + " --set mechanism.cam.rmp=900");
   EXPECT_EQ(o.code, 2);
   EXPECT_NE(o.err.find("rpm"), std::string::npos) << o.err;
 }

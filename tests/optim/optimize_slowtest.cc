@@ -16,31 +16,18 @@
 #include <sstream>
 #include <string>
 
+#include "cli_run.h"
+
 namespace {
 
 namespace fs = std::filesystem;
 using Json = nlohmann::json;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using camdyn::test::slurp;
 
-fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("camdyn_optimize_slowtest_" + std::to_string(::getpid())) / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path scratch(const std::string& name) { return camdyn::test::scratch_dir("optimize_slowtest", name); }
 
-int camdyn(const std::string& args, const fs::path& log) {
-  const std::string cmd = std::string(CAMDYN_BINARY) + " " + args + " >" + (log / "stdout").string() + " 2>" +
-                          (log / "stderr").string() + " </dev/null";
-  const int status = std::system(cmd.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
+int run_cli(const std::string& args, const fs::path& log) { return camdyn::test::run_camdyn(args, log).code; }
 
 double relative(double a, double b) { return std::abs(a - b) / std::max({std::abs(a), std::abs(b), 1e-300}); }
 
@@ -49,14 +36,14 @@ double relative(double a, double b) { return std::abs(a - b) / std::max({std::ab
 Json run_study(const std::string& name) {
   const fs::path dir = scratch(name);
   const std::string config = std::string(CAMDYN_SOURCE_DIR) + "/studies/" + name + ".json";
-  const int code = camdyn("run " + config + " --out " + (dir / "out").string() + " --jobs 2", dir);
+  const int code = run_cli("run " + config + " --out " + (dir / "out").string() + " --jobs 2", dir);
   EXPECT_EQ(code, 0) << slurp(dir / "stderr");
   const Json result = Json::parse(slurp(dir / "out" / "result.json"));
   for (const auto& [key, c] : result["optimized"]["constraints"].items()) EXPECT_TRUE(c["holds"].get<bool>()) << key;
   EXPECT_TRUE(result["optimized"]["feasible"].get<bool>());
 
   EXPECT_EQ(
-      camdyn("run " + (dir / "out" / "optimized.json").string() + " --out " + (dir / "rerun").string() + " --quiet",
+      run_cli("run " + (dir / "out" / "optimized.json").string() + " --out " + (dir / "rerun").string() + " --quiet",
              dir),
       0)
       << slurp(dir / "stderr");

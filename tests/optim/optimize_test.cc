@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "cli_run.h"
 #include "dynamics/model.h"
 #include "dynamics/simulation.h"
 #include "io/config.h"
@@ -64,19 +65,9 @@ std::string mechanism(double base_radius = 0.04, double roller = 0.01) {
   "integrator": { "rtol": 1e-6 })";
 }
 
-fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("camdyn_optimize_test_" + std::to_string(::getpid())) / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+using test::slurp;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+fs::path scratch(const std::string& name) { return test::scratch_dir("optimize_test", name); }
 
 double relative(double a, double b) { return std::abs(a - b) / std::max({std::abs(a), std::abs(b), 1e-300}); }
 
@@ -252,27 +243,14 @@ TEST(SimulationPool, ParallelRunsEqualSerialRuns) {
 
 // ---------------------------------------------------------------- command line
 
-struct Outcome {
-  int code = -1;
-  std::string out, err;
-};
+using test::Outcome;
 
-Outcome camdyn(const std::string& args) {
-  const fs::path dir = scratch("io");
-  const std::string cmd = std::string(CAMDYN_BINARY) + " " + args + " >" + (dir / "out").string() + " 2>" +
-                          (dir / "err").string() + " </dev/null";
-  const int status = std::system(cmd.c_str());
-  Outcome o;
-  o.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  o.out = slurp(dir / "out");
-  o.err = slurp(dir / "err");
-  return o;
-}
+Outcome run_cli(const std::string& args) { return test::run_camdyn(args, scratch("io")); }
 
 const std::string kJump = std::string(CAMDYN_SOURCE_DIR) + "/studies/optimize_jump.json";
 
 TEST(OptimizeCli, ValidatePrintsTheResolvedStudyAndNamesBadFields) {
-  const Outcome ok = camdyn("validate " + kJump);
+  const Outcome ok = run_cli("validate " + kJump);
   ASSERT_EQ(ok.code, 0) << ok.err;
   const Json resolved = Json::parse(ok.out);
   EXPECT_EQ(resolved["study"], "optimize");
@@ -281,11 +259,11 @@ TEST(OptimizeCli, ValidatePrintsTheResolvedStudyAndNamesBadFields) {
   EXPECT_EQ(resolved["mechanism"]["cam"]["rpm"], 1300.0);  // defaults to the top operating speed
   EXPECT_EQ(resolved["design"]["control_points"], 6);
 
-  const Outcome typo = camdyn("validate " + kJump + " --set design.control_point=4");
+  const Outcome typo = run_cli("validate " + kJump + " --set design.control_point=4");
   EXPECT_EQ(typo.code, 2);
   EXPECT_NE(typo.err.find("optimize_jump.json: design.control_point"), std::string::npos) << typo.err;
   EXPECT_NE(typo.err.find("control_points"), std::string::npos) << typo.err;
-  const Outcome range = camdyn("validate " + kJump + " --set optimizer.evaluation_cycles=1");
+  const Outcome range = run_cli("validate " + kJump + " --set optimizer.evaluation_cycles=1");
   EXPECT_EQ(range.code, 2);
   EXPECT_NE(range.err.find("optimizer.evaluation_cycles"), std::string::npos) << range.err;
 }
@@ -294,7 +272,7 @@ TEST(OptimizeCli, ValidatePrintsTheResolvedStudyAndNamesBadFields) {
 // optimized.json` reproduces the optimized metrics of result.json.
 TEST(OptimizeCli, OptimizedConfigReproducesTheReportedMetrics) {
   const fs::path dir = scratch("jump");
-  const Outcome run = camdyn("run " + kJump + " --out " + dir.string() +
+  const Outcome run = run_cli("run " + kJump + " --out " + dir.string() +
                              " --jobs 2 --set optimizer.max_evaluations=12 --set simulation.cycles=2");
   ASSERT_EQ(run.code, 0) << run.err;
   for (const char* f : {"result.json", "history.csv", "optimized.json", "report.html"})
@@ -312,7 +290,7 @@ TEST(OptimizeCli, OptimizedConfigReproducesTheReportedMetrics) {
   EXPECT_EQ(std::count(history.begin(), history.end(), '\n'), 13);
 
   const fs::path rerun = dir / "rerun";
-  const Outcome again = camdyn("run " + (dir / "optimized.json").string() + " --out " + rerun.string() + " --quiet");
+  const Outcome again = run_cli("run " + (dir / "optimized.json").string() + " --out " + rerun.string() + " --quiet");
   ASSERT_EQ(again.code, 0) << again.err;
   const Json summary = Json::parse(slurp(rerun / "summary.json"));
   const Json& top = result["optimized"]["metrics"][2];
