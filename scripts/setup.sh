@@ -12,6 +12,7 @@ packages=(
   libeigen3-dev libsundials-dev libnlopt-cxx-dev libnlopt-dev libceres-dev
   nlohmann-json3-dev libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev
   gnuplot-nox python3 python3-numpy python3-scipy
+  libopenmpi-dev openmpi-bin chromium
 )
 
 if ! command -v dpkg-query >/dev/null 2>&1; then

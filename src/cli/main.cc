@@ -23,6 +23,7 @@
 #include "optim/optimize_study.h"
 #include "study/compare_study.h"
 #include "study/convergence_study.h"
+#include "study/mpi_runner.h"
 #include "study/study.h"
 
 namespace {
@@ -101,6 +102,10 @@ int report_input_error(const camdyn::InputError& e, const std::string& config) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Under mpirun (built with -DCAMDYN_WITH_MPI=ON) a compare study spreads its
+  // runs over the ranks; rank 0 alone prints and writes outputs.
+  const camdyn::mpi::Session mpi_session(&argc, &argv);
+  const bool root = camdyn::mpi::rank() == 0;
   CLI::App app{"camdyn: cam-follower mechanisms that do not jump and do not hammer"};
   app.set_version_flag("--version", std::string("camdyn ") + CAMDYN_VERSION);
   app.require_subcommand(1);
@@ -136,18 +141,26 @@ int main(int argc, char** argv) {
         doc.contains("name") && doc["name"].is_string() ? doc["name"].get<std::string>() : "camdyn";
     ctx.out_dir = args.out.empty() ? std::filesystem::path("out") / name : std::filesystem::path(args.out);
     ctx.jobs = args.jobs;
-    ctx.progress = !args.quiet && isatty(STDERR_FILENO);
+    ctx.progress = !args.quiet && isatty(STDERR_FILENO) && root;
     ctx.validate_only = validate->parsed();
     const std::string study =
         doc.contains("study") && doc["study"].is_string() ? doc["study"].get<std::string>() : "simulate";
     if (study == "convergence") return camdyn::run_convergence_study(doc, ctx);
     if (study == "compare") return camdyn::run_compare_study(doc, ctx);
+    if (camdyn::mpi::size() > 1 && !ctx.validate_only) {
+      // Only compare studies are spread over ranks; the others run on rank 0.
+      if (!root) return kExitOk;
+      std::cerr << "camdyn: note: only compare studies use the MPI ranks; this " << study
+                << " study runs on rank 0 alone\n";
+    }
     if (study == "optimize") return camdyn::optim::run_optimize_study(doc, ctx);
     if (study == "identify") return camdyn::optim::run_identify_study(doc, ctx);
     return run_simulate(doc, ctx);  // simulate; any other study name is reported by the config layer
   } catch (const camdyn::InputError& e) {
+    if (!root) return kExitInput;  // every rank reads the same input: rank 0 says what is wrong
     return report_input_error(e, args.config);
   } catch (const camdyn::NumericalError& e) {
+    if (!root) return kExitNumerical;
     std::cerr << "camdyn: numerical failure: " << args.config << ": " << e.what() << "\n";
     return kExitNumerical;
   } catch (const std::exception& e) {

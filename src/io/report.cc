@@ -16,6 +16,7 @@
 #include <fstream>
 #include <iostream>
 #include <iterator>
+#include <set>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
@@ -288,6 +289,8 @@ section { margin: 28px 0; }
 table { border-collapse: collapse; width: 100%; font-size: .92em; }
 th, td { padding: 6px 12px; border-bottom: 1px solid var(--line); text-align: left; white-space: nowrap; }
 td.num { text-align: right; font-variant-numeric: tabular-nums; }
+td.best { font-weight: 700; background: #e3f4e8; }
+td.best::after { content: " \2605"; color: #1a7f37; }
 thead th { background: #eef1f6; }
 table.sortable th { cursor: pointer; user-select: none; }
 table.sortable th::after { content: " \2195"; color: #a8afbd; }
@@ -363,10 +366,15 @@ void render_table(std::ostringstream& html, const Table& table) {
        << ">\n<thead><tr>";
   for (const auto& column : table.columns) html << "<th scope=\"col\">" << escape_html(column) << "</th>";
   html << "</tr></thead>\n<tbody>\n";
-  for (const auto& row : table.rows) {
+  const std::set<std::pair<std::size_t, std::size_t>> marked(table.marked.begin(), table.marked.end());
+  for (std::size_t r = 0; r < table.rows.size(); ++r) {
     html << "<tr>";
-    for (const auto& cell : row) {
-      html << (looks_numeric(cell) ? "<td class=\"num\">" : "<td>") << escape_html(cell) << "</td>";
+    for (std::size_t c = 0; c < table.rows[r].size(); ++c) {
+      const std::string& cell = table.rows[r][c];
+      const bool best = marked.count({r, c}) > 0;
+      const char* open = looks_numeric(cell) ? (best ? "<td class=\"num best\">" : "<td class=\"num\">")
+                                             : (best ? "<td class=\"best\">" : "<td>");
+      html << open << escape_html(cell) << "</td>";
     }
     html << "</tr>\n";
   }

@@ -35,6 +35,9 @@ struct Table {
   std::vector<std::string> columns;
   std::vector<std::vector<std::string>> rows;  ///< each as long as `columns`
   bool sortable = true;                        ///< click a header to sort (numeric-aware)
+  /// Cells (row, column) to highlight, e.g. the best value of a metric: drawn
+  /// bold on green with a ★ (added by CSS, so sorting still reads the number).
+  std::vector<std::pair<std::size_t, std::size_t>> marked = {};
 };
 
 struct Report {

@@ -4,6 +4,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -14,7 +16,17 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <csignal>
+#include <thread>
+
+#include "cli_process.h"
+
 namespace {
+
+using camdyn::test::read_text;
+using camdyn::test::run_camdyn;
+using camdyn::test::without_last_column;
 
 namespace fs = std::filesystem;
 
@@ -84,6 +96,135 @@ TEST(CompareStudy, RunsEveryCaseAtEveryGridPointAndRecordsFailures) {
   EXPECT_TRUE(fs::exists(dir / "out" / "comparison.json"));
   EXPECT_TRUE(fs::exists(dir / "out" / "report.html"));
   fs::remove_all(dir);
+}
+
+
+// A scratch folder per test, removed at the end.
+class CompareCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() / ("camdyn_compare_" + std::string(test->name()) + "_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    if (!HasFailure()) fs::remove_all(dir_);
+  }
+  // 2 cases × 6 speeds of the quickstart cam, two cycles each (about 0.1 s a run).
+  fs::path write_study(const std::string& extra = "") {
+    const fs::path file = dir_ / "study.json";
+    std::ofstream(file) << R"({
+      "extends": ")" << CAMDYN_SOURCE_DIR << R"(/studies/quickstart.json",
+      "name": "resume", "study": "compare",
+      "simulation": { "cycles": 2, "discard_cycles": 1, "output_step_deg": 1.0 },
+      "cases": [ { "name": "cycloidal" },
+                 { "name": "stiff", "set": ["mechanism.contact.stiffness=1e11"] } ],
+      "grid": { "mechanism.cam.rpm": [900, 1000, 1100, 1200, 1300, 1400] })"
+                        << extra << "}";
+    return file;
+  }
+  fs::path dir_;
+};
+
+std::size_t count_lines(const std::string& text) { return static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n')); }
+
+TEST_F(CompareCli, JobsOneAndTwoWriteTheSameTable) {
+  const fs::path study = write_study();
+  ASSERT_EQ(run_camdyn({"run", study.string(), "--jobs", "1", "--out", (dir_ / "j1").string()}, dir_, "j1"), 0)
+      << read_text(dir_ / "j1.err");
+  ASSERT_EQ(run_camdyn({"run", study.string(), "--jobs", "2", "--out", (dir_ / "j2").string()}, dir_, "j2"), 0)
+      << read_text(dir_ / "j2.err");
+  const std::string one = without_last_column(dir_ / "j1" / "comparison.csv");
+  EXPECT_EQ(count_lines(one), 13u);
+  EXPECT_EQ(one, without_last_column(dir_ / "j2" / "comparison.csv"));
+}
+
+// A real SIGKILL part-way, then a rerun with the same --out: the finished
+// runs are not done again, and the table equals an uninterrupted run's.
+TEST_F(CompareCli, KilledStudyResumesToTheUninterruptedTable) {
+  const fs::path study = write_study();
+  ASSERT_EQ(run_camdyn({"run", study.string(), "--jobs", "2", "--out", (dir_ / "whole").string()}, dir_, "whole"), 0);
+
+  const fs::path out = dir_ / "killed", journal = out / "journal.jsonl";
+  const pid_t pid = camdyn::test::spawn({CAMDYN_BINARY, "run", study.string(), "--jobs", "1", "--out", out.string()},
+                                        dir_ / "killed.out", dir_ / "killed.err");
+  ASSERT_GT(pid, 0);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (count_lines(read_text(journal)) < 4 && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  ::kill(pid, SIGKILL);
+  ASSERT_EQ(camdyn::test::wait_for(pid), 128 + SIGKILL) << "the study ended before it could be killed";
+  const std::string before = read_text(journal);
+  const std::size_t done = count_lines(before) - 1;  // the header line is not a run
+  ASSERT_GE(done, 3u);
+  ASSERT_LT(done, 12u);
+  EXPECT_FALSE(fs::exists(out / "comparison.csv"));
+  // A record cut off mid-write (as a kill during write() leaves it) must be ignored.
+  std::ofstream(journal, std::ios::app) << R"({"index": 11, "case": "stiff", "status": "o)";
+
+  ASSERT_EQ(run_camdyn({"run", study.string(), "--jobs", "2", "--out", out.string()}, dir_, "resumed"), 0)
+      << read_text(dir_ / "resumed.err");
+  EXPECT_NE(read_text(dir_ / "resumed.err").find("resuming: " + std::to_string(done) + " of 12 runs already done"),
+            std::string::npos)
+      << read_text(dir_ / "resumed.err");
+  const std::string after = read_text(journal);
+  EXPECT_EQ(after.substr(0, before.size()), before);  // finished runs kept, not redone
+  EXPECT_EQ(count_lines(after), 13u);                  // header + each run once
+  EXPECT_EQ(without_last_column(out / "comparison.csv"), without_last_column(dir_ / "whole" / "comparison.csv"));
+
+  // Once complete, a rerun does nothing but rewrite the outputs from the journal.
+  ASSERT_EQ(run_camdyn({"run", study.string(), "--out", out.string()}, dir_, "again"), 0);
+  EXPECT_NE(read_text(dir_ / "again.err").find("resuming: 12 of 12 runs"), std::string::npos);
+  EXPECT_EQ(read_text(journal), after);
+}
+
+TEST_F(CompareCli, JournalOfAnotherStudyIsRefused) {
+  const fs::path study = write_study();
+  const std::string out = (dir_ / "out").string();
+  ASSERT_EQ(run_camdyn({"run", study.string(), "--out", out}, dir_, "first"), 0);
+  EXPECT_EQ(run_camdyn({"run", study.string(), "--out", out, "--set", "mechanism.follower.mass=0.4"}, dir_, "other"), 2);
+  const std::string err = read_text(dir_ / "other.err");
+  EXPECT_NE(err.find("journal.jsonl"), std::string::npos) << err;
+  EXPECT_NE(err.find("different compare study"), std::string::npos) << err;
+}
+
+TEST_F(CompareCli, InlineCaseOverlaysAndBestMarks) {
+  const fs::path study = write_study(R"(,
+      "overlays": [ { "mechanism.cam.rpm": 1300 } ])");
+  // Replace the second case by an inline config (merged over the study's scene).
+  std::string text = read_text(study);
+  const std::string from = R"({ "name": "stiff", "set": ["mechanism.contact.stiffness=1e11"] })";
+  text.replace(text.find(from), from.size(),
+               R"({ "name": "heavy", "config": { "mechanism": { "follower": { "mass": 0.45 } } } })");
+  std::ofstream(study) << text;
+  ASSERT_EQ(run_camdyn({"run", study.string(), "--out", (dir_ / "out").string()}, dir_, "run"), 0)
+      << read_text(dir_ / "run.err");
+  const auto rows = read_csv(dir_ / "out" / "comparison.csv");
+  ASSERT_EQ(rows.size(), 12u);
+  for (const auto& row : rows) ASSERT_EQ(row.at("status"), "ok") << row.at("error");
+  // The heavier follower jumps earlier: jump speed scales as 1/sqrt(m).
+  const double light = std::stod(rows.front().at("jump_speed_rpm")), heavy = std::stod(rows.back().at("jump_speed_rpm"));
+  EXPECT_NEAR(heavy / light, std::sqrt(0.3 / 0.45), 1e-9);
+  const std::string html = read_text(dir_ / "out" / "report.html");
+  EXPECT_NE(html.find("Contact force against cam angle (last revolution), mechanism.cam.rpm=1300"), std::string::npos);
+  EXPECT_NE(html.find("Follower displacement against cam angle"), std::string::npos);
+  EXPECT_NE(html.find("class=\"num best\""), std::string::npos);
+  EXPECT_NE(html.find("Best case per metric"), std::string::npos);
+  // The overlay runs carry their last revolution in the journal.
+  const std::string journal = read_text(dir_ / "out" / "journal.jsonl");
+  std::size_t overlays = 0;
+  for (std::size_t at = journal.find("\"overlay\""); at != std::string::npos; at = journal.find("\"overlay\"", at + 1))
+    ++overlays;
+  EXPECT_EQ(overlays, 2u);  // both cases at 1300 rpm
+}
+
+TEST_F(CompareCli, BadOverlayKeyIsAnInputError) {
+  const fs::path study = write_study(R"(,
+      "overlays": [ { "mechanism.cam.rpm": 1234 } ])");
+  EXPECT_EQ(run_camdyn({"run", study.string(), "--out", (dir_ / "out").string()}, dir_, "run"), 2);
+  EXPECT_NE(read_text(dir_ / "run.err").find("overlays[0].mechanism.cam.rpm"), std::string::npos)
+      << read_text(dir_ / "run.err");
 }
 
 }  // namespace

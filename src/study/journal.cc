@@ -1,0 +1,133 @@
+#include "study/journal.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iostream>
+#include <iterator>
+#include <stdexcept>
+#include <utility>
+
+#include "common/errors.h"
+
+namespace camdyn {
+
+namespace {
+
+constexpr int kJournalVersion = 1;
+
+std::runtime_error io_error(const std::string& what, const std::filesystem::path& path) {
+  return std::runtime_error(what + " " + path.string() + ": " + std::strerror(errno));
+}
+
+// Makes the journal's directory entry durable (after creating the file).
+void sync_directory(const std::filesystem::path& dir) {
+  const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) return;  // best effort: the data itself is fsynced
+  (void)::fsync(fd);
+  ::close(fd);
+}
+
+}  // namespace
+
+std::string fingerprint(std::string_view text) {
+  std::uint64_t h = 14695981039346656037ull;  // FNV-1a offset basis
+  for (const char c : text) {
+    h ^= static_cast<unsigned char>(c);
+    h *= 1099511628211ull;  // FNV prime
+  }
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
+  return buf;
+}
+
+Journal::Journal(std::filesystem::path path, std::string study, std::string hash, std::size_t runs)
+    : path_(std::move(path)) {
+  std::string content;
+  const bool existed = std::filesystem::exists(path_);
+  if (existed) {
+    std::ifstream in(path_, std::ios::binary);
+    if (!in) throw io_error("cannot read", path_);
+    content.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  // Only newline-terminated lines are complete; the rest was cut by a kill.
+  const std::size_t complete = content.rfind('\n') == std::string::npos ? 0 : content.rfind('\n') + 1;
+  bool fresh = complete == 0;
+  for (std::size_t begin = 0, line_no = 1; begin < complete; ++line_no) {
+    const std::size_t end = content.find('\n', begin);
+    const std::string line = content.substr(begin, end - begin);
+    begin = end + 1;
+    const Json j = Json::parse(line, nullptr, /*allow_exceptions=*/false);
+    if (line_no == 1) {
+      if (j.is_discarded() || !j.is_object() || !j.contains("camdyn_journal"))
+        throw InputError(path_.string(), "", "is not a camdyn journal; delete it or choose another --out");
+      const bool same = j.value("study", std::string()) == study && j.value("hash", std::string()) == hash &&
+                        j.value("runs", std::size_t{0}) == runs;
+      if (!same)
+        throw InputError(path_.string(), "hash",
+                         "this output folder holds the journal of a different " + study +
+                             " study (the study, a case config or an override changed since; journal "
+                             "fingerprint " + j.value("hash", std::string("?")) + ", now " + hash +
+                             "): delete the journal or choose another --out to start afresh");
+      continue;
+    }
+    const bool valid = !j.is_discarded() && j.is_object() && j.contains("index") &&
+                       j["index"].is_number_unsigned() && j["index"].get<std::size_t>() < runs;
+    if (!valid) {
+      std::cerr << "camdyn: warning: " << path_.string() << " line " << line_no
+                << " is not a run record; that run is done again\n";
+      continue;
+    }
+    done_.emplace(j["index"].get<std::size_t>(), j);
+  }
+
+  fd_ = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+  if (fd_ < 0) throw io_error("cannot open", path_);
+  // Cut the partial last line (or everything, for a fresh start) so the next
+  // line starts at a line boundary.
+  if (complete != content.size() || fresh) {
+    if (::ftruncate(fd_, static_cast<off_t>(fresh ? 0 : complete)) != 0) {
+      const auto error = io_error("cannot truncate", path_);
+      ::close(fd_);
+      throw error;
+    }
+  }
+  if (fresh) {
+    Json header = Json::object();
+    header["camdyn_journal"] = kJournalVersion;
+    header["study"] = study;
+    header["hash"] = hash;
+    header["runs"] = runs;
+    write_line(header.dump());
+  }
+  if (!existed) sync_directory(path_.parent_path().empty() ? "." : path_.parent_path());
+}
+
+Journal::~Journal() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+void Journal::append(const Json& record) {
+  // Invalid UTF-8 (say, in an error message) must not make the record unwritable.
+  write_line(record.dump(-1, ' ', false, Json::error_handler_t::replace));
+}
+
+void Journal::write_line(const std::string& text) {
+  const std::string line = text + "\n";
+  std::size_t written = 0;
+  while (written < line.size()) {
+    const ssize_t n = ::write(fd_, line.data() + written, line.size() - written);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      throw io_error("cannot write", path_);
+    }
+    written += static_cast<std::size_t>(n);
+  }
+  if (::fsync(fd_) != 0) throw io_error("cannot fsync", path_);
+}
+
+}  // namespace camdyn

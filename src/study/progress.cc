@@ -1,0 +1,57 @@
+#include "study/progress.h"
+
+#include <cmath>
+#include <cstdio>
+#include <utility>
+
+namespace camdyn {
+
+std::string format_duration(double seconds) {
+  if (!std::isfinite(seconds) || seconds < 0) return "--:--";
+  const long s = std::lround(seconds);
+  char buf[32];
+  if (s >= 3600)
+    std::snprintf(buf, sizeof buf, "%ld:%02ld:%02ld", s / 3600, s / 60 % 60, s % 60);
+  else
+    std::snprintf(buf, sizeof buf, "%02ld:%02ld", s / 60, s % 60);
+  return buf;
+}
+
+std::string progress_line(const std::string& what, std::size_t done, std::size_t total, std::size_t failed,
+                          double elapsed_s, double remaining_s) {
+  std::string line = what + ": " + std::to_string(done) + "/" + std::to_string(total) + " runs, " +
+                     std::to_string(failed) + " failed, " + format_duration(elapsed_s) + " elapsed";
+  if (done >= total) return line + ", done";
+  return line + ", ~" + (remaining_s < 0 ? std::string("--:--") : format_duration(remaining_s)) + " left";
+}
+
+ProgressMeter::ProgressMeter(std::string what, std::size_t total, std::size_t already_done,
+                             std::size_t already_failed, bool enabled)
+    : what_(std::move(what)),
+      total_(total),
+      done_(already_done),
+      failed_(already_failed),
+      resumed_(already_done),
+      enabled_(enabled),
+      start_(std::chrono::steady_clock::now()) {}
+
+void ProgressMeter::finished(bool failed) {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  ++done_;
+  if (failed) ++failed_;
+  if (!enabled_) return;
+  const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  const std::size_t this_session = done_ - resumed_;
+  const double remaining =
+      this_session == 0 ? -1.0 : elapsed / static_cast<double>(this_session) * static_cast<double>(total_ - done_);
+  std::fprintf(stderr, "\r  %s   ", progress_line(what_, done_, total_, failed_, elapsed, remaining).c_str());
+  if (done_ >= total_) std::fprintf(stderr, "\n");
+  std::fflush(stderr);
+}
+
+std::size_t ProgressMeter::failed() const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return failed_;
+}
+
+}  // namespace camdyn

@@ -1,0 +1,137 @@
+// Every study type's report.html opened in headless Chromium: the page loads
+// with no console message (no script error, no failed resource), and every
+// figure holds a non-empty gnuplot SVG (not a placeholder). Skips only when
+// Chromium is not installed (scripts/setup.sh installs it).
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "../study/cli_process.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using camdyn::test::read_text;
+
+std::string find_chromium() {
+  for (const char* name : {"chromium", "chromium-browser", "google-chrome"}) {
+    const std::string cmd = std::string("command -v ") + name + " > /dev/null 2>&1";
+    if (std::system(cmd.c_str()) == 0) return name;
+  }
+  return {};
+}
+
+struct PageCheck {
+  std::string dom;
+  std::vector<std::string> console;  // the page's console messages
+};
+
+// Loads `page` headless (scripts run; virtual time lets them finish) and
+// returns the DOM after load and the console messages Chromium logged.
+PageCheck load(const std::string& chromium, const fs::path& page, const fs::path& dir) {
+  const std::string tag = page.parent_path().filename().string() + "_" + page.stem().string();
+  const pid_t pid = camdyn::test::spawn(
+      {chromium, "--headless", "--disable-gpu", "--no-sandbox", "--disable-dev-shm-usage", "--enable-logging=stderr",
+       "--v=0", "--virtual-time-budget=3000", "--user-data-dir=" + (dir / ("profile_" + tag)).string(), "--dump-dom",
+       "file://" + fs::absolute(page).string()},
+      dir / (tag + ".dom"), dir / (tag + ".log"));
+  EXPECT_GT(pid, 0);
+  EXPECT_EQ(camdyn::test::wait_for(pid), 0) << read_text(dir / (tag + ".log"));
+  PageCheck check{read_text(dir / (tag + ".dom")), {}};
+  std::istringstream log(read_text(dir / (tag + ".log")));
+  for (std::string line; std::getline(log, line);)
+    if (line.find(":CONSOLE") != std::string::npos) check.console.push_back(line);
+  return check;
+}
+
+class ReportInBrowser : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    chromium_ = find_chromium();
+    if (chromium_.empty()) GTEST_SKIP() << "chromium is not installed (scripts/setup.sh installs it)";
+    dir_ = fs::temp_directory_path() / ("camdyn_browser_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    if (!HasFailure() && !dir_.empty()) fs::remove_all(dir_);
+  }
+
+  // Runs `camdyn run config args...` into dir_/name and checks its report.
+  void check_report(const std::string& name, const std::string& config, std::vector<std::string> args,
+                    std::size_t min_figures) {
+    const fs::path out = dir_ / name;
+    std::vector<std::string> argv = {"run", config, "--quiet", "--out", out.string()};
+    argv.insert(argv.end(), args.begin(), args.end());
+    ASSERT_EQ(camdyn::test::run_camdyn(argv, dir_, name), 0) << read_text(dir_ / (name + ".err"));
+    const PageCheck page = load(chromium_, out / "report.html", dir_);
+    for (const std::string& line : page.console) ADD_FAILURE() << name << ": console: " << line;
+    EXPECT_NE(page.dom.find("</footer>"), std::string::npos) << name << ": the page did not load completely";
+    std::size_t figures = 0;
+    for (std::size_t at = page.dom.find("<figure"); at != std::string::npos; at = page.dom.find("<figure", at + 1)) {
+      ++figures;
+      const std::string figure = page.dom.substr(at, page.dom.find("</figure>", at) - at);
+      const std::size_t svg = figure.find("<svg");
+      ASSERT_NE(svg, std::string::npos) << name << ": figure " << figures << " has no image";
+      EXPECT_NE(figure.find("<path", svg), std::string::npos) << name << ": figure " << figures << " is empty";
+      EXPECT_EQ(figure.find("plot unavailable"), std::string::npos) << name << ": figure " << figures;
+      EXPECT_EQ(figure.find("no data to plot"), std::string::npos) << name << ": figure " << figures;
+    }
+    EXPECT_GE(figures, min_figures) << name;
+  }
+
+  std::string chromium_;
+  fs::path dir_;
+};
+
+const std::string kStudies = std::string(CAMDYN_SOURCE_DIR) + "/studies/";
+
+// The harness itself: a page with a script error must be caught.
+TEST_F(ReportInBrowser, HarnessSeesConsoleErrors) {
+  std::ofstream(dir_ / "bad.html") << "<!DOCTYPE html><html><body><script>nosuch();</script></body></html>";
+  const PageCheck page = load(chromium_, dir_ / "bad.html", dir_);
+  ASSERT_EQ(page.console.size(), 1u);
+  EXPECT_NE(page.console[0].find("nosuch is not defined"), std::string::npos);
+}
+
+TEST_F(ReportInBrowser, Simulate) {
+  check_report("simulate", kStudies + "quickstart.json", {"--set", "simulation.cycles=2"}, 3);
+}
+
+TEST_F(ReportInBrowser, Convergence) {
+  std::ofstream(dir_ / "convergence.json") << R"({
+    "extends": ")" << kStudies << R"(quickstart.json", "name": "convergence", "study": "convergence",
+    "simulation": { "cycles": 2, "discard_cycles": 1 },
+    "methods": ["cvode_bdf", "cvode_adams"], "tolerances": [1e-5, 1e-6],
+    "reference": { "method": "cvode_bdf", "rtol": 1e-9 } })";
+  check_report("convergence", (dir_ / "convergence.json").string(), {}, 1);
+}
+
+TEST_F(ReportInBrowser, Compare) {
+  std::ofstream(dir_ / "compare.json") << R"({
+    "extends": ")" << kStudies << R"(quickstart.json", "name": "compare", "study": "compare",
+    "simulation": { "cycles": 2, "discard_cycles": 1 },
+    "cases": [ { "name": "cycloidal" }, { "name": "soft", "set": ["mechanism.contact.stiffness=1e4"] },
+               { "name": "heavy", "set": ["mechanism.follower.mass=0.45"] } ],
+    "grid": { "mechanism.cam.rpm": [1000, 1300], "mechanism.contact.restitution": [0.5, 0.8] },
+    "overlays": [ { "mechanism.cam.rpm": 1300 } ] })";
+  check_report("compare", (dir_ / "compare.json").string(), {}, 5);
+}
+
+TEST_F(ReportInBrowser, Optimize) {
+  check_report("optimize", kStudies + "optimize_jump.json",
+               {"--set", "optimizer.max_evaluations=4", "--set", "simulation.cycles=2"}, 1);
+}
+
+TEST_F(ReportInBrowser, Identify) {
+  check_report("identify", kStudies + "identify_drop/identify_drop.json", {"--set", "solver.max_iterations=2"}, 1);
+}
+
+}  // namespace

@@ -1,0 +1,73 @@
+// studies/compare_laws.json, the jump-speed map: for every law, the first
+// grid speed with separation is the first grid speed above the law's
+// rigid-model jump speed (physics.md §6: no damper, so the rigid model gives
+// the exact onset; the grid keeps >= 2.5 % away from every jump speed).
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "cli_process.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+TEST(CompareLawsStudy, JumpOnsetPerLawIsTheFirstSpeedAboveItsJumpSpeed) {
+  const fs::path dir = fs::temp_directory_path() / ("camdyn_compare_laws_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string study = std::string(CAMDYN_SOURCE_DIR) + "/studies/compare_laws.json";
+  ASSERT_EQ(camdyn::test::run_camdyn({"run", study, "--out", (dir / "out").string()}, dir, "run"), 0)
+      << camdyn::test::read_text(dir / "run.err");
+
+  std::istringstream csv(camdyn::test::read_text(dir / "out" / "comparison.csv"));
+  std::string line;
+  std::getline(csv, line);
+  std::vector<std::string> header;
+  std::stringstream hs(line);
+  for (std::string cell; std::getline(hs, cell, ',');) header.push_back(cell);
+  auto column = [&](const std::string& name) {
+    return static_cast<std::size_t>(std::find(header.begin(), header.end(), name) - header.begin());
+  };
+  struct Law {
+    double jump = 0.0;
+    std::vector<std::pair<double, double>> speed_separation;
+  };
+  std::map<std::string, Law> laws;
+  std::vector<std::string> order;
+  while (std::getline(csv, line)) {
+    std::vector<std::string> cells;
+    std::stringstream ls(line);
+    for (std::string cell; std::getline(ls, cell, ',');) cells.push_back(cell);
+    ASSERT_EQ(cells.at(column("status")), "ok") << line;
+    const std::string name = cells.at(column("case"));
+    if (!laws.count(name)) order.push_back(name);
+    Law& law = laws[name];
+    law.jump = std::stod(cells.at(column("jump_speed_rpm")));
+    law.speed_separation.emplace_back(std::stod(cells.at(column("mechanism.cam.rpm"))),
+                                      std::stod(cells.at(column("separation_fraction"))));
+  }
+  ASSERT_EQ(order.size(), 6u);
+  for (const std::string& name : order) {
+    const Law& law = laws[name];
+    double first_separating = 0.0, first_above = 0.0;
+    for (const auto& [rpm, separation] : law.speed_separation) {
+      if (separation > 0.0 && first_separating == 0.0) first_separating = rpm;
+      if (rpm > law.jump && first_above == 0.0) first_above = rpm;
+      // The grid is chosen clear of every jump speed: the rule is tested, not grazed.
+      EXPECT_GT(std::abs(rpm / law.jump - 1.0), 0.02) << name << " at " << rpm;
+    }
+    EXPECT_GT(first_above, 0.0) << name << ": no grid speed above " << law.jump;
+    EXPECT_EQ(first_separating, first_above) << name << " (jump speed " << law.jump << " rpm)";
+  }
+  fs::remove_all(dir);
+}
+
+}  // namespace
