@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <memory>
 #include <numbers>
 #include <numeric>
 
 #include "common/errors.h"
 #include "dynamics/model.h"
+#include "geometry/cam_synthesis.h"
 #include "geometry/motion_law.h"
 #include "io/report.h"
 #include "io/simulation_output.h"
@@ -94,12 +96,11 @@ DesignEvaluation DesignEvaluator::evaluate(const SceneConfig& scene, const Evalu
   try {
     const MotionLaw law = build_motion_law(scene.mechanism.cam.motion_law, file_);
     e.kinematics = law_kinematics(law, scene.mechanism.cam.motion_law.segments);
-    TranslatingRollerCam cam;
-    cam.law = &law;
-    cam.base_radius = scene.mechanism.cam.base_radius;
-    cam.roller_radius = scene.mechanism.follower.shape.radius;
-    cam.offset = scene.mechanism.follower.offset;
-    cam.direction = scene.mechanism.cam.direction == "cw" ? -1 : +1;
+    // The cam for the scene's follower (roller, flat, mushroom; translating or
+    // oscillating), checked as build_model checks it.
+    const SynthesisedCam cam(std::make_shared<const MotionLaw>(law),
+                             make_follower_geometry(scene.mechanism.follower, scene.mechanism.cam.base_radius, file_),
+                             scene.mechanism.cam.direction == "cw" ? -1 : +1);
     e.geometry = check_cam(cam, file_);
     e.valid = true;
   } catch (const InputError& err) {

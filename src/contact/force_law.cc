@@ -44,18 +44,6 @@ double ForceLaw::elastic_energy(double delta) const {
   return delta > 0.0 ? stiffness * std::pow(delta, exponent + 1.0) / (exponent + 1.0) : 0.0;
 }
 
-double ForceLaw::force(double delta, double delta_rate, double v0) const {
-  if (delta <= 0.0) return 0.0;
-  const double elastic = stiffness * std::pow(delta, exponent);
-  double f = elastic;
-  if (model == ContactModel::kelvin_voigt) {
-    f += damping * delta_rate;
-  } else if (model != ContactModel::hertz) {
-    f *= 1.0 + chi() * delta_rate / v0;
-  }
-  return f > 0.0 ? f : 0.0;
-}
-
 double ForceLaw::clamp_switch(double delta, double delta_rate, double v0) const {
   switch (model) {
     case ContactModel::hertz: return 1.0;

@@ -6,7 +6,10 @@
 // The last three share the form F = K δ^n (1 + χ δ̇ / v₀) with a model factor χ.
 #pragma once
 
+#include <cmath>
 #include <string>
+
+#include "geometry/vec2.h"  // value()
 
 namespace camdyn {
 
@@ -29,7 +32,21 @@ struct ForceLaw {
   /// Normal force [N] at penetration δ [m] and penetration rate δ̇ [m/s] in a
   /// contact episode whose onset approach speed was v₀ [m/s] (already floored).
   /// Zero for δ ≤ 0; clamped at zero (never adhesive).
-  double force(double delta, double delta_rate, double v0) const;
+  double force(double delta, double delta_rate, double v0) const { return force_t(delta, delta_rate, v0); }
+
+  /// force() for any scalar type S (double or the dual numbers of dynamics/dual.h).
+  template <class S>
+  S force_t(const S& delta, const S& delta_rate, double v0) const {
+    using std::pow;
+    if (!(value(delta) > 0.0)) return S(0.0);
+    S f = stiffness * pow(delta, exponent);
+    if (model == ContactModel::kelvin_voigt) {
+      f = f + damping * delta_rate;
+    } else if (model != ContactModel::hertz) {
+      f = f * (1.0 + chi() * delta_rate / v0);
+    }
+    return value(f) > 0.0 ? f : S(0.0);
+  }
 
   /// Elastic part K δ^n [N] (0 for δ ≤ 0).
   double elastic_force(double delta) const;

@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "geometry/vec2.h"  // value()
+
 namespace camdyn {
 
 struct FrictionLaw {
@@ -13,9 +15,15 @@ struct FrictionLaw {
 
   /// Friction coefficient actually acting at slip velocity v_s [m/s], in [−μ, μ],
   /// with the sign of v_s (the force is −coefficient · F_n along the slip direction).
-  double coefficient(double slip) const {
-    const double x = slip / regularization_velocity;
-    const double shape = linear_ramp ? (x > 1.0 ? 1.0 : (x < -1.0 ? -1.0 : x)) : std::tanh(x);
+  double coefficient(double slip) const { return coefficient_t(slip); }
+
+  /// coefficient() for any scalar type S (double or the dual numbers of dynamics/dual.h).
+  template <class S>
+  S coefficient_t(const S& slip) const {
+    using std::tanh;
+    const S x = slip / regularization_velocity;
+    const double xv = value(x);
+    const S shape = linear_ramp ? (xv > 1.0 ? S(1.0) : (xv < -1.0 ? S(-1.0) : x)) : tanh(x);
     return mu * shape;
   }
 };

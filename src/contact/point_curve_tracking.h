@@ -1,10 +1,13 @@
-// Interference tracking of physics.md §2 in its one-parameter form: a circle
-// (the roller, radius r_r) against a smooth profile reduces to the roller
-// centre c against the profile offset by r_r (for the translating roller that
-// offset is the cam's pitch curve P(u)). The common-normal condition becomes
+// Interference tracking of physics.md §2 in its one-parameter form for a
+// circle follower (roller, mushroom): the circle's centre c against a smooth
+// cam-frame profile P(u) (any PeriodicCurve-like type with `at(u)`), whose
+// distance to c minus an offset radius ρ is the gap. For a cam synthesised
+// from the law P is the centre (pitch) curve and ρ = 0; for a cam given as a
+// contour P is the contour and ρ the circle's radius. The common-normal
+// condition becomes
 //   f(u) = P'(u) · (c − P(u)) = 0,   with  f_u = P''·(c − P) − |P'|² < 0
 // at a local minimum of distance (or maximum of interference depth), and the
-// signed gap is g = n(u) · (c − P(u)) with n the outward unit normal. The
+// signed gap is g = n(u) · (c − P(u)) − ρ with n the outward unit normal. The
 // pair is tracked from the previous instant without a global search: either
 // by warm-started Newton on f, or differentially (u̇ from ḟ = −α f). A global
 // sampled search initialises the pair and recovers when tracking is lost.
@@ -14,7 +17,7 @@
 
 #include <Eigen/Core>
 
-#include "geometry/cam_roller.h"
+#include "geometry/planar_curve.h"
 
 namespace camdyn {
 
@@ -37,10 +40,10 @@ inline Eigen::Vector2d outward_normal(const Eigen::Vector2d& r, const Eigen::Vec
   return n.dot(r) >= 0.0 ? n : Eigen::Vector2d(-n);
 }
 
-/// Evaluates the pair quantities at parameter u for point c.
+/// Evaluates the pair quantities at parameter u for point c (offset radius ρ).
 template <class Profile>
-TrackedPair evaluate_pair(const Profile& profile, const Eigen::Vector2d& c, double u) {
-  const CurvePoint p = profile.pitch(u);
+TrackedPair evaluate_pair(const Profile& profile, const Eigen::Vector2d& c, double u, double offset_radius = 0.0) {
+  const CurvePoint p = profile.at(u);
   TrackedPair pair;
   pair.u = u;
   pair.point = p.r;
@@ -49,7 +52,7 @@ TrackedPair evaluate_pair(const Profile& profile, const Eigen::Vector2d& c, doub
   pair.f = p.dr.dot(d);
   pair.f_u = p.d2r.dot(d) - p.dr.squaredNorm();
   pair.normal = outward_normal(p.r, p.dr);
-  pair.gap = pair.normal.dot(d);
+  pair.gap = pair.normal.dot(d) - offset_radius;
   return pair;
 }
 
@@ -58,16 +61,17 @@ TrackedPair evaluate_pair(const Profile& profile, const Eigen::Vector2d& c, doub
 /// pair is lost) or when the step exceeds `max_step` [rad].
 template <class Profile>
 bool newton_track(const Profile& profile, const Eigen::Vector2d& c, double& u, TrackedPair& pair,
-                  int max_iterations = 8, double tolerance_u = 1e-13, double max_step = 0.5) {
+                  double offset_radius = 0.0, int max_iterations = 8, double tolerance_u = 1e-13,
+                  double max_step = 0.5) {
   double x = u;
   for (int it = 0; it < max_iterations; ++it) {
-    pair = evaluate_pair(profile, c, x);
+    pair = evaluate_pair(profile, c, x, offset_radius);
     if (!(pair.f_u < 0.0)) return false;
     const double step = -pair.f / pair.f_u;
     if (!std::isfinite(step) || std::abs(step) > max_step) return false;
     x += step;
     if (std::abs(step) <= tolerance_u * (1.0 + std::abs(x))) {
-      pair = evaluate_pair(profile, c, x);
+      pair = evaluate_pair(profile, c, x, offset_radius);
       u = x;
       return pair.f_u < 0.0;
     }
@@ -82,12 +86,12 @@ bool newton_track(const Profile& profile, const Eigen::Vector2d& c, double& u, T
 /// the cam angle across revolutions). Returns false if no valid pair exists.
 template <class Profile>
 bool global_pair(const Profile& profile, const Eigen::Vector2d& c, double u_ref, double& u, TrackedPair& pair,
-                 int samples = 720) {
+                 double offset_radius = 0.0, int samples = 720) {
   constexpr double kTwoPi = 6.283185307179586;
   double best_u = u_ref, best_distance = INFINITY;
   for (int i = 0; i < samples; ++i) {
     const double x = u_ref - kTwoPi / 2 + kTwoPi * i / samples;
-    const CurvePoint p = profile.pitch(x);
+    const CurvePoint p = profile.at(x);
     const double distance = (c - p.r).norm();
     if (distance < best_distance) {
       best_distance = distance;
@@ -95,7 +99,7 @@ bool global_pair(const Profile& profile, const Eigen::Vector2d& c, double u_ref,
     }
   }
   double x = best_u;
-  if (!newton_track(profile, c, x, pair, 50, 1e-13, kTwoPi / samples * 4)) return false;
+  if (!newton_track(profile, c, x, pair, offset_radius, 50, 1e-13, kTwoPi / samples * 4)) return false;
   u = x;
   return true;
 }

@@ -5,20 +5,15 @@
 #include <numbers>
 
 #include "common/errors.h"
+#include "contact/line_curve_tracking.h"
+#include "dynamics/dual.h"
 
 namespace camdyn {
 
 namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
-
-Eigen::Vector2d rotate(const Eigen::Vector2d& p, double angle) {
-  const double c = std::cos(angle), s = std::sin(angle);
-  return {c * p.x() - s * p.y(), s * p.x() + c * p.y()};
-}
-
-// J p: p rotated by +90°.
-Eigen::Vector2d perp(const Eigen::Vector2d& p) { return {-p.y(), p.x()}; }
+using Jet = Dual<Model::kMaxState>;
 
 ForceLaw build_force_law(const SceneConfig& scene, const std::string& file) {
   const ContactConfig& c = scene.mechanism.contact;
@@ -40,8 +35,11 @@ ForceLaw build_force_law(const SceneConfig& scene, const std::string& file) {
       throw InputError(file, "mechanism.contact.exponent",
                        std::string("stiffness from materials is for ") + (line ? "line" : "point") +
                            " contact, which needs exponent " + (line ? "1" : "1.5"));
-    law.stiffness = stiffness_from_materials(m.E1, m.nu1, m.E2, m.nu2, scene.mechanism.cam.base_radius,
-                                             scene.mechanism.follower.shape.radius, line, m.width.value_or(0.0));
+    // A flat face has an infinite radius of curvature.
+    const ShapeConfig& shape = scene.mechanism.follower.shape;
+    const double r2 = shape.type == "flat" ? std::numeric_limits<double>::infinity() : shape.radius;
+    law.stiffness = stiffness_from_materials(m.E1, m.nu1, m.E2, m.nu2, scene.mechanism.cam.base_radius, r2, line,
+                                             m.width.value_or(0.0));
   } else if (c.stiffness) {
     law.stiffness = *c.stiffness;
   } else {
@@ -52,43 +50,302 @@ ForceLaw build_force_law(const SceneConfig& scene, const std::string& file) {
   return law;
 }
 
+FrictionLaw friction_law(double mu, double regularization_velocity, const std::string& regularization) {
+  FrictionLaw law;
+  law.mu = mu;
+  law.regularization_velocity = regularization_velocity;
+  law.linear_ramp = regularization == "linear";
+  return law;
+}
+
+std::string friction_name(const char* kind, const FrictionLaw& law) {
+  return std::string(kind) + ":coulomb_" + (law.linear_ramp ? "linear" : "tanh");
+}
+
+/// The pair parameter and the profile there, solved in double precision.
+struct PairSolution {
+  double u = 0.0;
+  CurvePoint point;
+  double orientation = 1.0;  ///< sign making (r'_y, −r'_x) the outward normal
+  bool ok = true;
+};
+
+/// The follower's contact element in the cam frame (double): circle centre
+/// `a`, or face point `a` and normal `b`.
+void element_in_cam_frame(const Model& m, double q, double theta, Eigen::Vector2d& a, Eigen::Vector2d& b) {
+  const double phi = m.direction * theta, c = std::cos(phi), s = std::sin(phi);
+  auto to_cam = [&](const Vec2<double>& w) { return to_eigen(rotate(w, c, -s)); };
+  if (m.reduction == ContactReduction::circle) {
+    Vec2<double> centre, rate;
+    m.follower.centre(q, centre, rate);
+    a = to_cam(centre);
+    b.setZero();
+  } else {
+    Vec2<double> p, n, p_q, n_q;
+    m.follower.face(q, p, n, p_q, n_q);
+    a = to_cam(p);
+    b = to_cam(n);
+  }
+}
+
+double cam_angle(const Model& m, double t, const double* x) {
+  return m.drive == Drive::shaft ? x[m.index_cam_angle] : m.theta(t);
+}
+
+PairSolution solve_pair(const Model& m, Workspace& ws, double t, const double* x) {
+  PairSolution ps;
+  TrackedPair pair;
+  if (m.tracking == Tracking::differential) {
+    ps.u = x[m.index_u];
+  } else {
+    const double theta = cam_angle(m, t, x);
+    Eigen::Vector2d a, b;
+    element_in_cam_frame(m, x[0], theta, a, b);
+    double u = ws.u_warm;
+    const bool circle = m.reduction == ContactReduction::circle;
+    bool ok = circle ? newton_track(m.profile(), a, u, pair, m.profile_offset)
+                     : newton_track_line(m.profile(), a, b, u, pair);
+    if (!ok) {
+      ++ws.tracking_resets;
+      ok = circle ? global_pair(m.profile(), a, theta, u, pair, m.profile_offset)
+                  : global_line_pair(m.profile(), a, b, theta, u, pair);
+    }
+    ps.ok = ok;
+    ps.u = u;
+  }
+  ps.point = m.profile().at(ps.u);
+  const Eigen::Vector2d candidate(ps.point.dr.y(), -ps.point.dr.x());
+  ps.orientation = candidate.dot(ps.point.r) >= 0.0 ? 1.0 : -1.0;
+  return ps;
+}
+
+/// The mechanism at one state, in scalar S (double, or dual numbers for the Jacobian).
+template <class S>
+struct Core {
+  S theta, omega_c, q, v, spin;
+  S f, f_u;  ///< common-normal residual and its u-derivative
+  S gap, gap_rate, delta, delta_rate, normal_force, slip, friction_force;
+  S generalised_force, cam_torque, guide, pivot;
+  S acceleration, spin_acceleration, u_rate;
+  S twist, shaft_torque, motor_speed, motor_torque, cam_acceleration, motor_acceleration;
+  Vec2<S> force_world;
+  S contact_offset;
+};
+
+template <class S>
+void core(const Model& m, const Workspace& ws, double t, const S* x, const PairSolution& ps, const S& u,
+          Core<S>& o) {
+  using std::abs;
+  using std::cos;
+  using std::sin;
+  using std::sqrt;
+  const double sigma = m.direction;
+  const FollowerGeometry& fg = m.follower;
+  o.q = x[0];
+  o.v = x[1];
+  o.spin = m.index_spin >= 0 ? x[m.index_spin] : S(0.0);
+  if (m.drive == Drive::shaft) {
+    o.theta = x[m.index_cam_angle];
+    o.omega_c = x[m.index_cam_speed];
+  } else {
+    o.theta = S(m.theta(t));
+    o.omega_c = S(m.omega);
+  }
+  const S phi = sigma * o.theta;
+  const S c = cos(phi), s = sin(phi);
+  const S minus_s = -s;
+  auto to_cam = [&](const Vec2<S>& w) { return rotate(w, c, minus_s); };
+  auto to_world = [&](const Vec2<S>& w) { return rotate(w, c, s); };
+
+  // The profile near the pair: first order in u − u₀ carries the derivatives.
+  const S du = u - ps.u;
+  const CurvePoint& cp = ps.point;
+  const Vec2<S> r = Vec2<S>(cp.r) + du * Vec2<S>(cp.dr);
+  const Vec2<S> r1 = Vec2<S>(cp.dr) + du * Vec2<S>(cp.d2r);
+  const Vec2<S> r2 = Vec2<S>(cp.d2r) + du * Vec2<S>(cp.d3r);
+
+  // Gap g(q, θ, u), its partials at fixed u, the common-normal residual f and
+  // its partials; n is the normal of the contact force on the follower, X the
+  // follower's contact point, X_q its rate per q̇ (cam frame).
+  Vec2<S> n, X, X_q;
+  S g_q, g_theta, f_q, f_theta;
+  if (m.reduction == ContactReduction::circle) {
+    Vec2<S> centre, centre_q;
+    fg.centre(o.q, centre, centre_q);
+    const Vec2<S> C = to_cam(centre), C_q = to_cam(centre_q), C_theta = (-sigma) * perp(C);
+    const Vec2<S> d = C - r;
+    o.f = dot(r1, d);
+    o.f_u = dot(r2, d) - dot(r1, r1);
+    f_q = dot(r1, C_q);
+    f_theta = dot(r1, C_theta);
+    n = (ps.orientation / sqrt(dot(r1, r1))) * Vec2<S>(r1.y, -r1.x);
+    o.gap = dot(n, d) - m.profile_offset;
+    g_q = dot(n, C_q);
+    g_theta = dot(n, C_theta);
+    X = C - fg.radius * n;
+    // A roller takes the friction force at its axle (its torque goes to the spin).
+    X_q = fg.shape == FollowerShape::roller ? C_q : to_cam(fg.body_point_rate(to_world(X)));
+  } else {
+    Vec2<S> p, mw, p_q, mw_q;
+    fg.face(o.q, p, mw, p_q, mw_q);
+    const Vec2<S> P = to_cam(p), M = to_cam(mw), P_q = to_cam(p_q), M_q = to_cam(mw_q);
+    const Vec2<S> P_theta = (-sigma) * perp(P), M_theta = (-sigma) * perp(M);
+    o.f = -dot(r1, M);
+    o.f_u = -dot(r2, M);
+    f_q = -dot(r1, M_q);
+    f_theta = -dot(r1, M_theta);
+    const Vec2<S> rp = r - P;
+    o.gap = dot(M, rp);
+    g_q = dot(M_q, rp) - dot(M, P_q);
+    g_theta = dot(M_theta, rp) - dot(M, P_theta);
+    n = -M;
+    X = r;
+    X_q = to_cam(fg.body_point_rate(to_world(X)));
+  }
+  const Vec2<S> X_theta = (-sigma) * perp(X);  // rate of a world-fixed point in the cam frame per θ̇
+  const Vec2<S> tangent = perp(n);
+
+  o.gap_rate = g_q * o.v + g_theta * o.omega_c;
+  o.delta = -o.gap;
+  o.delta_rate = -o.gap_rate;
+  o.normal_force = m.contact.force_t(o.delta, o.delta_rate, ws.v0);
+  o.slip = S(0.0);
+  o.friction_force = S(0.0);
+  if (m.contact_friction) {
+    o.slip = dot(tangent, X_q) * o.v + dot(tangent, X_theta) * o.omega_c;
+    if (m.has_spin) o.slip = o.slip - fg.radius * o.spin;
+    o.friction_force = -(m.friction.coefficient_t(o.slip) * o.normal_force);
+  }
+  // Generalised forces by virtual power: F·(∂X/∂q) on the follower, F·(∂X/∂θ) on the cam.
+  o.generalised_force = o.normal_force * g_q + o.friction_force * dot(tangent, X_q);
+  o.cam_torque = o.normal_force * g_theta + o.friction_force * dot(tangent, X_theta);
+  o.force_world = to_world(o.normal_force * n + o.friction_force * tangent);
+  {
+    Vec2<S> origin, across;
+    fg.face_frame(o.q, origin, across);
+    o.contact_offset = dot(to_world(X) - origin, across);
+  }
+
+  o.guide = S(0.0);
+  o.pivot = S(0.0);
+  if (m.has_guide_friction) o.guide = -(m.guide_friction.coefficient_t(o.v) * abs(o.force_world.x));
+  if (m.has_pivot_friction && value(o.normal_force) > 0.0) {
+    const S reaction = sqrt(o.normal_force * o.normal_force + o.friction_force * o.friction_force);
+    o.pivot = -(m.pin_radius * m.pivot_friction.coefficient_t(m.pin_radius * o.v) * reaction);
+  }
+  const S spring = m.spring_preload + m.spring_stiffness * o.q;
+  o.acceleration =
+      (o.generalised_force - spring - m.damping * o.v - m.mass * m.gravity + o.guide + o.pivot) / m.mass;
+  o.spin_acceleration = m.has_spin ? -(fg.radius * o.friction_force) / m.roller_inertia : S(0.0);
+  o.u_rate = m.index_u >= 0 ? (-m.tracking_gain * o.f - f_q * o.v - f_theta * o.omega_c) / o.f_u : S(0.0);
+
+  o.twist = S(0.0);
+  o.shaft_torque = S(0.0);
+  o.motor_speed = S(m.omega);
+  o.motor_torque = S(0.0);
+  o.cam_acceleration = S(0.0);
+  o.motor_acceleration = S(0.0);
+  if (m.drive == Drive::shaft) {
+    S motor_angle = S(m.theta(t) + ws.motor_phase);
+    if (m.motor == Motor::torque_speed) {
+      motor_angle = x[m.index_motor_angle];
+      o.motor_speed = x[m.index_motor_speed];
+      o.motor_torque = m.stall_torque * (1.0 - o.motor_speed / m.no_load_speed);
+    }
+    o.twist = motor_angle - o.theta;
+    o.shaft_torque = m.shaft_stiffness * o.twist + m.shaft_damping * (o.motor_speed - o.omega_c);
+    o.cam_acceleration = (o.shaft_torque + o.cam_torque) / m.cam_inertia;
+    if (m.motor == Motor::torque_speed) o.motor_acceleration = (o.motor_torque - o.shaft_torque) / m.motor_inertia;
+  }
+}
+
+template <class S>
+void derivative_from_core(const Model& m, const Core<S>& o, S* x_dot) {
+  x_dot[0] = o.v;
+  x_dot[1] = o.acceleration;
+  if (m.index_u >= 0) x_dot[m.index_u] = o.u_rate;
+  if (m.index_spin >= 0) x_dot[m.index_spin] = o.spin_acceleration;
+  if (m.index_cam_angle >= 0) {
+    x_dot[m.index_cam_angle] = o.omega_c;
+    x_dot[m.index_cam_speed] = o.cam_acceleration;
+  }
+  if (m.index_motor_angle >= 0) {
+    x_dot[m.index_motor_angle] = o.motor_speed;
+    x_dot[m.index_motor_speed] = o.motor_acceleration;
+  }
+}
+
 }  // namespace
 
 Model build_model(const SceneConfig& scene, const std::string& file) {
   const MechanismConfig& mech = scene.mechanism;
+  const FollowerConfig& f = mech.follower;
   Model model;
   model.law = std::make_shared<const MotionLaw>(build_motion_law(mech.cam.motion_law, file));
   model.direction = mech.cam.direction == "cw" ? -1 : +1;
-  model.cam.law = model.law.get();
-  model.cam.base_radius = mech.cam.base_radius;
-  model.cam.roller_radius = mech.follower.shape.radius;
-  model.cam.offset = mech.follower.offset;
-  model.cam.direction = model.direction;
+  model.follower = make_follower_geometry(f, mech.cam.base_radius, file);
+  const FollowerGeometry& fg = model.follower;
+  model.cam = std::make_shared<const SynthesisedCam>(model.law, fg, model.direction);
+  model.profile_curve = model.cam;
+  model.reduction = fg.circle() ? ContactReduction::circle : ContactReduction::line;
+  model.profile_offset = 0.0;  // the synthesised centre curve already carries the circle's radius
   model.omega = mech.cam.rpm * kTwoPi / 60.0;
   model.theta0 = mech.cam.initial_angle_deg * std::numbers::pi / 180.0;
-  model.geometry = check_cam(model.cam, file);
+  model.geometry = check_cam(*model.cam, file);
 
-  const FollowerConfig& f = mech.follower;
-  model.mass = f.mass;
+  const bool oscillating = fg.oscillating();
+  model.mass = oscillating ? f.inertia : f.mass;
+  if (!(model.mass > 0.0))
+    throw InputError(file, oscillating ? "mechanism.follower.inertia" : "mechanism.follower.mass", "must be > 0");
   model.spring_stiffness = f.spring.stiffness;
   model.spring_preload = f.spring.preload;
   model.damping = f.damping;
-  model.gravity = scene.gravity;
+  model.gravity = oscillating ? 0.0 : scene.gravity;
 
   model.contact = build_force_law(scene, file);
-  model.friction.mu = mech.contact.friction.mu;
-  model.friction.regularization_velocity = mech.contact.friction.regularization_velocity;
-  model.friction.linear_ramp = mech.contact.friction.regularization == "linear";
-  model.roller_inertia = f.shape.inertia;
+  const FrictionConfig& fc = mech.contact.friction;
+  model.friction = friction_law(fc.mu, fc.regularization_velocity, fc.regularization);
+  const bool roller = fg.shape == FollowerShape::roller;
+  model.roller_inertia = roller ? f.shape.inertia : 0.0;
   // A roller without inertia rolls freely: friction can do no work, so neither
-  // the spin state nor the friction force is assembled (physics.md §3).
-  model.has_spin = model.roller_inertia > 0.0 && model.friction.mu > 0.0;
+  // the spin state nor the friction force is assembled (physics.md §3). A flat
+  // face or a mushroom slides: friction acts whenever μ > 0.
+  model.has_spin = roller && model.roller_inertia > 0.0 && fc.mu > 0.0;
+  model.contact_friction = fc.mu > 0.0 && (!roller || model.has_spin);
+  if (!oscillating && f.guide_friction && f.guide_friction->mu > 0.0) {
+    model.has_guide_friction = true;
+    model.guide_friction =
+        friction_law(f.guide_friction->mu, f.guide_friction->regularization_velocity, fc.regularization);
+  }
+  if (oscillating && f.pivot_friction && f.pivot_friction->mu > 0.0) {
+    model.has_pivot_friction = true;
+    model.pivot_friction =
+        friction_law(f.pivot_friction->mu, f.pivot_friction->regularization_velocity, fc.regularization);
+    model.pin_radius = f.pivot_friction->pin_radius;
+  }
+
+  const DriveConfig& dc = mech.cam.drive;
+  if (dc.type == "shaft") {
+    model.drive = Drive::shaft;
+    model.cam_inertia = dc.inertia;
+    model.shaft_stiffness = dc.torsional_stiffness;
+    model.shaft_damping = dc.torsional_damping;
+    if (dc.motor.type == "torque_speed") {
+      model.motor = Motor::torque_speed;
+      model.stall_torque = dc.motor.stall_torque;
+      model.no_load_speed = dc.motor.no_load_rpm * kTwoPi / 60.0;
+      model.motor_inertia = dc.motor.inertia;
+    }
+  }
 
   model.tracking = mech.contact.tracking == "newton" ? Tracking::newton : Tracking::differential;
   // Drift of f decays with time constant 1/α, well below a cam degree.
   model.tracking_gain = 1000.0 + 100.0 * model.omega;
+  // Beyond this the compliant-contact model no longer describes the contact.
+  model.penetration_limit = fg.circle() ? 0.5 * fg.radius : 0.1 * fg.base_radius;
 
-  model.state_names = {"follower_position", "follower_velocity"};
+  model.state_names = oscillating ? std::vector<std::string>{"arm_angle", "arm_angular_velocity"}
+                                  : std::vector<std::string>{"follower_position", "follower_velocity"};
   int next = 2;
   if (model.tracking == Tracking::differential) {
     model.index_u = next++;
@@ -98,175 +355,110 @@ Model build_model(const SceneConfig& scene, const std::string& file) {
     model.index_spin = next++;
     model.state_names.push_back("roller_spin");
   }
+  if (model.drive == Drive::shaft) {
+    model.index_cam_angle = next++;
+    model.index_cam_speed = next++;
+    model.state_names.push_back("cam_angle");
+    model.state_names.push_back("cam_speed");
+    if (model.motor == Motor::torque_speed) {
+      model.index_motor_angle = next++;
+      model.index_motor_speed = next++;
+      model.state_names.push_back("motor_angle");
+      model.state_names.push_back("motor_speed");
+    }
+  }
   model.state_size = next;
 
-  model.elements.push_back("follower_mass");
-  if (model.spring_stiffness > 0.0 || model.spring_preload > 0.0) model.elements.push_back("spring");
-  if (model.damping > 0.0) model.elements.push_back("damper");
+  model.elements.push_back(oscillating ? "arm_inertia" : "follower_mass");
+  if (model.spring_stiffness > 0.0 || model.spring_preload > 0.0)
+    model.elements.push_back(oscillating ? "torsional_spring" : "spring");
+  if (model.damping > 0.0) model.elements.push_back(oscillating ? "torsional_damper" : "damper");
   if (model.gravity != 0.0) model.elements.push_back("gravity");
   model.elements.push_back(std::string("contact:") + to_string(model.contact.model));
-  if (model.has_spin)
-    model.elements.push_back(std::string("friction:coulomb_") + (model.friction.linear_ramp ? "linear" : "tanh"));
+  if (model.contact_friction) model.elements.push_back(friction_name("friction", model.friction));
+  if (model.has_guide_friction) model.elements.push_back(friction_name("guide_friction", model.guide_friction));
+  if (model.has_pivot_friction) model.elements.push_back(friction_name("pivot_friction", model.pivot_friction));
+  if (model.drive == Drive::shaft) {
+    model.elements.push_back("cam_inertia");
+    model.elements.push_back("shaft_spring");
+    if (model.shaft_damping > 0.0) model.elements.push_back("shaft_damper");
+    model.elements.push_back(model.motor == Motor::torque_speed ? "motor:torque_speed" : "motor:constant_speed");
+  }
   return model;
 }
 
 void evaluate(const Model& model, Workspace& ws, double t, const double* state, Evaluation& ev) {
-  const double sigma = model.direction;
-  ev.theta = model.theta(t);
-  ev.y = state[0];
-  ev.v = state[1];
-  ev.spin = model.has_spin ? state[model.index_spin] : 0.0;
+  const PairSolution ps = solve_pair(model, ws, t, state);
+  Core<double> o;
+  core(model, ws, t, state, ps, ps.u, o);
 
-  // Roller centre in the world and in the cam frame, and its velocity relative to the cam.
-  const double phi = sigma * ev.theta;
-  const Eigen::Vector2d c_world(model.cam.offset, model.cam.y0() + ev.y);
-  const Eigen::Vector2d v_world(0.0, ev.v);
-  const Eigen::Vector2d c_cam = rotate(c_world, -phi);
-  const Eigen::Vector2d v_cam = rotate(v_world - sigma * model.omega * perp(c_world), -phi);
+  ev.theta = o.theta;
+  ev.cam_speed = o.omega_c;
+  ev.y = o.q;
+  ev.v = o.v;
+  ev.spin = o.spin;
+  ev.pair.u = ps.u;
+  ev.pair.gap = o.gap;
+  ev.pair.f = o.f;
+  ev.pair.f_u = o.f_u;
+  ev.pair.point = ps.point.r;
+  ev.pair.tangent_u = ps.point.dr;
+  ev.pair.normal = ps.orientation * Eigen::Vector2d(ps.point.dr.y(), -ps.point.dr.x()).normalized();
+  ev.tracking_ok = model.tracking == Tracking::differential ? o.f_u < 0.0 : ps.ok;
+  ev.gap = o.gap;
+  ev.gap_rate = o.gap_rate;
+  ev.delta = o.delta;
+  ev.delta_rate = o.delta_rate;
+  ev.normal_force = o.normal_force;
+  ev.friction_force = o.friction_force;
+  ev.slip = o.slip;
+  ev.contact_offset = o.contact_offset;
+  ev.force_world = to_eigen(o.force_world);
+  ev.generalised_force = o.generalised_force;
+  ev.cam_torque = o.cam_torque;
+  ev.guide_friction = o.guide;
+  ev.pivot_friction = o.pivot;
+  ev.acceleration = o.acceleration;
+  ev.spin_acceleration = o.spin_acceleration;
+  ev.u_rate = ev.tracking_ok ? o.u_rate : 0.0;
+  ev.shaft_twist = o.twist;
+  ev.shaft_torque = o.shaft_torque;
+  ev.motor_speed = o.motor_speed;
+  ev.motor_torque = o.motor_torque;
+  ev.cam_acceleration = o.cam_acceleration;
+  ev.motor_acceleration = o.motor_acceleration;
 
-  ev.tracking_ok = true;
-  if (model.tracking == Tracking::differential) {
-    ev.pair = evaluate_pair(model.cam, c_cam, state[model.index_u]);
-    ev.tracking_ok = ev.pair.f_u < 0.0;
-    ev.u_rate = ev.tracking_ok
-                    ? (-model.tracking_gain * ev.pair.f - ev.pair.tangent_u.dot(v_cam)) / ev.pair.f_u
-                    : 0.0;
+  // Powers (physics.md §5): what the drive delivers, what dampers, contact
+  // hysteresis and friction dissipate.
+  if (model.drive == Drive::constant_speed) {
+    ev.power_drive = -o.cam_torque * o.omega_c;
   } else {
-    double u = ws.u_warm;
-    if (!newton_track(model.cam, c_cam, u, ev.pair)) {
-      ++ws.tracking_resets;
-      ev.tracking_ok = global_pair(model.cam, c_cam, ev.theta, u, ev.pair);
-    }
+    ev.power_drive = model.motor == Motor::torque_speed ? o.motor_torque * o.motor_speed : o.shaft_torque * o.motor_speed;
   }
-
-  const Eigen::Vector2d& n = ev.pair.normal;
-  ev.gap = ev.pair.gap;
-  ev.gap_rate = n.dot(v_cam);
-  ev.delta = -ev.gap;
-  ev.delta_rate = -ev.gap_rate;
-  ev.normal_force = model.contact.force(ev.delta, ev.delta_rate, ws.v0);
-
-  const Eigen::Vector2d t_dir = perp(n);
-  ev.slip = 0.0;
-  ev.friction_force = 0.0;
-  if (model.has_spin) {
-    ev.slip = t_dir.dot(v_cam) - (ev.spin - sigma * model.omega) * model.cam.roller_radius;
-    ev.friction_force = -model.friction.coefficient(ev.slip) * ev.normal_force;
-  }
-  const Eigen::Vector2d force_cam = ev.normal_force * n + ev.friction_force * t_dir;
-  ev.force_world = rotate(force_cam, phi);
-
-  const double spring = model.spring_preload + model.spring_stiffness * ev.y;
-  ev.acceleration =
-      (ev.force_world.y() - spring - model.damping * ev.v - model.mass * model.gravity) / model.mass;
-  ev.spin_acceleration =
-      model.has_spin ? -model.cam.roller_radius * ev.friction_force / model.roller_inertia : 0.0;
-
-  // Powers (physics.md §5). The drive power acts at the roller-side contact
-  // point p = c − r_r n, which makes the balance exact for the tracked pair.
-  const Eigen::Vector2d p = c_cam - model.cam.roller_radius * n;
-  ev.power_drive = sigma * model.omega * (p.x() * force_cam.y() - p.y() * force_cam.x());
-  ev.power_damper = model.damping * ev.v * ev.v;
+  const double shaft_slip = o.motor_speed - o.omega_c;
+  ev.power_damper = model.damping * o.v * o.v + (model.drive == Drive::shaft ? model.shaft_damping * shaft_slip * shaft_slip : 0.0);
   ev.power_hysteresis =
-      ev.delta > 0.0 ? (ev.normal_force - model.contact.elastic_force(ev.delta)) * ev.delta_rate : 0.0;
-  ev.power_friction = -ev.friction_force * ev.slip;
+      o.delta > 0.0 ? (o.normal_force - model.contact.elastic_force(o.delta)) * o.delta_rate : 0.0;
+  ev.power_friction = -o.friction_force * o.slip - (o.guide + o.pivot) * o.v;
 }
 
 void state_jacobian(const Model& model, Workspace& ws, double t, const double* state, double* jacobian) {
-  using Row = Eigen::Matrix<double, 1, 4>;  // gradient over the state (at most y, ẏ, u, Ω)
   const int n = model.state_size;
-  const int iy = 0, iv = 1, iu = model.index_u, iw = model.index_spin;
-  const double sigma = model.direction;
-  Evaluation ev;
-  evaluate(model, ws, t, state, ev);
-  const double phi = sigma * ev.theta;
-  const Eigen::Vector2d c_world(model.cam.offset, model.cam.y0() + ev.y);
-  const Eigen::Vector2d c_cam = rotate(c_world, -phi);
-  const Eigen::Vector2d v_cam = rotate(Eigen::Vector2d(0.0, ev.v) - sigma * model.omega * perp(c_world), -phi);
-  // ∂c/∂y and ∂v_c/∂y, ∂v_c/∂ẏ in the cam frame.
-  const Eigen::Vector2d e_y = rotate(Eigen::Vector2d(0.0, 1.0), -phi);
-  const Eigen::Vector2d dvc_dy = rotate(Eigen::Vector2d(sigma * model.omega, 0.0), -phi);
-
-  // Pair geometry at u and its u-derivatives.
-  const CurvePoint p = model.cam.pitch(ev.pair.u);
-  const Eigen::Vector2d d = c_cam - p.r;
-  const double speed = p.dr.norm();
-  const Eigen::Vector2d& nrm = ev.pair.normal;
-  const double orientation = nrm.dot(Eigen::Vector2d(p.dr.y(), -p.dr.x())) > 0.0 ? 1.0 : -1.0;
-  const Eigen::Vector2d n_u =
-      orientation * Eigen::Vector2d(p.d2r.y(), -p.d2r.x()) / speed - nrm * (p.dr.dot(p.d2r) / (speed * speed));
-  const Eigen::Vector2d t_dir = perp(nrm), t_u = perp(n_u);
-  const double f_u = ev.pair.f_u;
-
-  // ∂u/∂x: a state (differential) or the implicit solution of f(c, u) = 0 (Newton).
-  Row du = Row::Zero();
-  if (iu >= 0) du(iu) = 1.0;
-  else du(iy) = -p.dr.dot(e_y) / f_u;
-  Row dc_n = Row::Zero();  // n · ∂c/∂x
-  dc_n(iy) = nrm.dot(e_y);
-  const Row gap = dc_n + (n_u.dot(d)) * du;
-  Row gap_rate = Row::Zero();
-  gap_rate(iy) = nrm.dot(dvc_dy);
-  gap_rate(iv) = nrm.dot(e_y);
-  gap_rate += n_u.dot(v_cam) * du;
-
-  // Normal force.
-  Row force_n = Row::Zero();
-  if (ev.normal_force > 0.0) {
-    const ForceLaw& law = model.contact;
-    const double delta_n = std::pow(ev.delta, law.exponent);
-    double df_ddelta = law.exponent * law.stiffness * delta_n / ev.delta, df_drate = 0.0;
-    if (law.model == ContactModel::kelvin_voigt) {
-      df_drate = law.damping;
-    } else if (law.model != ContactModel::hertz) {
-      df_ddelta *= 1.0 + law.chi() * ev.delta_rate / ws.v0;
-      df_drate = law.stiffness * delta_n * law.chi() / ws.v0;
-    }
-    force_n = -df_ddelta * gap - df_drate * gap_rate;
+  const PairSolution ps = solve_pair(model, ws, t, state);
+  Jet x[Model::kMaxState];
+  for (int i = 0; i < n; ++i) x[i] = Jet::variable(state[i], i);
+  Jet u = model.index_u >= 0 ? x[model.index_u] : Jet(ps.u);
+  Core<Jet> o;
+  if (model.index_u < 0) {
+    // Newton: u(x) solves f(x, u) = 0, so ∂u/∂x = −(∂f/∂x) / f_u.
+    core(model, ws, t, x, ps, u, o);
+    for (int i = 0; i < n; ++i) u.d[i] = -o.f.d[i] / o.f_u.v;
   }
-
-  // Friction and roller spin.
-  Row force_t = Row::Zero();
-  if (model.has_spin) {
-    Row slip = Row::Zero();
-    slip(iy) = t_dir.dot(dvc_dy);
-    slip(iv) = t_dir.dot(e_y);
-    slip += t_u.dot(v_cam) * du;
-    slip(iw) -= model.cam.roller_radius;
-    const FrictionLaw& fr = model.friction;
-    const double x = ev.slip / fr.regularization_velocity;
-    const double shape = fr.coefficient(ev.slip) / fr.mu;
-    const double dshape = fr.linear_ramp ? (std::abs(x) < 1.0 ? 1.0 / fr.regularization_velocity : 0.0)
-                                         : (1.0 - shape * shape) / fr.regularization_velocity;
-    force_t = -fr.mu * (dshape * ev.normal_force * slip + shape * force_n);
-  }
-
-  // World y-component of the contact force F = F_n n + F_t t (rotated by φ).
-  const double sp = std::sin(phi), cp = std::cos(phi);
-  auto world_y = [&](const Eigen::Vector2d& v) { return sp * v.x() + cp * v.y(); };
-  const Row force_y = world_y(nrm) * force_n + ev.normal_force * world_y(n_u) * du + world_y(t_dir) * force_t +
-                      ev.friction_force * world_y(t_u) * du;
-
-  Eigen::Map<Eigen::MatrixXd> J(jacobian, n, n);
-  J.setZero();
-  J(0, iv) = 1.0;
-  Row accel = force_y;
-  accel(iy) -= model.spring_stiffness;
-  accel(iv) -= model.damping;
-  J.row(1) = (accel / model.mass).head(n);
-  if (iw >= 0) J.row(iw) = (-model.cam.roller_radius / model.roller_inertia * force_t).head(n);
-  if (iu >= 0) {
-    // u̇ = (−α f − P'·v_c) / f_u.
-    Row f = Row::Zero(), pv = Row::Zero(), fu = Row::Zero();
-    f(iy) = p.dr.dot(e_y);
-    f(iu) = f_u;
-    pv(iy) = p.dr.dot(dvc_dy);
-    pv(iv) = p.dr.dot(e_y);
-    pv(iu) = p.d2r.dot(v_cam);
-    fu(iy) = p.d2r.dot(e_y);
-    fu(iu) = p.d3r.dot(d) - 3.0 * p.dr.dot(p.d2r);
-    J.row(iu) = ((-model.tracking_gain * f - pv - ev.u_rate * fu) / f_u).head(n);
-  }
+  core(model, ws, t, x, ps, u, o);
+  Jet x_dot[Model::kMaxState];
+  derivative_from_core(model, o, x_dot);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) jacobian[i + n * j] = x_dot[i].d[j];
 }
 
 void state_derivative(const Model& model, const Evaluation& ev, double* state_dot) {
@@ -274,6 +466,14 @@ void state_derivative(const Model& model, const Evaluation& ev, double* state_do
   state_dot[1] = ev.acceleration;
   if (model.index_u >= 0) state_dot[model.index_u] = ev.u_rate;
   if (model.index_spin >= 0) state_dot[model.index_spin] = ev.spin_acceleration;
+  if (model.index_cam_angle >= 0) {
+    state_dot[model.index_cam_angle] = ev.cam_speed;
+    state_dot[model.index_cam_speed] = ev.cam_acceleration;
+  }
+  if (model.index_motor_angle >= 0) {
+    state_dot[model.index_motor_angle] = ev.motor_speed;
+    state_dot[model.index_motor_speed] = ev.motor_acceleration;
+  }
 }
 
 void quadrature_derivative(const Evaluation& ev, double* q_dot) {
@@ -297,6 +497,11 @@ EnergyTerms energy_terms(const Model& model, const Evaluation& ev) {
   e.spring = f0 * ev.y + 0.5 * k * ev.y * ev.y + (k > 0.0 ? 0.5 * f0 * f0 / k : 0.0);
   e.gravity = model.mass * model.gravity * ev.y;
   e.contact = model.contact.elastic_energy(ev.delta);
+  if (model.drive == Drive::shaft) {
+    e.kinetic += 0.5 * model.cam_inertia * ev.cam_speed * ev.cam_speed;
+    if (model.motor == Motor::torque_speed) e.kinetic += 0.5 * model.motor_inertia * ev.motor_speed * ev.motor_speed;
+    e.spring += 0.5 * model.shaft_stiffness * ev.shaft_twist * ev.shaft_twist;
+  }
   return e;
 }
 
@@ -329,6 +534,15 @@ double jump_speed_rpm(const Model& model) {
   }
   best = std::min(best, omega_at(0.5 * (a + b)));
   return best * 60.0 / kTwoPi;
+}
+
+double rigid_normal_force(const Model& model, double theta) {
+  const LawSample s = model.law->eval(theta);
+  const double x0 = model.spring_stiffness > 0.0 ? model.spring_preload / model.spring_stiffness : 0.0;
+  const double spring = model.spring_stiffness > 0.0 ? model.spring_stiffness * (s.s + x0) : model.spring_preload;
+  const double generalised = model.mass * model.omega * model.omega * s.d2s + model.damping * model.omega * s.ds +
+                             spring + model.mass * model.gravity;
+  return generalised / model.cam->kinematics(theta).g_q;
 }
 
 }  // namespace camdyn

@@ -2,9 +2,16 @@
 // assembled from the scene with only what the scene needs, a mutable
 // Workspace reused across runs, and free functions that evaluate it
 // (Pinocchio style). The state is, in this order and only where needed:
-//   y [m], ẏ [m/s]          follower displacement above its lowest position and its rate
-//   u [rad]                 contact pair parameter, differential tracking only
-//   Ω [rad/s]               roller spin, only with roller inertia and friction
+//   q [m | rad], q̇            follower coordinate (translating: y above its lowest
+//                             position; oscillating: arm rotation φ) and its rate
+//   u [rad]                   contact pair parameter, differential tracking only
+//   Ω [rad/s]                 roller spin, only with roller inertia and friction
+//   θ_c [rad], ω_c [rad/s]    cam angle and speed, shaft drive only
+//   θ_m [rad], ω_m [rad/s]    motor angle and speed, torque–speed motor only
+// The contact is a circle follower (roller, mushroom: its centre against the
+// cam's centre curve, contact/point_curve_tracking.h) or a flat face (a line
+// against the cam contour, contact/line_curve_tracking.h); either way against
+// a PeriodicCurve, so a cam given as a contour plugs in unchanged.
 // Energy flows (drive work, damper, contact hysteresis, friction) are
 // quadratures (physics.md §5), integrated beside the state.
 #pragma once
@@ -19,46 +26,82 @@
 #include "contact/friction.h"
 #include "contact/point_curve_tracking.h"
 #include "geometry/cam_roller.h"
+#include "geometry/cam_synthesis.h"
+#include "geometry/follower_geometry.h"
 #include "geometry/motion_law.h"
+#include "geometry/planar_curve.h"
 #include "io/config.h"
 
 namespace camdyn {
 
 enum class Tracking { differential, newton };
+enum class ContactReduction { circle, line };
+enum class Drive { constant_speed, shaft };
+enum class Motor { constant_speed, torque_speed };
 
 struct Model {
-  std::shared_ptr<const MotionLaw> law;  ///< owned here; `cam.law` points into it
-  TranslatingRollerCam cam;
-  CamGeometryReport geometry;  ///< pressure angle and curvature, checked when the model is built
-  double omega = 0.0;   ///< cam speed |θ̇| [rad/s] (0: cam held still)
+  std::shared_ptr<const MotionLaw> law;
+  FollowerGeometry follower;
+  /// The cam synthesised from the law for this follower (centre curve or contour, checks, rigid kinematics).
+  std::shared_ptr<const SynthesisedCam> cam;
+  /// The cam-frame profile the contact is tracked against: `cam` for a cam
+  /// synthesised from the law; any PeriodicCurve (e.g. a fitted contour, with
+  /// profile_offset = the circle's radius) plugs in here unchanged.
+  std::shared_ptr<const PeriodicCurve> profile_curve;
+  const PeriodicCurve& profile() const { return *profile_curve; }
+  ContactReduction reduction = ContactReduction::circle;
+  double profile_offset = 0.0;  ///< ρ of the circle reduction: 0 against a centre curve [m]
+  CamGeometryReport geometry;   ///< pressure angle and curvature, checked when the model is built
+  double omega = 0.0;   ///< nominal cam speed |θ̇| [rad/s] (0: cam held still); motor speed with a shaft
   int direction = +1;   ///< σ: the cam frame is at angle σθ in the world
   double theta0 = 0.0;  ///< cam angle at t = 0 [rad]
 
-  double mass = 0.0;            ///< follower mass m [kg]
-  double spring_stiffness = 0;  ///< k [N/m]
-  double spring_preload = 0;    ///< spring force at y = 0 [N]
-  double damping = 0.0;         ///< viscous damper c [N s/m]
-  double gravity = 0.0;         ///< g [m/s²], pulling towards the cam
+  double mass = 0.0;            ///< generalised inertia M: follower mass [kg] or arm inertia [kg m²]
+  double spring_stiffness = 0;  ///< k [N/m | N m/rad]
+  double spring_preload = 0;    ///< spring force [N] or torque [N m] at q = 0
+  double damping = 0.0;         ///< viscous damper c [N s/m | N m s/rad]
+  double gravity = 0.0;         ///< g [m/s²], pulling a translating follower towards the cam
 
   ForceLaw contact;
-  FrictionLaw friction;
-  double roller_inertia = 0.0;  ///< [kg m²]
-  bool has_spin = false;        ///< roller spin state with friction
+  FrictionLaw friction;          ///< sliding friction at the contact
+  bool contact_friction = false; ///< friction force at the contact assembled
+  double roller_inertia = 0.0;   ///< [kg m²]
+  bool has_spin = false;         ///< roller spin state (roller with inertia and friction)
+
+  bool has_guide_friction = false;  ///< translating: μ_g |side load| opposing q̇
+  FrictionLaw guide_friction;
+  bool has_pivot_friction = false;  ///< oscillating: μ_p r_pin |contact force| opposing q̇
+  FrictionLaw pivot_friction;
+  double pin_radius = 0.0;          ///< [m]
+
+  Drive drive = Drive::constant_speed;
+  double cam_inertia = 0.0;        ///< J_c [kg m²]
+  double shaft_stiffness = 0.0;    ///< k_s [N m/rad]
+  double shaft_damping = 0.0;      ///< c_s [N m s/rad]
+  Motor motor = Motor::constant_speed;
+  double stall_torque = 0.0;       ///< T₀ [N m]
+  double no_load_speed = 0.0;      ///< ω₀ [rad/s]
+  double motor_inertia = 0.0;      ///< J_m [kg m²]
 
   Tracking tracking = Tracking::differential;
   double tracking_gain = 0.0;  ///< α of ḟ = −α f [1/s]
+  double penetration_limit = 0.0;  ///< a larger δ means the contact model no longer applies [m]
 
   // State layout (−1: not in this scene).
   int state_size = 2;
   int index_u = -1;
   int index_spin = -1;
+  int index_cam_angle = -1, index_cam_speed = -1;
+  int index_motor_angle = -1, index_motor_speed = -1;
+  static constexpr int kMaxState = 8;
   /// W_drive, W_damper, W_hysteresis, W_friction [J], and ∫ max(g, 0) dt [m s].
   static constexpr int kQuadratures = 5;
 
   std::vector<std::string> state_names;  ///< for summary.json `model`
   std::vector<std::string> elements;     ///< force elements assembled
 
-  /// Cam angle along the motion law at time t [rad].
+  /// Nominal cam angle at time t [rad]: the cam's with constant-speed drive,
+  /// the motor's (without the shaft's twist) with a shaft.
   double theta(double t) const { return theta0 + omega * t; }
   /// Number of root functions: gap, plus the force clamp switch where the law has one.
   int root_count() const { return contact.has_clamp_switch() ? 2 : 1; }
@@ -73,24 +116,35 @@ struct Workspace {
   double v0 = 0.01;          ///< approach speed of the current contact episode [m/s]
   double u_warm = 0.0;       ///< Newton warm start: pair parameter at the last accepted state
   long tracking_resets = 0;  ///< global re-initialisations of the pair
+  double motor_phase = 0.0;  ///< constant-speed motor with a shaft: θ_m = θ(t) + motor_phase [rad]
 };
 
 /// Everything the model computes at one (t, state).
 struct Evaluation {
   double theta = 0.0;        ///< cam angle [rad]
-  double y = 0.0, v = 0.0;   ///< follower displacement [m] and rate [m/s]
+  double cam_speed = 0.0;    ///< θ̇ [rad/s]
+  double y = 0.0, v = 0.0;   ///< follower coordinate q [m | rad] and rate
   double spin = 0.0;         ///< roller spin Ω [rad/s] (world frame)
   TrackedPair pair;
   bool tracking_ok = true;
-  double gap = 0.0, gap_rate = 0.0;  ///< g [m], ġ [m/s]
+  double gap = 0.0, gap_rate = 0.0;  ///< g [m], ġ [m/s] (at fixed pair parameter)
   double delta = 0.0, delta_rate = 0.0;
   double normal_force = 0.0;    ///< F_n [N]
-  double friction_force = 0.0;  ///< tangential force on the roller along t = J n [N]
-  double slip = 0.0;            ///< slip velocity of roller over cam [m/s]
+  double friction_force = 0.0;  ///< tangential force on the follower at the contact along t = J n [N]
+  double slip = 0.0;            ///< slip velocity of the follower over the cam at the contact [m/s]
+  double contact_offset = 0.0;  ///< contact point across the follower face from its centre [m]
   Eigen::Vector2d force_world = Eigen::Vector2d::Zero();  ///< contact force on the follower [N]
-  double acceleration = 0.0;    ///< ÿ [m/s²]
+  double generalised_force = 0.0;  ///< contact force on q [N | N m]
+  double cam_torque = 0.0;         ///< contact generalised force on the cam angle [N m]
+  double guide_friction = 0.0;     ///< guide friction force on q [N]
+  double pivot_friction = 0.0;     ///< pivot friction torque on q [N m]
+  double acceleration = 0.0;       ///< q̈
   double spin_acceleration = 0.0;
-  double u_rate = 0.0;          ///< u̇ [rad/s] (differential tracking)
+  double u_rate = 0.0;             ///< u̇ [rad/s] (differential tracking)
+  double shaft_twist = 0.0;        ///< θ_m − θ_c [rad]
+  double shaft_torque = 0.0;       ///< torque of the shaft on the cam [N m]
+  double motor_speed = 0.0, motor_torque = 0.0;
+  double cam_acceleration = 0.0, motor_acceleration = 0.0;
   double power_drive = 0.0, power_damper = 0.0, power_hysteresis = 0.0, power_friction = 0.0;  ///< [W]
 };
 
@@ -105,9 +159,11 @@ void state_derivative(const Model& model, const Evaluation& ev, double* state_do
 /// Quadrature integrands (powers) from an evaluation.
 void quadrature_derivative(const Evaluation& ev, double* q_dot);
 
-/// Analytic Jacobian ∂ẋ/∂x of the state derivative at (t, state), contact,
-/// friction and tracking included, written column-major into `jacobian`
-/// (jacobian[i + n j] = ∂ẋ_i/∂x_j, n = model.state_size). Allocates nothing.
+/// Exact Jacobian ∂ẋ/∂x of the state derivative at (t, state), written
+/// column-major into `jacobian` (jacobian[i + n j] = ∂ẋ_i/∂x_j, n =
+/// model.state_size): the same templated right-hand side evaluated with
+/// forward-mode dual numbers (dynamics/dual.h), the Newton pair parameter
+/// differentiated by the implicit function theorem. Allocates nothing.
 /// Checked against finite differences in tests/dynamics/jacobian_test.cc.
 void state_jacobian(const Model& model, Workspace& ws, double t, const double* state, double* jacobian);
 
@@ -120,9 +176,16 @@ struct EnergyTerms {
 };
 EnergyTerms energy_terms(const Model& model, const Evaluation& ev);
 
-/// The rigid-model critical (jump) speed of physics.md §6 [rpm]:
-/// min over θ with s'' < 0 of sqrt((k (s + x₀) + m g) / (−m s'')). +inf if the
-/// law never decelerates.
+/// The rigid-model critical (jump) speed of physics.md §6 [rpm], in the
+/// generalised coordinate of any follower (the cam must push with
+/// Q = M ω² s'' + k (s + x₀) + m g ≥ 0, and ∂g/∂q > 0 turns Q into a normal
+/// force): min over θ with s'' < 0 of sqrt((k (s + x₀) + m g) / (−M s'')).
+/// +inf if the law never decelerates.
 double jump_speed_rpm(const Model& model);
+
+/// Rigid-model normal contact force at cam angle θ and constant speed [N]:
+/// Q / (∂g/∂q) with Q = M ω² s'' + c ω s' + k (s + x₀) + m g (translating
+/// roller: P / cos φ of physics.md §6). Negative: the follower would need pulling.
+double rigid_normal_force(const Model& model, double theta);
 
 }  // namespace camdyn

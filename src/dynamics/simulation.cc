@@ -17,7 +17,7 @@ namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 constexpr double kRadToDeg = 180.0 / std::numbers::pi;
-constexpr int kMaxState = 4;           // y, ẏ, u, Ω
+constexpr int kMaxState = Model::kMaxState;
 constexpr int kSamplesPerStep = 4;     // dense samples per internal step for the metrics
 
 // The scene as an OdeSystem: the model's evaluation behind SUNDIALS' callbacks.
@@ -62,19 +62,28 @@ std::string where(const Model& model, double t) {
 }
 
 // Initial state: given, or on the law at quasi-static equilibrium (the contact
-// force supplies exactly the law's acceleration).
+// force supplies exactly the law's acceleration); the pair by Newton from the
+// cam angle (global search if that fails); a roller spinning without slip; a
+// shaft twisted to carry the initial cam torque.
 void initial_state(const SceneConfig& scene, const Model& model, Workspace& ws, double* y) {
   const InitialConfig& init = scene.mechanism.follower.initial;
   const double theta = model.theta(0.0);
   const LawSample law = model.law->eval(theta);
-  Model probe = model;  // Newton tracking for the set-up, whatever the run uses
+  // The set-up probe: Newton tracking, no spin, the cam at constant speed.
+  Model probe = model;
   probe.tracking = Tracking::newton;
   probe.index_u = -1;
+  probe.contact_friction = model.contact_friction && !model.has_spin;
   probe.has_spin = false;
+  probe.index_spin = -1;
+  probe.drive = Drive::constant_speed;
+  probe.index_cam_angle = probe.index_cam_speed = probe.index_motor_angle = probe.index_motor_speed = -1;
+  probe.state_size = 2;
   Evaluation ev;
   std::array<double, kMaxState> s{};
   ws.v0 = model.contact.reference_velocity;
   ws.u_warm = theta;
+  ws.motor_phase = 0.0;
 
   if (init.position) {
     s[0] = *init.position;
@@ -92,10 +101,13 @@ void initial_state(const SceneConfig& scene, const Model& model, Workspace& ws, 
     if (excess(hi) >= 0.0) {
       s[0] = hi;
     } else {
+      // Penetrations far below the base radius (metres or, for an arm, radians times its length).
+      const double limit = model.follower.oscillating() ? 0.1 * model.follower.base_radius / model.follower.arm_length
+                                                        : 0.1 * model.follower.base_radius;
       double span = 1e-9;
       while (excess(hi - span) < 0.0) {
         span *= 4.0;
-        if (span > 0.1 * model.cam.base_radius)
+        if (span > limit)
           throw InputError("", "mechanism.follower.initial.position",
                            "no static equilibrium in contact: the contact cannot carry the spring load");
       }
@@ -108,28 +120,35 @@ void initial_state(const SceneConfig& scene, const Model& model, Workspace& ws, 
     }
   }
 
-  // Contact pair by global search, then the remaining states.
-  const double y_axis = model.cam.y0() + s[0];
-  const Eigen::Vector2d c_world(model.cam.offset, y_axis);
-  const double phi = model.direction * theta;
-  const Eigen::Vector2d c_cam(std::cos(phi) * c_world.x() + std::sin(phi) * c_world.y(),
-                              -std::sin(phi) * c_world.x() + std::cos(phi) * c_world.y());
-  double u = theta;
-  TrackedPair pair;
-  if (!global_pair(model.cam, c_cam, theta, u, pair))
-    throw NumericalError("could not find the initial contact pair " + where(model, 0.0));
-  ws.u_warm = u;
+  ws.u_warm = theta;
+  const long resets = ws.tracking_resets;
+  evaluate(probe, ws, 0.0, s.data(), ev);
+  ws.tracking_resets = resets;  // the set-up search is not a loss of tracking
+  if (!ev.tracking_ok) throw NumericalError("could not find the initial contact pair " + where(model, 0.0));
+  ws.u_warm = ev.pair.u;
+  std::fill(y, y + model.state_size, 0.0);
   y[0] = s[0];
   y[1] = s[1];
-  if (model.index_u >= 0) y[model.index_u] = u;
+  if (model.index_u >= 0) y[model.index_u] = ev.pair.u;
+  if (model.index_cam_angle >= 0) {
+    y[model.index_cam_angle] = theta;
+    y[model.index_cam_speed] = model.omega;
+  }
+  if (model.index_motor_angle >= 0) {
+    y[model.index_motor_angle] = theta;
+    y[model.index_motor_speed] = model.omega;
+  }
   if (model.index_spin >= 0) {
-    // Rolling without slip at the start: choose Ω so that the slip is zero.
-    y[model.index_spin] = 0.0;
+    // Rolling without slip at the start: slip = slip(Ω = 0) − r_r Ω = 0.
     evaluate(model, ws, 0.0, y, ev);
-    y[model.index_spin] = model.direction * model.omega +
-                          (ev.slip + ev.spin * model.cam.roller_radius -
-                           model.direction * model.omega * model.cam.roller_radius) /
-                              model.cam.roller_radius;
+    y[model.index_spin] = ev.slip / model.follower.radius;
+  }
+  if (model.drive == Drive::shaft) {
+    // Twist the shaft so that it carries the contact torque on the cam.
+    evaluate(model, ws, 0.0, y, ev);
+    const double twist = -ev.cam_torque / model.shaft_stiffness;
+    if (model.index_motor_angle >= 0) y[model.index_motor_angle] += twist;
+    else ws.motor_phase = twist;
   }
 }
 
@@ -163,13 +182,15 @@ RunPlan plan(const SceneConfig& scene, const Model& model) {
 }  // namespace
 
 std::vector<std::string> TimeSeries::column_names() {
-  return {"time", "cam_angle_deg", "follower_position", "follower_velocity", "follower_acceleration",
-          "kinematic_position", "gap", "contact_force", "friction_force", "energy_residual"};
+  return {"time",   "cam_angle_deg", "follower_position", "follower_velocity", "follower_acceleration",
+          "kinematic_position", "gap", "contact_force", "friction_force", "energy_residual",
+          "contact_offset", "cam_speed_rpm"};
 }
 
 std::vector<const std::vector<double>*> TimeSeries::columns() const {
   return {&time, &cam_angle_deg, &follower_position, &follower_velocity, &follower_acceleration,
-          &kinematic_position, &gap, &contact_force, &friction_force, &energy_residual};
+          &kinematic_position, &gap, &contact_force, &friction_force, &energy_residual,
+          &contact_offset, &cam_speed_rpm};
 }
 
 SimulationResult simulate(const SceneConfig& scene, const Model& model, Workspace& ws,
@@ -252,6 +273,8 @@ SimulationResult simulate(const SceneConfig& scene, const Model& model, Workspac
     series.gap.push_back(ev.gap);
     series.contact_force.push_back(ev.normal_force);
     series.friction_force.push_back(ev.friction_force);
+    series.contact_offset.push_back(ev.contact_offset);
+    series.cam_speed_rpm.push_back(ev.cam_speed * 60.0 / kTwoPi);
   };
   long next_output = 0;
   size_t next_sample = 0;
@@ -361,11 +384,19 @@ SimulationResult simulate(const SceneConfig& scene, const Model& model, Workspac
       integrator.reinit(t, y.data(), q.data());
     }
 
-    // A penetration beyond half the roller radius means the contact is far too
-    // soft for its load: the compliant-contact model no longer describes it.
-    if (ev.delta > 0.5 * model.cam.roller_radius)
-      throw NumericalError("contact penetration " + std::to_string(ev.delta) +
-                           " m exceeds half the roller radius (the contact stiffness is far too low for the load) " +
+    // A penetration beyond half the roller radius (a tenth of the base radius
+    // for a flat face) means the contact is far too soft for its load: the
+    // compliant-contact model no longer describes it.
+    if (ev.delta > model.penetration_limit)
+      throw NumericalError("contact penetration " + std::to_string(ev.delta) + " m exceeds " +
+                           std::to_string(model.penetration_limit) +
+                           " m (the contact stiffness is far too low for the load) " + where(model, t));
+    // A flat face whose contact point runs off its edge: the design check
+    // (check_cam) passed on the law, so the dynamics drove it there.
+    if (model.reduction == ContactReduction::line && ev.delta > 0.0 &&
+        std::abs(ev.contact_offset) > 0.5 * model.follower.face_width)
+      throw NumericalError("the contact point left the flat face (" + std::to_string(ev.contact_offset) +
+                           " m from its centre, face_width " + std::to_string(model.follower.face_width) + " m) " +
                            where(model, t));
 
     const SolverCounters c = integrator.counters();

@@ -16,7 +16,9 @@ namespace camdyn {
 /// Columns of timeseries.csv (interface.md), one entry per output step.
 struct TimeSeries {
   std::vector<double> time, cam_angle_deg, follower_position, follower_velocity, follower_acceleration,
-      kinematic_position, gap, contact_force, friction_force, energy_residual;
+      kinematic_position, gap, contact_force, friction_force, energy_residual,
+      contact_offset,  ///< contact point across the follower face from its centre [m]
+      cam_speed_rpm;   ///< cam speed [rpm] (constant unless the drive is a shaft)
   static std::vector<std::string> column_names();
   std::vector<const std::vector<double>*> columns() const;
 };

@@ -22,7 +22,7 @@ int find_span(int n, int p, double x, const std::vector<double>& knots) {
 BasisDerivatives basis_derivatives(int span, double x, int p, const std::vector<double>& knots) {
   assert(p >= 0 && p <= kMaxSplineDegree);
   constexpr int kN = kMaxSplineDegree + 1;
-  const int nd = std::min(3, p);  // derivatives above p vanish
+  const int nd = std::min(4, p);  // derivatives above p vanish
   // ndu: basis functions (upper triangle) and knot differences (lower triangle).
   double ndu[kN][kN];
   double left[kN], right[kN];
@@ -95,15 +95,20 @@ ClampedBSpline::ClampedBSpline(int degree, std::vector<double> knots, std::vecto
   assert(knots_.size() == coefficients_.size() + degree_ + 1);
 }
 
-Derivatives3 ClampedBSpline::eval(double x) const {
+Derivatives4 ClampedBSpline::eval4(double x) const {
   const int n = static_cast<int>(coefficients_.size());
   x = std::clamp(x, knots_.front(), knots_.back());
   const int span = find_span(n, degree_, x, knots_);
   const BasisDerivatives b = basis_derivatives(span, x, degree_, knots_);
-  Derivatives3 out{};
-  for (int k = 0; k < 4; ++k)
+  Derivatives4 out{};
+  for (int k = 0; k < 5; ++k)
     for (int j = 0; j <= degree_; ++j) out[k] += b.ders[k][j] * coefficients_[span - degree_ + j];
   return out;
+}
+
+Derivatives3 ClampedBSpline::eval(double x) const {
+  const Derivatives4 d = eval4(x);
+  return {d[0], d[1], d[2], d[3]};
 }
 
 // ---------------------------------------------------------------- periodic
@@ -157,15 +162,20 @@ double PeriodicBSpline::reduce(double x) const {
   return y;
 }
 
-Derivatives3 PeriodicBSpline::eval(double x) const {
+Derivatives4 PeriodicBSpline::eval4(double x) const {
   const int p = degree_;
   const double y = reduce(x);
   const int span = find_span(m_ + p, p, y, knots_);
   const BasisDerivatives b = basis_derivatives(span, y, p, knots_);
-  Derivatives3 out{};
-  for (int k = 0; k < 4; ++k)
+  Derivatives4 out{};
+  for (int k = 0; k < 5; ++k)
     for (int j = 0; j <= p; ++j) out[k] += b.ders[k][j] * coefficients_[(span - p + j) % m_];
   return out;
+}
+
+Derivatives3 PeriodicBSpline::eval(double x) const {
+  const Derivatives4 d = eval4(x);
+  return {d[0], d[1], d[2], d[3]};
 }
 
 std::vector<double> PeriodicBSpline::breakpoints() const {

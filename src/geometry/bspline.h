@@ -16,6 +16,9 @@ inline constexpr int kMaxSplineDegree = 9;
 
 /// Value and first three derivatives of a scalar function at one point.
 using Derivatives3 = std::array<double, 4>;
+/// Value and first four derivatives (the fourth is needed by the contour of a
+/// flat-faced follower's cam, whose third derivative involves s'''').
+using Derivatives4 = std::array<double, 5>;
 
 /// Index i of the knot span with knots[i] ≤ x < knots[i+1], restricted to
 /// [p, n − 1] (n control points), so that x outside the domain (or at its right
@@ -23,9 +26,9 @@ using Derivatives3 = std::array<double, 4>;
 int find_span(int n, int p, double x, const std::vector<double>& knots);
 
 /// Nonzero basis functions N_{span−p+j, p} (j = 0..p) at x and their derivatives:
-/// ders[k][j] = d^k N_{span−p+j, p}/dx^k for k = 0..3 (k > p gives 0). NURBS Book A2.3.
+/// ders[k][j] = d^k N_{span−p+j, p}/dx^k for k = 0..4 (k > p gives 0). NURBS Book A2.3.
 struct BasisDerivatives {
-  std::array<std::array<double, kMaxSplineDegree + 1>, 4> ders{};
+  std::array<std::array<double, kMaxSplineDegree + 1>, 5> ders{};
 };
 BasisDerivatives basis_derivatives(int span, double x, int p, const std::vector<double>& knots);
 
@@ -42,6 +45,8 @@ class ClampedBSpline {
 
   /// Value and x-derivatives; x is clamped to the domain.
   Derivatives3 eval(double x) const;
+  /// Value and four x-derivatives.
+  Derivatives4 eval4(double x) const;
 
   int degree() const { return degree_; }
   const std::vector<double>& knots() const { return knots_; }
@@ -67,6 +72,8 @@ class PeriodicBSpline {
 
   /// Value and x-derivatives at any real x (reduced modulo the period).
   Derivatives3 eval(double x) const;
+  /// Value and four x-derivatives.
+  Derivatives4 eval4(double x) const;
 
   int degree() const { return degree_; }
   double period() const { return period_; }

@@ -32,6 +32,8 @@ struct TranslatingRollerCam {
 
   /// Pitch curve P(u) in the cam frame and its u-derivatives to third order.
   CurvePoint pitch(double u) const;
+  /// The pitch curve as the tracked profile (contact/point_curve_tracking.h).
+  CurvePoint at(double u) const { return pitch(u); }
 
   /// Cam contour (inner offset of the pitch curve by r_r) in the cam frame.
   Eigen::Vector2d contour(double u) const;
@@ -57,6 +59,8 @@ struct CamGeometryReport {
   double max_pressure_angle_at_deg = 0.0;   ///< cam angle where it occurs
   double min_radius_of_curvature = 0.0;     ///< min |ρ| of the cam contour [m]
   double min_radius_of_curvature_at_deg = 0.0;
+  double max_face_offset = 0.0;         ///< flat face: max |contact offset| from the face centre [m] (0 otherwise)
+  double max_face_offset_at_deg = 0.0;
 };
 
 /// Samples the cam over a full turn (at least `samples` points, refined near

@@ -38,7 +38,8 @@ class Cycloidal final : public NormalisedRise {
  public:
   LawSample eval(double x) const override {
     const double w = kTwoPi * x;
-    return {x - std::sin(w) / kTwoPi, 1.0 - std::cos(w), kTwoPi * std::sin(w), kTwoPi * kTwoPi * std::cos(w)};
+    return {x - std::sin(w) / kTwoPi, 1.0 - std::cos(w), kTwoPi * std::sin(w), kTwoPi * kTwoPi * std::cos(w),
+            -kTwoPi * kTwoPi * kTwoPi * std::sin(w)};
   }
 };
 
@@ -48,7 +49,7 @@ class Harmonic final : public NormalisedRise {
   LawSample eval(double x) const override {
     const double w = kPi * x;
     return {0.5 * (1.0 - std::cos(w)), 0.5 * kPi * std::sin(w), 0.5 * kPi * kPi * std::cos(w),
-            -0.5 * kPi * kPi * kPi * std::sin(w)};
+            -0.5 * kPi * kPi * kPi * std::sin(w), -0.5 * kPi * kPi * kPi * kPi * std::cos(w)};
   }
 };
 
@@ -57,16 +58,16 @@ class Polynomial final : public NormalisedRise {
  public:
   explicit Polynomial(std::array<double, 8> c) : c_(c) {}
   LawSample eval(double x) const override {
-    double d[4] = {0.0, 0.0, 0.0, 0.0};
+    double d[5] = {0.0, 0.0, 0.0, 0.0, 0.0};
     // Horner on each derivative: d^k/dx^k Σ c_i x^i = Σ_{i ≥ k} c_i i!/(i − k)! x^{i − k}.
-    for (int k = 0; k < 4; ++k) {
+    for (int k = 0; k < 5; ++k) {
       for (int i = 7; i >= k; --i) {
         double falling = 1.0;
         for (int j = 0; j < k; ++j) falling *= i - j;
         d[k] = d[k] * x + c_[i] * falling;
       }
     }
-    return {d[0], d[1], d[2], d[3]};
+    return {d[0], d[1], d[2], d[3], d[4]};
   }
 
  private:
@@ -106,7 +107,7 @@ class PiecewiseSinusoidRise final : public NormalisedRise {
     std::size_t i = spans_.size() - 1;
     while (i > 0 && x < spans_[i].x0) --i;
     const LawSample u = unscaled(spans_[i], x - spans_[i].x0);
-    return {scale_ * u.s, scale_ * u.ds, scale_ * u.d2s, scale_ * u.d3s};
+    return {scale_ * u.s, scale_ * u.ds, scale_ * u.d2s, scale_ * u.d3s, scale_ * u.d4s};
   }
 
  private:
@@ -116,7 +117,7 @@ class PiecewiseSinusoidRise final : public NormalisedRise {
     return {
         sp.f0 + sp.v0 * t + 0.5 * sp.c0 * t * t - k * ((std::sin(phase) - std::sin(sp.psi)) / w - t * std::cos(sp.psi)),
         sp.v0 + sp.c0 * t - k * (std::cos(phase) - std::cos(sp.psi)), sp.c0 + sp.c1 * std::sin(phase),
-        sp.c1 * w * std::cos(phase)};
+        sp.c1 * w * std::cos(phase), -sp.c1 * w * w * std::sin(phase)};
   }
 
   std::vector<Span> spans_;
@@ -152,8 +153,8 @@ class SplineRise final : public NormalisedRise {
  public:
   explicit SplineRise(ClampedBSpline spline) : spline_(std::move(spline)) {}
   LawSample eval(double x) const override {
-    const Derivatives3 d = spline_.eval(x);
-    return {d[0], d[1], d[2], d[3]};
+    const Derivatives4 d = spline_.eval4(x);
+    return {d[0], d[1], d[2], d[3], d[4]};
   }
 
  private:
@@ -165,8 +166,8 @@ class PeriodicShape final : public NormalisedRise {
  public:
   explicit PeriodicShape(PeriodicBSpline spline) : spline_(std::move(spline)) {}
   LawSample eval(double x) const override {
-    const Derivatives3 d = spline_.eval(x);
-    return {d[0], d[1], d[2], d[3]};
+    const Derivatives4 d = spline_.eval4(x);
+    return {d[0], d[1], d[2], d[3], d[4]};
   }
 
  private:
@@ -466,11 +467,11 @@ LawSample MotionLaw::eval(double theta) const {
   const auto it =
       std::upper_bound(pieces_.begin(), pieces_.end(), t, [](double v, const Piece& pc) { return v < pc.start; });
   const Piece& pc = it == pieces_.begin() ? pieces_.front() : *(it - 1);
-  if (!pc.shape) return {pc.base, 0.0, 0.0, 0.0};
+  if (!pc.shape) return {pc.base, 0.0, 0.0, 0.0, 0.0};
   const double len = pc.end - pc.start;
   const LawSample f = pc.shape->eval((t - pc.start) / len);
-  const double k1 = pc.lift / len, k2 = k1 / len, k3 = k2 / len;
-  return {pc.base + pc.lift * f.s, k1 * f.ds, k2 * f.d2s, k3 * f.d3s};
+  const double k1 = pc.lift / len, k2 = k1 / len, k3 = k2 / len, k4 = k3 / len;
+  return {pc.base + pc.lift * f.s, k1 * f.ds, k2 * f.d2s, k3 * f.d3s, k4 * f.d4s};
 }
 
 MotionLaw build_motion_law(const MotionLawConfig& config, const std::string& file, const std::string& path) {

@@ -20,6 +20,7 @@ struct LawSample {
   double ds = 0.0;   ///< ds/dθ [m/rad]
   double d2s = 0.0;  ///< d²s/dθ² [m/rad²]
   double d3s = 0.0;  ///< d³s/dθ³ [m/rad³]
+  double d4s = 0.0;  ///< d⁴s/dθ⁴ [m/rad⁴] (the flat-faced follower's cam contour needs it to third order)
 };
 
 /// A normalised rise f(x) on x ∈ [0, 1] with f(0) = 0, f(1) = 1; derivatives in x.

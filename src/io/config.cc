@@ -109,8 +109,30 @@ void visit(A& a, MotionLawConfig& m) {
 // ---------------------------------------------------------------- mechanism
 
 template <class A>
+void visit(A& a, MotorConfig& m) {
+  a.field("type", m.type, one_of({"constant_speed", "torque_speed"}));
+  if (m.type == "torque_speed") {
+    a.field("stall_torque", m.stall_torque, positive());
+    a.field("no_load_rpm", m.no_load_rpm, positive());
+    a.field("inertia", m.inertia, positive());
+  } else {
+    a.forbid({"stall_torque", "no_load_rpm", "inertia"},
+             "only a 'torque_speed' motor has 'stall_torque', 'no_load_rpm' and 'inertia'");
+  }
+}
+
+template <class A>
 void visit(A& a, DriveConfig& d) {
-  a.field("type", d.type, one_of({"constant_speed"}, {"shaft"}));
+  a.field("type", d.type, one_of({"constant_speed", "shaft"}));
+  if (d.type == "shaft") {
+    a.field("inertia", d.inertia, positive());
+    a.field("torsional_stiffness", d.torsional_stiffness, positive());
+    a.field("torsional_damping", d.torsional_damping, non_negative());
+    a.field("motor", d.motor);
+  } else {
+    a.forbid({"inertia", "torsional_stiffness", "torsional_damping", "motor"},
+             "only a 'shaft' drive has 'inertia', 'torsional_stiffness', 'torsional_damping' and 'motor'");
+  }
 }
 
 template <class A>
@@ -125,9 +147,19 @@ void visit(A& a, CamConfig& c) {
 
 template <class A>
 void visit(A& a, ShapeConfig& s) {
-  a.field("type", s.type, one_of({"roller"}, {"flat", "mushroom"}));
+  a.field("type", s.type, one_of({"roller", "flat", "mushroom"}));
+  if (s.type == "flat") {
+    a.forbid({"radius", "inertia"}, "a flat face has 'face_width' only");
+    a.field("face_width", s.face_width, positive());
+    return;
+  }
+  a.forbid({"face_width"}, "only a flat face has 'face_width'");
   a.field("radius", s.radius, positive());
-  a.field("inertia", s.inertia, non_negative());
+  if (s.type == "roller") {
+    a.field("inertia", s.inertia, non_negative());
+  } else {
+    a.forbid({"inertia"}, "a mushroom face is fixed to the follower (it does not spin): no 'inertia'");
+  }
 }
 
 template <class A>
@@ -143,13 +175,48 @@ void visit(A& a, InitialConfig& i) {
 }
 
 template <class A>
+void visit(A& a, GuideFrictionConfig& g) {
+  a.field("mu", g.mu, non_negative());
+  a.field("regularization_velocity", g.regularization_velocity, positive());
+}
+
+template <class A>
+void visit(A& a, PivotFrictionConfig& p) {
+  a.field("mu", p.mu, non_negative());
+  a.field("pin_radius", p.pin_radius, positive());
+  a.field("regularization_velocity", p.regularization_velocity, positive());
+}
+
+template <class A>
 void visit(A& a, FollowerConfig& f) {
-  a.field("motion", f.motion, one_of({"translating"}, {"oscillating"}));
-  a.field("offset", f.offset);
+  a.field("motion", f.motion, one_of({"translating", "oscillating"}));
+  if (f.motion == "oscillating") {
+    a.forbid({"offset", "mass", "guide_friction"},
+             "an oscillating follower has 'pivot', 'arm_length', 'inertia' and 'pivot_friction' instead of "
+             "'offset', 'mass' and 'guide_friction'");
+    a.field("pivot", f.pivot, non_empty());
+    a.require(f.pivot.empty() || f.pivot.size() == 2, "pivot",
+              "expected [x, y] [m], got " + std::to_string(f.pivot.size()) + " numbers");
+    a.field("arm_length", f.arm_length, positive());
+  } else {
+    a.forbid({"pivot", "arm_length", "inertia", "pivot_friction"},
+             "'pivot', 'arm_length', 'inertia' and 'pivot_friction' are for an oscillating follower "
+             "(motion: \"oscillating\")");
+    a.field("offset", f.offset);
+  }
   a.field("shape", f.shape);
-  a.field("mass", f.mass, positive());
+  if (f.motion == "oscillating") {
+    a.field("inertia", f.inertia, positive());
+  } else {
+    a.field("mass", f.mass, positive());
+  }
   a.field("spring", f.spring);
   a.field("damping", f.damping, non_negative());
+  if (f.motion == "oscillating") {
+    a.field("pivot_friction", f.pivot_friction);
+  } else {
+    a.field("guide_friction", f.guide_friction);
+  }
   a.field("initial", f.initial);
 }
 
@@ -215,17 +282,27 @@ void visit(A& a, MechanismConfig& m) {
   a.field("cam", m.cam);
   a.field("follower", m.follower);
   a.field("contact", m.contact);
-  const double reach = m.cam.base_radius + m.follower.shape.radius;
-  a.require(std::abs(m.follower.offset) < reach, "follower.offset",
-            "|offset| must be < base_radius + roller radius = " + format_shortest(reach) +
-                " m, got " + format_shortest(m.follower.offset));
-  if (m.follower.motion == "translating") {
-    const auto& segments = m.cam.motion_law.segments;
-    for (std::size_t i = 0; i < segments.size(); ++i) {
-      a.require(!segments[i].lift_deg,
-                "cam.motion_law.segments[" + std::to_string(i) + "].lift_deg",
+  const bool translating = m.follower.motion == "translating";
+  if (translating && m.follower.shape.type != "flat") {
+    const double reach = m.cam.base_radius + m.follower.shape.radius;
+    a.require(std::abs(m.follower.offset) < reach, "follower.offset",
+              "|offset| must be < base_radius + roller radius = " + format_shortest(reach) +
+                  " m, got " + format_shortest(m.follower.offset));
+  }
+  const auto& segments = m.cam.motion_law.segments;
+  for (std::size_t i = 0; i < segments.size(); ++i) {
+    const std::string at = "cam.motion_law.segments[" + std::to_string(i) + "]";
+    if (translating) {
+      a.require(!segments[i].lift_deg, at + ".lift_deg",
                 "'lift_deg' is for an oscillating follower; a translating one needs 'lift' [m]");
+    } else {
+      a.require(!segments[i].lift, at + ".lift",
+                "an oscillating follower's law is the arm rotation: give 'lift_deg' [deg], not 'lift' [m]");
     }
+  }
+  if (!translating) {
+    a.require(!m.cam.motion_law.spline && !m.cam.motion_law.table, "cam.motion_law",
+              "an oscillating follower needs 'segments' with 'lift_deg' (a spline or table law is in metres)");
   }
 }
 
@@ -291,6 +368,9 @@ void visit(A& a, SceneConfig& s) {
   a.forbid({"extends"}, "'extends' is resolved when the file is loaded (load_config_json)");
   a.field("mechanism", s.mechanism);
   a.field("gravity", s.gravity);
+  a.require(s.gravity == 0.0 || s.mechanism.follower.motion == "translating", "gravity",
+            "gravity on an oscillating arm is not modelled (its centre of mass is not known): set it to 0 and "
+            "fold the arm's weight into the spring preload");
   a.field("simulation", s.simulation);
   a.field("integrator", s.integrator);
   check_run_control(a, s);

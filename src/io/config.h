@@ -63,8 +63,24 @@ struct MotionLawConfig {
 
 // ---------------------------------------------------------------- mechanism
 
+/// The motor of a shaft drive (`mechanism.cam.drive.motor`).
+struct MotorConfig {
+  std::string type = "constant_speed";  ///< "constant_speed" (motor angle = ω t at cam.rpm) or "torque_speed"
+  double stall_torque = 0.0;  ///< torque_speed: T₀ at zero speed [N m], > 0
+  double no_load_rpm = 0.0;   ///< torque_speed: speed where the torque falls to 0 [rpm], > 0
+  double inertia = 0.0;       ///< torque_speed: rotor inertia J_m [kg m^2], > 0
+
+  bool operator==(const MotorConfig&) const = default;
+};
+
+/// `mechanism.cam.drive`: the cam at constant speed, or a camshaft degree of
+/// freedom driven through a torsionally compliant shaft.
 struct DriveConfig {
-  std::string type = "constant_speed";  ///< "constant_speed" (shaft: a later issue)
+  std::string type = "constant_speed";  ///< "constant_speed" or "shaft"
+  double inertia = 0.0;              ///< shaft: cam + camshaft inertia J_c [kg m^2], > 0
+  double torsional_stiffness = 0.0;  ///< shaft: k_s between motor and cam [N m/rad], > 0
+  double torsional_damping = 0.0;    ///< shaft: c_s [N m s/rad], >= 0
+  MotorConfig motor;                 ///< shaft: the motor
 
   bool operator==(const DriveConfig&) const = default;
 };
@@ -81,9 +97,10 @@ struct CamConfig {
 };
 
 struct ShapeConfig {
-  std::string type = "roller";  ///< "roller" (flat, mushroom: a later issue)
-  double radius = 0.0;          ///< r_r [m], > 0
-  double inertia = 0.0;         ///< roller spin inertia about its axle [kg m^2], >= 0
+  std::string type = "roller";  ///< "roller", "flat" or "mushroom"
+  double radius = 0.0;          ///< roller / mushroom: r_r or R [m], > 0
+  double inertia = 0.0;         ///< roller: spin inertia about its axle [kg m^2], >= 0
+  double face_width = 0.0;      ///< flat: width of the face [m], > 0
 
   bool operator==(const ShapeConfig&) const = default;
 };
@@ -102,14 +119,36 @@ struct InitialConfig {
   bool operator==(const InitialConfig&) const = default;
 };
 
+/// Guide friction of a translating follower: μ_g |side load| opposing ẏ.
+struct GuideFrictionConfig {
+  double mu = 0.0;                        ///< μ_g [-], >= 0
+  double regularization_velocity = 1e-4;  ///< [m/s], > 0
+
+  bool operator==(const GuideFrictionConfig&) const = default;
+};
+
+/// Pivot friction of an oscillating follower: μ_p r_pin |contact force| opposing φ̇.
+struct PivotFrictionConfig {
+  double mu = 0.0;                        ///< μ_p [-], >= 0
+  double pin_radius = 0.0;                ///< r_pin [m], > 0
+  double regularization_velocity = 1e-4;  ///< sliding speed at the pin surface [m/s], > 0
+
+  bool operator==(const PivotFrictionConfig&) const = default;
+};
+
 struct FollowerConfig {
-  std::string motion = "translating";  ///< "translating" (oscillating: a later issue)
-  double offset = 0.0;                 ///< e: follower axis is the line x = e [m]
+  std::string motion = "translating";  ///< "translating" or "oscillating"
+  double offset = 0.0;                 ///< translating: the follower axis is the line x = e [m]
+  std::vector<double> pivot;           ///< oscillating: [x, y] of the arm pivot, cam frame at angle 0 [m]
+  double arm_length = 0.0;             ///< oscillating: pivot to roller centre (flat: to the face centre) [m], > 0
   ShapeConfig shape;
-  double mass = 0.0;     ///< m [kg], > 0
-  SpringConfig spring;
-  double damping = 0.0;  ///< viscous damper c [N s/m], >= 0
-  InitialConfig initial;
+  double mass = 0.0;     ///< translating: m [kg], > 0
+  double inertia = 0.0;  ///< oscillating: arm inertia about the pivot [kg m^2], > 0
+  SpringConfig spring;   ///< oscillating: torsional, stiffness [N m/rad] and preload [N m]
+  double damping = 0.0;  ///< viscous damper c [N s/m] (oscillating [N m s/rad]), >= 0
+  std::optional<GuideFrictionConfig> guide_friction;  ///< translating only
+  std::optional<PivotFrictionConfig> pivot_friction;  ///< oscillating only
+  InitialConfig initial;  ///< oscillating: position [rad], velocity [rad/s]
 
   bool operator==(const FollowerConfig&) const = default;
 };

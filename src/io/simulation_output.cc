@@ -53,14 +53,30 @@ Json error_estimate_json(const ErrorEstimate& e) {
 
 }  // namespace
 
-double rigid_contact_force(const Model& model, double theta) {
-  const LawSample s = model.law->eval(theta);
-  const double x0 = model.spring_stiffness > 0.0 ? model.spring_preload / model.spring_stiffness : 0.0;
-  const double spring = model.spring_stiffness > 0.0 ? model.spring_stiffness * (s.s + x0) : model.spring_preload;
-  const double axial = model.mass * model.omega * model.omega * s.d2s + model.damping * model.omega * s.ds + spring +
-                       model.mass * model.gravity;
-  return axial / std::cos(model.cam.pressure_angle(theta));
+double rigid_contact_force(const Model& model, double theta) { return rigid_normal_force(model, theta); }
+
+namespace {
+
+std::string follower_name(const Model& model) {
+  const FollowerGeometry& f = model.follower;
+  const char* shape = f.shape == FollowerShape::roller ? "roller" : f.shape == FollowerShape::flat ? "flat" : "mushroom";
+  return std::string(f.oscillating() ? "oscillating_" : "translating_") + shape;
 }
+
+std::string drive_name(const Model& model) {
+  if (model.drive == Drive::shaft)
+    return model.motor == Motor::torque_speed ? "shaft:torque_speed_motor" : "shaft:constant_speed_motor";
+  return model.omega > 0.0 ? "constant_speed" : "stationary";
+}
+
+std::string contact_pair_name(const Model& model) {
+  if (model.reduction == ContactReduction::line)
+    return "flat face: line against the cam contour (one-parameter reduction)";
+  return std::string(model.follower.shape == FollowerShape::roller ? "roller" : "mushroom") +
+         ": circle centre against the pitch curve (one-parameter reduction)";
+}
+
+}  // namespace
 
 Json summary_json(const SceneConfig& scene, const Model& model, const SimulationResult& result) {
   const SolverSummary& s = result.solver;
@@ -90,8 +106,9 @@ Json summary_json(const SceneConfig& scene, const Model& model, const Simulation
                           {"states", model.state_names},
                           {"elements", model.elements},
                           {"quadratures", {"drive_work", "damper_work", "hysteresis_work", "friction_work"}},
-                          {"cam", model.omega > 0.0 ? "constant_speed" : "stationary"},
-                          {"contact_pair", "roller: point against pitch curve (one-parameter reduction)"}};
+                          {"cam", drive_name(model)},
+                          {"follower", follower_name(model)},
+                          {"contact_pair", contact_pair_name(model)}};
   summary["config"] = to_json(scene);
   return summary;
 }
@@ -101,7 +118,10 @@ Report simulation_report(const SceneConfig& scene, const Model& model, const Sim
   const TimeSeries& ts = result.series;
   Report report;
   report.title = "camdyn: " + scene.name;
-  report.subtitle = "simulate — translating roller follower, contact model " + scene.mechanism.contact.model;
+  std::string follower = follower_name(model);
+  for (char& c : follower)
+    if (c == '_') c = ' ';
+  report.subtitle = "simulate — " + follower + " follower, contact model " + scene.mechanism.contact.model;
   report.facts = {{"cam speed", format(scene.mechanism.cam.rpm, "rpm")},
                   {"rigid-model jump speed", format(m.jump_speed_rpm, "rpm")},
                   {"simulated", format(result.end_time, "s")},
@@ -148,9 +168,12 @@ Report simulation_report(const SceneConfig& scene, const Model& model, const Sim
     for (size_t i = 0; i < v.size(); ++i) out[i] = v[i] * k;
     return out;
   };
-  report.plots.push_back(Plot{"Follower motion against the motion law", xlabel, "displacement [mm]",
-                          {{"follower", x, scaled(ts.follower_position, 1e3)},
-                           {"motion law", x, scaled(ts.kinematic_position, 1e3)}}});
+  const bool arm = model.follower.oscillating();  // follower columns in rad: plotted in degrees
+  const double motion_scale = arm ? kRadToDeg : 1e3;
+  report.plots.push_back(Plot{"Follower motion against the motion law", xlabel,
+                          arm ? "arm angle [deg]" : "displacement [mm]",
+                          {{"follower", x, scaled(ts.follower_position, motion_scale)},
+                           {"motion law", x, scaled(ts.kinematic_position, motion_scale)}}});
   report.plots.push_back(Plot{"Gap between roller and cam (> 0 separated, < 0 penetration)", xlabel, "gap [µm]",
                           {{"gap", x, scaled(ts.gap, 1e6)}}});
   Plot force{"Contact force", xlabel, "force [N]", {{"contact force", x, ts.contact_force}}};
@@ -159,7 +182,7 @@ Report simulation_report(const SceneConfig& scene, const Model& model, const Sim
     for (size_t i = 0; i < x.size(); ++i) rigid[i] = rigid_contact_force(model, x[i] / kRadToDeg);
     force.series.push_back({"rigid model", x, rigid});
   }
-  if (model.has_spin) force.series.push_back({"friction force", x, ts.friction_force});
+  if (model.contact_friction) force.series.push_back({"friction force", x, ts.friction_force});
   report.plots.push_back(std::move(force));
   report.plots.push_back(Plot{"Energy balance residual (physics.md §5)", "time [s]", "(E − E₀) / scale [–]",
                           {{"energy residual", ts.time, ts.energy_residual}}});

@@ -107,7 +107,7 @@ TEST(Cli, RunWritesEveryOutputWithoutNaN) {
   std::getline(csv, header);
   EXPECT_EQ(header,
             "time,cam_angle_deg,follower_position,follower_velocity,follower_acceleration,kinematic_position,gap,"
-            "contact_force,friction_force,energy_residual");
+            "contact_force,friction_force,energy_residual,contact_offset,cam_speed_rpm");
   std::string line;
   int rows = 0;
   while (std::getline(csv, line)) {

@@ -12,7 +12,7 @@ namespace {
 // An ellipse x = a cos u, y = b sin u (counter-clockwise), star-shaped about the origin.
 struct Ellipse {
   double a = 0.05, b = 0.03;
-  CurvePoint pitch(double u) const {
+  CurvePoint at(double u) const {
     const double c = std::cos(u), s = std::sin(u);
     return {{a * c, b * s}, {-a * s, b * c}, {-a * c, -b * s}, {a * s, -b * c}};
   }
@@ -51,7 +51,7 @@ TEST(Tracking, NewtonFindsTheFootPointOfAGeneralPoint) {
   EXPECT_NEAR(std::abs(pair.gap), (c - pair.point).norm(), 1e-15);
   // Brute force minimum distance over a fine sampling agrees.
   double best = INFINITY;
-  for (int i = 0; i < 200000; ++i) best = std::min(best, (c - e.pitch(2 * std::numbers::pi * i / 200000).r).norm());
+  for (int i = 0; i < 200000; ++i) best = std::min(best, (c - e.at(2 * std::numbers::pi * i / 200000).r).norm());
   EXPECT_NEAR(pair.gap, best, 1e-10);
 }
 

@@ -1,6 +1,9 @@
 // Scenes built in code for the physics tests.
 #pragma once
 
+#include <string>
+#include <vector>
+
 #include "io/config.h"
 
 namespace camdyn::test {
@@ -56,6 +59,56 @@ inline SceneConfig drop_scene(const std::string& model, double restitution, doub
   s.integrator.rtol = 1e-10;
   s.integrator.atol = 1e-14;
   return s;
+}
+
+}  // namespace camdyn::test
+
+namespace camdyn::test {
+
+/// The follower types of issue 4 on the cycloidal cam of cycloidal_cam_scene
+/// (rise, dwell, return, dwell; base radius 40 mm; Hertz-type K = 1e10):
+///   "translating_roller"    roller r = 10 mm (the scene above)
+///   "translating_flat"      flat face 60 mm wide
+///   "translating_mushroom"  mushroom face R = 25 mm
+///   "oscillating_roller"    arm 80 mm from a pivot at (100, 60) mm, roller 10 mm,
+///                           12° rise, I = 2e-3 kg m², torsional spring 50 N m/rad, 5 N m preload
+///   "oscillating_flat"      face through the same pivot, face centre 110 mm from it, 80 mm wide
+///   "oscillating_mushroom"  as the oscillating roller with a mushroom R = 25 mm
+inline SceneConfig follower_scene(const std::string& kind, double rpm, const std::string& model = "hertz") {
+  SceneConfig s = cycloidal_cam_scene(rpm, model);
+  s.name = "test-" + kind;
+  FollowerConfig& f = s.mechanism.follower;
+  const bool oscillating = kind.rfind("oscillating", 0) == 0;
+  if (kind.find("flat") != std::string::npos) {
+    f.shape = {};
+    f.shape.type = "flat";
+    f.shape.face_width = oscillating ? 0.08 : 0.06;
+  } else if (kind.find("mushroom") != std::string::npos) {
+    f.shape = {};
+    f.shape.type = "mushroom";
+    f.shape.radius = 0.025;
+  }
+  if (oscillating) {
+    f.motion = "oscillating";
+    f.pivot = {0.1, 0.06};
+    f.arm_length = f.shape.type == "flat" ? 0.11 : 0.08;
+    f.mass = 0.0;
+    f.inertia = 2e-3;
+    f.spring.stiffness = 50.0;
+    f.spring.preload = 5.0;
+    for (SegmentConfig& seg : s.mechanism.cam.motion_law.segments) {
+      if (!seg.lift) continue;
+      seg.lift.reset();
+      seg.lift_deg = 12.0;
+    }
+  }
+  return s;
+}
+
+inline const std::vector<std::string>& follower_kinds() {
+  static const std::vector<std::string> kinds = {"translating_roller", "translating_flat",   "translating_mushroom",
+                                                 "oscillating_roller", "oscillating_flat", "oscillating_mushroom"};
+  return kinds;
 }
 
 }  // namespace camdyn::test

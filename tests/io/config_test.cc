@@ -191,6 +191,73 @@ TEST(Config, RoundTripOfEveryOptionalShape) {
   expect_round_trip(sb);
 }
 
+TEST(Config, FollowerTypesAndShaftDriveRoundTripWithOnlyTheirOwnFields) {
+  // Oscillating flat face with pivot friction, driven through a shaft by a torque–speed motor.
+  Json a = minimal_scene();
+  for (auto& seg : a["mechanism"]["cam"]["motion_law"]["segments"])
+    if (seg.contains("lift")) {
+      seg.erase("lift");
+      seg["lift_deg"] = 12;
+    }
+  a["mechanism"]["follower"] = Json::parse(R"({ "motion": "oscillating", "pivot": [0.1, 0.06], "arm_length": 0.11,
+      "shape": { "type": "flat", "face_width": 0.08 }, "inertia": 0.002,
+      "spring": { "stiffness": 50, "preload": 5 },
+      "pivot_friction": { "mu": 0.1, "pin_radius": 0.005 } })");
+  a["mechanism"]["cam"]["drive"] = Json::parse(R"({ "type": "shaft", "inertia": 0.01, "torsional_stiffness": 2000,
+      "motor": { "type": "torque_speed", "stall_torque": 20, "no_load_rpm": 1500, "inertia": 0.005 } })");
+  const SceneConfig sa = scene_from_json(a, ConfigSource{"a.json", "/"});
+  EXPECT_EQ(sa.mechanism.follower.pivot, (std::vector<double>{0.1, 0.06}));
+  ASSERT_TRUE(sa.mechanism.follower.pivot_friction.has_value());
+  EXPECT_EQ(sa.mechanism.follower.pivot_friction->regularization_velocity, 1e-4);  // default
+  EXPECT_EQ(sa.mechanism.cam.drive.motor.no_load_rpm, 1500);
+  expect_round_trip(sa);
+  const Json written = to_json(sa);
+  const Json& follower = written["mechanism"]["follower"];
+  for (const char* absent : {"offset", "mass", "guide_friction"}) EXPECT_FALSE(follower.contains(absent)) << absent;
+  for (const char* absent : {"radius", "inertia"}) EXPECT_FALSE(follower["shape"].contains(absent)) << absent;
+
+  // Translating mushroom with guide friction; the default drive writes no shaft fields.
+  Json b = minimal_scene();
+  b["mechanism"]["follower"]["shape"] = Json::parse(R"({ "type": "mushroom", "radius": 0.025 })");
+  b["mechanism"]["follower"]["guide_friction"] = Json::parse(R"({ "mu": 0.2 })");
+  const SceneConfig sb = scene_from_json(b, ConfigSource{"b.json", "/"});
+  expect_round_trip(sb);
+  const Json wb = to_json(sb);
+  EXPECT_FALSE(wb["mechanism"]["follower"].contains("pivot"));
+  EXPECT_FALSE(wb["mechanism"]["follower"]["shape"].contains("inertia"));
+  EXPECT_EQ(wb["mechanism"]["cam"]["drive"], Json::parse(R"({ "type": "constant_speed" })"));
+}
+
+TEST(Config, FollowerTypeAndDriveFieldsAreCheckedAgainstEachOther) {
+  auto path_of = [](const Json& doc) {
+    return expect_input_error([&] { scene_from_json(doc, ConfigSource{"s.json", "/"}); }).path();
+  };
+  Json doc = minimal_scene();
+  doc["mechanism"]["follower"]["pivot"] = Json::array({0.1, 0.06});  // translating
+  EXPECT_EQ(path_of(doc), "mechanism.follower.pivot");
+  doc = minimal_scene();
+  doc["mechanism"]["follower"]["motion"] = "oscillating";
+  doc["mechanism"]["follower"].erase("mass");
+  doc["mechanism"]["follower"]["pivot"] = Json::array({0.1});
+  doc["mechanism"]["follower"]["arm_length"] = 0.08;
+  doc["mechanism"]["follower"]["inertia"] = 0.002;
+  EXPECT_EQ(path_of(doc), "mechanism.follower.pivot");  // [x, y] needed
+  doc["mechanism"]["follower"]["pivot"] = Json::array({0.1, 0.06});
+  EXPECT_EQ(path_of(doc), "mechanism.cam.motion_law.segments[0].lift");  // metres for an arm
+  doc = minimal_scene();
+  doc["mechanism"]["follower"]["shape"] = Json::parse(R"({ "type": "flat" })");
+  EXPECT_EQ(path_of(doc), "mechanism.follower.shape.face_width");
+  doc["mechanism"]["follower"]["shape"]["face_width"] = 0.05;
+  doc["mechanism"]["follower"]["shape"]["inertia"] = 0.0;
+  EXPECT_EQ(path_of(doc), "mechanism.follower.shape.inertia");
+  doc = minimal_scene();
+  doc["mechanism"]["cam"]["drive"] = Json::parse(R"({ "type": "shaft", "inertia": 0.01, "torsional_stiffness": 1e3,
+      "motor": { "type": "torque_speed", "stall_torque": 5 } })");
+  EXPECT_EQ(path_of(doc), "mechanism.cam.drive.motor.no_load_rpm");
+  doc["mechanism"]["cam"]["drive"]["motor"] = Json::parse(R"({ "type": "constant_speed", "inertia": 1 })");
+  EXPECT_EQ(path_of(doc), "mechanism.cam.drive.motor.inertia");
+}
+
 // ---------------------------------------------------------------- extends and --set
 
 TEST(Config, ExtendsMergesObjectsChildWinsArraysReplacedWhole) {
