@@ -21,7 +21,10 @@
 #include <sstream>
 #include <stdexcept>
 #include <system_error>
+#include <thread>
+#include <vector>
 
+#include "common/parallel.h"
 #include "io/atomic_file.h"
 
 extern char** environ;  // NOLINT: POSIX, passed on to gnuplot
@@ -516,13 +519,20 @@ std::string render_html(const Report& report) {
   html << "</header>\n<main>\n";
   for (const auto& table : report.tables) render_table(html, table);
   if (!report.plots.empty()) html << "<section class=\"plots\">\n";
-  for (std::size_t i = 0; i < report.plots.size(); ++i) {
+  // Each plot is its own gnuplot process: render them side by side (a compare
+  // report has a dozen), then assemble the page in order.
+  std::vector<std::string> svgs(report.plots.size());
+  const int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  parallel_for(report.plots.size(), threads, [&](std::size_t i) {
     // The caption carries the title, so the picture does not repeat it.
     Plot untitled = report.plots[i];
     untitled.title.clear();
+    svgs[i] = render_svg(untitled);
+  });
+  for (std::size_t i = 0; i < report.plots.size(); ++i) {
     const std::string number = std::to_string(i + 1);
     html << "<figure id=\"figure-" << number << "\">\n"
-         << prefix_svg_ids(render_svg(untitled), "fig" + number + "-")
+         << prefix_svg_ids(svgs[i], "fig" + number + "-")
          << "<figcaption>Figure " << number << ". " << escape_html(report.plots[i].title)
          << "</figcaption>\n</figure>\n";
   }

@@ -19,7 +19,7 @@
 #include "io/report.h"
 #include "study/journal.h"
 #include "study/mpi_runner.h"
-#include "study/parallel.h"
+#include "common/parallel.h"
 #include "study/progress.h"
 
 namespace camdyn {

@@ -16,7 +16,7 @@
 #include "io/json_archive.h"
 #include "io/json_writer.h"
 #include "io/report.h"
-#include "study/parallel.h"
+#include "common/parallel.h"
 
 namespace camdyn {
 

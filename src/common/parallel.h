@@ -1,4 +1,4 @@
-// A parallel for over independent jobs (simulation runs of a study): worker
+// A parallel for over independent jobs (the runs of a study, the plots of a report): worker
 // threads take the next index from a shared counter, so long and short runs
 // balance themselves. The first exception a job throws stops the hand-out of
 // new jobs and is rethrown on the calling thread once every worker is done.
