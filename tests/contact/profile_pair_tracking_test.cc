@@ -4,6 +4,7 @@
 // finite differences (Jacobian, time derivatives), through first contact,
 // under differential tracking, and against the one-parameter circle
 // reduction on a roller cam.
+#include "test_curves.h"
 #include "contact/profile_pair_tracking.h"
 
 #include <gtest/gtest.h>
@@ -32,18 +33,7 @@ constexpr double kAnalyticGap = 1e-12;  // [m]
 // The acceptance level of the issue for the ellipse–circle distance.
 constexpr double kAcceptanceGap = 1e-10;  // [m]
 
-/// x = a cos u, y = b sin u (counterclockwise).
-class Ellipse final : public PeriodicCurve {
- public:
-  Ellipse(double a, double b) : a_(a), b_(b) {}
-  CurvePoint at(double u) const override {
-    const double c = std::cos(u), s = std::sin(u);
-    return {{a_ * c, b_ * s}, {-a_ * s, b_ * c}, {-a_ * c, -b_ * s}, {a_ * s, -b_ * c}};
-  }
-
- private:
-  double a_, b_;
-};
+using test::Ellipse;
 
 /// Polar curve r(φ) = R (1 + ε cos kφ) (counterclockwise): concave near the
 /// minima of r when ε k² > 1 − ε.

@@ -3,6 +3,7 @@
 // analytic zero crossings of a polar curve), the follower checks, input
 // validation, and the rigid follower lift against closed forms and against
 // the motion law the contour was synthesised from.
+#include "test_curves.h"
 #include "geometry/contour_cam.h"
 
 #include <gtest/gtest.h>
@@ -30,18 +31,7 @@ const std::string kFile = "scene.json";
 const std::string kPath = "mechanism.cam.motion_law.contour";
 const std::string kPoints = "mechanism.cam.motion_law.contour.points";
 
-/// x = a cos u, y = b sin u (counterclockwise).
-class Ellipse final : public PeriodicCurve {
- public:
-  Ellipse(double a, double b) : a_(a), b_(b) {}
-  CurvePoint at(double u) const override {
-    const double c = std::cos(u), s = std::sin(u);
-    return {{a_ * c, b_ * s}, {-a_ * s, b_ * c}, {-a_ * c, -b_ * s}, {a_ * s, -b_ * c}};
-  }
-
- private:
-  double a_, b_;
-};
+using test::Ellipse;
 
 /// Polar curve r(φ) = R (1 + ε cos kφ), concave near the minima of r when ε k² > 1 − ε.
 struct Lobed {
