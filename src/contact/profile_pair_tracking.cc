@@ -89,6 +89,22 @@ int closed_curve_orientation(const PeriodicCurve& curve, int samples) {
   return area2 >= 0.0 ? +1 : -1;
 }
 
+CurvePoint InwardOffsetProfile::at(double u) const {
+  // n = side·N(T)/λ with N(a) = (a_y, −a_x), T = r', λ = |T|; differentiated twice.
+  const CurvePoint b = base_->at(u);
+  const auto N = [](const Eigen::Vector2d& a) { return Eigen::Vector2d(a.y(), -a.x()); };
+  const double side = base_->outward_side();
+  const Eigen::Vector2d &T = b.dr, &T1 = b.d2r, &T2 = b.d3r;
+  const double lambda = T.norm(), l2sq = lambda * lambda;
+  const double l1 = T.dot(T1) / lambda;                                    // λ'
+  const double l2 = (T1.dot(T1) + T.dot(T2)) / lambda - l1 * l1 / lambda;  // λ''
+  const Eigen::Vector2d n = side * N(T) / lambda;
+  const Eigen::Vector2d n1 = side * (N(T1) / lambda - N(T) * l1 / l2sq);
+  const Eigen::Vector2d n2 =
+      side * (N(T2) / lambda - 2.0 * N(T1) * l1 / l2sq - N(T) * (l2 / l2sq - 2.0 * l1 * l1 / (l2sq * lambda)));
+  return {b.r - distance_ * n, T - distance_ * n1, T1 - distance_ * n2, Eigen::Vector2d::Zero()};
+}
+
 CurvePoint CircleProfile::at(double v) const { return circle_point(radius_, center_, v); }
 
 CurvePoint ArcProfile::at(double v) const { return circle_point(radius_, center_, v); }

@@ -75,6 +75,25 @@ class ClosedCurveProfile final : public PairProfile {
   int side_;
 };
 
+/// A profile moved inwards (towards its material) by a distance d along its
+/// normal, r_d(u) = r(u) − d n(u): a roller cam's contour from its pitch curve
+/// (d = roller radius). Regular where d is below the base profile's smallest
+/// convex radius of curvature (the cam checks guarantee it for a roller cam).
+/// The base must outlive this object. Gives r, r' and r''; the third
+/// derivative would need the base's fourth and is returned as zero (the
+/// tracker does not use it).
+class InwardOffsetProfile final : public PairProfile {
+ public:
+  InwardOffsetProfile(const PairProfile& base, double distance) : base_(&base), distance_(distance) {}
+  CurvePoint at(double u) const override;
+  int outward_side() const override { return base_->outward_side(); }
+  ParameterDomain domain() const override { return base_->domain(); }
+
+ private:
+  const PairProfile* base_;
+  double distance_;
+};
+
 /// A circle of radius ρ about `center` (a roller): r(v) = c + ρ (cos v, sin v).
 class CircleProfile final : public PairProfile {
  public:

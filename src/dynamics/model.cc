@@ -1,8 +1,11 @@
 #include "dynamics/model.h"
 
+#include <cassert>
 #include <cmath>
 #include <limits>
 #include <numbers>
+
+#include <Eigen/LU>
 
 #include "common/errors.h"
 #include "contact/line_curve_tracking.h"
@@ -15,7 +18,8 @@ namespace {
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 using Jet = Dual<Model::kMaxState>;
 
-ForceLaw build_force_law(const SceneConfig& scene, const std::string& file) {
+/// `cam_radius` [m]: the cam's radius for stiffness from materials (its base radius).
+ForceLaw build_force_law(const SceneConfig& scene, double cam_radius, const std::string& file) {
   const ContactConfig& c = scene.mechanism.contact;
   ForceLaw law;
   try {
@@ -38,7 +42,7 @@ ForceLaw build_force_law(const SceneConfig& scene, const std::string& file) {
     // A flat face has an infinite radius of curvature.
     const ShapeConfig& shape = scene.mechanism.follower.shape;
     const double r2 = shape.type == "flat" ? std::numeric_limits<double>::infinity() : shape.radius;
-    law.stiffness = stiffness_from_materials(m.E1, m.nu1, m.E2, m.nu2, scene.mechanism.cam.base_radius, r2, line,
+    law.stiffness = stiffness_from_materials(m.E1, m.nu1, m.E2, m.nu2, cam_radius, r2, line,
                                              m.width.value_or(0.0));
   } else if (c.stiffness) {
     law.stiffness = *c.stiffness;
@@ -68,6 +72,13 @@ struct PairSolution {
   CurvePoint point;
   double orientation = 1.0;  ///< sign making (r'_y, −r'_x) the outward normal
   bool ok = true;
+  // General pair form only (cam frame):
+  double v = 0.0;                ///< follower profile parameter
+  double u_rate = 0.0, v_rate = 0.0;  ///< differential tracking
+  double drift = 0.0;            ///< Newton step back to f = 0 (differential tracking)
+  double gap = 0.0;              ///< [m]
+  Eigen::Vector2d normal = Eigen::Vector2d::Zero();          ///< n_A, unit, towards the follower
+  Eigen::Vector2d follower_point = Eigen::Vector2d::Zero();  ///< r_B [m]
 };
 
 /// The follower's contact element in the cam frame (double): circle centre
@@ -92,7 +103,42 @@ double cam_angle(const Model& m, double t, const double* x) {
   return m.drive == Drive::shaft ? x[m.index_cam_angle] : m.theta(t);
 }
 
+/// The general pair form: both profiles in their motion, tracked by
+/// contact/profile_pair_tracking.h, the result turned into the cam frame.
+PairSolution solve_general(const Model& m, Workspace& ws, double t, const double* x) {
+  PairSolution ps;
+  const double theta = cam_angle(m, t, x);
+  const double omega_c = m.drive == Drive::shaft ? x[m.index_cam_speed] : m.omega;
+  const double phi = m.direction * theta;
+  const BodyMotion cam = BodyMotion::make(phi, Eigen::Vector2d::Zero(), m.direction * omega_c);
+  const BodyMotion follower = follower_motion(m.follower, x[0], x[1]);
+  PairEvaluation pair;
+  if (m.tracking == Tracking::differential) {
+    ps.u = x[m.index_u];
+    ps.v = x[m.index_v];
+    pair = evaluate_profile_pair(*m.pair_cam, *m.pair_follower, cam, follower, ps.u, ps.v);
+    ps.ok = pair.valid() && profile_pair_rates(pair, m.tracking_gain, ps.u_rate, ps.v_rate) == PairStatus::converged;
+    ps.drift = ps.ok ? (pair.jacobian.inverse() * pair.f).cwiseAbs().maxCoeff() : INFINITY;
+  } else {
+    if (!ws.pair_search) prepare_workspace(m, ws);  // only when evaluate() is called without simulate()
+    double u = ws.u_warm, v = ws.v_warm;
+    const long searches = ws.pair_search->global_searches;
+    ps.ok = track_profile_pair(*m.pair_cam, *m.pair_follower, cam, follower, *ws.pair_search, u, v, pair);
+    ws.tracking_resets += ws.pair_search->global_searches - searches;
+    ps.u = u;
+    ps.v = v;
+  }
+  const Eigen::Matrix2d to_cam = cam.rotation.transpose();
+  ps.gap = pair.gap;
+  ps.normal = to_cam * pair.normal_W;
+  ps.follower_point = to_cam * pair.point_B_W;
+  ps.point = m.pair_cam->at(ps.u);
+  ps.orientation = m.pair_cam->outward_side();
+  return ps;
+}
+
 PairSolution solve_pair(const Model& m, Workspace& ws, double t, const double* x) {
+  if (m.pair_form == PairForm::general) return solve_general(m, ws, t, x);
   PairSolution ps;
   TrackedPair pair;
   if (m.tracking == Tracking::differential) {
@@ -126,7 +172,7 @@ struct Core {
   S f, f_u;  ///< common-normal residual and its u-derivative
   S gap, gap_rate, delta, delta_rate, normal_force, slip, friction_force;
   S generalised_force, cam_torque, guide, pivot;
-  S acceleration, spin_acceleration, u_rate;
+  S acceleration, spin_acceleration, u_rate, v_rate;
   S twist, shaft_torque, motor_speed, motor_torque, cam_acceleration, motor_acceleration;
   Vec2<S> force_world;
   S contact_offset;
@@ -169,7 +215,27 @@ void core(const Model& m, const Workspace& ws, double t, const S* x, const PairS
   // follower's contact point, X_q its rate per q̇ (cam frame).
   Vec2<S> n, X, X_q;
   S g_q, g_theta, f_q, f_theta;
-  if (m.reduction == ContactReduction::circle) {
+  if (m.pair_form == PairForm::general) {
+    // Solved in double by the general tracker (no dual-number derivatives:
+    // exact_jacobian() is false). At f = 0 the gap's partials at fixed (u, v)
+    // are those of the follower's material point r_B (envelope theorem).
+    n = Vec2<S>(ps.normal);
+    X = Vec2<S>(ps.follower_point);
+    o.gap = S(ps.gap);
+    o.f = S(0.0);
+    o.f_u = S(-1.0);
+    f_q = f_theta = S(0.0);
+    const Vec2<S> B_q = to_cam(fg.body_point_rate(to_world(X)));
+    g_q = dot(n, B_q);
+    g_theta = dot(n, (-sigma) * perp(X));
+    if (fg.shape == FollowerShape::roller) {
+      Vec2<S> centre, centre_q;
+      fg.centre(o.q, centre, centre_q);
+      X_q = to_cam(centre_q);
+    } else {
+      X_q = B_q;
+    }
+  } else if (m.reduction == ContactReduction::circle) {
     Vec2<S> centre, centre_q;
     fg.centre(o.q, centre, centre_q);
     const Vec2<S> C = to_cam(centre), C_q = to_cam(centre_q), C_theta = (-sigma) * perp(C);
@@ -238,6 +304,11 @@ void core(const Model& m, const Workspace& ws, double t, const S* x, const PairS
       (o.generalised_force - spring - m.damping * o.v - m.mass * m.gravity + o.guide + o.pivot) / m.mass;
   o.spin_acceleration = m.has_spin ? -(fg.radius * o.friction_force) / m.roller_inertia : S(0.0);
   o.u_rate = m.index_u >= 0 ? (-m.tracking_gain * o.f - f_q * o.v - f_theta * o.omega_c) / o.f_u : S(0.0);
+  o.v_rate = S(0.0);
+  if (m.pair_form == PairForm::general) {
+    o.u_rate = S(ps.u_rate);
+    o.v_rate = S(ps.v_rate);
+  }
 
   o.twist = S(0.0);
   o.shaft_torque = S(0.0);
@@ -259,11 +330,71 @@ void core(const Model& m, const Workspace& ws, double t, const S* x, const PairS
   }
 }
 
+/// Fits the contour, checks that the follower can follow it, and derives the
+/// kinematic law: the rigid follower's lift interpolated by a periodic quintic
+/// spline through kLawKnots cam angles (its error is measured between them).
+void build_contour_cam(const ContourConfig& config, const FollowerConfig& f, int direction, const std::string& file,
+                       Model& model) {
+  const std::string path = "mechanism.cam.motion_law.contour";
+  std::vector<Eigen::Vector2d> points;
+  points.reserve(config.points.size());
+  for (const std::vector<double>& p : config.points) points.emplace_back(p[0], p[1]);
+  ContourFitOptions options;
+  options.degree = config.degree;
+  options.control_points = config.control_points;
+  options.smoothing = config.smoothing;
+  options.parameter_corrections = config.parameter_corrections;
+  model.contour = std::make_shared<const ContourCam>(ContourCam::fit(points, options, file, path));
+  const ContourFollower kind = f.shape.type == "flat"       ? ContourFollower::flat
+                               : f.shape.type == "mushroom" ? ContourFollower::mushroom
+                                                            : ContourFollower::roller;
+  check_contour_for_follower(*model.contour, kind, f.shape.radius, file, path);
+  model.contour_lift =
+      std::make_shared<const RigidFollowerLift>(*model.contour, kind, f.shape.radius, f.offset, direction, 2048, file);
+
+  constexpr int kLawKnots = 720;
+  PeriodicSplineConfig spline;
+  spline.degree = 5;
+  for (int i = 0; i < kLawKnots; ++i) {
+    spline.knots_deg.push_back(360.0 * i / kLawKnots);
+    spline.lift.push_back(model.contour_lift->displacement(kTwoPi * i / kLawKnots));
+  }
+  MotionLawConfig law;
+  law.spline = std::move(spline);
+  model.law = std::make_shared<const MotionLaw>(build_motion_law(law, file, path));
+  double error = 0.0;
+  for (int i = 0; i < kLawKnots; ++i) {
+    const double theta = kTwoPi * (i + 0.5) / kLawKnots;
+    error = std::max(error, std::abs(model.law->eval(theta).s - model.contour_lift->displacement(theta)));
+  }
+  model.law_interpolation_error = error;
+}
+
+/// The general pair form: the cam's contour (a roller cam's from its pitch
+/// curve) and the follower's circle or face segment in its body frame.
+void build_general_pair(Model& model) {
+  const FollowerGeometry& fg = model.follower;
+  model.pair_form = PairForm::general;
+  model.pair_cam_base = std::make_shared<const ClosedCurveProfile>(model.profile());
+  model.pair_cam = model.profile_offset == 0.0 && fg.circle()
+                       ? std::make_shared<const InwardOffsetProfile>(*model.pair_cam_base, fg.radius)
+                       : model.pair_cam_base;
+  const Eigen::Vector2d centre = fg.oscillating() ? Eigen::Vector2d(fg.arm_length, 0.0) : Eigen::Vector2d::Zero();
+  if (fg.circle()) {
+    model.pair_follower = std::make_shared<const CircleProfile>(fg.radius, centre);
+  } else {
+    // The face line's normal towards the cam, in the body frame (follower_geometry.h face()).
+    const Eigen::Vector2d normal = fg.oscillating() ? Eigen::Vector2d(0.0, fg.face_side) : Eigen::Vector2d(0.0, -1.0);
+    model.pair_follower = std::make_shared<const SegmentProfile>(centre, normal, 0.5 * fg.face_width);
+  }
+}
+
 template <class S>
 void derivative_from_core(const Model& m, const Core<S>& o, S* x_dot) {
   x_dot[0] = o.v;
   x_dot[1] = o.acceleration;
   if (m.index_u >= 0) x_dot[m.index_u] = o.u_rate;
+  if (m.index_v >= 0) x_dot[m.index_v] = o.v_rate;
   if (m.index_spin >= 0) x_dot[m.index_spin] = o.spin_acceleration;
   if (m.index_cam_angle >= 0) {
     x_dot[m.index_cam_angle] = o.omega_c;
@@ -281,17 +412,35 @@ Model build_model(const SceneConfig& scene, const std::string& file) {
   const MechanismConfig& mech = scene.mechanism;
   const FollowerConfig& f = mech.follower;
   Model model;
-  model.law = std::make_shared<const MotionLaw>(build_motion_law(mech.cam.motion_law, file));
   model.direction = mech.cam.direction == "cw" ? -1 : +1;
-  model.follower = make_follower_geometry(f, mech.cam.base_radius, file);
+  double base_radius = mech.cam.base_radius;
+  if (mech.cam.motion_law.contour) {
+    build_contour_cam(*mech.cam.motion_law.contour, f, model.direction, file, model);
+    const double lowest = model.contour_lift->lowest();
+    // The base circle is the one the follower touches at its lowest position.
+    base_radius = f.shape.type == "flat" ? lowest : std::hypot(lowest, f.offset) - f.shape.radius;
+  } else {
+    model.law = std::make_shared<const MotionLaw>(build_motion_law(mech.cam.motion_law, file));
+  }
+  model.follower = make_follower_geometry(f, base_radius, file);
   const FollowerGeometry& fg = model.follower;
   model.cam = std::make_shared<const SynthesisedCam>(model.law, fg, model.direction);
-  model.profile_curve = model.cam;
   model.reduction = fg.circle() ? ContactReduction::circle : ContactReduction::line;
-  model.profile_offset = 0.0;  // the synthesised centre curve already carries the circle's radius
+  if (model.contour) {
+    // The contact works on the contour itself: a circle's centre at distance ρ from it.
+    model.profile_curve = model.contour;
+    model.profile_offset = fg.circle() ? fg.radius : 0.0;
+  } else {
+    model.profile_curve = model.cam;
+    model.profile_offset = 0.0;  // the synthesised centre curve already carries the circle's radius
+  }
   model.omega = mech.cam.rpm * kTwoPi / 60.0;
   model.theta0 = mech.cam.initial_angle_deg * std::numbers::pi / 180.0;
+  // For a contour cam this checks the cam the interpolated law synthesises, a
+  // copy of the contour within law_interpolation_error: pressure angle, and the
+  // contact's travel across a flat face against its width.
   model.geometry = check_cam(*model.cam, file);
+  if (mech.contact.pair_form == "general") build_general_pair(model);
 
   const bool oscillating = fg.oscillating();
   model.mass = oscillating ? f.inertia : f.mass;
@@ -302,7 +451,7 @@ Model build_model(const SceneConfig& scene, const std::string& file) {
   model.damping = f.damping;
   model.gravity = oscillating ? 0.0 : scene.gravity;
 
-  model.contact = build_force_law(scene, file);
+  model.contact = build_force_law(scene, fg.base_radius, file);
   const FrictionConfig& fc = mech.contact.friction;
   model.friction = friction_law(fc.mu, fc.regularization_velocity, fc.regularization);
   const bool roller = fg.shape == FollowerShape::roller;
@@ -350,6 +499,10 @@ Model build_model(const SceneConfig& scene, const std::string& file) {
   if (model.tracking == Tracking::differential) {
     model.index_u = next++;
     model.state_names.push_back("contact_parameter_u");
+    if (model.pair_form == PairForm::general) {
+      model.index_v = next++;
+      model.state_names.push_back("contact_parameter_v");
+    }
   }
   if (model.has_spin) {
     model.index_spin = next++;
@@ -387,6 +540,29 @@ Model build_model(const SceneConfig& scene, const std::string& file) {
   return model;
 }
 
+BodyMotion follower_motion(const FollowerGeometry& follower, double q, double q_dot) {
+  if (follower.oscillating())
+    return BodyMotion::make(follower.psi0 + follower.kappa * q, follower.pivot, follower.kappa * q_dot);
+  return BodyMotion::make(0.0, Eigen::Vector2d(follower.offset, follower.y0 + q), 0.0, Eigen::Vector2d(0.0, q_dot));
+}
+
+void prepare_workspace(const Model& model, Workspace& ws) {
+  ws.pair_search.reset();
+  if (model.pair_form != PairForm::general) return;
+  ws.pair_search = std::make_shared<PairTrackerWorkspace>(*model.pair_cam, *model.pair_follower);
+  // Follower parameter guess: the face centre, or the roller point facing the
+  // cam centre at the lowest position (body frame).
+  const FollowerGeometry& fg = model.follower;
+  ws.v_warm = 0.0;
+  if (fg.circle()) {
+    Vec2<double> c, c_q;
+    fg.centre(0.0, c, c_q);
+    const double body_angle = fg.oscillating() ? fg.psi0 : 0.0;
+    const Eigen::Vector2d towards_cam = -to_eigen(c);
+    ws.v_warm = std::atan2(towards_cam.y(), towards_cam.x()) - body_angle;
+  }
+}
+
 void evaluate(const Model& model, Workspace& ws, double t, const double* state, Evaluation& ev) {
   const PairSolution ps = solve_pair(model, ws, t, state);
   Core<double> o;
@@ -404,7 +580,14 @@ void evaluate(const Model& model, Workspace& ws, double t, const double* state, 
   ev.pair.point = ps.point.r;
   ev.pair.tangent_u = ps.point.dr;
   ev.pair.normal = ps.orientation * Eigen::Vector2d(ps.point.dr.y(), -ps.point.dr.x()).normalized();
-  ev.tracking_ok = model.tracking == Tracking::differential ? o.f_u < 0.0 : ps.ok;
+  ev.pair_v = ps.v;
+  if (model.pair_form == PairForm::general) {
+    ev.tracking_ok = ps.ok;
+    ev.pair_drift = ps.drift;
+  } else {
+    ev.tracking_ok = model.tracking == Tracking::differential ? o.f_u < 0.0 : ps.ok;
+    ev.pair_drift = ev.tracking_ok ? std::abs(o.f / o.f_u) : INFINITY;
+  }
   ev.gap = o.gap;
   ev.gap_rate = o.gap_rate;
   ev.delta = o.delta;
@@ -421,6 +604,7 @@ void evaluate(const Model& model, Workspace& ws, double t, const double* state, 
   ev.acceleration = o.acceleration;
   ev.spin_acceleration = o.spin_acceleration;
   ev.u_rate = ev.tracking_ok ? o.u_rate : 0.0;
+  ev.v_rate = ev.tracking_ok ? o.v_rate : 0.0;
   ev.shaft_twist = o.twist;
   ev.shaft_torque = o.shaft_torque;
   ev.motor_speed = o.motor_speed;
@@ -443,6 +627,7 @@ void evaluate(const Model& model, Workspace& ws, double t, const double* state, 
 }
 
 void state_jacobian(const Model& model, Workspace& ws, double t, const double* state, double* jacobian) {
+  assert(model.exact_jacobian());
   const int n = model.state_size;
   const PairSolution ps = solve_pair(model, ws, t, state);
   Jet x[Model::kMaxState];
@@ -465,6 +650,7 @@ void state_derivative(const Model& model, const Evaluation& ev, double* state_do
   state_dot[0] = ev.v;
   state_dot[1] = ev.acceleration;
   if (model.index_u >= 0) state_dot[model.index_u] = ev.u_rate;
+  if (model.index_v >= 0) state_dot[model.index_v] = ev.v_rate;
   if (model.index_spin >= 0) state_dot[model.index_spin] = ev.spin_acceleration;
   if (model.index_cam_angle >= 0) {
     state_dot[model.index_cam_angle] = ev.cam_speed;

@@ -5,13 +5,18 @@
 //   q [m | rad], q̇            follower coordinate (translating: y above its lowest
 //                             position; oscillating: arm rotation φ) and its rate
 //   u [rad]                   contact pair parameter, differential tracking only
+//   v [rad | m]               follower profile parameter, general pair form with differential tracking only
 //   Ω [rad/s]                 roller spin, only with roller inertia and friction
 //   θ_c [rad], ω_c [rad/s]    cam angle and speed, shaft drive only
 //   θ_m [rad], ω_m [rad/s]    motor angle and speed, torque–speed motor only
 // The contact is a circle follower (roller, mushroom: its centre against the
 // cam's centre curve, contact/point_curve_tracking.h) or a flat face (a line
 // against the cam contour, contact/line_curve_tracking.h); either way against
-// a PeriodicCurve, so a cam given as a contour plugs in unchanged.
+// a PeriodicCurve, so a cam given as a contour plugs in unchanged. With
+// `contact.pair_form: "general"` the same contact goes through the general
+// two-parameter tracker (contact/profile_pair_tracking.h) instead: the cam
+// contour against the follower's circle or face segment, for verification of
+// the reductions (no follower shape needs it).
 // Energy flows (drive work, damper, contact hysteresis, friction) are
 // quadratures (physics.md §5), integrated beside the state.
 #pragma once
@@ -25,8 +30,10 @@
 #include "contact/force_law.h"
 #include "contact/friction.h"
 #include "contact/point_curve_tracking.h"
+#include "contact/profile_pair_tracking.h"
 #include "geometry/cam_roller.h"
 #include "geometry/cam_synthesis.h"
+#include "geometry/contour_cam.h"
 #include "geometry/follower_geometry.h"
 #include "geometry/motion_law.h"
 #include "geometry/planar_curve.h"
@@ -36,6 +43,7 @@ namespace camdyn {
 
 enum class Tracking { differential, newton };
 enum class ContactReduction { circle, line };
+enum class PairForm { reduced, general };
 enum class Drive { constant_speed, shaft };
 enum class Motor { constant_speed, torque_speed };
 
@@ -51,6 +59,19 @@ struct Model {
   const PeriodicCurve& profile() const { return *profile_curve; }
   ContactReduction reduction = ContactReduction::circle;
   double profile_offset = 0.0;  ///< ρ of the circle reduction: 0 against a centre curve [m]
+  /// A cam given as a contour (`motion_law.contour`): the fitted curve, the
+  /// rigid follower's lift on it (from which `law` is interpolated) and how
+  /// closely the law reproduces that lift. Null for a cam synthesised from a law.
+  std::shared_ptr<const ContourCam> contour;
+  std::shared_ptr<const RigidFollowerLift> contour_lift;
+  double law_interpolation_error = 0.0;  ///< max |s_law − s_lift| between the interpolation knots [m]
+
+  /// General pair form: the cam contour and the follower's face as pair
+  /// profiles (cam frame; follower body frame, see follower_motion()).
+  PairForm pair_form = PairForm::reduced;
+  std::shared_ptr<const PairProfile> pair_cam_base;  ///< the profile pair_cam may be an offset of
+  std::shared_ptr<const PairProfile> pair_cam;
+  std::shared_ptr<const PairProfile> pair_follower;
   CamGeometryReport geometry;   ///< pressure angle and curvature, checked when the model is built
   double omega = 0.0;   ///< nominal cam speed |θ̇| [rad/s] (0: cam held still); motor speed with a shaft
   int direction = +1;   ///< σ: the cam frame is at angle σθ in the world
@@ -90,10 +111,11 @@ struct Model {
   // State layout (−1: not in this scene).
   int state_size = 2;
   int index_u = -1;
+  int index_v = -1;
   int index_spin = -1;
   int index_cam_angle = -1, index_cam_speed = -1;
   int index_motor_angle = -1, index_motor_speed = -1;
-  static constexpr int kMaxState = 8;
+  static constexpr int kMaxState = 9;
   /// W_drive, W_damper, W_hysteresis, W_friction [J], and ∫ max(g, 0) dt [m s].
   static constexpr int kQuadratures = 5;
 
@@ -105,6 +127,13 @@ struct Model {
   double theta(double t) const { return theta0 + omega * t; }
   /// Number of root functions: gap, plus the force clamp switch where the law has one.
   int root_count() const { return contact.has_clamp_switch() ? 2 : 1; }
+  /// Whether state_jacobian() is available (the reduced pair forms; the general
+  /// one leaves the Jacobian to the integrator's difference quotients).
+  bool exact_jacobian() const { return pair_form == PairForm::reduced; }
+  /// The cam-profile parameter at which the follower touches the cam at cam
+  /// angle θ on the rigid law: θ itself for a synthesised cam (u is the contact's
+  /// cam angle), the contour parameter from the rigid lift for a contour cam.
+  double pair_guess(double theta) const { return contour_lift ? contour_lift->at(theta).u : theta; }
 };
 
 /// Assembles the model of a scene. Throws InputError for a cam that cannot be
@@ -117,7 +146,20 @@ struct Workspace {
   double u_warm = 0.0;       ///< Newton warm start: pair parameter at the last accepted state
   long tracking_resets = 0;  ///< global re-initialisations of the pair
   double motor_phase = 0.0;  ///< constant-speed motor with a shaft: θ_m = θ(t) + motor_phase [rad]
+  double v_warm = 0.0;       ///< general pair form: follower profile parameter at the last accepted state
+  /// General pair form: the global search's samples and scratch (made by
+  /// prepare_workspace, which simulate() calls before a run).
+  std::shared_ptr<PairTrackerWorkspace> pair_search;
 };
+
+/// Allocates what the workspace needs for this model (the general pair
+/// form's search samples), so that evaluate() allocates nothing.
+void prepare_workspace(const Model& model, Workspace& ws);
+
+/// The follower body's pose and velocity for the general pair form: origin
+/// (e, y₀ + q) for a translating follower, the pivot turned to ψ₀ + κ q for an
+/// oscillating one.
+BodyMotion follower_motion(const FollowerGeometry& follower, double q, double q_dot);
 
 /// Everything the model computes at one (t, state).
 struct Evaluation {
@@ -126,6 +168,8 @@ struct Evaluation {
   double y = 0.0, v = 0.0;   ///< follower coordinate q [m | rad] and rate
   double spin = 0.0;         ///< roller spin Ω [rad/s] (world frame)
   TrackedPair pair;
+  double pair_v = 0.0;       ///< general pair form: follower profile parameter
+  double pair_drift = 0.0;   ///< size of the Newton step back to f = 0 [rad | m]: drift of differential tracking
   bool tracking_ok = true;
   double gap = 0.0, gap_rate = 0.0;  ///< g [m], ġ [m/s] (at fixed pair parameter)
   double delta = 0.0, delta_rate = 0.0;
@@ -141,6 +185,7 @@ struct Evaluation {
   double acceleration = 0.0;       ///< q̈
   double spin_acceleration = 0.0;
   double u_rate = 0.0;             ///< u̇ [rad/s] (differential tracking)
+  double v_rate = 0.0;             ///< v̇ (general pair form, differential tracking)
   double shaft_twist = 0.0;        ///< θ_m − θ_c [rad]
   double shaft_torque = 0.0;       ///< torque of the shaft on the cam [N m]
   double motor_speed = 0.0, motor_torque = 0.0;
@@ -165,6 +210,7 @@ void quadrature_derivative(const Evaluation& ev, double* q_dot);
 /// forward-mode dual numbers (dynamics/dual.h), the Newton pair parameter
 /// differentiated by the implicit function theorem. Allocates nothing.
 /// Checked against finite differences in tests/dynamics/jacobian_test.cc.
+/// Only for model.exact_jacobian().
 void state_jacobian(const Model& model, Workspace& ws, double t, const double* state, double* jacobian);
 
 /// Root functions: [0] gap g, [1] force clamp switch (where the law has one).

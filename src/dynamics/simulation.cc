@@ -43,7 +43,7 @@ class SceneOde final : public OdeSystem {
     root_functions(model_, ws_, ev_, g);
     return 0;
   }
-  bool has_jacobian() const override { return true; }
+  bool has_jacobian() const override { return model_.exact_jacobian(); }
   int jacobian(double t, const double* y, double* J) override {
     state_jacobian(model_, ws_, t, y, J);
     return 0;
@@ -73,6 +73,7 @@ void initial_state(const SceneConfig& scene, const Model& model, Workspace& ws, 
   Model probe = model;
   probe.tracking = Tracking::newton;
   probe.index_u = -1;
+  probe.index_v = -1;
   probe.contact_friction = model.contact_friction && !model.has_spin;
   probe.has_spin = false;
   probe.index_spin = -1;
@@ -82,7 +83,8 @@ void initial_state(const SceneConfig& scene, const Model& model, Workspace& ws, 
   Evaluation ev;
   std::array<double, kMaxState> s{};
   ws.v0 = model.contact.reference_velocity;
-  ws.u_warm = theta;
+  const double u_guess = model.pair_guess(theta);
+  ws.u_warm = u_guess;
   ws.motor_phase = 0.0;
 
   if (init.position) {
@@ -93,7 +95,7 @@ void initial_state(const SceneConfig& scene, const Model& model, Workspace& ws, 
     const double target = model.omega * model.omega * law.d2s;
     auto excess = [&](double y_trial) {
       s[0] = y_trial;
-      ws.u_warm = theta;
+      ws.u_warm = u_guess;
       evaluate(probe, ws, 0.0, s.data(), ev);
       return ev.acceleration - target;
     };
@@ -120,16 +122,18 @@ void initial_state(const SceneConfig& scene, const Model& model, Workspace& ws, 
     }
   }
 
-  ws.u_warm = theta;
+  ws.u_warm = u_guess;
   const long resets = ws.tracking_resets;
   evaluate(probe, ws, 0.0, s.data(), ev);
   ws.tracking_resets = resets;  // the set-up search is not a loss of tracking
   if (!ev.tracking_ok) throw NumericalError("could not find the initial contact pair " + where(model, 0.0));
   ws.u_warm = ev.pair.u;
+  ws.v_warm = ev.pair_v;
   std::fill(y, y + model.state_size, 0.0);
   y[0] = s[0];
   y[1] = s[1];
   if (model.index_u >= 0) y[model.index_u] = ev.pair.u;
+  if (model.index_v >= 0) y[model.index_v] = ev.pair_v;
   if (model.index_cam_angle >= 0) {
     y[model.index_cam_angle] = theta;
     y[model.index_cam_speed] = model.omega;
@@ -202,6 +206,7 @@ SimulationResult simulate(const SceneConfig& scene, const Model& model, Workspac
   result.evaluated_from = p.t_eval;
   result.end_time = p.t_end;
   ws.tracking_resets = 0;
+  prepare_workspace(model, ws);
 
   std::array<double, kMaxState> y{};
   initial_state(scene, model, ws, y.data());
@@ -335,7 +340,10 @@ SimulationResult simulate(const SceneConfig& scene, const Model& model, Workspac
     const double* state = integrator.state();
     std::copy(state, state + model.state_size, y.begin());
     evaluate(model, ws, t, y.data(), ev);
-    if (model.tracking == Tracking::newton) ws.u_warm = ev.pair.u;
+    if (model.tracking == Tracking::newton) {
+      ws.u_warm = ev.pair.u;
+      ws.v_warm = ev.pair_v;
+    }
     bool restart = false;
 
     if (result_kind == Integrator::Result::root) {
@@ -363,18 +371,19 @@ SimulationResult simulate(const SceneConfig& scene, const Model& model, Workspac
     // Differential tracking: remove drift of the common-normal condition, or
     // re-initialise the pair when it is lost.
     if (model.index_u >= 0) {
-      const double drift = ev.tracking_ok ? std::abs(ev.pair.f / ev.pair.f_u) : INFINITY;
-      if (drift > projection_tolerance) {
+      if (ev.pair_drift > projection_tolerance) {
         // Project u back onto f = 0 by warm-started Newton (global search if that fails).
         Model newton_model = model;
         newton_model.tracking = Tracking::newton;
         Evaluation projected;
         ws.u_warm = y[model.index_u];
+        if (model.index_v >= 0) ws.v_warm = y[model.index_v];
         const long resets_before = ws.tracking_resets;
         evaluate(newton_model, ws, t, y.data(), projected);
         if (!projected.tracking_ok) throw NumericalError("contact pair tracking lost " + where(model, t));
         if (ws.tracking_resets == resets_before) ++result.solver.projections;
         y[model.index_u] = projected.pair.u;
+        if (model.index_v >= 0) y[model.index_v] = projected.pair_v;
         restart = true;
       }
     }

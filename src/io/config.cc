@@ -94,16 +94,29 @@ void visit(A& a, TableConfig& t) {
 }
 
 template <class A>
+void visit(A& a, ContourConfig& c) {
+  a.field("points", c.points, non_empty());
+  for (std::size_t i = 0; i < c.points.size(); ++i)
+    a.require(c.points[i].size() == 2, "points[" + std::to_string(i) + "]",
+              "expected [x, y] [m], got " + std::to_string(c.points[i].size()) + " numbers");
+  a.field("degree", c.degree, at_least(3));
+  a.field("control_points", c.control_points, non_negative());
+  a.field("smoothing", c.smoothing, non_negative());
+  a.field("parameter_corrections", c.parameter_corrections, non_negative());
+}
+
+template <class A>
 void visit(A& a, MotionLawConfig& m) {
-  a.forbid({"contour"}, "contour cams are not supported yet (issue 4)");
   const bool segments = a.given("segments", !m.segments.empty());
   const bool spline = a.given("spline", m.spline.has_value());
   const bool table = a.given("table", m.table.has_value());
-  a.require(segments + spline + table == 1, "",
-            "needs exactly one of 'segments', 'spline' or 'table'");
+  const bool contour = a.given("contour", m.contour.has_value());
+  a.require(segments + spline + table + contour == 1, "",
+            "needs exactly one of 'segments', 'spline', 'table' or 'contour'");
   if (segments) a.field("segments", m.segments, non_empty());
   if (spline) a.field("spline", m.spline);
   if (table) a.field("table", m.table);
+  if (contour) a.field("contour", m.contour);
 }
 
 // ---------------------------------------------------------------- mechanism
@@ -137,12 +150,22 @@ void visit(A& a, DriveConfig& d) {
 
 template <class A>
 void visit(A& a, CamConfig& c) {
-  a.field("base_radius", c.base_radius, positive());
+  // Required (> 0) unless the cam is a contour: checked with the motion law below.
+  const bool base_given = a.given("base_radius", c.base_radius > 0.0);
+  if (base_given) a.field("base_radius", c.base_radius, non_negative());
   a.field("rpm", c.rpm, non_negative());
   a.field("direction", c.direction, one_of({"ccw", "cw"}));
   a.field("initial_angle_deg", c.initial_angle_deg);
   a.field_or_file("motion_law", c.motion_law, &c.motion_law.source);
   a.field("drive", c.drive);
+  if (c.motion_law.contour) {
+    a.require(!base_given || c.base_radius == 0.0, "base_radius",
+              "a contour cam's base radius follows from its points: leave 'base_radius' out");
+  } else if (!base_given) {
+    a.require(false, "base_radius", "missing (expected a number > 0 [m])");
+  } else {
+    a.require(c.base_radius > 0.0, "base_radius", "must be > 0, got " + format_shortest(c.base_radius));
+  }
 }
 
 template <class A>
@@ -275,6 +298,7 @@ void visit(A& a, ContactConfig& c) {
   a.field("reference_velocity", c.reference_velocity, positive());
   a.field("friction", c.friction);
   a.field("tracking", c.tracking, one_of({"differential", "newton"}));
+  a.field("pair_form", c.pair_form, one_of({"auto", "general"}));
 }
 
 template <class A>
@@ -283,7 +307,11 @@ void visit(A& a, MechanismConfig& m) {
   a.field("follower", m.follower);
   a.field("contact", m.contact);
   const bool translating = m.follower.motion == "translating";
-  if (translating && m.follower.shape.type != "flat") {
+  const bool contour = m.cam.motion_law.contour.has_value();
+  a.require(translating || !contour, "follower.motion",
+            "a contour cam needs a translating follower (the lift of an oscillating arm on a contour is not "
+            "derived)");
+  if (translating && !contour && m.follower.shape.type != "flat") {
     const double reach = m.cam.base_radius + m.follower.shape.radius;
     a.require(std::abs(m.follower.offset) < reach, "follower.offset",
               "|offset| must be < base_radius + roller radius = " + format_shortest(reach) +
@@ -301,7 +329,7 @@ void visit(A& a, MechanismConfig& m) {
     }
   }
   if (!translating) {
-    a.require(!m.cam.motion_law.spline && !m.cam.motion_law.table, "cam.motion_law",
+    a.require(!m.cam.motion_law.spline && !m.cam.motion_law.table && !contour, "cam.motion_law",
               "an oscillating follower needs 'segments' with 'lift_deg' (a spline or table law is in metres)");
   }
 }

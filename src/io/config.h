@@ -51,11 +51,25 @@ struct TableConfig {
   bool operator==(const TableConfig&) const = default;
 };
 
-/// Exactly one of `segments`, `spline`, `table` is set after loading.
+/// A cam given directly as a closed list of contour points (`motion_law.contour`),
+/// fitted with a smooth periodic B-spline (geometry/contour_cam.h); the follower
+/// motion law is then the rigid follower's lift on that contour.
+struct ContourConfig {
+  std::vector<std::vector<double>> points;  ///< [[x, y], ...] in the cam frame at cam angle 0 [m], in order
+  int degree = 5;                 ///< spline degree, in [3, 7]
+  int control_points = 0;         ///< per coordinate; 0 = automatic (N/2 within [2(degree + 1), 400])
+  double smoothing = 0.0;         ///< third-difference penalty weight λ >= 0 (0 = plain least squares)
+  int parameter_corrections = 4;  ///< foot-point projection / refit rounds, >= 0
+
+  bool operator==(const ContourConfig&) const = default;
+};
+
+/// Exactly one of `segments`, `spline`, `table`, `contour` is set after loading.
 struct MotionLawConfig {
   std::vector<SegmentConfig> segments;
   std::optional<PeriodicSplineConfig> spline;
   std::optional<TableConfig> table;
+  std::optional<ContourConfig> contour;
   std::string source;  ///< profile file it came from, if given as "profiles/NAME.json" (not serialised)
 
   bool operator==(const MotionLawConfig&) const = default;
@@ -86,7 +100,7 @@ struct DriveConfig {
 };
 
 struct CamConfig {
-  double base_radius = 0.0;        ///< r_b [m], > 0
+  double base_radius = 0.0;        ///< r_b [m], > 0; left out for a contour cam (derived from its points)
   double rpm = 0.0;                ///< cam speed [rev/min], >= 0 (0 holds the cam still)
   std::string direction = "ccw";   ///< "ccw" or "cw"
   double initial_angle_deg = 0.0;  ///< cam angle at t = 0 [deg]
@@ -180,6 +194,9 @@ struct ContactConfig {
   double reference_velocity = 0.01;            ///< floor of v0 [m/s], > 0
   FrictionConfig friction;
   std::string tracking = "differential";       ///< "differential" or "newton"
+  std::string pair_form = "auto";              ///< "auto": the one-parameter reduction for a circle or line
+                                               ///< follower; "general": the two-parameter common-normal
+                                               ///< tracker of physics.md §2 (verification)
 
   bool operator==(const ContactConfig&) const = default;
 };

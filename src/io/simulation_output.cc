@@ -70,10 +70,48 @@ std::string drive_name(const Model& model) {
 }
 
 std::string contact_pair_name(const Model& model) {
-  if (model.reduction == ContactReduction::line)
-    return "flat face: line against the cam contour (one-parameter reduction)";
-  return std::string(model.follower.shape == FollowerShape::roller ? "roller" : "mushroom") +
-         ": circle centre against the pitch curve (one-parameter reduction)";
+  const bool flat = model.reduction == ContactReduction::line;
+  const std::string shape = flat ? "flat face" : model.follower.shape == FollowerShape::roller ? "roller" : "mushroom";
+  const std::string cam = model.contour ? "the fitted contour" : flat ? "the cam contour" : "the pitch curve";
+  if (model.pair_form == PairForm::general)
+    return shape + ": " + (flat ? "face segment" : "circle") + " against the cam contour (general two-parameter pair)";
+  if (flat) return shape + ": line against " + cam + " (one-parameter reduction)";
+  return shape + ": circle centre against " + cam + (model.contour ? " offset by its radius" : "") +
+         " (one-parameter reduction)";
+}
+
+/// Distance of each contour point from the fitted curve [m].
+std::vector<double> contour_residuals(const ContourCam& cam) {
+  std::vector<double> r(cam.points().size());
+  for (std::size_t i = 0; i < r.size(); ++i)
+    r[i] = (cam.points()[i] - cam.at(cam.point_parameter(static_cast<int>(i))).r).norm();
+  return r;
+}
+
+Json contour_fit_json(const Model& model) {
+  const ContourFitReport& f = model.contour->report();
+  Json concave = Json::array();
+  for (const ConcavePortion& c : f.concave)
+    concave.push_back(Json{{"angle_begin_deg", c.angle_begin_deg},
+                           {"angle_end_deg", c.angle_end_deg},
+                           {"point_begin", c.point_begin},
+                           {"point_end", c.point_end},
+                           {"min_abs_radius", c.min_abs_radius},
+                           {"min_abs_radius_angle_deg", c.min_abs_radius_angle_deg}});
+  return Json{{"points", f.points},
+              {"degree", f.degree},
+              {"control_points", f.control_points},
+              {"rms_residual", f.rms_residual},
+              {"max_residual", f.max_residual},
+              {"max_residual_point", f.max_residual_point},
+              {"min_radius_of_curvature", finite_or_null(f.min_radius_of_curvature)},
+              {"min_radius_of_curvature_angle_deg", f.min_radius_of_curvature_angle_deg},
+              {"min_convex_radius", finite_or_null(f.min_convex_radius)},
+              {"min_convex_radius_angle_deg", f.min_convex_radius_angle_deg},
+              {"concave", concave},
+              {"base_radius", model.follower.base_radius},
+              {"lowest_angle_deg", model.contour_lift->lowest_angle() * kRadToDeg},
+              {"law_interpolation_error", model.law_interpolation_error}};
 }
 
 }  // namespace
@@ -109,9 +147,49 @@ Json summary_json(const SceneConfig& scene, const Model& model, const Simulation
                           {"cam", drive_name(model)},
                           {"follower", follower_name(model)},
                           {"contact_pair", contact_pair_name(model)}};
+  if (model.contour) summary["contour_fit"] = contour_fit_json(model);
   summary["config"] = to_json(scene);
   return summary;
 }
+
+namespace {
+
+/// The contour cam's fit: a table, the points against the fitted curve, and the residual per point.
+void add_contour_fit(const Model& model, Report& report) {
+  const ContourCam& cam = *model.contour;
+  const ContourFitReport& f = cam.report();
+  Table fit{"Contour fit", {"quantity", "value", "unit"}, {}, false};
+  fit.rows = {{"points", std::to_string(f.points), "–"},
+              {"spline degree / control points", std::to_string(f.degree) + " / " + std::to_string(f.control_points), "–"},
+              {"rms residual", format(f.rms_residual * 1e6), "µm"},
+              {"max residual", format(f.max_residual * 1e6) + " (point " + std::to_string(f.max_residual_point) + ")", "µm"},
+              {"smallest radius of curvature", format(f.min_radius_of_curvature * 1e3) + " at " +
+                                                   format(f.min_radius_of_curvature_angle_deg) + "°", "mm"},
+              {"concave portions", std::to_string(f.concave.size()), "–"},
+              {"base radius (derived)", format(model.follower.base_radius * 1e3), "mm"},
+              {"law interpolation error", format(model.law_interpolation_error * 1e9), "nm"}};
+  report.tables.push_back(std::move(fit));
+  constexpr int kCurveSamples = 720;
+  Series curve{"fitted spline", {}, {}, "lines"}, points{"given points", {}, {}, "points"};
+  for (int i = 0; i <= kCurveSamples; ++i) {
+    const Eigen::Vector2d r = cam.at(2.0 * std::numbers::pi * i / kCurveSamples).r;
+    curve.x.push_back(r.x() * 1e3);
+    curve.y.push_back(r.y() * 1e3);
+  }
+  Series residual{"distance to the fitted spline", {}, {}, "linespoints"};
+  const std::vector<double> distances = contour_residuals(cam);
+  for (std::size_t i = 0; i < cam.points().size(); ++i) {
+    points.x.push_back(cam.points()[i].x() * 1e3);
+    points.y.push_back(cam.points()[i].y() * 1e3);
+    residual.x.push_back(static_cast<double>(i));
+    residual.y.push_back(distances[i] * 1e6);
+  }
+  report.plots.push_back(Plot{"Cam contour: given points and fitted spline (cam frame at angle 0)", "x [mm]", "y [mm]",
+                              {std::move(curve), std::move(points)}});
+  report.plots.push_back(Plot{"Contour fit residual per point", "point index", "residual [µm]", {std::move(residual)}});
+}
+
+}  // namespace
 
 Report simulation_report(const SceneConfig& scene, const Model& model, const SimulationResult& result) {
   const Metrics& m = result.metrics;
@@ -186,6 +264,7 @@ Report simulation_report(const SceneConfig& scene, const Model& model, const Sim
   report.plots.push_back(std::move(force));
   report.plots.push_back(Plot{"Energy balance residual (physics.md §5)", "time [s]", "(E − E₀) / scale [–]",
                           {{"energy residual", ts.time, ts.energy_residual}}});
+  if (model.contour) add_contour_fit(model, report);
   report.notes.push_back("Model: " + std::to_string(model.state_size) + " states; elements assembled: " +
                          [&] {
                            std::string list;

@@ -105,6 +105,11 @@ TEST_F(ReportInBrowser, Simulate) {
   check_report("simulate", kStudies + "quickstart.json", {"--set", "simulation.cycles=2"}, 3);
 }
 
+TEST_F(ReportInBrowser, SimulateContourCam) {
+  // 4 time-series plots, the contour against its points, the fit residual.
+  check_report("contour", kStudies + "contour_cam/measured_roller_cam.json", {"--set", "simulation.cycles=2"}, 6);
+}
+
 TEST_F(ReportInBrowser, Convergence) {
   std::ofstream(dir_ / "convergence.json") << R"({
     "extends": ")" << kStudies << R"(quickstart.json", "name": "convergence", "study": "convergence",

@@ -751,3 +751,45 @@ TEST(ProfilePairAllocation, EvaluateNewtonRatesAndGlobalSearchDoNotAllocate) {
 
 }  // namespace
 }  // namespace camdyn
+
+namespace camdyn {
+namespace {
+
+TEST(InwardOffsetProfile, OfAnEllipseHasTheOffsetPointsAndExactDerivatives) {
+  // The offset lies at distance d inside the ellipse along its normal, and its
+  // r', r'' match central differences of r and r'.
+  const Ellipse ellipse(0.05, 0.03);
+  const ClosedCurveProfile base(ellipse);
+  constexpr double d = 0.008;
+  const InwardOffsetProfile offset(base, d);
+  EXPECT_EQ(offset.outward_side(), base.outward_side());
+  for (int i = 0; i < 24; ++i) {
+    const double u = 2 * std::numbers::pi * (i + 0.37) / 24;
+    const CurvePoint b = base.at(u), o = offset.at(u);
+    const Eigen::Vector2d n = outward_normal(b.r, b.dr);  // star-shaped about the origin
+    EXPECT_NEAR((o.r - (b.r - d * n)).norm(), 0.0, 1e-15);
+    for (int k = 0; k < 2; ++k) {
+      const auto rx = [&](double x) { return offset.at(x).r[k]; };
+      const auto dx = [&](double x) { return offset.at(x).dr[k]; };
+      const test::FdEstimate r1 = test::central_difference(rx, u, 1e-4, 0.05);
+      const test::FdEstimate r2 = test::central_difference(dx, u, 1e-4, 0.05);
+      EXPECT_NEAR(o.dr[k], r1.value, r1.tolerance) << "u " << u;
+      EXPECT_NEAR(o.d2r[k], r2.value, r2.tolerance) << "u " << u;
+    }
+  }
+}
+
+TEST(InwardOffsetProfile, OfACircleIsTheSmallerConcentricCircle) {
+  const CircleProfile circle(0.04, Eigen::Vector2d(0.01, -0.02));
+  const InwardOffsetProfile offset(circle, 0.015);
+  for (int i = 0; i < 12; ++i) {
+    const double v = 0.5 * i;
+    const CurvePoint expected = CircleProfile(0.025, Eigen::Vector2d(0.01, -0.02)).at(v), got = offset.at(v);
+    EXPECT_NEAR((got.r - expected.r).norm(), 0.0, 1e-15);
+    EXPECT_NEAR((got.dr - expected.dr).norm(), 0.0, 1e-15);
+    EXPECT_NEAR((got.d2r - expected.d2r).norm(), 0.0, 1e-15);
+  }
+}
+
+}  // namespace
+}  // namespace camdyn

@@ -2,6 +2,7 @@
 // follower coordinate and its rate (plus the tracking parameter with
 // differential tracking), and each feature adds exactly its own states and
 // force elements.
+#include <cmath>
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -108,6 +109,26 @@ std::vector<ModelCase> cases() {
        kArm + Names{"contact_parameter_u", "cam_angle", "cam_speed", "motor_angle", "motor_speed"},
        {"arm_inertia", "torsional_spring", "contact:hertz", "cam_inertia", "shaft_spring", "shaft_damper",
         "motor:torque_speed"}},
+      {"general_pair_differential", "translating_roller",
+       [](SceneConfig& s) { s.mechanism.contact.pair_form = "general"; },
+       kTranslating + Names{"contact_parameter_u", "contact_parameter_v"}, {"follower_mass", "spring", "contact:hertz"}},
+      {"general_pair_newton", "oscillating_flat",
+       [&](SceneConfig& s) {
+         newton(s);
+         s.mechanism.contact.pair_form = "general";
+       },
+       kArm, {"arm_inertia", "torsional_spring", "contact:hertz"}},
+      {"contour_cam_adds_nothing", "translating_roller",
+       [&](SceneConfig& s) {
+         newton(s);
+         s.mechanism.cam.base_radius = 0.0;
+         s.mechanism.cam.motion_law = {};
+         s.mechanism.cam.motion_law.contour = ContourConfig{};
+         for (int i = 0; i < 64; ++i)  // a disc 30 mm in radius, 4 mm off the axis
+           s.mechanism.cam.motion_law.contour->points.push_back(
+               {0.03 * std::cos(i * 0.09817477042468103), -0.004 + 0.03 * std::sin(i * 0.09817477042468103)});
+       },
+       kTranslating, {"follower_mass", "spring", "contact:hertz"}},
   };
 }
 
@@ -126,6 +147,10 @@ TEST_P(ModelBlock, ListsExactlyTheStatesAndElementsTheSceneNeeds) {
   EXPECT_EQ(block.at("states").get<Names>(), c.states);
   EXPECT_EQ(block.at("elements").get<Names>(), c.elements);
   EXPECT_EQ(block.at("follower").get<std::string>(), c.kind);
+  const bool general = scene.mechanism.contact.pair_form == "general";
+  EXPECT_EQ(block.at("contact_pair").get<std::string>().find("general") != std::string::npos, general);
+  EXPECT_EQ(summary_json(scene, model, SimulationResult{}).contains("contour_fit"),
+            scene.mechanism.cam.motion_law.contour.has_value());
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, ModelBlock, ::testing::ValuesIn(cases()),
@@ -150,6 +175,21 @@ TEST(FollowerExamples, EveryStudyConfigLoadsAndBuildsItsModel) {
     ++count;
   }
   EXPECT_GE(count, 5);
+}
+
+TEST(ContourCamExample, LoadsFitsAndReportsItsFit) {
+  // studies/contour_cam/measured_roller_cam.json (made by its generate.py):
+  // 360 points with 1.5 µm noise on a cam of base radius 35 mm.
+  const std::string file =
+      (std::filesystem::path(CAMDYN_TEST_DATA_DIR) / "../../studies/contour_cam/measured_roller_cam.json").string();
+  const Model model = build_model(load_scene(file), file);
+  ASSERT_TRUE(model.contour);
+  const ContourFitReport& fit = model.contour->report();
+  EXPECT_EQ(fit.points, 360);
+  EXPECT_GT(fit.rms_residual, 0.5e-6);  // the noise is there, and is not fitted away ...
+  EXPECT_LT(fit.rms_residual, 1.5e-6);  // ... nor left above its level
+  EXPECT_TRUE(fit.concave.empty());
+  EXPECT_NEAR(model.follower.base_radius, 0.035, 5e-6);
 }
 
 }  // namespace

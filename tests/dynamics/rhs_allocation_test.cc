@@ -1,6 +1,7 @@
 // The right-hand side must not allocate (it runs millions of times per
 // optimisation): a counting global operator new checks it.
 #include <atomic>
+#include <cmath>
 #include <cstdlib>
 #include <new>
 
@@ -76,6 +77,41 @@ TEST(RightHandSide, AllocatesNothingForAnyFollowerFrictionOrDrive) {
         if (i % 10 == 0) state_jacobian(model, ws, t, y, jacobian);
       }
       EXPECT_EQ(camdyn::test::allocation_count() - before, 0) << kind << " " << tracking;
+    }
+  }
+}
+
+TEST(RightHandSide, AllocatesNothingWithTheGeneralPairFormOrAContourCam) {
+  // The general form's search samples are made by prepare_workspace (once per run).
+  for (const bool contour : {false, true}) {
+    for (const char* tracking : {"differential", "newton"}) {
+      SceneConfig scene = test::follower_scene("translating_roller", 1000.0, "lankarani_nikravesh");
+      scene.mechanism.contact.tracking = tracking;
+      scene.mechanism.contact.pair_form = contour ? "auto" : "general";
+      if (contour) {
+        scene.mechanism.cam.base_radius = 0.0;
+        scene.mechanism.cam.motion_law = {};
+        scene.mechanism.cam.motion_law.contour = ContourConfig{};
+        for (int i = 0; i < 64; ++i)
+          scene.mechanism.cam.motion_law.contour->points.push_back(
+              {0.03 * std::cos(i * 0.09817477042468103), -0.004 + 0.03 * std::sin(i * 0.09817477042468103)});
+      }
+      const Model model = build_model(scene, "test");
+      Workspace ws;
+      prepare_workspace(model, ws);
+      Evaluation ev;
+      double y[Model::kMaxState] = {0.002, 0.3}, y_dot[Model::kMaxState], q_dot[Model::kQuadratures], g[2];
+      ws.u_warm = model.pair_guess(0.8);
+      if (model.index_u >= 0) y[model.index_u] = ws.u_warm;
+      if (model.index_v >= 0) y[model.index_v] = ws.v_warm;
+      const long before = camdyn::test::allocation_count();
+      for (int i = 0; i < 100; ++i) {
+        evaluate(model, ws, 0.8 / model.omega + 1e-5 * i, y, ev);
+        state_derivative(model, ev, y_dot);
+        quadrature_derivative(ev, q_dot);
+        root_functions(model, ws, ev, g);
+      }
+      EXPECT_EQ(camdyn::test::allocation_count() - before, 0) << tracking << (contour ? " contour" : " general");
     }
   }
 }

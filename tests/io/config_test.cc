@@ -191,6 +191,46 @@ TEST(Config, RoundTripOfEveryOptionalShape) {
   expect_round_trip(sb);
 }
 
+TEST(Config, ContourCamRoundTripsWithoutABaseRadiusAndWithItsPairForm) {
+  TempDir dir;
+  Json c = minimal_scene();
+  c["mechanism"]["cam"].erase("base_radius");
+  c["mechanism"]["cam"]["motion_law"] = Json::parse(
+      R"({ "contour": { "points": [[0.03, 0], [0, 0.03], [-0.03, 0], [0, -0.03], [0.02, 0.02], [-0.02, 0.02],
+                                   [-0.02, -0.02], [0.02, -0.02]], "control_points": 12, "smoothing": 0.5 } })");
+  c["mechanism"]["contact"]["pair_form"] = "general";
+  const SceneConfig sc = scene_from_json(c, ConfigSource{"c.json", dir / ""});
+  ASSERT_TRUE(sc.mechanism.cam.motion_law.contour.has_value());
+  EXPECT_EQ(sc.mechanism.cam.motion_law.contour->points.size(), 8u);
+  EXPECT_EQ(sc.mechanism.cam.motion_law.contour->degree, 5);
+  EXPECT_EQ(sc.mechanism.cam.motion_law.contour->control_points, 12);
+  EXPECT_EQ(sc.mechanism.cam.base_radius, 0.0);
+  EXPECT_EQ(sc.mechanism.contact.pair_form, "general");
+  EXPECT_FALSE(to_json(sc)["mechanism"]["cam"].contains("base_radius"));
+  expect_round_trip(sc);
+
+  // A point that is not [x, y], and a missing base radius on a law cam, name their fields.
+  c["mechanism"]["cam"]["motion_law"]["contour"]["points"][3] = Json::parse("[0, -0.03, 0]");
+  EXPECT_THROW(
+      {
+        try {
+          scene_from_json(c, ConfigSource{"c.json", dir / ""});
+        } catch (const InputError& e) {
+          EXPECT_NE(std::string(e.what()).find("mechanism.cam.motion_law.contour.points[3]"), std::string::npos);
+          throw;
+        }
+      },
+      InputError);
+  Json d = minimal_scene();
+  d["mechanism"]["cam"].erase("base_radius");
+  try {
+    scene_from_json(d, ConfigSource{"d.json", dir / ""});
+    ADD_FAILURE() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("mechanism.cam.base_radius: missing"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Config, FollowerTypesAndShaftDriveRoundTripWithOnlyTheirOwnFields) {
   // Oscillating flat face with pivot friction, driven through a shaft by a torque–speed motor.
   Json a = minimal_scene();
