@@ -223,6 +223,27 @@ TEST(GeneralPairForm, OnAContourCamToo) {
   EXPECT_NEAR(b.metrics.min_contact_force / a.metrics.min_contact_force, 1.0, 1e-5);
 }
 
+TEST(GeneralPairForm, FollowsAConcaveFlankLikeTheReduction) {
+  // A dent (concave radius about 20 mm) in the eccentric disc under a 10 mm
+  // roller: accepted, reported as concave, and tracked through by both forms.
+  SceneConfig reduced = eccentric_scene("translating_roller", 300.0);
+  auto& points = reduced.mechanism.cam.motion_law.contour->points;
+  for (int i = 24; i <= 36; ++i) {
+    const double a = kTwoPi * i / 120, r = kDiscRadius - 0.0015 * (1 + std::cos((i - 30) * std::numbers::pi / 6)) / 2;
+    points[i] = {r * std::cos(a), -kEccentricity + r * std::sin(a)};
+  }
+  const Model model = build_model(reduced, "test");
+  ASSERT_EQ(model.contour->report().concave.size(), 1u);
+  EXPECT_GT(model.contour->report().concave[0].min_abs_radius, model.follower.radius);
+  SceneConfig general = reduced;
+  general.mechanism.contact.pair_form = "general";
+  const SimulationResult a = simulate_scene(reduced, "test"), b = simulate_scene(general, "test");
+  EXPECT_EQ(a.metrics.separation_fraction, 0.0);
+  EXPECT_EQ(b.solver.tracking_resets, 0);
+  EXPECT_NEAR(b.metrics.peak_contact_force / a.metrics.peak_contact_force, 1.0, 1e-6);
+  EXPECT_NEAR(b.metrics.min_contact_force, a.metrics.min_contact_force, 2e-5 * a.metrics.peak_contact_force);
+}
+
 TEST(GeneralPairForm, AddsTheFollowerParameterStateOnlyWithDifferentialTracking) {
   SceneConfig s = test::follower_scene("translating_roller", 500.0);
   s.mechanism.contact.pair_form = "general";
