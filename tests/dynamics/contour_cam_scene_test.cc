@@ -6,7 +6,9 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <iomanip>
 #include <ostream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -203,7 +205,9 @@ TEST_P(GeneralPairForm, SameMetricsAsTheReductionWithinIntegrationTolerance) {
   double worst = 0.0;
   for (size_t i = 0; i < a.series.time.size(); ++i)
     worst = std::max(worst, std::abs(a.series.contact_force[i] - b.series.contact_force[i]));
-  ::testing::Test::RecordProperty("worst_force_difference_over_peak", std::to_string(worst / scale));
+  std::ostringstream measured;
+  measured << std::setprecision(3) << worst / scale;
+  ::testing::Test::RecordProperty("worst_force_difference_over_peak", measured.str());
   EXPECT_LT(worst / scale, 1e-5);
 }
 
