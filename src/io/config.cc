@@ -329,7 +329,7 @@ void visit(A& a, MechanismConfig& m) {
     }
   }
   if (!translating) {
-    a.require(!m.cam.motion_law.spline && !m.cam.motion_law.table && !contour, "cam.motion_law",
+    a.require(!m.cam.motion_law.spline && !m.cam.motion_law.table, "cam.motion_law",
               "an oscillating follower needs 'segments' with 'lift_deg' (a spline or table law is in metres)");
   }
 }

@@ -24,26 +24,12 @@ namespace {
 
 constexpr double kTwoPi = 2 * std::numbers::pi;
 
-/// A circular disc of radius R whose centre is ε below the cam axis, as N
-/// contour points (its lowest point under the follower at cam angle 0).
-std::vector<std::vector<double>> eccentric_disc(double radius, double eccentricity, int n = 120) {
-  std::vector<std::vector<double>> points;
-  for (int i = 0; i < n; ++i) {
-    const double a = kTwoPi * i / n;
-    points.push_back({radius * std::cos(a), -eccentricity + radius * std::sin(a)});
-  }
-  return points;
-}
-
-constexpr double kDiscRadius = 0.03, kEccentricity = 0.004;
+constexpr double kDiscRadius = 0.03, kEccentricity = 0.004;  // test::use_eccentric_disc_contour's
 
 /// The cycloidal test scene with its cam replaced by the eccentric disc.
 SceneConfig eccentric_scene(const std::string& kind, double rpm) {
   SceneConfig s = test::follower_scene(kind, rpm, "lankarani_nikravesh");
-  s.mechanism.cam.base_radius = 0.0;
-  s.mechanism.cam.motion_law = {};
-  s.mechanism.cam.motion_law.contour = ContourConfig{};
-  s.mechanism.cam.motion_law.contour->points = eccentric_disc(kDiscRadius, kEccentricity);
+  test::use_eccentric_disc_contour(s);
   return s;
 }
 

@@ -2,7 +2,6 @@
 // follower coordinate and its rate (plus the tracking parameter with
 // differential tracking), and each feature adds exactly its own states and
 // force elements.
-#include <cmath>
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -121,12 +120,7 @@ std::vector<ModelCase> cases() {
       {"contour_cam_adds_nothing", "translating_roller",
        [&](SceneConfig& s) {
          newton(s);
-         s.mechanism.cam.base_radius = 0.0;
-         s.mechanism.cam.motion_law = {};
-         s.mechanism.cam.motion_law.contour = ContourConfig{};
-         for (int i = 0; i < 64; ++i)  // a disc 30 mm in radius, 4 mm off the axis
-           s.mechanism.cam.motion_law.contour->points.push_back(
-               {0.03 * std::cos(i * 0.09817477042468103), -0.004 + 0.03 * std::sin(i * 0.09817477042468103)});
+         test::use_eccentric_disc_contour(s, 64);
        },
        kTranslating, {"follower_mass", "spring", "contact:hertz"}},
   };

@@ -1,7 +1,6 @@
 // The right-hand side must not allocate (it runs millions of times per
 // optimisation): a counting global operator new checks it.
 #include <atomic>
-#include <cmath>
 #include <cstdlib>
 #include <new>
 
@@ -88,14 +87,7 @@ TEST(RightHandSide, AllocatesNothingWithTheGeneralPairFormOrAContourCam) {
       SceneConfig scene = test::follower_scene("translating_roller", 1000.0, "lankarani_nikravesh");
       scene.mechanism.contact.tracking = tracking;
       scene.mechanism.contact.pair_form = contour ? "auto" : "general";
-      if (contour) {
-        scene.mechanism.cam.base_radius = 0.0;
-        scene.mechanism.cam.motion_law = {};
-        scene.mechanism.cam.motion_law.contour = ContourConfig{};
-        for (int i = 0; i < 64; ++i)
-          scene.mechanism.cam.motion_law.contour->points.push_back(
-              {0.03 * std::cos(i * 0.09817477042468103), -0.004 + 0.03 * std::sin(i * 0.09817477042468103)});
-      }
+      if (contour) test::use_eccentric_disc_contour(scene, 64);
       const Model model = build_model(scene, "test");
       Workspace ws;
       prepare_workspace(model, ws);

@@ -1,6 +1,7 @@
 // Scenes built in code for the physics tests.
 #pragma once
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -103,6 +104,25 @@ inline SceneConfig follower_scene(const std::string& kind, double rpm, const std
     }
   }
   return s;
+}
+
+/// A contour cam: a circular disc of radius R whose centre is ε below the cam
+/// axis, as n points (its lowest point under the follower at cam angle 0).
+inline std::vector<std::vector<double>> eccentric_disc(double radius, double eccentricity, int n = 120) {
+  std::vector<std::vector<double>> points;
+  for (int i = 0; i < n; ++i) {
+    const double a = 2 * 3.141592653589793 * i / n;
+    points.push_back({radius * std::cos(a), -eccentricity + radius * std::sin(a)});
+  }
+  return points;
+}
+
+/// Replaces a scene's cam by that disc (R = 30 mm, ε = 4 mm) given as a contour.
+inline void use_eccentric_disc_contour(SceneConfig& s, int n = 120) {
+  s.mechanism.cam.base_radius = 0.0;
+  s.mechanism.cam.motion_law = {};
+  s.mechanism.cam.motion_law.contour = ContourConfig{};
+  s.mechanism.cam.motion_law.contour->points = eccentric_disc(0.03, 0.004, n);
 }
 
 inline const std::vector<std::string>& follower_kinds() {
