@@ -389,20 +389,22 @@ void build_general_pair(Model& model) {
   }
 }
 
-template <class S>
-void derivative_from_core(const Model& m, const Core<S>& o, S* x_dot) {
-  x_dot[0] = o.v;
-  x_dot[1] = o.acceleration;
-  if (m.index_u >= 0) x_dot[m.index_u] = o.u_rate;
-  if (m.index_v >= 0) x_dot[m.index_v] = o.v_rate;
-  if (m.index_spin >= 0) x_dot[m.index_spin] = o.spin_acceleration;
+/// ẋ in the model's state layout from the rates of a Core (double or dual
+/// numbers) or an Evaluation, which name them alike except the cam speed.
+template <class S, class Rates>
+void scatter_state_rates(const Model& m, const Rates& r, const S& cam_speed, S* x_dot) {
+  x_dot[0] = r.v;
+  x_dot[1] = r.acceleration;
+  if (m.index_u >= 0) x_dot[m.index_u] = r.u_rate;
+  if (m.index_v >= 0) x_dot[m.index_v] = r.v_rate;
+  if (m.index_spin >= 0) x_dot[m.index_spin] = r.spin_acceleration;
   if (m.index_cam_angle >= 0) {
-    x_dot[m.index_cam_angle] = o.omega_c;
-    x_dot[m.index_cam_speed] = o.cam_acceleration;
+    x_dot[m.index_cam_angle] = cam_speed;
+    x_dot[m.index_cam_speed] = r.cam_acceleration;
   }
   if (m.index_motor_angle >= 0) {
-    x_dot[m.index_motor_angle] = o.motor_speed;
-    x_dot[m.index_motor_speed] = o.motor_acceleration;
+    x_dot[m.index_motor_angle] = r.motor_speed;
+    x_dot[m.index_motor_speed] = r.motor_acceleration;
   }
 }
 
@@ -641,25 +643,13 @@ void state_jacobian(const Model& model, Workspace& ws, double t, const double* s
   }
   core(model, ws, t, x, ps, u, o);
   Jet x_dot[Model::kMaxState];
-  derivative_from_core(model, o, x_dot);
+  scatter_state_rates(model, o, o.omega_c, x_dot);
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) jacobian[i + n * j] = x_dot[i].d[j];
 }
 
 void state_derivative(const Model& model, const Evaluation& ev, double* state_dot) {
-  state_dot[0] = ev.v;
-  state_dot[1] = ev.acceleration;
-  if (model.index_u >= 0) state_dot[model.index_u] = ev.u_rate;
-  if (model.index_v >= 0) state_dot[model.index_v] = ev.v_rate;
-  if (model.index_spin >= 0) state_dot[model.index_spin] = ev.spin_acceleration;
-  if (model.index_cam_angle >= 0) {
-    state_dot[model.index_cam_angle] = ev.cam_speed;
-    state_dot[model.index_cam_speed] = ev.cam_acceleration;
-  }
-  if (model.index_motor_angle >= 0) {
-    state_dot[model.index_motor_angle] = ev.motor_speed;
-    state_dot[model.index_motor_speed] = ev.motor_acceleration;
-  }
+  scatter_state_rates(model, ev, ev.cam_speed, state_dot);
 }
 
 void quadrature_derivative(const Evaluation& ev, double* q_dot) {

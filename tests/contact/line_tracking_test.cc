@@ -7,17 +7,14 @@
 
 #include <gtest/gtest.h>
 
+#include "test_curves.h"
+
 namespace camdyn {
 namespace {
 
-// An ellipse x = a cos u, y = b sin u (counter-clockwise), star-shaped about the origin.
-struct Ellipse {
-  double a = 0.05, b = 0.03;
-  CurvePoint at(double u) const {
-    const double c = std::cos(u), s = std::sin(u);
-    return {{a * c, b * s}, {-a * s, b * c}, {-a * c, -b * s}, {a * s, -b * c}};
-  }
-};
+// The shared test ellipse, semi-axes 50 and 30 mm (counter-clockwise), star-shaped about the origin.
+using test::Ellipse;
+constexpr double kSemiA = 0.05, kSemiB = 0.03;
 
 /// A face whose normal m (towards the ellipse) makes angle `angle` with −y, at distance `h` above the ellipse.
 struct Face {
@@ -26,12 +23,12 @@ struct Face {
 Face face(const Ellipse& e, double angle, double h) {
   const Eigen::Vector2d m(std::sin(angle), -std::cos(angle));
   // The ellipse's support value in direction −m is sqrt(a² m_x² + b² m_y²).
-  const double support = std::sqrt(e.a * e.a * m.x() * m.x() + e.b * e.b * m.y() * m.y());
+  const double support = std::sqrt(e.a() * e.a() * m.x() * m.x() + e.b() * e.b() * m.y() * m.y());
   return {-(support + h) * m, m};
 }
 
 TEST(LineTracking, ResidualDerivativeMatchesFiniteDifference) {
-  const Ellipse e;
+  const Ellipse e(kSemiA, kSemiB);
   const Face f = face(e, 0.3, 0.01);
   for (double u : {0.1, 0.7, 2.0, 4.0}) {
     const double h = 1e-6;
@@ -42,12 +39,12 @@ TEST(LineTracking, ResidualDerivativeMatchesFiniteDifference) {
 }
 
 TEST(LineTracking, NewtonAndGlobalFindTheSupportPointAndTheExactGap) {
-  const Ellipse e;
+  const Ellipse e(kSemiA, kSemiB);
   for (double angle : {0.0, 0.4, -1.0, 2.5}) {
     for (double h : {0.01, 1e-6, -2e-5}) {  // apart, nearly touching, interfering
       const Face f = face(e, angle, h);
       // Support point in direction −m: u* = atan2(−b m_y, −a m_x).
-      const double u_star = std::atan2(-e.b * f.m.y(), -e.a * f.m.x());
+      const double u_star = std::atan2(-e.b() * f.m.y(), -e.a() * f.m.x());
       double u = 0.0;
       TrackedPair pair;
       ASSERT_TRUE(global_line_pair(e, f.p, f.m, u_star + 0.5, u, pair)) << angle;
@@ -62,7 +59,7 @@ TEST(LineTracking, NewtonAndGlobalFindTheSupportPointAndTheExactGap) {
 }
 
 TEST(LineTracking, NewtonRejectsTheFarSideOfTheProfile) {
-  const Ellipse e;
+  const Ellipse e(kSemiA, kSemiB);
   const Face f = face(e, 0.0, 0.01);  // face above the ellipse: the support point is at u = π/2
   double u = -std::numbers::pi / 2;   // the bottom: a maximum of m·r, not a support point
   TrackedPair pair;

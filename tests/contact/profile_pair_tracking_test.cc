@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "../geometry/finite_difference.h"
+#include "../geometry/law_checks.h"
 #include "allocation_counter.h"
 #include "contact/point_curve_tracking.h"
 #include "geometry/cam_roller.h"
@@ -412,14 +413,21 @@ struct DescendingScene {
   }
 };
 
-TEST(ProfilePairTracking, WarmNewtonIsContinuousThroughFirstContact) {
+/// The descending scene's profiles, with the pair found by the global search at t = 0.
+class ProfilePairTracking : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    ASSERT_TRUE(global_profile_pair(a, b, s.cam(0), s.roller(0), kPi / 2, -kPi / 2, ws, u, v, pair));
+  }
   const DescendingScene s;
-  const ClosedCurveProfile a(s.ellipse);
-  const CircleProfile b(s.rho);
-  PairTrackerWorkspace ws(a, b);
+  const ClosedCurveProfile a{s.ellipse};
+  const CircleProfile b{s.rho};
+  PairTrackerWorkspace ws{a, b};
   double u = 0, v = 0;
   PairEvaluation pair;
-  ASSERT_TRUE(global_profile_pair(a, b, s.cam(0), s.roller(0), kPi / 2, -kPi / 2, ws, u, v, pair));
+};
+
+TEST_F(ProfilePairTracking, WarmNewtonIsContinuousThroughFirstContact) {
   const int steps = 2000;
   double prev_u = u, prev_v = v, prev_gap = pair.gap, max_du = 0, max_dv = 0;
   double du_at_contact = -1, dv_at_contact = -1;
@@ -488,14 +496,7 @@ Rk4Run integrate_pair(const DescendingScene& s, const PairProfile& a, const Pair
   return run;
 }
 
-TEST(ProfilePairTracking, DifferentialTrackingWithRk4StaysOnTheManifold) {
-  const DescendingScene s;
-  const ClosedCurveProfile a(s.ellipse);
-  const CircleProfile b(s.rho);
-  PairTrackerWorkspace ws(a, b);
-  double u = 0, v = 0;
-  PairEvaluation pair;
-  ASSERT_TRUE(global_profile_pair(a, b, s.cam(0), s.roller(0), kPi / 2, -kPi / 2, ws, u, v, pair));
+TEST_F(ProfilePairTracking, DifferentialTrackingWithRk4StaysOnTheManifold) {
   for (double alpha : {0.0, 50.0}) {
     // The drift of f is RK4's truncation error: it falls as h⁴ (16× per halving;
     // measured 4.7e-12 → 2.9e-13 m for α = 0, 1.8e-9 → 1.1e-10 m for α = 50,
@@ -509,14 +510,7 @@ TEST(ProfilePairTracking, DifferentialTrackingWithRk4StaysOnTheManifold) {
   }
 }
 
-TEST(ProfilePairTracking, StabilisationRemovesDriftAtRateAlpha) {
-  const DescendingScene s;
-  const ClosedCurveProfile a(s.ellipse);
-  const CircleProfile b(s.rho);
-  PairTrackerWorkspace ws(a, b);
-  double u = 0, v = 0;
-  PairEvaluation pair;
-  ASSERT_TRUE(global_profile_pair(a, b, s.cam(0), s.roller(0), kPi / 2, -kPi / 2, ws, u, v, pair));
+TEST_F(ProfilePairTracking, StabilisationRemovesDriftAtRateAlpha) {
   // Start off the manifold: ḟ = −α f makes f(t) = f(0) e^{−α t} exactly.
   const double alpha = 20.0, t_end = 0.25;
   const double u0 = u + 1e-3, v0 = v - 2e-3;
@@ -567,27 +561,26 @@ class RollerCamContour final : public PeriodicCurve {
 
 MotionLaw cycloidal_law() {
   MotionLawConfig config;
-  const auto seg = [](const std::string& type, const std::string& law, double end, std::optional<double> lift) {
-    SegmentConfig s;
-    s.type = type;
-    s.law = law;
-    s.end_deg = end;
-    s.lift = lift;
-    return s;
-  };
-  config.segments = {seg("rise", "cycloidal", 120, 0.02), seg("dwell", "", 180, std::nullopt),
-                     seg("return", "cycloidal", 300, 0.02), seg("dwell", "", 360, std::nullopt)};
+  config.segments = {test::segment("rise", "cycloidal", 120, 0.02), test::dwell(180),
+                     test::segment("return", "cycloidal", 300, 0.02), test::dwell(360)};
   return build_motion_law(config, "test", "mechanism.cam.motion_law");
 }
 
-TEST(ProfilePairVsCircleReduction, SamePairAndGapOnARollerCamOverATurn) {
-  const MotionLaw law = cycloidal_law();
+/// The roller cam both comparisons with the circle reduction use: base radius
+/// 40 mm, roller 10 mm, follower axis 5 mm off the cam centre, ccw.
+TranslatingRollerCam offset_roller_cam(const MotionLaw& law) {
   TranslatingRollerCam cam;
   cam.law = &law;
   cam.base_radius = 0.04;
   cam.roller_radius = 0.01;
   cam.offset = 0.005;
   cam.direction = 1;
+  return cam;
+}
+
+TEST(ProfilePairVsCircleReduction, SamePairAndGapOnARollerCamOverATurn) {
+  const MotionLaw law = cycloidal_law();
+  const TranslatingRollerCam cam = offset_roller_cam(law);
   const RollerCamContour contour(cam);
   const ClosedCurveProfile a(contour);
   const CircleProfile b(cam.roller_radius);
@@ -641,12 +634,7 @@ struct FollowerRun {
 
 FollowerRun run_follower(bool general) {
   const MotionLaw law = cycloidal_law();
-  TranslatingRollerCam cam;
-  cam.law = &law;
-  cam.base_radius = 0.04;
-  cam.roller_radius = 0.01;
-  cam.offset = 0.005;
-  cam.direction = 1;
+  const TranslatingRollerCam cam = offset_roller_cam(law);
   const RollerCamContour contour(cam);
   const ClosedCurveProfile a(contour);
   const CircleProfile b(cam.roller_radius);

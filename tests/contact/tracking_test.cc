@@ -6,20 +6,17 @@
 
 #include <gtest/gtest.h>
 
+#include "test_curves.h"
+
 namespace camdyn {
 namespace {
 
-// An ellipse x = a cos u, y = b sin u (counter-clockwise), star-shaped about the origin.
-struct Ellipse {
-  double a = 0.05, b = 0.03;
-  CurvePoint at(double u) const {
-    const double c = std::cos(u), s = std::sin(u);
-    return {{a * c, b * s}, {-a * s, b * c}, {-a * c, -b * s}, {a * s, -b * c}};
-  }
-};
+// The shared test ellipse, semi-axes 50 and 30 mm (counter-clockwise), star-shaped about the origin.
+using test::Ellipse;
+constexpr double kSemiA = 0.05, kSemiB = 0.03;
 
 TEST(Tracking, ResidualDerivativeMatchesFiniteDifference) {
-  const Ellipse e;
+  const Ellipse e(kSemiA, kSemiB);
   const Eigen::Vector2d c(0.06, 0.02);
   for (double u : {0.1, 0.7, 2.0, 4.0}) {
     const double h = 1e-6;
@@ -29,19 +26,19 @@ TEST(Tracking, ResidualDerivativeMatchesFiniteDifference) {
 }
 
 TEST(Tracking, GapOnEllipseAxesIsExact) {
-  const Ellipse e;
+  const Ellipse e(kSemiA, kSemiB);
   TrackedPair pair;
   double u = 0.0;
   // A point outside the ellipse on its major axis: gap = x − a; inside: negative.
   for (double x : {0.07, 0.051, 0.0499}) {
     ASSERT_TRUE(global_pair(e, Eigen::Vector2d(x, 0.0), 0.0, u, pair));
-    EXPECT_NEAR(pair.gap, x - e.a, 1e-15);
+    EXPECT_NEAR(pair.gap, x - e.a(), 1e-15);
     EXPECT_NEAR(std::remainder(u, 2 * std::numbers::pi), 0.0, 1e-12);
   }
 }
 
 TEST(Tracking, NewtonFindsTheFootPointOfAGeneralPoint) {
-  const Ellipse e;
+  const Ellipse e(kSemiA, kSemiB);
   const Eigen::Vector2d c(0.04, 0.035);
   double u = 1.0;
   TrackedPair pair;
@@ -56,7 +53,7 @@ TEST(Tracking, NewtonFindsTheFootPointOfAGeneralPoint) {
 }
 
 TEST(Tracking, GlobalPairStaysOnTheBranchNearTheReference) {
-  const Ellipse e;
+  const Ellipse e(kSemiA, kSemiB);
   double u = 0.0;
   TrackedPair pair;
   const double ref = 10 * std::numbers::pi + 0.3;  // five turns on

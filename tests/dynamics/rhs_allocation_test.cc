@@ -15,6 +15,26 @@
 namespace camdyn {
 namespace {
 
+/// Heap allocations made by 100 right-hand-side calls (evaluation, state and
+/// quadrature derivatives, root functions) at t = t0 + 1e-4 i, plus the
+/// Jacobian every tenth call when `jacobian`.
+long allocations_in_rhs_calls(const Model& model, Workspace& ws, const double* y, double t0 = 0.0,
+                              bool jacobian = false) {
+  Evaluation ev;
+  double y_dot[Model::kMaxState], q_dot[Model::kQuadratures], g[2];
+  double jac[Model::kMaxState * Model::kMaxState];
+  const long before = camdyn::test::allocation_count();
+  for (int i = 0; i < 100; ++i) {
+    const double t = t0 + 1e-4 * i;
+    evaluate(model, ws, t, y, ev);
+    state_derivative(model, ev, y_dot);
+    quadrature_derivative(ev, q_dot);
+    root_functions(model, ws, ev, g);
+    if (jacobian && i % 10 == 0) state_jacobian(model, ws, t, y, jac);
+  }
+  return camdyn::test::allocation_count() - before;
+}
+
 TEST(RightHandSide, AllocatesNothingInEveryTrackingMode) {
   for (const char* tracking : {"differential", "newton"}) {
     SceneConfig scene = test::cycloidal_cam_scene(1000.0, "lankarani_nikravesh");
@@ -23,18 +43,9 @@ TEST(RightHandSide, AllocatesNothingInEveryTrackingMode) {
     scene.mechanism.contact.friction.mu = 0.1;
     const Model model = build_model(scene, "test");
     Workspace ws;
-    Evaluation ev;
-    double y[Model::kMaxState] = {0.005, 0.3, 0.8, 100.0}, y_dot[Model::kMaxState], q_dot[Model::kQuadratures], g[2];
+    const double y[Model::kMaxState] = {0.005, 0.3, 0.8, 100.0};
     ws.u_warm = 0.8;
-    const long before = camdyn::test::allocation_count();
-    for (int i = 0; i < 100; ++i) {
-      const double t = 1e-4 * i;
-      evaluate(model, ws, t, y, ev);
-      state_derivative(model, ev, y_dot);
-      quadrature_derivative(ev, q_dot);
-      root_functions(model, ws, ev, g);
-    }
-    EXPECT_EQ(camdyn::test::allocation_count() - before, 0) << tracking;
+    EXPECT_EQ(allocations_in_rhs_calls(model, ws, y), 0) << tracking;
   }
 }
 
@@ -54,9 +65,7 @@ TEST(RightHandSide, AllocatesNothingForAnyFollowerFrictionOrDrive) {
       scene.mechanism.cam.drive.motor = MotorConfig{"torque_speed", 10.0, 2000.0, 1e-3};
       const Model model = build_model(scene, "test");
       Workspace ws;
-      Evaluation ev;
-      double y[Model::kMaxState] = {}, y_dot[Model::kMaxState], q_dot[Model::kQuadratures], g[2];
-      double jacobian[Model::kMaxState * Model::kMaxState];
+      double y[Model::kMaxState] = {};
       y[0] = oscillating ? 0.05 : 0.005;
       y[1] = 0.3;
       if (model.index_u >= 0) y[model.index_u] = 0.8;
@@ -66,16 +75,7 @@ TEST(RightHandSide, AllocatesNothingForAnyFollowerFrictionOrDrive) {
       y[model.index_motor_angle] = 0.81;
       y[model.index_motor_speed] = 100.0;
       ws.u_warm = 0.8;
-      const long before = camdyn::test::allocation_count();
-      for (int i = 0; i < 100; ++i) {
-        const double t = 1e-4 * i;
-        evaluate(model, ws, t, y, ev);
-        state_derivative(model, ev, y_dot);
-        quadrature_derivative(ev, q_dot);
-        root_functions(model, ws, ev, g);
-        if (i % 10 == 0) state_jacobian(model, ws, t, y, jacobian);
-      }
-      EXPECT_EQ(camdyn::test::allocation_count() - before, 0) << kind << " " << tracking;
+      EXPECT_EQ(allocations_in_rhs_calls(model, ws, y, 0.0, true), 0) << kind << " " << tracking;
     }
   }
 }
@@ -91,19 +91,12 @@ TEST(RightHandSide, AllocatesNothingWithTheGeneralPairFormOrAContourCam) {
       const Model model = build_model(scene, "test");
       Workspace ws;
       prepare_workspace(model, ws);
-      Evaluation ev;
-      double y[Model::kMaxState] = {0.002, 0.3}, y_dot[Model::kMaxState], q_dot[Model::kQuadratures], g[2];
+      double y[Model::kMaxState] = {0.002, 0.3};
       ws.u_warm = model.pair_guess(0.8);
       if (model.index_u >= 0) y[model.index_u] = ws.u_warm;
       if (model.index_v >= 0) y[model.index_v] = ws.v_warm;
-      const long before = camdyn::test::allocation_count();
-      for (int i = 0; i < 100; ++i) {
-        evaluate(model, ws, 0.8 / model.omega + 1e-5 * i, y, ev);
-        state_derivative(model, ev, y_dot);
-        quadrature_derivative(ev, q_dot);
-        root_functions(model, ws, ev, g);
-      }
-      EXPECT_EQ(camdyn::test::allocation_count() - before, 0) << tracking << (contour ? " contour" : " general");
+      EXPECT_EQ(allocations_in_rhs_calls(model, ws, y, 0.8 / model.omega), 0)
+          << tracking << (contour ? " contour" : " general");
     }
   }
 }

@@ -11,6 +11,8 @@ namespace camdyn::test {
 class Ellipse final : public PeriodicCurve {
  public:
   Ellipse(double a, double b) : a_(a), b_(b) {}
+  double a() const { return a_; }
+  double b() const { return b_; }
   CurvePoint at(double u) const override {
     const double c = std::cos(u), s = std::sin(u);
     return {{a_ * c, b_ * s}, {-a_ * s, b_ * c}, {-a_ * c, -b_ * s}, {a_ * s, -b_ * c}};
