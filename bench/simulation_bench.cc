@@ -37,7 +37,8 @@ double position_error(const camdyn::SceneConfig& scene, const camdyn::Simulation
 // per cycle and error against a tight reference, at the default tolerance.
 void BM_QuickstartCycle(benchmark::State& state) {
   camdyn::SceneConfig scene = quickstart();
-  scene.mechanism.contact.tracking = state.range(0) == 0 ? "differential" : "newton";
+  scene.mechanism.contact.tracking =
+      state.range(0) == 0 ? camdyn::Tracking::differential : camdyn::Tracking::newton;
   const camdyn::Model model = camdyn::build_model(scene, "quickstart");
   camdyn::Workspace ws;
   const double error = position_error(scene, camdyn::simulate(scene, model, ws));
@@ -51,7 +52,7 @@ void BM_QuickstartCycle(benchmark::State& state) {
     rhs = r.solver.counters.rhs_evaluations;
     benchmark::DoNotOptimize(r.metrics.peak_contact_force);
   }
-  state.SetLabel(scene.mechanism.contact.tracking);
+  state.SetLabel(camdyn::to_string(scene.mechanism.contact.tracking));
   state.counters["cycles"] = cycles;
   state.counters["s_per_cycle"] = benchmark::Counter(cycles, benchmark::Counter::kIsIterationInvariantRate |
                                                                   benchmark::Counter::kInvert);
@@ -63,7 +64,8 @@ BENCHMARK(BM_QuickstartCycle)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 void BM_RightHandSide(benchmark::State& state) {
   camdyn::SceneConfig scene = quickstart();
-  scene.mechanism.contact.tracking = state.range(0) == 0 ? "differential" : "newton";
+  scene.mechanism.contact.tracking =
+      state.range(0) == 0 ? camdyn::Tracking::differential : camdyn::Tracking::newton;
   const camdyn::Model model = camdyn::build_model(scene, "quickstart");
   camdyn::Workspace ws;
   camdyn::Evaluation ev;
@@ -82,7 +84,7 @@ void BM_RightHandSide(benchmark::State& state) {
     camdyn::state_derivative(model, ev, y_dot);
     benchmark::DoNotOptimize(y_dot[1]);
   }
-  state.SetLabel(scene.mechanism.contact.tracking);
+  state.SetLabel(camdyn::to_string(scene.mechanism.contact.tracking));
   state.counters["allocations_per_1000_rhs"] = static_cast<double>(allocations);
   if (allocations != 0) state.SkipWithError("the right-hand side allocated memory");
 }

@@ -56,12 +56,13 @@ DesignSpace::DesignSpace(const SceneConfig& baseline, const DesignConfig& config
                      "'segments' (rise / dwell / return)");
   const MotionLaw base_law = build_motion_law(baseline.mechanism.cam.motion_law, file);
 
-  auto designed_type = [&](const std::string& type) {
+  auto designed_type = [&](SegmentType type) {
     return std::find(config.segments.begin(), config.segments.end(), type) != config.segments.end();
   };
-  for (const std::string& type : config.segments) {
+  for (const SegmentType type : config.segments) {
     if (std::none_of(segs.begin(), segs.end(), [&](const SegmentConfig& s) { return s.type == type; }))
-      throw InputError(file, "design.segments", "the baseline motion law has no '" + type + "' segment to design");
+      throw InputError(file, "design.segments",
+                       "the baseline motion law has no '" + to_string(type) + "' segment to design");
   }
   for (std::size_t i = 0; i < segs.size(); ++i) {
     if (designed_type(segs[i].type)) designed_.push_back({i, 0, -1, 0.0, 0.0});
@@ -69,18 +70,17 @@ DesignSpace::DesignSpace(const SceneConfig& baseline, const DesignConfig& config
 
   // End-angle ranges, one segment per type, strictly inside the neighbours'
   // reach so the segments keep their order for any value in the box.
-  const std::array<std::pair<const char*, const std::optional<std::vector<double>>*>, 2> ranges = {
-      std::pair{"rise", &config.end_deg_range.rise}, std::pair{"return", &config.end_deg_range.ret}};
-  for (const auto& entry : ranges) {
-    const std::string type = entry.first;
-    const std::optional<std::vector<double>>* range = entry.second;
+  const std::array<std::pair<SegmentType, const std::optional<std::vector<double>>*>, 2> ranges = {
+      std::pair{SegmentType::rise, &config.end_deg_range.rise},
+      std::pair{SegmentType::return_, &config.end_deg_range.ret}};
+  for (const auto& [type, range] : ranges) {
     if (!*range) continue;
-    const std::string at = "design.end_deg_range." + type;
-    if (!designed_type(type)) throw InputError(file, at, "'" + type + "' is not in design.segments");
+    const std::string at = "design.end_deg_range." + to_string(type);
+    if (!designed_type(type)) throw InputError(file, at, "'" + to_string(type) + "' is not in design.segments");
     const long count = std::count_if(segs.begin(), segs.end(), [&](const SegmentConfig& s) { return s.type == type; });
     if (count != 1)
       throw InputError(file, at,
-                       "the baseline has " + std::to_string(count) + " '" + type +
+                       "the baseline has " + std::to_string(count) + " '" + to_string(type) +
                            "' segments; an end-angle range needs exactly one");
     for (Designed& d : designed_) {
       if (segs[d.index].type != type) continue;
@@ -103,7 +103,7 @@ DesignSpace::DesignSpace(const SceneConfig& baseline, const DesignConfig& config
   };
   for (const Designed& d : designed_) {
     if (d.angle_variable < 0) continue;
-    const std::string at = "design.end_deg_range." + segs[d.index].type;
+    const std::string at = "design.end_deg_range." + to_string(segs[d.index].type);
     const double start_max = d.index == 0 ? 0.0 : end_range(d.index - 1).second;
     const double next_min = end_range(d.index + 1).first;
     if (d.end_lo <= start_max || d.end_hi >= next_min)
@@ -129,7 +129,7 @@ DesignSpace::DesignSpace(const SceneConfig& baseline, const DesignConfig& config
   for (const Designed& d : designed_) {
     if (d.angle_variable < 0) continue;
     for (std::size_t nb : {(d.index + segs.size() - 1) % segs.size(), (d.index + 1) % segs.size()}) {
-      if (segs[nb].type != "dwell" && !designed_type(segs[nb].type)) levels_vary_ = true;
+      if (segs[nb].type != SegmentType::dwell && !designed_type(segs[nb].type)) levels_vary_ = true;
     }
   }
 
@@ -254,7 +254,7 @@ SceneConfig DesignSpace::skeleton(const std::vector<double>& x) const {
   scene.mechanism.cam.motion_law.source.clear();  // no longer the profile file it came from
   for (const Designed& d : designed_) {
     SegmentConfig& s = segs[d.index];
-    s.law = "spline";
+    s.law = SegmentLaw::spline;
     s.degree = config_.degree;
     s.control_points.assign(static_cast<std::size_t>(config_.control_points), 0.0);
     if (d.angle_variable >= 0) s.end_deg = d.end_lo + x[d.angle_variable] * (d.end_hi - d.end_lo);

@@ -134,7 +134,7 @@ Report identify_report(const IdentifyProblem& problem, const IdentifyResult& res
   report.title = "camdyn: " + problem.scene.name;
   report.subtitle = "identify — " + std::to_string(result.parameters.size()) + " parameters fitted to " +
                     std::to_string(result.fits.size()) + " record" + (result.fits.size() == 1 ? "" : "s") +
-                    ", contact model " + problem.scene.mechanism.contact.model;
+                    ", contact model " + to_string(problem.scene.mechanism.contact.model);
   report.facts = {{"verdict", result.identifiable ? "identifiable" : "NOT identifiable (see the notes)"},
                   {"termination", result.termination},
                   {"iterations", std::to_string(result.iterations)},

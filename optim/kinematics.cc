@@ -26,7 +26,7 @@ LawKinematics law_kinematics(const MotionLaw& law, const std::vector<SegmentConf
     k.peak_jerk = std::max(k.peak_jerk, h * f3 / (beta * beta * beta));
     if (i < segments.size() && segments.size() == pieces.size()) {
       constexpr double kDeg = 180.0 / std::numbers::pi;
-      k.segments.push_back({i, segments[i].type, pc.start * kDeg, pc.end * kDeg, h, f1, f2, f3});
+      k.segments.push_back({i, to_string(segments[i].type), pc.start * kDeg, pc.end * kDeg, h, f1, f2, f3});
     }
   }
   return k;

@@ -100,7 +100,7 @@ DesignEvaluation DesignEvaluator::evaluate(const SceneConfig& scene, const Evalu
     // oscillating), checked as build_model checks it.
     const SynthesisedCam cam(std::make_shared<const MotionLaw>(law),
                              make_follower_geometry(scene.mechanism.follower, scene.mechanism.cam.base_radius, file_),
-                             scene.mechanism.cam.direction == "cw" ? -1 : +1);
+                             scene.mechanism.cam.direction == RotationDirection::cw ? -1 : +1);
     e.geometry = check_cam(cam, file_);
     e.valid = true;
   } catch (const InputError& err) {

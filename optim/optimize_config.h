@@ -24,7 +24,7 @@ struct EndAngleRanges {
 
 /// `design`: the segments replaced by spline segments and their parametrisation.
 struct DesignConfig {
-  std::vector<std::string> segments = {"rise", "return"};  ///< segment types designed: "rise", "return"
+  std::vector<SegmentType> segments = {SegmentType::rise, SegmentType::return_};  ///< segment types designed
   int control_points = 6;  ///< free interior control points per designed segment (6 boundary ones are added)
   int degree = 5;          ///< spline degree, 3..9
   /// Keep the free control points ordered between the fixed boundary ones, so

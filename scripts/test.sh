@@ -26,6 +26,12 @@ phase() {
 
 for preset in ci asan; do
   phase "build $preset" bash scripts/setup.sh "$preset"
+  if [[ "$preset" == ci ]]; then
+    # Seconds each, once setup has installed clang-format: the layer order of
+    # the include graph and the function-length limit, and the formatting.
+    phase "structure" python3 scripts/check_structure.py
+    phase "format" bash scripts/check_format.sh
+  fi
   if [[ " ${failed[*]-} " == *" build $preset "* ]]; then
     echo "==> test $preset: skipped, the build failed"
     summary+=("$(printf '%-12s %-7s' "test $preset" skipped)")

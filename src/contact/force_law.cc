@@ -2,29 +2,8 @@
 
 #include <cmath>
 #include <numbers>
-#include <stdexcept>
 
 namespace camdyn {
-
-ContactModel contact_model_from_string(const std::string& name) {
-  if (name == "hertz") return ContactModel::hertz;
-  if (name == "kelvin_voigt") return ContactModel::kelvin_voigt;
-  if (name == "hunt_crossley") return ContactModel::hunt_crossley;
-  if (name == "lankarani_nikravesh") return ContactModel::lankarani_nikravesh;
-  if (name == "flores") return ContactModel::flores;
-  throw std::invalid_argument("unknown contact model '" + name + "'");
-}
-
-const char* to_string(ContactModel model) {
-  switch (model) {
-    case ContactModel::hertz: return "hertz";
-    case ContactModel::kelvin_voigt: return "kelvin_voigt";
-    case ContactModel::hunt_crossley: return "hunt_crossley";
-    case ContactModel::lankarani_nikravesh: return "lankarani_nikravesh";
-    case ContactModel::flores: return "flores";
-  }
-  return "?";
-}
 
 double ForceLaw::chi() const {
   const double e = restitution;

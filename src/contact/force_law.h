@@ -10,13 +10,9 @@
 #include <string>
 
 #include "geometry/vec2.h"  // value()
+#include "scene/scene.h"    // ContactModel
 
 namespace camdyn {
-
-enum class ContactModel { hertz, kelvin_voigt, hunt_crossley, lankarani_nikravesh, flores };
-
-ContactModel contact_model_from_string(const std::string& name);  // throws std::invalid_argument
-const char* to_string(ContactModel model);
 
 struct ForceLaw {
   ContactModel model = ContactModel::hertz;

@@ -22,11 +22,7 @@ using Jet = Dual<Model::kMaxState>;
 ForceLaw build_force_law(const SceneConfig& scene, double cam_radius, const std::string& file) {
   const ContactConfig& c = scene.mechanism.contact;
   ForceLaw law;
-  try {
-    law.model = contact_model_from_string(c.model);
-  } catch (const std::invalid_argument& e) {
-    throw InputError(file, "mechanism.contact.model", e.what());
-  }
+  law.model = c.model;
   law.exponent = c.exponent;
   law.restitution = c.restitution;
   law.reference_velocity = c.reference_velocity;
@@ -41,7 +37,7 @@ ForceLaw build_force_law(const SceneConfig& scene, double cam_radius, const std:
                            " contact, which needs exponent " + (line ? "1" : "1.5"));
     // A flat face has an infinite radius of curvature.
     const ShapeConfig& shape = scene.mechanism.follower.shape;
-    const double r2 = shape.type == "flat" ? std::numeric_limits<double>::infinity() : shape.radius;
+    const double r2 = shape.type == FollowerShape::flat ? std::numeric_limits<double>::infinity() : shape.radius;
     law.stiffness = stiffness_from_materials(m.E1, m.nu1, m.E2, m.nu2, cam_radius, r2, line,
                                              m.width.value_or(0.0));
   } else if (c.stiffness) {
@@ -54,11 +50,11 @@ ForceLaw build_force_law(const SceneConfig& scene, double cam_radius, const std:
   return law;
 }
 
-FrictionLaw friction_law(double mu, double regularization_velocity, const std::string& regularization) {
+FrictionLaw friction_law(double mu, double regularization_velocity, FrictionRegularization regularization) {
   FrictionLaw law;
   law.mu = mu;
   law.regularization_velocity = regularization_velocity;
-  law.linear_ramp = regularization == "linear";
+  law.linear_ramp = regularization == FrictionRegularization::linear;
   return law;
 }
 
@@ -345,8 +341,8 @@ void build_contour_cam(const ContourConfig& config, const FollowerConfig& f, int
   options.smoothing = config.smoothing;
   options.parameter_corrections = config.parameter_corrections;
   model.contour = std::make_shared<const ContourCam>(ContourCam::fit(points, options, file, path));
-  const ContourFollower kind = f.shape.type == "flat"       ? ContourFollower::flat
-                               : f.shape.type == "mushroom" ? ContourFollower::mushroom
+  const ContourFollower kind = f.shape.type == FollowerShape::flat       ? ContourFollower::flat
+                               : f.shape.type == FollowerShape::mushroom ? ContourFollower::mushroom
                                                             : ContourFollower::roller;
   check_contour_for_follower(*model.contour, kind, f.shape.radius, file, path);
   model.contour_lift =
@@ -414,13 +410,13 @@ Model build_model(const SceneConfig& scene, const std::string& file) {
   const MechanismConfig& mech = scene.mechanism;
   const FollowerConfig& f = mech.follower;
   Model model;
-  model.direction = mech.cam.direction == "cw" ? -1 : +1;
+  model.direction = mech.cam.direction == RotationDirection::cw ? -1 : +1;
   double base_radius = mech.cam.base_radius;
   if (mech.cam.motion_law.contour) {
     build_contour_cam(*mech.cam.motion_law.contour, f, model.direction, file, model);
     const double lowest = model.contour_lift->lowest();
     // The base circle is the one the follower touches at its lowest position.
-    base_radius = f.shape.type == "flat" ? lowest : std::hypot(lowest, f.offset) - f.shape.radius;
+    base_radius = f.shape.type == FollowerShape::flat ? lowest : std::hypot(lowest, f.offset) - f.shape.radius;
   } else {
     model.law = std::make_shared<const MotionLaw>(build_motion_law(mech.cam.motion_law, file));
   }
@@ -442,7 +438,7 @@ Model build_model(const SceneConfig& scene, const std::string& file) {
   // copy of the contour within law_interpolation_error: pressure angle, and the
   // contact's travel across a flat face against its width.
   model.geometry = check_cam(*model.cam, file);
-  if (mech.contact.pair_form == "general") build_general_pair(model);
+  if (mech.contact.pair_form == PairFormChoice::general) build_general_pair(model);
 
   const bool oscillating = fg.oscillating();
   model.mass = oscillating ? f.inertia : f.mass;
@@ -476,12 +472,12 @@ Model build_model(const SceneConfig& scene, const std::string& file) {
   }
 
   const DriveConfig& dc = mech.cam.drive;
-  if (dc.type == "shaft") {
+  if (dc.type == Drive::shaft) {
     model.drive = Drive::shaft;
     model.cam_inertia = dc.inertia;
     model.shaft_stiffness = dc.torsional_stiffness;
     model.shaft_damping = dc.torsional_damping;
-    if (dc.motor.type == "torque_speed") {
+    if (dc.motor.type == Motor::torque_speed) {
       model.motor = Motor::torque_speed;
       model.stall_torque = dc.motor.stall_torque;
       model.no_load_speed = dc.motor.no_load_rpm * kTwoPi / 60.0;
@@ -489,7 +485,7 @@ Model build_model(const SceneConfig& scene, const std::string& file) {
     }
   }
 
-  model.tracking = mech.contact.tracking == "newton" ? Tracking::newton : Tracking::differential;
+  model.tracking = mech.contact.tracking;
   // Drift of f decays with time constant 1/α, well below a cam degree.
   model.tracking_gain = 1000.0 + 100.0 * model.omega;
   // Beyond this the compliant-contact model no longer describes the contact.
@@ -529,7 +525,7 @@ Model build_model(const SceneConfig& scene, const std::string& file) {
     model.elements.push_back(oscillating ? "torsional_spring" : "spring");
   if (model.damping > 0.0) model.elements.push_back(oscillating ? "torsional_damper" : "damper");
   if (model.gravity != 0.0) model.elements.push_back("gravity");
-  model.elements.push_back(std::string("contact:") + to_string(model.contact.model));
+  model.elements.push_back("contact:" + to_string(model.contact.model));
   if (model.contact_friction) model.elements.push_back(friction_name("friction", model.friction));
   if (model.has_guide_friction) model.elements.push_back(friction_name("guide_friction", model.guide_friction));
   if (model.has_pivot_friction) model.elements.push_back(friction_name("pivot_friction", model.pivot_friction));

@@ -37,15 +37,13 @@
 #include "geometry/follower_geometry.h"
 #include "geometry/motion_law.h"
 #include "geometry/planar_curve.h"
-#include "io/config.h"
+#include "scene/scene.h"
 
 namespace camdyn {
 
-enum class Tracking { differential, newton };
 enum class ContactReduction { circle, line };
+/// The pair form a model uses (PairFormChoice::automatic resolves to `reduced`).
 enum class PairForm { reduced, general };
-enum class Drive { constant_speed, shaft };
-enum class Motor { constant_speed, torque_speed };
 
 struct Model {
   std::shared_ptr<const MotionLaw> law;

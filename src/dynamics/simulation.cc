@@ -220,7 +220,7 @@ SimulationResult simulate(const SceneConfig& scene, const Model& model, Workspac
   io.quadrature_atol = ic.atol;
   io.max_step = p.max_step;
   io.fixed_step = ic.step.value_or(0.0);
-  io.analytic_jacobian = ic.jacobian == "analytic";
+  io.analytic_jacobian = ic.jacobian == JacobianSource::analytic;
   const std::unique_ptr<Integrator> integrator_ptr = make_integrator(ode, io, 0.0, y.data(), q.data());
   Integrator& integrator = *integrator_ptr;
 
@@ -439,7 +439,7 @@ SimulationResult simulate(const SceneConfig& scene, const Model& model, Workspac
   integrator.dense_quadrature(integrator.time(), q.data());
   m.separation_integral = q[4] - separation_integral_at_eval;
 
-  result.solver.method = ic.method;
+  result.solver.method = to_string(ic.method);
   result.solver.rtol = ic.rtol;
   result.solver.atol = ic.atol;
   result.solver.counters = integrator.counters();
@@ -451,9 +451,9 @@ SimulationResult simulate(const SceneConfig& scene, const Model& model, Workspac
 }
 
 void estimate_error(const SceneConfig& scene, const Model& model, SimulationResult& result) {
-  if (scene.integrator.error_estimate != "richardson") return;
+  if (scene.integrator.error_estimate != ErrorEstimateMethod::richardson) return;
   SceneConfig tight = scene;
-  if (scene.integrator.method == "rk4") {
+  if (scene.integrator.method == IntegrationMethod::rk4) {
     tight.integrator.step = scene.integrator.step.value_or(0.0) / std::pow(100.0, 0.25);
   } else {
     tight.integrator.rtol = scene.integrator.rtol / 100.0;

@@ -9,7 +9,7 @@
 
 #include "dynamics/model.h"
 #include "integrate/ode_system.h"
-#include "io/config.h"
+#include "scene/scene.h"
 
 namespace camdyn {
 

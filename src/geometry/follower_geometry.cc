@@ -27,10 +27,8 @@ double higher(double psi_a, double psi_b, const Point& point) {
 FollowerGeometry make_follower_geometry(const FollowerConfig& config, double rb, const std::string& file,
                                         const std::string& path) {
   FollowerGeometry g;
-  g.motion = config.motion == "oscillating" ? FollowerMotion::oscillating : FollowerMotion::translating;
-  g.shape = config.shape.type == "flat"       ? FollowerShape::flat
-            : config.shape.type == "mushroom" ? FollowerShape::mushroom
-                                              : FollowerShape::roller;
+  g.motion = config.motion;
+  g.shape = config.shape.type;
   g.base_radius = rb;
   g.radius = g.circle() ? config.shape.radius : 0.0;
   g.face_width = g.circle() ? 0.0 : config.shape.face_width;
@@ -71,7 +69,7 @@ FollowerGeometry make_follower_geometry(const FollowerConfig& config, double rb,
     if (!(a > 0.0) || !(std::abs(k) < a))
       throw InputError(file, path + ".arm_length",
                        "no lowest position: an arm of " + num(L) + " m from the pivot at distance " + num(a) +
-                           " m cannot put the " + config.shape.type + " centre at base radius + radius = " +
+                           " m cannot put the " + to_string(config.shape.type) + " centre at base radius + radius = " +
                            num(R) + " m from the cam centre");
     const double beta = std::acos(k / a);
     auto centre = [&](double psi) { return Eigen::Vector2d(g.pivot + L * Eigen::Vector2d(std::cos(psi), std::sin(psi))); };

@@ -25,12 +25,9 @@
 #include <Eigen/Core>
 
 #include "geometry/vec2.h"
-#include "io/config.h"
+#include "scene/scene.h"
 
 namespace camdyn {
-
-enum class FollowerMotion { translating, oscillating };
-enum class FollowerShape { roller, flat, mushroom };
 
 struct FollowerGeometry {
   FollowerMotion motion = FollowerMotion::translating;

@@ -12,7 +12,6 @@
 
 #include "common/errors.h"
 #include "geometry/bspline.h"
-#include "io/csv_reader.h"
 
 namespace camdyn {
 
@@ -246,13 +245,14 @@ MotionLaw law_from_segments(const std::vector<SegmentConfig>& configs, const std
     seg.end = i + 1 == configs.size() ? kTwoPi : deg_to_rad(sc.end_deg);
     prev_end_deg = sc.end_deg;
 
-    if (sc.type == "dwell") {
+    if (sc.type == SegmentType::dwell) {
       if (sc.lift || sc.lift_deg) throw InputError(file, at, "a dwell has no lift");
-      if (!sc.law.empty()) throw InputError(file, at + ".law", "a dwell has no law");
+      if (sc.law != SegmentLaw::none) throw InputError(file, at + ".law", "a dwell has no law");
       continue;
     }
-    if (sc.type != "rise" && sc.type != "return")
-      throw InputError(file, at + ".type", "unknown segment type '" + sc.type + "' (use rise, dwell or return)");
+    if (sc.type != SegmentType::rise && sc.type != SegmentType::return_)
+      throw InputError(file, at + ".type",
+                       "unknown segment type '" + to_string(sc.type) + "' (use rise, dwell or return)");
 
     if (sc.lift.has_value() == sc.lift_deg.has_value())
       throw InputError(file, at,
@@ -266,10 +266,11 @@ MotionLaw law_from_segments(const std::vector<SegmentConfig>& configs, const std
     const double given = in_deg ? *sc.lift_deg : *sc.lift;
     if (!std::isfinite(given) || given <= 0.0) throw InputError(file, lift_path, num(given) + " must be > 0");
     const double lift = in_deg ? deg_to_rad(given) : given;
-    (sc.type == "rise" ? rise_total : return_total) += lift;
-    seg.lift = sc.type == "rise" ? lift : -lift;
+    const bool rise = sc.type == SegmentType::rise;
+    (rise ? rise_total : return_total) += lift;
+    seg.lift = rise ? lift : -lift;
 
-    if (sc.law == "spline") {
+    if (sc.law == SegmentLaw::spline) {
       seg.spline = true;
       if (sc.degree < 3 || sc.degree > kMaxSplineDegree)
         throw InputError(file, at + ".degree",
@@ -291,8 +292,8 @@ MotionLaw law_from_segments(const std::vector<SegmentConfig>& configs, const std
       seg.shape = classic_rise(sc.law);
       if (!seg.shape) {
         std::string names;
-        for (const auto& n : classic_rise_names()) names += n + ", ";
-        throw InputError(file, at + ".law", "unknown law '" + sc.law + "' (use " + names + "spline)");
+        for (const SegmentLaw law : classic_rise_laws()) names += to_string(law) + ", ";
+        throw InputError(file, at + ".law", "unknown law '" + to_string(sc.law) + "' (use " + names + "spline)");
       }
     }
   }
@@ -400,20 +401,21 @@ MotionLaw law_from_table(const TableConfig& tc, const std::string& file, const s
   const std::string at = path + ".table";
   check_degree(tc.degree, file, at + ".degree");
   if (tc.file.empty()) throw InputError(file, at + ".file", "no file given");
-  const CsvColumns csv = read_csv(tc.file, {tc.angle_column, tc.lift_column});
-  std::vector<double> angles = csv[tc.angle_column], lifts = csv[tc.lift_column];
+  if (tc.lines.size() != tc.angle_deg.size() || tc.lift.size() != tc.angle_deg.size())
+    throw InputError(file, at + ".file", "the table's rows were not read (io/config.h load_table_rows)");
+  std::vector<double> angles = tc.angle_deg, lifts = tc.lift;
   // A closing row at 360° that repeats the 0° row is redundant for a periodic law.
   if (angles.size() > 1 && angles.back() == 360.0 && angles.front() == 0.0) {
     const double scale = std::max(std::abs(lifts.front()), std::abs(lifts.back()));
     if (std::abs(lifts.back() - lifts.front()) > 1e-12 * scale)
-      throw InputError(tc.file, "line " + std::to_string(csv.lines.back()),
+      throw InputError(tc.file, "line " + std::to_string(tc.lines.back()),
                        "the row at 360° must repeat the row at 0° (" + tc.lift_column + " " + num(lifts.back()) +
                            " ≠ " + num(lifts.front()) + ")");
     angles.pop_back();
     lifts.pop_back();
   }
   return periodic_law(tc.degree, angles, lifts, [&](const std::string& field, int j, const std::string& reason) {
-    if (j >= 0) return InputError(tc.file, "line " + std::to_string(csv.lines[j]), reason);
+    if (j >= 0) return InputError(tc.file, "line " + std::to_string(tc.lines[j]), reason);
     return InputError(tc.file, "column " + (field == "knots" ? tc.angle_column : tc.lift_column), reason);
   });
 }
@@ -422,21 +424,26 @@ MotionLaw law_from_table(const TableConfig& tc, const std::string& file, const s
 
 // ---------------------------------------------------------------- public
 
-const std::vector<std::string>& classic_rise_names() {
-  static const std::vector<std::string> names = {"cycloidal", "polynomial_345",     "polynomial_4567",
-                                                 "harmonic",  "modified_trapezoid", "modified_sine"};
-  return names;
+const std::vector<SegmentLaw>& classic_rise_laws() {
+  static const std::vector<SegmentLaw> laws = {SegmentLaw::cycloidal, SegmentLaw::polynomial_345,
+                                               SegmentLaw::polynomial_4567, SegmentLaw::harmonic,
+                                               SegmentLaw::modified_trapezoid, SegmentLaw::modified_sine};
+  return laws;
 }
 
-std::shared_ptr<const NormalisedRise> classic_rise(const std::string& name) {
-  if (name == "cycloidal") return std::make_shared<Cycloidal>();
-  if (name == "polynomial_345")  // 10x³ − 15x⁴ + 6x⁵
-    return std::make_shared<Polynomial>(std::array<double, 8>{0, 0, 0, 10, -15, 6, 0, 0});
-  if (name == "polynomial_4567")  // 35x⁴ − 84x⁵ + 70x⁶ − 20x⁷
-    return std::make_shared<Polynomial>(std::array<double, 8>{0, 0, 0, 0, 35, -84, 70, -20});
-  if (name == "harmonic") return std::make_shared<Harmonic>();
-  if (name == "modified_trapezoid") return modified_trapezoid();
-  if (name == "modified_sine") return modified_sine();
+std::shared_ptr<const NormalisedRise> classic_rise(SegmentLaw law) {
+  switch (law) {
+    case SegmentLaw::cycloidal: return std::make_shared<Cycloidal>();
+    case SegmentLaw::polynomial_345:  // 10x³ − 15x⁴ + 6x⁵
+      return std::make_shared<Polynomial>(std::array<double, 8>{0, 0, 0, 10, -15, 6, 0, 0});
+    case SegmentLaw::polynomial_4567:  // 35x⁴ − 84x⁵ + 70x⁶ − 20x⁷
+      return std::make_shared<Polynomial>(std::array<double, 8>{0, 0, 0, 0, 35, -84, 70, -20});
+    case SegmentLaw::harmonic: return std::make_shared<Harmonic>();
+    case SegmentLaw::modified_trapezoid: return modified_trapezoid();
+    case SegmentLaw::modified_sine: return modified_sine();
+    case SegmentLaw::none:
+    case SegmentLaw::spline: break;
+  }
   return nullptr;
 }
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "io/config.h"
+#include "scene/scene.h"
 
 namespace camdyn {
 
@@ -67,17 +67,17 @@ class MotionLaw {
 
 /// Builds the law from config. `path` is the dotted path of the motion_law
 /// object and `file` the config file, both for InputError messages: segments
-/// not covering 360°, unknown law, lift mismatch between rises and returns,
-/// bad spline data, unreadable table file, etc.
+/// not covering 360°, lift mismatch between rises and returns, bad spline
+/// data, a table whose rows (read by the loader) make no law, etc.
 MotionLaw build_motion_law(const MotionLawConfig& config, const std::string& file,
                            const std::string& path = "mechanism.cam.motion_law");
 
-/// The classic normalised rise laws by name ("cycloidal", "polynomial_345",
-/// "polynomial_4567", "harmonic", "modified_trapezoid", "modified_sine").
-/// Returns null for an unknown name.
-std::shared_ptr<const NormalisedRise> classic_rise(const std::string& name);
+/// The classic normalised rise laws (cycloidal, polynomial_345,
+/// polynomial_4567, harmonic, modified_trapezoid, modified_sine).
+/// Returns null for a law that is not one of them (none, spline).
+std::shared_ptr<const NormalisedRise> classic_rise(SegmentLaw law);
 
-/// The names classic_rise() accepts, for error messages and parameterised tests.
-const std::vector<std::string>& classic_rise_names();
+/// The laws classic_rise() makes, for error messages and parameterised tests.
+const std::vector<SegmentLaw>& classic_rise_laws();
 
 }  // namespace camdyn

@@ -84,7 +84,7 @@ ArkodeIntegrator::ArkodeIntegrator(OdeSystem& system, const IntegratorOptions& o
                                    const double* q0)
     : impl_(std::make_unique<Impl>(system)), t_(t0), t_prev_(t0) {
   Impl& m = *impl_;
-  m.implicit = options.method == "arkode_dirk";
+  m.implicit = options.method == IntegrationMethod::arkode_dirk;
   m.t = t0;
   const int n = m.system.inner_size();
   const sunindextype size = m.system.size();

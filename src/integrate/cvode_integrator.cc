@@ -92,7 +92,7 @@ CvodeIntegrator::CvodeIntegrator(OdeSystem& system, const IntegratorOptions& opt
   m.scratch = N_VNew_Serial(n, m.context);
   m.check_created(m.scratch, "a work vector");
   for (sunindextype i = 0; i < n; ++i) NV_Ith_S(m.y, i) = y0[i];
-  m.mem = CVodeCreate(options.method == "cvode_adams" ? CV_ADAMS : CV_BDF, m.context);
+  m.mem = CVodeCreate(options.method == IntegrationMethod::cvode_adams ? CV_ADAMS : CV_BDF, m.context);
   m.check_created(m.mem, "the CVODES solver");
   m.check(CVodeSetErrHandlerFn(m.mem, &Impl::error_handler, &m), "CVodeSetErrHandlerFn");
   m.check(CVodeInit(m.mem, &Impl::rhs, t0, m.y), "CVodeInit");
@@ -103,7 +103,7 @@ CvodeIntegrator::CvodeIntegrator(OdeSystem& system, const IntegratorOptions& opt
   // The contact adds a lightly damped, fast oscillatory mode: BDF of order
   // 3-5 is not stable near the imaginary axis, and stability-limit detection
   // lowers the order instead of shrinking the step.
-  if (options.method != "cvode_adams") m.check(CVodeSetStabLimDet(m.mem, SUNTRUE), "CVodeSetStabLimDet");
+  if (options.method != IntegrationMethod::cvode_adams) m.check(CVodeSetStabLimDet(m.mem, SUNTRUE), "CVodeSetStabLimDet");
   m.matrix = SUNDenseMatrix(n, n, m.context);
   m.check_created(m.matrix, "the dense Jacobian matrix");
   m.linear_solver = SUNLinSol_Dense(m.y, m.matrix, m.context);

@@ -11,11 +11,12 @@
 #include <vector>
 
 #include "integrate/ode_system.h"
+#include "scene/scene.h"  // IntegrationMethod
 
 namespace camdyn {
 
 struct IntegratorOptions {
-  std::string method = "cvode_bdf";  ///< cvode_bdf, cvode_adams, arkode_erk, arkode_dirk, rk4
+  IntegrationMethod method = IntegrationMethod::cvode_bdf;
   double rtol = 1e-8;
   double atol = 1e-12;               ///< state absolute tolerance
   double quadrature_atol = 1e-12;    ///< quadrature absolute tolerance
@@ -24,9 +25,6 @@ struct IntegratorOptions {
   bool analytic_jacobian = true;     ///< implicit methods: use OdeSystem::jacobian when available
   long max_steps_per_call = 100000;
 };
-
-/// The methods make_integrator knows.
-const std::vector<std::string>& integrator_methods();
 
 class Integrator {
  public:
@@ -53,7 +51,7 @@ class Integrator {
 };
 
 /// Creates the integrator for options.method. Throws NumericalError when
-/// SUNDIALS cannot be set up, std::invalid_argument for an unknown method.
+/// SUNDIALS cannot be set up.
 std::unique_ptr<Integrator> make_integrator(OdeSystem& system, const IntegratorOptions& options, double t0,
                                             const double* y0, const double* q0);
 

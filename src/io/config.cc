@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "common/errors.h"
+#include "io/csv_reader.h"
 #include "io/json_archive.h"
 
 namespace camdyn {
@@ -18,14 +19,6 @@ namespace camdyn {
 namespace fs = std::filesystem;
 
 namespace {
-
-const std::vector<std::string> kSegmentLaws = {"cycloidal", "polynomial_345",     "polynomial_4567",
-                                               "harmonic",  "modified_trapezoid", "modified_sine",
-                                               "spline"};
-const std::vector<std::string> kContactModels = {"hertz", "kelvin_voigt", "hunt_crossley",
-                                                 "lankarani_nikravesh", "flores"};
-const std::vector<std::string> kMethods = {"cvode_bdf", "cvode_adams", "arkode_erk", "arkode_dirk",
-                                           "rk4"};
 
 /// `name` becomes the output folder out/<name>.
 Check plain_name() {
@@ -49,14 +42,14 @@ Check plain_name() {
 
 template <class A>
 void visit(A& a, SegmentConfig& s) {
-  a.field("type", s.type, one_of({"rise", "dwell", "return"}));
-  if (s.type == "dwell") {
+  a.field("type", s.type);
+  if (s.type == SegmentType::dwell) {
     a.forbid({"law", "lift", "lift_deg", "degree", "control_points"},
              "a dwell segment has only 'type' and 'end_deg'");
     a.field("end_deg", s.end_deg, open_closed(0, 360));
     return;
   }
-  a.field("law", s.law, one_of(kSegmentLaws));
+  a.field("law", s.law);
   a.field("end_deg", s.end_deg, open_closed(0, 360));
   a.field("lift", s.lift, positive());
   a.field("lift_deg", s.lift_deg, positive());
@@ -64,9 +57,9 @@ void visit(A& a, SegmentConfig& s) {
             "give either 'lift' [m] or 'lift_deg' [deg], not both");
   // A return without a lift goes back down by the total rise (the geometry
   // module checks that rises and returns balance).
-  a.require(s.type != "rise" || s.lift || s.lift_deg, "lift",
+  a.require(s.type != SegmentType::rise || s.lift || s.lift_deg, "lift",
             "missing: a rise segment needs 'lift' [m] (or 'lift_deg' for an oscillating follower)");
-  if (s.law == "spline") {
+  if (s.law == SegmentLaw::spline) {
     a.field("degree", s.degree, at_least(3));
     a.field("control_points", s.control_points);
   } else {
@@ -123,8 +116,8 @@ void visit(A& a, MotionLawConfig& m) {
 
 template <class A>
 void visit(A& a, MotorConfig& m) {
-  a.field("type", m.type, one_of({"constant_speed", "torque_speed"}));
-  if (m.type == "torque_speed") {
+  a.field("type", m.type);
+  if (m.type == Motor::torque_speed) {
     a.field("stall_torque", m.stall_torque, positive());
     a.field("no_load_rpm", m.no_load_rpm, positive());
     a.field("inertia", m.inertia, positive());
@@ -136,8 +129,8 @@ void visit(A& a, MotorConfig& m) {
 
 template <class A>
 void visit(A& a, DriveConfig& d) {
-  a.field("type", d.type, one_of({"constant_speed", "shaft"}));
-  if (d.type == "shaft") {
+  a.field("type", d.type);
+  if (d.type == Drive::shaft) {
     a.field("inertia", d.inertia, positive());
     a.field("torsional_stiffness", d.torsional_stiffness, positive());
     a.field("torsional_damping", d.torsional_damping, non_negative());
@@ -154,7 +147,7 @@ void visit(A& a, CamConfig& c) {
   const bool base_given = a.given("base_radius", c.base_radius > 0.0);
   if (base_given) a.field("base_radius", c.base_radius, non_negative());
   a.field("rpm", c.rpm, non_negative());
-  a.field("direction", c.direction, one_of({"ccw", "cw"}));
+  a.field("direction", c.direction);
   a.field("initial_angle_deg", c.initial_angle_deg);
   a.field_or_file("motion_law", c.motion_law, &c.motion_law.source);
   a.field("drive", c.drive);
@@ -170,15 +163,15 @@ void visit(A& a, CamConfig& c) {
 
 template <class A>
 void visit(A& a, ShapeConfig& s) {
-  a.field("type", s.type, one_of({"roller", "flat", "mushroom"}));
-  if (s.type == "flat") {
+  a.field("type", s.type);
+  if (s.type == FollowerShape::flat) {
     a.forbid({"radius", "inertia"}, "a flat face has 'face_width' only");
     a.field("face_width", s.face_width, positive());
     return;
   }
   a.forbid({"face_width"}, "only a flat face has 'face_width'");
   a.field("radius", s.radius, positive());
-  if (s.type == "roller") {
+  if (s.type == FollowerShape::roller) {
     a.field("inertia", s.inertia, non_negative());
   } else {
     a.forbid({"inertia"}, "a mushroom face is fixed to the follower (it does not spin): no 'inertia'");
@@ -212,8 +205,9 @@ void visit(A& a, PivotFrictionConfig& p) {
 
 template <class A>
 void visit(A& a, FollowerConfig& f) {
-  a.field("motion", f.motion, one_of({"translating", "oscillating"}));
-  if (f.motion == "oscillating") {
+  a.field("motion", f.motion);
+  const bool oscillating = f.motion == FollowerMotion::oscillating;
+  if (oscillating) {
     a.forbid({"offset", "mass", "guide_friction"},
              "an oscillating follower has 'pivot', 'arm_length', 'inertia' and 'pivot_friction' instead of "
              "'offset', 'mass' and 'guide_friction'");
@@ -228,14 +222,14 @@ void visit(A& a, FollowerConfig& f) {
     a.field("offset", f.offset);
   }
   a.field("shape", f.shape);
-  if (f.motion == "oscillating") {
+  if (oscillating) {
     a.field("inertia", f.inertia, positive());
   } else {
     a.field("mass", f.mass, positive());
   }
   a.field("spring", f.spring);
   a.field("damping", f.damping, non_negative());
-  if (f.motion == "oscillating") {
+  if (oscillating) {
     a.field("pivot_friction", f.pivot_friction);
   } else {
     a.field("guide_friction", f.guide_friction);
@@ -256,7 +250,7 @@ template <class A>
 void visit(A& a, FrictionConfig& f) {
   a.field("mu", f.mu, non_negative());
   a.field("regularization_velocity", f.regularization_velocity, positive());
-  a.field("regularization", f.regularization, one_of({"tanh", "linear"}));
+  a.field("regularization", f.regularization);
 }
 
 namespace {
@@ -272,7 +266,7 @@ void visit(A& a, StiffnessFromMaterials& s) {
 
 template <class A>
 void visit(A& a, ContactConfig& c) {
-  a.field("model", c.model, one_of(kContactModels));
+  a.field("model", c.model);
   if (a.given_object("stiffness", c.from_materials.has_value())) {
     StiffnessFromMaterials wrapper{c.from_materials.value_or(MaterialsConfig{})};
     a.field("stiffness", wrapper);
@@ -287,18 +281,18 @@ void visit(A& a, ContactConfig& c) {
   a.field("exponent", c.exponent, open_closed(0, 5));
   a.field("restitution", c.restitution, open_closed(0, 1));
   a.field("damping", c.damping, non_negative());
-  if (c.model == "kelvin_voigt") {
+  if (c.model == ContactModel::kelvin_voigt) {
     a.require(c.damping.has_value(), "damping",
               "missing: model 'kelvin_voigt' needs 'damping' [N s/m] >= 0");
   } else {
     a.require(!c.damping, "damping",
-              "only model 'kelvin_voigt' uses 'damping' (model '" + c.model +
+              "only model 'kelvin_voigt' uses 'damping' (model '" + to_string(c.model) +
                   "' derives it from 'restitution'); set it to null");
   }
   a.field("reference_velocity", c.reference_velocity, positive());
   a.field("friction", c.friction);
-  a.field("tracking", c.tracking, one_of({"differential", "newton"}));
-  a.field("pair_form", c.pair_form, one_of({"auto", "general"}));
+  a.field("tracking", c.tracking);
+  a.field("pair_form", c.pair_form);
 }
 
 template <class A>
@@ -306,12 +300,12 @@ void visit(A& a, MechanismConfig& m) {
   a.field("cam", m.cam);
   a.field("follower", m.follower);
   a.field("contact", m.contact);
-  const bool translating = m.follower.motion == "translating";
+  const bool translating = m.follower.motion == FollowerMotion::translating;
   const bool contour = m.cam.motion_law.contour.has_value();
   a.require(translating || !contour, "follower.motion",
             "a contour cam needs a translating follower (the lift of an oscillating arm on a contour is not "
             "derived)");
-  if (translating && !contour && m.follower.shape.type != "flat") {
+  if (translating && !contour && m.follower.shape.type != FollowerShape::flat) {
     const double reach = m.cam.base_radius + m.follower.shape.radius;
     a.require(std::abs(m.follower.offset) < reach, "follower.offset",
               "|offset| must be < base_radius + roller radius = " + format_shortest(reach) +
@@ -347,16 +341,16 @@ void visit(A& a, SimulationConfig& s) {
 
 template <class A>
 void visit(A& a, IntegratorConfig& i) {
-  a.field("method", i.method, one_of(kMethods));
+  a.field("method", i.method);
   a.field("rtol", i.rtol, open_closed(0, 0.1));
   a.field("atol", i.atol, positive());
   a.field("max_step", i.max_step, positive());
   a.field("step", i.step, positive());
-  a.require(i.method != "rk4" || i.step, "step", "missing: method 'rk4' needs a fixed 'step' [s]");
+  a.require(i.method != IntegrationMethod::rk4 || i.step, "step", "missing: method 'rk4' needs a fixed 'step' [s]");
   a.field("max_steps", i.max_steps, at_least(1));
   a.field("max_wall_time_s", i.max_wall_time_s, positive());
-  a.field("jacobian", i.jacobian, one_of({"analytic", "finite_difference"}));
-  a.field("error_estimate", i.error_estimate, one_of({"energy", "richardson"}));
+  a.field("jacobian", i.jacobian);
+  a.field("error_estimate", i.error_estimate);
 }
 
 /// Run length and output step depend on whether the cam turns.
@@ -396,7 +390,7 @@ void visit(A& a, SceneConfig& s) {
   a.forbid({"extends"}, "'extends' is resolved when the file is loaded (load_config_json)");
   a.field("mechanism", s.mechanism);
   a.field("gravity", s.gravity);
-  a.require(s.gravity == 0.0 || s.mechanism.follower.motion == "translating", "gravity",
+  a.require(s.gravity == 0.0 || s.mechanism.follower.motion == FollowerMotion::translating, "gravity",
             "gravity on an oscillating arm is not modelled (its centre of mass is not known): set it to 0 and "
             "fold the arm's weight into the spring preload");
   a.field("simulation", s.simulation);
@@ -603,6 +597,7 @@ SceneConfig scene_from_json(const Json& json, const ConfigSource& source) {
   JsonReader reader(json, "", source);
   visit(reader, scene);
   reader.finish();
+  if (scene.mechanism.cam.motion_law.table) load_table_rows(*scene.mechanism.cam.motion_law.table);
   // Defaults that depend on other fields (see SimulationConfig).
   SimulationConfig& s = scene.simulation;
   if (scene.mechanism.cam.rpm > 0) {
@@ -611,6 +606,14 @@ SceneConfig scene_from_json(const Json& json, const ConfigSource& source) {
       s.output_step_deg = SimulationConfig::kDefaultOutputStepDeg;
   }
   return scene;
+}
+
+void load_table_rows(TableConfig& table) {
+  if (table.file.empty()) return;  // build_motion_law names the missing file
+  const CsvColumns csv = read_csv(table.file, {table.angle_column, table.lift_column});
+  table.angle_deg = csv[table.angle_column];
+  table.lift = csv[table.lift_column];
+  table.lines = csv.lines;
 }
 
 Json to_json(const SceneConfig& scene) {

@@ -35,6 +35,7 @@
 
 #include "common/errors.h"
 #include "io/config.h"
+#include "scene/enum_names.h"
 
 namespace camdyn {
 
@@ -101,6 +102,12 @@ struct is_vector<std::vector<T>> : std::true_type {};
 template <class T>
 constexpr bool is_scalar_v = std::is_arithmetic_v<T> || std::is_same_v<T, std::string>;
 }  // namespace archive_detail
+
+/// The check every enum field gets: its value is one of the enum's config words.
+template <NamedEnum E>
+Check one_of_enum() {
+  return one_of(enum_name_list<E>());
+}
 
 /// JSON → struct. Construct on an object, run `visit`, then call finish().
 class JsonReader {
@@ -238,6 +245,8 @@ class JsonWriter {
       return array;
     } else if constexpr (archive_detail::is_scalar_v<T>) {
       return Json(value);
+    } else if constexpr (NamedEnum<T>) {
+      return Json(std::string(enum_name(value)));
     } else {
       T copy = value;  // visit takes a mutable reference (it is shared with the reader)
       JsonWriter writer;
@@ -277,6 +286,15 @@ void JsonReader::read(const Json& j, const std::string& path, T& value,
     if (!j.is_string()) fail_at(path, "expected a string, got " + describe_json(j));
     value = j.template get<std::string>();
     run_checks(path, value, checks);
+  } else if constexpr (NamedEnum<T>) {
+    // Read as a word, checked (the field's own checks first, which may allow
+    // fewer words, then the enum's words) and mapped.
+    if (!j.is_string()) fail_at(path, "expected a string, got " + describe_json(j));
+    const std::string word = j.template get<std::string>();
+    run_checks(path, word, checks);
+    const Check words = one_of_enum<T>();
+    run_checks(path, word, std::span<const Check>(&words, 1));
+    value = *enum_from_name<T>(word);
   } else if constexpr (std::is_same_v<T, bool>) {
     if (!j.is_boolean()) fail_at(path, "expected true or false, got " + describe_json(j));
     value = j.template get<bool>();
@@ -313,6 +331,11 @@ void JsonReader::missing(const std::string& key, T& value, std::span<const Check
   using archive_detail::is_vector;
   if constexpr (is_optional<T>::value) {
     return;  // absent = nullopt
+  } else if constexpr (NamedEnum<T>) {
+    // A default no config can name (e.g. SegmentLaw::none) makes the field required.
+    if (enum_name(value).empty()) {
+      defer(InputError(source_.file, path_of(key), "missing (expected " + one_of_enum<T>().expected + ")"));
+    }
   } else if constexpr (is_vector<T>::value || std::is_same_v<T, std::string> ||
                        std::is_arithmetic_v<T>) {
     // A default that fails its own check means the field is required.

@@ -199,7 +199,7 @@ Report simulation_report(const SceneConfig& scene, const Model& model, const Sim
   std::string follower = follower_name(model);
   for (char& c : follower)
     if (c == '_') c = ' ';
-  report.subtitle = "simulate — " + follower + " follower, contact model " + scene.mechanism.contact.model;
+  report.subtitle = "simulate — " + follower + " follower, contact model " + to_string(scene.mechanism.contact.model);
   report.facts = {{"cam speed", format(scene.mechanism.cam.rpm, "rpm")},
                   {"rigid-model jump speed", format(m.jump_speed_rpm, "rpm")},
                   {"simulated", format(result.end_time, "s")},

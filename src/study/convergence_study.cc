@@ -32,15 +32,17 @@ struct SceneVariant {
 };
 
 struct ReferenceConfig {
-  std::string method = "cvode_bdf";
+  IntegrationMethod method = IntegrationMethod::cvode_bdf;
   double rtol = 1e-12;
 };
 
 struct ConvergenceConfig {
-  std::vector<std::string> methods = integrator_methods();
+  std::vector<IntegrationMethod> methods = {IntegrationMethod::cvode_bdf, IntegrationMethod::cvode_adams,
+                                            IntegrationMethod::arkode_erk, IntegrationMethod::arkode_dirk,
+                                            IntegrationMethod::rk4};
   std::vector<double> tolerances = {1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10};
   ReferenceConfig reference;
-  std::vector<std::string> tracking = {"differential", "newton"};
+  std::vector<Tracking> tracking = {Tracking::differential, Tracking::newton};
   double atol_factor = 1e-4;  ///< atol = rtol × atol_factor (state scale [m])
   /// rk4 has no tolerance: its fixed steps, in degrees of cam angle.
   std::vector<double> rk4_steps_deg = {0.5, 0.25, 0.125, 0.0625, 0.03125, 0.015625};
@@ -58,16 +60,16 @@ void visit(A& a, SceneVariant& v) {
 
 template <class A>
 void visit(A& a, ReferenceConfig& r) {
-  a.field("method", r.method, one_of(integrator_methods()));
+  a.field("method", r.method);
   a.field("rtol", r.rtol, open_closed(0, 0.1));
 }
 
 template <class A>
 void visit(A& a, ConvergenceConfig& c) {
-  a.field("methods", c.methods, non_empty(), one_of(integrator_methods()));
+  a.field("methods", c.methods, non_empty());
   a.field("tolerances", c.tolerances, non_empty(), open_closed(0, 0.1));
   a.field("reference", c.reference);
-  a.field("tracking", c.tracking, non_empty(), one_of({"differential", "newton"}));
+  a.field("tracking", c.tracking, non_empty());
   a.field("atol_factor", c.atol_factor, positive());
   a.field("rk4_steps_deg", c.rk4_steps_deg, non_empty(), positive());
   a.field("scenes", c.scenes, non_empty());
@@ -78,7 +80,8 @@ const std::vector<std::string> kStudyKeys = {"methods", "tolerances", "reference
 
 struct Run {
   size_t scene = 0;
-  std::string method, tracking;
+  IntegrationMethod method = IntegrationMethod::cvode_bdf;
+  Tracking tracking = Tracking::differential;
   double rtol = 0.0;  ///< 0 for rk4
   double step = 0.0;  ///< rk4 fixed step [s]
   // results
@@ -88,11 +91,11 @@ struct Run {
   long steps = 0, rhs_evaluations = 0;
 };
 
-SceneConfig configure(SceneConfig scene, const std::string& method, const std::string& tracking, double rtol,
+SceneConfig configure(SceneConfig scene, IntegrationMethod method, Tracking tracking, double rtol,
                       double atol_factor, double step) {
   scene.integrator.method = method;
   scene.mechanism.contact.tracking = tracking;
-  if (method == "rk4") {
+  if (method == IntegrationMethod::rk4) {
     scene.integrator.step = step;
   } else {
     scene.integrator.rtol = rtol;
@@ -113,7 +116,7 @@ double max_position_error(const SimulationResult& run, const SimulationResult& r
 
 std::string format_number4(double v) { return format_number(v, 4); }
 
-Run make_run(size_t scene, const std::string& method, const std::string& tracking, double rtol, double step) {
+Run make_run(size_t scene, IntegrationMethod method, Tracking tracking, double rtol, double step) {
   Run r;
   r.scene = scene;
   r.method = method;
@@ -170,9 +173,9 @@ int run_convergence_study(const Json& doc, const StudyContext& ctx) {
   std::vector<Run> runs;
   for (size_t k = 0; k < scenes.size(); ++k) {
     const double omega = scenes[k].mechanism.cam.rpm * 2 * std::numbers::pi / 60;
-    for (const std::string& method : config.methods)
-      for (const std::string& tracking : config.tracking) {
-        if (method == "rk4") {
+    for (const IntegrationMethod method : config.methods)
+      for (const Tracking tracking : config.tracking) {
+        if (method == IntegrationMethod::rk4) {
           for (double deg : config.scenes[k].rk4_steps_deg.value_or(config.rk4_steps_deg)) {
             runs.push_back(make_run(k, method, tracking, 0.0,
                                     omega > 0 ? deg * std::numbers::pi / 180 / omega : deg * 1e-6));
@@ -216,8 +219,8 @@ int run_convergence_study(const Json& doc, const StudyContext& ctx) {
                 {"scene", "method", "tracking", "rtol", "step", "error_position", "error_peak_force",
                  "energy_residual", "run_time_s", "steps", "rhs_evaluations", "status", "error"});
   for (const Run& r : runs) {
-    const bool fixed = r.method == "rk4";
-    csv.row({CsvCell(config.scenes[r.scene].name), CsvCell(r.method), CsvCell(r.tracking),
+    const bool fixed = r.method == IntegrationMethod::rk4;
+    csv.row({CsvCell(config.scenes[r.scene].name), CsvCell(to_string(r.method)), CsvCell(to_string(r.tracking)),
              fixed ? CsvCell("") : CsvCell(r.rtol), fixed ? CsvCell(r.step) : CsvCell(""),
              r.ok ? CsvCell(r.error_position) : CsvCell(""), r.ok ? CsvCell(r.error_peak_force) : CsvCell(""),
              r.ok ? CsvCell(r.energy_residual) : CsvCell(""), CsvCell(r.run_time_s), CsvCell(r.steps),
@@ -228,7 +231,7 @@ int run_convergence_study(const Json& doc, const StudyContext& ctx) {
   Report report;
   report.title = "camdyn: " + base.name + " — error against run time";
   report.subtitle = "convergence study: every method × tracking mode × tolerance against a reference run (" +
-                    config.reference.method + ", rtol " + format_number4(config.reference.rtol) + ")";
+                    to_string(config.reference.method) + ", rtol " + format_number4(config.reference.rtol) + ")";
   const long failed = std::count_if(runs.begin(), runs.end(), [](const Run& r) { return !r.ok; });
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   report.facts.emplace_back("runs", std::to_string(runs.size()));
@@ -243,9 +246,9 @@ int run_convergence_study(const Json& doc, const StudyContext& ctx) {
     rhs_plot = time_plot;
     rhs_plot.title = "Scene '" + config.scenes[k].name + "': position error against RHS evaluations";
     rhs_plot.xlabel = "right-hand-side evaluations";
-    for (const std::string& method : config.methods)
-      for (const std::string& tracking : config.tracking) {
-        Series by_time{method + " / " + tracking, {}, {}, "linespoints"};
+    for (const IntegrationMethod method : config.methods)
+      for (const Tracking tracking : config.tracking) {
+        Series by_time{to_string(method) + " / " + to_string(tracking), {}, {}, "linespoints"};
         Series by_rhs = by_time;
         for (const Run& r : runs)
           if (r.scene == k && r.method == method && r.tracking == tracking && r.ok && r.error_position > 0) {
@@ -264,8 +267,8 @@ int run_convergence_study(const Json& doc, const StudyContext& ctx) {
                        "energy_residual", "run_time_s", "steps", "rhs_evaluations", "status"},
               {}, true};
   for (const Run& r : runs)
-    table.rows.push_back({config.scenes[r.scene].name, r.method, r.tracking,
-                          r.method == "rk4" ? format_number4(r.step) + " s" : format_number4(r.rtol),
+    table.rows.push_back({config.scenes[r.scene].name, to_string(r.method), to_string(r.tracking),
+                          r.method == IntegrationMethod::rk4 ? format_number4(r.step) + " s" : format_number4(r.rtol),
                           r.ok ? format_number4(r.error_position) : "–", r.ok ? format_number4(r.error_peak_force) : "–",
                           r.ok ? format_number4(r.energy_residual) : "–", format_number4(r.run_time_s),
                           std::to_string(r.steps), std::to_string(r.rhs_evaluations), r.ok ? "ok" : r.error});

@@ -55,7 +55,7 @@ void expect_finite(const TimeSeries& ts) {
 }
 
 TEST(CamScene, LowSpeedFollowsTheLawAndRigidForce) {
-  SceneConfig scene = test::cycloidal_cam_scene(100.0, "lankarani_nikravesh");
+  SceneConfig scene = test::cycloidal_cam_scene(100.0, ContactModel::lankarani_nikravesh);
   const SimulationResult r = simulate_scene(scene, "test");
   expect_finite(r.series);
   const Rigid rigid(scene);
@@ -84,12 +84,12 @@ TEST(CamScene, JumpSpeedMatchesIndependentRigidModel) {
 TEST(CamScene, NoSeparationBelowJumpSpeedSeparationAbove) {
   const double jump = Rigid(test::cycloidal_cam_scene(1000.0)).jump_rpm();
   {
-    const SimulationResult r = simulate_scene(test::cycloidal_cam_scene(0.9 * jump, "lankarani_nikravesh"), "test");
+    const SimulationResult r = simulate_scene(test::cycloidal_cam_scene(0.9 * jump, ContactModel::lankarani_nikravesh), "test");
     EXPECT_EQ(r.metrics.separation_fraction, 0.0);
     EXPECT_GT(r.metrics.min_contact_force, 0.0);
   }
   {
-    const SceneConfig scene = test::cycloidal_cam_scene(1.15 * jump, "lankarani_nikravesh");
+    const SceneConfig scene = test::cycloidal_cam_scene(1.15 * jump, ContactModel::lankarani_nikravesh);
     const SimulationResult r = simulate_scene(scene, "test");
     EXPECT_GT(r.metrics.separation_fraction, 0.0);
     EXPECT_EQ(r.metrics.min_contact_force, 0.0);
@@ -101,7 +101,7 @@ TEST(CamScene, NoSeparationBelowJumpSpeedSeparationAbove) {
 
 TEST(CamScene, ConservativeSceneClosesEnergyBalance) {
   const double jump = Rigid(test::cycloidal_cam_scene(1000.0)).jump_rpm();
-  SceneConfig scene = test::cycloidal_cam_scene(1.15 * jump, "hertz");  // with impacts
+  SceneConfig scene = test::cycloidal_cam_scene(1.15 * jump, ContactModel::hertz);  // with impacts
   const SimulationResult r = simulate_scene(scene, "test");
   EXPECT_GT(r.metrics.impact_count, 0);
   EXPECT_LT(r.metrics.energy_residual, 1e-6);
@@ -109,7 +109,7 @@ TEST(CamScene, ConservativeSceneClosesEnergyBalance) {
 
 TEST(CamScene, DampedFrictionalSceneClosesEnergyBalance) {
   const double jump = Rigid(test::cycloidal_cam_scene(1000.0)).jump_rpm();
-  SceneConfig scene = test::cycloidal_cam_scene(1.15 * jump, "lankarani_nikravesh");
+  SceneConfig scene = test::cycloidal_cam_scene(1.15 * jump, ContactModel::lankarani_nikravesh);
   scene.mechanism.follower.damping = 5.0;
   scene.mechanism.follower.shape.inertia = 2e-6;
   scene.mechanism.contact.friction.mu = 0.1;
@@ -126,12 +126,12 @@ class TrackingModes : public ::testing::TestWithParam<double> {};
 
 TEST_P(TrackingModes, DifferentialAndNewtonAgree) {
   const double jump = Rigid(test::cycloidal_cam_scene(1000.0)).jump_rpm();
-  SceneConfig scene = test::cycloidal_cam_scene(GetParam() * jump, "lankarani_nikravesh");
+  SceneConfig scene = test::cycloidal_cam_scene(GetParam() * jump, ContactModel::lankarani_nikravesh);
   scene.integrator.rtol = 1e-10;
   scene.integrator.atol = 1e-15;
-  scene.mechanism.contact.tracking = "differential";
+  scene.mechanism.contact.tracking = Tracking::differential;
   const SimulationResult d = simulate_scene(scene, "test");
-  scene.mechanism.contact.tracking = "newton";
+  scene.mechanism.contact.tracking = Tracking::newton;
   const SimulationResult n = simulate_scene(scene, "test");
   expect_finite(d.series);
   expect_finite(n.series);
@@ -156,11 +156,11 @@ INSTANTIATE_TEST_SUITE_P(BelowAndAboveJump, TrackingModes, ::testing::Values(0.5
 
 TEST(CamScene, ModelHoldsOnlyWhatTheSceneNeeds) {
   SceneConfig scene = test::cycloidal_cam_scene(500.0);
-  scene.mechanism.contact.tracking = "newton";
+  scene.mechanism.contact.tracking = Tracking::newton;
   Model m = build_model(scene, "test");
   EXPECT_EQ(m.state_size, 2);
   EXPECT_EQ(m.elements, (std::vector<std::string>{"follower_mass", "spring", "contact:hertz"}));
-  scene.mechanism.contact.tracking = "differential";
+  scene.mechanism.contact.tracking = Tracking::differential;
   EXPECT_EQ(build_model(scene, "test").state_size, 3);
   scene.mechanism.contact.friction.mu = 0.2;  // no roller inertia: rolls freely, no friction work
   EXPECT_EQ(build_model(scene, "test").state_size, 3);
@@ -185,7 +185,7 @@ TEST(CamScene, SeparationIntegralMatchesTheGapTimeSeries) {
   const double jump = Rigid(test::cycloidal_cam_scene(1000.0)).jump_rpm();
   const SimulationResult below = simulate_scene(test::cycloidal_cam_scene(0.9 * jump), "test");
   EXPECT_EQ(below.metrics.separation_integral, 0.0);
-  SceneConfig scene = test::cycloidal_cam_scene(1.15 * jump, "lankarani_nikravesh");
+  SceneConfig scene = test::cycloidal_cam_scene(1.15 * jump, ContactModel::lankarani_nikravesh);
   scene.simulation.output_step_deg = 0.05;
   const SimulationResult r = simulate_scene(scene, "test");
   double trapezoid = 0.0;
@@ -200,7 +200,7 @@ TEST(CamScene, SeparationIntegralMatchesTheGapTimeSeries) {
 }
 
 TEST(CamScene, SamplesAtRequestedTimesMatchTheOutputGrid) {
-  SceneConfig scene = test::cycloidal_cam_scene(800.0, "lankarani_nikravesh");
+  SceneConfig scene = test::cycloidal_cam_scene(800.0, ContactModel::lankarani_nikravesh);
   SimulationOptions options;
   const SimulationResult grid = simulate_scene(scene, "test");
   for (size_t i = 10; i < grid.series.time.size(); i += 97) options.sample_times.push_back(grid.series.time[i]);

@@ -28,7 +28,7 @@ constexpr double kDiscRadius = 0.03, kEccentricity = 0.004;  // test::use_eccent
 
 /// The cycloidal test scene with its cam replaced by the eccentric disc.
 SceneConfig eccentric_scene(const std::string& kind, double rpm) {
-  SceneConfig s = test::follower_scene(kind, rpm, "lankarani_nikravesh");
+  SceneConfig s = test::follower_scene(kind, rpm, ContactModel::lankarani_nikravesh);
   test::use_eccentric_disc_contour(s);
   return s;
 }
@@ -105,7 +105,7 @@ TEST_P(ContourOfSynthesisedCam, SimulatesLikeTheCamItWasTakenFrom) {
   // jump speed and simulated contact force agree with the cam synthesised from
   // the law (to the fit's accuracy), and the contour-cam run follows its own
   // rigid model within the acceptance bounds.
-  const SceneConfig original = test::follower_scene(GetParam(), 100.0, "lankarani_nikravesh");
+  const SceneConfig original = test::follower_scene(GetParam(), 100.0, ContactModel::lankarani_nikravesh);
   SceneConfig contour = original;
   contour.mechanism.cam.base_radius = 0.0;
   contour.mechanism.cam.motion_law = {};
@@ -167,11 +167,11 @@ TEST_P(GeneralPairForm, SameMetricsAsTheReductionWithinIntegrationTolerance) {
   // tracker and the reduction solve the same contact, so the metrics agree to
   // the integration tolerance (rtol 1e-9, errors accumulated over 3 turns).
   const PairFormCase& c = GetParam();
-  SceneConfig reduced = test::follower_scene(c.kind, 1000.0, "lankarani_nikravesh");
+  SceneConfig reduced = test::follower_scene(c.kind, 1000.0, ContactModel::lankarani_nikravesh);
   reduced.mechanism.cam.rpm = 0.95 * jump_speed_rpm(build_model(reduced, "test"));
-  reduced.mechanism.contact.tracking = c.tracking;
+  reduced.mechanism.contact.tracking = parse_enum<Tracking>(c.tracking);
   SceneConfig general = reduced;
-  general.mechanism.contact.pair_form = "general";
+  general.mechanism.contact.pair_form = PairFormChoice::general;
   const Model model = build_model(general, "test");
   ASSERT_EQ(model.pair_form, PairForm::general);
   EXPECT_FALSE(model.exact_jacobian());
@@ -207,7 +207,7 @@ INSTANTIATE_TEST_SUITE_P(
 TEST(GeneralPairForm, OnAContourCamToo) {
   SceneConfig reduced = eccentric_scene("translating_roller", 1500.0);
   SceneConfig general = reduced;
-  general.mechanism.contact.pair_form = "general";
+  general.mechanism.contact.pair_form = PairFormChoice::general;
   const SimulationResult a = simulate_scene(reduced, "test"), b = simulate_scene(general, "test");
   EXPECT_NEAR(b.metrics.peak_contact_force / a.metrics.peak_contact_force, 1.0, 1e-6);
   EXPECT_NEAR(b.metrics.min_contact_force / a.metrics.min_contact_force, 1.0, 1e-5);
@@ -226,7 +226,7 @@ TEST(GeneralPairForm, FollowsAConcaveFlankLikeTheReduction) {
   ASSERT_EQ(model.contour->report().concave.size(), 1u);
   EXPECT_GT(model.contour->report().concave[0].min_abs_radius, model.follower.radius);
   SceneConfig general = reduced;
-  general.mechanism.contact.pair_form = "general";
+  general.mechanism.contact.pair_form = PairFormChoice::general;
   const SimulationResult a = simulate_scene(reduced, "test"), b = simulate_scene(general, "test");
   EXPECT_EQ(a.metrics.separation_fraction, 0.0);
   EXPECT_EQ(b.solver.tracking_resets, 0);
@@ -236,12 +236,12 @@ TEST(GeneralPairForm, FollowsAConcaveFlankLikeTheReduction) {
 
 TEST(GeneralPairForm, AddsTheFollowerParameterStateOnlyWithDifferentialTracking) {
   SceneConfig s = test::follower_scene("translating_roller", 500.0);
-  s.mechanism.contact.pair_form = "general";
+  s.mechanism.contact.pair_form = PairFormChoice::general;
   const Model differential = build_model(s, "test");
   EXPECT_EQ(differential.state_names,
             (std::vector<std::string>{"follower_position", "follower_velocity", "contact_parameter_u",
                                       "contact_parameter_v"}));
-  s.mechanism.contact.tracking = "newton";
+  s.mechanism.contact.tracking = Tracking::newton;
   EXPECT_EQ(build_model(s, "test").state_size, 2);
 }
 

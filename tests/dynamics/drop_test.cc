@@ -37,7 +37,7 @@ Impact run_drop(const SceneConfig& scene) {
 // Closed-form power-law impact (physics.md §7).
 TEST(DropTest, HertzMatchesClosedFormPeakForceAndDuration) {
   const double v0 = 1.0, m = 0.1, K = 1e9, n = 1.5;
-  const Impact impact = run_drop(test::drop_scene("hertz", 1.0, v0));
+  const Impact impact = run_drop(test::drop_scene(ContactModel::hertz, 1.0, v0));
   const double delta_max = std::pow((n + 1) * m * v0 * v0 / (2 * K), 1 / (n + 1));
   const double f_max = K * std::pow(delta_max, n);
   const double t_c = 2 * delta_max / v0 * std::sqrt(std::numbers::pi) * std::tgamma(1 + 1 / (n + 1)) /
@@ -64,7 +64,7 @@ double exact_rebound_ratio(double chi) {
 }
 
 struct HysteresisCase {
-  const char* model;
+  ContactModel model;
   double restitution;
 };
 
@@ -74,23 +74,23 @@ TEST_P(DropHysteresisTest, ReboundRatioMatchesExactSolution) {
   const HysteresisCase c = GetParam();
   const SceneConfig scene = test::drop_scene(c.model, c.restitution);
   ForceLaw law;
-  law.model = contact_model_from_string(c.model);
+  law.model = c.model;
   law.restitution = c.restitution;
   const double expected = exact_rebound_ratio(law.chi());
   const Impact impact = run_drop(scene);
   EXPECT_NEAR(impact.rebound / impact.approach / expected, 1.0, 2e-3)
-      << c.model << " e = " << c.restitution << ", exact e* = " << expected;
+      << to_string(c.model) << " e = " << c.restitution << ", exact e* = " << expected;
 }
 
 INSTANTIATE_TEST_SUITE_P(AllModels, DropHysteresisTest,
-                         ::testing::Values(HysteresisCase{"hunt_crossley", 0.3}, HysteresisCase{"hunt_crossley", 0.5},
-                                           HysteresisCase{"hunt_crossley", 0.9},
-                                           HysteresisCase{"lankarani_nikravesh", 0.3},
-                                           HysteresisCase{"lankarani_nikravesh", 0.5},
-                                           HysteresisCase{"lankarani_nikravesh", 0.9}, HysteresisCase{"flores", 0.3},
-                                           HysteresisCase{"flores", 0.5}, HysteresisCase{"flores", 0.9}),
+                         ::testing::Values(HysteresisCase{ContactModel::hunt_crossley, 0.3}, HysteresisCase{ContactModel::hunt_crossley, 0.5},
+                                           HysteresisCase{ContactModel::hunt_crossley, 0.9},
+                                           HysteresisCase{ContactModel::lankarani_nikravesh, 0.3},
+                                           HysteresisCase{ContactModel::lankarani_nikravesh, 0.5},
+                                           HysteresisCase{ContactModel::lankarani_nikravesh, 0.9}, HysteresisCase{ContactModel::flores, 0.3},
+                                           HysteresisCase{ContactModel::flores, 0.5}, HysteresisCase{ContactModel::flores, 0.9}),
                          [](const ::testing::TestParamInfo<HysteresisCase>& p) {
-                           return std::string(p.param.model) + "_e" +
+                           return to_string(p.param.model) + "_e" +
                                   std::to_string(static_cast<int>(p.param.restitution * 10));
                          });
 
@@ -100,7 +100,7 @@ TEST(DropTest, FloresIsClosestToTargetRestitutionAtLowRestitution) {
   const double e = 0.3;
   double error[3];
   int i = 0;
-  for (const char* model : {"hunt_crossley", "lankarani_nikravesh", "flores"}) {
+  for (const ContactModel model : {ContactModel::hunt_crossley, ContactModel::lankarani_nikravesh, ContactModel::flores}) {
     const Impact impact = run_drop(test::drop_scene(model, e));
     error[i++] = std::abs(impact.rebound / impact.approach - e);
   }
@@ -109,7 +109,7 @@ TEST(DropTest, FloresIsClosestToTargetRestitutionAtLowRestitution) {
 }
 
 TEST(DropTest, KelvinVoigtNeverPullsAndLosesEnergy) {
-  SceneConfig scene = test::drop_scene("kelvin_voigt", 0.5);
+  SceneConfig scene = test::drop_scene(ContactModel::kelvin_voigt, 0.5);
   scene.mechanism.contact.exponent = 1.0;
   scene.mechanism.contact.stiffness = 1e7;
   scene.mechanism.contact.damping = 200.0;
@@ -121,9 +121,10 @@ TEST(DropTest, KelvinVoigtNeverPullsAndLosesEnergy) {
 }
 
 TEST(DropTest, EnergyBalanceClosesForEveryModel) {
-  for (const char* model : {"hertz", "hunt_crossley", "lankarani_nikravesh", "flores"}) {
+  for (const ContactModel model : {ContactModel::hertz, ContactModel::hunt_crossley, ContactModel::lankarani_nikravesh,
+                                   ContactModel::flores}) {
     const SimulationResult r = simulate_scene(test::drop_scene(model, 0.5), "drop");
-    EXPECT_LT(r.metrics.energy_residual, 1e-6) << model;
+    EXPECT_LT(r.metrics.energy_residual, 1e-6) << to_string(model);
   }
 }
 

@@ -34,7 +34,7 @@ void record(const std::string& key, double value) {
 class FollowerType : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(FollowerType, LowSpeedFollowsTheLawWithTheRigidForce) {
-  const SceneConfig scene = test::follower_scene(GetParam(), 100.0, "lankarani_nikravesh");
+  const SceneConfig scene = test::follower_scene(GetParam(), 100.0, ContactModel::lankarani_nikravesh);
   const SimulationResult r = simulate_scene(scene, "test");
   const Rigid rigid(scene);
   const double omega = 100.0 * kTwoPi / 60.0;
@@ -71,12 +71,12 @@ TEST_P(FollowerType, JumpSpeedMatchesTheIndependentRigidModel) {
 TEST_P(FollowerType, NoSeparationJustBelowTheJumpSpeedSeparationJustAbove) {
   const double jump = Rigid(test::follower_scene(GetParam(), 1000.0)).jump_rpm();
   {
-    const SimulationResult r = simulate_scene(test::follower_scene(GetParam(), 0.98 * jump, "lankarani_nikravesh"), "test");
+    const SimulationResult r = simulate_scene(test::follower_scene(GetParam(), 0.98 * jump, ContactModel::lankarani_nikravesh), "test");
     EXPECT_EQ(r.metrics.separation_fraction, 0.0);
     EXPECT_GT(r.metrics.min_contact_force, 0.0);
   }
   {
-    const SimulationResult r = simulate_scene(test::follower_scene(GetParam(), 1.02 * jump, "lankarani_nikravesh"), "test");
+    const SimulationResult r = simulate_scene(test::follower_scene(GetParam(), 1.02 * jump, ContactModel::lankarani_nikravesh), "test");
     EXPECT_GT(r.metrics.separation_fraction, 0.0);
     EXPECT_EQ(r.metrics.min_contact_force, 0.0);
   }
@@ -88,7 +88,7 @@ INSTANTIATE_TEST_SUITE_P(AllFollowers, FollowerType, ::testing::ValuesIn(test::f
 TEST(FlatFace, ContactPointTravelsAcrossTheFaceBySPrime) {
   // Physics identity of the translating flat-faced follower (ccw, on the law):
   // the contact point is s'(θ) from the follower axis.
-  SceneConfig scene = test::follower_scene("translating_flat", 60.0, "lankarani_nikravesh");
+  SceneConfig scene = test::follower_scene("translating_flat", 60.0, ContactModel::lankarani_nikravesh);
   scene.simulation.cycles = 2;
   const SimulationResult r = simulate_scene(scene, "test");
   const MotionLaw law = build_motion_law(scene.mechanism.cam.motion_law, "test");
@@ -104,18 +104,18 @@ TEST(FlatFace, ContactPointTravelsAcrossTheFaceBySPrime) {
 }
 
 TEST(FlatFace, ContactPointTravelHoldsForBothTrackingModes) {
-  for (const char* tracking : {"differential", "newton"}) {
-    SceneConfig scene = test::follower_scene("translating_flat", 60.0, "lankarani_nikravesh");
+  for (const Tracking tracking : {Tracking::differential, Tracking::newton}) {
+    SceneConfig scene = test::follower_scene("translating_flat", 60.0, ContactModel::lankarani_nikravesh);
     scene.mechanism.contact.tracking = tracking;
-    scene.mechanism.cam.direction = "cw";  // mirror image: the contact point is at −s'
+    scene.mechanism.cam.direction = RotationDirection::cw;  // mirror image: the contact point is at −s'
     scene.simulation.cycles = 2;
     const SimulationResult r = simulate_scene(scene, "test");
     const MotionLaw law = build_motion_law(scene.mechanism.cam.motion_law, "test");
     double worst = 0.0;
     for (size_t i = 0; i < r.series.time.size(); ++i)
       worst = std::max(worst, std::abs(r.series.contact_offset[i] + law.eval(r.series.cam_angle_deg[i] * kTwoPi / 360.0).ds));
-    EXPECT_LT(worst, 1e-9) << tracking;
-    EXPECT_LT(r.metrics.energy_residual, 1e-6) << tracking;
+    EXPECT_LT(worst, 1e-9) << to_string(tracking);
+    EXPECT_LT(r.metrics.energy_residual, 1e-6) << to_string(tracking);
   }
 }
 

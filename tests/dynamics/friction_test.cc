@@ -22,7 +22,7 @@ TEST(Friction, FlatFaceSlipIsTheCamSurfaceSpeedAndFrictionIsMuTimesNormalForce) 
   // A translating flat face touches the cam at its support point, height
   // r_b + s(θ) (the face is δ lower, interfering): the cam surface there moves
   // across the face at ω (r_b + s), and the face does not move across.
-  SceneConfig scene = test::follower_scene("translating_flat", 600.0, "lankarani_nikravesh");
+  SceneConfig scene = test::follower_scene("translating_flat", 600.0, ContactModel::lankarani_nikravesh);
   scene.mechanism.contact.friction.mu = 0.1;
   scene.mechanism.contact.friction.regularization_velocity = 1e-4;
   const Model model = build_model(scene, "test");
@@ -45,7 +45,7 @@ TEST(Friction, FlatFaceSlipIsTheCamSurfaceSpeedAndFrictionIsMuTimesNormalForce) 
 
 TEST(Friction, SlidingFrictionClosesTheEnergyBalance) {
   for (const char* kind : {"translating_flat", "translating_mushroom", "oscillating_flat", "oscillating_mushroom"}) {
-    SceneConfig scene = test::follower_scene(kind, 800.0, "lankarani_nikravesh");
+    SceneConfig scene = test::follower_scene(kind, 800.0, ContactModel::lankarani_nikravesh);
     scene.mechanism.contact.friction.mu = 0.1;
     scene.mechanism.contact.friction.regularization_velocity = 1e-3;
     const SimulationResult r = simulate_scene(scene, "test");
@@ -75,7 +75,7 @@ double worst_force_error(const SimulationResult& r, const MotionLaw& law, double
 TEST(Friction, GuideFrictionMatchesTheRigidModel) {
   // Rigid: m ÿ = F_n cos φ − μ_g F_n |sin φ| sgn ẏ − k (y + x₀), so
   // F_n = P / (cos φ − μ_g |sin φ| sgn ẏ) with φ = atan((s' − e)/(y₀ + s)).
-  SceneConfig scene = test::cycloidal_cam_scene(100.0, "lankarani_nikravesh");
+  SceneConfig scene = test::cycloidal_cam_scene(100.0, ContactModel::lankarani_nikravesh);
   scene.mechanism.follower.offset = 0.01;
   scene.mechanism.follower.guide_friction = GuideFrictionConfig{0.3, 1e-5};
   const SimulationResult r = simulate_scene(scene, "test");
@@ -100,7 +100,7 @@ TEST(Friction, PivotFrictionMatchesTheRigidModel) {
   // Rigid: I φ̈ = F_n ∂g/∂φ − μ_p r_pin F_n sgn φ̇ − k (φ + x₀), the pin
   // reaction taken as the contact force: F_n = Q / (∂g/∂φ − μ_p r_pin sgn φ̇),
   // the lever ∂g/∂φ from the arm's geometry (rigid_follower.h).
-  SceneConfig scene = test::follower_scene("oscillating_roller", 100.0, "lankarani_nikravesh");
+  SceneConfig scene = test::follower_scene("oscillating_roller", 100.0, ContactModel::lankarani_nikravesh);
   scene.mechanism.follower.pivot_friction = PivotFrictionConfig{0.3, 0.008, 1e-5};
   const SimulationResult r = simulate_scene(scene, "test");
   const test::Rigid rigid(scene);

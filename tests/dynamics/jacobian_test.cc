@@ -34,9 +34,9 @@ class JacobianTest : public ::testing::TestWithParam<JacobianCase> {};
 TEST_P(JacobianTest, MatchesCentralFiniteDifferences) {
   const JacobianCase c = GetParam();
   const double rpm = 1200.0;
-  SceneConfig scene = test::follower_scene(c.kind, rpm, c.model);
-  const bool oscillating = scene.mechanism.follower.motion == "oscillating";
-  scene.mechanism.contact.tracking = c.tracking;
+  SceneConfig scene = test::follower_scene(c.kind, rpm, parse_enum<ContactModel>(c.model));
+  const bool oscillating = scene.mechanism.follower.motion == FollowerMotion::oscillating;
+  scene.mechanism.contact.tracking = parse_enum<Tracking>(c.tracking);
   scene.mechanism.follower.damping = oscillating ? 0.02 : 3.0;
   if (!oscillating) scene.mechanism.follower.offset = 0.004;  // no symmetry to hide sign errors
   if (std::string(c.model) == "kelvin_voigt") {
@@ -45,7 +45,7 @@ TEST_P(JacobianTest, MatchesCentralFiniteDifferences) {
     scene.mechanism.contact.damping = 50.0;
   }
   if (c.friction) {
-    if (scene.mechanism.follower.shape.type == "roller") scene.mechanism.follower.shape.inertia = 2e-6;
+    if (scene.mechanism.follower.shape.type == FollowerShape::roller) scene.mechanism.follower.shape.inertia = 2e-6;
     scene.mechanism.contact.friction.mu = 0.15;
     scene.mechanism.contact.friction.regularization_velocity = 0.05;
   }
@@ -54,11 +54,11 @@ TEST_P(JacobianTest, MatchesCentralFiniteDifferences) {
   const std::string drive = c.drive;
   if (drive != "constant_speed") {
     DriveConfig& d = scene.mechanism.cam.drive;
-    d.type = "shaft";
+    d.type = Drive::shaft;
     d.inertia = 0.01;
     d.torsional_stiffness = 2e4;
     d.torsional_damping = 0.5;
-    if (drive == "motor") d.motor = MotorConfig{"torque_speed", 20.0, 1500.0, 5e-3};
+    if (drive == "motor") d.motor = MotorConfig{Motor::torque_speed, 20.0, 1500.0, 5e-3};
   }
   const Model model = build_model(scene, "test");
   const int n = model.state_size;

@@ -37,9 +37,9 @@ Names operator+(Names a, const Names& b) {
 }
 
 std::vector<ModelCase> cases() {
-  auto newton = [](SceneConfig& s) { s.mechanism.contact.tracking = "newton"; };
+  auto newton = [](SceneConfig& s) { s.mechanism.contact.tracking = Tracking::newton; };
   auto shaft = [](SceneConfig& s) {
-    s.mechanism.cam.drive.type = "shaft";
+    s.mechanism.cam.drive.type = Drive::shaft;
     s.mechanism.cam.drive.inertia = 0.01;
     s.mechanism.cam.drive.torsional_stiffness = 1e4;
   };
@@ -103,18 +103,18 @@ std::vector<ModelCase> cases() {
        [&](SceneConfig& s) {
          shaft(s);
          s.mechanism.cam.drive.torsional_damping = 0.1;
-         s.mechanism.cam.drive.motor = MotorConfig{"torque_speed", 10.0, 2000.0, 1e-3};
+         s.mechanism.cam.drive.motor = MotorConfig{Motor::torque_speed, 10.0, 2000.0, 1e-3};
        },
        kArm + Names{"contact_parameter_u", "cam_angle", "cam_speed", "motor_angle", "motor_speed"},
        {"arm_inertia", "torsional_spring", "contact:hertz", "cam_inertia", "shaft_spring", "shaft_damper",
         "motor:torque_speed"}},
       {"general_pair_differential", "translating_roller",
-       [](SceneConfig& s) { s.mechanism.contact.pair_form = "general"; },
+       [](SceneConfig& s) { s.mechanism.contact.pair_form = PairFormChoice::general; },
        kTranslating + Names{"contact_parameter_u", "contact_parameter_v"}, {"follower_mass", "spring", "contact:hertz"}},
       {"general_pair_newton", "oscillating_flat",
        [&](SceneConfig& s) {
          newton(s);
-         s.mechanism.contact.pair_form = "general";
+         s.mechanism.contact.pair_form = PairFormChoice::general;
        },
        kArm, {"arm_inertia", "torsional_spring", "contact:hertz"}},
       {"contour_cam_adds_nothing", "translating_roller",
@@ -141,7 +141,7 @@ TEST_P(ModelBlock, ListsExactlyTheStatesAndElementsTheSceneNeeds) {
   EXPECT_EQ(block.at("states").get<Names>(), c.states);
   EXPECT_EQ(block.at("elements").get<Names>(), c.elements);
   EXPECT_EQ(block.at("follower").get<std::string>(), c.kind);
-  const bool general = scene.mechanism.contact.pair_form == "general";
+  const bool general = scene.mechanism.contact.pair_form == PairFormChoice::general;
   EXPECT_EQ(block.at("contact_pair").get<std::string>().find("general") != std::string::npos, general);
   EXPECT_EQ(summary_json(scene, model, SimulationResult{}).contains("contour_fit"),
             scene.mechanism.cam.motion_law.contour.has_value());

@@ -36,8 +36,8 @@ long allocations_in_rhs_calls(const Model& model, Workspace& ws, const double* y
 }
 
 TEST(RightHandSide, AllocatesNothingInEveryTrackingMode) {
-  for (const char* tracking : {"differential", "newton"}) {
-    SceneConfig scene = test::cycloidal_cam_scene(1000.0, "lankarani_nikravesh");
+  for (const Tracking tracking : {Tracking::differential, Tracking::newton}) {
+    SceneConfig scene = test::cycloidal_cam_scene(1000.0, ContactModel::lankarani_nikravesh);
     scene.mechanism.contact.tracking = tracking;
     scene.mechanism.follower.shape.inertia = 1e-6;
     scene.mechanism.contact.friction.mu = 0.1;
@@ -51,18 +51,18 @@ TEST(RightHandSide, AllocatesNothingInEveryTrackingMode) {
 
 TEST(RightHandSide, AllocatesNothingForAnyFollowerFrictionOrDrive) {
   for (const std::string& kind : test::follower_kinds()) {
-    for (const char* tracking : {"differential", "newton"}) {
-      SceneConfig scene = test::follower_scene(kind, 1000.0, "lankarani_nikravesh");
-      const bool oscillating = scene.mechanism.follower.motion == "oscillating";
+    for (const Tracking tracking : {Tracking::differential, Tracking::newton}) {
+      SceneConfig scene = test::follower_scene(kind, 1000.0, ContactModel::lankarani_nikravesh);
+      const bool oscillating = scene.mechanism.follower.motion == FollowerMotion::oscillating;
       scene.mechanism.contact.tracking = tracking;
       scene.mechanism.contact.friction.mu = 0.1;
-      if (scene.mechanism.follower.shape.type == "roller") scene.mechanism.follower.shape.inertia = 1e-6;
+      if (scene.mechanism.follower.shape.type == FollowerShape::roller) scene.mechanism.follower.shape.inertia = 1e-6;
       if (oscillating) scene.mechanism.follower.pivot_friction = PivotFrictionConfig{0.1, 0.005, 1e-4};
       else scene.mechanism.follower.guide_friction = GuideFrictionConfig{0.1, 1e-4};
-      scene.mechanism.cam.drive.type = "shaft";
+      scene.mechanism.cam.drive.type = Drive::shaft;
       scene.mechanism.cam.drive.inertia = 0.01;
       scene.mechanism.cam.drive.torsional_stiffness = 1e4;
-      scene.mechanism.cam.drive.motor = MotorConfig{"torque_speed", 10.0, 2000.0, 1e-3};
+      scene.mechanism.cam.drive.motor = MotorConfig{Motor::torque_speed, 10.0, 2000.0, 1e-3};
       const Model model = build_model(scene, "test");
       Workspace ws;
       double y[Model::kMaxState] = {};
@@ -83,10 +83,10 @@ TEST(RightHandSide, AllocatesNothingForAnyFollowerFrictionOrDrive) {
 TEST(RightHandSide, AllocatesNothingWithTheGeneralPairFormOrAContourCam) {
   // The general form's search samples are made by prepare_workspace (once per run).
   for (const bool contour : {false, true}) {
-    for (const char* tracking : {"differential", "newton"}) {
-      SceneConfig scene = test::follower_scene("translating_roller", 1000.0, "lankarani_nikravesh");
+    for (const Tracking tracking : {Tracking::differential, Tracking::newton}) {
+      SceneConfig scene = test::follower_scene("translating_roller", 1000.0, ContactModel::lankarani_nikravesh);
       scene.mechanism.contact.tracking = tracking;
-      scene.mechanism.contact.pair_form = contour ? "auto" : "general";
+      scene.mechanism.contact.pair_form = contour ? PairFormChoice::automatic : PairFormChoice::general;
       if (contour) test::use_eccentric_disc_contour(scene, 64);
       const Model model = build_model(scene, "test");
       Workspace ws;

@@ -47,8 +47,8 @@ struct Rigid {
 
   explicit Rigid(const SceneConfig& s) : scene(s), law(build_motion_law(s.mechanism.cam.motion_law, "test")) {
     const FollowerConfig& f = s.mechanism.follower;
-    oscillating = f.motion == "oscillating";
-    flat = f.shape.type == "flat";
+    oscillating = f.motion == FollowerMotion::oscillating;
+    flat = f.shape.type == FollowerShape::flat;
     rb = s.mechanism.cam.base_radius;
     rho = flat ? 0.0 : f.shape.radius;
     e = f.offset;

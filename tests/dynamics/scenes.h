@@ -5,23 +5,23 @@
 #include <string>
 #include <vector>
 
-#include "io/config.h"
+#include "scene/scene.h"
 
 namespace camdyn::test {
 
 /// A cam with a 20 mm cycloidal rise over 120°, dwell, cycloidal return over
 /// 120°, dwell; base radius 40 mm, roller 10 mm, follower 0.3 kg on a 5 kN/m
 /// spring with 40 N preload; Hertz-type contact K = 1e10 N/m^1.5.
-inline SceneConfig cycloidal_cam_scene(double rpm, const std::string& model = "hertz") {
+inline SceneConfig cycloidal_cam_scene(double rpm, ContactModel model = ContactModel::hertz) {
   SceneConfig s;
   s.name = "test-cycloidal";
   CamConfig& cam = s.mechanism.cam;
   cam.base_radius = 0.04;
   cam.rpm = rpm;
-  SegmentConfig rise{"rise", "cycloidal", 120.0, 0.02, std::nullopt, 5, {}};
-  SegmentConfig dwell1{"dwell", "", 180.0, std::nullopt, std::nullopt, 5, {}};
-  SegmentConfig ret{"return", "cycloidal", 300.0, 0.02, std::nullopt, 5, {}};
-  SegmentConfig dwell2{"dwell", "", 360.0, std::nullopt, std::nullopt, 5, {}};
+  SegmentConfig rise{SegmentType::rise, SegmentLaw::cycloidal, 120.0, 0.02, std::nullopt, 5, {}};
+  SegmentConfig dwell1{SegmentType::dwell, SegmentLaw::none, 180.0, std::nullopt, std::nullopt, 5, {}};
+  SegmentConfig ret{SegmentType::return_, SegmentLaw::cycloidal, 300.0, 0.02, std::nullopt, 5, {}};
+  SegmentConfig dwell2{SegmentType::dwell, SegmentLaw::none, 360.0, std::nullopt, std::nullopt, 5, {}};
   cam.motion_law.segments = {rise, dwell1, ret, dwell2};
   FollowerConfig& f = s.mechanism.follower;
   f.shape.radius = 0.01;
@@ -44,7 +44,7 @@ inline SceneConfig cycloidal_cam_scene(double rpm, const std::string& model = "h
 /// A drop test: the cam held still with its base circle under the roller,
 /// no spring, no gravity; the follower starts `gap` above contact moving
 /// towards the cam at `v0`.
-inline SceneConfig drop_scene(const std::string& model, double restitution, double v0 = 1.0, double gap = 1e-4) {
+inline SceneConfig drop_scene(ContactModel model, double restitution, double v0 = 1.0, double gap = 1e-4) {
   SceneConfig s = cycloidal_cam_scene(0.0, model);
   s.name = "test-drop";
   s.mechanism.cam.initial_angle_deg = 330.0;  // base-circle dwell under the roller
@@ -75,24 +75,24 @@ namespace camdyn::test {
 ///                           12° rise, I = 2e-3 kg m², torsional spring 50 N m/rad, 5 N m preload
 ///   "oscillating_flat"      face through the same pivot, face centre 110 mm from it, 80 mm wide
 ///   "oscillating_mushroom"  as the oscillating roller with a mushroom R = 25 mm
-inline SceneConfig follower_scene(const std::string& kind, double rpm, const std::string& model = "hertz") {
+inline SceneConfig follower_scene(const std::string& kind, double rpm, ContactModel model = ContactModel::hertz) {
   SceneConfig s = cycloidal_cam_scene(rpm, model);
   s.name = "test-" + kind;
   FollowerConfig& f = s.mechanism.follower;
   const bool oscillating = kind.rfind("oscillating", 0) == 0;
   if (kind.find("flat") != std::string::npos) {
     f.shape = {};
-    f.shape.type = "flat";
+    f.shape.type = FollowerShape::flat;
     f.shape.face_width = oscillating ? 0.08 : 0.06;
   } else if (kind.find("mushroom") != std::string::npos) {
     f.shape = {};
-    f.shape.type = "mushroom";
+    f.shape.type = FollowerShape::mushroom;
     f.shape.radius = 0.025;
   }
   if (oscillating) {
-    f.motion = "oscillating";
+    f.motion = FollowerMotion::oscillating;
     f.pivot = {0.1, 0.06};
-    f.arm_length = f.shape.type == "flat" ? 0.11 : 0.08;
+    f.arm_length = f.shape.type == FollowerShape::flat ? 0.11 : 0.08;
     f.mass = 0.0;
     f.inertia = 2e-3;
     f.spring.stiffness = 50.0;

@@ -1,4 +1,4 @@
-// Camshaft drive (mechanism.cam.drive.type = "shaft"): a cam with inertia on a
+// Camshaft drive (mechanism.cam.drive.type = Drive::shaft): a cam with inertia on a
 // torsionally compliant shaft from a constant-speed or torque–speed motor.
 #include <algorithm>
 #include <cmath>
@@ -12,10 +12,10 @@
 namespace camdyn {
 namespace {
 
-SceneConfig shaft_scene(double inertia, double stiffness, const std::string& model = "lankarani_nikravesh") {
+SceneConfig shaft_scene(double inertia, double stiffness, ContactModel model = ContactModel::lankarani_nikravesh) {
   SceneConfig s = test::cycloidal_cam_scene(700.0, model);
   DriveConfig& d = s.mechanism.cam.drive;
-  d.type = "shaft";
+  d.type = Drive::shaft;
   d.inertia = inertia;
   d.torsional_stiffness = stiffness;
   return s;
@@ -31,7 +31,7 @@ double position_difference(const SimulationResult& a, const SimulationResult& b)
 }
 
 TEST(ShaftDrive, StiffHeavyShaftConvergesToConstantSpeed) {
-  const SimulationResult reference = simulate_scene(test::cycloidal_cam_scene(700.0, "lankarani_nikravesh"), "test");
+  const SimulationResult reference = simulate_scene(test::cycloidal_cam_scene(700.0, ContactModel::lankarani_nikravesh), "test");
   const SimulationResult soft = simulate_scene(shaft_scene(0.02, 2e3), "test");
   const SimulationResult stiff = simulate_scene(shaft_scene(2.0, 2e5), "test");
   const double e_soft = position_difference(soft, reference), e_stiff = position_difference(stiff, reference);
@@ -55,8 +55,8 @@ TEST(ShaftDrive, StiffHeavyShaftConvergesToConstantSpeed) {
 TEST(ShaftDrive, EnergyBalanceClosesWithMotorWork) {
   // Conservative everywhere except the motor: Hertz contact, no dampers.
   for (const char* motor : {"constant_speed", "torque_speed"}) {
-    SceneConfig scene = shaft_scene(0.01, 500.0, "hertz");
-    if (std::string(motor) == "torque_speed") scene.mechanism.cam.drive.motor = MotorConfig{"torque_speed", 5.0, 1000.0, 2e-3};
+    SceneConfig scene = shaft_scene(0.01, 500.0, ContactModel::hertz);
+    if (std::string(motor) == "torque_speed") scene.mechanism.cam.drive.motor = MotorConfig{Motor::torque_speed, 5.0, 1000.0, 2e-3};
     const SimulationResult r = simulate_scene(scene, "test");
     const auto [lo, hi] = std::minmax_element(r.series.cam_speed_rpm.begin(), r.series.cam_speed_rpm.end());
     EXPECT_GT(*hi - *lo, 1.0) << motor;  // the shaft is really compliant
@@ -64,7 +64,7 @@ TEST(ShaftDrive, EnergyBalanceClosesWithMotorWork) {
     RecordProperty(std::string("energy_residual_") + motor, std::to_string(r.metrics.energy_residual * 1e9) + "e-9");
   }
   // With a shaft damper its work enters the balance too.
-  SceneConfig damped = shaft_scene(0.01, 500.0, "lankarani_nikravesh");
+  SceneConfig damped = shaft_scene(0.01, 500.0, ContactModel::lankarani_nikravesh);
   damped.mechanism.cam.drive.torsional_damping = 0.05;
   EXPECT_LT(simulate_scene(damped, "test").metrics.energy_residual, 1e-6);
 }

@@ -35,8 +35,8 @@ std::shared_ptr<const MotionLaw> law_of(double lift, double rise_end = 120, doub
 
 FollowerConfig follower(const std::string& motion, const std::string& shape) {
   FollowerConfig f;
-  f.motion = motion;
-  f.shape.type = shape;
+  f.motion = parse_enum<FollowerMotion>(motion);
+  f.shape.type = parse_enum<FollowerShape>(shape);
   f.shape.radius = shape == "flat" ? 0.0 : (shape == "roller" ? 0.01 : 0.025);
   f.shape.face_width = shape == "flat" ? 0.2 : 0.0;
   if (motion == "oscillating") {

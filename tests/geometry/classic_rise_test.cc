@@ -8,6 +8,7 @@
 
 #include "finite_difference.h"
 #include "geometry/motion_law.h"
+#include "law_checks.h"
 
 namespace camdyn {
 namespace {
@@ -29,7 +30,7 @@ class ClassicRise : public ::testing::TestWithParam<ClassicCase> {};
 constexpr double kExact = 1e-14;
 
 TEST_P(ClassicRise, StartsAtZeroEndsAtOneWithZeroVelocity) {
-  const auto f = classic_rise(GetParam().name);
+  const auto f = classic_rise(parse_enum<SegmentLaw>(GetParam().name));
   ASSERT_NE(f, nullptr);
   const LawSample a = f->eval(0.0), b = f->eval(1.0);
   EXPECT_NEAR(a.s, 0.0, kExact);
@@ -43,7 +44,7 @@ TEST_P(ClassicRise, StartsAtZeroEndsAtOneWithZeroVelocity) {
 
 TEST_P(ClassicRise, IsPointSymmetricAboutTheMidpoint) {
   // All six laws satisfy f(1 − x) = 1 − f(x), a check independent of the formulas.
-  const auto f = classic_rise(GetParam().name);
+  const auto f = classic_rise(parse_enum<SegmentLaw>(GetParam().name));
   for (int i = 0; i <= 100; ++i) {
     const double x = i / 100.0;
     EXPECT_NEAR(f->eval(1.0 - x).s, 1.0 - f->eval(x).s, kExact) << "x = " << x;
@@ -52,7 +53,7 @@ TEST_P(ClassicRise, IsPointSymmetricAboutTheMidpoint) {
 }
 
 TEST_P(ClassicRise, DerivativesMatchFiniteDifferences) {
-  const auto f = classic_rise(GetParam().name);
+  const auto f = classic_rise(parse_enum<SegmentLaw>(GetParam().name));
   // h small against the shortest feature (an eighth of the rise); the grid
   // (i + 0.5)/40 stays ≥ 0.0125 ≫ 2h away from the breakpoints k/8 of the
   // piecewise laws.
@@ -70,7 +71,7 @@ TEST_P(ClassicRise, DerivativesMatchFiniteDifferences) {
 }
 
 TEST_P(ClassicRise, PeakCoefficientsMatchTextbookValues) {
-  const auto f = classic_rise(GetParam().name);
+  const auto f = classic_rise(parse_enum<SegmentLaw>(GetParam().name));
   double peak_v = 0.0, peak_a = 0.0;
   // 1e5 samples locate a smooth maximum to ≈ |f''''|·(1e-5)²/8 < 1e-6.
   for (int i = 0; i <= 100000; ++i) {
@@ -92,20 +93,22 @@ INSTANTIATE_TEST_SUITE_P(AllLaws, ClassicRise,
                                            ClassicCase{"modified_sine", 1.76, 5.53, 0.0, 0.0}),
                          [](const ::testing::TestParamInfo<ClassicCase>& tp) { return tp.param.name; });
 
-TEST(ClassicRiseNames, UnknownNameGivesNull) {
-  EXPECT_EQ(classic_rise("cubic"), nullptr);
-  for (const auto& name : classic_rise_names()) EXPECT_NE(classic_rise(name), nullptr) << name;
+TEST(ClassicRiseNames, OnlyTheClassicLawsHaveAShape) {
+  EXPECT_FALSE(enum_from_name<SegmentLaw>("cubic").has_value());
+  EXPECT_EQ(classic_rise(SegmentLaw::spline), nullptr);
+  EXPECT_EQ(classic_rise(SegmentLaw::none), nullptr);
+  for (const SegmentLaw law : classic_rise_laws()) EXPECT_NE(classic_rise(law), nullptr) << to_string(law);
 }
 
 TEST(ClassicRiseModified, AccelerationFollowsThePrescribedShape) {
   // The piecewise laws are built from their acceleration shapes: check the
   // shape itself at the span centres (as multiples of the peak, f''(1/8)).
-  const auto ms = classic_rise("modified_sine");
+  const auto ms = classic_rise(SegmentLaw::modified_sine);
   const double ca = ms->eval(0.125).d2s;
   EXPECT_NEAR(ms->eval(0.5).d2s, 0.0, 1e-12);
   EXPECT_NEAR(ms->eval(0.875).d2s, -ca, 1e-12);
   EXPECT_NEAR(ms->eval(0.0625).d2s, ca * std::sin(kPi / 4), 1e-12);
-  const auto mt = classic_rise("modified_trapezoid");
+  const auto mt = classic_rise(SegmentLaw::modified_trapezoid);
   const double ct = mt->eval(0.25).d2s;
   EXPECT_NEAR(mt->eval(0.125).d2s, ct, 1e-12);
   EXPECT_NEAR(mt->eval(0.375).d2s, ct, 1e-12);

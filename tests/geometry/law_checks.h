@@ -21,11 +21,12 @@ constexpr double kDeg = std::numbers::pi / 180.0;
 inline const std::string kConfigFile = "scene.json";
 inline const std::string kLawPath = "mechanism.cam.motion_law";
 
+/// A segment as a config writes it (law "" = none).
 inline SegmentConfig segment(const std::string& type, const std::string& law, double end_deg,
                              std::optional<double> lift = std::nullopt) {
   SegmentConfig s;
-  s.type = type;
-  s.law = law;
+  s.type = parse_enum<SegmentType>(type);
+  s.law = law.empty() ? SegmentLaw::none : parse_enum<SegmentLaw>(law);
   s.end_deg = end_deg;
   s.lift = lift;
   return s;

@@ -78,9 +78,9 @@ MotionLaw load_oscillating(const fs::path& file) {
   MotionLawConfig config;
   for (const Json& s : doc.at("segments")) {
     SegmentConfig seg;
-    seg.type = s.at("type").get<std::string>();
+    seg.type = parse_enum<SegmentType>(s.at("type").get<std::string>());
     seg.end_deg = s.at("end_deg").get<double>();
-    if (s.contains("law")) seg.law = s.at("law").get<std::string>();
+    if (s.contains("law")) seg.law = parse_enum<SegmentLaw>(s.at("law").get<std::string>());
     if (s.contains("lift_deg")) seg.lift_deg = s.at("lift_deg").get<double>();
     for (const auto& item : s.items())
       EXPECT_TRUE(item.key() == "type" || item.key() == "end_deg" || item.key() == "law" || item.key() == "lift_deg")

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <numbers>
 
+#include "io/config.h"  // load_table_rows
 #include "law_checks.h"
 
 namespace camdyn {
@@ -190,7 +191,8 @@ INSTANTIATE_TEST_SUITE_P(Degrees, PeriodicSpline,
 
 TEST(PeriodicTable, GivesTheSameLawAsTheInlineSpline) {
   MotionLawConfig c;
-  c.table = TableConfig{CAMDYN_TEST_DATA_DIR "/geometry/periodic_lift.csv", "angle_deg", "lift", 5};
+  c.table = TableConfig{CAMDYN_TEST_DATA_DIR "/geometry/periodic_lift.csv", "angle_deg", "lift", 5, {}, {}, {}};
+  load_table_rows(*c.table);
   const MotionLaw from_table = build(c);
   const MotionLaw inline_law = build(periodic(5, kKnotsDeg, kLifts));
   // Same numbers in, same arithmetic: equal to rounding.
@@ -210,13 +212,15 @@ class PeriodicTableErrors : public ::testing::Test {
   }
   MotionLawConfig table(const std::string& file) {
     MotionLawConfig c;
-    c.table = TableConfig{file, "angle_deg", "lift", 3};
+    c.table = TableConfig{file, "angle_deg", "lift", 3, {}, {}, {}};
     return c;
   }
   void expect(const MotionLawConfig& c, const std::string& file, const std::string& path,
               const std::string& reason_part) {
     try {
-      build(c);
+      MotionLawConfig loaded = c;  // the loader reads the rows, the geometry checks them
+      load_table_rows(*loaded.table);
+      build(loaded);
       ADD_FAILURE() << "no InputError";
     } catch (const InputError& e) {
       EXPECT_EQ(e.file(), file) << e.what();

@@ -19,7 +19,7 @@ namespace {
 // follower always in contact, slow cam. No event, so every method shows its
 // own order.
 SceneConfig smooth_scene() {
-  SceneConfig s = test::cycloidal_cam_scene(300.0, "hertz");
+  SceneConfig s = test::cycloidal_cam_scene(300.0, ContactModel::hertz);
   s.mechanism.cam.motion_law.segments.clear();
   s.mechanism.cam.motion_law.spline = PeriodicSplineConfig{5, {0, 60, 120, 180, 240, 300}, {0, 0.006, 0.015, 0.02, 0.012, 0.004}};
   s.mechanism.contact.stiffness = 1e8;
@@ -28,7 +28,7 @@ SceneConfig smooth_scene() {
   return s;
 }
 
-SimulationResult run(SceneConfig s, const std::string& method, double rtol, double step = 0.0) {
+SimulationResult run(SceneConfig s, IntegrationMethod method, double rtol, double step = 0.0) {
   s.integrator.method = method;
   s.integrator.rtol = rtol;
   s.integrator.atol = rtol * 1e-4;
@@ -46,11 +46,11 @@ double position_error(const SimulationResult& a, const SimulationResult& ref) {
 
 TEST(Integrators, Rk4ConvergesAtFourthOrderOnASmoothScene) {
   const SceneConfig s = smooth_scene();
-  const SimulationResult ref = run(s, "cvode_bdf", 1e-12);
+  const SimulationResult ref = run(s, IntegrationMethod::cvode_bdf, 1e-12);
   const double omega = 300.0 * 2 * std::numbers::pi / 60;
   double previous = 0.0;
   for (double deg : {0.5, 0.25, 0.125}) {
-    const double e = position_error(run(s, "rk4", 0.0, deg * std::numbers::pi / 180 / omega), ref);
+    const double e = position_error(run(s, IntegrationMethod::rk4, 0.0, deg * std::numbers::pi / 180 / omega), ref);
     if (previous > 0) {
       // Halving the step divides the error by 2⁴ = 16 (allowing 10…24 for pre-asymptotic terms).
       EXPECT_GT(previous / e, 10.0) << deg;
@@ -60,11 +60,11 @@ TEST(Integrators, Rk4ConvergesAtFourthOrderOnASmoothScene) {
   }
 }
 
-class AdaptiveMethod : public ::testing::TestWithParam<const char*> {};
+class AdaptiveMethod : public ::testing::TestWithParam<IntegrationMethod> {};
 
 TEST_P(AdaptiveMethod, ErrorIsProportionalToToleranceOnASmoothScene) {
   const SceneConfig s = smooth_scene();
-  const SimulationResult ref = run(s, "cvode_bdf", 1e-12);
+  const SimulationResult ref = run(s, IntegrationMethod::cvode_bdf, 1e-12);
   // Tolerance proportionality, error ≈ C·rtol^p: the least-squares slope p of
   // log error against log rtol over four decades. A two-point ratio is at the
   // mercy of one step sequence; the slope is not. Well-tuned error control
@@ -86,23 +86,23 @@ TEST_P(AdaptiveMethod, ErrorIsProportionalToToleranceOnASmoothScene) {
 }
 
 TEST_P(AdaptiveMethod, ErrorFallsAsToleranceTightensOnAnImpactingScene) {
-  SceneConfig s = test::cycloidal_cam_scene(1350.0, "lankarani_nikravesh");
+  SceneConfig s = test::cycloidal_cam_scene(1350.0, ContactModel::lankarani_nikravesh);
   s.mechanism.follower.damping = 20.0;  // the bouncing decays: errors do not grow chaotically
-  const SimulationResult ref = run(s, "cvode_bdf", 1e-12);
+  const SimulationResult ref = run(s, IntegrationMethod::cvode_bdf, 1e-12);
   ASSERT_GT(ref.metrics.impact_count, 0);
   double previous = INFINITY;
   for (double rtol : {1e-5, 1e-7, 1e-9}) {
     const SimulationResult r = run(s, GetParam(), rtol);
     const double e = position_error(r, ref);
-    EXPECT_LT(e, previous) << GetParam() << " rtol " << rtol;
-    EXPECT_EQ(r.metrics.impact_count, ref.metrics.impact_count) << GetParam() << " rtol " << rtol;
+    EXPECT_LT(e, previous) << to_string(GetParam()) << " rtol " << rtol;
+    EXPECT_EQ(r.metrics.impact_count, ref.metrics.impact_count) << to_string(GetParam()) << " rtol " << rtol;
     previous = e;
   }
   EXPECT_LT(previous, 1e-7);
 }
 
 TEST_P(AdaptiveMethod, LocatesImpactEventsInADropTest) {
-  SceneConfig s = test::drop_scene("hertz", 1.0);
+  SceneConfig s = test::drop_scene(ContactModel::hertz, 1.0);
   s.integrator.method = GetParam();
   s.integrator.rtol = 1e-9;
   s.integrator.atol = 1e-14;
@@ -116,11 +116,12 @@ TEST_P(AdaptiveMethod, LocatesImpactEventsInADropTest) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Methods, AdaptiveMethod,
-                         ::testing::Values("cvode_bdf", "cvode_adams", "arkode_erk", "arkode_dirk"));
+                         ::testing::Values(IntegrationMethod::cvode_bdf, IntegrationMethod::cvode_adams, IntegrationMethod::arkode_erk, IntegrationMethod::arkode_dirk),
+                         [](const ::testing::TestParamInfo<IntegrationMethod>& p) { return to_string(p.param); });
 
 TEST(Integrators, Rk4LocatesEventsByBisection) {
-  SceneConfig s = test::drop_scene("hertz", 1.0);
-  s.integrator.method = "rk4";
+  SceneConfig s = test::drop_scene(ContactModel::hertz, 1.0);
+  s.integrator.method = IntegrationMethod::rk4;
   s.integrator.step = 2e-7;
   const SimulationResult r = simulate_scene(s, "drop");
   ASSERT_GE(r.events.size(), 2u);
@@ -129,13 +130,13 @@ TEST(Integrators, Rk4LocatesEventsByBisection) {
 }
 
 TEST(Integrators, AnalyticAndFiniteDifferenceJacobiansGiveTheSameRun) {
-  SceneConfig s = test::cycloidal_cam_scene(1000.0, "lankarani_nikravesh");
+  SceneConfig s = test::cycloidal_cam_scene(1000.0, ContactModel::lankarani_nikravesh);
   s.simulation.cycles = 2;
-  for (const char* method : {"cvode_bdf", "arkode_dirk"}) {
+  for (const IntegrationMethod method : {IntegrationMethod::cvode_bdf, IntegrationMethod::arkode_dirk}) {
     s.integrator.method = method;
-    s.integrator.jacobian = "analytic";
+    s.integrator.jacobian = JacobianSource::analytic;
     const SimulationResult a = simulate_scene(s, "test");
-    s.integrator.jacobian = "finite_difference";
+    s.integrator.jacobian = JacobianSource::finite_difference;
     const SimulationResult b = simulate_scene(s, "test");
     // Both converge the same Newton systems to the tolerance: results agree to ~rtol.
     EXPECT_NEAR(a.metrics.peak_contact_force / b.metrics.peak_contact_force, 1.0, 1e-6) << method;
@@ -145,12 +146,12 @@ TEST(Integrators, AnalyticAndFiniteDifferenceJacobiansGiveTheSameRun) {
 
 TEST(Integrators, RichardsonEstimateBoundsTheActualError) {
   SceneConfig s = smooth_scene();
-  s.integrator.error_estimate = "richardson";
+  s.integrator.error_estimate = ErrorEstimateMethod::richardson;
   s.integrator.rtol = 1e-6;
   s.integrator.atol = 1e-10;
   const SimulationResult r = simulate_scene(s, "test");
   ASSERT_TRUE(r.error.richardson);
-  const double actual = position_error(r, run(smooth_scene(), "cvode_bdf", 1e-12));
+  const double actual = position_error(r, run(smooth_scene(), IntegrationMethod::cvode_bdf, 1e-12));
   // The difference to a 100× tighter run is the error of the looser run up to ~1 %.
   EXPECT_NEAR(r.error.position / actual, 1.0, 0.1);
 }
@@ -165,18 +166,18 @@ namespace {
 // implicit BDF reaches the explicit method's accuracy with < 1/50 of its
 // right-hand-side evaluations: the explicit steps are held by stability alone.
 TEST(Integrators, BdfNeedsUnderOneFiftiethOfTheExplicitWorkOnAStiffContact) {
-  SceneConfig s = test::cycloidal_cam_scene(60.0, "flores");
+  SceneConfig s = test::cycloidal_cam_scene(60.0, ContactModel::flores);
   s.mechanism.contact.stiffness = 1e12;
   s.mechanism.contact.restitution = 0.1;
   s.mechanism.follower.damping = 20.0;
   for (SegmentConfig& seg : s.mechanism.cam.motion_law.segments)
-    if (!seg.law.empty()) seg.law = "polynomial_4567";
+    if (seg.law != SegmentLaw::none) seg.law = SegmentLaw::polynomial_4567;
   s.simulation.cycles = 0.5;
   s.simulation.discard_cycles = 0;
-  const SimulationResult ref = run(s, "cvode_bdf", 1e-10);
-  const SimulationResult erk = run(s, "arkode_erk", 1e-4);  // its loosest sensible tolerance
+  const SimulationResult ref = run(s, IntegrationMethod::cvode_bdf, 1e-10);
+  const SimulationResult erk = run(s, IntegrationMethod::arkode_erk, 1e-4);  // its loosest sensible tolerance
   const double erk_error = position_error(erk, ref);
-  const SimulationResult bdf = run(s, "cvode_bdf", 1e-8);
+  const SimulationResult bdf = run(s, IntegrationMethod::cvode_bdf, 1e-8);
   const double bdf_error = position_error(bdf, ref);
   EXPECT_LE(bdf_error, erk_error) << "BDF " << bdf_error << " m, ERK " << erk_error << " m";
   EXPECT_LT(50 * bdf.solver.counters.rhs_evaluations, erk.solver.counters.rhs_evaluations)

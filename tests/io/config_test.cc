@@ -98,7 +98,7 @@ TEST(Config, GoodBaseLoadsWithEveryValue) {
   EXPECT_EQ(s.mechanism.cam.base_radius, 0.04);
   EXPECT_EQ(s.mechanism.cam.rpm, 1200);
   ASSERT_EQ(s.mechanism.cam.motion_law.segments.size(), 4u);
-  EXPECT_EQ(s.mechanism.cam.motion_law.segments[0].law, "cycloidal");
+  EXPECT_EQ(s.mechanism.cam.motion_law.segments[0].law, SegmentLaw::cycloidal);
   EXPECT_EQ(s.mechanism.cam.motion_law.segments[0].lift, 0.02);
   EXPECT_FALSE(s.mechanism.cam.motion_law.segments[2].lift.has_value());
   EXPECT_EQ(s.mechanism.follower.spring.preload, 40);
@@ -112,8 +112,8 @@ TEST(Config, DefaultsAreFilledInFromTheStructs) {
   const SceneConfig s = scene_from_json(minimal_scene(), ConfigSource{"minimal.json", "/"});
   const SceneConfig defaults;
   EXPECT_EQ(s.study, "simulate");
-  EXPECT_EQ(s.mechanism.cam.direction, "ccw");
-  EXPECT_EQ(s.mechanism.follower.motion, "translating");
+  EXPECT_EQ(s.mechanism.cam.direction, RotationDirection::ccw);
+  EXPECT_EQ(s.mechanism.follower.motion, FollowerMotion::translating);
   EXPECT_EQ(s.mechanism.contact.model, defaults.mechanism.contact.model);
   EXPECT_EQ(s.mechanism.contact.restitution, defaults.mechanism.contact.restitution);
   EXPECT_EQ(s.mechanism.contact.friction, defaults.mechanism.contact.friction);
@@ -159,8 +159,12 @@ TEST(Config, ToJsonWritesOnlyTheFieldsOfEachSegmentType) {
 
 TEST(Config, RoundTripOfTheGoodBase) { expect_round_trip(load_scene(kGoodBase)); }
 
+/// A lift table the loader can read (it reads a table's rows at load).
+const char* const kLiftTable = "angle_deg,lift\n0,0\n90,0.01\n180,0.02\n270,0.01\n";
+
 TEST(Config, RoundTripOfEveryOptionalShape) {
   TempDir dir;
+  dir.write("tables/lift.csv", kLiftTable);
   // Periodic spline law, stiffness from materials, kelvin_voigt, set initial state, rk4.
   Json a = minimal_scene();
   a["mechanism"]["cam"]["motion_law"] = Json::parse(
@@ -186,6 +190,8 @@ TEST(Config, RoundTripOfEveryOptionalShape) {
   const SceneConfig sb = scene_from_json(b, ConfigSource{"b.json", dir / "tables"});
   ASSERT_TRUE(sb.mechanism.cam.motion_law.table.has_value());
   EXPECT_EQ(sb.mechanism.cam.motion_law.table->file, dir / "tables/lift.csv");
+  EXPECT_EQ(sb.mechanism.cam.motion_law.table->lift, (std::vector<double>{0, 0.01, 0.02, 0.01}));
+  EXPECT_EQ(sb.mechanism.cam.motion_law.table->lines, (std::vector<int>{2, 3, 4, 5}));
   EXPECT_FALSE(sb.simulation.cycles.has_value());
   EXPECT_FALSE(sb.simulation.output_step_deg.has_value());
   expect_round_trip(sb);
@@ -205,7 +211,7 @@ TEST(Config, ContourCamRoundTripsWithoutABaseRadiusAndWithItsPairForm) {
   EXPECT_EQ(sc.mechanism.cam.motion_law.contour->degree, 5);
   EXPECT_EQ(sc.mechanism.cam.motion_law.contour->control_points, 12);
   EXPECT_EQ(sc.mechanism.cam.base_radius, 0.0);
-  EXPECT_EQ(sc.mechanism.contact.pair_form, "general");
+  EXPECT_EQ(sc.mechanism.contact.pair_form, PairFormChoice::general);
   EXPECT_FALSE(to_json(sc)["mechanism"]["cam"].contains("base_radius"));
   expect_round_trip(sc);
 
@@ -327,10 +333,26 @@ TEST(Config, ExtendsMergesObjectsChildWinsArraysReplacedWhole) {
   EXPECT_EQ(s.name, "child");
 }
 
+TEST(Config, ALiftTableIsReadWhenTheConfigIsLoaded) {
+  // The loader reads the rows (geometry reads no files), so a table that
+  // cannot be read is reported at load, naming the CSV file.
+  TempDir dir;
+  Json doc = minimal_scene();
+  doc["mechanism"]["cam"]["motion_law"] = Json::parse(R"({ "table": { "file": "missing.csv" } })");
+  try {
+    scene_from_json(doc, ConfigSource{"scene.json", dir / ""});
+    ADD_FAILURE() << "no InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), dir / "missing.csv") << e.what();
+    EXPECT_NE(e.reason().find("cannot open"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Config, ExtendsChainOfThreeAndLawKindSwitch) {
   TempDir dir;
   dir.write("a.json", minimal_scene().dump());
   dir.write("b.json", R"({ "extends": "a.json", "mechanism": { "cam": { "rpm": 600 } } })");
+  dir.write("lift.csv", kLiftTable);
   // The motion law is replaced whole, so switching to a table leaves no segments.
   const std::string c = dir.write("c.json", R"({ "extends": "b.json",
       "mechanism": { "cam": { "motion_law": { "table": { "file": "lift.csv" } } } } })");
@@ -368,7 +390,7 @@ TEST(Config, SetParsesNumbersStringsArraysObjectsAndNull) {
   std::vector<std::string> valid(overrides.begin(), overrides.end() - 1);
   const SceneConfig s = load_scene(kGoodBase, valid);
   EXPECT_EQ(s.mechanism.cam.rpm, 1500);
-  EXPECT_EQ(s.mechanism.cam.direction, "cw");
+  EXPECT_EQ(s.mechanism.cam.direction, RotationDirection::cw);
   EXPECT_EQ(s.mechanism.cam.motion_law.segments[2].lift, 0.015);
   ASSERT_TRUE(s.mechanism.contact.from_materials.has_value());
   EXPECT_EQ(s.mechanism.contact.from_materials->E2, 2e11);
@@ -475,6 +497,8 @@ TEST(Config, TableFileIsResolvedRelativeToTheFileThatNamesIt) {
   TempDir dir;
   // In a profile: relative to the profile.
   dir.write("profiles/table.json", R"({ "table": { "file": "lift.csv", "lift_column": "s" } })");
+  dir.write("profiles/lift.csv", "angle_deg,s\n0,0\n90,0.01\n180,0.02\n270,0.01\n");
+  dir.write("bases/data/lift.csv", kLiftTable);
   Json doc = minimal_scene();
   doc["mechanism"]["cam"]["motion_law"] = "profiles/table.json";
   const std::string config = dir.write("scene.json", doc.dump());

@@ -83,10 +83,10 @@ TEST(DesignSpace, InitialFitReproducesTheBaselineLaw) {
   EXPECT_LT(space.fit_quality().max_acceleration_error, 1e-2);
   const SceneConfig fitted = space.scene(space.initial());
   const SegmentConfig& rise = fitted.mechanism.cam.motion_law.segments[0];
-  EXPECT_EQ(rise.law, "spline");
+  EXPECT_EQ(rise.law, SegmentLaw::spline);
   EXPECT_EQ(rise.degree, 5);
   EXPECT_EQ(rise.control_points.size(), 6u);
-  EXPECT_EQ(fitted.mechanism.cam.motion_law.segments[1].law, "");  // the dwell is untouched
+  EXPECT_EQ(fitted.mechanism.cam.motion_law.segments[1].law, SegmentLaw::none);  // the dwell is untouched
   const LawKinematics k = kinematics_of(fitted);
   EXPECT_NEAR(k.segments[0].acceleration_coefficient, 2.0 * kPi, 0.02 * 2.0 * kPi);
 }
@@ -125,7 +125,7 @@ TEST(DesignSpace, MovingEndAngleKeepsContinuityWithAClassicNeighbour) {
     { "type": "return", "law": "harmonic", "end_deg": 240, "lift": 0.02 },
     { "type": "dwell", "end_deg": 360 } ])");
   DesignConfig config;
-  config.segments = {"rise"};
+  config.segments = {SegmentType::rise};
   config.end_deg_range.rise = std::vector<double>{100.0, 140.0};
   const DesignSpace space(base, config, "test.json");
   ASSERT_EQ(space.dimension(), 7);
@@ -165,7 +165,7 @@ TEST(DesignSpace, InconsistentDesignsAreInputErrors) {
   outside.end_deg_range.ret = std::vector<double>{310.0, 340.0};  // baseline 300 not inside
   EXPECT_EQ(error_path(outside), "design.end_deg_range.return");
   DesignConfig not_designed;
-  not_designed.segments = {"rise"};
+  not_designed.segments = {SegmentType::rise};
   not_designed.end_deg_range.ret = std::vector<double>{280.0, 320.0};
   EXPECT_EQ(error_path(not_designed), "design.end_deg_range.return");
 

@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Checks that every C++ file of the project is formatted as .clang-format says
+# (clang-format from Debian's clang-format package). `--fix` formats them in place.
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+
+if ! command -v clang-format >/dev/null 2>&1; then
+  echo "check_format: clang-format not found (Debian package clang-format)" >&2
+  exit 1
+fi
+mapfile -t files < <(git ls-files '*.h' '*.cc' | grep -E '^(src|optim|tests|bench)/')
+if [[ "${1-}" == "--fix" ]]; then
+  clang-format -i "${files[@]}"
+  echo "check_format: formatted ${#files[@]} files"
+  exit 0
+fi
+unformatted=()
+for file in "${files[@]}"; do
+  clang-format --dry-run --Werror "$file" >/dev/null 2>&1 || unformatted+=("$file")
+done
+if ((${#unformatted[@]} > 0)); then
+  printf 'check_format: not formatted: %s\n' "${unformatted[@]}" >&2
+  echo "check_format: ${#unformatted[@]} of ${#files[@]} files differ; run: bash scripts/check_format.sh --fix" >&2
+  exit 1
+fi
+echo "check_format: ${#files[@]} files formatted"

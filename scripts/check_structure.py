@@ -1,0 +1,112 @@
+#!/usr/bin/env python3
+"""Checks the two structural rules of camdyn's code (../shared/style.md, "Layers"):
+
+1. No folder includes a folder above it. The layers, bottom first:
+       common < scene < geometry < contact < integrate < dynamics < io < study < optim < cli
+   A file in src/<layer>/ (optim/ is the optim layer) may include headers of
+   its own layer and of the layers below it only, and never with "../".
+2. No function in src/ or optim/ runs over MAX_LINES lines (from the line that
+   opens its body to the line that closes it). Functions are found as the
+   project's clang-format writes them: a definition whose body opens at the
+   end of an unindented line and closes with an unindented "}".
+
+Prints every violation as file:line and exits 1 if there is any.
+
+    python3 scripts/check_structure.py [--max-lines 120]
+"""
+import argparse
+import re
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+LAYERS = ["common", "scene", "geometry", "contact", "integrate", "dynamics", "io", "study", "optim", "cli"]
+INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"')
+NOT_FUNCTIONS = re.compile(r"^(namespace|struct|class|enum|union|extern)\b|=\s*\{$|^(static\s+)?(const|constexpr)\b.*=")
+
+
+def layer_of(path):
+    rel = path.relative_to(ROOT).parts
+    if rel[0] == "optim":
+        return "optim"
+    if rel[0] == "src" and len(rel) > 2:
+        return rel[1]
+    return None
+
+
+def sources():
+    for top in ("src", "optim"):
+        for path in sorted((ROOT / top).rglob("*")):
+            if path.suffix in (".h", ".cc"):
+                yield path
+
+
+def include_violations():
+    found = []
+    for path in sources():
+        own = layer_of(path)
+        if own not in LAYERS:
+            found.append(f"{path.relative_to(ROOT)}: folder '{own}' is not a known layer ({', '.join(LAYERS)})")
+            continue
+        for number, line in enumerate(path.read_text(encoding="utf-8").splitlines(), start=1):
+            match = INCLUDE.match(line)
+            if not match:
+                continue
+            target = match.group(1)
+            if ".." in Path(target).parts:
+                found.append(f"{path.relative_to(ROOT)}:{number}: includes '{target}' through '..'")
+                continue
+            head = Path(target).parts[0] if len(Path(target).parts) > 1 else own
+            if head not in LAYERS:
+                continue  # a header beside this one, or a third-party header in quotes
+            if LAYERS.index(head) > LAYERS.index(own):
+                found.append(f"{path.relative_to(ROOT)}:{number}: layer '{own}' includes '{target}' "
+                             f"from the layer above it, '{head}'")
+    return found
+
+
+def long_functions(max_lines):
+    found = []
+    for path in sources():
+        lines = path.read_text(encoding="utf-8").splitlines()
+        start = None   # line that opens the body being measured
+        header = None  # first line of an unindented declaration still open (a signature over several lines)
+        for number, line in enumerate(lines, start=1):
+            stripped = line.rstrip()
+            if start is not None:
+                if stripped.startswith("}"):
+                    length = number - start + 1
+                    if length > max_lines:
+                        head = lines[(header or start) - 1].strip()
+                        found.append(f"{path.relative_to(ROOT)}:{header or start}: {length} lines: {head[:90]}")
+                    start = header = None
+                continue
+            unindented = bool(stripped) and not stripped[0].isspace()
+            comment = stripped.lstrip().startswith(("#", "//", "///", "*", "/*"))
+            if not stripped or comment or stripped.endswith((";", "}")):
+                header = None
+                continue
+            if unindented and header is None:
+                header = number
+            if header is not None and stripped.endswith("{"):
+                if NOT_FUNCTIONS.search(lines[header - 1].strip()):
+                    header = None
+                else:
+                    start = number
+    return found
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--max-lines", type=int, default=120)
+    args = parser.parse_args()
+    problems = include_violations() + long_functions(args.max_lines)
+    for problem in problems:
+        print(problem)
+    print(f"check_structure: {len(problems)} problem(s) in {sum(1 for _ in sources())} files "
+          f"(layers {' < '.join(LAYERS)}; functions <= {args.max_lines} lines)")
+    return 1 if problems else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

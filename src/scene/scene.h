@@ -1,0 +1,370 @@
+// The scene: the plain typed description of a cam-follower mechanism and how
+// to run it, one struct per JSON object of ../shared/spec/interface.md. It is
+// the bottom layer that geometry, contact and dynamics take their inputs from;
+// io/config.{h,cc} reads it from JSON (and prints it back), turning every word
+// a config chooses by name into one of the enums below, once, at load.
+// Defaults live in the member initialisers (and nowhere else).
+#pragma once
+
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "scene/enum_names.h"
+
+namespace camdyn {
+
+// ---------------------------------------------------------------- vocabulary
+// Every choice a config makes by name is one of these enums; the words of
+// interface.md are in each table (enum_names.h), read once at load.
+
+/// `unset` only before a config has named it (the field is required).
+enum class SegmentType { unset, rise, dwell, return_ };
+inline constexpr EnumName<SegmentType> kSegmentTypeNames[] = {{SegmentType::unset, ""},
+                                                              {SegmentType::rise, "rise"},
+                                                              {SegmentType::dwell, "dwell"},
+                                                              {SegmentType::return_, "return"}};
+constexpr std::span<const EnumName<SegmentType>> enum_names(SegmentType) { return kSegmentTypeNames; }
+
+/// The law of a rise or return segment; `none` on a dwell.
+enum class SegmentLaw {
+  none, cycloidal, polynomial_345, polynomial_4567, harmonic, modified_trapezoid, modified_sine, spline
+};
+inline constexpr EnumName<SegmentLaw> kSegmentLawNames[] = {
+    {SegmentLaw::none, ""},
+    {SegmentLaw::cycloidal, "cycloidal"},
+    {SegmentLaw::polynomial_345, "polynomial_345"},
+    {SegmentLaw::polynomial_4567, "polynomial_4567"},
+    {SegmentLaw::harmonic, "harmonic"},
+    {SegmentLaw::modified_trapezoid, "modified_trapezoid"},
+    {SegmentLaw::modified_sine, "modified_sine"},
+    {SegmentLaw::spline, "spline"}};
+constexpr std::span<const EnumName<SegmentLaw>> enum_names(SegmentLaw) { return kSegmentLawNames; }
+
+/// The motor of a shaft drive: constant speed, or a torque falling linearly with speed.
+enum class Motor { constant_speed, torque_speed };
+inline constexpr EnumName<Motor> kMotorNames[] = {{Motor::constant_speed, "constant_speed"},
+                                                  {Motor::torque_speed, "torque_speed"}};
+constexpr std::span<const EnumName<Motor>> enum_names(Motor) { return kMotorNames; }
+
+/// The cam at constant speed, or behind a torsionally compliant camshaft.
+enum class Drive { constant_speed, shaft };
+inline constexpr EnumName<Drive> kDriveNames[] = {{Drive::constant_speed, "constant_speed"}, {Drive::shaft, "shaft"}};
+constexpr std::span<const EnumName<Drive>> enum_names(Drive) { return kDriveNames; }
+
+enum class RotationDirection { ccw, cw };
+inline constexpr EnumName<RotationDirection> kRotationDirectionNames[] = {{RotationDirection::ccw, "ccw"},
+                                                                          {RotationDirection::cw, "cw"}};
+constexpr std::span<const EnumName<RotationDirection>> enum_names(RotationDirection) {
+  return kRotationDirectionNames;
+}
+
+enum class FollowerShape { roller, flat, mushroom };
+inline constexpr EnumName<FollowerShape> kFollowerShapeNames[] = {
+    {FollowerShape::roller, "roller"}, {FollowerShape::flat, "flat"}, {FollowerShape::mushroom, "mushroom"}};
+constexpr std::span<const EnumName<FollowerShape>> enum_names(FollowerShape) { return kFollowerShapeNames; }
+
+enum class FollowerMotion { translating, oscillating };
+inline constexpr EnumName<FollowerMotion> kFollowerMotionNames[] = {{FollowerMotion::translating, "translating"},
+                                                                    {FollowerMotion::oscillating, "oscillating"}};
+constexpr std::span<const EnumName<FollowerMotion>> enum_names(FollowerMotion) { return kFollowerMotionNames; }
+
+/// How Coulomb friction is smoothed through zero slip: μ tanh(v/v_reg) or a linear ramp.
+enum class FrictionRegularization { tanh, linear };
+inline constexpr EnumName<FrictionRegularization> kFrictionRegularizationNames[] = {
+    {FrictionRegularization::tanh, "tanh"}, {FrictionRegularization::linear, "linear"}};
+constexpr std::span<const EnumName<FrictionRegularization>> enum_names(FrictionRegularization) {
+  return kFrictionRegularizationNames;
+}
+
+/// Normal contact force laws of physics.md §3 (contact/force_law.h).
+enum class ContactModel { hertz, kelvin_voigt, hunt_crossley, lankarani_nikravesh, flores };
+inline constexpr EnumName<ContactModel> kContactModelNames[] = {
+    {ContactModel::hertz, "hertz"},
+    {ContactModel::kelvin_voigt, "kelvin_voigt"},
+    {ContactModel::hunt_crossley, "hunt_crossley"},
+    {ContactModel::lankarani_nikravesh, "lankarani_nikravesh"},
+    {ContactModel::flores, "flores"}};
+constexpr std::span<const EnumName<ContactModel>> enum_names(ContactModel) { return kContactModelNames; }
+
+/// How the contact pair parameter follows the motion (physics.md §2).
+enum class Tracking { differential, newton };
+inline constexpr EnumName<Tracking> kTrackingNames[] = {{Tracking::differential, "differential"},
+                                                        {Tracking::newton, "newton"}};
+constexpr std::span<const EnumName<Tracking>> enum_names(Tracking) { return kTrackingNames; }
+
+/// `contact.pair_form`: "auto" = the one-parameter reduction for a circle or
+/// line follower; "general" = the two-parameter common-normal tracker of
+/// physics.md §2 (verification).
+enum class PairFormChoice { automatic, general };
+inline constexpr EnumName<PairFormChoice> kPairFormChoiceNames[] = {{PairFormChoice::automatic, "auto"},
+                                                                    {PairFormChoice::general, "general"}};
+constexpr std::span<const EnumName<PairFormChoice>> enum_names(PairFormChoice) { return kPairFormChoiceNames; }
+
+enum class IntegrationMethod { cvode_bdf, cvode_adams, arkode_erk, arkode_dirk, rk4 };
+inline constexpr EnumName<IntegrationMethod> kIntegrationMethodNames[] = {
+    {IntegrationMethod::cvode_bdf, "cvode_bdf"},
+    {IntegrationMethod::cvode_adams, "cvode_adams"},
+    {IntegrationMethod::arkode_erk, "arkode_erk"},
+    {IntegrationMethod::arkode_dirk, "arkode_dirk"},
+    {IntegrationMethod::rk4, "rk4"}};
+constexpr std::span<const EnumName<IntegrationMethod>> enum_names(IntegrationMethod) {
+  return kIntegrationMethodNames;
+}
+
+/// Where an implicit method's Jacobian comes from.
+enum class JacobianSource { analytic, finite_difference };
+inline constexpr EnumName<JacobianSource> kJacobianSourceNames[] = {
+    {JacobianSource::analytic, "analytic"}, {JacobianSource::finite_difference, "finite_difference"}};
+constexpr std::span<const EnumName<JacobianSource>> enum_names(JacobianSource) { return kJacobianSourceNames; }
+
+/// "energy": the energy residual only; "richardson": also the difference to a
+/// run at a 100× tighter tolerance (costs that second run).
+enum class ErrorEstimateMethod { energy, richardson };
+inline constexpr EnumName<ErrorEstimateMethod> kErrorEstimateMethodNames[] = {
+    {ErrorEstimateMethod::energy, "energy"}, {ErrorEstimateMethod::richardson, "richardson"}};
+constexpr std::span<const EnumName<ErrorEstimateMethod>> enum_names(ErrorEstimateMethod) {
+  return kErrorEstimateMethodNames;
+}
+
+// ---------------------------------------------------------------- motion law
+
+/// One segment of a piecewise motion law (`mechanism.cam.motion_law.segments[i]`).
+struct SegmentConfig {
+  SegmentType type = SegmentType::unset;
+  SegmentLaw law = SegmentLaw::none;  ///< rise/return only (none on a dwell)
+  double end_deg = 0.0;        ///< cam angle where the segment ends [deg], in (start, 360]
+  std::optional<double> lift;  ///< rise/return: lift magnitude [m] (translating follower)
+  std::optional<double> lift_deg;  ///< rise/return: arm rotation [deg] (oscillating follower)
+  int degree = 5;              ///< spline only: polynomial degree (>= 3)
+  std::vector<double> control_points;  ///< spline only: free interior control points,
+                                       ///< normalised lift (0 = segment start, 1 = end)
+
+  bool operator==(const SegmentConfig&) const = default;
+};
+
+/// Whole-cycle periodic spline through given lifts (`motion_law.spline`).
+struct PeriodicSplineConfig {
+  int degree = 5;
+  std::vector<double> knots_deg;  ///< increasing, within [0, 360)
+  std::vector<double> lift;       ///< [m], one per knot
+
+  bool operator==(const PeriodicSplineConfig&) const = default;
+};
+
+/// Whole-cycle lift table read from CSV (`motion_law.table`).
+struct TableConfig {
+  std::string file;  ///< relative to the config file that names it (resolved to absolute on load)
+  std::string angle_column = "angle_deg";
+  std::string lift_column = "lift";
+  int degree = 5;
+  /// The table's rows, read from `file` by the loader (io/config.h
+  /// load_table_rows), not serialised: cam angle [deg], lift [m], and the
+  /// 1-based line of each row in `file` (for messages).
+  std::vector<double> angle_deg, lift;
+  std::vector<int> lines;
+
+  bool operator==(const TableConfig&) const = default;
+};
+
+/// A cam given directly as a closed list of contour points (`motion_law.contour`),
+/// fitted with a smooth periodic B-spline (geometry/contour_cam.h); the follower
+/// motion law is then the rigid follower's lift on that contour.
+struct ContourConfig {
+  std::vector<std::vector<double>> points;  ///< [[x, y], ...] in the cam frame at cam angle 0 [m], in order
+  int degree = 5;                 ///< spline degree, in [3, 7]
+  int control_points = 0;         ///< per coordinate; 0 = automatic (N/2 within [2(degree + 1), 400])
+  double smoothing = 0.0;         ///< third-difference penalty weight λ >= 0 (0 = plain least squares)
+  int parameter_corrections = 4;  ///< foot-point projection / refit rounds, >= 0
+
+  bool operator==(const ContourConfig&) const = default;
+};
+
+/// Exactly one of `segments`, `spline`, `table`, `contour` is set after loading.
+struct MotionLawConfig {
+  std::vector<SegmentConfig> segments;
+  std::optional<PeriodicSplineConfig> spline;
+  std::optional<TableConfig> table;
+  std::optional<ContourConfig> contour;
+  std::string source;  ///< profile file it came from, if given as "profiles/NAME.json" (not serialised)
+
+  bool operator==(const MotionLawConfig&) const = default;
+};
+
+// ---------------------------------------------------------------- mechanism
+
+/// The motor of a shaft drive (`mechanism.cam.drive.motor`).
+struct MotorConfig {
+  Motor type = Motor::constant_speed;  ///< constant_speed: motor angle = ω t at cam.rpm
+  double stall_torque = 0.0;  ///< torque_speed: T₀ at zero speed [N m], > 0
+  double no_load_rpm = 0.0;   ///< torque_speed: speed where the torque falls to 0 [rpm], > 0
+  double inertia = 0.0;       ///< torque_speed: rotor inertia J_m [kg m^2], > 0
+
+  bool operator==(const MotorConfig&) const = default;
+};
+
+/// `mechanism.cam.drive`: the cam at constant speed, or a camshaft degree of
+/// freedom driven through a torsionally compliant shaft.
+struct DriveConfig {
+  Drive type = Drive::constant_speed;
+  double inertia = 0.0;              ///< shaft: cam + camshaft inertia J_c [kg m^2], > 0
+  double torsional_stiffness = 0.0;  ///< shaft: k_s between motor and cam [N m/rad], > 0
+  double torsional_damping = 0.0;    ///< shaft: c_s [N m s/rad], >= 0
+  MotorConfig motor;                 ///< shaft: the motor
+
+  bool operator==(const DriveConfig&) const = default;
+};
+
+struct CamConfig {
+  double base_radius = 0.0;        ///< r_b [m], > 0; left out for a contour cam (derived from its points)
+  double rpm = 0.0;                ///< cam speed [rev/min], >= 0 (0 holds the cam still)
+  RotationDirection direction = RotationDirection::ccw;
+  double initial_angle_deg = 0.0;  ///< cam angle at t = 0 [deg]
+  MotionLawConfig motion_law;
+  DriveConfig drive;
+
+  bool operator==(const CamConfig&) const = default;
+};
+
+struct ShapeConfig {
+  FollowerShape type = FollowerShape::roller;
+  double radius = 0.0;          ///< roller / mushroom: r_r or R [m], > 0
+  double inertia = 0.0;         ///< roller: spin inertia about its axle [kg m^2], >= 0
+  double face_width = 0.0;      ///< flat: width of the face [m], > 0
+
+  bool operator==(const ShapeConfig&) const = default;
+};
+
+struct SpringConfig {
+  double stiffness = 0.0;  ///< k [N/m], >= 0
+  double preload = 0.0;    ///< spring force at the lowest follower position [N], >= 0
+
+  bool operator==(const SpringConfig&) const = default;
+};
+
+struct InitialConfig {
+  std::optional<double> position;  ///< displacement above the lowest position [m]; null = on the law, in equilibrium
+  double velocity = 0.0;           ///< along the follower axis, + away from the cam [m/s]
+
+  bool operator==(const InitialConfig&) const = default;
+};
+
+/// Guide friction of a translating follower: μ_g |side load| opposing ẏ.
+struct GuideFrictionConfig {
+  double mu = 0.0;                        ///< μ_g [-], >= 0
+  double regularization_velocity = 1e-4;  ///< [m/s], > 0
+
+  bool operator==(const GuideFrictionConfig&) const = default;
+};
+
+/// Pivot friction of an oscillating follower: μ_p r_pin |contact force| opposing φ̇.
+struct PivotFrictionConfig {
+  double mu = 0.0;                        ///< μ_p [-], >= 0
+  double pin_radius = 0.0;                ///< r_pin [m], > 0
+  double regularization_velocity = 1e-4;  ///< sliding speed at the pin surface [m/s], > 0
+
+  bool operator==(const PivotFrictionConfig&) const = default;
+};
+
+struct FollowerConfig {
+  FollowerMotion motion = FollowerMotion::translating;
+  double offset = 0.0;                 ///< translating: the follower axis is the line x = e [m]
+  std::vector<double> pivot;           ///< oscillating: [x, y] of the arm pivot, cam frame at angle 0 [m]
+  double arm_length = 0.0;             ///< oscillating: pivot to roller centre (flat: to the face centre) [m], > 0
+  ShapeConfig shape;
+  double mass = 0.0;     ///< translating: m [kg], > 0
+  double inertia = 0.0;  ///< oscillating: arm inertia about the pivot [kg m^2], > 0
+  SpringConfig spring;   ///< oscillating: torsional, stiffness [N m/rad] and preload [N m]
+  double damping = 0.0;  ///< viscous damper c [N s/m] (oscillating [N m s/rad]), >= 0
+  std::optional<GuideFrictionConfig> guide_friction;  ///< translating only
+  std::optional<PivotFrictionConfig> pivot_friction;  ///< oscillating only
+  InitialConfig initial;  ///< oscillating: position [rad], velocity [rad/s]
+
+  bool operator==(const FollowerConfig&) const = default;
+};
+
+/// Contact stiffness estimated from materials (Hertz / line contact).
+struct MaterialsConfig {
+  double E1 = 0.0, nu1 = 0.3;   ///< cam: Young's modulus [Pa], Poisson ratio [-]
+  double E2 = 0.0, nu2 = 0.3;   ///< follower
+  std::optional<double> width;  ///< contact width [m]: given = line contact (n = 1), else point contact (n = 1.5)
+
+  bool operator==(const MaterialsConfig&) const = default;
+};
+
+struct FrictionConfig {
+  double mu = 0.0;                          ///< Coulomb coefficient [-], >= 0
+  double regularization_velocity = 1e-4;    ///< v_reg [m/s], > 0
+  FrictionRegularization regularization = FrictionRegularization::tanh;
+
+  bool operator==(const FrictionConfig&) const = default;
+};
+
+struct ContactConfig {
+  ContactModel model = ContactModel::lankarani_nikravesh;
+  std::optional<double> stiffness;             ///< K [N/m^n]; exactly one of stiffness / from_materials
+  std::optional<MaterialsConfig> from_materials;  ///< JSON: "stiffness": { "from_materials": {...} }
+  double exponent = 1.5;                       ///< n [-], > 0
+  double restitution = 0.8;                    ///< target e [-], in (0, 1]
+  std::optional<double> damping;               ///< kelvin_voigt c [N s/m]
+  double reference_velocity = 0.01;            ///< floor of v0 [m/s], > 0
+  FrictionConfig friction;
+  Tracking tracking = Tracking::differential;
+  PairFormChoice pair_form = PairFormChoice::automatic;
+
+  bool operator==(const ContactConfig&) const = default;
+};
+
+struct MechanismConfig {
+  CamConfig cam;
+  FollowerConfig follower;
+  ContactConfig contact;
+
+  bool operator==(const MechanismConfig&) const = default;
+};
+
+// ---------------------------------------------------------------- run control
+
+struct SimulationConfig {
+  std::optional<double> cycles;           ///< cam revolutions (default 4 when rpm > 0)
+  int discard_cycles = 1;                 ///< transient revolutions left out of the metrics
+  std::optional<double> duration;         ///< [s]; required when rpm = 0, replaces cycles
+  std::optional<double> output_step_deg;  ///< time-series step in cam angle [deg] (default 0.5)
+  std::optional<double> output_step;      ///< time-series step [s] (required instead when rpm = 0)
+
+  /// Filled in by scene_from_json when rpm > 0 and neither cycles nor duration
+  /// (resp. neither output step) is given, so the resolved config shows them.
+  static constexpr double kDefaultCycles = 4.0;
+  static constexpr double kDefaultOutputStepDeg = 0.5;
+
+  bool operator==(const SimulationConfig&) const = default;
+};
+
+struct IntegratorConfig {
+  IntegrationMethod method = IntegrationMethod::cvode_bdf;  ///< rk4 needs `step`
+  double rtol = 1e-8;                ///< relative tolerance, in (0, 0.1]
+  double atol = 1e-12;               ///< absolute tolerance, > 0
+  std::optional<double> max_step;    ///< [s]
+  std::optional<double> step;        ///< fixed step for rk4 [s]
+  long max_steps = 5'000'000;        ///< step budget for the whole run
+  double max_wall_time_s = 600.0;    ///< wall-time budget for one run [s]
+  JacobianSource jacobian = JacobianSource::analytic;  ///< implicit methods
+  ErrorEstimateMethod error_estimate = ErrorEstimateMethod::energy;
+
+  bool operator==(const IntegratorConfig&) const = default;
+};
+
+/// A complete `simulate` scene.
+struct SceneConfig {
+  std::string name = "camdyn";
+  std::string study = "simulate";
+  MechanismConfig mechanism;
+  double gravity = 0.0;  ///< acceleration pulling the follower towards the cam (-y) [m/s^2]
+  SimulationConfig simulation;
+  IntegratorConfig integrator;
+
+  bool operator==(const SceneConfig&) const = default;
+};
+
+}  // namespace camdyn
