@@ -16,6 +16,14 @@ namespace camdyn {
 
 using Json = nlohmann::ordered_json;
 
+/// A scene enum in a JSON document is its config word (never its number:
+/// the build defines JSON_DISABLE_ENUM_SERIALIZATION, so an enum without a
+/// name table cannot reach a JSON document by accident).
+template <class BasicJson, NamedEnum E>
+void to_json(BasicJson& json, E value) {
+  json = std::string(enum_name(value));
+}
+
 // ---------------------------------------------------------------- loading
 
 /// Where a config came from: the file (for error messages and relative paths).
