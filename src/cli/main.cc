@@ -18,12 +18,12 @@
 #include "dynamics/simulation.h"
 #include "io/config.h"
 #include "io/json_writer.h"
-#include "io/simulation_output.h"
 #include "optim/identify_study.h"
 #include "optim/optimize_study.h"
 #include "study/compare_study.h"
 #include "study/convergence_study.h"
 #include "study/mpi_runner.h"
+#include "study/simulation_output.h"
 #include "study/study.h"
 
 namespace {

@@ -1,4 +1,4 @@
-#include "io/simulation_output.h"
+#include "study/simulation_output.h"
 
 #include <cmath>
 #include <cstdio>
