@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "dynamics/metrics.h"
 #include "dynamics/model.h"
 #include "integrate/ode_system.h"
 #include "io/config.h"
@@ -30,22 +31,6 @@ struct ContactEvent {
   bool onset = true;           ///< onset (gap closes) or separation (gap opens)
   double speed = 0.0;          ///< normal approach speed at onset, separation speed at separation [m/s]
   bool impact = false;         ///< onset after a separation
-};
-
-struct Metrics {
-  double separation_fraction = 0.0;
-  double max_separation_gap = 0.0;  ///< [m]
-  long impact_count = 0;
-  double max_impact_velocity = 0.0;  ///< [m/s]
-  double peak_contact_force = 0.0;   ///< [N]
-  double min_contact_force = 0.0;    ///< [N]
-  double max_penetration = 0.0;      ///< [m]
-  double max_kinematic_error = 0.0;  ///< [m]
-  double separation_integral = 0.0;  ///< ∫ max(g, 0) dt over the evaluated window [m s]: a smooth measure of jump
-  double energy_residual = 0.0;      ///< [-]
-  double max_pressure_angle_deg = 0.0;
-  double min_radius_of_curvature = 0.0;  ///< [m]
-  double jump_speed_rpm = 0.0;           ///< +inf when the law never decelerates (written as null)
 };
 
 struct SolverSummary {
