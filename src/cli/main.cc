@@ -72,6 +72,7 @@ int run_simulate(const camdyn::Json& doc, const camdyn::StudyContext& ctx) {
   if (progress.enabled()) options.progress = [&](double f) { progress(f); };
   camdyn::SimulationResult result = camdyn::simulate(scene, model, ws, options);
   camdyn::estimate_error(scene, model, result);
+  camdyn::throw_if_failed(result);
   const std::filesystem::path& out = ctx.out_dir;
   camdyn::write_simulation_outputs(out, scene, model, result);
 

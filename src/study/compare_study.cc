@@ -356,6 +356,7 @@ int run_compare_study(const Json& doc, const StudyContext& ctx) {
       SimulationOptions options;
       options.record_series = p.overlay && scene.mechanism.cam.rpm > 0;
       const SimulationResult r = simulate_scene(scene, ctx.config_file, options);
+      throw_if_failed(r);
       values = metric_values(r.metrics);
       run_time = r.solver.run_time_s;
       for (std::size_t m = 0; m + 1 < values.size() && error.empty(); ++m)  // jump_speed_rpm may be +inf: empty

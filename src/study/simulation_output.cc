@@ -135,7 +135,9 @@ Json summary_json(const SceneConfig& scene, const Model& model, const Simulation
                            {"tracking_projections", s.projections},
                            {"tracking", model.tracking == Tracking::newton ? "newton" : "differential"},
                            {"simulated_time_s", result.end_time},
-                           {"evaluated_from_s", result.evaluated_from}};
+                           {"evaluated_from_s", result.evaluated_from},
+                           {"termination", termination_name(s.termination)},
+                           {"message", s.message}};
   summary["model"] = Json{{"state_size", model.state_size},
                           {"states", model.state_names},
                           {"elements", model.elements},
