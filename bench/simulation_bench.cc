@@ -25,7 +25,9 @@ double position_error(const camdyn::SceneConfig& scene, const camdyn::Simulation
   camdyn::SceneConfig tight = scene;
   tight.integrator.rtol = 1e-12;
   tight.integrator.atol = 1e-16;
+  camdyn::throw_if_failed(run);
   const camdyn::SimulationResult ref = camdyn::simulate_scene(tight, "quickstart");
+  camdyn::throw_if_failed(ref);
   double worst = 0.0;
   for (size_t i = 0; i < run.series.time.size() && i < ref.series.time.size(); ++i)
     if (run.series.time[i] >= run.evaluated_from)
@@ -48,6 +50,7 @@ void BM_QuickstartCycle(benchmark::State& state) {
   long steps = 0, rhs = 0;
   for (auto _ : state) {
     const camdyn::SimulationResult r = camdyn::simulate(scene, model, ws, options);
+    camdyn::throw_if_failed(r);
     steps = r.solver.counters.steps;
     rhs = r.solver.counters.rhs_evaluations;
     benchmark::DoNotOptimize(r.metrics.peak_contact_force);

@@ -156,6 +156,7 @@ class Simulator {
       options.record_series = false;
       options.sample_times = experiment.record.time;
       SimulationResult result = simulate(scene, model, ws, options);
+      throw_if_failed(result);
       if (result.samples.time.size() != experiment.record.time.size()) {
         run.error = "experiment '" + experiment.name + "': the simulation ended at " + fmt(result.end_time) +
                     " s, before the last measured time";

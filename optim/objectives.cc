@@ -12,7 +12,7 @@
 #include "geometry/cam_synthesis.h"
 #include "geometry/motion_law.h"
 #include "io/report.h"
-#include "io/simulation_output.h"
+#include "study/simulation_output.h"
 
 namespace camdyn::optim {
 

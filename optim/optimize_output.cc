@@ -7,8 +7,8 @@
 #include "io/csv_writer.h"
 #include "io/json_writer.h"
 #include "io/report.h"
-#include "io/simulation_output.h"
 #include "optim/optimize_report.h"
+#include "study/simulation_output.h"
 
 namespace camdyn::optim {
 

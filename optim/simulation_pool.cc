@@ -30,6 +30,7 @@ void SimulationPool::run_job(Worker& worker, std::size_t job) {
   try {
     worker.model = build_model(scene, file_);
     out.result = simulate(scene, worker.model, worker.ws, options_);
+    throw_if_failed(out.result);
     out.status = SimulationOutcome::Status::ok;
   } catch (const InputError& e) {
     out.status = SimulationOutcome::Status::input_error;

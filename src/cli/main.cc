@@ -18,12 +18,12 @@
 #include "dynamics/simulation.h"
 #include "io/config.h"
 #include "io/json_writer.h"
-#include "io/simulation_output.h"
 #include "optim/identify_study.h"
 #include "optim/optimize_study.h"
 #include "study/compare_study.h"
 #include "study/convergence_study.h"
 #include "study/mpi_runner.h"
+#include "study/simulation_output.h"
 #include "study/study.h"
 
 namespace {
@@ -72,6 +72,7 @@ int run_simulate(const camdyn::Json& doc, const camdyn::StudyContext& ctx) {
   if (progress.enabled()) options.progress = [&](double f) { progress(f); };
   camdyn::SimulationResult result = camdyn::simulate(scene, model, ws, options);
   camdyn::estimate_error(scene, model, result);
+  camdyn::throw_if_failed(result);
   const std::filesystem::path& out = ctx.out_dir;
   camdyn::write_simulation_outputs(out, scene, model, result);
 

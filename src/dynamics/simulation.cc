@@ -18,7 +18,11 @@ namespace {
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 constexpr int kMaxState = Model::kMaxState;
-constexpr int kSamplesPerStep = 4;     // dense samples per internal step for the metrics
+constexpr int kSamplesPerStep = 4;  // dense samples per internal step for the metrics
+
+using State = std::array<double, kMaxState>;
+using Quadratures = std::array<double, Model::kQuadratures>;
+using Clock = std::chrono::steady_clock;
 
 // The scene as an OdeSystem: the model's evaluation behind SUNDIALS' callbacks.
 class SceneOde final : public OdeSystem {
@@ -61,11 +65,18 @@ std::string where(const Model& model, double t) {
   return s.str();
 }
 
+// Why a run stopped before its end time; converged while it did not.
+struct Failure {
+  Termination termination = Termination::converged;
+  std::string message;
+  explicit operator bool() const { return termination != Termination::converged; }
+};
+
 // Initial state: given, or on the law at quasi-static equilibrium (the contact
 // force supplies exactly the law's acceleration); the pair by Newton from the
 // cam angle (global search if that fails); a roller spinning without slip; a
 // shaft twisted to carry the initial cam torque.
-void initial_state(const SceneConfig& scene, const Model& model, Workspace& ws, double* y) {
+Failure initial_state(const SceneConfig& scene, const Model& model, Workspace& ws, double* y) {
   const InitialConfig& init = scene.mechanism.follower.initial;
   const double theta = model.theta(0.0);
   const LawSample law = model.law->eval(theta);
@@ -126,7 +137,8 @@ void initial_state(const SceneConfig& scene, const Model& model, Workspace& ws, 
   const long resets = ws.tracking_resets;
   evaluate(probe, ws, 0.0, s.data(), ev);
   ws.tracking_resets = resets;  // the set-up search is not a loss of tracking
-  if (!ev.tracking_ok) throw NumericalError("could not find the initial contact pair " + where(model, 0.0));
+  if (!ev.tracking_ok)
+    return {Termination::no_initial_contact, "could not find the initial contact pair " + where(model, 0.0)};
   ws.u_warm = ev.pair.u;
   ws.v_warm = ev.pair_v;
   std::fill(y, y + model.state_size, 0.0);
@@ -154,6 +166,7 @@ void initial_state(const SceneConfig& scene, const Model& model, Workspace& ws, 
     if (model.index_motor_angle >= 0) y[model.index_motor_angle] += twist;
     else ws.motor_phase = twist;
   }
+  return {};
 }
 
 struct RunPlan {
@@ -183,7 +196,384 @@ RunPlan plan(const SceneConfig& scene, const Model& model) {
   return p;
 }
 
+// Builds the integrator's options from the config and the plan.
+IntegratorOptions integrator_options(const IntegratorConfig& ic, const RunPlan& p) {
+  IntegratorOptions io;
+  io.method = ic.method;
+  io.rtol = ic.rtol;
+  io.atol = ic.atol;
+  io.quadrature_atol = ic.atol;
+  io.max_step = p.max_step;
+  io.fixed_step = ic.step.value_or(0.0);
+  io.analytic_jacobian = ic.jacobian == JacobianSource::analytic;
+  return io;
+}
+
+// The metrics over the evaluated window (physics.md §6) and the energy
+// balance over the whole run (§5), folded in from dense-output samples. Its
+// evaluation and dense-output buffers are the run's scratch: the loop and the
+// series recorder read the evaluation it leaves behind.
+class WindowObserver {
+ public:
+  WindowObserver(const Model& model, Workspace& ws, const Integrator& integrator, const State& y0,
+                 const Quadratures& q0, double t_eval, Metrics& m)
+      : model_(model), ws_(ws), integrator_(integrator), y0_(y0), q0_(q0), t_eval_(t_eval), m_(m) {
+    m_.min_contact_force = std::numeric_limits<double>::infinity();
+  }
+
+  // Evaluates the model at a dense-output time into ev() and folds it into the
+  // metrics; returns the energy deviation E(t) − E(0) [J]. Before the first
+  // step there is no dense output yet: the initial values are used.
+  double observe(double t) {
+    if (stepped_) {
+      integrator_.dense(t, ys_.data());
+      integrator_.dense_quadrature(t, qs_.data());
+    } else {
+      ys_ = y0_;
+      qs_ = q0_;
+    }
+    double u_keep = ws_.u_warm;
+    evaluate(model_, ws_, t, ys_.data(), ev_);
+    ws_.u_warm = u_keep;
+    const EnergyTerms e = energy_terms(model_, ev_);
+    const double energy = e.kinetic + e.spring + e.gravity + e.contact - qs_[0] + qs_[1] + qs_[2] + qs_[3];
+    if (!energy_initialised_) {
+      energy0_ = energy;
+      energy_initialised_ = true;
+    }
+    energy_scale_ = std::max(energy_scale_, e.kinetic + e.spring + std::abs(qs_[0]));
+    energy_max_dev_ = std::max(energy_max_dev_, std::abs(energy - energy0_));
+    if (t >= t_eval_) {
+      m_.max_separation_gap = std::max(m_.max_separation_gap, ev_.gap);
+      m_.peak_contact_force = std::max(m_.peak_contact_force, ev_.normal_force);
+      m_.min_contact_force = std::min(m_.min_contact_force, ev_.normal_force);
+      m_.max_penetration = std::max(m_.max_penetration, ev_.delta);
+      m_.max_kinematic_error = std::max(m_.max_kinematic_error, std::abs(ev_.y - model_.law->eval(ev_.theta).s));
+    }
+    return energy - energy0_;
+  }
+
+  // The step [t0, t] the integrator just took: metrics from dense samples over
+  // it; the gap keeps its sign inside a step (its zeros are located as roots),
+  // so the midpoint decides separation.
+  void observe_step(double t0, double t) {
+    stepped_ = true;
+    for (int j = 1; j <= kSamplesPerStep; ++j) observe(t0 + (t - t0) * j / kSamplesPerStep);
+    const double t_mid = 0.5 * (t0 + t);
+    integrator_.dense(t_mid, ys_.data());
+    evaluate(model_, ws_, t_mid, ys_.data(), ev_);
+    if (ev_.gap > 0.0) separated_time_ += std::max(0.0, t - std::max(t0, t_eval_));
+  }
+
+  // The metrics that are not extremes, once the run reached `t_end` [s];
+  // `separation_integral` is ∫ max(g, 0) dt over the evaluated window [m s].
+  void finish(double t_end, double separation_integral) {
+    const double evaluated = t_end - t_eval_;
+    m_.separation_fraction = evaluated > 0.0 ? separated_time_ / evaluated : 0.0;
+    if (!std::isfinite(m_.min_contact_force)) m_.min_contact_force = 0.0;
+    m_.energy_residual = energy_scale_ > 0.0 ? energy_max_dev_ / energy_scale_ : 0.0;
+    m_.max_pressure_angle_deg = model_.geometry.max_pressure_angle_deg;
+    m_.min_radius_of_curvature = model_.geometry.min_radius_of_curvature;
+    m_.jump_speed_rpm = jump_speed_rpm(model_);
+    m_.separation_integral = separation_integral;
+  }
+
+  Evaluation& ev() { return ev_; }
+  // The separation integral quadrature at the last observation [m s].
+  double separation_quadrature() const { return qs_[4]; }
+  // Energy deviation [J] → energy residual [-].
+  double residual(double deviation) const { return energy_scale_ > 0.0 ? deviation / energy_scale_ : 0.0; }
+
+ private:
+  const Model& model_;
+  Workspace& ws_;
+  const Integrator& integrator_;
+  const State& y0_;
+  const Quadratures& q0_;
+  const double t_eval_;  // start of the evaluated window [s]
+  Metrics& m_;
+  bool stepped_ = false;
+  Evaluation ev_;
+  State ys_{};
+  Quadratures qs_{};
+  double energy0_ = 0.0, energy_scale_ = 0.0, energy_max_dev_ = 0.0;  // [J]
+  bool energy_initialised_ = false;
+  double separated_time_ = 0.0;  // within the evaluated window [s]
+};
+
+// One row of a time series from an evaluation at t [s].
+void push_row(const Model& model, const Evaluation& ev, TimeSeries& series, double t) {
+  series.time.push_back(t);
+  series.cam_angle_deg.push_back(ev.theta * kRadToDeg);
+  series.follower_position.push_back(ev.y);
+  series.follower_velocity.push_back(ev.v);
+  series.follower_acceleration.push_back(ev.acceleration);
+  series.kinematic_position.push_back(model.law->eval(ev.theta).s);
+  series.gap.push_back(ev.gap);
+  series.contact_force.push_back(ev.normal_force);
+  series.friction_force.push_back(ev.friction_force);
+  series.contact_offset.push_back(ev.contact_offset);
+  series.cam_speed_rpm.push_back(ev.cam_speed * 60.0 / kTwoPi);
+}
+
+// The series recording: the rows of timeseries.csv on the output grid, the
+// samples at SimulationOptions::sample_times, and the separation integral at
+// the start of the evaluated window, each observed as the integration passes.
+class SeriesRecorder {
+ public:
+  SeriesRecorder(const Model& model, const RunPlan& p, const SimulationOptions& options, WindowObserver& observer,
+                 SimulationResult& result)
+      : model_(model), p_(p), options_(options), observer_(observer), result_(result),
+        eval_start_seen_(p.t_eval <= 0.0) {}
+
+  // Records everything due up to t_hi [s].
+  void record_until(double t_hi) {
+    for (;; ++next_output_) {
+      const double t_nominal = static_cast<double>(next_output_) * p_.output_dt;
+      const double t_out = std::min(t_nominal, p_.t_end);
+      if (t_out > t_hi * (1.0 + 1e-14) + 1e-300) break;
+      if (t_nominal > p_.t_end * (1.0 + 1e-12)) break;
+      const double de = observer_.observe(t_out);
+      if (!options_.record_series) continue;
+      push_row(model_, observer_.ev(), result_.series, t_out);
+      energy_deviation_.push_back(de);
+    }
+    const std::vector<double>& sample_times = options_.sample_times;
+    for (; next_sample_ < sample_times.size() && sample_times[next_sample_] <= t_hi; ++next_sample_) {
+      const double t_sample = sample_times[next_sample_];
+      sample_energy_deviation_.push_back(observer_.observe(t_sample));
+      push_row(model_, observer_.ev(), result_.samples, t_sample);
+    }
+    if (!eval_start_seen_ && p_.t_eval <= t_hi) {
+      observer_.observe(p_.t_eval);
+      separation_integral_at_eval_ = observer_.separation_quadrature();
+      eval_start_seen_ = true;
+    }
+  }
+
+  // The energy residual columns, once the run's energy scale is known.
+  void finish() {
+    for (double de : energy_deviation_) result_.series.energy_residual.push_back(observer_.residual(de));
+    for (double de : sample_energy_deviation_) result_.samples.energy_residual.push_back(observer_.residual(de));
+  }
+
+  double separation_integral_at_eval() const { return separation_integral_at_eval_; }  // [m s]
+
+ private:
+  const Model& model_;
+  const RunPlan& p_;
+  const SimulationOptions& options_;
+  WindowObserver& observer_;
+  SimulationResult& result_;
+  long next_output_ = 0;
+  std::size_t next_sample_ = 0;
+  std::vector<double> energy_deviation_, sample_energy_deviation_;  // [J]
+  double separation_integral_at_eval_ = 0.0;
+  bool eval_start_seen_;
+};
+
+// What one run's pieces share besides the observer and the recorder.
+struct RunContext {
+  const SceneConfig& scene;
+  const Model& model;
+  Workspace& ws;
+  const SimulationOptions& options;
+  const RunPlan& plan;
+  Clock::time_point wall_start;
+  SimulationResult& result;
+};
+
+// A root the integrator stopped at (physics.md §4): records a contact onset
+// (an impact when the follower was separated) or a separation. Returns whether
+// the right-hand side changed, so that the integrator must restart.
+bool handle_root(const RunContext& run, const Integrator& integrator, const Evaluation& ev, double t,
+                 std::array<int, 2>& root_dirs, bool& separated) {
+  const Model& model = run.model;
+  SimulationResult& result = run.result;
+  bool restart = false;
+  integrator.root_info(root_dirs.data());
+  ++result.solver.events;
+  if (root_dirs[0] < 0) {  // gap closing: contact onset
+    const double approach = -ev.gap_rate;
+    run.ws.v0 = std::max(approach, model.contact.reference_velocity);
+    ContactEvent event{t, ev.theta * kRadToDeg, true, approach, separated};
+    if (separated && t >= run.plan.t_eval) {
+      ++result.metrics.impact_count;
+      result.metrics.max_impact_velocity = std::max(result.metrics.max_impact_velocity, approach);
+    }
+    result.events.push_back(event);
+    separated = false;
+    restart = true;
+  } else if (root_dirs[0] > 0) {  // gap opening: separation
+    result.events.push_back({t, ev.theta * kRadToDeg, false, ev.gap_rate, false});
+    separated = true;
+    restart = true;
+  }
+  if (model.root_count() > 1 && root_dirs[1] != 0 && ev.delta > 0.0) restart = true;  // force clamp switches
+  return restart;
+}
+
+// Differential tracking: projects u back onto the common-normal condition
+// f = 0 by warm-started Newton (global search if that fails) when it drifted
+// beyond `tolerance` [rad]; sets `restart` when it did.
+Failure project_pair(const RunContext& run, const Evaluation& ev, double t, double tolerance, State& y,
+                     bool& restart) {
+  const Model& model = run.model;
+  Workspace& ws = run.ws;
+  if (model.index_u < 0 || !(ev.pair_drift > tolerance)) return {};
+  Model newton_model = model;
+  newton_model.tracking = Tracking::newton;
+  Evaluation projected;
+  ws.u_warm = y[model.index_u];
+  if (model.index_v >= 0) ws.v_warm = y[model.index_v];
+  const long resets_before = ws.tracking_resets;
+  evaluate(newton_model, ws, t, y.data(), projected);
+  if (!projected.tracking_ok) return {Termination::tracking_lost, "contact pair tracking lost " + where(model, t)};
+  if (ws.tracking_resets == resets_before) ++run.result.solver.projections;
+  y[model.index_u] = projected.pair.u;
+  if (model.index_v >= 0) y[model.index_v] = projected.pair_v;
+  restart = true;
+  return {};
+}
+
+// The contact left what the compliant-contact model describes.
+Failure check_contact(const Model& model, const Evaluation& ev, double t) {
+  // A penetration beyond half the roller radius (a tenth of the base radius
+  // for a flat face) means the contact is far too soft for its load.
+  if (ev.delta > model.penetration_limit)
+    return {Termination::penetration_limit,
+            "contact penetration " + std::to_string(ev.delta) + " m exceeds " +
+                std::to_string(model.penetration_limit) + " m (the contact stiffness is far too low for the load) " +
+                where(model, t)};
+  // A flat face whose contact point runs off its edge: the design check
+  // (check_cam) passed on the law, so the dynamics drove it there.
+  if (model.reduction == ContactReduction::line && ev.delta > 0.0 &&
+      std::abs(ev.contact_offset) > 0.5 * model.follower.face_width)
+    return {Termination::left_flat_face, "the contact point left the flat face (" +
+                                             std::to_string(ev.contact_offset) + " m from its centre, face_width " +
+                                             std::to_string(model.follower.face_width) + " m) " + where(model, t)};
+  return {};
+}
+
+// The step and wall-time budgets; reports progress now and then (at most
+// every 0.25 s of wall time, the last report's time in `last_progress` [s]).
+Failure check_budgets(const RunContext& run, const Integrator& integrator, double t, double& last_progress) {
+  const IntegratorConfig& ic = run.scene.integrator;
+  const SolverCounters c = integrator.counters();
+  if (c.steps > ic.max_steps)
+    return {Termination::step_budget, "step budget of " + std::to_string(ic.max_steps) +
+                                          " steps (integrator.max_steps) exceeded " + where(run.model, t)};
+  const double wall = std::chrono::duration<double>(Clock::now() - run.wall_start).count();  // [s]
+  if (wall > ic.max_wall_time_s)
+    return {Termination::wall_time_budget, "wall-time budget of " + std::to_string(ic.max_wall_time_s) +
+                                               " s (integrator.max_wall_time_s) exceeded " + where(run.model, t)};
+  if (run.options.progress && wall - last_progress > 0.25) {
+    last_progress = wall;
+    run.options.progress(t / run.plan.t_end);
+  }
+  return {};
+}
+
+// The integration loop (physics.md §4): one internal step at a time; metrics
+// and outputs from dense output over each step; contact events at roots and
+// drift projection, each followed by a restart; then the contact checks and
+// the budgets. `y`, `q` hold the state and quadratures at the last step.
+Failure integrate(const RunContext& run, Integrator& integrator, State& y, Quadratures& q, WindowObserver& observer,
+                  SeriesRecorder& recorder) {
+  const Model& model = run.model;
+  Workspace& ws = run.ws;
+  const double t_end = run.plan.t_end;
+  Evaluation& ev = observer.ev();
+  observer.observe(0.0);
+  recorder.record_until(0.0);
+  bool separated = ev.gap > 0.0;
+  std::array<int, 2> root_dirs{};
+  double last_progress = 0.0;  // wall time of the last progress report [s]
+  const double projection_tolerance = std::max(1e-9, 10.0 * run.scene.integrator.rtol);  // [rad]
+
+  while (integrator.time() < t_end) {
+    Integrator::Result result_kind;
+    try {
+      result_kind = integrator.step(t_end);
+    } catch (const NumericalError& e) {
+      return {Termination::integrator_failure,
+              std::string(e.what()) + " (integrating " + where(model, integrator.time()) + ")"};
+    }
+    const double t = integrator.time();
+    observer.observe_step(integrator.last_step_start(), t);
+    recorder.record_until(t);
+
+    const double* state = integrator.state();
+    std::copy(state, state + model.state_size, y.begin());
+    evaluate(model, ws, t, y.data(), ev);
+    if (model.tracking == Tracking::newton) {
+      ws.u_warm = ev.pair.u;
+      ws.v_warm = ev.pair_v;
+    }
+    bool restart = false;
+    if (result_kind == Integrator::Result::root) restart = handle_root(run, integrator, ev, t, root_dirs, separated);
+    if (Failure f = project_pair(run, ev, t, projection_tolerance, y, restart)) return f;
+    if (restart) {
+      integrator.dense_quadrature(t, q.data());
+      integrator.reinit(t, y.data(), q.data());
+    }
+    if (Failure f = check_contact(model, ev, t)) return f;
+    if (Failure f = check_budgets(run, integrator, t, last_progress)) return f;
+    if (result_kind == Integrator::Result::stop) break;
+  }
+  recorder.record_until(t_end);
+  return {};
+}
+
+// Initial conditions, the integration and the metrics of one run; fills
+// run.result except the solver's configuration, run time and status.
+Failure run_scene(const RunContext& run) {
+  const Model& model = run.model;
+  State y{};
+  if (Failure f = initial_state(run.scene, model, run.ws, y.data())) return f;
+  Quadratures q{};
+
+  SceneOde ode(model, run.ws);
+  const std::unique_ptr<Integrator> integrator_ptr =
+      make_integrator(ode, integrator_options(run.scene.integrator, run.plan), 0.0, y.data(), q.data());
+  Integrator& integrator = *integrator_ptr;
+  WindowObserver observer(model, run.ws, integrator, y, q, run.plan.t_eval, run.result.metrics);
+  SeriesRecorder recorder(model, run.plan, run.options, observer, run.result);
+  Failure failure;
+  try {
+    failure = integrate(run, integrator, y, q, observer, recorder);
+    if (!failure) {
+      integrator.dense_quadrature(integrator.time(), q.data());
+      observer.finish(run.plan.t_end, q[4] - recorder.separation_integral_at_eval());
+      recorder.finish();
+      run.result.error.energy_residual = run.result.metrics.energy_residual;
+    }
+  } catch (const NumericalError& e) {  // a SUNDIALS call other than the step failed
+    failure = {Termination::integrator_failure, e.what()};
+  }
+  run.result.solver.counters = integrator.counters();
+  return failure;
+}
+
 }  // namespace
+
+const char* termination_name(Termination termination) {
+  switch (termination) {
+    case Termination::converged: return "converged";
+    case Termination::integrator_failure: return "integrator_failure";
+    case Termination::step_budget: return "step_budget";
+    case Termination::wall_time_budget: return "wall_time_budget";
+    case Termination::penetration_limit: return "penetration_limit";
+    case Termination::left_flat_face: return "left_flat_face";
+    case Termination::tracking_lost: return "tracking_lost";
+    case Termination::no_initial_contact: return "no_initial_contact";
+  }
+  return "unknown";
+}
+
+void throw_if_failed(const SimulationResult& result) {
+  if (!result.solver.converged()) throw NumericalError(result.solver.message);
+}
 
 std::vector<std::string> TimeSeries::column_names() {
   return {"time",   "cam_angle_deg", "follower_position", "follower_velocity", "follower_acceleration",
@@ -199,8 +589,7 @@ std::vector<const std::vector<double>*> TimeSeries::columns() const {
 
 SimulationResult simulate(const SceneConfig& scene, const Model& model, Workspace& ws,
                           const SimulationOptions& options) {
-  const auto wall_start = std::chrono::steady_clock::now();
-  const IntegratorConfig& ic = scene.integrator;
+  const Clock::time_point wall_start = Clock::now();
   const RunPlan p = plan(scene, model);
   SimulationResult result;
   result.evaluated_from = p.t_eval;
@@ -208,250 +597,27 @@ SimulationResult simulate(const SceneConfig& scene, const Model& model, Workspac
   ws.tracking_resets = 0;
   prepare_workspace(model, ws);
 
-  std::array<double, kMaxState> y{};
-  initial_state(scene, model, ws, y.data());
-  std::array<double, Model::kQuadratures> q{};
-
-  SceneOde ode(model, ws);
-  IntegratorOptions io;
-  io.method = ic.method;
-  io.rtol = ic.rtol;
-  io.atol = ic.atol;
-  io.quadrature_atol = ic.atol;
-  io.max_step = p.max_step;
-  io.fixed_step = ic.step.value_or(0.0);
-  io.analytic_jacobian = ic.jacobian == JacobianSource::analytic;
-  const std::unique_ptr<Integrator> integrator_ptr = make_integrator(ode, io, 0.0, y.data(), q.data());
-  Integrator& integrator = *integrator_ptr;
-
-  Metrics& m = result.metrics;
-  m.min_contact_force = std::numeric_limits<double>::infinity();
-  double separated_time = 0.0;
-  double energy0 = 0.0, energy_scale = 0.0, energy_max_dev = 0.0;
-  bool energy_initialised = false;
-  Evaluation ev;
-  std::array<double, kMaxState> ys{};
-  std::array<double, Model::kQuadratures> qs{};
-
-  // Evaluates the model at a dense-output time and folds it into the metrics;
-  // returns the energy deviation E(t) − E(0) [J].
-  // Before the first step there is no dense output yet: the initial values are used.
-  bool stepped = false;
-  auto observe = [&](double t) -> double {
-    if (stepped) {
-      integrator.dense(t, ys.data());
-      integrator.dense_quadrature(t, qs.data());
-    } else {
-      ys = y;
-      qs = q;
-    }
-    double u_keep = ws.u_warm;
-    evaluate(model, ws, t, ys.data(), ev);
-    ws.u_warm = u_keep;
-    const EnergyTerms e = energy_terms(model, ev);
-    const double energy = e.kinetic + e.spring + e.gravity + e.contact - qs[0] + qs[1] + qs[2] + qs[3];
-    if (!energy_initialised) {
-      energy0 = energy;
-      energy_initialised = true;
-    }
-    energy_scale = std::max(energy_scale, e.kinetic + e.spring + std::abs(qs[0]));
-    energy_max_dev = std::max(energy_max_dev, std::abs(energy - energy0));
-    if (t >= p.t_eval) {
-      m.max_separation_gap = std::max(m.max_separation_gap, ev.gap);
-      m.peak_contact_force = std::max(m.peak_contact_force, ev.normal_force);
-      m.min_contact_force = std::min(m.min_contact_force, ev.normal_force);
-      m.max_penetration = std::max(m.max_penetration, ev.delta);
-      m.max_kinematic_error = std::max(m.max_kinematic_error, std::abs(ev.y - model.law->eval(ev.theta).s));
-    }
-    return energy - energy0;
-  };
-
-  TimeSeries& ts = result.series;
-  std::vector<double> energy_deviation, sample_energy_deviation;
-  auto push_row = [&](TimeSeries& series, double t) {
-    series.time.push_back(t);
-    series.cam_angle_deg.push_back(ev.theta * kRadToDeg);
-    series.follower_position.push_back(ev.y);
-    series.follower_velocity.push_back(ev.v);
-    series.follower_acceleration.push_back(ev.acceleration);
-    series.kinematic_position.push_back(model.law->eval(ev.theta).s);
-    series.gap.push_back(ev.gap);
-    series.contact_force.push_back(ev.normal_force);
-    series.friction_force.push_back(ev.friction_force);
-    series.contact_offset.push_back(ev.contact_offset);
-    series.cam_speed_rpm.push_back(ev.cam_speed * 60.0 / kTwoPi);
-  };
-  long next_output = 0;
-  size_t next_sample = 0;
-  double separation_integral_at_eval = 0.0;
-  bool eval_start_seen = p.t_eval <= 0.0;
-  auto record_outputs_until = [&](double t_hi) {
-    for (;; ++next_output) {
-      const double t_nominal = static_cast<double>(next_output) * p.output_dt;
-      const double t_out = std::min(t_nominal, p.t_end);
-      if (t_out > t_hi * (1.0 + 1e-14) + 1e-300) break;
-      if (t_nominal > p.t_end * (1.0 + 1e-12)) break;
-      const double de = observe(t_out);
-      if (!options.record_series) continue;
-      push_row(ts, t_out);
-      energy_deviation.push_back(de);
-    }
-    for (; next_sample < options.sample_times.size() && options.sample_times[next_sample] <= t_hi; ++next_sample) {
-      const double t_sample = options.sample_times[next_sample];
-      sample_energy_deviation.push_back(observe(t_sample));
-      push_row(result.samples, t_sample);
-    }
-    if (!eval_start_seen && p.t_eval <= t_hi) {
-      observe(p.t_eval);
-      separation_integral_at_eval = qs[4];
-      eval_start_seen = true;
-    }
-  };
-
-  observe(0.0);
-  record_outputs_until(0.0);
-  bool separated = ev.gap > 0.0;
-  const long step_budget = ic.max_steps;
-  const int roots = model.root_count();
-  std::array<int, 2> root_dirs{};
-  double last_progress = 0.0;
-  const double projection_tolerance = std::max(1e-9, 10.0 * ic.rtol);  // [rad]
-
-  while (integrator.time() < p.t_end) {
-    Integrator::Result result_kind;
-    try {
-      result_kind = integrator.step(p.t_end);
-    } catch (const NumericalError& e) {
-      throw NumericalError(std::string(e.what()) + " (integrating " + where(model, integrator.time()) + ")");
-    }
-    stepped = true;
-    const double t = integrator.time();
-    const double t0 = integrator.last_step_start();
-
-    // Metrics from dense samples over the step; the gap keeps its sign inside
-    // a step (its zeros are located as roots), so the midpoint decides separation.
-    for (int j = 1; j <= kSamplesPerStep; ++j) observe(t0 + (t - t0) * j / kSamplesPerStep);
-    const double t_mid = 0.5 * (t0 + t);
-    integrator.dense(t_mid, ys.data());
-    evaluate(model, ws, t_mid, ys.data(), ev);
-    if (ev.gap > 0.0) separated_time += std::max(0.0, t - std::max(t0, p.t_eval));
-    record_outputs_until(t);
-
-    const double* state = integrator.state();
-    std::copy(state, state + model.state_size, y.begin());
-    evaluate(model, ws, t, y.data(), ev);
-    if (model.tracking == Tracking::newton) {
-      ws.u_warm = ev.pair.u;
-      ws.v_warm = ev.pair_v;
-    }
-    bool restart = false;
-
-    if (result_kind == Integrator::Result::root) {
-      integrator.root_info(root_dirs.data());
-      ++result.solver.events;
-      if (root_dirs[0] < 0) {  // gap closing: contact onset
-        const double approach = -ev.gap_rate;
-        ws.v0 = std::max(approach, model.contact.reference_velocity);
-        ContactEvent event{t, ev.theta * kRadToDeg, true, approach, separated};
-        if (separated && t >= p.t_eval) {
-          ++m.impact_count;
-          m.max_impact_velocity = std::max(m.max_impact_velocity, approach);
-        }
-        result.events.push_back(event);
-        separated = false;
-        restart = true;
-      } else if (root_dirs[0] > 0) {  // gap opening: separation
-        result.events.push_back({t, ev.theta * kRadToDeg, false, ev.gap_rate, false});
-        separated = true;
-        restart = true;
-      }
-      if (roots > 1 && root_dirs[1] != 0 && ev.delta > 0.0) restart = true;  // force clamp switches
-    }
-
-    // Differential tracking: remove drift of the common-normal condition, or
-    // re-initialise the pair when it is lost.
-    if (model.index_u >= 0) {
-      if (ev.pair_drift > projection_tolerance) {
-        // Project u back onto f = 0 by warm-started Newton (global search if that fails).
-        Model newton_model = model;
-        newton_model.tracking = Tracking::newton;
-        Evaluation projected;
-        ws.u_warm = y[model.index_u];
-        if (model.index_v >= 0) ws.v_warm = y[model.index_v];
-        const long resets_before = ws.tracking_resets;
-        evaluate(newton_model, ws, t, y.data(), projected);
-        if (!projected.tracking_ok) throw NumericalError("contact pair tracking lost " + where(model, t));
-        if (ws.tracking_resets == resets_before) ++result.solver.projections;
-        y[model.index_u] = projected.pair.u;
-        if (model.index_v >= 0) y[model.index_v] = projected.pair_v;
-        restart = true;
-      }
-    }
-
-    if (restart) {
-      integrator.dense_quadrature(t, q.data());
-      integrator.reinit(t, y.data(), q.data());
-    }
-
-    // A penetration beyond half the roller radius (a tenth of the base radius
-    // for a flat face) means the contact is far too soft for its load: the
-    // compliant-contact model no longer describes it.
-    if (ev.delta > model.penetration_limit)
-      throw NumericalError("contact penetration " + std::to_string(ev.delta) + " m exceeds " +
-                           std::to_string(model.penetration_limit) +
-                           " m (the contact stiffness is far too low for the load) " + where(model, t));
-    // A flat face whose contact point runs off its edge: the design check
-    // (check_cam) passed on the law, so the dynamics drove it there.
-    if (model.reduction == ContactReduction::line && ev.delta > 0.0 &&
-        std::abs(ev.contact_offset) > 0.5 * model.follower.face_width)
-      throw NumericalError("the contact point left the flat face (" + std::to_string(ev.contact_offset) +
-                           " m from its centre, face_width " + std::to_string(model.follower.face_width) + " m) " +
-                           where(model, t));
-
-    const SolverCounters c = integrator.counters();
-    if (c.steps > step_budget)
-      throw NumericalError("step budget of " + std::to_string(step_budget) + " steps (integrator.max_steps) exceeded " +
-                           where(model, t));
-    const double wall =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-    if (wall > ic.max_wall_time_s)
-      throw NumericalError("wall-time budget of " + std::to_string(ic.max_wall_time_s) +
-                           " s (integrator.max_wall_time_s) exceeded " + where(model, t));
-    if (options.progress && wall - last_progress > 0.25) {
-      last_progress = wall;
-      options.progress(t / p.t_end);
-    }
-    if (result_kind == Integrator::Result::stop) break;
+  Failure failure;
+  try {
+    failure = run_scene({scene, model, ws, options, p, wall_start, result});
+  } catch (const NumericalError& e) {  // SUNDIALS could not be set up
+    failure = {Termination::integrator_failure, e.what()};
   }
-  record_outputs_until(p.t_end);
 
-  const double evaluated = p.t_end - p.t_eval;
-  m.separation_fraction = evaluated > 0.0 ? separated_time / evaluated : 0.0;
-  if (!std::isfinite(m.min_contact_force)) m.min_contact_force = 0.0;
-  m.energy_residual = energy_scale > 0.0 ? energy_max_dev / energy_scale : 0.0;
-  result.error.energy_residual = m.energy_residual;
-  m.max_pressure_angle_deg = model.geometry.max_pressure_angle_deg;
-  m.min_radius_of_curvature = model.geometry.min_radius_of_curvature;
-  m.jump_speed_rpm = jump_speed_rpm(model);
-  for (double de : energy_deviation) ts.energy_residual.push_back(energy_scale > 0.0 ? de / energy_scale : 0.0);
-  for (double de : sample_energy_deviation)
-    result.samples.energy_residual.push_back(energy_scale > 0.0 ? de / energy_scale : 0.0);
-  integrator.dense_quadrature(integrator.time(), q.data());
-  m.separation_integral = q[4] - separation_integral_at_eval;
-
-  result.solver.method = to_string(ic.method);
-  result.solver.rtol = ic.rtol;
-  result.solver.atol = ic.atol;
-  result.solver.counters = integrator.counters();
-  result.solver.tracking_resets = ws.tracking_resets;
-  result.solver.run_time_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-  if (options.progress) options.progress(1.0);
+  SolverSummary& s = result.solver;
+  s.method = to_string(scene.integrator.method);
+  s.rtol = scene.integrator.rtol;
+  s.atol = scene.integrator.atol;
+  s.tracking_resets = ws.tracking_resets;
+  s.run_time_s = std::chrono::duration<double>(Clock::now() - wall_start).count();
+  s.termination = failure.termination;
+  s.message = std::move(failure.message);
+  if (s.converged() && options.progress) options.progress(1.0);
   return result;
 }
 
 void estimate_error(const SceneConfig& scene, const Model& model, SimulationResult& result) {
-  if (scene.integrator.error_estimate != ErrorEstimateMethod::richardson) return;
+  if (scene.integrator.error_estimate != ErrorEstimateMethod::richardson || !result.solver.converged()) return;
   SceneConfig tight = scene;
   if (scene.integrator.method == IntegrationMethod::rk4) {
     tight.integrator.step = scene.integrator.step.value_or(0.0) / std::pow(100.0, 0.25);
@@ -461,6 +627,11 @@ void estimate_error(const SceneConfig& scene, const Model& model, SimulationResu
   }
   Workspace ws;
   const SimulationResult reference = simulate(tight, model, ws);
+  if (!reference.solver.converged()) {
+    result.solver.termination = reference.solver.termination;
+    result.solver.message = reference.solver.message;
+    return;
+  }
   ErrorEstimate& e = result.error;
   e.richardson = true;
   e.position = 0.0;

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "dynamics/metrics.h"
 #include "dynamics/model.h"
 #include "integrate/ode_system.h"
 #include "scene/scene.h"
@@ -32,21 +33,21 @@ struct ContactEvent {
   bool impact = false;         ///< onset after a separation
 };
 
-struct Metrics {
-  double separation_fraction = 0.0;
-  double max_separation_gap = 0.0;  ///< [m]
-  long impact_count = 0;
-  double max_impact_velocity = 0.0;  ///< [m/s]
-  double peak_contact_force = 0.0;   ///< [N]
-  double min_contact_force = 0.0;    ///< [N]
-  double max_penetration = 0.0;      ///< [m]
-  double max_kinematic_error = 0.0;  ///< [m]
-  double separation_integral = 0.0;  ///< ∫ max(g, 0) dt over the evaluated window [m s]: a smooth measure of jump
-  double energy_residual = 0.0;      ///< [-]
-  double max_pressure_angle_deg = 0.0;
-  double min_radius_of_curvature = 0.0;  ///< [m]
-  double jump_speed_rpm = 0.0;           ///< +inf when the law never decelerates (written as null)
+/// How a run ended (summary.json `solver.termination`), in the manner of
+/// Ceres' Solver::Summary: every way simulate() can stop before its end time.
+enum class Termination {
+  converged,           ///< integrated to the end time
+  integrator_failure,  ///< the integrator gave up (error-test or corrector failures, a failing RHS, SUNDIALS)
+  step_budget,         ///< more internal steps than integrator.max_steps
+  wall_time_budget,    ///< longer than integrator.max_wall_time_s
+  penetration_limit,   ///< penetration beyond Model::penetration_limit: the contact is far too soft for its load
+  left_flat_face,      ///< the contact point ran off the flat face (|offset| > face_width / 2)
+  tracking_lost,       ///< the contact pair could not be found again after drift
+  no_initial_contact,  ///< no contact pair at the start
 };
+
+/// The name summary.json gives a termination ("converged", "step_budget", ...).
+const char* termination_name(Termination termination);
 
 struct SolverSummary {
   std::string method;
@@ -56,6 +57,11 @@ struct SolverSummary {
   long tracking_resets = 0;   ///< global re-initialisations of the contact pair
   long projections = 0;       ///< drift projections of the differential tracking
   double run_time_s = 0.0;
+  Termination termination = Termination::converged;
+  /// Empty when converged; otherwise what stopped the run, naming the time and
+  /// cam angle reached (the text of the NumericalError throw_if_failed throws).
+  std::string message;
+  bool converged() const { return termination == Termination::converged; }
 };
 
 /// How accurate a run is (summary.json `solver.error_estimate`).
@@ -88,17 +94,28 @@ struct SimulationOptions {
   std::function<void(double)> progress;
 };
 
-/// Runs the scene. Throws NumericalError (exit 3) when the integrator gives up
-/// or a budget (steps, wall time) is exceeded, naming the time and cam angle.
+/// Runs the scene. When the integrator gives up, a budget (steps, wall time)
+/// runs out or the contact leaves what the model describes, returns early with
+/// result.solver.termination saying which and result.solver.message naming
+/// the time and cam angle; the solver counters are then those reached, the
+/// metrics, series and events partial. Throws InputError when the follower has
+/// no static equilibrium to start from.
 SimulationResult simulate(const SceneConfig& scene, const Model& model, Workspace& ws,
                           const SimulationOptions& options = {});
 
+/// The boundary between the status and the exit code: throws
+/// NumericalError(result.solver.message) (exit 3) unless the run converged.
+void throw_if_failed(const SimulationResult& result);
+
 /// With `integrator.error_estimate = "richardson"`, runs the scene again at a
 /// tolerance 100× tighter (rk4: a step 100^(1/4)× shorter, the same factor
-/// on its error) and stores the difference in result.error.
+/// on its error) and stores the difference in result.error. Does nothing for
+/// a run that failed; when the tighter run fails, the result takes its
+/// termination and message.
 void estimate_error(const SceneConfig& scene, const Model& model, SimulationResult& result);
 
-/// Builds the model and runs it (throws InputError for bad geometry).
+/// Builds the model (throws InputError for bad geometry), runs it and
+/// estimates its error; the status is in result.solver as for simulate().
 SimulationResult simulate_scene(const SceneConfig& scene, const std::string& file,
                                 const SimulationOptions& options = {});
 

@@ -27,11 +27,7 @@ namespace camdyn {
 namespace {
 
 const std::vector<std::string> kStudyKeys = {"cases", "grid", "zip", "metrics", "overlays"};
-const std::vector<std::string> kMetricNames = {
-    "separation_fraction", "max_separation_gap", "impact_count",    "max_impact_velocity",
-    "peak_contact_force",  "min_contact_force",  "max_penetration", "max_kinematic_error",
-    "separation_integral", "energy_residual",    "max_pressure_angle_deg", "min_radius_of_curvature",
-    "jump_speed_rpm"};
+const std::vector<std::string> kMetricNames = metric_names();
 /// Metrics where a larger value is better (the margin against jump, the
 /// curvature radius, the jump speed); for every other metric smaller is better.
 const std::set<std::string> kHigherIsBetter = {"min_contact_force", "min_radius_of_curvature", "jump_speed_rpm"};
@@ -71,11 +67,11 @@ struct Outcome {
 };
 
 std::vector<double> metric_values(const Metrics& m) {
-  return {m.separation_fraction,   m.max_separation_gap,   static_cast<double>(m.impact_count),
-          m.max_impact_velocity,   m.peak_contact_force,   m.min_contact_force,
-          m.max_penetration,       m.max_kinematic_error,  m.separation_integral,
-          m.energy_residual,       m.max_pressure_angle_deg, m.min_radius_of_curvature,
-          m.jump_speed_rpm};
+  std::vector<double> values;
+  for_each_metric(m, [&](const char*, const auto& value, const MetricInfo&) {
+    values.push_back(static_cast<double>(value));
+  });
+  return values;
 }
 
 std::vector<Axis> read_axes(const Json& part, const std::string& key, const StudyContext& ctx) {
@@ -360,6 +356,7 @@ int run_compare_study(const Json& doc, const StudyContext& ctx) {
       SimulationOptions options;
       options.record_series = p.overlay && scene.mechanism.cam.rpm > 0;
       const SimulationResult r = simulate_scene(scene, ctx.config_file, options);
+      throw_if_failed(r);
       values = metric_values(r.metrics);
       run_time = r.solver.run_time_s;
       for (std::size_t m = 0; m + 1 < values.size() && error.empty(); ++m)  // jump_speed_rpm may be +inf: empty

@@ -165,6 +165,7 @@ int run_convergence_study(const Json& doc, const StudyContext& ctx) {
                               config.scenes[k].reference_rtol.value_or(config.reference.rtol), config.atol_factor, 0.0);
     try {
       references[k] = simulate_scene(s, ctx.config_file);
+      throw_if_failed(references[k]);
     } catch (const NumericalError& e) {
       throw NumericalError("reference run of scene '" + config.scenes[k].name + "' failed: " + e.what());
     }
@@ -194,6 +195,7 @@ int run_convergence_study(const Json& doc, const StudyContext& ctx) {
     const SceneConfig s = configure(scenes[r.scene], r.method, r.tracking, r.rtol, config.atol_factor, r.step);
     try {
       const SimulationResult result = simulate_scene(s, ctx.config_file);
+      throw_if_failed(result);
       const SimulationResult& ref = references[r.scene];
       r.error_position = max_position_error(result, ref);
       r.error_peak_force = std::abs(result.metrics.peak_contact_force / ref.metrics.peak_contact_force - 1.0);

@@ -11,7 +11,7 @@
 
 #include "dynamics/model.h"
 #include "dynamics/simulation.h"
-#include "io/simulation_output.h"
+#include "study/simulation_output.h"
 #include "scenes.h"
 
 namespace camdyn {

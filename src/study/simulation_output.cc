@@ -1,8 +1,9 @@
-#include "io/simulation_output.h"
+#include "study/simulation_output.h"
 
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <type_traits>
 
 #include "io/csv_writer.h"
 #include "io/json_writer.h"
@@ -23,19 +24,14 @@ std::string format(double v, const char* unit = "") {
 }
 
 Json metrics_json(const Metrics& m) {
-  return Json{{"separation_fraction", m.separation_fraction},
-              {"max_separation_gap", m.max_separation_gap},
-              {"impact_count", m.impact_count},
-              {"max_impact_velocity", m.max_impact_velocity},
-              {"peak_contact_force", m.peak_contact_force},
-              {"min_contact_force", m.min_contact_force},
-              {"max_penetration", m.max_penetration},
-              {"max_kinematic_error", m.max_kinematic_error},
-              {"separation_integral", m.separation_integral},
-              {"energy_residual", m.energy_residual},
-              {"max_pressure_angle_deg", m.max_pressure_angle_deg},
-              {"min_radius_of_curvature", m.min_radius_of_curvature},
-              {"jump_speed_rpm", finite_or_null(m.jump_speed_rpm)}};
+  Json j = Json::object();
+  for_each_metric(m, [&](const char* name, const auto& value, const MetricInfo& info) {
+    if constexpr (std::is_floating_point_v<std::remove_cvref_t<decltype(value)>>)
+      j[name] = info.infinite_is_null ? finite_or_null(value) : Json(value);
+    else
+      j[name] = value;
+  });
+  return j;
 }
 
 Json error_estimate_json(const ErrorEstimate& e) {
@@ -139,7 +135,9 @@ Json summary_json(const SceneConfig& scene, const Model& model, const Simulation
                            {"tracking_projections", s.projections},
                            {"tracking", model.tracking == Tracking::newton ? "newton" : "differential"},
                            {"simulated_time_s", result.end_time},
-                           {"evaluated_from_s", result.evaluated_from}};
+                           {"evaluated_from_s", result.evaluated_from},
+                           {"termination", termination_name(s.termination)},
+                           {"message", s.message}};
   summary["model"] = Json{{"state_size", model.state_size},
                           {"states", model.state_names},
                           {"elements", model.elements},
@@ -209,20 +207,9 @@ Report simulation_report(const SceneConfig& scene, const Model& model, const Sim
                   {"energy residual", format(m.energy_residual)}};
 
   Table metrics{"Metrics (evaluated cycles)", {"metric", "value", "unit"}, {}, true};
-  auto add = [&](const char* name, double v, const char* unit) { metrics.rows.push_back({name, format(v), unit}); };
-  add("separation_fraction", m.separation_fraction, "–");
-  add("max_separation_gap", m.max_separation_gap, "m");
-  add("impact_count", static_cast<double>(m.impact_count), "–");
-  add("max_impact_velocity", m.max_impact_velocity, "m/s");
-  add("peak_contact_force", m.peak_contact_force, "N");
-  add("min_contact_force", m.min_contact_force, "N");
-  add("max_penetration", m.max_penetration, "m");
-  add("max_kinematic_error", m.max_kinematic_error, "m");
-  add("separation_integral", m.separation_integral, "m s");
-  add("energy_residual", m.energy_residual, "–");
-  add("max_pressure_angle_deg", m.max_pressure_angle_deg, "deg");
-  add("min_radius_of_curvature", m.min_radius_of_curvature, "m");
-  add("jump_speed_rpm", m.jump_speed_rpm, "rpm");
+  for_each_metric(m, [&](const char* name, const auto& value, const MetricInfo& info) {
+    metrics.rows.push_back({name, format(static_cast<double>(value)), info.unit});
+  });
   report.tables.push_back(std::move(metrics));
 
   const SolverSummary& s = result.solver;

@@ -1,0 +1,82 @@
+// The metrics of one run over its evaluated cycles (physics.md §6) and the one
+// list of their names and units (`visit`) that every writer iterates:
+// summary.json, the report's metrics table, the compare study's columns.
+#pragma once
+
+#include <string>
+#include <type_traits>
+#include <vector>
+
+namespace camdyn {
+
+struct Metrics {
+  double separation_fraction = 0.0;
+  double max_separation_gap = 0.0;  ///< [m]
+  long impact_count = 0;
+  double max_impact_velocity = 0.0;  ///< [m/s]
+  double peak_contact_force = 0.0;   ///< [N]
+  double min_contact_force = 0.0;    ///< [N]
+  double max_penetration = 0.0;      ///< [m]
+  double max_kinematic_error = 0.0;  ///< [m]
+  double separation_integral = 0.0;  ///< ∫ max(g, 0) dt over the evaluated window [m s]: a smooth measure of jump
+  double energy_residual = 0.0;      ///< [-]
+  double max_pressure_angle_deg = 0.0;
+  double min_radius_of_curvature = 0.0;  ///< [m]
+  double jump_speed_rpm = 0.0;           ///< +inf when the law never decelerates (written as null)
+};
+
+/// What a writer needs to know about a metric besides its name and value.
+struct MetricInfo {
+  const char* unit;               ///< as the report's table prints it ("–": dimensionless)
+  bool infinite_is_null = false;  ///< +inf is a meaningful value, written to JSON as null
+};
+
+/// Every metric once, in output order, as `a.field(name, value, info)` (the
+/// field signature of json_archive.h's archives; MetricInfo takes the place of
+/// the checks). Takes Metrics or const Metrics.
+template <class A, class M>
+  requires std::is_same_v<std::remove_const_t<M>, Metrics>
+void visit(A& a, M& m) {
+  a.field("separation_fraction", m.separation_fraction, MetricInfo{"–"});
+  a.field("max_separation_gap", m.max_separation_gap, MetricInfo{"m"});
+  a.field("impact_count", m.impact_count, MetricInfo{"–"});
+  a.field("max_impact_velocity", m.max_impact_velocity, MetricInfo{"m/s"});
+  a.field("peak_contact_force", m.peak_contact_force, MetricInfo{"N"});
+  a.field("min_contact_force", m.min_contact_force, MetricInfo{"N"});
+  a.field("max_penetration", m.max_penetration, MetricInfo{"m"});
+  a.field("max_kinematic_error", m.max_kinematic_error, MetricInfo{"m"});
+  a.field("separation_integral", m.separation_integral, MetricInfo{"m s"});
+  a.field("energy_residual", m.energy_residual, MetricInfo{"–"});
+  a.field("max_pressure_angle_deg", m.max_pressure_angle_deg, MetricInfo{"deg"});
+  a.field("min_radius_of_curvature", m.min_radius_of_curvature, MetricInfo{"m"});
+  a.field("jump_speed_rpm", m.jump_speed_rpm, MetricInfo{"rpm", true});
+}
+
+namespace metrics_detail {
+template <class F>
+struct CallbackArchive {
+  F& f;
+  template <class T>
+  void field(const char* name, T& value, const MetricInfo& info) {
+    f(name, value, info);
+  }
+};
+}  // namespace metrics_detail
+
+/// `visit` for a callable: f(const char* name, T& value, const MetricInfo& info)
+/// with T = long or double (const when `m` is).
+template <class M, class F>
+void for_each_metric(M& m, F&& f) {
+  metrics_detail::CallbackArchive<std::remove_reference_t<F>> a{f};
+  visit(a, m);
+}
+
+/// The metric names in output order.
+inline std::vector<std::string> metric_names() {
+  std::vector<std::string> names;
+  const Metrics none;
+  for_each_metric(none, [&](const char* name, const auto&, const MetricInfo&) { names.emplace_back(name); });
+  return names;
+}
+
+}  // namespace camdyn
