@@ -6,22 +6,16 @@
 #include <utility>
 
 #include "common/errors.h"
+#include "common/parallel.h"
 
 namespace camdyn::optim {
 
 SimulationPool::SimulationPool(int threads, std::string file) : threads_(std::max(1, threads)), file_(std::move(file)) {
   for (int i = 0; i < threads_; ++i) workers_.push_back(std::make_unique<Worker>());
-  if (threads_ == 1) return;  // run() works on the calling thread
-  for (int i = 0; i < threads_; ++i) threads_list_.emplace_back([this, i] { work(*workers_[i]); });
 }
 
 SimulationPool::~SimulationPool() {
-  {
-    std::lock_guard lock(mutex_);
-    stop_ = true;
-  }
-  wake_.notify_all();
-  for (std::thread& t : threads_list_) t.join();
+  if (batch_.joinable()) batch_.join();
 }
 
 void SimulationPool::run_job(Worker& worker, std::size_t job) {
@@ -44,45 +38,37 @@ void SimulationPool::run_job(Worker& worker, std::size_t job) {
   }
 }
 
-void SimulationPool::work(Worker& worker) {
-  std::unique_lock lock(mutex_);
-  for (;;) {
-    wake_.wait(lock, [&] { return stop_ || next_ < count_; });
-    if (stop_) return;
-    const std::size_t job = next_++;
-    lock.unlock();
-    run_job(worker, job);
-    lock.lock();
-    if (++finished_ == count_) done_.notify_all();
+void SimulationPool::run_batch() {
+  try {
+    parallel_for_workers(scenes_.size(), threads_, [this](int worker, std::size_t job) {
+      run_job(*workers_[static_cast<std::size_t>(worker)], job);
+    });
+  } catch (...) {
+    failure_ = std::current_exception();
   }
 }
 
 void SimulationPool::submit(std::vector<SceneConfig> scenes, SimulationOptions options) {
-  std::unique_lock lock(mutex_);
   if (pending_) throw std::logic_error("SimulationPool: a batch is already pending");
   pending_ = true;
   scenes_ = std::move(scenes);
   options_ = std::move(options);
   outcomes_.assign(scenes_.size(), SimulationOutcome{});
   simulations_ += static_cast<long>(scenes_.size());
-  next_ = 0;
-  finished_ = 0;
-  if (threads_list_.empty()) return;  // collect() runs it
-  count_ = scenes_.size();
-  wake_.notify_all();
+  failure_ = nullptr;
+  if (threads_ == 1) return;  // collect() runs it
+  batch_ = std::thread([this] { run_batch(); });
 }
 
 std::vector<SimulationOutcome> SimulationPool::collect() {
-  std::unique_lock lock(mutex_);
   if (!pending_) throw std::logic_error("SimulationPool: nothing submitted");
-  if (threads_list_.empty()) {
-    for (std::size_t j = 0; j < scenes_.size(); ++j) run_job(*workers_[0], j);
+  if (batch_.joinable()) {
+    batch_.join();
   } else {
-    done_.wait(lock, [&] { return finished_ == count_; });
+    run_batch();
   }
-  count_ = 0;
-  next_ = 0;
   pending_ = false;
+  if (failure_) std::rethrow_exception(failure_);
   return std::move(outcomes_);
 }
 

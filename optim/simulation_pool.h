@@ -1,15 +1,15 @@
-// A fixed pool of worker threads that runs the simulations of one design
-// evaluation (one per operating speed) in parallel. Each worker keeps its own
-// Model and Workspace (Pinocchio style: the model is rebuilt for each scene
-// it is handed, the workspace is reused from run to run), so workers share
-// nothing but the job list. Failures are caught per job and returned, so one
-// speed that cannot be simulated never loses the others.
+// Runs the simulations of one design evaluation (one per operating speed) in
+// parallel, on common/parallel.h's parallel_for while the caller goes on with
+// its own work. Each worker number keeps its own Model and Workspace
+// (Pinocchio style: the model is rebuilt for each scene it is handed, the
+// workspace is reused from batch to batch), so workers share nothing but the
+// job list. Failures are caught per job and returned, so one speed that
+// cannot be simulated never loses the others.
 #pragma once
 
-#include <condition_variable>
 #include <cstddef>
+#include <exception>
 #include <memory>
-#include <mutex>
 #include <string>
 #include <thread>
 #include <vector>
@@ -42,7 +42,8 @@ class SimulationPool {
 
   /// run() in two halves, so the caller can work while the workers simulate:
   /// submit() hands the batch to the workers (copied; with one thread it
-  /// only stores it) and collect() waits for it (with one thread: runs it).
+  /// only stores it) and collect() waits for it (with one thread: runs it on
+  /// the calling thread).
   void submit(std::vector<SceneConfig> scenes, SimulationOptions options);
   std::vector<SimulationOutcome> collect();
 
@@ -54,23 +55,20 @@ class SimulationPool {
     Model model;   ///< rebuilt per job (the law changes with the design)
     Workspace ws;  ///< reused between jobs
   };
-  void work(Worker& worker);
+  void run_batch();
   void run_job(Worker& worker, std::size_t job);
 
   int threads_;
   std::string file_;
   long simulations_ = 0;
-  std::vector<std::unique_ptr<Worker>> workers_;
-  std::vector<std::thread> threads_list_;
+  std::vector<std::unique_ptr<Worker>> workers_;  ///< one per worker number of parallel_for_workers
 
-  std::mutex mutex_;
-  std::condition_variable wake_, done_;
   std::vector<SceneConfig> scenes_;  ///< the current batch
   SimulationOptions options_;
   std::vector<SimulationOutcome> outcomes_;
-  bool pending_ = false;                             ///< a batch was submitted and not collected
-  std::size_t count_ = 0, next_ = 0, finished_ = 0;  ///< jobs in the batch, handed out, done
-  bool stop_ = false;
+  bool pending_ = false;        ///< a batch was submitted and not collected
+  std::thread batch_;           ///< runs the batch (more than one thread)
+  std::exception_ptr failure_;  ///< what escaped the batch (not a simulation failure: those are outcomes)
 };
 
 }  // namespace camdyn::optim

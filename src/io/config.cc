@@ -12,7 +12,9 @@
 
 #include "common/errors.h"
 #include "io/csv_reader.h"
+#include "io/dotted_path.h"
 #include "io/json_archive.h"
+#include "io/json_merge.h"
 
 namespace camdyn {
 
@@ -406,25 +408,6 @@ std::string directory_of(const std::string& file) {
   return fs::absolute(fs::path(file)).parent_path().string();
 }
 
-/// The motion law is one thing: a child config replaces it whole (so that
-/// switching from segments to a table does not leave both).
-const char* const kReplacedWhole[] = {"mechanism.cam.motion_law"};
-
-/// Deep merge: objects merge key by key (patch wins), anything else is replaced.
-void merge_into(Json& base, const Json& patch, const std::string& path) {
-  for (const auto& item : patch.items()) {
-    const std::string key_path = path.empty() ? item.key() : path + "." + item.key();
-    bool whole = false;
-    for (const char* p : kReplacedWhole) whole = whole || key_path == p;
-    auto it = base.find(item.key());
-    if (!whole && it != base.end() && it->is_object() && item.value().is_object()) {
-      merge_into(*it, item.value(), key_path);
-    } else {
-      base[item.key()] = item.value();
-    }
-  }
-}
-
 /// Makes the relative file names of a config that is extended absolute
 /// against its own directory, before its content is merged into a config that
 /// may live elsewhere.
@@ -479,93 +462,17 @@ Json load_with_extends(const std::string& file, std::vector<std::string>& chain)
     Json base = load_with_extends(parent, chain);
     rebase_paths(base, directory_of(parent));
     document.erase("extends");
-    merge_into(base, document, "");
+    merge_config(base, document);
     document = std::move(base);
   }
   chain.pop_back();
   return document;
 }
 
-/// One step of a dotted path: an object key, or an array index.
-struct PathStep {
-  std::string key;  ///< empty for an index
-  std::size_t index = 0;
-};
-
-/// "a.b[2].c" → {"a", "b", 2, "c"}; a leading cam/follower/contact gets "mechanism".
-std::vector<PathStep> parse_dotted_path(const std::string& path) {
-  const auto bad = [&](const std::string& why) -> InputError {
-    return InputError("--set", path,
-                      why +
-                          " (expected a dotted path like mechanism.cam.rpm "
-                          "or mechanism.cam.motion_law.segments[0].lift)");
-  };
-  std::vector<PathStep> steps;
-  std::size_t i = 0;
-  while (true) {
-    std::string key;
-    while (i < path.size() && path[i] != '.' && path[i] != '[') {
-      const char c = path[i++];
-      const bool ok =
-          (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
-      if (!ok) throw bad(std::string("unexpected character '") + c + "'");
-      key += c;
-    }
-    if (key.empty()) throw bad("empty key");
-    steps.push_back({key, 0});
-    while (i < path.size() && path[i] == '[') {
-      const std::size_t close = path.find(']', i);
-      const std::string digits =
-          close == std::string::npos ? "" : path.substr(i + 1, close - i - 1);
-      if (digits.empty() || digits.size() > 9 ||
-          digits.find_first_not_of("0123456789") != std::string::npos) {
-        throw bad("bad array index");
-      }
-      steps.push_back({"", static_cast<std::size_t>(std::stoul(digits))});
-      i = close + 1;
-    }
-    if (i == path.size()) break;
-    if (path[i] != '.') throw bad("unexpected character after ']'");
-    ++i;
-  }
-  const std::string& first = steps.front().key;
-  if (first == "cam" || first == "follower" || first == "contact") {
-    steps.insert(steps.begin(), PathStep{"mechanism", 0});
-  }
-  return steps;
-}
-
 }  // namespace
 
 void set_config_value(Json& document, const std::string& dotted_path, const Json& value) {
-  const std::vector<PathStep> steps = parse_dotted_path(dotted_path);
-  Json* node = &document;
-  std::string walked;
-  for (const PathStep& step : steps) {
-    if (!step.key.empty()) {
-      if (node->is_null()) *node = Json::object();
-      if (!node->is_object()) {
-        throw InputError("--set", dotted_path,
-                         "'" + walked + "' is " + describe_json(*node) + ", not an object");
-      }
-      node = &(*node)[step.key];
-      walked += (walked.empty() ? "" : ".") + step.key;
-    } else {
-      const std::size_t index = step.index;
-      if (!node->is_array()) {
-        throw InputError("--set", dotted_path,
-                         "'" + walked + "' is " + describe_json(*node) + ", not an array");
-      }
-      if (index >= node->size()) {
-        throw InputError("--set", dotted_path,
-                         "index " + std::to_string(index) + " is out of range: '" + walked +
-                             "' has " + std::to_string(node->size()) + " elements");
-      }
-      node = &(*node)[index];
-      walked += "[" + std::to_string(index) + "]";
-    }
-  }
-  *node = value;
+  set_dotted_field(document, dotted_path, value);
 }
 
 Json load_config_json(const std::string& file, const std::vector<std::string>& overrides) {

@@ -13,7 +13,7 @@
 
 #include <gtest/gtest.h>
 
-#include "../study/cli_process.h"
+#include "cli_run.h"
 
 namespace {
 
@@ -22,8 +22,7 @@ using camdyn::test::read_text;
 
 std::string find_chromium() {
   for (const char* name : {"chromium", "chromium-browser", "google-chrome"}) {
-    const std::string cmd = std::string("command -v ") + name + " > /dev/null 2>&1";
-    if (std::system(cmd.c_str()) == 0) return name;
+    if (camdyn::test::on_path(name)) return name;
   }
   return {};
 }
@@ -70,7 +69,8 @@ class ReportInBrowser : public ::testing::Test {
     const fs::path out = dir_ / name;
     std::vector<std::string> argv = {"run", config, "--quiet", "--out", out.string()};
     argv.insert(argv.end(), args.begin(), args.end());
-    ASSERT_EQ(camdyn::test::run_camdyn(argv, dir_, name), 0) << read_text(dir_ / (name + ".err"));
+    const camdyn::test::Outcome run = camdyn::test::run_camdyn(argv, dir_, name);
+    ASSERT_EQ(run.code, 0) << run.err;
     const PageCheck page = load(chromium_, out / "report.html", dir_);
     for (const std::string& line : page.console) ADD_FAILURE() << name << ": console: " << line;
     EXPECT_NE(page.dom.find("</footer>"), std::string::npos) << name << ": the page did not load completely";

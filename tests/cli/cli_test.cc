@@ -20,11 +20,13 @@ namespace {
 namespace fs = std::filesystem;
 
 using camdyn::test::Outcome;
-using camdyn::test::slurp;
+using camdyn::test::read_text;
 
 fs::path scratch_dir(const std::string& name) { return camdyn::test::scratch_dir("cli_test", name); }
 
-Outcome run_cli(const std::string& args) { return camdyn::test::run_camdyn(args, scratch_dir("io")); }
+Outcome run_cli(const std::string& args) {
+  return camdyn::test::run_camdyn(camdyn::test::split_args(args), scratch_dir("io"));
+}
 
 const std::string kData = CAMDYN_TEST_DATA_DIR;
 const std::string kQuickstart = std::string(CAMDYN_SOURCE_DIR) + "/studies/quickstart.json";
@@ -44,7 +46,7 @@ TEST(Cli, UsageErrorIsExitTwo) {
 
 // Every bad config of the corpus: exit 2, the file and the field named.
 TEST(Cli, BadConfigCorpusGivesExitTwoNamingFileAndField) {
-  const auto expected = nlohmann::json::parse(slurp(kData + "/bad_configs/expected.json"));
+  const auto expected = nlohmann::json::parse(read_text(kData + "/bad_configs/expected.json"));
   int count = 0;
   for (const auto& [file, want] : expected["files"].items()) {
     const std::string path = kData + "/bad_configs/" + file;
@@ -91,7 +93,7 @@ TEST(Cli, RunWritesEveryOutputWithoutNaN) {
   for (const auto& entry : fs::directory_iterator(out))
     EXPECT_EQ(entry.path().string().find(".tmp."), std::string::npos) << "temporary file left: " << entry.path();
 
-  const auto summary = nlohmann::json::parse(slurp(out / "summary.json"));
+  const auto summary = nlohmann::json::parse(read_text(out / "summary.json"));
   for (const char* key : {"separation_fraction", "max_separation_gap", "impact_count", "max_impact_velocity",
                           "peak_contact_force", "min_contact_force", "max_penetration", "max_kinematic_error",
                           "energy_residual", "max_pressure_angle_deg", "min_radius_of_curvature", "jump_speed_rpm"})
@@ -117,7 +119,7 @@ TEST(Cli, RunWritesEveryOutputWithoutNaN) {
   }
   EXPECT_EQ(rows, 2 * 360 * 4 + 1);  // 2 cycles at 0.25°, both ends included
 
-  const std::string html = slurp(out / "report.html");
+  const std::string html = read_text(out / "report.html");
   EXPECT_NE(html.find("<svg"), std::string::npos);
   EXPECT_NE(html.find("peak_contact_force"), std::string::npos);
 }

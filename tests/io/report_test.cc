@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include "cli_run.h"
+
 namespace camdyn {
 namespace {
 
@@ -18,7 +20,7 @@ std::size_t count(const std::string& text, const std::string& what) {
 }
 
 bool gnuplot_available() {
-  static const bool available = std::system("gnuplot --version >/dev/null 2>&1") == 0;
+  static const bool available = test::runs_ok({"gnuplot", "--version"});
   return available;
 }
 

@@ -9,7 +9,7 @@
 
 #include <gtest/gtest.h>
 
-#include "../study/cli_process.h"
+#include "cli_run.h"
 
 namespace {
 
@@ -36,20 +36,19 @@ TEST(CompareMpi, TwoRanksWriteTheSameTableAsThreads) {
   ::setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
   ::setenv("OMPI_MCA_rmaps_base_oversubscribe", "1", 1);
   ASSERT_EQ(camdyn::test::run_camdyn({"run", study.string(), "--jobs", "2", "--out", (dir / "threads").string()}, dir,
-                                     "threads"),
+                                     "threads")
+                .code,
             0);
-  const pid_t pid = camdyn::test::spawn({CAMDYN_MPIEXEC, "-np", "2", CAMDYN_BINARY, "run", study.string(), "--out",
-                                         (dir / "mpi").string()},
-                                        dir / "mpi.out", dir / "mpi.err");
-  ASSERT_GT(pid, 0);
-  ASSERT_EQ(camdyn::test::wait_for(pid), 0) << read_text(dir / "mpi.err");
+  const camdyn::test::Outcome mpi = camdyn::test::run_process(
+      {CAMDYN_MPIEXEC, "-np", "2", CAMDYN_BINARY, "run", study.string(), "--out", (dir / "mpi").string()}, dir, "mpi");
+  ASSERT_EQ(mpi.code, 0) << mpi.err;
   const std::string threads = without_last_column(dir / "threads" / "comparison.csv");
   EXPECT_EQ(std::count(threads.begin(), threads.end(), '\n'), 13);
   EXPECT_NE(threads.find(",failed,"), std::string::npos);  // the soft case fails: failures travel too
   EXPECT_EQ(without_last_column(dir / "mpi" / "comparison.csv"), threads);
   EXPECT_NE(read_text(dir / "mpi" / "report.html").find("MPI ranks"), std::string::npos);
   // One summary (rank 0's), and the journal has every run once.
-  const std::string out = read_text(dir / "mpi.out");
+  const std::string& out = mpi.out;
   EXPECT_EQ(out.find("mpi: 12 runs"), out.rfind("mpi: 12 runs"));
   const std::string journal = read_text(dir / "mpi" / "journal.jsonl");
   EXPECT_EQ(std::count(journal.begin(), journal.end(), '\n'), 13);

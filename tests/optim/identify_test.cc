@@ -16,6 +16,7 @@
 
 #include <gtest/gtest.h>
 
+#include "cli_run.h"
 #include "common/errors.h"
 #include "dynamics/simulation.h"
 #include "io/config.h"
@@ -74,16 +75,9 @@ fs::path temp_dir(const std::string& name) {
 }
 
 int run_cli(const std::string& args, const fs::path& dir, std::string* err = nullptr) {
-  const std::string cmd = std::string(CAMDYN_BINARY) + " " + args + " >" + (dir / "stdout").string() + " 2>" +
-                          (dir / "stderr").string() + " </dev/null";
-  const int status = std::system(cmd.c_str());
-  if (err != nullptr) {
-    std::ifstream in(dir / "stderr");
-    std::stringstream s;
-    s << in.rdbuf();
-    *err = s.str();
-  }
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  const test::Outcome o = test::run_camdyn(test::split_args(args), dir);
+  if (err != nullptr) *err = o.err;
+  return o.code;
 }
 
 // ---------------------------------------------------------------- config
@@ -416,7 +410,7 @@ TEST(IdentifyFit, IntegratorFailureIsANumericalError) {
 TEST(IdentifyStudy, ValidateChecksRecordsAndPrintsTheResolvedConfig) {
   const fs::path dir = temp_dir("validate");
   EXPECT_EQ(run_cli("validate " + kDropStudy + "identify_drop.json", dir), 0);
-  const Json resolved = read_json_file((dir / "stdout").string());
+  const Json resolved = read_json_file((dir / "camdyn.out").string());
   EXPECT_EQ(resolved["study"], "identify");
   EXPECT_EQ(resolved["experiments"].size(), 4u);
   EXPECT_DOUBLE_EQ(resolved["solver"]["fd_relative_step"].get<double>(), 1e-4);

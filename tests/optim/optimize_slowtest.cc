@@ -23,11 +23,13 @@ namespace {
 namespace fs = std::filesystem;
 using Json = nlohmann::json;
 
-using camdyn::test::slurp;
+using camdyn::test::read_text;
 
 fs::path scratch(const std::string& name) { return camdyn::test::scratch_dir("optimize_slowtest", name); }
 
-int run_cli(const std::string& args, const fs::path& log) { return camdyn::test::run_camdyn(args, log).code; }
+int run_cli(const std::string& args, const fs::path& log) {
+  return camdyn::test::run_camdyn(camdyn::test::split_args(args), log).code;
+}
 
 double relative(double a, double b) { return std::abs(a - b) / std::max({std::abs(a), std::abs(b), 1e-300}); }
 
@@ -37,8 +39,8 @@ Json run_study(const std::string& name) {
   const fs::path dir = scratch(name);
   const std::string config = std::string(CAMDYN_SOURCE_DIR) + "/studies/" + name + ".json";
   const int code = run_cli("run " + config + " --out " + (dir / "out").string() + " --jobs 2", dir);
-  EXPECT_EQ(code, 0) << slurp(dir / "stderr");
-  const Json result = Json::parse(slurp(dir / "out" / "result.json"));
+  EXPECT_EQ(code, 0) << read_text(dir / "camdyn.err");
+  const Json result = Json::parse(read_text(dir / "out" / "result.json"));
   for (const auto& [key, c] : result["optimized"]["constraints"].items()) EXPECT_TRUE(c["holds"].get<bool>()) << key;
   EXPECT_TRUE(result["optimized"]["feasible"].get<bool>());
 
@@ -46,8 +48,8 @@ Json run_study(const std::string& name) {
       run_cli("run " + (dir / "out" / "optimized.json").string() + " --out " + (dir / "rerun").string() + " --quiet",
              dir),
       0)
-      << slurp(dir / "stderr");
-  const Json summary = Json::parse(slurp(dir / "rerun" / "summary.json"));
+      << read_text(dir / "camdyn.err");
+  const Json summary = Json::parse(read_text(dir / "rerun" / "summary.json"));
   const Json& top = result["optimized"]["metrics"].back();
   EXPECT_EQ(summary["config"]["mechanism"]["cam"]["rpm"], top["rpm"]);
   for (const auto& [key, value] : summary["metrics"].items()) {

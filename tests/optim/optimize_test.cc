@@ -65,7 +65,7 @@ std::string mechanism(double base_radius = 0.04, double roller = 0.01) {
   "integrator": { "rtol": 1e-6 })";
 }
 
-using test::slurp;
+using test::read_text;
 
 fs::path scratch(const std::string& name) { return test::scratch_dir("optimize_test", name); }
 
@@ -156,7 +156,7 @@ TEST(Optimize, ConstraintValuesEqualTheValuesRecomputedFromTheOptimisedProfile) 
   // The same values in result.json, and optimized.json is the scene evaluated.
   const fs::path dir = scratch("constraints");
   write_optimize_outputs(dir, o, "constraints", "test.json");
-  const Json result = Json::parse(slurp(dir / "result.json"));
+  const Json result = Json::parse(read_text(dir / "result.json"));
   for (std::size_t i = 0; i < o.constraints.size(); ++i) {
     const Json& c = result["optimized"]["constraints"][o.constraints[i].name];
     EXPECT_EQ(c["value"].get<double>(), o.optimized.constraints[i].value) << o.constraints[i].name;
@@ -202,11 +202,12 @@ TEST(Optimize, InvalidDesignsAreCountedAndReportedNotFatal) {
 
   const fs::path dir = scratch("invalid");
   write_optimize_outputs(dir, o, "invalid", "test.json");  // throws on any NaN
-  const std::string history = slurp(dir / "history.csv");
+  const std::string history = read_text(dir / "history.csv");
   EXPECT_EQ(history.substr(0, history.find('\n')),
             "evaluation,objective,min_radius_of_curvature,feasible,start,kind,valid,best_objective,error");
   EXPECT_NE(history.find(",1000,,0,0,nlopt,0,"), std::string::npos);  // empty constraint cell, invalid
-  EXPECT_EQ(Json::parse(slurp(dir / "result.json"))["invalid_evaluations"].get<long>(), o.search.invalid_evaluations);
+  EXPECT_EQ(Json::parse(read_text(dir / "result.json"))["invalid_evaluations"].get<long>(),
+            o.search.invalid_evaluations);
 }
 
 TEST(SimulationPool, ParallelRunsEqualSerialRuns) {
@@ -245,7 +246,7 @@ TEST(SimulationPool, ParallelRunsEqualSerialRuns) {
 
 using test::Outcome;
 
-Outcome run_cli(const std::string& args) { return test::run_camdyn(args, scratch("io")); }
+Outcome run_cli(const std::string& args) { return test::run_camdyn(test::split_args(args), scratch("io")); }
 
 const std::string kJump = std::string(CAMDYN_SOURCE_DIR) + "/studies/optimize_jump.json";
 
@@ -277,13 +278,13 @@ TEST(OptimizeCli, OptimizedConfigReproducesTheReportedMetrics) {
   ASSERT_EQ(run.code, 0) << run.err;
   for (const char* f : {"result.json", "history.csv", "optimized.json", "report.html"})
     EXPECT_TRUE(fs::exists(dir / f)) << f;
-  const Json result = Json::parse(slurp(dir / "result.json"));
+  const Json result = Json::parse(read_text(dir / "result.json"));
   for (const char* key : {"evaluations", "run_time_s", "algorithm", "stop_reason", "baseline", "optimized"})
     EXPECT_TRUE(result.contains(key)) << key;
   EXPECT_EQ(result["evaluations"].get<long>(), 12);
   EXPECT_EQ(result["baseline"]["metrics"].size(), 3u);
   EXPECT_GT(result["baseline"]["metrics"][2]["separation_fraction"].get<double>(), 0.0);  // it jumps at 1300 rpm
-  const std::string history = slurp(dir / "history.csv");
+  const std::string history = read_text(dir / "history.csv");
   EXPECT_EQ(history.substr(0, history.find('\n')),
             "evaluation,objective,max_pressure_angle_deg,min_radius_of_curvature,min_contact_force,no_separation,"
             "feasible,start,kind,valid,best_objective,error");
@@ -292,7 +293,7 @@ TEST(OptimizeCli, OptimizedConfigReproducesTheReportedMetrics) {
   const fs::path rerun = dir / "rerun";
   const Outcome again = run_cli("run " + (dir / "optimized.json").string() + " --out " + rerun.string() + " --quiet");
   ASSERT_EQ(again.code, 0) << again.err;
-  const Json summary = Json::parse(slurp(rerun / "summary.json"));
+  const Json summary = Json::parse(read_text(rerun / "summary.json"));
   const Json& top = result["optimized"]["metrics"][2];
   EXPECT_EQ(top["rpm"].get<double>(), 1300.0);
   for (const auto& [key, value] : summary["metrics"].items()) {

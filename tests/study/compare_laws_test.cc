@@ -13,7 +13,7 @@
 
 #include <gtest/gtest.h>
 
-#include "cli_process.h"
+#include "cli_run.h"
 
 namespace {
 
@@ -24,7 +24,7 @@ TEST(CompareLawsStudy, JumpOnsetPerLawIsTheFirstSpeedAboveItsJumpSpeed) {
   fs::remove_all(dir);
   fs::create_directories(dir);
   const std::string study = std::string(CAMDYN_SOURCE_DIR) + "/studies/compare_laws.json";
-  ASSERT_EQ(camdyn::test::run_camdyn({"run", study, "--out", (dir / "out").string()}, dir, "run"), 0)
+  ASSERT_EQ(camdyn::test::run_camdyn({"run", study, "--out", (dir / "out").string()}, dir, "run").code, 0)
       << camdyn::test::read_text(dir / "run.err");
 
   std::istringstream csv(camdyn::test::read_text(dir / "out" / "comparison.csv"));

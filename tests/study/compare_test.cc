@@ -20,7 +20,7 @@
 #include <csignal>
 #include <thread>
 
-#include "cli_process.h"
+#include "cli_run.h"
 
 namespace {
 
@@ -65,11 +65,8 @@ TEST(CompareStudy, RunsEveryCaseAtEveryGridPointAndRecordsFailures) {
                { "name": "soft", "set": ["mechanism.contact.stiffness=1e4"] } ],
     "grid": { "mechanism.cam.rpm": [900, 1100, 1250, 1400] }
   })";
-  const std::string cmd = std::string(CAMDYN_BINARY) + " run " + (dir / "study.json").string() + " --quiet --out " +
-                          (dir / "out").string() + " > /dev/null 2>&1";
-  const int status = std::system(cmd.c_str());
-  ASSERT_TRUE(WIFEXITED(status));
-  ASSERT_EQ(WEXITSTATUS(status), 0);
+  ASSERT_EQ(run_camdyn({"run", (dir / "study.json").string(), "--quiet", "--out", (dir / "out").string()}, dir).code,
+            0);
   const auto rows = read_csv(dir / "out" / "comparison.csv");
   ASSERT_EQ(rows.size(), 8u);
   int failed = 0;
@@ -131,9 +128,9 @@ std::size_t count_lines(const std::string& text) { return static_cast<std::size_
 
 TEST_F(CompareCli, JobsOneAndTwoWriteTheSameTable) {
   const fs::path study = write_study();
-  ASSERT_EQ(run_camdyn({"run", study.string(), "--jobs", "1", "--out", (dir_ / "j1").string()}, dir_, "j1"), 0)
+  ASSERT_EQ(run_camdyn({"run", study.string(), "--jobs", "1", "--out", (dir_ / "j1").string()}, dir_, "j1").code, 0)
       << read_text(dir_ / "j1.err");
-  ASSERT_EQ(run_camdyn({"run", study.string(), "--jobs", "2", "--out", (dir_ / "j2").string()}, dir_, "j2"), 0)
+  ASSERT_EQ(run_camdyn({"run", study.string(), "--jobs", "2", "--out", (dir_ / "j2").string()}, dir_, "j2").code, 0)
       << read_text(dir_ / "j2.err");
   const std::string one = without_last_column(dir_ / "j1" / "comparison.csv");
   EXPECT_EQ(count_lines(one), 13u);
@@ -144,7 +141,8 @@ TEST_F(CompareCli, JobsOneAndTwoWriteTheSameTable) {
 // runs are not done again, and the table equals an uninterrupted run's.
 TEST_F(CompareCli, KilledStudyResumesToTheUninterruptedTable) {
   const fs::path study = write_study();
-  ASSERT_EQ(run_camdyn({"run", study.string(), "--jobs", "2", "--out", (dir_ / "whole").string()}, dir_, "whole"), 0);
+  ASSERT_EQ(run_camdyn({"run", study.string(), "--jobs", "2", "--out", (dir_ / "whole").string()}, dir_, "whole").code,
+            0);
 
   const fs::path out = dir_ / "killed", journal = out / "journal.jsonl";
   const pid_t pid = camdyn::test::spawn({CAMDYN_BINARY, "run", study.string(), "--jobs", "1", "--out", out.string()},
@@ -163,7 +161,7 @@ TEST_F(CompareCli, KilledStudyResumesToTheUninterruptedTable) {
   // A record cut off mid-write (as a kill during write() leaves it) must be ignored.
   std::ofstream(journal, std::ios::app) << R"({"index": 11, "case": "stiff", "status": "o)";
 
-  ASSERT_EQ(run_camdyn({"run", study.string(), "--jobs", "2", "--out", out.string()}, dir_, "resumed"), 0)
+  ASSERT_EQ(run_camdyn({"run", study.string(), "--jobs", "2", "--out", out.string()}, dir_, "resumed").code, 0)
       << read_text(dir_ / "resumed.err");
   EXPECT_NE(read_text(dir_ / "resumed.err").find("resuming: " + std::to_string(done) + " of 12 runs already done"),
             std::string::npos)
@@ -174,7 +172,7 @@ TEST_F(CompareCli, KilledStudyResumesToTheUninterruptedTable) {
   EXPECT_EQ(without_last_column(out / "comparison.csv"), without_last_column(dir_ / "whole" / "comparison.csv"));
 
   // Once complete, a rerun does nothing but rewrite the outputs from the journal.
-  ASSERT_EQ(run_camdyn({"run", study.string(), "--out", out.string()}, dir_, "again"), 0);
+  ASSERT_EQ(run_camdyn({"run", study.string(), "--out", out.string()}, dir_, "again").code, 0);
   EXPECT_NE(read_text(dir_ / "again.err").find("resuming: 12 of 12 runs"), std::string::npos);
   EXPECT_EQ(read_text(journal), after);
 }
@@ -182,8 +180,9 @@ TEST_F(CompareCli, KilledStudyResumesToTheUninterruptedTable) {
 TEST_F(CompareCli, JournalOfAnotherStudyIsRefused) {
   const fs::path study = write_study();
   const std::string out = (dir_ / "out").string();
-  ASSERT_EQ(run_camdyn({"run", study.string(), "--out", out}, dir_, "first"), 0);
-  EXPECT_EQ(run_camdyn({"run", study.string(), "--out", out, "--set", "mechanism.follower.mass=0.4"}, dir_, "other"), 2);
+  ASSERT_EQ(run_camdyn({"run", study.string(), "--out", out}, dir_, "first").code, 0);
+  EXPECT_EQ(
+      run_camdyn({"run", study.string(), "--out", out, "--set", "mechanism.follower.mass=0.4"}, dir_, "other").code, 2);
   const std::string err = read_text(dir_ / "other.err");
   EXPECT_NE(err.find("journal.jsonl"), std::string::npos) << err;
   EXPECT_NE(err.find("different compare study"), std::string::npos) << err;
@@ -198,7 +197,7 @@ TEST_F(CompareCli, InlineCaseOverlaysAndBestMarks) {
   text.replace(text.find(from), from.size(),
                R"({ "name": "heavy", "config": { "mechanism": { "follower": { "mass": 0.45 } } } })");
   std::ofstream(study) << text;
-  ASSERT_EQ(run_camdyn({"run", study.string(), "--out", (dir_ / "out").string()}, dir_, "run"), 0)
+  ASSERT_EQ(run_camdyn({"run", study.string(), "--out", (dir_ / "out").string()}, dir_, "run").code, 0)
       << read_text(dir_ / "run.err");
   const auto rows = read_csv(dir_ / "out" / "comparison.csv");
   ASSERT_EQ(rows.size(), 12u);
@@ -222,7 +221,7 @@ TEST_F(CompareCli, InlineCaseOverlaysAndBestMarks) {
 TEST_F(CompareCli, BadOverlayKeyIsAnInputError) {
   const fs::path study = write_study(R"(,
       "overlays": [ { "mechanism.cam.rpm": 1234 } ])");
-  EXPECT_EQ(run_camdyn({"run", study.string(), "--out", (dir_ / "out").string()}, dir_, "run"), 2);
+  EXPECT_EQ(run_camdyn({"run", study.string(), "--out", (dir_ / "out").string()}, dir_, "run").code, 2);
   EXPECT_NE(read_text(dir_ / "run.err").find("overlays[0].mechanism.cam.rpm"), std::string::npos)
       << read_text(dir_ / "run.err");
 }

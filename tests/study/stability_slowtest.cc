@@ -14,16 +14,17 @@
 
 #include <gtest/gtest.h>
 
+#include "cli_run.h"
+
 namespace {
 
 TEST(StabilitySweep, EveryCaseIsOkOrFailsWithAReason) {
   namespace fs = std::filesystem;
   const fs::path out = fs::temp_directory_path() / ("camdyn_stability_" + std::to_string(::getpid()));
-  const std::string cmd = std::string(CAMDYN_BINARY) + " run " + CAMDYN_SOURCE_DIR +
-                          "/studies/stability.json --quiet --out " + out.string() + " > /dev/null 2>&1";
-  const int status = std::system(cmd.c_str());
-  ASSERT_TRUE(WIFEXITED(status));
-  ASSERT_EQ(WEXITSTATUS(status), 0);
+  fs::create_directories(out);
+  const camdyn::test::Outcome run = camdyn::test::run_camdyn(
+      {"run", std::string(CAMDYN_SOURCE_DIR) + "/studies/stability.json", "--quiet", "--out", out.string()}, out);
+  ASSERT_EQ(run.code, 0) << run.err;
   std::ifstream in(out / "comparison.csv");
   std::string line;
   std::getline(in, line);

@@ -15,16 +15,17 @@
 
 #include <gtest/gtest.h>
 
+#include "cli_run.h"
+
 namespace {
 
 TEST(WorkPrecisionStudy, EveryAdaptiveMethodSpansFourDecadesOfError) {
   namespace fs = std::filesystem;
   const fs::path out = fs::temp_directory_path() / ("camdyn_wp_" + std::to_string(::getpid()));
-  const std::string cmd = std::string(CAMDYN_BINARY) + " run " + CAMDYN_SOURCE_DIR +
-                          "/studies/work_precision.json --quiet --out " + out.string() + " > /dev/null 2>&1";
-  const int status = std::system(cmd.c_str());
-  ASSERT_TRUE(WIFEXITED(status));
-  ASSERT_EQ(WEXITSTATUS(status), 0);
+  fs::create_directories(out);
+  const camdyn::test::Outcome run = camdyn::test::run_camdyn(
+      {"run", std::string(CAMDYN_SOURCE_DIR) + "/studies/work_precision.json", "--quiet", "--out", out.string()}, out);
+  ASSERT_EQ(run.code, 0) << run.err;
   std::ifstream in(out / "work_precision.csv");
   std::string line;
   std::getline(in, line);

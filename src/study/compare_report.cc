@@ -1,0 +1,275 @@
+// report.html of a compare study: the results table with the best case per
+// grid point marked, the best case per metric, a pass/fail map over the first
+// two numeric grid axes, each metric against the first grid axis, the overlays
+// (contact force and follower motion against cam angle) and the failed runs.
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <optional>
+
+#include "io/report.h"
+#include "study/compare_output.h"
+
+namespace camdyn {
+
+namespace {
+
+std::size_t metric_index(const std::string& metric) {
+  const std::vector<std::string>& names = compare_metric_names();
+  return static_cast<std::size_t>(std::find(names.begin(), names.end(), metric) - names.begin());
+}
+
+/// Whether `a` is at least as good as `b` for `metric` (ties within 1e-12 relative).
+bool better_or_equal(const std::string& metric, double a, double b) {
+  const double tie = 1e-12 * std::max(std::abs(a), std::abs(b));
+  if (metric == "energy_residual") return std::abs(a) <= std::abs(b) + tie;
+  return higher_is_better(metric) ? a >= b - tie : a <= b + tie;
+}
+
+bool has_metric(const CompareResult& r, std::size_t i, std::size_t mi) {
+  return r.outcomes[i].ok && std::isfinite(r.outcomes[i].metrics[mi]);
+}
+
+/// Every run with the chosen metrics, one row each.
+Table results_table(const CompareResult& r) {
+  Table table{"Results (click a header to sort; ★ best case at that grid point)", {"case"}, {}, true};
+  table.columns.insert(table.columns.end(), r.keys.begin(), r.keys.end());
+  table.columns.insert(table.columns.end(), r.spec->metrics.begin(), r.spec->metrics.end());
+  table.columns.push_back("status");
+  for (std::size_t i = 0; i < r.points.size(); ++i) {
+    const CompareOutcome& o = r.outcomes[i];
+    std::vector<std::string> row = {r.case_name(i)};
+    for (const Json& v : r.points[i].values) row.push_back(cell_text(v));
+    for (const std::string& m : r.spec->metrics)
+      row.push_back(o.ok ? format_number(o.metrics[metric_index(m)], 4) : "–");
+    row.push_back(o.ok ? "ok" : "failed");
+    table.rows.push_back(std::move(row));
+  }
+  return table;
+}
+
+/// Marks in `table` (column `column`) the best runs of `metric` at each grid
+/// point, ties included, unless all tie; returns the wins per case and the
+/// number of grid points where there was a winner.
+std::pair<std::map<std::string, std::size_t>, std::size_t> mark_winners(
+    const CompareResult& r, const std::map<std::vector<Json>, std::vector<std::size_t>>& groups,
+    const std::string& metric, Table& table, std::size_t column) {
+  const std::size_t mi = metric_index(metric);
+  std::map<std::string, std::size_t> wins;
+  std::size_t contested = 0;
+  for (const auto& [at, runs] : groups) {
+    std::vector<std::size_t> valid;
+    for (const std::size_t i : runs)
+      if (has_metric(r, i, mi)) valid.push_back(i);
+    if (valid.size() < 2) continue;
+    double top = r.outcomes[valid.front()].metrics[mi];
+    for (const std::size_t i : valid)
+      if (better_or_equal(metric, r.outcomes[i].metrics[mi], top)) top = r.outcomes[i].metrics[mi];
+    std::vector<std::size_t> winners;
+    for (const std::size_t i : valid)
+      if (better_or_equal(metric, r.outcomes[i].metrics[mi], top)) winners.push_back(i);
+    if (winners.size() == valid.size()) continue;  // all tie: nothing to mark
+    ++contested;
+    for (const std::size_t i : winners) {
+      table.marked.emplace_back(i, column);
+      ++wins[r.case_name(i)];
+    }
+  }
+  return {wins, contested};
+}
+
+/// One row of the "best case per metric" table.
+std::vector<std::string> best_row(const CompareResult& r, const std::string& metric,
+                                  const std::map<std::string, std::size_t>& wins, std::size_t contested) {
+  const std::size_t mi = metric_index(metric);
+  std::size_t overall = r.points.size();  // the overall best run for this metric
+  for (std::size_t i = 0; i < r.points.size(); ++i)
+    if (has_metric(r, i, mi) && (overall == r.points.size() ||
+                                 !better_or_equal(metric, r.outcomes[overall].metrics[mi], r.outcomes[i].metrics[mi])))
+      overall = i;
+  std::string most = "–";
+  if (!wins.empty() && r.spec->cases.size() > 1) {
+    std::size_t top_wins = 0;
+    for (const auto& [c, n] : wins) top_wins = std::max(top_wins, n);
+    most.clear();
+    for (const auto& [c, n] : wins)
+      if (n == top_wins) most += (most.empty() ? "" : ", ") + c;
+    most += std::string(" (") + std::to_string(top_wins) + " of " + std::to_string(contested) + ")";
+  }
+  std::string where = "–", value = "–";
+  if (overall < r.points.size()) {
+    value = format_number(r.outcomes[overall].metrics[mi], 4);
+    where = r.case_name(overall);
+    for (std::size_t k = 0; k < r.keys.size(); ++k)
+      where += ", " + r.keys[k] + "=" + cell_text(r.points[overall].values[k]);
+  }
+  return {metric, higher_is_better(metric) ? "higher" : "lower", most, value, where};
+}
+
+/// Best value of each metric among the cases at the same grid point (over all
+/// runs when there is one case), marked in `table`; the summary per metric.
+Table best_table(const CompareResult& r, Table& table) {
+  const std::size_t first_metric_column = 1 + r.keys.size();
+  std::map<std::vector<Json>, std::vector<std::size_t>> groups;  // grid point -> runs
+  for (std::size_t i = 0; i < r.points.size(); ++i)
+    groups[r.spec->cases.size() > 1 ? r.points[i].values : std::vector<Json>{}].push_back(i);
+  Table best{"Best case per metric",
+             {"metric", "better", "most often best (grid points won)", "best value", "where"},
+             {},
+             true};
+  for (std::size_t mm = 0; mm < r.spec->metrics.size(); ++mm) {
+    const std::string& m = r.spec->metrics[mm];
+    const auto [wins, contested] = mark_winners(r, groups, m, table, first_metric_column + mm);
+    best.rows.push_back(best_row(r, m, wins, contested));
+  }
+  return best;
+}
+
+/// Each metric against the first grid axis, one line per case and value of the other axes.
+std::vector<Plot> metric_plots(const CompareResult& r) {
+  std::vector<Plot> plots;
+  const std::vector<CompareAxis>& grid = r.spec->grid;
+  if (grid.empty() || !grid.front().values.front().is_number()) return plots;
+  for (const std::string& m : r.spec->metrics) {
+    Plot plot;
+    plot.title = m + " against " + grid.front().key;
+    plot.xlabel = grid.front().key;
+    plot.ylabel = m;
+    std::map<std::string, Series> lines;
+    std::vector<std::string> order;
+    for (std::size_t i = 0; i < r.points.size(); ++i) {
+      const ComparePoint& p = r.points[i];
+      if (!has_metric(r, i, metric_index(m))) continue;
+      std::string label = r.case_name(i);
+      for (std::size_t k = 1; k < p.values.size(); ++k) label += ", " + r.keys[k] + "=" + cell_text(p.values[k]);
+      if (!lines.count(label)) order.push_back(label);
+      Series& s = lines[label];
+      s.label = label;
+      s.style = "linespoints";
+      s.x.push_back(p.values[0].get<double>());
+      s.y.push_back(r.outcomes[i].metrics[metric_index(m)]);
+    }
+    if (lines.size() > 12) continue;  // too many lines to read: the table has them
+    for (const std::string& label : order) plot.series.push_back(std::move(lines[label]));
+    plots.push_back(std::move(plot));
+  }
+  return plots;
+}
+
+/// Contact force and follower motion against cam angle at the chosen grid points.
+std::vector<Plot> overlay_plots(const CompareResult& r) {
+  std::vector<Plot> plots;
+  for (const OverlaySelection& selection : r.spec->overlays) {
+    std::string at;
+    for (const auto& [axis, value] : selection) at += (at.empty() ? "" : ", ") + r.keys[axis] + "=" + cell_text(value);
+    Plot force{"Contact force against cam angle (last revolution), " + at,
+               "cam angle [deg]",
+               "contact force [N]",
+               {},
+               false,
+               false,
+               std::make_pair(0.0, 360.0)};
+    Plot motion{"Follower displacement against cam angle (last revolution), " + at,
+                "cam angle [deg]",
+                "follower displacement [m]",
+                {},
+                false,
+                false,
+                std::make_pair(0.0, 360.0)};
+    for (std::size_t i = 0; i < r.points.size(); ++i) {
+      const ComparePoint& p = r.points[i];
+      const bool selected =
+          std::all_of(selection.begin(), selection.end(), [&](const auto& s) { return p.values[s.first] == s.second; });
+      if (!selected || !r.outcomes[i].overlay.is_object()) continue;
+      std::string label = r.case_name(i);
+      for (std::size_t k = 0; k < r.keys.size(); ++k)
+        if (std::none_of(selection.begin(), selection.end(), [&](const auto& s) { return s.first == k; }))
+          label += ", " + r.keys[k] + "=" + cell_text(p.values[k]);
+      const Json& o = r.outcomes[i].overlay;
+      const auto x = o.at("cam_angle_deg").get<std::vector<double>>();
+      force.series.push_back({label, x, o.at("contact_force").get<std::vector<double>>(), "lines"});
+      motion.series.push_back({label, x, o.at("follower_position").get<std::vector<double>>(), "lines"});
+    }
+    if (force.series.empty()) continue;  // every selected run failed: the failures table says why
+    plots.push_back(std::move(force));
+    plots.push_back(std::move(motion));
+  }
+  return plots;
+}
+
+/// Pass/fail map over the first two numeric grid axes (every case and value of
+/// the other axes overlaid: a point fails if any run there failed).
+std::optional<Plot> pass_fail_map(const CompareResult& r) {
+  const std::vector<CompareAxis>& grid = r.spec->grid;
+  if (grid.size() < 2 || !grid[0].values.front().is_number() || !grid[1].values.front().is_number())
+    return std::nullopt;
+  const auto positive = [](const CompareAxis& a) {
+    return std::all_of(a.values.begin(), a.values.end(), [](const Json& v) { return v.get<double>() > 0; });
+  };
+  Plot map;
+  map.title = "Pass/fail map: " + grid[0].key + " against " + grid[1].key;
+  map.xlabel = grid[0].key;
+  map.ylabel = grid[1].key;
+  map.logx = positive(grid[0]);
+  map.logy = positive(grid[1]);
+  std::map<std::pair<double, double>, bool> any_failed;
+  for (std::size_t i = 0; i < r.points.size(); ++i) {
+    auto& f = any_failed[{r.points[i].values[0].get<double>(), r.points[i].values[1].get<double>()}];
+    f = f || !r.outcomes[i].ok;
+  }
+  Series ok_points{"all runs ok", {}, {}, "points"},
+      failed_points{"some runs failed (see the table)", {}, {}, "points"};
+  for (const auto& [xy, failed_here] : any_failed) {
+    Series& s = failed_here ? failed_points : ok_points;
+    s.x.push_back(xy.first);
+    s.y.push_back(xy.second);
+  }
+  map.series = {ok_points, failed_points};
+  return map;
+}
+
+Table failures_table(const CompareResult& r) {
+  Table failures{"Failed runs", {"case", "grid point", "reason"}, {}, false};
+  for (std::size_t i = 0; i < r.points.size(); ++i)
+    if (!r.outcomes[i].ok) {
+      std::string at;
+      for (std::size_t k = 0; k < r.keys.size(); ++k)
+        at += (k ? ", " : "") + r.keys[k] + "=" + cell_text(r.points[i].values[k]);
+      failures.rows.push_back({r.case_name(i), at, r.outcomes[i].error});
+    }
+  return failures;
+}
+
+}  // namespace
+
+void write_compare_report(const CompareResult& r, const std::filesystem::path& out_dir) {
+  Report report;
+  report.title = "camdyn: " + r.name;
+  report.subtitle = "compare study: " + std::to_string(r.spec->cases.size()) + " case(s) × " +
+                    std::to_string(r.points.size() / r.spec->cases.size()) + " grid point(s)";
+  report.facts = {{"runs", std::to_string(r.points.size())},
+                  {"failed", std::to_string(r.failed)},
+                  {"wall time", format_number(r.wall_time_s, 3) + " s"}};
+  if (r.resumed > 0) report.facts.push_back({"resumed from the journal", std::to_string(r.resumed) + " runs"});
+  if (r.mpi_ranks > 1) report.facts.push_back({"MPI ranks", std::to_string(r.mpi_ranks)});
+
+  Table table = results_table(r);
+  Table best = best_table(r, table);
+  report.tables.push_back(std::move(table));
+  report.tables.push_back(std::move(best));
+  if (std::optional<Plot> map = pass_fail_map(r)) report.plots.push_back(std::move(*map));
+  for (Plot& plot : metric_plots(r)) report.plots.push_back(std::move(plot));
+  for (Plot& plot : overlay_plots(r)) report.plots.push_back(std::move(plot));
+  Table failures = failures_table(r);
+  if (!failures.rows.empty()) report.tables.push_back(std::move(failures));
+  report.notes.push_back(
+      "★ marks the best case at each grid point for that metric (lower is better, except "
+      "min_contact_force, min_radius_of_curvature and jump_speed_rpm; energy_residual by magnitude); "
+      "nothing is marked where all cases tie.");
+  if (r.resumed > 0)
+    report.notes.push_back(std::to_string(r.resumed) + " of " + std::to_string(r.points.size()) +
+                           " runs were done by an earlier, interrupted invocation and read from journal.jsonl.");
+  write_report(out_dir / "report.html", report);
+}
+
+}  // namespace camdyn
