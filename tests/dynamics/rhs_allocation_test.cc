@@ -81,7 +81,7 @@ TEST(RightHandSide, AllocatesNothingForAnyFollowerFrictionOrDrive) {
 }
 
 TEST(RightHandSide, AllocatesNothingWithTheGeneralPairFormOrAContourCam) {
-  // The general form's search samples are made by prepare_workspace (once per run).
+  // The general form's search samples are made by make_workspace (once per worker).
   for (const bool contour : {false, true}) {
     for (const char* tracking : {"differential", "newton"}) {
       SceneConfig scene = test::follower_scene("translating_roller", 1000.0, "lankarani_nikravesh");
@@ -89,8 +89,7 @@ TEST(RightHandSide, AllocatesNothingWithTheGeneralPairFormOrAContourCam) {
       scene.mechanism.contact.pair_form = contour ? "auto" : "general";
       if (contour) test::use_eccentric_disc_contour(scene, 64);
       const Model model = build_model(scene, "test");
-      Workspace ws;
-      prepare_workspace(model, ws);
+      Workspace ws = make_workspace(model);
       double y[Model::kMaxState] = {0.002, 0.3};
       ws.u_warm = model.pair_guess(0.8);
       if (model.index_u >= 0) y[model.index_u] = ws.u_warm;
