@@ -185,12 +185,12 @@ SimulationResult FitScene::simulate() { return camdyn::simulate(scene_, model_, 
 
 FitRun FitScene::run(const std::vector<double>& values) {
   FitRun run;
-  const std::string name = "experiment '" + experiment_.name + "': ";
+  const auto name = [&] { return "experiment '" + experiment_.name + "': "; };
   try {
     set(values);
     const SimulationResult result = simulate();
     if (result.samples.time.size() != experiment_.record.time.size()) {
-      run.error = name + "the simulation ended at " + format_shortest(result.end_time) +
+      run.error = name() + "the simulation ended at " + format_shortest(result.end_time) +
                   " s, before the last measured time";
     } else {
       const std::vector<const std::vector<double>*> columns = result.samples.columns();
@@ -198,10 +198,10 @@ FitRun FitScene::run(const std::vector<double>& values) {
       run.ok = true;
     }
   } catch (const InputError& e) {
-    run.error = name + e.what();
+    run.error = name() + e.what();
     run.input_error = std::current_exception();
   } catch (const std::exception& e) {
-    run.error = name + e.what();
+    run.error = name() + e.what();
   }
   if (!run.ok) run.error += " (at " + values_text(parameters_, values) + ")";
   return run;
