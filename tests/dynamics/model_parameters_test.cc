@@ -93,16 +93,7 @@ TEST(ModelParameters, SetInPlaceGivesTheBuiltModelForEveryContactLaw) {
 
 TEST(ModelParameters, SetInPlaceGivesTheBuiltModelForAnyFollowerFrictionOrDrive) {
   for (const std::string& kind : test::follower_kinds()) {
-    SceneConfig scene = test::follower_scene(kind, 1000.0, "lankarani_nikravesh");
-    FollowerConfig& f = scene.mechanism.follower;
-    scene.mechanism.contact.friction.mu = 0.1;
-    if (f.shape.type == "roller") f.shape.inertia = 1e-6;
-    if (f.motion == "oscillating") f.pivot_friction = PivotFrictionConfig{0.1, 0.005, 1e-4};
-    else f.guide_friction = GuideFrictionConfig{0.1, 1e-4};
-    scene.mechanism.cam.drive.type = "shaft";
-    scene.mechanism.cam.drive.inertia = 0.01;
-    scene.mechanism.cam.drive.torsional_stiffness = 1e4;
-    scene.mechanism.cam.drive.motor = MotorConfig{"torque_speed", 10.0, 2000.0, 1e-3};
+    SceneConfig scene = test::fully_loaded_scene(kind, 1000.0, "lankarani_nikravesh");
     scene.simulation.cycles = 1.1;
     scene.simulation.discard_cycles = 0;
     expect_in_place_equals_built(scene, kind);

@@ -52,17 +52,9 @@ TEST(RightHandSide, AllocatesNothingInEveryTrackingMode) {
 TEST(RightHandSide, AllocatesNothingForAnyFollowerFrictionOrDrive) {
   for (const std::string& kind : test::follower_kinds()) {
     for (const char* tracking : {"differential", "newton"}) {
-      SceneConfig scene = test::follower_scene(kind, 1000.0, "lankarani_nikravesh");
+      SceneConfig scene = test::fully_loaded_scene(kind, 1000.0, "lankarani_nikravesh");
       const bool oscillating = scene.mechanism.follower.motion == "oscillating";
       scene.mechanism.contact.tracking = tracking;
-      scene.mechanism.contact.friction.mu = 0.1;
-      if (scene.mechanism.follower.shape.type == "roller") scene.mechanism.follower.shape.inertia = 1e-6;
-      if (oscillating) scene.mechanism.follower.pivot_friction = PivotFrictionConfig{0.1, 0.005, 1e-4};
-      else scene.mechanism.follower.guide_friction = GuideFrictionConfig{0.1, 1e-4};
-      scene.mechanism.cam.drive.type = "shaft";
-      scene.mechanism.cam.drive.inertia = 0.01;
-      scene.mechanism.cam.drive.torsional_stiffness = 1e4;
-      scene.mechanism.cam.drive.motor = MotorConfig{"torque_speed", 10.0, 2000.0, 1e-3};
       const Model model = build_model(scene, "test");
       Workspace ws;
       double y[Model::kMaxState] = {};
