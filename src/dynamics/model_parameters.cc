@@ -134,8 +134,9 @@ bool same_structure(const Model& model, const ModelParameters& p) {
   const bool roller = model.follower.shape == FollowerShape::roller;
   const bool has_spin = roller && p.roller_inertia > 0.0 && p.friction_mu > 0.0;
   const bool contact_friction = p.friction_mu > 0.0 && (!roller || has_spin);
+  // μ of an absent guide or pivot friction block is 0 (model_parameters()).
   return has_spin == model.has_spin && contact_friction == model.contact_friction &&
-         (!model.has_guide_friction || p.guide_mu > 0.0) && (!model.has_pivot_friction || p.pivot_mu > 0.0);
+         model.has_guide_friction == (p.guide_mu > 0.0) && model.has_pivot_friction == (p.pivot_mu > 0.0);
 }
 
 void set_parameters(Model& model, const ModelParameters& p, const std::string& file) {

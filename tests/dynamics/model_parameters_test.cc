@@ -106,8 +106,13 @@ TEST(ModelParameters, SetInPlaceGivesTheBuiltModelForADrop) {
 
 TEST(ModelParameters, FrictionSwitchedOnOrOffIsAChangeOfStructure) {
   SceneConfig scene = test::follower_scene("translating_flat", 1000.0);
+  scene.mechanism.follower.guide_friction = GuideFrictionConfig{0.0, 1e-4};
   const Model model = build_model(scene, "test");
+  EXPECT_TRUE(same_structure(model, model_parameters(scene, model)));
   scene.mechanism.contact.friction.mu = 0.1;
+  EXPECT_FALSE(same_structure(model, model_parameters(scene, model)));
+  scene.mechanism.contact.friction.mu = 0.0;
+  scene.mechanism.follower.guide_friction->mu = 0.1;
   EXPECT_FALSE(same_structure(model, model_parameters(scene, model)));
   SceneConfig roller = test::cycloidal_cam_scene(1000.0);
   roller.mechanism.contact.friction.mu = 0.1;
