@@ -10,18 +10,21 @@
 #include <memory>
 #include <mutex>
 #include <sstream>
-#include <thread>
 #include <utility>
 
 #include <Eigen/Dense>
 #include <ceres/ceres.h>
 
 #include "common/errors.h"
+#include "common/parallel.h"
 #include "dynamics/model.h"
 #include "dynamics/simulation.h"
 #include "io/csv_reader.h"
 #include "io/json_archive.h"
 #include "io/suggest.h"
+#include "optim/fit_residuals.h"
+#include "optim/fit_scene.h"
+#include "optim/identify_statistics.h"
 #include "study/study.h"
 
 namespace camdyn::optim {
@@ -97,48 +100,28 @@ double run_end(const SceneConfig& scene) {
 
 std::string fmt(double x) { return format_shortest(x); }
 
-/// The samples of a timeseries column.
-const std::vector<double>& column(const TimeSeries& series, const std::string& name) {
-  const std::vector<std::string> names = TimeSeries::column_names();
-  const auto columns = series.columns();
-  for (std::size_t k = 0; k < names.size(); ++k)
-    if (names[k] == name) return *columns[k];
-  throw std::logic_error("no timeseries column " + name);
-}
-
 // ---------------------------------------------------------------- parallel simulations
 
-/// Simulates experiments at parameter vectors, in parallel. Each run builds its
-/// own scene and model (parameters may change anything in them) and its own
-/// workspace; nothing is shared between threads but the read-only problem.
+/// Simulates the experiments at parameter vectors, in parallel (parallel_for).
+/// Each run takes an idle FitScene of its experiment (built on first use, one
+/// per worker at most), sets the values in place and simulates: nothing is
+/// rebuilt from JSON, and threads share nothing but the read-only problem.
 class Simulator {
  public:
-  struct Run {
-    bool ok = false;
-    std::string error;               ///< why the simulation failed
-    std::exception_ptr input_error;  ///< an InputError building the scene (a parameter value it rejects)
-    TimeSeries samples;
-  };
-
-  Simulator(const IdentifyProblem& problem, int threads) : problem_(problem), threads_(std::max(1, threads)) {}
+  Simulator(const IdentifyProblem& problem, int threads)
+      : problem_(problem), threads_(std::max(1, threads)), idle_(problem.experiments.size()) {}
 
   /// runs[j][k]: experiment k at parameter vector points[j].
-  std::vector<std::vector<Run>> run(const std::vector<std::vector<double>>& points) {
+  std::vector<std::vector<FitRun>> run(const std::vector<std::vector<double>>& points) {
     const std::size_t experiments = problem_.experiments.size();
     const std::size_t tasks = points.size() * experiments;
-    std::vector<std::vector<Run>> runs(points.size(), std::vector<Run>(experiments));
-    std::atomic<std::size_t> next{0};
-    auto worker = [&] {
-      for (std::size_t task = next++; task < tasks; task = next++) {
-        const std::size_t j = task / experiments, k = task % experiments;
-        runs[j][k] = simulate_one(problem_.experiments[k], points[j]);
-      }
-    };
-    const std::size_t n_threads = std::min<std::size_t>(static_cast<std::size_t>(threads_), tasks);
-    std::vector<std::thread> pool;
-    for (std::size_t t = 1; t < n_threads; ++t) pool.emplace_back(worker);
-    worker();
-    for (std::thread& t : pool) t.join();
+    std::vector<std::vector<FitRun>> runs(points.size(), std::vector<FitRun>(experiments));
+    parallel_for(tasks, threads_, [&](std::size_t task) {
+      const std::size_t j = task / experiments, k = task % experiments;
+      std::unique_ptr<FitScene> scene = acquire(k);
+      runs[j][k] = scene->run(points[j]);
+      release(k, std::move(scene));
+    });
     simulations_ += static_cast<long>(tasks);
     return runs;
   }
@@ -146,79 +129,32 @@ class Simulator {
   long simulations() const { return simulations_; }
 
  private:
-  Run simulate_one(const FitExperiment& experiment, const std::vector<double>& values) const {
-    Run run;
-    try {
-      const SceneConfig scene = scene_with(experiment.scene_json, problem_.parameters, values, problem_.source);
-      const Model model = build_model(scene, problem_.config_file);
-      Workspace ws;
-      SimulationOptions options;
-      options.record_series = false;
-      options.sample_times = experiment.record.time;
-      SimulationResult result = simulate(scene, model, ws, options);
-      throw_if_failed(result);
-      if (result.samples.time.size() != experiment.record.time.size()) {
-        run.error = "experiment '" + experiment.name + "': the simulation ended at " + fmt(result.end_time) +
-                    " s, before the last measured time";
-        return run;
+  std::unique_ptr<FitScene> acquire(std::size_t experiment) {
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      std::vector<std::unique_ptr<FitScene>>& idle = idle_[experiment];
+      if (!idle.empty()) {
+        std::unique_ptr<FitScene> scene = std::move(idle.back());
+        idle.pop_back();
+        return scene;
       }
-      run.samples = std::move(result.samples);
-      run.ok = true;
-    } catch (const InputError& e) {
-      run.error = std::string("experiment '") + experiment.name + "': " + e.what();
-      run.input_error = std::current_exception();
-    } catch (const std::exception& e) {
-      run.error = std::string("experiment '") + experiment.name + "': " + e.what();
     }
-    if (!run.ok) {
-      std::string at;
-      for (std::size_t i = 0; i < values.size(); ++i)
-        at += (i ? ", " : "") + problem_.parameters[i].name + " = " + fmt(values[i]);
-      run.error += " (at " + at + ")";
-    }
-    return run;
+    return std::make_unique<FitScene>(problem_.experiments[experiment], problem_.parameters, problem_.source);
+  }
+
+  void release(std::size_t experiment, std::unique_ptr<FitScene> scene) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    idle_[experiment].push_back(std::move(scene));
   }
 
   const IdentifyProblem& problem_;
   int threads_;
+  std::mutex mutex_;
+  std::vector<std::vector<std::unique_ptr<FitScene>>> idle_;  ///< per experiment
   std::atomic<long> simulations_{0};
 };
 
 // ---------------------------------------------------------------- residuals and their derivatives
-
-/// Moving average of d over the samples within ±width/2 [s] of each sample
-/// time, applied twice (a triangular kernel, so the result has a continuous
-/// derivative in a time shift).
-void smooth(const std::vector<double>& t, double* d, double width) {
-  const std::size_t n = t.size();
-  std::vector<double> prefix(n + 1);
-  for (int pass = 0; pass < 2; ++pass) {
-    prefix[0] = 0.0;
-    for (std::size_t i = 0; i < n; ++i) prefix[i + 1] = prefix[i] + d[i];
-    std::size_t lo = 0, hi = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-      while (t[lo] < t[i] - 0.5 * width) ++lo;
-      while (hi + 1 < n && t[hi + 1] <= t[i] + 0.5 * width) ++hi;
-      d[i] = (prefix[hi + 1] - prefix[lo]) / static_cast<double>(hi - lo + 1);
-    }
-  }
-}
-
-/// The weighted residuals of every experiment, in order (experiment, signal,
-/// sample); smoothed over `smoothing` [s] in the continuation stages.
-void weighted_residuals(const IdentifyProblem& problem, const std::vector<Simulator::Run>& runs, double smoothing,
-                        double* r) {
-  std::size_t row = 0;
-  for (std::size_t k = 0; k < problem.experiments.size(); ++k) {
-    const MeasuredRecord& rec = problem.experiments[k].record;
-    for (std::size_t s = 0; s < rec.signals.size(); ++s) {
-      const std::vector<double>& sim = column(runs[k].samples, rec.signals[s]);
-      double* group = r + row;
-      for (std::size_t i = 0; i < rec.time.size(); ++i) r[row++] = rec.weights[s] * (sim[i] - rec.values[s][i]);
-      if (smoothing > 0.0) smooth(rec.time, group, smoothing);
-    }
-  }
-}
 
 /// Parameter transforms: the solver works on z = ln p (log scale) or z = p.
 double to_value(const FitParameter& p, double z) { return p.log_scale ? std::exp(z) : z; }
@@ -241,6 +177,7 @@ class FitEvaluator {
       : problem_(problem),
         simulator_(simulator),
         smoothing_(smoothing),
+        assembler_(problem),
         n_(problem.residual_count()),
         p_(problem.parameters.size()) {}
 
@@ -307,9 +244,9 @@ class FitEvaluator {
       }
     }
 
-    const std::vector<std::vector<Simulator::Run>> runs = simulator_.run(points);
+    const std::vector<std::vector<FitRun>> runs = simulator_.run(points);
     for (const auto& point_runs : runs) {
-      for (const Simulator::Run& run : point_runs) {
+      for (const FitRun& run : point_runs) {
         if (run.ok) continue;
         ++failures_;
         last_failure_ = run.error;
@@ -319,7 +256,7 @@ class FitEvaluator {
     }
     if (!have_residuals) {
       r_.assign(n_, 0.0);
-      weighted_residuals(problem_, runs[0], smoothing_, r_.data());
+      assembler_.assemble(runs[0], smoothing_, r_.data());
     }
     j_.clear();
     if (!jacobian) return true;
@@ -328,11 +265,11 @@ class FitEvaluator {
     std::vector<double> r_plus(n_), r_minus(n_);
     for (std::size_t i = 0; i < p_; ++i) {
       if (plus_index[i] >= 0)
-        weighted_residuals(problem_, runs[static_cast<std::size_t>(plus_index[i])], smoothing_, r_plus.data());
+        assembler_.assemble(runs[static_cast<std::size_t>(plus_index[i])], smoothing_, r_plus.data());
       else
         r_plus = r_;
       if (minus_index[i] >= 0)
-        weighted_residuals(problem_, runs[static_cast<std::size_t>(minus_index[i])], smoothing_, r_minus.data());
+        assembler_.assemble(runs[static_cast<std::size_t>(minus_index[i])], smoothing_, r_minus.data());
       else
         r_minus = r_;
       const double dz = z_plus[i] - z_minus[i];
@@ -344,6 +281,7 @@ class FitEvaluator {
   const IdentifyProblem& problem_;
   Simulator& simulator_;
   double smoothing_;  ///< [s], 0 for the raw signals
+  ResidualAssembler assembler_;
   std::size_t n_, p_;
   std::mutex mutex_;
   std::vector<double> z_, r_, j_;
@@ -697,15 +635,12 @@ IdentifyProblem load_identify_problem(const Json& doc, const ConfigSource& sourc
 
 // ---------------------------------------------------------------- the fit
 
-IdentifyResult identify(const IdentifyProblem& problem, const IdentifyOptions& options) {
-  const auto wall_start = std::chrono::steady_clock::now();
-  const std::size_t p = problem.parameters.size();
-  const std::size_t n = problem.residual_count();
-  const SolverSpec& spec = problem.solver;
-  Simulator simulator(problem, options.threads);
-  IdentifyResult result;
+namespace {
 
-  // Robust loss scale: three noise standard deviations (weighted units), pooled over the signals.
+/// Robust loss scale: three noise standard deviations (weighted units),
+/// pooled over the signals; 0 without a loss.
+double loss_scale_of(const IdentifyProblem& problem) {
+  const SolverSpec& spec = problem.solver;
   double noise2 = 0.0;
   std::size_t signals = 0;
   for (const FitExperiment& e : problem.experiments) {
@@ -715,21 +650,23 @@ IdentifyResult identify(const IdentifyProblem& problem, const IdentifyOptions& o
     }
   }
   const double pooled_noise = std::sqrt(noise2 / static_cast<double>(std::max<std::size_t>(signals, 1)));
-  result.loss = spec.loss;
-  result.loss_scale = spec.loss == "none" ? 0.0 : spec.loss_scale.value_or(std::max(3.0 * pooled_noise, 1e-6));
+  return spec.loss == "none" ? 0.0 : spec.loss_scale.value_or(std::max(3.0 * pooled_noise, 1e-6));
+}
 
-  std::vector<double> z(p);
-  for (std::size_t i = 0; i < p; ++i) z[i] = to_scaled(problem.parameters[i], problem.parameters[i].initial);
-
-  // Continuation: fit the smoothed signals first (widest window first), so
-  // that simulated and measured impacts overlap and pull together, then the
-  // raw signals, whose fit gives the estimates and their covariance.
-  std::vector<double> widths = spec.smoothing;
+/// Continuation: fit the smoothed signals first (widest window first), so
+/// that simulated and measured impacts overlap and pull together, then the
+/// raw signals, whose fit gives the estimates and their covariance. z goes
+/// from the initial to the final scaled values; returns the last stage.
+std::unique_ptr<Stage> run_continuation(const IdentifyProblem& problem, Simulator& simulator,
+                                        const IdentifyOptions& options, std::vector<double>& z,
+                                        IdentifyResult& result) {
+  const std::size_t p = problem.parameters.size();
+  std::vector<double> widths = problem.solver.smoothing;
   std::sort(widths.begin(), widths.end(), std::greater<>());
   widths.push_back(0.0);
   std::unique_ptr<Stage> stage;
   for (const double width : widths) {
-    stage = solve_stage(problem, simulator, spec, width, result.loss_scale, options, z);
+    stage = solve_stage(problem, simulator, problem.solver, width, result.loss_scale, options, z);
     const ceres::Solver::Summary& summary = stage->summary;
     std::vector<double> stage_values(p);
     for (std::size_t i = 0; i < p; ++i) stage_values[i] = to_value(problem.parameters[i], z[i]);
@@ -742,9 +679,6 @@ IdentifyResult identify(const IdentifyProblem& problem, const IdentifyOptions& o
           std::to_string(stage->evaluator->failures()) +
           " trial steps failed to simulate and were rejected; the last: " + stage->evaluator->last_failure());
   }
-  FitEvaluator* cost = stage->evaluator.get();
-  ceres::Problem& ceres_problem = *stage->problem;
-  const ceres::LossFunction* loss = stage->loss.get();
   const ceres::Solver::Summary& summary = stage->summary;
   result.initial_cost = summary.initial_cost;
   result.final_cost = summary.final_cost;
@@ -753,77 +687,72 @@ IdentifyResult identify(const IdentifyProblem& problem, const IdentifyOptions& o
   if (summary.termination_type == ceres::NO_CONVERGENCE)
     result.warnings.push_back("the solver stopped after " + std::to_string(result.stages.back().iterations) +
                               " iterations without converging (solver.max_iterations): " + summary.message);
+  return stage;
+}
 
-  // Residuals and Jacobian (scaled parameters, without the loss) at the optimum.
-  if (!cost->evaluate(z.data(), true))
-    throw NumericalError("identification: the Jacobian at the optimum could not be evaluated: " + cost->last_failure());
-  const std::vector<double> r = cost->residuals();
-  Eigen::MatrixXd jac(n, p);
+/// The fit at the optimum: values, weighted residuals and their Jacobian in
+/// the scaled parameters (without the loss).
+struct Optimum {
+  std::vector<double> values;  ///< [unit of each field]
+  std::vector<double> r;
+  Eigen::MatrixXd jacobian;  ///< n × p
+  double dof = 0.0;          ///< n − p
+};
+
+Optimum evaluate_optimum(const IdentifyProblem& problem, FitEvaluator& cost, const std::vector<double>& z,
+                         IdentifyResult& result) {
+  const std::size_t p = problem.parameters.size();
+  const std::size_t n = problem.residual_count();
+  if (!cost.evaluate(z.data(), true))
+    throw NumericalError("identification: the Jacobian at the optimum could not be evaluated: " + cost.last_failure());
+  Optimum o;
+  o.r = cost.residuals();
+  o.jacobian.resize(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(p));
   for (std::size_t row = 0; row < n; ++row)
     for (std::size_t i = 0; i < p; ++i)
-      jac(static_cast<Eigen::Index>(row), static_cast<Eigen::Index>(i)) = cost->jacobian()[row * p + i];
+      o.jacobian(static_cast<Eigen::Index>(row), static_cast<Eigen::Index>(i)) = cost.jacobian()[row * p + i];
   double sum2 = 0.0;
-  for (double x : r) sum2 += x * x;
+  for (double x : o.r) sum2 += x * x;
   result.residuals = n;
   result.rms_residual = std::sqrt(sum2 / static_cast<double>(n));
-  const double dof = static_cast<double>(n) - static_cast<double>(p);
-  result.residual_sigma = std::sqrt(2.0 * result.final_cost / dof);
+  o.dof = static_cast<double>(n) - static_cast<double>(p);
+  result.residual_sigma = std::sqrt(2.0 * result.final_cost / o.dof);
+  o.values.resize(p);
+  for (std::size_t i = 0; i < p; ++i) o.values[i] = to_value(problem.parameters[i], z[i]);
+  return o;
+}
 
-  std::vector<double> values(p);
-  for (std::size_t i = 0; i < p; ++i) values[i] = to_value(problem.parameters[i], z[i]);
+std::vector<std::string> names_of(const IdentifyProblem& problem, const std::vector<std::size_t>& indices) {
+  std::vector<std::string> names;
+  for (std::size_t i : indices) names.push_back(problem.parameters[i].name);
+  return names;
+}
 
-  // Identifiability: singular values of the Jacobian with unit-norm columns, so
-  // that the parameters' units do not matter. A direction whose effect is
-  // below the finite-difference noise (integration error / step) is one the
-  // data cannot see at all.
-  double max_rtol = 0.0;
-  for (const FitExperiment& e : problem.experiments) max_rtol = std::max(max_rtol, e.scene.integrator.rtol);
-  const double rank_tolerance = std::clamp(10.0 * max_rtol / spec.fd_relative_step, 1e-10, 1e-2);
-  Eigen::VectorXd norms = jac.colwise().norm().transpose();
-  std::vector<bool> no_effect(p, false);
-  Eigen::MatrixXd equilibrated = jac;
-  for (std::size_t i = 0; i < p; ++i) {
-    const auto c = static_cast<Eigen::Index>(i);
-    // RMS change of the weighted signals (each of RMS 1) per relative change
-    // of the parameter: below the integration noise over the step, the
-    // parameter has no effect the simulation can resolve.
-    const FitParameter& par = problem.parameters[i];
-    const double sensitivity =
-        norms(c) * (par.log_scale ? 1.0 : std::max(std::abs(values[i]), par.scale)) / std::sqrt(static_cast<double>(n));
-    if (!(sensitivity > rank_tolerance)) {
-      no_effect[i] = true;
-      equilibrated.col(c).setZero();
-    } else {
-      equilibrated.col(c) /= norms(c);
-    }
-  }
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(equilibrated, Eigen::ComputeThinV);
-  const Eigen::VectorXd sv = svd.singularValues();
+/// Structural identifiability: a direction whose effect is below the
+/// finite-difference noise (integration error / step) is one the data cannot
+/// see at all. Fills the singular values and warnings; returns, per
+/// parameter, whether it is not identifiable (its standard error undefined).
+std::vector<bool> check_rank(const IdentifyProblem& problem, const Identifiability& id, double rank_tolerance,
+                             IdentifyResult& result) {
+  const std::size_t p = problem.parameters.size();
+  const Eigen::VectorXd& sv = id.singular_values;
   for (Eigen::Index i = 0; i < sv.size(); ++i) result.singular_values.push_back(sv(i));
+  result.condition_number = id.condition_number;
   const double sv_max = sv.size() > 0 ? sv(0) : 0.0;
-  const double sv_min = sv.size() > 0 ? sv(sv.size() - 1) : 0.0;
-  result.condition_number = sv_min > 0.0 ? sv_max / sv_min : kInf;
-
-  std::vector<bool> undetermined(p, false);  // standard error undefined
   std::vector<bool> unidentifiable(p, false);
-  auto names_of = [&](const std::vector<std::size_t>& idx) {
-    std::vector<std::string> names;
-    for (std::size_t i : idx) names.push_back(problem.parameters[i].name);
-    return names;
-  };
   for (std::size_t i = 0; i < p; ++i) {
-    if (!no_effect[i]) continue;
-    undetermined[i] = unidentifiable[i] = true;
+    if (!id.no_effect[i]) continue;
+    unidentifiable[i] = true;
     result.warnings.push_back(
         "not identifiable: " + problem.parameters[i].name +
         " has no effect on the fitted signals (a change of it changes them by less than the integration error)");
   }
   for (Eigen::Index k = 0; k < sv.size(); ++k) {
     if (sv(k) >= rank_tolerance * sv_max) continue;
-    const Eigen::VectorXd v = svd.matrixV().col(k);
+    const Eigen::VectorXd v = id.directions.col(k);
     std::vector<std::size_t> involved;
     for (std::size_t i = 0; i < p; ++i)
-      if (!no_effect[i] && std::abs(v(static_cast<Eigen::Index>(i))) >= 0.1) involved.push_back(i);
+      if (!id.no_effect[i] && std::abs(v(static_cast<Eigen::Index>(i))) >= 0.1) involved.push_back(i);
     if (involved.empty()) continue;
     std::ostringstream dir;
     dir.precision(3);
@@ -833,80 +762,80 @@ IdentifyResult identify(const IdentifyProblem& problem, const IdentifyOptions& o
       dir << (j == 0 ? (c < 0 ? "-" : "") : (c < 0 ? " - " : " + ")) << std::abs(c) << " "
           << (par.log_scale ? "ln " : "") << par.name;
     }
-    for (std::size_t i : involved) undetermined[i] = unidentifiable[i] = true;
+    for (std::size_t i : involved) unidentifiable[i] = true;
     std::ostringstream msg;
     msg.precision(3);
-    msg << "not identifiable: the data cannot separate " << join_names(names_of(involved))
+    msg << "not identifiable: the data cannot separate " << join_names(names_of(problem, involved))
         << " (rank-deficient Jacobian, singular value ratio " << sv(k) / sv_max << " below the finite-difference noise "
         << rank_tolerance << "); changing them along (" << dir.str()
         << ") [unit-normalised] leaves the fit unchanged. Fix one of them or add data that separates them.";
     result.warnings.push_back(msg.str());
   }
+  return unidentifiable;
+}
 
-  // Covariance of the scaled parameters. The weights normalise units, not
-  // noise, so each record's signal gets its own residual variance σ_g² (records
-  // of different drops or sensors are not equally noisy) and the covariance is
-  // the sandwich A (Σ_g σ_g² J_gᵀ J_g) A with A = (Σ ψ'(r) JᵀJ)⁻¹ from Ceres
-  // (pseudo-inverse where rank-deficient; ψ = ρ'(r²) r is the influence of a
-  // residual under the robust loss ρ, ψ' = 1 without one) and σ_g² the mean
-  // ψ² of the record: with one record and no loss this is σ² (JᵀJ)⁻¹, with a
-  // loss the M-estimator covariance (Huber 1981, ch. 7).
-  Eigen::MatrixXd cov_z = Eigen::MatrixXd::Constant(static_cast<Eigen::Index>(p), static_cast<Eigen::Index>(p),
-                                                    std::numeric_limits<double>::quiet_NaN());
-  bool have_covariance = false;
-  if (dof <= 0.0) {
+/// Covariance of the scaled parameters. The weights normalise units, not
+/// noise, so each record's signal gets its own residual variance σ_g² (records
+/// of different drops or sensors are not equally noisy): the sandwich of
+/// sandwich_covariance() with A = (Σ ψ'(r) JᵀJ)⁻¹ from Ceres (pseudo-inverse
+/// where rank-deficient; ψ = ρ'(r²) r is the influence of a residual under the
+/// robust loss ρ, ψ' = 1 without one): with one record and no loss σ² (JᵀJ)⁻¹,
+/// with a loss the M-estimator covariance (Huber 1981, ch. 7). Null (and a
+/// warning) when it cannot be computed.
+std::optional<Eigen::MatrixXd> covariance_at_optimum(const IdentifyProblem& problem, Stage& stage,
+                                                     std::vector<double>& z, const Optimum& o,
+                                                     IdentifyResult& result) {
+  const std::size_t p = problem.parameters.size();
+  if (o.dof <= 0.0) {
     result.warnings.push_back("no standard errors: as many parameters as measured values");
-  } else {
-    ceres::Covariance::Options cov_options;
-    cov_options.algorithm_type = ceres::DENSE_SVD;
-    cov_options.null_space_rank = -1;
-    cov_options.min_reciprocal_condition_number = 1e-14;
-    cov_options.apply_loss_function = true;
-    cov_options.num_threads = 1;
-    ceres::Covariance covariance(cov_options);
-    std::vector<std::pair<const double*, const double*>> blocks = {{z.data(), z.data()}};
-    if (!covariance.Compute(blocks, &ceres_problem)) {
-      result.warnings.push_back("no standard errors: Ceres could not compute the covariance at the optimum");
-    } else {
-      std::vector<double> c(p * p);
-      if (!covariance.GetCovarianceBlock(z.data(), z.data(), c.data())) {
-        result.warnings.push_back("no standard errors: Ceres could not return the covariance block");
-      } else {
-        const auto pp = static_cast<Eigen::Index>(p);
-        const Eigen::MatrixXd a =
-            Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(c.data(), pp, pp);
-        Eigen::MatrixXd b = Eigen::MatrixXd::Zero(pp, pp);
-        Eigen::Index row = 0;
-        for (const FitExperiment& e : problem.experiments) {
-          const auto rows = static_cast<Eigen::Index>(e.record.time.size());
-          for (std::size_t s = 0; s < e.record.signals.size(); ++s, row += rows) {
-            double group2 = 0.0;
-            for (Eigen::Index i = row; i < row + rows; ++i) {
-              const double ri = r[static_cast<std::size_t>(i)];
-              double rho[3] = {ri * ri, 1.0, 0.0};
-              if (loss != nullptr) loss->Evaluate(ri * ri, rho);
-              group2 += rho[1] * rho[1] * ri * ri;  // ψ²
-            }
-            const double group_dof = static_cast<double>(rows) * dof / static_cast<double>(n);
-            const auto j_g = jac.middleRows(row, rows);
-            b.noalias() += (group2 / group_dof) * (j_g.transpose() * j_g);
-          }
-        }
-        cov_z = a * b * a;
-        have_covariance = true;
-      }
-    }
+    return std::nullopt;
   }
-  if (cost->input_error()) std::rethrow_exception(cost->input_error());
+  ceres::Covariance::Options cov_options;
+  cov_options.algorithm_type = ceres::DENSE_SVD;
+  cov_options.null_space_rank = -1;
+  cov_options.min_reciprocal_condition_number = 1e-14;
+  cov_options.apply_loss_function = true;
+  cov_options.num_threads = 1;
+  ceres::Covariance covariance(cov_options);
+  std::vector<std::pair<const double*, const double*>> blocks = {{z.data(), z.data()}};
+  if (!covariance.Compute(blocks, stage.problem.get())) {
+    result.warnings.push_back("no standard errors: Ceres could not compute the covariance at the optimum");
+    return std::nullopt;
+  }
+  std::vector<double> c(p * p);
+  if (!covariance.GetCovarianceBlock(z.data(), z.data(), c.data())) {
+    result.warnings.push_back("no standard errors: Ceres could not return the covariance block");
+    return std::nullopt;
+  }
+  const auto pp = static_cast<Eigen::Index>(p);
+  const Eigen::MatrixXd a =
+      Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(c.data(), pp, pp);
+  std::vector<double> loss_weights(o.r.size());
+  for (std::size_t i = 0; i < o.r.size(); ++i) {
+    const double ri = o.r[i];
+    double rho[3] = {ri * ri, 1.0, 0.0};
+    if (stage.loss != nullptr) stage.loss->Evaluate(ri * ri, rho);
+    loss_weights[i] = rho[1];
+  }
+  std::vector<std::size_t> group_rows;
+  for (const FitExperiment& e : problem.experiments)
+    for (std::size_t s = 0; s < e.record.signals.size(); ++s) group_rows.push_back(e.record.time.size());
+  return sandwich_covariance(a, o.jacobian, o.r, loss_weights, group_rows, o.dof);
+}
 
-  // Estimates; the delta method scales log-parameter errors back: σ_p = p σ_ln p.
+/// Estimates, their standard errors (the delta method scales log-parameter
+/// errors back: σ_p = p σ_ln p) and correlations; warns of estimates on a bound.
+void record_estimates(const IdentifyProblem& problem, const std::vector<double>& z, const Optimum& o,
+                      const std::optional<Eigen::MatrixXd>& cov_z, const std::vector<bool>& undetermined,
+                      IdentifyResult& result) {
+  const std::size_t p = problem.parameters.size();
   std::vector<double> std_z(p, std::numeric_limits<double>::quiet_NaN());
   for (std::size_t i = 0; i < p; ++i) {
     const FitParameter& par = problem.parameters[i];
     ParameterEstimate est;
     est.name = par.name;
     est.path = par.path;
-    est.value = values[i];
+    est.value = o.values[i];
     est.initial = par.initial;
     est.log_scale = par.log_scale;
     if (std::isfinite(par.lower)) est.lower = par.lower;
@@ -914,15 +843,16 @@ IdentifyResult identify(const IdentifyProblem& problem, const IdentifyOptions& o
     const double lo = scaled_lower(par), hi = scaled_upper(par);
     const double tol = 1e-9 * std::max(1.0, std::abs(z[i]));
     est.at_bound = (std::isfinite(lo) && z[i] - lo <= tol) || (std::isfinite(hi) && hi - z[i] <= tol);
-    const double var = cov_z(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(i));
-    if (have_covariance && !undetermined[i] && std::isfinite(var) && var >= 0.0) {
+    const double var = cov_z ? (*cov_z)(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(i))
+                             : std::numeric_limits<double>::quiet_NaN();
+    if (cov_z && !undetermined[i] && std::isfinite(var) && var >= 0.0) {
       std_z[i] = std::sqrt(var);
-      est.std_error = par.log_scale ? values[i] * std_z[i] : std_z[i];
+      est.std_error = par.log_scale ? o.values[i] * std_z[i] : std_z[i];
     }
     if (est.at_bound)
       result.warnings.push_back(par.name + " ended on its " +
                                 (std::isfinite(lo) && z[i] - lo <= tol ? std::string("lower") : std::string("upper")) +
-                                " bound (" + fmt(values[i]) +
+                                " bound (" + fmt(o.values[i]) +
                                 "): the optimum may lie beyond it and its standard error is not meaningful");
     result.parameters.push_back(est);
   }
@@ -930,14 +860,19 @@ IdentifyResult identify(const IdentifyProblem& problem, const IdentifyOptions& o
   for (std::size_t i = 0; i < p; ++i) {
     for (std::size_t j = 0; j < p; ++j) {
       if (!(std_z[i] > 0.0) || !(std_z[j] > 0.0)) continue;
-      const double rho = cov_z(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) / (std_z[i] * std_z[j]);
+      const double rho = (*cov_z)(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) / (std_z[i] * std_z[j]);
       if (std::isfinite(rho)) result.correlation[i][j] = i == j ? 1.0 : std::clamp(rho, -1.0, 1.0);
     }
   }
+}
 
-  // Practical identifiability: a parameter known only to worse than
-  // max_relative_std_error of its value is not determined by these data. The
-  // weakest direction of the Jacobian says which parameters trade off with it.
+/// Practical identifiability: a parameter known only to worse than
+/// max_relative_std_error of its value is not determined by these data. The
+/// weakest direction of the Jacobian says which parameters trade off with it.
+void check_standard_errors(const IdentifyProblem& problem, const Identifiability& id,
+                           std::vector<bool>& unidentifiable, IdentifyResult& result) {
+  const std::size_t p = problem.parameters.size();
+  const SolverSpec& spec = problem.solver;
   std::vector<std::size_t> weak;
   for (std::size_t i = 0; i < p; ++i) {
     const ParameterEstimate& est = result.parameters[i];
@@ -945,48 +880,46 @@ IdentifyResult identify(const IdentifyProblem& problem, const IdentifyOptions& o
     const double rel = *est.std_error / (est.value != 0.0 ? std::abs(est.value) : problem.parameters[i].scale);
     if (rel > spec.max_relative_std_error) weak.push_back(i);
   }
-  if (!weak.empty()) {
-    std::vector<std::size_t> involved = weak;
-    const Eigen::VectorXd v = svd.matrixV().col(svd.matrixV().cols() - 1);
-    bool weak_in_direction = false;
-    for (std::size_t i : weak)
-      weak_in_direction = weak_in_direction || std::abs(v(static_cast<Eigen::Index>(i))) >= 0.2;
-    if (weak_in_direction) {
-      for (std::size_t i = 0; i < p; ++i)
-        if (std::abs(v(static_cast<Eigen::Index>(i))) >= 0.2 &&
-            std::find(involved.begin(), involved.end(), i) == involved.end())
-          involved.push_back(i);
-      std::sort(involved.begin(), involved.end());
-    }
-    std::ostringstream msg;
-    msg.precision(3);
-    msg << "not identifiable: the data do not determine " << join_names(names_of(involved))
-        << " (relative standard error";
-    for (std::size_t j = 0; j < involved.size(); ++j) {
-      const ParameterEstimate& est = result.parameters[involved[j]];
-      msg << (j == 0 ? " " : ", ")
-          << (est.std_error ? percent(*est.std_error / std::max(std::abs(est.value), 1e-300))
-                            : std::string("undefined"));
-    }
-    msg << "; limit solver.max_relative_std_error = " << percent(spec.max_relative_std_error) << ")";
-    if (involved.size() == 2 && result.correlation[involved[0]][involved[1]])
-      msg << ", correlation " << *result.correlation[involved[0]][involved[1]];
-    if (involved.size() > 1)
-      msg << ": they trade off against each other. Fix one of them or add data that separates them"
-             " (other drop heights, other speeds).";
-    else
-      msg << ": the signals hardly depend on it. Fix it or add data that excites it.";
-    result.warnings.push_back(msg.str());
-    for (std::size_t i : involved) unidentifiable[i] = true;
+  if (weak.empty()) return;
+  std::vector<std::size_t> involved = weak;
+  const Eigen::VectorXd v = id.directions.col(id.directions.cols() - 1);
+  bool weak_in_direction = false;
+  for (std::size_t i : weak) weak_in_direction = weak_in_direction || std::abs(v(static_cast<Eigen::Index>(i))) >= 0.2;
+  if (weak_in_direction) {
+    for (std::size_t i = 0; i < p; ++i)
+      if (std::abs(v(static_cast<Eigen::Index>(i))) >= 0.2 &&
+          std::find(involved.begin(), involved.end(), i) == involved.end())
+        involved.push_back(i);
+    std::sort(involved.begin(), involved.end());
   }
-  result.identifiable = std::none_of(unidentifiable.begin(), unidentifiable.end(), [](bool b) { return b; });
-  for (std::size_t i = 0; i < p; ++i) result.parameters[i].identifiable = !unidentifiable[i];
+  std::ostringstream msg;
+  msg.precision(3);
+  msg << "not identifiable: the data do not determine " << join_names(names_of(problem, involved))
+      << " (relative standard error";
+  for (std::size_t j = 0; j < involved.size(); ++j) {
+    const ParameterEstimate& est = result.parameters[involved[j]];
+    msg << (j == 0 ? " " : ", ")
+        << (est.std_error ? percent(*est.std_error / std::max(std::abs(est.value), 1e-300)) : std::string("undefined"));
+  }
+  msg << "; limit solver.max_relative_std_error = " << percent(spec.max_relative_std_error) << ")";
+  if (involved.size() == 2 && result.correlation[involved[0]][involved[1]])
+    msg << ", correlation " << *result.correlation[involved[0]][involved[1]];
+  if (involved.size() > 1)
+    msg << ": they trade off against each other. Fix one of them or add data that separates them"
+           " (other drop heights, other speeds).";
+  else
+    msg << ": the signals hardly depend on it. Fix it or add data that excites it.";
+  result.warnings.push_back(msg.str());
+  for (std::size_t i : involved) unidentifiable[i] = true;
+}
 
-  // Measured against fitted, at the optimum.
-  const std::vector<std::vector<Simulator::Run>> runs = simulator.run({values});
+/// Measured against fitted, at the optimum; warns of a misfit well above the noise.
+void record_fits(const IdentifyProblem& problem, Simulator& simulator, const std::vector<double>& values,
+                 IdentifyResult& result) {
+  const std::vector<std::vector<FitRun>> runs = simulator.run({values});
   for (std::size_t k = 0; k < problem.experiments.size(); ++k) {
     const FitExperiment& e = problem.experiments[k];
-    const Simulator::Run& run = runs[0][k];
+    const FitRun& run = runs[0][k];
     if (!run.ok) throw NumericalError("identification: the simulation at the optimum failed: " + run.error);
     ExperimentFit fit;
     fit.name = e.name;
@@ -995,7 +928,7 @@ IdentifyResult identify(const IdentifyProblem& problem, const IdentifyOptions& o
     fit.measured = e.record.values;
     fit.weights = e.record.weights;
     fit.noise = e.record.noise;
-    for (const std::string& s : e.record.signals) fit.fitted.push_back(column(run.samples, s));
+    fit.fitted = run.signals;
     for (std::size_t s = 0; s < fit.signals.size(); ++s) {
       double e2 = 0.0;
       for (std::size_t i = 0; i < fit.time.size(); ++i) e2 += std::pow(fit.fitted[s][i] - fit.measured[s][i], 2);
@@ -1009,7 +942,47 @@ IdentifyResult identify(const IdentifyProblem& problem, const IdentifyOptions& o
     }
     result.fits.push_back(std::move(fit));
   }
-  result.identified_scene = scene_with(to_json(problem.scene), problem.parameters, values, problem.source);
+}
+
+}  // namespace
+
+IdentifyResult identify(const IdentifyProblem& problem, const IdentifyOptions& options) {
+  const auto wall_start = std::chrono::steady_clock::now();
+  const std::size_t p = problem.parameters.size();
+  const SolverSpec& spec = problem.solver;
+  Simulator simulator(problem, options.threads);
+  IdentifyResult result;
+  result.loss = spec.loss;
+  result.loss_scale = loss_scale_of(problem);
+
+  std::vector<double> z(p);
+  for (std::size_t i = 0; i < p; ++i) z[i] = to_scaled(problem.parameters[i], problem.parameters[i].initial);
+  const std::unique_ptr<Stage> stage = run_continuation(problem, simulator, options, z, result);
+  FitEvaluator& cost = *stage->evaluator;
+  const Optimum optimum = evaluate_optimum(problem, cost, z, result);
+
+  // The rank tolerance: the finite-difference noise, integration error over the step.
+  double max_rtol = 0.0;
+  for (const FitExperiment& e : problem.experiments) max_rtol = std::max(max_rtol, e.scene.integrator.rtol);
+  const double rank_tolerance = std::clamp(10.0 * max_rtol / spec.fd_relative_step, 1e-10, 1e-2);
+  std::vector<double> magnitudes(p);
+  for (std::size_t i = 0; i < p; ++i) {
+    const FitParameter& par = problem.parameters[i];
+    magnitudes[i] = par.log_scale ? 1.0 : std::max(std::abs(optimum.values[i]), par.scale);
+  }
+  const Identifiability id = identifiability(optimum.jacobian, magnitudes, rank_tolerance);
+  std::vector<bool> unidentifiable = check_rank(problem, id, rank_tolerance, result);
+  const std::vector<bool> undetermined = unidentifiable;  // standard error undefined
+  const std::optional<Eigen::MatrixXd> cov_z = covariance_at_optimum(problem, *stage, z, optimum, result);
+  if (cost.input_error()) std::rethrow_exception(cost.input_error());
+
+  record_estimates(problem, z, optimum, cov_z, undetermined, result);
+  check_standard_errors(problem, id, unidentifiable, result);
+  result.identifiable = std::none_of(unidentifiable.begin(), unidentifiable.end(), [](bool b) { return b; });
+  for (std::size_t i = 0; i < p; ++i) result.parameters[i].identifiable = !unidentifiable[i];
+
+  record_fits(problem, simulator, optimum.values, result);
+  result.identified_scene = scene_with(to_json(problem.scene), problem.parameters, optimum.values, problem.source);
   result.simulations = simulator.simulations();
   result.run_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   return result;

@@ -116,7 +116,7 @@ PairSolution solve_general(const Model& m, Workspace& ws, double t, const double
     ps.ok = pair.valid() && profile_pair_rates(pair, m.tracking_gain, ps.u_rate, ps.v_rate) == PairStatus::converged;
     ps.drift = ps.ok ? (pair.jacobian.inverse() * pair.f).cwiseAbs().maxCoeff() : INFINITY;
   } else {
-    if (!ws.pair_search) prepare_workspace(m, ws);  // only when evaluate() is called without simulate()
+    assert(ws.pair_search && ws.pair_search_cam == m.pair_cam && "make_workspace(model) before evaluate()");
     double u = ws.u_warm, v = ws.v_warm;
     const long searches = ws.pair_search->global_searches;
     ps.ok = track_profile_pair(*m.pair_cam, *m.pair_follower, cam, follower, *ws.pair_search, u, v, pair);
@@ -520,6 +520,13 @@ Model build_model(const SceneConfig& scene, const std::string& file) {
   }
   model.state_size = next;
 
+  list_elements(model);
+  return model;
+}
+
+void list_elements(Model& model) {
+  const bool oscillating = model.follower.oscillating();
+  model.elements.clear();
   model.elements.push_back(oscillating ? "arm_inertia" : "follower_mass");
   if (model.spring_stiffness > 0.0 || model.spring_preload > 0.0)
     model.elements.push_back(oscillating ? "torsional_spring" : "spring");
@@ -535,7 +542,6 @@ Model build_model(const SceneConfig& scene, const std::string& file) {
     if (model.shaft_damping > 0.0) model.elements.push_back("shaft_damper");
     model.elements.push_back(model.motor == Motor::torque_speed ? "motor:torque_speed" : "motor:constant_speed");
   }
-  return model;
 }
 
 BodyMotion follower_motion(const FollowerGeometry& follower, double q, double q_dot) {
@@ -544,14 +550,37 @@ BodyMotion follower_motion(const FollowerGeometry& follower, double q, double q_
   return BodyMotion::make(0.0, Eigen::Vector2d(follower.offset, follower.y0 + q), 0.0, Eigen::Vector2d(0.0, q_dot));
 }
 
+Workspace make_workspace(const Model& model) {
+  Workspace ws;
+  prepare_workspace(model, ws);
+  return ws;
+}
+
 void prepare_workspace(const Model& model, Workspace& ws) {
-  ws.pair_search.reset();
-  if (model.pair_form != PairForm::general) return;
-  ws.pair_search = std::make_shared<PairTrackerWorkspace>(*model.pair_cam, *model.pair_follower);
+  // The per-run state of a fresh workspace.
+  const Workspace fresh;
+  ws.v0 = fresh.v0;
+  ws.u_warm = fresh.u_warm;
+  ws.tracking_resets = fresh.tracking_resets;
+  ws.motor_phase = fresh.motor_phase;
+  ws.v_warm = fresh.v_warm;
+  if (model.pair_form != PairForm::general) {
+    ws.pair_search.reset();
+    ws.pair_search_cam.reset();
+    ws.pair_search_follower.reset();
+    return;
+  }
+  if (!ws.pair_search || ws.pair_search_cam != model.pair_cam || ws.pair_search_follower != model.pair_follower) {
+    ws.pair_search = std::make_shared<PairTrackerWorkspace>(*model.pair_cam, *model.pair_follower);
+    ws.pair_search_cam = model.pair_cam;
+    ws.pair_search_follower = model.pair_follower;
+  }
+  // The search samples depend on the profiles only; its counters restart.
+  ws.pair_search->global_searches = 0;
+  ws.pair_search->newton_failures = 0;
   // Follower parameter guess: the face centre, or the roller point facing the
   // cam centre at the lowest position (body frame).
   const FollowerGeometry& fg = model.follower;
-  ws.v_warm = 0.0;
   if (fg.circle()) {
     Vec2<double> c, c_q;
     fg.centre(0.0, c, c_q);

@@ -145,14 +145,25 @@ struct Workspace {
   long tracking_resets = 0;  ///< global re-initialisations of the pair
   double motor_phase = 0.0;  ///< constant-speed motor with a shaft: θ_m = θ(t) + motor_phase [rad]
   double v_warm = 0.0;       ///< general pair form: follower profile parameter at the last accepted state
-  /// General pair form: the global search's samples and scratch (made by
-  /// prepare_workspace, which simulate() calls before a run).
+  /// General pair form: the global search's samples and scratch, made for
+  /// the profiles below (held, so that a workspace made for another model's
+  /// profiles is recognised and remade, never reused).
   std::shared_ptr<PairTrackerWorkspace> pair_search;
+  std::shared_ptr<const PairProfile> pair_search_cam, pair_search_follower;
 };
 
-/// Allocates what the workspace needs for this model (the general pair
-/// form's search samples), so that evaluate() allocates nothing.
+/// A workspace for this model with everything evaluate() needs allocated
+/// (the general pair form's search samples): make one per worker and reuse
+/// it for every run of the model (simulate() resets the per-run state).
+Workspace make_workspace(const Model& model);
+
+/// Puts the workspace into the state a fresh one made for this model has at
+/// the start of a run (simulate() calls it first). Allocates only when the
+/// workspace was not made for this model's pair profiles.
 void prepare_workspace(const Model& model, Workspace& ws);
+
+/// Lists the force elements the model assembles in model.elements (summary.json `model`).
+void list_elements(Model& model);
 
 /// The follower body's pose and velocity for the general pair form: origin
 /// (e, y₀ + q) for a translating follower, the pivot turned to ψ₀ + κ q for an

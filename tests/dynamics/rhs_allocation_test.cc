@@ -52,17 +52,9 @@ TEST(RightHandSide, AllocatesNothingInEveryTrackingMode) {
 TEST(RightHandSide, AllocatesNothingForAnyFollowerFrictionOrDrive) {
   for (const std::string& kind : test::follower_kinds()) {
     for (const Tracking tracking : {Tracking::differential, Tracking::newton}) {
-      SceneConfig scene = test::follower_scene(kind, 1000.0, ContactModel::lankarani_nikravesh);
+      SceneConfig scene = test::fully_loaded_scene(kind, 1000.0, ContactModel::lankarani_nikravesh);
       const bool oscillating = scene.mechanism.follower.motion == FollowerMotion::oscillating;
       scene.mechanism.contact.tracking = tracking;
-      scene.mechanism.contact.friction.mu = 0.1;
-      if (scene.mechanism.follower.shape.type == FollowerShape::roller) scene.mechanism.follower.shape.inertia = 1e-6;
-      if (oscillating) scene.mechanism.follower.pivot_friction = PivotFrictionConfig{0.1, 0.005, 1e-4};
-      else scene.mechanism.follower.guide_friction = GuideFrictionConfig{0.1, 1e-4};
-      scene.mechanism.cam.drive.type = Drive::shaft;
-      scene.mechanism.cam.drive.inertia = 0.01;
-      scene.mechanism.cam.drive.torsional_stiffness = 1e4;
-      scene.mechanism.cam.drive.motor = MotorConfig{Motor::torque_speed, 10.0, 2000.0, 1e-3};
       const Model model = build_model(scene, "test");
       Workspace ws;
       double y[Model::kMaxState] = {};
@@ -81,7 +73,7 @@ TEST(RightHandSide, AllocatesNothingForAnyFollowerFrictionOrDrive) {
 }
 
 TEST(RightHandSide, AllocatesNothingWithTheGeneralPairFormOrAContourCam) {
-  // The general form's search samples are made by prepare_workspace (once per run).
+  // The general form's search samples are made by make_workspace (once per worker).
   for (const bool contour : {false, true}) {
     for (const Tracking tracking : {Tracking::differential, Tracking::newton}) {
       SceneConfig scene = test::follower_scene("translating_roller", 1000.0, ContactModel::lankarani_nikravesh);
@@ -89,8 +81,7 @@ TEST(RightHandSide, AllocatesNothingWithTheGeneralPairFormOrAContourCam) {
       scene.mechanism.contact.pair_form = contour ? PairFormChoice::automatic : PairFormChoice::general;
       if (contour) test::use_eccentric_disc_contour(scene, 64);
       const Model model = build_model(scene, "test");
-      Workspace ws;
-      prepare_workspace(model, ws);
+      Workspace ws = make_workspace(model);
       double y[Model::kMaxState] = {0.002, 0.3};
       ws.u_warm = model.pair_guess(0.8);
       if (model.index_u >= 0) y[model.index_u] = ws.u_warm;

@@ -131,4 +131,22 @@ inline const std::vector<std::string>& follower_kinds() {
   return kinds;
 }
 
+/// follower_scene(kind) with every optional element: contact friction μ = 0.1
+/// (a roller with spin inertia 1e-6 kg m²), guide or pivot friction μ = 0.1,
+/// and a shaft drive (J_c = 0.01 kg m², k_s = 1e4 N m/rad) from a torque-speed
+/// motor (10 N m stall, 2000 rpm no load, J_m = 1e-3 kg m²).
+inline SceneConfig fully_loaded_scene(const std::string& kind, double rpm, ContactModel model) {
+  SceneConfig scene = follower_scene(kind, rpm, model);
+  FollowerConfig& f = scene.mechanism.follower;
+  scene.mechanism.contact.friction.mu = 0.1;
+  if (f.shape.type == FollowerShape::roller) f.shape.inertia = 1e-6;
+  if (f.motion == FollowerMotion::oscillating) f.pivot_friction = PivotFrictionConfig{0.1, 0.005, 1e-4};
+  else f.guide_friction = GuideFrictionConfig{0.1, 1e-4};
+  scene.mechanism.cam.drive.type = Drive::shaft;
+  scene.mechanism.cam.drive.inertia = 0.01;
+  scene.mechanism.cam.drive.torsional_stiffness = 1e4;
+  scene.mechanism.cam.drive.motor = MotorConfig{Motor::torque_speed, 10.0, 2000.0, 1e-3};
+  return scene;
+}
+
 }  // namespace camdyn::test

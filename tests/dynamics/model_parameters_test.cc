@@ -1,0 +1,212 @@
+// The parameter block set in place (dynamics/model_parameters.h) gives the
+// model build_model() makes from the scene with those values, to the last
+// bit, and a workspace reused across runs gives the runs of a fresh one.
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "common/errors.h"
+#include "dynamics/model.h"
+#include "dynamics/model_parameters.h"
+#include "dynamics/simulation.h"
+#include "io/config.h"
+#include "scenes.h"
+
+namespace camdyn {
+namespace {
+
+/// Every double of two runs is equal (EXPECT_EQ: identical, not close).
+void expect_identical(const SimulationResult& a, const SimulationResult& b, const std::string& what) {
+  const std::vector<const std::vector<double>*> ca = a.series.columns(), cb = b.series.columns();
+  ASSERT_EQ(ca.size(), cb.size());
+  for (std::size_t k = 0; k < ca.size(); ++k) {
+    ASSERT_EQ(ca[k]->size(), cb[k]->size()) << what << " column " << k;
+    for (std::size_t i = 0; i < ca[k]->size(); ++i) ASSERT_EQ((*ca[k])[i], (*cb[k])[i]) << what << " column " << k;
+  }
+  EXPECT_EQ(a.metrics.peak_contact_force, b.metrics.peak_contact_force) << what;
+  EXPECT_EQ(a.metrics.max_penetration, b.metrics.max_penetration) << what;
+  EXPECT_EQ(a.metrics.energy_residual, b.metrics.energy_residual) << what;
+  EXPECT_EQ(a.metrics.impact_count, b.metrics.impact_count) << what;
+  EXPECT_EQ(a.solver.counters.steps, b.solver.counters.steps) << what;
+  EXPECT_EQ(a.solver.tracking_resets, b.solver.tracking_resets) << what;
+  EXPECT_EQ(a.events.size(), b.events.size()) << what;
+}
+
+/// The scene with every parameter-block value changed (structure kept).
+SceneConfig with_other_parameters(SceneConfig s) {
+  FollowerConfig& f = s.mechanism.follower;
+  (f.motion == FollowerMotion::oscillating ? f.inertia : f.mass) *= 1.3;
+  f.spring.stiffness *= 0.9;
+  f.spring.preload *= 1.1;
+  f.damping = 7.5;
+  ContactConfig& c = s.mechanism.contact;
+  c.stiffness = 2.5e9;
+  c.exponent = 1.4;
+  c.restitution = 0.65;
+  if (c.damping) c.damping = 300.0;
+  c.reference_velocity = 0.02;
+  if (c.friction.mu > 0.0) c.friction.mu = 0.15;
+  c.friction.regularization_velocity = 2e-4;
+  if (f.guide_friction) *f.guide_friction = {0.2, 3e-4};
+  if (f.pivot_friction) *f.pivot_friction = {0.2, 0.004, 3e-4};
+  if (f.shape.type == FollowerShape::roller && f.shape.inertia > 0.0) f.shape.inertia = 2e-6;
+  DriveConfig& d = s.mechanism.cam.drive;
+  if (d.type == Drive::shaft) {
+    d.inertia = 0.012;
+    d.torsional_stiffness = 2e4;
+    d.torsional_damping = 0.5;
+    if (d.motor.type == Motor::torque_speed) d.motor = MotorConfig{Motor::torque_speed, 12.0, 2100.0, 2e-3};
+  }
+  return s;
+}
+
+/// In place on a model of `base` against build_model(changed), both simulated.
+void expect_in_place_equals_built(const SceneConfig& base, const std::string& what) {
+  const SceneConfig changed = with_other_parameters(base);
+  Model in_place = build_model(base, "test");
+  Workspace ws = make_workspace(in_place);
+  simulate(base, in_place, ws);  // the reused workspace has run before
+  const ModelParameters p = model_parameters(changed, in_place);
+  ASSERT_TRUE(same_structure(in_place, p)) << what;
+  set_parameters(in_place, p, "test");
+  const Model built = build_model(changed, "test");
+  EXPECT_EQ(in_place.mass, built.mass) << what;
+  EXPECT_EQ(in_place.contact.stiffness, built.contact.stiffness) << what;
+  EXPECT_EQ(in_place.contact.chi(), built.contact.chi()) << what;
+  EXPECT_EQ(in_place.no_load_speed, built.no_load_speed) << what;
+  EXPECT_EQ(in_place.elements, built.elements) << what;
+  Workspace fresh;
+  expect_identical(simulate(changed, in_place, ws), simulate(changed, built, fresh), what);
+}
+
+TEST(ModelParameters, SetInPlaceGivesTheBuiltModelForEveryContactLaw) {
+  for (const ContactModel law : {ContactModel::hertz, ContactModel::hunt_crossley, ContactModel::lankarani_nikravesh,
+                                 ContactModel::flores, ContactModel::kelvin_voigt}) {
+    SceneConfig scene = test::cycloidal_cam_scene(1300.0, law);
+    if (law == ContactModel::kelvin_voigt) scene.mechanism.contact.damping = 100.0;
+    scene.mechanism.follower.damping = 0.0;  // the damper element appears in place
+    scene.simulation.cycles = 1.2;
+    scene.simulation.discard_cycles = 0;
+    expect_in_place_equals_built(scene, to_string(law));
+  }
+}
+
+TEST(ModelParameters, SetInPlaceGivesTheBuiltModelForAnyFollowerFrictionOrDrive) {
+  for (const std::string& kind : test::follower_kinds()) {
+    SceneConfig scene = test::fully_loaded_scene(kind, 1000.0, ContactModel::lankarani_nikravesh);
+    scene.simulation.cycles = 1.1;
+    scene.simulation.discard_cycles = 0;
+    expect_in_place_equals_built(scene, kind);
+  }
+}
+
+TEST(ModelParameters, SetInPlaceGivesTheBuiltModelForADrop) {
+  expect_in_place_equals_built(test::drop_scene(ContactModel::lankarani_nikravesh, 0.8), "drop");
+}
+
+TEST(ModelParameters, FrictionSwitchedOnOrOffIsAChangeOfStructure) {
+  SceneConfig scene = test::follower_scene("translating_flat", 1000.0);
+  scene.mechanism.follower.guide_friction = GuideFrictionConfig{0.0, 1e-4};
+  const Model model = build_model(scene, "test");
+  EXPECT_TRUE(same_structure(model, model_parameters(scene, model)));
+  scene.mechanism.contact.friction.mu = 0.1;
+  EXPECT_FALSE(same_structure(model, model_parameters(scene, model)));
+  scene.mechanism.contact.friction.mu = 0.0;
+  scene.mechanism.follower.guide_friction->mu = 0.1;
+  EXPECT_FALSE(same_structure(model, model_parameters(scene, model)));
+  SceneConfig roller = test::cycloidal_cam_scene(1000.0);
+  roller.mechanism.contact.friction.mu = 0.1;
+  roller.mechanism.follower.shape.inertia = 1e-6;
+  const Model spinning = build_model(roller, "test");
+  roller.mechanism.follower.shape.inertia = 0.0;  // a free roller: no spin state
+  EXPECT_FALSE(same_structure(spinning, model_parameters(roller, spinning)));
+}
+
+/// The reason the config loader gives for `key=value` on the cycloidal scene.
+std::string loader_reason(const std::string& key, const std::string& value) {
+  Json doc = to_json(test::cycloidal_cam_scene(1000.0, ContactModel::lankarani_nikravesh));
+  set_config_value(doc, key, Json::parse(value));
+  try {
+    scene_from_json(doc, ConfigSource{"test", "."});
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.path(), key);
+    return e.reason();
+  }
+  ADD_FAILURE() << key << " = " << value << " was accepted";
+  return "";
+}
+
+TEST(ModelParameters, ABadValueIsAnInputErrorWithTheConfigLoadersReason) {
+  const SceneConfig scene = test::cycloidal_cam_scene(1000.0, ContactModel::lankarani_nikravesh);
+  Model model = build_model(scene, "test");
+  const ModelParameters good = model_parameters(scene, model);
+  struct Case {
+    const char* path;
+    double ModelParameters::*field;
+    double value;
+    const char* json;
+  };
+  const Case cases[] = {
+      {"mechanism.contact.restitution", &ModelParameters::restitution, 1.5, "1.5"},
+      {"mechanism.contact.exponent", &ModelParameters::contact_exponent, 0.0, "0"},
+      {"mechanism.contact.stiffness", &ModelParameters::contact_stiffness, -1.0, "-1"},
+      {"mechanism.contact.reference_velocity", &ModelParameters::reference_velocity, 0.0, "0"},
+      {"mechanism.follower.mass", &ModelParameters::mass, 0.0, "0"},
+      {"mechanism.follower.damping", &ModelParameters::damping, -2.0, "-2"},
+      {"mechanism.follower.spring.stiffness", &ModelParameters::spring_stiffness, -1.0, "-1"},
+      {"mechanism.contact.damping", &ModelParameters::contact_damping, 5.0, "5"},
+  };
+  for (const Case& c : cases) {
+    ModelParameters bad = good;
+    bad.*c.field = c.value;
+    try {
+      set_parameters(model, bad, "test");
+      ADD_FAILURE() << c.path << " = " << c.value << " was accepted";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.path(), c.path);
+      EXPECT_EQ(e.reason(), loader_reason(c.path, c.json));
+    }
+  }
+  // A rejected value leaves the model as it was.
+  EXPECT_EQ(model.contact.restitution, scene.mechanism.contact.restitution);
+}
+
+TEST(Workspace, ReusedAcrossRunsGivesTheRunsOfAFreshOne) {
+  for (const PairFormChoice form : {PairFormChoice::automatic, PairFormChoice::general}) {
+    for (const Tracking tracking : {Tracking::differential, Tracking::newton}) {
+      SceneConfig scene = test::cycloidal_cam_scene(1300.0, ContactModel::lankarani_nikravesh);
+      scene.mechanism.contact.pair_form = form;
+      scene.mechanism.contact.tracking = tracking;
+      scene.simulation.cycles = 1.1;
+      scene.simulation.discard_cycles = 0;
+      const Model model = build_model(scene, "test");
+      Workspace reused = make_workspace(model);
+      const auto* search = reused.pair_search.get();
+      simulate(scene, model, reused);
+      const SimulationResult second = simulate(scene, model, reused);
+      EXPECT_EQ(reused.pair_search.get(), search) << "the search samples are made once";
+      Workspace fresh;
+      expect_identical(second, simulate(scene, model, fresh), std::string(form) + " " + tracking);
+    }
+  }
+}
+
+TEST(Workspace, MadeForAnotherModelIsRemadeNotReused) {
+  SceneConfig scene = test::cycloidal_cam_scene(1300.0, ContactModel::lankarani_nikravesh);
+  scene.mechanism.contact.pair_form = PairFormChoice::general;
+  scene.mechanism.contact.tracking = Tracking::newton;
+  scene.simulation.cycles = 1.1;
+  scene.simulation.discard_cycles = 0;
+  const Model first = build_model(scene, "test");
+  Workspace ws = make_workspace(first);
+  scene.mechanism.follower.shape.radius = 0.012;
+  const Model second = build_model(scene, "test");
+  const SimulationResult reused = simulate(scene, second, ws);
+  EXPECT_EQ(ws.pair_search_cam, second.pair_cam);
+  Workspace fresh;
+  expect_identical(reused, simulate(scene, second, fresh), "another model");
+}
+
+}  // namespace
+}  // namespace camdyn
