@@ -26,6 +26,7 @@
 #include "optim/fit_scene.h"
 #include "optim/identify_statistics.h"
 #include "study/study.h"
+#include "io/dotted_path.h"
 
 namespace camdyn::optim {
 
@@ -34,61 +35,6 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 /// Relative cost and step tolerance of the smoothed continuation stages.
 constexpr double kStageTolerance = 1e-4;
-
-// ---------------------------------------------------------------- dotted paths
-
-/// set_config_value's short form: a leading cam/follower/contact means mechanism.….
-std::string full_path(const std::string& path) {
-  for (const char* head : {"cam", "follower", "contact"}) {
-    const std::string h(head);
-    if (path == h || path.starts_with(h + ".") || path.starts_with(h + "[")) return "mechanism." + path;
-  }
-  return path;
-}
-
-/// The value at a dotted path ("mechanism.cam.motion_law.segments[0].lift") of a
-/// resolved scene, or null with `why` saying which step is missing.
-const Json* find_field(const Json& doc, const std::string& path, std::string& why) {
-  const Json* node = &doc;
-  std::string walked;
-  std::size_t i = 0;
-  while (i < path.size()) {
-    if (path[i] == '[') {
-      const std::size_t close = path.find(']', i);
-      const std::string digits = close == std::string::npos ? "" : path.substr(i + 1, close - i - 1);
-      if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos || digits.size() > 9) {
-        why = "bad array index after '" + walked + "'";
-        return nullptr;
-      }
-      const std::size_t index = std::stoul(digits);
-      if (!node->is_array() || index >= node->size()) {
-        why = "'" + walked + "' has no element " + digits;
-        return nullptr;
-      }
-      node = &(*node)[index];
-      walked += "[" + digits + "]";
-      i = close + 1;
-      if (i < path.size() && path[i] == '.') ++i;
-      continue;
-    }
-    std::size_t end = i;
-    while (end < path.size() && path[end] != '.' && path[end] != '[') ++end;
-    const std::string key = path.substr(i, end - i);
-    if (!node->is_object() || !node->contains(key)) {
-      std::vector<std::string> keys;
-      if (node->is_object())
-        for (const auto& item : node->items()) keys.push_back(item.key());
-      why = "'" + key + "' is not a field of " + (walked.empty() ? std::string("the scene") : "'" + walked + "'") +
-            did_you_mean(key, keys);
-      return nullptr;
-    }
-    node = &(*node)[key];
-    walked += (walked.empty() ? "" : ".") + key;
-    i = end;
-    if (i < path.size() && path[i] == '.') ++i;
-  }
-  return node;
-}
 
 /// Simulated run length of a scene [s] (as simulate() plans it).
 double run_end(const SceneConfig& scene) {
@@ -522,12 +468,12 @@ IdentifyProblem prepare_identify(const SceneConfig& scene, const IdentifySpec& s
     const std::string at = "parameters." + ps.path;
     FitParameter p;
     p.name = ps.path;
-    p.path = full_path(ps.path);
+    p.path = full_dotted_path(ps.path);
     for (const FitParameter& other : problem.parameters)
       if (other.path == p.path)
         throw InputError(source.file, at, "'" + ps.path + "' is the same field as '" + other.name + "'");
     std::string why;
-    const Json* field = find_field(base, p.path, why);
+    const Json* field = find_dotted_field(base, p.path, why);
     if (field == nullptr) throw InputError(source.file, at, why);
     if (!field->is_number() && !field->is_null())
       throw InputError(source.file, at,
@@ -568,7 +514,7 @@ IdentifyProblem prepare_identify(const SceneConfig& scene, const IdentifySpec& s
     e.scene_json = base;
     for (const auto& [path, value] : es.set) {
       for (const FitParameter& p : problem.parameters)
-        if (full_path(path) == p.path)
+        if (full_dotted_path(path) == p.path)
           throw InputError(source.file, at + ".set." + path,
                            "'" + path + "' is a fitted parameter (shared by all experiments), it cannot be set here");
       try {
