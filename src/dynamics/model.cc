@@ -174,6 +174,80 @@ struct Core {
   S contact_offset;
 };
 
+/// Guide friction of a translating follower (μ_g |side load| against q̇) and
+/// pivot friction of an arm (μ_p r_pin |reaction| against q̇), from the contact
+/// force already in `o`.
+template <class S>
+void support_friction(const Model& m, Core<S>& o) {
+  using std::abs;
+  using std::sqrt;
+  o.guide = S(0.0);
+  o.pivot = S(0.0);
+  if (m.has_guide_friction) o.guide = -(m.guide_friction.coefficient_t(o.v) * abs(o.force_world.x));
+  if (m.has_pivot_friction && value(o.normal_force) > 0.0) {
+    const S reaction = sqrt(o.normal_force * o.normal_force + o.friction_force * o.friction_force);
+    o.pivot = -(m.pin_radius * m.pivot_friction.coefficient_t(m.pin_radius * o.v) * reaction);
+  }
+}
+
+/// The shaft drive's twist, torque and the cam and motor accelerations
+/// (constant-speed drive: zero twist, the nominal speed), from the cam torque in `o`.
+template <class S>
+void drive_dynamics(const Model& m, const Workspace& ws, double t, const S* x, Core<S>& o) {
+  o.twist = S(0.0);
+  o.shaft_torque = S(0.0);
+  o.motor_speed = S(m.omega);
+  o.motor_torque = S(0.0);
+  o.cam_acceleration = S(0.0);
+  o.motor_acceleration = S(0.0);
+  if (m.drive == Drive::shaft) {
+    S motor_angle = S(m.theta(t) + ws.motor_phase);
+    if (m.motor == Motor::torque_speed) {
+      motor_angle = x[m.index_motor_angle];
+      o.motor_speed = x[m.index_motor_speed];
+      o.motor_torque = m.stall_torque * (1.0 - o.motor_speed / m.no_load_speed);
+    }
+    o.twist = motor_angle - o.theta;
+    o.shaft_torque = m.shaft_stiffness * o.twist + m.shaft_damping * (o.motor_speed - o.omega_c);
+    o.cam_acceleration = (o.shaft_torque + o.cam_torque) / m.cam_inertia;
+    if (m.motor == Motor::torque_speed) o.motor_acceleration = (o.motor_torque - o.shaft_torque) / m.motor_inertia;
+  }
+}
+
+/// Where the contact point X (world) lies across the follower's face, from its centre [m].
+template <class S>
+S offset_across_face(const FollowerGeometry& fg, const S& q, const Vec2<S>& X_world) {
+  Vec2<S> origin, across;
+  fg.face_frame(q, origin, across);
+  return dot(X_world - origin, across);
+}
+
+/// The general pair form's contact normal n, contact point X, its rate per q̇
+/// X_q and the gap's partials g_q, g_θ (cam frame), from the pair the general
+/// tracker solved in double (no dual-number derivatives: exact_jacobian() is
+/// false). At f = 0 the gap's partials at fixed (u, v) are those of the
+/// follower's material point r_B (envelope theorem).
+template <class S, class ToCam, class ToWorld>
+void general_pair_partials(const FollowerGeometry& fg, const PairSolution& ps, double sigma, const ToCam& to_cam,
+                           const ToWorld& to_world, Core<S>& o, Vec2<S>& n, Vec2<S>& X, Vec2<S>& X_q, S& g_q,
+                           S& g_theta) {
+  n = Vec2<S>(ps.normal);
+  X = Vec2<S>(ps.follower_point);
+  o.gap = S(ps.gap);
+  o.f = S(0.0);
+  o.f_u = S(-1.0);
+  const Vec2<S> B_q = to_cam(fg.body_point_rate(to_world(X)));
+  g_q = dot(n, B_q);
+  g_theta = dot(n, (-sigma) * perp(X));
+  if (fg.shape == FollowerShape::roller) {
+    Vec2<S> centre, centre_q;
+    fg.centre(o.q, centre, centre_q);
+    X_q = to_cam(centre_q);
+  } else {
+    X_q = B_q;
+  }
+}
+
 template <class S>
 void core(const Model& m, const Workspace& ws, double t, const S* x, const PairSolution& ps, const S& u,
           Core<S>& o) {
@@ -212,25 +286,8 @@ void core(const Model& m, const Workspace& ws, double t, const S* x, const PairS
   Vec2<S> n, X, X_q;
   S g_q, g_theta, f_q, f_theta;
   if (m.pair_form == PairForm::general) {
-    // Solved in double by the general tracker (no dual-number derivatives:
-    // exact_jacobian() is false). At f = 0 the gap's partials at fixed (u, v)
-    // are those of the follower's material point r_B (envelope theorem).
-    n = Vec2<S>(ps.normal);
-    X = Vec2<S>(ps.follower_point);
-    o.gap = S(ps.gap);
-    o.f = S(0.0);
-    o.f_u = S(-1.0);
+    general_pair_partials(fg, ps, sigma, to_cam, to_world, o, n, X, X_q, g_q, g_theta);
     f_q = f_theta = S(0.0);
-    const Vec2<S> B_q = to_cam(fg.body_point_rate(to_world(X)));
-    g_q = dot(n, B_q);
-    g_theta = dot(n, (-sigma) * perp(X));
-    if (fg.shape == FollowerShape::roller) {
-      Vec2<S> centre, centre_q;
-      fg.centre(o.q, centre, centre_q);
-      X_q = to_cam(centre_q);
-    } else {
-      X_q = B_q;
-    }
   } else if (m.reduction == ContactReduction::circle) {
     Vec2<S> centre, centre_q;
     fg.centre(o.q, centre, centre_q);
@@ -282,19 +339,9 @@ void core(const Model& m, const Workspace& ws, double t, const S* x, const PairS
   o.generalised_force = o.normal_force * g_q + o.friction_force * dot(tangent, X_q);
   o.cam_torque = o.normal_force * g_theta + o.friction_force * dot(tangent, X_theta);
   o.force_world = to_world(o.normal_force * n + o.friction_force * tangent);
-  {
-    Vec2<S> origin, across;
-    fg.face_frame(o.q, origin, across);
-    o.contact_offset = dot(to_world(X) - origin, across);
-  }
+  o.contact_offset = offset_across_face(fg, o.q, to_world(X));
 
-  o.guide = S(0.0);
-  o.pivot = S(0.0);
-  if (m.has_guide_friction) o.guide = -(m.guide_friction.coefficient_t(o.v) * abs(o.force_world.x));
-  if (m.has_pivot_friction && value(o.normal_force) > 0.0) {
-    const S reaction = sqrt(o.normal_force * o.normal_force + o.friction_force * o.friction_force);
-    o.pivot = -(m.pin_radius * m.pivot_friction.coefficient_t(m.pin_radius * o.v) * reaction);
-  }
+  support_friction(m, o);
   const S spring = m.spring_preload + m.spring_stiffness * o.q;
   o.acceleration =
       (o.generalised_force - spring - m.damping * o.v - m.mass * m.gravity + o.guide + o.pivot) / m.mass;
@@ -306,24 +353,7 @@ void core(const Model& m, const Workspace& ws, double t, const S* x, const PairS
     o.v_rate = S(ps.v_rate);
   }
 
-  o.twist = S(0.0);
-  o.shaft_torque = S(0.0);
-  o.motor_speed = S(m.omega);
-  o.motor_torque = S(0.0);
-  o.cam_acceleration = S(0.0);
-  o.motor_acceleration = S(0.0);
-  if (m.drive == Drive::shaft) {
-    S motor_angle = S(m.theta(t) + ws.motor_phase);
-    if (m.motor == Motor::torque_speed) {
-      motor_angle = x[m.index_motor_angle];
-      o.motor_speed = x[m.index_motor_speed];
-      o.motor_torque = m.stall_torque * (1.0 - o.motor_speed / m.no_load_speed);
-    }
-    o.twist = motor_angle - o.theta;
-    o.shaft_torque = m.shaft_stiffness * o.twist + m.shaft_damping * (o.motor_speed - o.omega_c);
-    o.cam_acceleration = (o.shaft_torque + o.cam_torque) / m.cam_inertia;
-    if (m.motor == Motor::torque_speed) o.motor_acceleration = (o.motor_torque - o.shaft_torque) / m.motor_inertia;
-  }
+  drive_dynamics(m, ws, t, x, o);
 }
 
 /// Fits the contour, checks that the follower can follow it, and derives the
@@ -406,40 +436,14 @@ void scatter_state_rates(const Model& m, const Rates& r, const S& cam_speed, S* 
 
 }  // namespace
 
-Model build_model(const SceneConfig& scene, const std::string& file) {
+namespace {
+
+/// The mass, spring, damper, gravity, contact law, friction and drive of the
+/// mechanism (the model's geometry is already built).
+void assemble_elements(const SceneConfig& scene, const std::string& file, Model& model) {
   const MechanismConfig& mech = scene.mechanism;
   const FollowerConfig& f = mech.follower;
-  Model model;
-  model.direction = mech.cam.direction == RotationDirection::cw ? -1 : +1;
-  double base_radius = mech.cam.base_radius;
-  if (mech.cam.motion_law.contour) {
-    build_contour_cam(*mech.cam.motion_law.contour, f, model.direction, file, model);
-    const double lowest = model.contour_lift->lowest();
-    // The base circle is the one the follower touches at its lowest position.
-    base_radius = f.shape.type == FollowerShape::flat ? lowest : std::hypot(lowest, f.offset) - f.shape.radius;
-  } else {
-    model.law = std::make_shared<const MotionLaw>(build_motion_law(mech.cam.motion_law, file));
-  }
-  model.follower = make_follower_geometry(f, base_radius, file);
   const FollowerGeometry& fg = model.follower;
-  model.cam = std::make_shared<const SynthesisedCam>(model.law, fg, model.direction);
-  model.reduction = fg.circle() ? ContactReduction::circle : ContactReduction::line;
-  if (model.contour) {
-    // The contact works on the contour itself: a circle's centre at distance ρ from it.
-    model.profile_curve = model.contour;
-    model.profile_offset = fg.circle() ? fg.radius : 0.0;
-  } else {
-    model.profile_curve = model.cam;
-    model.profile_offset = 0.0;  // the synthesised centre curve already carries the circle's radius
-  }
-  model.omega = mech.cam.rpm * kTwoPi / 60.0;
-  model.theta0 = mech.cam.initial_angle_deg * std::numbers::pi / 180.0;
-  // For a contour cam this checks the cam the interpolated law synthesises, a
-  // copy of the contour within law_interpolation_error: pressure angle, and the
-  // contact's travel across a flat face against its width.
-  model.geometry = check_cam(*model.cam, file);
-  if (mech.contact.pair_form == PairFormChoice::general) build_general_pair(model);
-
   const bool oscillating = fg.oscillating();
   model.mass = oscillating ? f.inertia : f.mass;
   if (!(model.mass > 0.0))
@@ -484,13 +488,12 @@ Model build_model(const SceneConfig& scene, const std::string& file) {
       model.motor_inertia = dc.motor.inertia;
     }
   }
+}
 
-  model.tracking = mech.contact.tracking;
-  // Drift of f decays with time constant 1/α, well below a cam degree.
-  model.tracking_gain = 1000.0 + 100.0 * model.omega;
-  // Beyond this the compliant-contact model no longer describes the contact.
-  model.penetration_limit = fg.circle() ? 0.5 * fg.radius : 0.1 * fg.base_radius;
-
+/// The state layout of model.h's header comment: q, q̇, then only what this
+/// model needs (pair parameters, roller spin, cam and motor angles and speeds).
+void assign_state_layout(Model& model) {
+  const bool oscillating = model.follower.oscillating();
   model.state_names = oscillating ? std::vector<std::string>{"arm_angle", "arm_angular_velocity"}
                                   : std::vector<std::string>{"follower_position", "follower_velocity"};
   int next = 2;
@@ -519,6 +522,52 @@ Model build_model(const SceneConfig& scene, const std::string& file) {
     }
   }
   model.state_size = next;
+}
+
+}  // namespace
+
+Model build_model(const SceneConfig& scene, const std::string& file) {
+  const MechanismConfig& mech = scene.mechanism;
+  const FollowerConfig& f = mech.follower;
+  Model model;
+  model.direction = mech.cam.direction == RotationDirection::cw ? -1 : +1;
+  double base_radius = mech.cam.base_radius;
+  if (mech.cam.motion_law.contour) {
+    build_contour_cam(*mech.cam.motion_law.contour, f, model.direction, file, model);
+    const double lowest = model.contour_lift->lowest();
+    // The base circle is the one the follower touches at its lowest position.
+    base_radius = f.shape.type == FollowerShape::flat ? lowest : std::hypot(lowest, f.offset) - f.shape.radius;
+  } else {
+    model.law = std::make_shared<const MotionLaw>(build_motion_law(mech.cam.motion_law, file));
+  }
+  model.follower = make_follower_geometry(f, base_radius, file);
+  const FollowerGeometry& fg = model.follower;
+  model.cam = std::make_shared<const SynthesisedCam>(model.law, fg, model.direction);
+  model.reduction = fg.circle() ? ContactReduction::circle : ContactReduction::line;
+  if (model.contour) {
+    // The contact works on the contour itself: a circle's centre at distance ρ from it.
+    model.profile_curve = model.contour;
+    model.profile_offset = fg.circle() ? fg.radius : 0.0;
+  } else {
+    model.profile_curve = model.cam;
+    model.profile_offset = 0.0;  // the synthesised centre curve already carries the circle's radius
+  }
+  model.omega = mech.cam.rpm * kTwoPi / 60.0;
+  model.theta0 = mech.cam.initial_angle_deg * std::numbers::pi / 180.0;
+  // For a contour cam this checks the cam the interpolated law synthesises, a
+  // copy of the contour within law_interpolation_error: pressure angle, and the
+  // contact's travel across a flat face against its width.
+  model.geometry = check_cam(*model.cam, file);
+  if (mech.contact.pair_form == PairFormChoice::general) build_general_pair(model);
+
+  assemble_elements(scene, file, model);
+  model.tracking = mech.contact.tracking;
+  // Drift of f decays with time constant 1/α, well below a cam degree.
+  model.tracking_gain = 1000.0 + 100.0 * model.omega;
+  // Beyond this the compliant-contact model no longer describes the contact.
+  model.penetration_limit = fg.circle() ? 0.5 * fg.radius : 0.1 * fg.base_radius;
+
+  assign_state_layout(model);
 
   list_elements(model);
   return model;

@@ -15,7 +15,7 @@
 #include <string>
 
 #include "dynamics/model.h"
-#include "io/config.h"
+#include "scene/scene.h"
 
 namespace camdyn {
 
