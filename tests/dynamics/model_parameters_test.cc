@@ -187,7 +187,7 @@ TEST(Workspace, ReusedAcrossRunsGivesTheRunsOfAFreshOne) {
       const SimulationResult second = simulate(scene, model, reused);
       EXPECT_EQ(reused.pair_search.get(), search) << "the search samples are made once";
       Workspace fresh;
-      expect_identical(second, simulate(scene, model, fresh), std::string(form) + " " + tracking);
+      expect_identical(second, simulate(scene, model, fresh), to_string(form) + " " + to_string(tracking));
     }
   }
 }

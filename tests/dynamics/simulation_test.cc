@@ -88,7 +88,7 @@ TEST(SimulationTermination, IntegratorThatCannotStartIsAnIntegratorFailure) {
 TEST(SimulationTermination, SimulateSceneSkipsTheErrorEstimateOfAFailedRun) {
   SceneConfig scene = test::cycloidal_cam_scene(700.0);
   scene.integrator.max_steps = 20;
-  scene.integrator.error_estimate = "richardson";
+  scene.integrator.error_estimate = ErrorEstimateMethod::richardson;
   const SimulationResult r = simulate_scene(scene, "test");
   EXPECT_EQ(r.solver.termination, Termination::step_budget);
   EXPECT_FALSE(r.error.richardson);
