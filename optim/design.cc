@@ -45,6 +45,73 @@ std::pair<std::array<double, 3>, std::array<double, 3>> end_coefficients(const N
   return {head, tail};
 }
 
+/// Whether segments of `type` are designed.
+bool is_designed(const DesignConfig& config, SegmentType type) {
+  return std::find(config.segments.begin(), config.segments.end(), type) != config.segments.end();
+}
+
+/// Least-squares coefficients c_j of the m free control points of a spline of
+/// degree p (n = m + 6 control points, uniform knots) so that f0 + Σ c_j N_{3+j}
+/// ≈ target in value, slope and curvature, each derivative order weighted by
+/// the inverse of its peak so all count. f0 is the spline with the free
+/// control points at 0.
+std::vector<double> fit_control_points(const NormalisedRise& target, const NormalisedRise& f0, int p, int m) {
+  const int n = m + 6;
+  const std::vector<double> knots = ClampedBSpline::uniform_knots(p, n);
+  std::array<double, 3> peak{1e-300, 1e-300, 1e-300};
+  std::vector<LawSample> t(kFitSamples), z(kFitSamples);
+  for (int i = 0; i < kFitSamples; ++i) {
+    const double xi = static_cast<double>(i) / (kFitSamples - 1);
+    t[i] = target.eval(xi);
+    z[i] = f0.eval(xi);
+    peak[0] = std::max(peak[0], std::abs(t[i].s));
+    peak[1] = std::max(peak[1], std::abs(t[i].ds));
+    peak[2] = std::max(peak[2], std::abs(t[i].d2s));
+  }
+  constexpr Eigen::Index kRows = 3 * Eigen::Index{kFitSamples};
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(kRows, m);
+  Eigen::VectorXd b(kRows);
+  for (int i = 0; i < kFitSamples; ++i) {
+    const double xi = static_cast<double>(i) / (kFitSamples - 1);
+    const int s = find_span(n, p, xi, knots);
+    const BasisDerivatives bd = basis_derivatives(s, xi, p, knots);
+    const std::array<double, 3> tv = {t[i].s, t[i].ds, t[i].d2s}, zv = {z[i].s, z[i].ds, z[i].d2s};
+    for (int order = 0; order < 3; ++order) {
+      const int row = 3 * i + order;
+      const double w = 1.0 / peak[order];
+      b(row) = w * (tv[order] - zv[order]);
+      for (int r = 0; r <= p; ++r) {
+        const int j = s - p + r - 3;  // free control point j is coefficient 3 + j
+        if (j >= 0 && j < m) a(row, j) = w * bd.ders[order][r];
+      }
+    }
+  }
+  const Eigen::VectorXd c = a.colPivHouseholderQr().solve(b);
+  return {c.data(), c.data() + c.size()};
+}
+
+/// How well the fitted law reproduces the baseline law on the designed
+/// segments: largest lift error and largest acceleration error relative to
+/// the segment's peak acceleration.
+FitQuality measure_fit(const MotionLaw& base_law, const MotionLaw& fitted, const std::vector<std::size_t>& segments) {
+  FitQuality fit;
+  for (const std::size_t index : segments) {
+    const NormalisedRise& target = *base_law.pieces()[index].shape;
+    const NormalisedRise& got = *fitted.pieces()[index].shape;
+    double peak_acc = 1e-300, err_s = 0.0, err_a = 0.0;
+    for (int i = 0; i < kFitSamples; ++i) {
+      const double xi = static_cast<double>(i) / (kFitSamples - 1);
+      const LawSample ft = target.eval(xi), fg = got.eval(xi);
+      peak_acc = std::max(peak_acc, std::abs(ft.d2s));
+      err_s = std::max(err_s, std::abs(fg.s - ft.s));
+      err_a = std::max(err_a, std::abs(fg.d2s - ft.d2s));
+    }
+    fit.max_lift_error = std::max(fit.max_lift_error, err_s);
+    fit.max_acceleration_error = std::max(fit.max_acceleration_error, err_a / peak_acc);
+  }
+  return fit;
+}
+
 }  // namespace
 
 DesignSpace::DesignSpace(const SceneConfig& baseline, const DesignConfig& config, const std::string& file)
@@ -55,46 +122,74 @@ DesignSpace::DesignSpace(const SceneConfig& baseline, const DesignConfig& config
                      "an optimize study designs spline segments of a segmented law: give the baseline motion law as "
                      "'segments' (rise / dwell / return)");
   const MotionLaw base_law = build_motion_law(baseline.mechanism.cam.motion_law, file);
+  select_segments(segs);
+  read_end_ranges(segs);
+  check_end_ranges(segs);
+  number_variables();
+  levels_vary_ = levels_move_with_angles(segs);
 
-  auto designed_type = [&](SegmentType type) {
-    return std::find(config.segments.begin(), config.segments.end(), type) != config.segments.end();
-  };
-  for (const SegmentType type : config.segments) {
+  // Baseline end angles as normalised variables.
+  std::vector<double> x(variables_.size(), 0.0);
+  for (const Designed& d : designed_)
+    if (d.angle_variable >= 0) x[d.angle_variable] = (segs[d.index].end_deg - d.end_lo) / (d.end_hi - d.end_lo);
+
+  const SceneConfig base_skeleton = skeleton(x);
+  const std::vector<Levels> lv = levels(base_skeleton);
+  if (!levels_vary_) fixed_levels_ = lv;
+  const MotionLaw skeleton_law = build_motion_law(base_skeleton.mechanism.cam.motion_law, file);
+  for (std::size_t k = 0; k < designed_.size(); ++k) {
+    const Designed& d = designed_[k];
+    set_bounds(d, lv[k]);
+    const std::vector<double> c = fit_control_points(
+        *base_law.pieces()[d.index].shape, *skeleton_law.pieces()[d.index].shape, config.degree, config.control_points);
+    set_initial_control_points(d, lv[k], c, x);
+  }
+  initial_ = x;
+
+  // How well the fit reproduces the baseline, measured on the built law.
+  fit_ = measure_fit(base_law, build_motion_law(scene(initial_).mechanism.cam.motion_law, file), designed_segments());
+}
+
+void DesignSpace::select_segments(const std::vector<SegmentConfig>& segs) {
+  for (const SegmentType type : config_.segments) {
     if (std::none_of(segs.begin(), segs.end(), [&](const SegmentConfig& s) { return s.type == type; }))
-      throw InputError(file, "design.segments",
+      throw InputError(file_, "design.segments",
                        "the baseline motion law has no '" + to_string(type) + "' segment to design");
   }
   for (std::size_t i = 0; i < segs.size(); ++i) {
-    if (designed_type(segs[i].type)) designed_.push_back({i, 0, -1, 0.0, 0.0});
+    if (is_designed(config_, segs[i].type)) designed_.push_back({i, 0, -1, 0.0, 0.0});
   }
+}
 
-  // End-angle ranges, one segment per type, strictly inside the neighbours'
-  // reach so the segments keep their order for any value in the box.
+void DesignSpace::read_end_ranges(const std::vector<SegmentConfig>& segs) {
   const std::array<std::pair<SegmentType, const std::optional<std::vector<double>>*>, 2> ranges = {
-      std::pair{SegmentType::rise, &config.end_deg_range.rise},
-      std::pair{SegmentType::return_, &config.end_deg_range.ret}};
+      std::pair{SegmentType::rise, &config_.end_deg_range.rise},
+      std::pair{SegmentType::return_, &config_.end_deg_range.ret}};
   for (const auto& [type, range] : ranges) {
     if (!*range) continue;
     const std::string at = "design.end_deg_range." + to_string(type);
-    if (!designed_type(type)) throw InputError(file, at, "'" + to_string(type) + "' is not in design.segments");
+    if (!is_designed(config_, type)) throw InputError(file_, at, "'" + to_string(type) + "' is not in design.segments");
     const long count = std::count_if(segs.begin(), segs.end(), [&](const SegmentConfig& s) { return s.type == type; });
     if (count != 1)
-      throw InputError(file, at,
+      throw InputError(file_, at,
                        "the baseline has " + std::to_string(count) + " '" + to_string(type) +
                            "' segments; an end-angle range needs exactly one");
     for (Designed& d : designed_) {
       if (segs[d.index].type != type) continue;
       if (d.index + 1 == segs.size())
-        throw InputError(file, at, "the last segment ends at 360 deg; its end angle cannot vary");
+        throw InputError(file_, at, "the last segment ends at 360 deg; its end angle cannot vary");
       d.end_lo = (**range)[0];
       d.end_hi = (**range)[1];
-      d.angle_variable = 0;  // numbered below
+      d.angle_variable = 0;  // numbered by number_variables
       if (segs[d.index].end_deg < d.end_lo || segs[d.index].end_deg > d.end_hi)
-        throw InputError(file, at,
+        throw InputError(file_, at,
                          "the baseline end angle " + format_shortest(segs[d.index].end_deg) + " deg is outside [" +
                              format_shortest(d.end_lo) + ", " + format_shortest(d.end_hi) + "]");
     }
   }
+}
+
+void DesignSpace::check_end_ranges(const std::vector<SegmentConfig>& segs) const {
   auto end_range = [&](std::size_t i) -> std::pair<double, double> {  // reach of segment i's end [deg]
     if (i >= segs.size()) return {360.0, 360.0};
     for (const Designed& d : designed_)
@@ -107,13 +202,14 @@ DesignSpace::DesignSpace(const SceneConfig& baseline, const DesignConfig& config
     const double start_max = d.index == 0 ? 0.0 : end_range(d.index - 1).second;
     const double next_min = end_range(d.index + 1).first;
     if (d.end_lo <= start_max || d.end_hi >= next_min)
-      throw InputError(file, at,
+      throw InputError(file_, at,
                        "must lie strictly between where the segment can start (" + format_shortest(start_max) +
                            " deg) and where the next segment can end (" + format_shortest(next_min) + " deg)");
   }
+}
 
-  // Variables: per designed segment its control points, then its end angle.
-  const int m = config.control_points;
+void DesignSpace::number_variables() {
+  const int m = config_.control_points;
   for (Designed& d : designed_) {
     d.first_variable = static_cast<int>(variables_.size());
     for (int j = 0; j < m; ++j)
@@ -123,110 +219,48 @@ DesignSpace::DesignSpace(const SceneConfig& baseline, const DesignConfig& config
       variables_.push_back({"segments[" + std::to_string(d.index) + "].end_deg", 0.0, 1.0});
     }
   }
+}
 
-  // The boundary levels move with the end angles only where a designed segment
-  // meets a classic law that is moving (its rates scale with the segment length).
+bool DesignSpace::levels_move_with_angles(const std::vector<SegmentConfig>& segs) const {
   for (const Designed& d : designed_) {
     if (d.angle_variable < 0) continue;
     for (std::size_t nb : {(d.index + segs.size() - 1) % segs.size(), (d.index + 1) % segs.size()}) {
-      if (segs[nb].type != SegmentType::dwell && !designed_type(segs[nb].type)) levels_vary_ = true;
+      if (segs[nb].type != SegmentType::dwell && !is_designed(config_, segs[nb].type)) return true;
     }
   }
+  return false;
+}
 
-  // Baseline end angles as normalised variables.
-  std::vector<double> x(variables_.size(), 0.0);
-  for (const Designed& d : designed_)
-    if (d.angle_variable >= 0) x[d.angle_variable] = (segs[d.index].end_deg - d.end_lo) / (d.end_hi - d.end_lo);
-
-  const SceneConfig base_skeleton = skeleton(x);
-  const std::vector<Levels> lv = levels(base_skeleton);
-  if (!levels_vary_) fixed_levels_ = lv;
-  const MotionLaw skeleton_law = build_motion_law(base_skeleton.mechanism.cam.motion_law, file);
-
-  const int p = config.degree, n = m + 6;
-  const std::vector<double> knots = ClampedBSpline::uniform_knots(p, n);
-  for (std::size_t k = 0; k < designed_.size(); ++k) {
-    const Designed& d = designed_[k];
-    if (config.monotone && lv[k].high < lv[k].low)
-      throw InputError(file, segment_path(d.index),
-                       "cannot keep this segment monotone: its neighbours' rates put the boundary control points out "
-                       "of order (set design.monotone to false)");
-    const double span = std::max(lv[k].high - lv[k].low, 1e-3);
-    for (int j = 0; j < m; ++j) {
-      DesignVariable& v = variables_[d.first_variable + j];
-      if (config.monotone) {
-        v.lower = 0.0;
-        v.upper = 1.0;
-      } else {
-        v.lower = lv[k].low - 0.5 * span;
-        v.upper = lv[k].high + 0.5 * span;
-      }
-    }
-
-    // Least squares: f0 + Σ c_j N_{3+j} ≈ f_base in value, slope and curvature,
-    // each derivative order weighted by the inverse of its peak so all count.
-    const NormalisedRise& target = *base_law.pieces()[d.index].shape;
-    const NormalisedRise& f0 = *skeleton_law.pieces()[d.index].shape;
-    std::array<double, 3> peak{1e-300, 1e-300, 1e-300};
-    std::vector<LawSample> t(kFitSamples), z(kFitSamples);
-    for (int i = 0; i < kFitSamples; ++i) {
-      const double xi = static_cast<double>(i) / (kFitSamples - 1);
-      t[i] = target.eval(xi);
-      z[i] = f0.eval(xi);
-      peak[0] = std::max(peak[0], std::abs(t[i].s));
-      peak[1] = std::max(peak[1], std::abs(t[i].ds));
-      peak[2] = std::max(peak[2], std::abs(t[i].d2s));
-    }
-    constexpr Eigen::Index kRows = 3 * Eigen::Index{kFitSamples};
-    Eigen::MatrixXd a = Eigen::MatrixXd::Zero(kRows, m);
-    Eigen::VectorXd b(kRows);
-    for (int i = 0; i < kFitSamples; ++i) {
-      const double xi = static_cast<double>(i) / (kFitSamples - 1);
-      const int s = find_span(n, p, xi, knots);
-      const BasisDerivatives bd = basis_derivatives(s, xi, p, knots);
-      const std::array<double, 3> tv = {t[i].s, t[i].ds, t[i].d2s}, zv = {z[i].s, z[i].ds, z[i].d2s};
-      for (int order = 0; order < 3; ++order) {
-        const int row = 3 * i + order;
-        const double w = 1.0 / peak[order];
-        b(row) = w * (tv[order] - zv[order]);
-        for (int r = 0; r <= p; ++r) {
-          const int j = s - p + r - 3;  // free control point j is coefficient 3 + j
-          if (j >= 0 && j < m) a(row, j) = w * bd.ders[order][r];
-        }
-      }
-    }
-    const Eigen::VectorXd c = a.colPivHouseholderQr().solve(b);
-
-    // Into the variables (clamped to the box).
-    double prev = lv[k].low;
-    for (int j = 0; j < m; ++j) {
-      DesignVariable& v = variables_[d.first_variable + j];
-      double value = c(j);
-      if (config.monotone) {
-        const double room = lv[k].high - prev;
-        value = room > 1e-12 ? std::clamp((c(j) - prev) / room, 0.0, 1.0) : 0.0;
-        prev += value * room;
-      }
-      x[d.first_variable + j] = std::clamp(value, v.lower, v.upper);
+void DesignSpace::set_bounds(const Designed& d, const Levels& lv) {
+  if (config_.monotone && lv.high < lv.low)
+    throw InputError(file_, segment_path(d.index),
+                     "cannot keep this segment monotone: its neighbours' rates put the boundary control points out "
+                     "of order (set design.monotone to false)");
+  const double span = std::max(lv.high - lv.low, 1e-3);
+  for (int j = 0; j < config_.control_points; ++j) {
+    DesignVariable& v = variables_[d.first_variable + j];
+    if (config_.monotone) {
+      v.lower = 0.0;
+      v.upper = 1.0;
+    } else {
+      v.lower = lv.low - 0.5 * span;
+      v.upper = lv.high + 0.5 * span;
     }
   }
-  initial_ = x;
+}
 
-  // How well the fit reproduces the baseline, measured on the built law.
-  const MotionLaw fitted = build_motion_law(scene(initial_).mechanism.cam.motion_law, file);
-  for (const Designed& d : designed_) {
-    const NormalisedRise& target = *base_law.pieces()[d.index].shape;
-    const NormalisedRise& got = *fitted.pieces()[d.index].shape;
-    double peak_acc = 1e-300, err_s = 0.0, err_a = 0.0;
-    for (int i = 0; i < kFitSamples; ++i) {
-      const double xi = static_cast<double>(i) / (kFitSamples - 1);
-      const LawSample ft = target.eval(xi), fg = got.eval(xi);
-      peak_acc = std::max(peak_acc, std::abs(ft.d2s));
-      err_s = std::max(err_s, std::abs(fg.s - ft.s));
-      err_a = std::max(err_a, std::abs(fg.d2s - ft.d2s));
+void DesignSpace::set_initial_control_points(const Designed& d, const Levels& lv, const std::vector<double>& c,
+                                             std::vector<double>& x) const {
+  double prev = lv.low;
+  for (int j = 0; j < config_.control_points; ++j) {
+    const DesignVariable& v = variables_[d.first_variable + j];
+    double value = c[j];
+    if (config_.monotone) {
+      const double room = lv.high - prev;
+      value = room > 1e-12 ? std::clamp((c[j] - prev) / room, 0.0, 1.0) : 0.0;
+      prev += value * room;
     }
-    fit_.max_lift_error = std::max(fit_.max_lift_error, err_s);
-    fit_.max_acceleration_error = std::max(fit_.max_acceleration_error, err_a / peak_acc);
+    x[d.first_variable + j] = std::clamp(value, v.lower, v.upper);
   }
 }
 

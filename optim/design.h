@@ -76,6 +76,28 @@ class DesignSpace {
   std::vector<Levels> levels(const SceneConfig& skeleton) const;
   std::vector<double> control_points(const Designed& d, const Levels& lv, const std::vector<double>& x) const;
 
+  // Construction steps, in the order the constructor takes them.
+  /// designed_ from config_.segments; throws when the baseline lacks a designed type.
+  void select_segments(const std::vector<SegmentConfig>& segs);
+  /// End-angle ranges [deg] from config_.end_deg_range (one segment per type).
+  void read_end_ranges(const std::vector<SegmentConfig>& segs);
+  /// Each range lies strictly inside the neighbours' reach, so the segments
+  /// keep their order for any value in the box.
+  void check_end_ranges(const std::vector<SegmentConfig>& segs) const;
+  /// Variables: per designed segment its control points, then its end angle.
+  void number_variables();
+  /// The boundary levels move with the end angles only where a designed
+  /// segment meets a classic law that is moving (its rates scale with the
+  /// segment length).
+  bool levels_move_with_angles(const std::vector<SegmentConfig>& segs) const;
+  /// Bounds of the control-point variables of `d`: [0, 1] when monotone,
+  /// else its levels widened by half their span.
+  void set_bounds(const Designed& d, const Levels& lv);
+  /// The fitted control points c (lift units) of `d` into x as variables,
+  /// clamped to the box.
+  void set_initial_control_points(const Designed& d, const Levels& lv, const std::vector<double>& c,
+                                  std::vector<double>& x) const;
+
   SceneConfig baseline_;
   DesignConfig config_;
   std::string file_;

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <functional>
+#include <optional>
+#include <utility>
 
 #include "common/errors.h"
 #include "dynamics/model.h"
@@ -49,6 +52,148 @@ Json with_default_rpm(const Json& doc) {
   return d;
 }
 
+/// A progress line on stderr when options.progress is set.
+void say(const OptimizeOptions& options, const char* what) {
+  if (options.progress) std::fprintf(stderr, "  optimize: %s\n", what);
+}
+
+/// The best design of the search loop so far: valid, feasible before
+/// infeasible, then the lowest objective.
+struct BestSoFar {
+  bool have = false;
+  double objective = 0.0;
+  bool feasible = false;
+
+  /// Takes e when it is better.
+  void update(const DesignEvaluation& e) {
+    if (e.valid && (!have || (e.feasible && !feasible) || (e.feasible == feasible && e.objective < objective))) {
+      have = true;
+      objective = e.objective;
+      feasible = e.feasible;
+    }
+  }
+};
+
+/// The history record of evaluation number `evaluation` (1-based) of design e,
+/// with the best so far once e has been seen.
+HistoryRecord history_record(const DesignEvaluation& e, long evaluation, int start, PointKind kind,
+                             const BestSoFar& best) {
+  HistoryRecord h;
+  h.evaluation = evaluation;
+  h.start = start;
+  h.kind = kind;
+  h.valid = e.valid;
+  h.error = e.error;
+  h.objective = e.objective;
+  h.constraints = e.constraints;
+  h.feasible = e.feasible;
+  h.best_objective = best.have ? best.objective : e.objective;
+  h.best_feasible = best.feasible;
+  return h;
+}
+
+/// What the search sees of design e: objective, residuals, validity, feasibility.
+PointValue point_value(const DesignEvaluation& e) {
+  PointValue v;
+  v.objective = e.objective;
+  v.valid = e.valid;
+  v.feasible = e.feasible;
+  for (const ConstraintValue& c : e.constraints) v.residuals.push_back(c.residual);
+  return v;
+}
+
+/// A search-progress printer for stderr (silent without options.progress):
+/// at most one line per 0.2 s, and always the last evaluation.
+std::function<void(const SearchProgress&)> progress_printer(const OptimizeOptions& options,
+                                                            const OptimizerConfig& optimizer,
+                                                            Clock::time_point loop_t0) {
+  return [&options, &optimizer, loop_t0, last_print = -1.0](const SearchProgress& p) mutable {
+    if (!options.progress) return;
+    const double now = seconds_since(loop_t0);
+    if (now - last_print < 0.2 && p.evaluations < optimizer.max_evaluations) return;
+    last_print = now;
+    std::fprintf(stderr, "\r  optimize: start %d/%d, evaluation %ld (%.1f/s), best objective %.6g (%s)    ",
+                 p.start + 1, p.starts, p.evaluations, p.evaluations_per_second, p.best_objective,
+                 p.best_feasible ? "feasible" : "infeasible");
+    std::fflush(stderr);
+  };
+}
+
+/// The search loop with the loop settings, from the initial design: fills
+/// out.initial, out.history, out.search, out.loop_time_s and
+/// out.loop_simulations. Throws NumericalError when no design was valid.
+void search_designs(const DesignSpace& space, const DesignEvaluator& evaluator, const SimulationPool& pool,
+                    const OptimizeStudyConfig& config, const OptimizeOptions& options, OptimizeOutcome& out) {
+  const EvaluationSettings loop = loop_settings(config.optimizer);
+  out.initial = evaluator.evaluate(space.scene(space.initial()), loop, out.loop_simulated);
+  const long sims_before = pool.simulations();
+  BestSoFar best;
+  SearchProblem problem;
+  problem.lower = space.lower();
+  problem.upper = space.upper();
+  problem.x0 = space.initial();
+  problem.constraint_count = static_cast<int>(out.constraints.size());
+  problem.evaluate = [&](const std::vector<double>& x, int start, PointKind kind) {
+    DesignEvaluation e;
+    try {
+      e = evaluator.evaluate(space.scene(x), loop, out.loop_simulated);
+    } catch (const InputError& err) {  // a spline the geometry code refuses
+      e.valid = false;
+      e.error = err.what();
+      evaluator.score(e);
+    }
+    best.update(e);
+    out.history.push_back(history_record(e, static_cast<long>(out.history.size()) + 1, start, kind, best));
+    return point_value(e);
+  };
+  const auto loop_t0 = Clock::now();
+  out.search = run_search(problem, config.optimizer, progress_printer(options, config.optimizer, loop_t0));
+  out.loop_time_s = seconds_since(loop_t0);
+  out.loop_simulations = pool.simulations() - sims_before;
+  if (options.progress) std::fprintf(stderr, "\n");
+  if (out.search.candidates.empty())
+    throw NumericalError("the optimiser found no valid design in " + std::to_string(out.search.evaluations) +
+                         " evaluations (stop reason " + out.search.stop_reason + ")");
+}
+
+/// A design of the search re-evaluated with the scene's settings.
+struct Candidate {
+  DesignEvaluation evaluation;
+  SceneConfig scene;  ///< its `simulate` config
+  std::vector<double> x;
+};
+
+/// The best loop designs with the scene's settings (`full`): the first that
+/// holds every constraint there wins (the loop settings are cheaper and can
+/// differ near a constraint boundary); if none does, the best of the loop.
+/// Fills out.optimized, out.optimized_scene, out.x_optimized and
+/// out.candidates_tried; throws NumericalError when none can be simulated.
+void choose_optimized(const DesignSpace& space, const DesignEvaluator& evaluator, const EvaluationSettings& full,
+                      const std::string& name, double top, const std::string& file, OptimizeOutcome& out) {
+  std::optional<Candidate> fallback;
+  // Designs infeasible in the loop are not worth a second look: only the best one is tried then.
+  const std::size_t tries = std::max<std::size_t>(1, static_cast<std::size_t>(out.search.feasible_candidates));
+  for (std::size_t k = 0; k < tries && k < out.search.candidates.size(); ++k) {
+    const std::vector<double>& x = out.search.candidates[k];
+    ++out.candidates_tried;
+    const SceneConfig scene = simulate_scene(space.scene(x), top, name, file);
+    DesignEvaluation e = evaluator.evaluate(scene, full, true);
+    if (e.valid && e.feasible) {
+      out.optimized = std::move(e);
+      out.optimized_scene = scene;
+      out.x_optimized = x;
+      return;
+    }
+    if (e.valid && !fallback) fallback = Candidate{std::move(e), scene, x};
+  }
+  if (!fallback)
+    throw NumericalError("none of the " + std::to_string(out.candidates_tried) +
+                         " best designs of the search could be simulated with the scene's settings");
+  out.optimized = std::move(fallback->evaluation);
+  out.optimized_scene = std::move(fallback->scene);
+  out.x_optimized = std::move(fallback->x);
+}
+
 }  // namespace
 
 OptimizeStudy read_optimize_study(const Json& doc, const ConfigSource& source) {
@@ -89,13 +234,9 @@ OptimizeOutcome run_optimize(const SceneConfig& baseline, const OptimizeStudyCon
   DesignEvaluator evaluator(config, file, pool);
   out.constraints = evaluator.constraints();
   out.loop_simulated = evaluator.needs_simulation();
-  const double top = top_speed(config);
-  auto say = [&](const char* what) {
-    if (options.progress) std::fprintf(stderr, "  optimize: %s\n", what);
-  };
 
   // Baseline with the scene's settings: what the user has now, and the scales.
-  say("evaluating the baseline");
+  say(options, "evaluating the baseline");
   EvaluationSettings full;
   full.record_series = true;
   out.baseline = evaluator.evaluate(baseline, full, true);
@@ -104,111 +245,11 @@ OptimizeOutcome run_optimize(const SceneConfig& baseline, const OptimizeStudyCon
   evaluator.set_normalisation(out.normalisation);
   evaluator.score(out.baseline);
 
-  // The search loop.
-  say("searching");
-  const EvaluationSettings loop = loop_settings(config.optimizer);
-  out.initial = evaluator.evaluate(space.scene(space.initial()), loop, out.loop_simulated);
-  const long sims_before = pool.simulations();
-  bool have_best = false;
-  double best = 0.0;
-  bool best_feasible = false;
-  SearchProblem problem;
-  problem.lower = space.lower();
-  problem.upper = space.upper();
-  problem.x0 = space.initial();
-  problem.constraint_count = static_cast<int>(out.constraints.size());
-  problem.evaluate = [&](const std::vector<double>& x, int start, PointKind kind) {
-    DesignEvaluation e;
-    try {
-      e = evaluator.evaluate(space.scene(x), loop, out.loop_simulated);
-    } catch (const InputError& err) {  // a spline the geometry code refuses
-      e.valid = false;
-      e.error = err.what();
-      evaluator.score(e);
-    }
-    HistoryRecord h;
-    h.evaluation = static_cast<long>(out.history.size()) + 1;
-    h.start = start;
-    h.kind = kind;
-    h.valid = e.valid;
-    h.error = e.error;
-    h.objective = e.objective;
-    h.constraints = e.constraints;
-    h.feasible = e.feasible;
-    if (e.valid &&
-        (!have_best || (e.feasible && !best_feasible) || (e.feasible == best_feasible && e.objective < best))) {
-      have_best = true;
-      best = e.objective;
-      best_feasible = e.feasible;
-    }
-    h.best_objective = have_best ? best : e.objective;
-    h.best_feasible = best_feasible;
-    out.history.push_back(std::move(h));
-    PointValue v;
-    v.objective = e.objective;
-    v.valid = e.valid;
-    v.feasible = e.feasible;
-    for (const ConstraintValue& c : e.constraints) v.residuals.push_back(c.residual);
-    return v;
-  };
-  const auto loop_t0 = Clock::now();
-  double last_print = -1.0;
-  auto progress = [&](const SearchProgress& p) {
-    if (!options.progress) return;
-    const double now = seconds_since(loop_t0);
-    if (now - last_print < 0.2 && p.evaluations < config.optimizer.max_evaluations) return;
-    last_print = now;
-    std::fprintf(stderr, "\r  optimize: start %d/%d, evaluation %ld (%.1f/s), best objective %.6g (%s)    ",
-                 p.start + 1, p.starts, p.evaluations, p.evaluations_per_second, p.best_objective,
-                 p.best_feasible ? "feasible" : "infeasible");
-    std::fflush(stderr);
-  };
-  out.search = run_search(problem, config.optimizer, progress);
-  out.loop_time_s = seconds_since(loop_t0);
-  out.loop_simulations = pool.simulations() - sims_before;
-  if (options.progress) std::fprintf(stderr, "\n");
-  if (out.search.candidates.empty())
-    throw NumericalError("the optimiser found no valid design in " + std::to_string(out.search.evaluations) +
-                         " evaluations (stop reason " + out.search.stop_reason + ")");
+  say(options, "searching");
+  search_designs(space, evaluator, pool, config, options, out);
 
-  // The best loop designs with the scene's settings: the first that holds
-  // every constraint there wins (the loop settings are cheaper and can differ
-  // near a constraint boundary); if none does, the best of the loop.
-  say("re-evaluating the best designs with the scene's settings");
-  const std::string name = baseline.name + "-optimized";
-  bool chosen = false, have_fallback = false;
-  DesignEvaluation fallback;
-  SceneConfig fallback_scene;
-  std::vector<double> fallback_x;
-  // Designs infeasible in the loop are not worth a second look: only the best one is tried then.
-  const std::size_t tries = std::max<std::size_t>(1, static_cast<std::size_t>(out.search.feasible_candidates));
-  for (std::size_t k = 0; k < tries && k < out.search.candidates.size(); ++k) {
-    const std::vector<double>& x = out.search.candidates[k];
-    ++out.candidates_tried;
-    const SceneConfig scene = simulate_scene(space.scene(x), top, name, file);
-    DesignEvaluation e = evaluator.evaluate(scene, full, true);
-    if (e.valid && e.feasible) {
-      out.optimized = std::move(e);
-      out.optimized_scene = scene;
-      out.x_optimized = x;
-      chosen = true;
-      break;
-    }
-    if (e.valid && !have_fallback) {
-      have_fallback = true;
-      fallback = std::move(e);
-      fallback_scene = scene;
-      fallback_x = x;
-    }
-  }
-  if (!chosen) {
-    if (!have_fallback)
-      throw NumericalError("none of the " + std::to_string(out.candidates_tried) +
-                           " best designs of the search could be simulated with the scene's settings");
-    out.optimized = std::move(fallback);
-    out.optimized_scene = std::move(fallback_scene);
-    out.x_optimized = std::move(fallback_x);
-  }
+  say(options, "re-evaluating the best designs with the scene's settings");
+  choose_optimized(space, evaluator, full, baseline.name + "-optimized", top_speed(config), file, out);
   out.simulations = pool.simulations();
   out.run_time_s = seconds_since(t0);
   return out;

@@ -16,6 +16,7 @@ namespace {
 constexpr double kBreak = std::numeric_limits<double>::quiet_NaN();
 constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 constexpr double kLawStepDeg = 0.25;
+constexpr const char* kCamAngleLabel = "cam angle [deg]";
 
 Plot make_plot(std::string title, std::string xlabel, std::string ylabel, std::vector<Series> series) {
   Plot plot;
@@ -77,31 +78,28 @@ const SpeedResult* at_rpm(const DesignEvaluation& e, double rpm) {
   return nullptr;
 }
 
-}  // namespace
-
-Report optimize_report(const OptimizeOutcome& o, const std::string& name) {
-  Report r;
-  r.title = "camdyn optimize: " + name;
-  r.subtitle = "Spline cam design with NLopt: baseline against the optimised design";
+/// The run at a glance: algorithm, budget used, run time, objective, feasibility.
+std::vector<std::pair<std::string, std::string>> summary_facts(const OptimizeOutcome& o) {
   const DesignEvaluation& b = o.baseline;
   const DesignEvaluation& p = o.optimized;
   std::string speeds;
   for (double rpm : o.config.operating_rpm) speeds += (speeds.empty() ? "" : ", ") + format_number(rpm);
-  r.facts = {
-      {"algorithm", o.search.method},
-      {"stop reason", o.search.stop_reason},
-      {"evaluations", std::to_string(o.search.evaluations) + " (" + std::to_string(o.search.invalid_evaluations) +
-                          " invalid designs)"},
-      {"simulations", std::to_string(o.simulations)},
-      {"run time",
-       format_number(o.run_time_s, 4) + " s (search loop " + format_number(o.loop_time_s, 4) + " s, " +
-           format_number(o.loop_time_s > 0 ? static_cast<double>(o.search.evaluations) / o.loop_time_s : 0.0, 4) +
-           " evaluations/s)"},
-      {"operating speeds", speeds + " rpm (" + o.config.objective.aggregate + " case)"},
-      {"objective", format_number(b.objective) + " → " + format_number(p.objective)},
-      {"all constraints hold", "baseline: " + yes_no(b.feasible) + ", optimised: " + yes_no(p.feasible)}};
+  return {{"algorithm", o.search.method},
+          {"stop reason", o.search.stop_reason},
+          {"evaluations", std::to_string(o.search.evaluations) + " (" + std::to_string(o.search.invalid_evaluations) +
+                              " invalid designs)"},
+          {"simulations", std::to_string(o.simulations)},
+          {"run time",
+           format_number(o.run_time_s, 4) + " s (search loop " + format_number(o.loop_time_s, 4) + " s, " +
+               format_number(o.loop_time_s > 0 ? static_cast<double>(o.search.evaluations) / o.loop_time_s : 0.0, 4) +
+               " evaluations/s)"},
+          {"operating speeds", speeds + " rpm (" + o.config.objective.aggregate + " case)"},
+          {"objective", format_number(b.objective) + " → " + format_number(p.objective)},
+          {"all constraints hold", "baseline: " + yes_no(b.feasible) + ", optimised: " + yes_no(p.feasible)}};
+}
 
-  // Constraints with margins.
+/// Constraints with their limits and margins, baseline against optimised.
+Table constraints_table(const OptimizeOutcome& o) {
   Table constraints{"Constraints (value at the worst operating speed)",
                     {"constraint", "limit", "unit", "baseline", "optimised", "margin", "holds"},
                     {},
@@ -111,12 +109,16 @@ Report optimize_report(const OptimizeOutcome& o, const std::string& name) {
     const std::string limit = spec.sense == ConstraintSpec::Sense::at_most    ? "≤ " + format_number(spec.limit)
                               : spec.sense == ConstraintSpec::Sense::at_least ? "≥ " + format_number(spec.limit)
                                                                               : "= 0";
-    constraints.rows.push_back({spec.name, limit, spec.unit, format_number(b.constraints[i].value),
-                                format_number(p.constraints[i].value), format_number(p.constraints[i].margin),
-                                yes_no(p.constraints[i].holds)});
+    constraints.rows.push_back({spec.name, limit, spec.unit, format_number(o.baseline.constraints[i].value),
+                                format_number(o.optimized.constraints[i].value),
+                                format_number(o.optimized.constraints[i].margin),
+                                yes_no(o.optimized.constraints[i].holds)});
   }
-  if (!constraints.rows.empty()) r.tables.push_back(constraints);
+  return constraints;
+}
 
+/// The objective's terms, raw and normalised, baseline against optimised.
+Table terms_table(const DesignEvaluation& b, const DesignEvaluation& p) {
   Table terms{"Objective terms (normalised value = value / scale; objective = Σ weight × normalised)",
               {"term", "weight", "unit", "baseline", "optimised", "baseline normalised", "optimised normalised"},
               {},
@@ -126,16 +128,19 @@ Report optimize_report(const OptimizeOutcome& o, const std::string& name) {
                           format_number(b.terms[i].value), format_number(p.terms[i].value),
                           format_number(b.terms[i].normalised), format_number(p.terms[i].normalised)});
   }
-  r.tables.push_back(terms);
+  return terms;
+}
 
+/// Simulation metrics at each operating speed, baseline → optimised.
+Table metrics_table(const OptimizeOutcome& o) {
   Table metrics{"Metrics per operating speed (baseline → optimised)",
                 {"rpm", "separation_fraction", "impacts", "peak_contact_force [N]", "min_contact_force [N]",
                  "max_impact_velocity [m/s]"},
                 {},
                 true};
   for (double rpm : o.config.operating_rpm) {
-    const SpeedResult* sb = at_rpm(b, rpm);
-    const SpeedResult* sp = at_rpm(p, rpm);
+    const SpeedResult* sb = at_rpm(o.baseline, rpm);
+    const SpeedResult* sp = at_rpm(o.optimized, rpm);
     if (!sb || !sp) continue;
     const Metrics& mb = sb->result.metrics;
     const Metrics& mp = sp->result.metrics;
@@ -146,8 +151,12 @@ Report optimize_report(const OptimizeOutcome& o, const std::string& name) {
                             pair(mb.min_contact_force, mp.min_contact_force),
                             pair(mb.max_impact_velocity, mp.max_impact_velocity)});
   }
-  r.tables.push_back(metrics);
+  return metrics;
+}
 
+/// Dimensionless velocity, acceleration and jerk coefficients of every rise
+/// and return segment, baseline rows then optimised rows.
+Table segments_table(const DesignEvaluation& b, const DesignEvaluation& p) {
   Table segments{"Rise and return segments: C_v = v β/h, C_a = a β²/h, C_j = j β³/h (cycloidal 2, 6.28, 39.5)",
                  {"segment", "type", "design", "start [deg]", "end [deg]", "C_v", "C_a", "C_j"},
                  {},
@@ -160,16 +169,22 @@ Report optimize_report(const OptimizeOutcome& o, const std::string& name) {
                                format_number(s.jerk_coefficient)});
     }
   }
-  r.tables.push_back(segments);
+  return segments;
+}
 
+/// What each start of the search ended with.
+Table starts_table(const SearchResult& search) {
   Table starts{"Starts", {"start", "stop reason", "evaluations", "best objective", "feasible", "message"}, {}, true};
-  for (const StartResult& s : o.search.starts) {
+  for (const StartResult& s : search.starts) {
     starts.rows.push_back({std::to_string(s.index + 1), s.stop_reason, std::to_string(s.evaluations),
                            s.found ? format_number(s.best_objective) : "–", yes_no(s.found && s.best_feasible),
                            s.message});
   }
-  r.tables.push_back(starts);
+  return starts;
+}
 
+/// The design variables with their bounds, initial (fitted) and optimised values.
+Table variables_table(const OptimizeOutcome& o) {
   Table vars{"Design variables (monotone: share of the remaining rise; end angles: share of their range)",
              {"variable", "lower", "upper", "initial (fit)", "optimised"},
              {},
@@ -179,11 +194,13 @@ Report optimize_report(const OptimizeOutcome& o, const std::string& name) {
                          format_number(o.x_initial[i]),
                          i < o.x_optimized.size() ? format_number(o.x_optimized[i]) : "–"});
   }
-  r.tables.push_back(vars);
+  return vars;
+}
 
-  // Kinematics against cam angle.
+/// Lift, velocity, acceleration and jerk against cam angle, baseline against optimised.
+void add_kinematics_plots(const DesignEvaluation& b, const DesignEvaluation& p, Report& r) {
   const LawCurves lb = law_curves(b.scene), lp = law_curves(p.scene);
-  const std::string xlabel = "cam angle [deg]";
+  const std::string xlabel = kCamAngleLabel;
   r.plots.push_back(make_plot("Lift", xlabel, "s [mm]", {{"baseline", lb.angle, lb.s}, {"optimised", lp.angle, lp.s}}));
   r.plots.push_back(make_plot("Velocity per unit cam speed", xlabel, "ds/dθ [mm/rad]",
                               {{"baseline", lb.angle, lb.v}, {"optimised", lp.angle, lp.v}}));
@@ -191,11 +208,14 @@ Report optimize_report(const OptimizeOutcome& o, const std::string& name) {
                               {{"baseline", lb.angle, lb.a}, {"optimised", lp.angle, lp.a}}));
   r.plots.push_back(make_plot("Jerk per unit cam speed cubed", xlabel, "d³s/dθ³ [mm/rad³]",
                               {{"baseline", lb.angle, lb.j}, {"optimised", lp.angle, lp.j}}));
+}
 
-  // Dynamics at each operating speed (last simulated revolution).
+/// Contact force and gap over the last simulated revolution at each operating speed.
+void add_dynamics_plots(const OptimizeOutcome& o, Report& r) {
+  const std::string xlabel = kCamAngleLabel;
   for (double rpm : o.config.operating_rpm) {
-    const SpeedResult* sb = at_rpm(b, rpm);
-    const SpeedResult* sp = at_rpm(p, rpm);
+    const SpeedResult* sb = at_rpm(o.baseline, rpm);
+    const SpeedResult* sp = at_rpm(o.optimized, rpm);
     if (!sb || !sp) continue;
     const std::string at = " at " + format_number(rpm) + " rpm (last revolution)";
     r.plots.push_back(make_plot("Contact force" + at, xlabel, "force [N]",
@@ -205,11 +225,14 @@ Report optimize_report(const OptimizeOutcome& o, const std::string& name) {
                                 {last_cycle(*sb, sb->result.series.gap, 1e6, "baseline"),
                                  last_cycle(*sp, sp->result.series.gap, 1e6, "optimised")}));
   }
+}
 
-  // Convergence (valid designs only: the penalty of invalid ones would flatten the plot).
+/// The objective of each evaluation and the best so far (valid designs only:
+/// the penalty of invalid ones would flatten the plot), log scale when all positive.
+Plot convergence_plot(const std::vector<HistoryRecord>& history) {
   Series all{"objective of each evaluation", {}, {}, "points"}, feasible{"feasible designs", {}, {}, "points"},
       best{"best so far", {}, {}, "lines"};
-  for (const HistoryRecord& h : o.history) {
+  for (const HistoryRecord& h : history) {
     if (!h.valid) continue;
     const double n = static_cast<double>(h.evaluation);
     (h.feasible ? feasible : all).x.push_back(n);
@@ -224,15 +247,20 @@ Report optimize_report(const OptimizeOutcome& o, const std::string& name) {
       make_plot("Convergence (search loop settings)", "evaluation", "objective [–]", {all, feasible, best});
   convergence.xrange.reset();
   convergence.logy = positive && !best.y.empty();
-  r.plots.push_back(convergence);
+  return convergence;
+}
 
+/// Notes on the normalisation, the search-loop settings and the initial fit,
+/// and a warning when the optimised design breaks a constraint.
+std::vector<std::string> report_notes(const OptimizeOutcome& o) {
+  std::vector<std::string> notes;
   const Normalisation& nm = o.normalisation;
-  r.notes.push_back("Normalisation: forces by " + format_number(nm.force) +
-                    " N (baseline peak rigid-model contact force at the top speed), separation by a mean gap of " +
-                    format_number(nm.mean_gap) + " m, peak acceleration by " + format_number(nm.acceleration) +
-                    " m/rad², peak jerk by " + format_number(nm.jerk) + " m/rad³ (baseline values).");
+  notes.push_back("Normalisation: forces by " + format_number(nm.force) +
+                  " N (baseline peak rigid-model contact force at the top speed), separation by a mean gap of " +
+                  format_number(nm.mean_gap) + " m, peak acceleration by " + format_number(nm.acceleration) +
+                  " m/rad², peak jerk by " + format_number(nm.jerk) + " m/rad³ (baseline values).");
   const OptimizerConfig& oc = o.config.optimizer;
-  r.notes.push_back(
+  notes.push_back(
       std::string("The search loop ") +
       (o.loop_simulated
            ? "simulates with " +
@@ -241,10 +269,31 @@ Report optimize_report(const OptimizeOutcome& o, const std::string& name) {
            : "evaluates kinematics and geometry only (no term or constraint needs a simulation)") +
       "; the baseline and the optimised design are evaluated with the scene's own settings (" +
       std::to_string(o.candidates_tried) + " best design(s) re-evaluated to find one that holds every constraint).");
-  r.notes.push_back("Initial design: least-squares spline fit to the baseline law, max lift error " +
-                    format_number(o.fit.max_lift_error, 3) + " of the lift, max acceleration error " +
-                    format_number(o.fit.max_acceleration_error, 3) + " of the peak.");
-  if (!p.feasible) r.notes.push_back("WARNING: the optimised design does not satisfy every constraint.");
+  notes.push_back("Initial design: least-squares spline fit to the baseline law, max lift error " +
+                  format_number(o.fit.max_lift_error, 3) + " of the lift, max acceleration error " +
+                  format_number(o.fit.max_acceleration_error, 3) + " of the peak.");
+  if (!o.optimized.feasible) notes.push_back("WARNING: the optimised design does not satisfy every constraint.");
+  return notes;
+}
+
+}  // namespace
+
+Report optimize_report(const OptimizeOutcome& o, const std::string& name) {
+  Report r;
+  r.title = "camdyn optimize: " + name;
+  r.subtitle = "Spline cam design with NLopt: baseline against the optimised design";
+  r.facts = summary_facts(o);
+  const Table constraints = constraints_table(o);
+  if (!constraints.rows.empty()) r.tables.push_back(constraints);
+  r.tables.push_back(terms_table(o.baseline, o.optimized));
+  r.tables.push_back(metrics_table(o));
+  r.tables.push_back(segments_table(o.baseline, o.optimized));
+  r.tables.push_back(starts_table(o.search));
+  r.tables.push_back(variables_table(o));
+  add_kinematics_plots(o.baseline, o.optimized, r);
+  add_dynamics_plots(o, r);
+  r.plots.push_back(convergence_plot(o.history));
+  r.notes = report_notes(o);
   return r;
 }
 

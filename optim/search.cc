@@ -190,6 +190,144 @@ void set_tolerances(nlopt::opt& opt, const OptimizerConfig& config) {
   opt.set_ftol_rel(config.ftol_rel);
 }
 
+/// Throws for a problem that cannot be set up: no variables, bounds of the
+/// wrong size or not ordered.
+void check_problem(const SearchProblem& problem) {
+  const std::size_t n = problem.x0.size();
+  if (n == 0) throw InputError("", "design", "the design has no variables");
+  if (problem.lower.size() != n || problem.upper.size() != n)
+    throw std::logic_error("search: bounds and x0 differ in size");
+  for (std::size_t j = 0; j < n; ++j) {
+    if (!(problem.lower[j] < problem.upper[j]))
+      throw InputError("", "design", "variable " + std::to_string(j) + " has empty bounds");
+  }
+}
+
+/// What every start shares: the algorithm, the clock, the counters and the
+/// evaluated points of all starts.
+struct SearchSetup {
+  nlopt::algorithm algorithm = nlopt::NUM_ALGORITHMS;  ///< of config.algorithm (set by run_search)
+  bool auglag = false;                                 ///< the algorithm runs as AUGLAG's subsidiary
+  int starts = 1;
+  Clock::time_point t0;
+  std::vector<double> step;  ///< initial step of each variable (its share of the box)
+  std::map<std::vector<double>, Entry> all;
+  long total = 0, invalid = 0;
+};
+
+/// Sets up the NLopt optimiser of one start (AUGLAG when setup.auglag) with
+/// `budget` evaluations and its callbacks on `run`. It is set up in place, not
+/// returned: nlopt.hpp's callback data points back at the optimiser object.
+void configure_optimizer(nlopt::opt& opt, const SearchProblem& problem, const OptimizerConfig& config,
+                         const SearchSetup& setup, long budget, StartRun& run) {
+  const std::size_t n = problem.x0.size();
+  opt.set_lower_bounds(problem.lower);
+  opt.set_upper_bounds(problem.upper);
+  opt.set_min_objective(&StartRun::objective, &run);
+  if (problem.constraint_count > 0) {
+    opt.add_inequality_mconstraint(&StartRun::constraints, &run,
+                                   std::vector<double>(problem.constraint_count, kConstraintTolerance));
+  }
+  set_tolerances(opt, config);
+  // NLopt counts its own calls only; with finite differences each gradient
+  // costs n more, so its budget is cut to match ours (ours is enforced too).
+  const long nlopt_budget =
+      uses_gradient(config.algorithm) ? std::max<long>(1, budget / static_cast<long>(n + 1)) : budget;
+  opt.set_maxeval(static_cast<int>(nlopt_budget));
+  if (config.max_time_s) {
+    const double left = *config.max_time_s - std::chrono::duration<double>(Clock::now() - setup.t0).count();
+    opt.set_maxtime(std::max(left, 1e-3));
+  }
+  if (!is_global(config.algorithm) && !uses_gradient(config.algorithm)) opt.set_initial_step(setup.step);
+  if (setup.auglag) {
+    nlopt::opt sub(setup.algorithm, static_cast<unsigned>(n));
+    sub.set_lower_bounds(problem.lower);
+    sub.set_upper_bounds(problem.upper);
+    set_tolerances(sub, config);
+    // A global subsidiary would spend the whole budget on the first
+    // penalty parameter: give each subproblem a share.
+    if (is_global(config.algorithm))
+      sub.set_maxeval(static_cast<int>(std::max<long>(1, budget / 4)));
+    else
+      sub.set_initial_step(setup.step);
+    opt.set_local_optimizer(sub);
+  }
+}
+
+/// Start s: from x0 for the first, from a random point of the box otherwise;
+/// every NLopt status and exception becomes its stop reason.
+StartResult run_start(const SearchProblem& problem, const OptimizerConfig& config, int s, std::mt19937_64& rng,
+                      SearchSetup& setup, const std::function<void(const SearchProgress&)>& progress) {
+  const std::size_t n = problem.x0.size();
+  StartResult sr;
+  sr.index = s;
+  sr.x0 = problem.x0;
+  if (s > 0) {
+    for (std::size_t j = 0; j < n; ++j)
+      sr.x0[j] = std::uniform_real_distribution<double>(problem.lower[j], problem.upper[j])(rng);
+  }
+  for (std::size_t j = 0; j < n; ++j) sr.x0[j] = std::clamp(sr.x0[j], problem.lower[j], problem.upper[j]);
+  const int starts = setup.starts;
+  const long budget = config.max_evaluations / starts + (s < config.max_evaluations % starts ? 1 : 0);
+  StartRun run(problem, config, s, budget, setup.t0, setup.total, setup.invalid, setup.all, progress, starts);
+
+  try {
+    // Reproducible stochastic algorithms (ISRES, CRS2) for a given seed.
+    nlopt::srand(static_cast<unsigned long>(config.seed) + static_cast<unsigned long>(s));
+    nlopt::opt opt(setup.auglag ? nlopt::AUGLAG : setup.algorithm, static_cast<unsigned>(n));
+    configure_optimizer(opt, problem, config, setup, budget, run);
+    std::vector<double> x = sr.x0;
+    double f = 0.0;
+    const nlopt::result r = opt.optimize(x, f);
+    sr.stop_reason = nlopt_result_name(r);
+  } catch (const BudgetExhausted&) {
+    sr.stop_reason = "maxeval_reached";
+    sr.message = "evaluation budget used up (finite-difference probes included)";
+  } catch (const nlopt::roundoff_limited&) {
+    sr.stop_reason = "roundoff_limited";
+    sr.message = "NLopt stopped: roundoff errors limited progress (the best point found is kept)";
+  } catch (const nlopt::forced_stop&) {
+    sr.stop_reason = run.budget_exhausted() ? "maxeval_reached" : "forced_stop";
+    if (run.budget_exhausted()) sr.message = "evaluation budget used up (finite-difference probes included)";
+  } catch (const std::invalid_argument& e) {
+    sr.stop_reason = "invalid_args";
+    sr.message = e.what();
+  } catch (const std::bad_alloc&) {
+    sr.stop_reason = "out_of_memory";
+  } catch (const std::runtime_error& e) {
+    sr.stop_reason = "failure";
+    sr.message = e.what();
+  }
+  sr.evaluations = run.evaluations();
+  sr.found = run.found();
+  if (sr.found) {
+    sr.best_x = run.best_x();
+    sr.best_objective = run.best().value.objective;
+    sr.best_feasible = run.best().value.feasible;
+  }
+  return sr;
+}
+
+/// The best kCandidates of all evaluated points into out.candidates (ties in
+/// evaluation order), and the stop reason of the start that found the first.
+void rank_candidates(const std::map<std::vector<double>, Entry>& all, SearchResult& out) {
+  std::vector<std::pair<std::vector<double>, Entry>> ranked(all.begin(), all.end());
+  std::sort(ranked.begin(), ranked.end(), [](const auto& a, const auto& b) {
+    if (StartRun::better(a.second, b.second)) return true;
+    if (StartRun::better(b.second, a.second)) return false;
+    return a.second.order < b.second.order;
+  });
+  for (std::size_t i = 0; i < ranked.size() && i < kCandidates; ++i) {
+    out.candidates.push_back(ranked[i].first);
+    if (ranked[i].second.value.feasible) ++out.feasible_candidates;
+  }
+  out.stop_reason = out.starts.front().stop_reason;
+  if (!out.candidates.empty()) {
+    for (const StartResult& sr : out.starts)
+      if (sr.found && sr.best_x == out.candidates.front()) out.stop_reason = sr.stop_reason;
+  }
+}
+
 }  // namespace
 
 std::string nlopt_result_name(int code) {
@@ -223,126 +361,28 @@ std::string nlopt_result_name(int code) {
 
 SearchResult run_search(const SearchProblem& problem, const OptimizerConfig& config,
                         const std::function<void(const SearchProgress&)>& progress) {
+  check_problem(problem);
   const std::size_t n = problem.x0.size();
-  if (n == 0) throw InputError("", "design", "the design has no variables");
-  if (problem.lower.size() != n || problem.upper.size() != n)
-    throw std::logic_error("search: bounds and x0 differ in size");
-  for (std::size_t j = 0; j < n; ++j) {
-    if (!(problem.lower[j] < problem.upper[j]))
-      throw InputError("", "design", "variable " + std::to_string(j) + " has empty bounds");
-  }
-  const auto t0 = Clock::now();
-  const nlopt::algorithm algorithm = algorithm_of(config.algorithm);
-  const bool auglag = problem.constraint_count > 0 && !has_native_constraints(config.algorithm);
+  SearchSetup setup;
+  setup.t0 = Clock::now();
+  setup.algorithm = algorithm_of(config.algorithm);
+  setup.auglag = problem.constraint_count > 0 && !has_native_constraints(config.algorithm);
 
   SearchResult out;
   out.algorithm = config.algorithm;
-  out.method = auglag ? "AUGLAG(" + config.algorithm + ")" : config.algorithm;
-  const int starts = is_global(config.algorithm) ? 1 : config.starts;
+  out.method = setup.auglag ? "AUGLAG(" + config.algorithm + ")" : config.algorithm;
+  setup.starts = is_global(config.algorithm) ? 1 : config.starts;
   std::mt19937_64 rng(static_cast<unsigned long>(config.seed));
-  std::map<std::vector<double>, Entry> all;
-  long total = 0, invalid = 0;
-  std::vector<double> step(n);
-  for (std::size_t j = 0; j < n; ++j) step[j] = config.initial_step * (problem.upper[j] - problem.lower[j]);
+  setup.step.resize(n);
+  for (std::size_t j = 0; j < n; ++j) setup.step[j] = config.initial_step * (problem.upper[j] - problem.lower[j]);
 
-  for (int s = 0; s < starts; ++s) {
-    StartResult sr;
-    sr.index = s;
-    sr.x0 = problem.x0;
-    if (s > 0) {
-      for (std::size_t j = 0; j < n; ++j)
-        sr.x0[j] = std::uniform_real_distribution<double>(problem.lower[j], problem.upper[j])(rng);
-    }
-    for (std::size_t j = 0; j < n; ++j) sr.x0[j] = std::clamp(sr.x0[j], problem.lower[j], problem.upper[j]);
-    const long budget = config.max_evaluations / starts + (s < config.max_evaluations % starts ? 1 : 0);
-    StartRun run(problem, config, s, budget, t0, total, invalid, all, progress, starts);
-
-    try {
-      // Reproducible stochastic algorithms (ISRES, CRS2) for a given seed.
-      nlopt::srand(static_cast<unsigned long>(config.seed) + static_cast<unsigned long>(s));
-      nlopt::opt opt(auglag ? nlopt::AUGLAG : algorithm, static_cast<unsigned>(n));
-      opt.set_lower_bounds(problem.lower);
-      opt.set_upper_bounds(problem.upper);
-      opt.set_min_objective(&StartRun::objective, &run);
-      if (problem.constraint_count > 0) {
-        opt.add_inequality_mconstraint(&StartRun::constraints, &run,
-                                       std::vector<double>(problem.constraint_count, kConstraintTolerance));
-      }
-      set_tolerances(opt, config);
-      // NLopt counts its own calls only; with finite differences each gradient
-      // costs n more, so its budget is cut to match ours (ours is enforced too).
-      const long nlopt_budget =
-          uses_gradient(config.algorithm) ? std::max<long>(1, budget / static_cast<long>(n + 1)) : budget;
-      opt.set_maxeval(static_cast<int>(nlopt_budget));
-      if (config.max_time_s) {
-        const double left = *config.max_time_s - std::chrono::duration<double>(Clock::now() - t0).count();
-        opt.set_maxtime(std::max(left, 1e-3));
-      }
-      if (!is_global(config.algorithm) && !uses_gradient(config.algorithm)) opt.set_initial_step(step);
-      if (auglag) {
-        nlopt::opt sub(algorithm, static_cast<unsigned>(n));
-        sub.set_lower_bounds(problem.lower);
-        sub.set_upper_bounds(problem.upper);
-        set_tolerances(sub, config);
-        // A global subsidiary would spend the whole budget on the first
-        // penalty parameter: give each subproblem a share.
-        if (is_global(config.algorithm))
-          sub.set_maxeval(static_cast<int>(std::max<long>(1, budget / 4)));
-        else
-          sub.set_initial_step(step);
-        opt.set_local_optimizer(sub);
-      }
-      std::vector<double> x = sr.x0;
-      double f = 0.0;
-      const nlopt::result r = opt.optimize(x, f);
-      sr.stop_reason = nlopt_result_name(r);
-    } catch (const BudgetExhausted&) {
-      sr.stop_reason = "maxeval_reached";
-      sr.message = "evaluation budget used up (finite-difference probes included)";
-    } catch (const nlopt::roundoff_limited&) {
-      sr.stop_reason = "roundoff_limited";
-      sr.message = "NLopt stopped: roundoff errors limited progress (the best point found is kept)";
-    } catch (const nlopt::forced_stop&) {
-      sr.stop_reason = run.budget_exhausted() ? "maxeval_reached" : "forced_stop";
-      if (run.budget_exhausted()) sr.message = "evaluation budget used up (finite-difference probes included)";
-    } catch (const std::invalid_argument& e) {
-      sr.stop_reason = "invalid_args";
-      sr.message = e.what();
-    } catch (const std::bad_alloc&) {
-      sr.stop_reason = "out_of_memory";
-    } catch (const std::runtime_error& e) {
-      sr.stop_reason = "failure";
-      sr.message = e.what();
-    }
-    sr.evaluations = run.evaluations();
-    sr.found = run.found();
-    if (sr.found) {
-      sr.best_x = run.best_x();
-      sr.best_objective = run.best().value.objective;
-      sr.best_feasible = run.best().value.feasible;
-    }
-    out.starts.push_back(std::move(sr));
-  }
+  for (int s = 0; s < setup.starts; ++s) out.starts.push_back(run_start(problem, config, s, rng, setup, progress));
 
   // The chosen start: the one whose best point is best.
-  std::vector<std::pair<std::vector<double>, Entry>> ranked(all.begin(), all.end());
-  std::sort(ranked.begin(), ranked.end(), [](const auto& a, const auto& b) {
-    if (StartRun::better(a.second, b.second)) return true;
-    if (StartRun::better(b.second, a.second)) return false;
-    return a.second.order < b.second.order;
-  });
-  for (std::size_t i = 0; i < ranked.size() && i < kCandidates; ++i) {
-    out.candidates.push_back(ranked[i].first);
-    if (ranked[i].second.value.feasible) ++out.feasible_candidates;
-  }
-  out.stop_reason = out.starts.front().stop_reason;
-  if (!out.candidates.empty()) {
-    for (const StartResult& sr : out.starts)
-      if (sr.found && sr.best_x == out.candidates.front()) out.stop_reason = sr.stop_reason;
-  }
-  out.evaluations = total;
-  out.invalid_evaluations = invalid;
-  out.run_time_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  rank_candidates(setup.all, out);
+  out.evaluations = setup.total;
+  out.invalid_evaluations = setup.invalid;
+  out.run_time_s = std::chrono::duration<double>(Clock::now() - setup.t0).count();
   return out;
 }
 

@@ -204,13 +204,9 @@ double project(const Curve& curve, const Eigen::Vector2d& q, double t, double ma
   return t;
 }
 
-}  // namespace
-
-// ---------------------------------------------------------------- fit
-
-ContourCam ContourCam::fit(const std::vector<Eigen::Vector2d>& points, const ContourFitOptions& options,
-                           const std::string& file, const std::string& path) {
-  const std::string where = path + ".points";
+/// Throws InputError (at `path`) for a degree, smoothing or number of
+/// parameter corrections out of range.
+void check_fit_options(const ContourFitOptions& options, const std::string& file, const std::string& path) {
   if (options.degree < 3 || options.degree > kMaxSplineDegree)
     throw InputError(file, path + ".degree",
                      "must be in [3, " + std::to_string(kMaxSplineDegree) + "], got " + std::to_string(options.degree));
@@ -219,12 +215,11 @@ ContourCam ContourCam::fit(const std::vector<Eigen::Vector2d>& points, const Con
   if (options.parameter_corrections < 0 || options.parameter_corrections > 50)
     throw InputError(file, path + ".parameter_corrections",
                      "must be in [0, 50], got " + std::to_string(options.parameter_corrections));
+}
 
-  ContourCam cam;
-  cam.points_ = points;
-  const int sense = validate_points(cam.points_, file, where);
-  const auto& pts = cam.points_;
-  const int n = static_cast<int>(pts.size());
+/// The number of control points m for n points: the given one, or with 0 about
+/// one per two points (at least 2 (p + 1), at most 400). Throws InputError.
+int control_point_count(const ContourFitOptions& options, int n, const std::string& file, const std::string& path) {
   const int p = options.degree;
   int m = options.control_points;
   if (m == 0) m = std::min(n, std::clamp(n / 2, 2 * (p + 1), 400));
@@ -232,13 +227,26 @@ ContourCam ContourCam::fit(const std::vector<Eigen::Vector2d>& points, const Con
     throw InputError(file, path + ".control_points",
                      "must be 0 (automatic) or in [degree + 1, number of points] = [" + std::to_string(p + 1) + ", " +
                          std::to_string(n) + "], got " + std::to_string(m));
+  return m;
+}
 
-  // Chord-length parameters scaled to [0, 2π).
+/// Chord-length parameters of the closed polygon `pts`, scaled to [0, 2π) [rad].
+std::vector<double> chord_parameters(const std::vector<Eigen::Vector2d>& pts) {
+  const int n = static_cast<int>(pts.size());
   std::vector<double> t(n, 0.0);
   double length = 0.0;
   for (int i = 0; i < n; ++i) length += (pts[(i + 1) % n] - pts[i]).norm();
   for (int i = 1; i < n; ++i) t[i] = t[i - 1] + kTwoPi * (pts[i] - pts[i - 1]).norm() / length;
+  return t;
+}
 
+/// The least-squares spline of degree p with m control points, its point
+/// parameters t [rad] corrected to the foot points after each of the
+/// options.parameter_corrections + 1 fits. Throws InputError (at `where`)
+/// when a fit is singular.
+Fit fit_with_corrections(int p, int m, const ContourFitOptions& options, const std::vector<Eigen::Vector2d>& pts,
+                         std::vector<double>& t, const std::string& file, const std::string& where) {
+  const int n = static_cast<int>(pts.size());
   Fit fit;
   const double h = kTwoPi / m;
   for (int round = 0;; ++round) {
@@ -251,6 +259,161 @@ ContourCam ContourCam::fit(const std::vector<Eigen::Vector2d>& points, const Con
     for (int i = 0; i < n; ++i) t[i] = project(curve, pts[i], t[i], 0.5 * h);
     if (round >= options.parameter_corrections) break;
   }
+  return fit;
+}
+
+/// Index of the point of `pts` nearest to r (the first of equals).
+int nearest_point(const std::vector<Eigen::Vector2d>& pts, const Eigen::Vector2d& r) {
+  int best = 0;
+  for (int i = 1; i < static_cast<int>(pts.size()); ++i)
+    if ((pts[i] - r).norm() < (pts[best] - r).norm()) best = i;
+  return best;
+}
+
+/// RMS and largest distance [m] of the points from the curve at their parameters t.
+void measure_residuals(const ContourCam& cam, const std::vector<Eigen::Vector2d>& pts, const std::vector<double>& t,
+                       ContourFitReport& rep) {
+  const int n = static_cast<int>(pts.size());
+  double sum2 = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const double d = (cam.at(t[i]).r - pts[i]).norm();
+    sum2 += d * d;
+    if (d > rep.max_residual) {
+      rep.max_residual = d;
+      rep.max_residual_point = i;
+    }
+  }
+  rep.rms_residual = std::sqrt(sum2 / n);
+}
+
+/// Curvature κ [1/m] of the fitted curve at evenly spaced parameters u [rad].
+struct CurvatureSamples {
+  std::vector<double> u, kappa;
+  double du = 0.0;  ///< spacing of u [rad]
+};
+
+/// Dense samples of the fitted curve (orientation `sense`): its curvature,
+/// and a check that it stays star-shaped about the cam centre, else
+/// InputError at `where` naming the nearest point.
+CurvatureSamples sample_curvature(const ContourCam& cam, const std::vector<Eigen::Vector2d>& pts, int sense,
+                                  const std::string& file, const std::string& where) {
+  const int samples = std::max(2048, 16 * static_cast<int>(cam.control_points().size()));
+  CurvatureSamples out;
+  out.u.resize(samples);
+  out.kappa.resize(samples);
+  for (int k = 0; k < samples; ++k) {
+    out.u[k] = kTwoPi * k / samples;
+    const CurvePoint c = cam.at(out.u[k]);
+    if (!(sense * cross(c.r, c.dr) > 0.0))
+      throw InputError(file, where,
+                       "the fitted contour turns back about the cam centre at polar angle " + num(polar_deg(c.r)) +
+                           "° near point " + std::to_string(nearest_point(pts, c.r)) +
+                           " (it must stay star-shaped): check the points there, add points or raise 'smoothing'");
+    out.kappa[k] = cam.curvature(out.u[k]);
+  }
+  out.du = kTwoPi / samples;
+  return out;
+}
+
+/// The smallest radius of curvature and the smallest convex one, refined
+/// around the sampled maxima of |κ| and κ.
+void find_min_radii(const ContourCam& cam, const CurvatureSamples& s, ContourFitReport& rep) {
+  const auto curvature_fn = [&](double u) { return cam.curvature(u); };
+  int k_abs = 0, k_max = 0;
+  for (int k = 1; k < static_cast<int>(s.kappa.size()); ++k) {
+    if (std::abs(s.kappa[k]) > std::abs(s.kappa[k_abs])) k_abs = k;
+    if (s.kappa[k] > s.kappa[k_max]) k_max = k;
+  }
+  const double u_abs =
+      golden_max([&](double u) { return std::abs(curvature_fn(u)); }, s.u[k_abs] - s.du, s.u[k_abs] + s.du, 1e-12);
+  rep.min_radius_of_curvature = 1.0 / std::abs(curvature_fn(u_abs));
+  rep.min_radius_of_curvature_angle_deg = polar_deg(cam.at(u_abs).r);
+  if (s.kappa[k_max] > 0.0) {
+    const double u_max = golden_max(curvature_fn, s.u[k_max] - s.du, s.u[k_max] + s.du, 1e-12);
+    rep.min_convex_radius = 1.0 / curvature_fn(u_max);
+    rep.min_convex_radius_angle_deg = polar_deg(cam.at(u_max).r);
+  }
+}
+
+/// Where κ changes sign in [a, b] [rad], by bisection.
+double curvature_zero(const ContourCam& cam, double a, double b) {
+  const bool neg_a = cam.curvature(a) < 0.0;
+  for (int it = 0; it < 60; ++it) {
+    const double c = 0.5 * (a + b);
+    if ((cam.curvature(c) < 0.0) == neg_a)
+      a = c;
+    else
+      b = c;
+  }
+  return 0.5 * (a + b);
+}
+
+/// The concave portions of the fitted curve: runs of sampled κ < 0, their
+/// ends refined by bisection and their sharpest point by golden section.
+std::vector<ConcavePortion> concave_portions(const ContourCam& cam, const std::vector<Eigen::Vector2d>& pts,
+                                             const CurvatureSamples& s) {
+  const std::vector<double>& us = s.u;
+  const std::vector<double>& kappa = s.kappa;
+  const double du = s.du;
+  const int samples = static_cast<int>(kappa.size());
+  std::vector<ConcavePortion> out;
+  int start = 0;  // a convex sample to start the cyclic scan from
+  while (start < samples && kappa[start] < 0.0) ++start;
+  assert(start < samples);  // a closed curve turns once: it is convex somewhere
+  for (int j = 1; j <= samples; ++j) {
+    const int k = (start + j) % samples;
+    if (!(kappa[k] < 0.0)) continue;
+    // Portion begins between sample k − 1 and k; walk to its end.
+    ConcavePortion portion;
+    portion.u_begin = curvature_zero(cam, us[k] - du, us[k]);
+    int worst = k;
+    int e = j;
+    while (e + 1 <= samples && kappa[(start + e + 1) % samples] < 0.0) {
+      ++e;
+      if (kappa[(start + e) % samples] < kappa[worst]) worst = (start + e) % samples;
+    }
+    const int last = (start + e) % samples;
+    double u_last = us[last];
+    if (u_last < us[k]) u_last += kTwoPi;
+    portion.u_end = curvature_zero(cam, u_last, u_last + du);
+    if (portion.u_begin < 0.0) {
+      portion.u_begin += kTwoPi;
+      portion.u_end += kTwoPi;
+    }
+    const double u_worst_0 = us[worst] < us[k] ? us[worst] + kTwoPi : us[worst];
+    const double u_worst =
+        golden_max([&](double u) { return -cam.curvature(u); }, u_worst_0 - du, u_worst_0 + du, 1e-12);
+    portion.min_abs_radius = 1.0 / -cam.curvature(u_worst);
+    portion.min_abs_radius_angle_deg = polar_deg(cam.at(u_worst).r);
+    portion.angle_begin_deg = polar_deg(cam.at(portion.u_begin).r);
+    portion.angle_end_deg = polar_deg(cam.at(portion.u_end).r);
+    portion.point_begin = nearest_point(pts, cam.at(portion.u_begin).r);
+    portion.point_end = nearest_point(pts, cam.at(portion.u_end).r);
+    out.push_back(portion);
+    j = e;
+  }
+  return out;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------- fit
+
+ContourCam ContourCam::fit(const std::vector<Eigen::Vector2d>& points, const ContourFitOptions& options,
+                           const std::string& file, const std::string& path) {
+  const std::string where = path + ".points";
+  check_fit_options(options, file, path);
+
+  ContourCam cam;
+  cam.points_ = points;
+  const int sense = validate_points(cam.points_, file, where);
+  const auto& pts = cam.points_;
+  const int n = static_cast<int>(pts.size());
+  const int p = options.degree;
+  const int m = control_point_count(options, n, file, path);
+
+  std::vector<double> t = chord_parameters(pts);
+  Fit fit = fit_with_corrections(p, m, options, pts, t, file, where);
   cam.degree_ = p;
   cam.m_ = m;
   cam.knots_ = std::move(fit.knots);
@@ -261,107 +424,14 @@ ContourCam ContourCam::fit(const std::vector<Eigen::Vector2d>& points, const Con
   rep.points = n;
   rep.degree = p;
   rep.control_points = m;
-  double sum2 = 0.0;
   cam.parameters_.resize(n);
-  for (int i = 0; i < n; ++i) {
-    cam.parameters_[i] = wrap_2pi(t[i]);
-    const double d = (cam.at(t[i]).r - pts[i]).norm();
-    sum2 += d * d;
-    if (d > rep.max_residual) {
-      rep.max_residual = d;
-      rep.max_residual_point = i;
-    }
-  }
-  rep.rms_residual = std::sqrt(sum2 / n);
+  for (int i = 0; i < n; ++i) cam.parameters_[i] = wrap_2pi(t[i]);
+  measure_residuals(cam, pts, t, rep);
 
   // Dense samples of the fitted curve: star-shapedness and curvature.
-  const int samples = std::max(2048, 16 * m);
-  std::vector<double> us(samples), kappa(samples);
-  for (int k = 0; k < samples; ++k) {
-    us[k] = kTwoPi * k / samples;
-    const CurvePoint c = cam.at(us[k]);
-    if (!(sense * cross(c.r, c.dr) > 0.0)) {
-      int nearest = 0;
-      for (int i = 1; i < n; ++i)
-        if ((pts[i] - c.r).norm() < (pts[nearest] - c.r).norm()) nearest = i;
-      throw InputError(file, where,
-                       "the fitted contour turns back about the cam centre at polar angle " + num(polar_deg(c.r)) +
-                           "° near point " + std::to_string(nearest) +
-                           " (it must stay star-shaped): check the points there, add points or raise 'smoothing'");
-    }
-    kappa[k] = cam.curvature(us[k]);
-  }
-  const auto nearest_point = [&](double u) {
-    const Eigen::Vector2d r = cam.at(u).r;
-    int best = 0;
-    for (int i = 1; i < n; ++i)
-      if ((pts[i] - r).norm() < (pts[best] - r).norm()) best = i;
-    return best;
-  };
-  const double du = kTwoPi / samples;
-  const auto curvature_fn = [&](double u) { return cam.curvature(u); };
-  // Largest |κ| and largest κ, refined around the sampled maxima.
-  int k_abs = 0, k_max = 0;
-  for (int k = 1; k < samples; ++k) {
-    if (std::abs(kappa[k]) > std::abs(kappa[k_abs])) k_abs = k;
-    if (kappa[k] > kappa[k_max]) k_max = k;
-  }
-  const double u_abs = golden_max([&](double u) { return std::abs(curvature_fn(u)); }, us[k_abs] - du,
-                                  us[k_abs] + du, 1e-12);
-  rep.min_radius_of_curvature = 1.0 / std::abs(curvature_fn(u_abs));
-  rep.min_radius_of_curvature_angle_deg = polar_deg(cam.at(u_abs).r);
-  if (kappa[k_max] > 0.0) {
-    const double u_max = golden_max(curvature_fn, us[k_max] - du, us[k_max] + du, 1e-12);
-    rep.min_convex_radius = 1.0 / curvature_fn(u_max);
-    rep.min_convex_radius_angle_deg = polar_deg(cam.at(u_max).r);
-  }
-
-  // Concave portions: runs of κ < 0, their ends refined by bisection.
-  const auto zero_between = [&](double a, double b) {  // κ changes sign in [a, b]
-    const bool neg_a = curvature_fn(a) < 0.0;
-    for (int it = 0; it < 60; ++it) {
-      const double c = 0.5 * (a + b);
-      if ((curvature_fn(c) < 0.0) == neg_a)
-        a = c;
-      else
-        b = c;
-    }
-    return 0.5 * (a + b);
-  };
-  int start = 0;  // a convex sample to start the cyclic scan from
-  while (start < samples && kappa[start] < 0.0) ++start;
-  assert(start < samples);  // a closed curve turns once: it is convex somewhere
-  for (int j = 1; j <= samples; ++j) {
-    const int k = (start + j) % samples;
-    if (!(kappa[k] < 0.0)) continue;
-    // Portion begins between sample k − 1 and k; walk to its end.
-    ConcavePortion portion;
-    portion.u_begin = zero_between(us[k] - du, us[k]);
-    int worst = k;
-    int e = j;
-    while (e + 1 <= samples && kappa[(start + e + 1) % samples] < 0.0) {
-      ++e;
-      if (kappa[(start + e) % samples] < kappa[worst]) worst = (start + e) % samples;
-    }
-    const int last = (start + e) % samples;
-    double u_last = us[last];
-    if (u_last < us[k]) u_last += kTwoPi;
-    portion.u_end = zero_between(u_last, u_last + du);
-    if (portion.u_begin < 0.0) {
-      portion.u_begin += kTwoPi;
-      portion.u_end += kTwoPi;
-    }
-    const double u_worst_0 = us[worst] < us[k] ? us[worst] + kTwoPi : us[worst];
-    const double u_worst = golden_max([&](double u) { return -curvature_fn(u); }, u_worst_0 - du, u_worst_0 + du, 1e-12);
-    portion.min_abs_radius = 1.0 / -curvature_fn(u_worst);
-    portion.min_abs_radius_angle_deg = polar_deg(cam.at(u_worst).r);
-    portion.angle_begin_deg = polar_deg(cam.at(portion.u_begin).r);
-    portion.angle_end_deg = polar_deg(cam.at(portion.u_end).r);
-    portion.point_begin = nearest_point(portion.u_begin);
-    portion.point_end = nearest_point(portion.u_end);
-    rep.concave.push_back(portion);
-    j = e;
-  }
+  const CurvatureSamples samples = sample_curvature(cam, pts, sense, file, where);
+  find_min_radii(cam, samples, rep);
+  rep.concave = concave_portions(cam, pts, samples);
   return cam;
 }
 

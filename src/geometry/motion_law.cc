@@ -225,26 +225,90 @@ std::shared_ptr<const NormalisedRise> spline_segment_shape(int p, const std::vec
   return std::make_shared<SplineRise>(ClampedBSpline(p, std::move(knots), std::move(c)));
 }
 
-MotionLaw law_from_segments(const std::vector<SegmentConfig>& configs, const std::string& file,
-                            const std::string& path) {
-  const std::string segs_path = path + ".segments";
+/// Units and totals of the rise / return lifts, gathered while reading the segments.
+struct LiftTotals {
+  double rise = 0.0, ret = 0.0;  ///< sums of the rise and return lifts [m or rad]
+  int in_deg = -1;               ///< unit of the first rise/return: 0 metres, 1 degrees
+};
+
+/// Checks the end angle of segment `sc` (at `at`) and sets seg.start / seg.end [rad];
+/// prev_end_deg [deg] moves on to this segment's end.
+void read_segment_span(const SegmentConfig& sc, bool last, const std::string& file, const std::string& at,
+                       double& prev_end_deg, Segment& seg) {
+  if (!std::isfinite(sc.end_deg) || sc.end_deg <= prev_end_deg)
+    throw InputError(file, at + ".end_deg",
+                     num(sc.end_deg) + " must be greater than where the segment starts (" + num(prev_end_deg) + "°)");
+  if (sc.end_deg > 360.0) throw InputError(file, at + ".end_deg", num(sc.end_deg) + " is beyond 360°");
+  seg.start = deg_to_rad(prev_end_deg);
+  seg.end = last ? kTwoPi : deg_to_rad(sc.end_deg);
+  prev_end_deg = sc.end_deg;
+}
+
+/// Checks the lift of a rise / return segment, sets seg.lift (signed [m or rad])
+/// and adds it to the totals.
+void read_segment_lift(const SegmentConfig& sc, const std::string& file, const std::string& at, LiftTotals& totals,
+                       Segment& seg) {
+  if (sc.lift.has_value() == sc.lift_deg.has_value())
+    throw InputError(file, at,
+                     "give exactly one of lift [m] (translating follower) or lift_deg "
+                     "(oscillating follower)");
+  const int in_deg = sc.lift_deg ? 1 : 0;
+  const std::string lift_path = at + (in_deg ? ".lift_deg" : ".lift");
+  if (totals.in_deg >= 0 && totals.in_deg != in_deg)
+    throw InputError(file, lift_path, "mixes lift and lift_deg segments in one law");
+  totals.in_deg = in_deg;
+  const double given = in_deg ? *sc.lift_deg : *sc.lift;
+  if (!std::isfinite(given) || given <= 0.0) throw InputError(file, lift_path, num(given) + " must be > 0");
+  const double lift = in_deg ? deg_to_rad(given) : given;
+  const bool rise = sc.type == SegmentType::rise;
+  (rise ? totals.rise : totals.ret) += lift;
+  seg.lift = rise ? lift : -lift;
+}
+
+/// Checks the law of a rise / return segment: a spline's degree and control
+/// points, or a classic law, whose shape it sets (a spline's is built later).
+void read_segment_law(const SegmentConfig& sc, const std::string& file, const std::string& at, Segment& seg) {
+  if (sc.law == SegmentLaw::spline) {
+    seg.spline = true;
+    if (sc.degree < 3 || sc.degree > kMaxSplineDegree)
+      throw InputError(file, at + ".degree",
+                       std::to_string(sc.degree) + " must be in [3, " + std::to_string(kMaxSplineDegree) + "]");
+    const std::size_t total = sc.control_points.size() + 6;
+    if (total < static_cast<std::size_t>(sc.degree) + 1)
+      throw InputError(
+          file, at + ".control_points",
+          "a degree-" + std::to_string(sc.degree) + " spline needs at least " + std::to_string(sc.degree + 1) +
+              " control points: 6 boundary ones (added by the program) plus at "
+              "least " +
+              std::to_string(sc.degree - 5) + " free ones, " + std::to_string(sc.control_points.size()) + " given");
+    for (std::size_t j = 0; j < sc.control_points.size(); ++j)
+      if (!std::isfinite(sc.control_points[j]))
+        throw InputError(file, indexed(at + ".control_points", j), "must be finite");
+  } else {
+    if (!sc.control_points.empty())
+      throw InputError(file, at + ".control_points", "only a spline segment has control points");
+    seg.shape = classic_rise(sc.law);
+    if (!seg.shape) {
+      std::string names;
+      for (const SegmentLaw law : classic_rise_laws()) names += to_string(law) + ", ";
+      throw InputError(file, at + ".law", "unknown law '" + to_string(sc.law) + "' (use " + names + "spline)");
+    }
+  }
+}
+
+/// The validated segments of `configs` (spline shapes not built yet). Throws
+/// InputError naming segs_path when the segments do not cover the turn or
+/// the rises and returns do not add up to the same lift.
+std::vector<Segment> read_segments(const std::vector<SegmentConfig>& configs, const std::string& file,
+                                   const std::string& segs_path) {
   std::vector<Segment> segs(configs.size());
   double prev_end_deg = 0.0;
-  double rise_total = 0.0, return_total = 0.0;
-  int lift_in_deg = -1;  // unit of the first rise/return: 0 metres, 1 degrees
+  LiftTotals totals;
   for (std::size_t i = 0; i < configs.size(); ++i) {
     const SegmentConfig& sc = configs[i];
     const std::string at = indexed(segs_path, i);
     Segment& seg = segs[i];
-
-    if (!std::isfinite(sc.end_deg) || sc.end_deg <= prev_end_deg)
-      throw InputError(file, at + ".end_deg",
-                       num(sc.end_deg) + " must be greater than where the segment starts (" + num(prev_end_deg) + "°)");
-    if (sc.end_deg > 360.0) throw InputError(file, at + ".end_deg", num(sc.end_deg) + " is beyond 360°");
-    seg.start = deg_to_rad(prev_end_deg);
-    seg.end = i + 1 == configs.size() ? kTwoPi : deg_to_rad(sc.end_deg);
-    prev_end_deg = sc.end_deg;
-
+    read_segment_span(sc, i + 1 == configs.size(), file, at, prev_end_deg, seg);
     if (sc.type == SegmentType::dwell) {
       if (sc.lift || sc.lift_deg) throw InputError(file, at, "a dwell has no lift");
       if (sc.law != SegmentLaw::none) throw InputError(file, at + ".law", "a dwell has no law");
@@ -253,65 +317,27 @@ MotionLaw law_from_segments(const std::vector<SegmentConfig>& configs, const std
     if (sc.type != SegmentType::rise && sc.type != SegmentType::return_)
       throw InputError(file, at + ".type",
                        "unknown segment type '" + to_string(sc.type) + "' (use rise, dwell or return)");
-
-    if (sc.lift.has_value() == sc.lift_deg.has_value())
-      throw InputError(file, at,
-                       "give exactly one of lift [m] (translating follower) or lift_deg "
-                       "(oscillating follower)");
-    const int in_deg = sc.lift_deg ? 1 : 0;
-    const std::string lift_path = at + (in_deg ? ".lift_deg" : ".lift");
-    if (lift_in_deg >= 0 && lift_in_deg != in_deg)
-      throw InputError(file, lift_path, "mixes lift and lift_deg segments in one law");
-    lift_in_deg = in_deg;
-    const double given = in_deg ? *sc.lift_deg : *sc.lift;
-    if (!std::isfinite(given) || given <= 0.0) throw InputError(file, lift_path, num(given) + " must be > 0");
-    const double lift = in_deg ? deg_to_rad(given) : given;
-    const bool rise = sc.type == SegmentType::rise;
-    (rise ? rise_total : return_total) += lift;
-    seg.lift = rise ? lift : -lift;
-
-    if (sc.law == SegmentLaw::spline) {
-      seg.spline = true;
-      if (sc.degree < 3 || sc.degree > kMaxSplineDegree)
-        throw InputError(file, at + ".degree",
-                         std::to_string(sc.degree) + " must be in [3, " + std::to_string(kMaxSplineDegree) + "]");
-      const std::size_t total = sc.control_points.size() + 6;
-      if (total < static_cast<std::size_t>(sc.degree) + 1)
-        throw InputError(
-            file, at + ".control_points",
-            "a degree-" + std::to_string(sc.degree) + " spline needs at least " + std::to_string(sc.degree + 1) +
-                " control points: 6 boundary ones (added by the program) plus at "
-                "least " +
-                std::to_string(sc.degree - 5) + " free ones, " + std::to_string(sc.control_points.size()) + " given");
-      for (std::size_t j = 0; j < sc.control_points.size(); ++j)
-        if (!std::isfinite(sc.control_points[j]))
-          throw InputError(file, indexed(at + ".control_points", j), "must be finite");
-    } else {
-      if (!sc.control_points.empty())
-        throw InputError(file, at + ".control_points", "only a spline segment has control points");
-      seg.shape = classic_rise(sc.law);
-      if (!seg.shape) {
-        std::string names;
-        for (const SegmentLaw law : classic_rise_laws()) names += to_string(law) + ", ";
-        throw InputError(file, at + ".law", "unknown law '" + to_string(sc.law) + "' (use " + names + "spline)");
-      }
-    }
+    read_segment_lift(sc, file, at, totals, seg);
+    read_segment_law(sc, file, at, seg);
   }
   if (configs.empty()) throw InputError(file, segs_path, "no segments");
   if (prev_end_deg != 360.0)
     throw InputError(file, indexed(segs_path, configs.size() - 1) + ".end_deg",
                      "the last segment ends at " + num(prev_end_deg) +
                          "°: segments must cover the whole turn, ending at exactly 360");
-  if (std::abs(rise_total - return_total) > 1e-12 * std::max(rise_total, return_total)) {
-    const double unit = lift_in_deg == 1 ? kPi / 180.0 : 1.0;  // report in the given unit
+  if (std::abs(totals.rise - totals.ret) > 1e-12 * std::max(totals.rise, totals.ret)) {
+    const double unit = totals.in_deg == 1 ? kPi / 180.0 : 1.0;  // report in the given unit
     throw InputError(file, segs_path,
-                     "lift mismatch: the rises add up to " + num(rise_total / unit) + " but the returns to " +
-                         num(return_total / unit) + (lift_in_deg == 1 ? "°" : " m") +
+                     "lift mismatch: the rises add up to " + num(totals.rise / unit) + " but the returns to " +
+                         num(totals.ret / unit) + (totals.in_deg == 1 ? "°" : " m") +
                          "; the law must close over a turn");
   }
+  return segs;
+}
 
-  // Close the cycle exactly: the last rise/return takes up the rounding-level
-  // difference the tolerance above allowed.
+/// Closes the cycle exactly: the last rise/return takes up the rounding-level
+/// difference the lift-mismatch tolerance allowed.
+void close_cycle(std::vector<Segment>& segs) {
   for (std::size_t i = segs.size(); i-- > 0;) {
     if (segs[i].lift == 0.0) continue;
     double others = 0.0;
@@ -320,7 +346,11 @@ MotionLaw law_from_segments(const std::vector<SegmentConfig>& configs, const std
     segs[i].lift = -others;
     break;
   }
+}
 
+/// Builds the shape of every spline segment from its control points and the
+/// rates of its neighbours at the shared boundaries.
+void build_spline_shapes(const std::vector<SegmentConfig>& configs, std::vector<Segment>& segs) {
   const std::size_t count = segs.size();
   for (std::size_t i = 0; i < count; ++i) {
     if (!segs[i].spline) continue;
@@ -335,7 +365,11 @@ MotionLaw law_from_segments(const std::vector<SegmentConfig>& configs, const std
         spline_segment_shape(configs[i].degree, configs[i].control_points, {v_in * len / lift, a_in * len * len / lift},
                              {v_out * len / lift, a_out * len * len / lift});
   }
+}
 
+/// The law of the built segments, each piece starting at the level the ones
+/// before it reached, shifted so that its lowest s is 0.
+MotionLaw law_of_segments(const std::vector<Segment>& segs) {
   std::vector<MotionLaw::Piece> pieces;
   double level = 0.0;
   for (const Segment& seg : segs) {
@@ -346,6 +380,15 @@ MotionLaw law_from_segments(const std::vector<SegmentConfig>& configs, const std
   const double low = MotionLaw(pieces).min_s();
   for (auto& piece : pieces) piece.base -= low;
   return MotionLaw(std::move(pieces));
+}
+
+/// The segmented law of `configs` (at config path `path`); throws InputError.
+MotionLaw law_from_segments(const std::vector<SegmentConfig>& configs, const std::string& file,
+                            const std::string& path) {
+  std::vector<Segment> segs = read_segments(configs, file, path + ".segments");
+  close_cycle(segs);
+  build_spline_shapes(configs, segs);
+  return law_of_segments(segs);
 }
 
 // ---------------------------------------------------------------- periodic spline

@@ -1,0 +1,137 @@
+#include "study/convergence.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <mutex>
+#include <numbers>
+
+#include "common/errors.h"
+#include "common/parallel.h"
+#include "dynamics/simulation.h"
+
+namespace camdyn {
+
+namespace {
+
+/// The scene with the run's integrator settings and tracking mode.
+SceneConfig configure(SceneConfig scene, IntegrationMethod method, Tracking tracking, double rtol, double atol_factor,
+                      double step) {
+  scene.integrator.method = method;
+  scene.mechanism.contact.tracking = tracking;
+  if (method == IntegrationMethod::rk4) {
+    scene.integrator.step = step;
+  } else {
+    scene.integrator.rtol = rtol;
+    scene.integrator.atol = rtol * atol_factor;
+  }
+  return scene;
+}
+
+/// Largest follower-position difference [m] over the reference's evaluated time.
+double max_position_error(const SimulationResult& run, const SimulationResult& reference) {
+  double worst = 0.0;
+  const size_t n = std::min(run.series.time.size(), reference.series.time.size());
+  for (size_t i = 0; i < n; ++i) {
+    if (reference.series.time[i] < reference.evaluated_from) continue;
+    worst = std::max(worst, std::abs(run.series.follower_position[i] - reference.series.follower_position[i]));
+  }
+  return worst;
+}
+
+ConvergenceRun make_run(size_t scene, IntegrationMethod method, Tracking tracking, double rtol, double step) {
+  ConvergenceRun r;
+  r.scene = scene;
+  r.method = method;
+  r.tracking = tracking;
+  r.rtol = rtol;
+  r.step = step;
+  return r;
+}
+
+/// The reference run of each scene variant, in parallel.
+std::vector<SimulationResult> reference_runs(const ConvergenceStudy& study, const StudyContext& ctx, int threads) {
+  const ConvergenceConfig& config = study.config;
+  std::vector<SimulationResult> references(study.scenes.size());
+  parallel_for(study.scenes.size(), threads, [&](size_t k) {
+    SceneConfig s = configure(study.scenes[k], config.reference.method, config.tracking.front(),
+                              config.scenes[k].reference_rtol.value_or(config.reference.rtol), config.atol_factor, 0.0);
+    try {
+      references[k] = simulate_scene(s, ctx.config_file);
+      throw_if_failed(references[k]);
+    } catch (const NumericalError& e) {
+      throw NumericalError("reference run of scene '" + config.scenes[k].name + "' failed: " + e.what());
+    }
+  });
+  return references;
+}
+
+/// Every run of the study, not yet run: per scene, method and tracking mode,
+/// each tolerance (rk4: each fixed step, given in cam degrees, as seconds).
+std::vector<ConvergenceRun> plan_runs(const ConvergenceStudy& study) {
+  const ConvergenceConfig& config = study.config;
+  std::vector<ConvergenceRun> runs;
+  for (size_t k = 0; k < study.scenes.size(); ++k) {
+    const double omega = study.scenes[k].mechanism.cam.rpm * 2 * std::numbers::pi / 60;
+    for (const IntegrationMethod method : config.methods)
+      for (const Tracking tracking : config.tracking) {
+        if (method == IntegrationMethod::rk4) {
+          for (double deg : config.scenes[k].rk4_steps_deg.value_or(config.rk4_steps_deg)) {
+            runs.push_back(
+                make_run(k, method, tracking, 0.0, omega > 0 ? deg * std::numbers::pi / 180 / omega : deg * 1e-6));
+          }
+        } else {
+          for (double tol : config.scenes[k].tolerances.value_or(config.tolerances))
+            runs.push_back(make_run(k, method, tracking, tol, 0.0));
+        }
+      }
+  }
+  return runs;
+}
+
+/// Runs r and measures it against its scene's reference; a failure is kept in r.
+void measure_run(const ConvergenceStudy& study, const std::vector<SimulationResult>& references,
+                 const std::string& config_file, ConvergenceRun& r) {
+  const SceneConfig s =
+      configure(study.scenes[r.scene], r.method, r.tracking, r.rtol, study.config.atol_factor, r.step);
+  try {
+    const SimulationResult result = simulate_scene(s, config_file);
+    throw_if_failed(result);
+    const SimulationResult& ref = references[r.scene];
+    r.error_position = max_position_error(result, ref);
+    r.error_peak_force = std::abs(result.metrics.peak_contact_force / ref.metrics.peak_contact_force - 1.0);
+    r.energy_residual = result.metrics.energy_residual;
+    r.run_time_s = result.solver.run_time_s;
+    r.steps = result.solver.counters.steps;
+    r.rhs_evaluations = result.solver.counters.rhs_evaluations;
+    r.ok = std::isfinite(r.error_position) && std::isfinite(r.error_peak_force);
+    if (!r.ok) r.error = "non-finite error";
+  } catch (const std::exception& e) {
+    r.error = e.what();
+  }
+}
+
+}  // namespace
+
+ConvergenceResult run_convergence(const ConvergenceStudy& study, const StudyContext& ctx) {
+  ConvergenceResult out;
+  out.started = std::chrono::steady_clock::now();
+  const int threads = ctx.threads();
+  const std::vector<SimulationResult> references = reference_runs(study, ctx, threads);
+  out.runs = plan_runs(study);
+  std::vector<ConvergenceRun>& runs = out.runs;
+
+  std::mutex progress_mutex;
+  size_t done = 0;
+  parallel_for(runs.size(), threads, [&](size_t i) {
+    measure_run(study, references, ctx.config_file, runs[i]);
+    if (ctx.progress) {
+      const std::lock_guard<std::mutex> lock(progress_mutex);
+      std::fprintf(stderr, "\r  convergence: %zu / %zu runs", ++done, runs.size());
+      if (done == runs.size()) std::fprintf(stderr, "\n");
+    }
+  });
+  return out;
+}
+
+}  // namespace camdyn

@@ -1,0 +1,114 @@
+#include "study/convergence_output.h"
+
+#include <chrono>
+#include <utility>
+
+#include "io/csv_writer.h"
+#include "io/json_writer.h"
+#include "io/report.h"
+
+namespace camdyn {
+
+namespace {
+
+std::string format_number4(double v) { return format_number(v, 4); }
+
+/// work_precision.csv: one row per run; errors empty for a failed run.
+void write_work_precision_csv(const std::filesystem::path& path, const ConvergenceStudy& study,
+                              const std::vector<ConvergenceRun>& runs) {
+  CsvWriter csv(path, {"scene", "method", "tracking", "rtol", "step", "error_position", "error_peak_force",
+                       "energy_residual", "run_time_s", "steps", "rhs_evaluations", "status", "error"});
+  for (const ConvergenceRun& r : runs) {
+    const bool fixed = r.method == IntegrationMethod::rk4;
+    csv.row({CsvCell(study.config.scenes[r.scene].name), CsvCell(to_string(r.method)), CsvCell(to_string(r.tracking)),
+             fixed ? CsvCell("") : CsvCell(r.rtol), fixed ? CsvCell(r.step) : CsvCell(""),
+             r.ok ? CsvCell(r.error_position) : CsvCell(""), r.ok ? CsvCell(r.error_peak_force) : CsvCell(""),
+             r.ok ? CsvCell(r.energy_residual) : CsvCell(""), CsvCell(r.run_time_s), CsvCell(r.steps),
+             CsvCell(r.rhs_evaluations), CsvCell(r.ok ? "ok" : "failed"), CsvCell(r.error)});
+  }
+  csv.commit();
+}
+
+/// Position error against run time and against RHS evaluations for scene k,
+/// one series per method and tracking mode (successful runs with an error > 0).
+std::pair<Plot, Plot> work_precision_plots(const ConvergenceStudy& study, const std::vector<ConvergenceRun>& runs,
+                                           size_t k) {
+  const ConvergenceConfig& config = study.config;
+  Plot time_plot, rhs_plot;
+  time_plot.title = "Work-precision, scene '" + config.scenes[k].name + "': position error against run time";
+  time_plot.xlabel = "run time [s]";
+  time_plot.ylabel = "max |y − y_ref| [m]";
+  time_plot.logx = time_plot.logy = true;
+  rhs_plot = time_plot;
+  rhs_plot.title = "Scene '" + config.scenes[k].name + "': position error against RHS evaluations";
+  rhs_plot.xlabel = "right-hand-side evaluations";
+  for (const IntegrationMethod method : config.methods)
+    for (const Tracking tracking : config.tracking) {
+      Series by_time{to_string(method) + " / " + to_string(tracking), {}, {}, "linespoints"};
+      Series by_rhs = by_time;
+      for (const ConvergenceRun& r : runs)
+        if (r.scene == k && r.method == method && r.tracking == tracking && r.ok && r.error_position > 0) {
+          by_time.x.push_back(r.run_time_s);
+          by_time.y.push_back(r.error_position);
+          by_rhs.x.push_back(static_cast<double>(r.rhs_evaluations));
+          by_rhs.y.push_back(r.error_position);
+        }
+      time_plot.series.push_back(std::move(by_time));
+      rhs_plot.series.push_back(std::move(by_rhs));
+    }
+  return {std::move(time_plot), std::move(rhs_plot)};
+}
+
+/// The table of every run.
+Table runs_table(const ConvergenceStudy& study, const std::vector<ConvergenceRun>& runs) {
+  Table table{"Runs",
+              {"scene", "method", "tracking", "rtol / step", "error_position [m]", "error_peak_force",
+               "energy_residual", "run_time_s", "steps", "rhs_evaluations", "status"},
+              {},
+              true};
+  for (const ConvergenceRun& r : runs)
+    table.rows.push_back({study.config.scenes[r.scene].name, to_string(r.method), to_string(r.tracking),
+                          r.method == IntegrationMethod::rk4 ? format_number4(r.step) + " s" : format_number4(r.rtol),
+                          r.ok ? format_number4(r.error_position) : "–",
+                          r.ok ? format_number4(r.error_peak_force) : "–",
+                          r.ok ? format_number4(r.energy_residual) : "–", format_number4(r.run_time_s),
+                          std::to_string(r.steps), std::to_string(r.rhs_evaluations), r.ok ? "ok" : r.error});
+  return table;
+}
+
+/// report.html: the reference, run counts and wall time [s], the
+/// work-precision plots of each scene and the table of runs.
+Report convergence_report(const ConvergenceStudy& study, const std::vector<ConvergenceRun>& runs, long failed,
+                          double wall) {
+  Report report;
+  report.title = "camdyn: " + study.base.name + " — error against run time";
+  report.subtitle = "convergence study: every method × tracking mode × tolerance against a reference run (" +
+                    to_string(study.config.reference.method) + ", rtol " + format_number4(study.config.reference.rtol) +
+                    ")";
+  report.facts.emplace_back("runs", std::to_string(runs.size()));
+  report.facts.emplace_back("failed", std::to_string(failed));
+  report.facts.emplace_back("wall time", format_number4(wall) + " s");
+  for (size_t k = 0; k < study.scenes.size(); ++k) {
+    auto [time_plot, rhs_plot] = work_precision_plots(study, runs, k);
+    report.plots.push_back(std::move(time_plot));
+    report.plots.push_back(std::move(rhs_plot));
+  }
+  report.tables.push_back(runs_table(study, runs));
+  return report;
+}
+
+}  // namespace
+
+double write_convergence_outputs(const std::filesystem::path& out_dir, const ConvergenceStudy& study,
+                                 const ConvergenceResult& result) {
+  const std::vector<ConvergenceRun>& runs = result.runs;
+  std::filesystem::create_directories(out_dir);
+  write_work_precision_csv(out_dir / "work_precision.csv", study, runs);
+  const long failed = result.failed();
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - result.started).count();
+  write_report(out_dir / "report.html", convergence_report(study, runs, failed, wall));
+  write_json_atomic(out_dir / "config.json", study.resolved);
+  return wall;
+}
+
+}  // namespace camdyn
