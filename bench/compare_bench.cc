@@ -4,13 +4,12 @@
 // (otherwise the journal would resume, i.e. skip, every run).
 //
 //   build/release/bench/compare_bench --benchmark_out=bench/results/compare.json --benchmark_out_format=json
+#include <benchmark/benchmark.h>
 #include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
 #include <string>
-
-#include <benchmark/benchmark.h>
 
 #include "io/config.h"
 #include "study/compare_study.h"

@@ -14,7 +14,6 @@
 #include <vector>
 
 #include "allocation_counter.h"
-
 #include "io/config.h"
 #include "optim/fit_residuals.h"
 #include "optim/fit_scene.h"

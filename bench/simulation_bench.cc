@@ -3,13 +3,12 @@
 // (which must not allocate: checked by counting operator new calls).
 //
 //   build/release/bench/simulation_bench --benchmark_out=bench/results.json --benchmark_out_format=json
+#include <benchmark/benchmark.h>
+
 #include <algorithm>
 #include <cmath>
 
-#include <benchmark/benchmark.h>
-
 #include "allocation_counter.h"
-
 #include "dynamics/model.h"
 #include "dynamics/simulation.h"
 #include "io/config.h"
@@ -39,8 +38,7 @@ double position_error(const camdyn::SceneConfig& scene, const camdyn::Simulation
 // per cycle and error against a tight reference, at the default tolerance.
 void BM_QuickstartCycle(benchmark::State& state) {
   camdyn::SceneConfig scene = quickstart();
-  scene.mechanism.contact.tracking =
-      state.range(0) == 0 ? camdyn::Tracking::differential : camdyn::Tracking::newton;
+  scene.mechanism.contact.tracking = state.range(0) == 0 ? camdyn::Tracking::differential : camdyn::Tracking::newton;
   const camdyn::Model model = camdyn::build_model(scene, "quickstart");
   camdyn::Workspace ws;
   const double error = position_error(scene, camdyn::simulate(scene, model, ws));
@@ -57,8 +55,8 @@ void BM_QuickstartCycle(benchmark::State& state) {
   }
   state.SetLabel(camdyn::to_string(scene.mechanism.contact.tracking));
   state.counters["cycles"] = cycles;
-  state.counters["s_per_cycle"] = benchmark::Counter(cycles, benchmark::Counter::kIsIterationInvariantRate |
-                                                                  benchmark::Counter::kInvert);
+  state.counters["s_per_cycle"] =
+      benchmark::Counter(cycles, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
   state.counters["steps_per_cycle"] = static_cast<double>(steps) / cycles;
   state.counters["rhs_per_cycle"] = static_cast<double>(rhs) / cycles;
   state.counters["error_position_m"] = error;
@@ -67,8 +65,7 @@ BENCHMARK(BM_QuickstartCycle)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 void BM_RightHandSide(benchmark::State& state) {
   camdyn::SceneConfig scene = quickstart();
-  scene.mechanism.contact.tracking =
-      state.range(0) == 0 ? camdyn::Tracking::differential : camdyn::Tracking::newton;
+  scene.mechanism.contact.tracking = state.range(0) == 0 ? camdyn::Tracking::differential : camdyn::Tracking::newton;
   const camdyn::Model model = camdyn::build_model(scene, "quickstart");
   camdyn::Workspace ws;
   camdyn::Evaluation ev;

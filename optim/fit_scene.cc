@@ -46,7 +46,8 @@ const NamedField kParameterFields[] = {
      [](SceneConfig& s) -> double& { return s.mechanism.cam.drive.motor.stall_torque; }},
     {"mechanism.cam.drive.motor.no_load_rpm",
      [](SceneConfig& s) -> double& { return s.mechanism.cam.drive.motor.no_load_rpm; }},
-    {"mechanism.cam.drive.motor.inertia", [](SceneConfig& s) -> double& { return s.mechanism.cam.drive.motor.inertia; }},
+    {"mechanism.cam.drive.motor.inertia",
+     [](SceneConfig& s) -> double& { return s.mechanism.cam.drive.motor.inertia; }},
 };
 
 const NamedField kGuideFields[] = {
@@ -191,8 +192,8 @@ FitRun FitScene::run(const std::vector<double>& values) {
     const SimulationResult result = simulate();
     throw_if_failed(result);
     if (result.samples.time.size() != experiment_.record.time.size()) {
-      run.error = name() + "the simulation ended at " + format_shortest(result.end_time) +
-                  " s, before the last measured time";
+      run.error =
+          name() + "the simulation ended at " + format_shortest(result.end_time) + " s, before the last measured time";
     } else {
       const std::vector<const std::vector<double>*> columns = result.samples.columns();
       for (const std::size_t k : columns_) run.signals.push_back(*columns[k]);

@@ -41,8 +41,8 @@ std::optional<FieldBinding> bind_field(const std::string& path, const SceneConfi
 /// The simulated signals of one experiment at one parameter vector.
 struct FitRun {
   bool ok = false;
-  std::string error;               ///< why the simulation failed
-  std::exception_ptr input_error;  ///< an InputError (a parameter value the scene rejects)
+  std::string error;                         ///< why the simulation failed
+  std::exception_ptr input_error;            ///< an InputError (a parameter value the scene rejects)
   std::vector<std::vector<double>> signals;  ///< [s][i]: record signal s at record time i
 };
 

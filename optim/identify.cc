@@ -1,5 +1,8 @@
 #include "optim/identify.h"
 
+#include <ceres/ceres.h>
+
+#include <Eigen/Dense>
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -12,21 +15,18 @@
 #include <sstream>
 #include <utility>
 
-#include <Eigen/Dense>
-#include <ceres/ceres.h>
-
 #include "common/errors.h"
 #include "common/parallel.h"
 #include "dynamics/model.h"
 #include "dynamics/simulation.h"
 #include "io/csv_reader.h"
+#include "io/dotted_path.h"
 #include "io/json_archive.h"
 #include "io/suggest.h"
 #include "optim/fit_residuals.h"
 #include "optim/fit_scene.h"
 #include "optim/identify_statistics.h"
 #include "study/study.h"
-#include "io/dotted_path.h"
 
 namespace camdyn::optim {
 
@@ -729,8 +729,7 @@ std::vector<bool> check_rank(const IdentifyProblem& problem, const Identifiabili
 /// with a loss the M-estimator covariance (Huber 1981, ch. 7). Null (and a
 /// warning) when it cannot be computed.
 std::optional<Eigen::MatrixXd> covariance_at_optimum(const IdentifyProblem& problem, Stage& stage,
-                                                     std::vector<double>& z, const Optimum& o,
-                                                     IdentifyResult& result) {
+                                                     std::vector<double>& z, const Optimum& o, IdentifyResult& result) {
   const std::size_t p = problem.parameters.size();
   if (o.dof <= 0.0) {
     result.warnings.push_back("no standard errors: as many parameters as measured values");
@@ -815,8 +814,8 @@ void record_estimates(const IdentifyProblem& problem, const std::vector<double>&
 /// Practical identifiability: a parameter known only to worse than
 /// max_relative_std_error of its value is not determined by these data. The
 /// weakest direction of the Jacobian says which parameters trade off with it.
-void check_standard_errors(const IdentifyProblem& problem, const Identifiability& id,
-                           std::vector<bool>& unidentifiable, IdentifyResult& result) {
+void check_standard_errors(const IdentifyProblem& problem, const Identifiability& id, std::vector<bool>& unidentifiable,
+                           IdentifyResult& result) {
   const std::size_t p = problem.parameters.size();
   const SolverSpec& spec = problem.solver;
   std::vector<std::size_t> weak;

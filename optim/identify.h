@@ -129,7 +129,7 @@ struct IdentifyResult {
   /// Ceres cost ½ Σ ρ(r²) of the weighted residuals of the raw records, when
   /// the last stage started (after any smoothed stages) and at the optimum.
   double initial_cost = 0.0, final_cost = 0.0;
-  double rms_residual = 0.0;                    ///< √(Σ r² / N) of the weighted residuals [-]
+  double rms_residual = 0.0;    ///< √(Σ r² / N) of the weighted residuals [-]
   double residual_sigma = 0.0;  ///< √(2 cost / (N − p)): the residual scale the standard errors use [-]
   std::size_t residuals = 0;
   int iterations = 0;       ///< over all stages

@@ -1,9 +1,8 @@
 #include "optim/identify_statistics.h"
 
+#include <Eigen/SVD>
 #include <cmath>
 #include <limits>
-
-#include <Eigen/SVD>
 
 namespace camdyn::optim {
 

@@ -5,10 +5,9 @@
 // tests/optim/identify_statistics_test.cc.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstddef>
 #include <vector>
-
-#include <Eigen/Core>
 
 namespace camdyn::optim {
 

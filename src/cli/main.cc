@@ -4,14 +4,13 @@
 // files; stdout gets a short summary.
 #include <unistd.h>
 
+#include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <string>
 #include <vector>
-
-#include <CLI/CLI.hpp>
 
 #include "common/errors.h"
 #include "dynamics/model.h"
@@ -78,8 +77,8 @@ int run_simulate(const camdyn::Json& doc, const camdyn::StudyContext& ctx) {
 
   const camdyn::Metrics& m = result.metrics;
   std::printf("%s: %s, %.6g rpm (rigid-model jump speed %.6g rpm)\n", scene.name.c_str(),
-              m.separation_fraction > 0.0 ? "follower SEPARATES" : "follower stays in contact",
-              scene.mechanism.cam.rpm, m.jump_speed_rpm);
+              m.separation_fraction > 0.0 ? "follower SEPARATES" : "follower stays in contact", scene.mechanism.cam.rpm,
+              m.jump_speed_rpm);
   std::printf("  separation_fraction %.4g, impacts %ld, peak_contact_force %.6g N, min_contact_force %.6g N\n",
               m.separation_fraction, m.impact_count, m.peak_contact_force, m.min_contact_force);
   std::printf("  energy_residual %.3g, %ld steps, %ld RHS evaluations, %.3g s\n", m.energy_residual,

@@ -8,16 +8,18 @@ namespace camdyn {
 double ForceLaw::chi() const {
   const double e = restitution;
   switch (model) {
-    case ContactModel::hunt_crossley: return 1.5 * (1.0 - e);
-    case ContactModel::lankarani_nikravesh: return 0.75 * (1.0 - e * e);
-    case ContactModel::flores: return 1.6 * (1.0 - e) / e;
-    default: return 0.0;
+    case ContactModel::hunt_crossley:
+      return 1.5 * (1.0 - e);
+    case ContactModel::lankarani_nikravesh:
+      return 0.75 * (1.0 - e * e);
+    case ContactModel::flores:
+      return 1.6 * (1.0 - e) / e;
+    default:
+      return 0.0;
   }
 }
 
-double ForceLaw::elastic_force(double delta) const {
-  return delta > 0.0 ? stiffness * std::pow(delta, exponent) : 0.0;
-}
+double ForceLaw::elastic_force(double delta) const { return delta > 0.0 ? stiffness * std::pow(delta, exponent) : 0.0; }
 
 double ForceLaw::elastic_energy(double delta) const {
   return delta > 0.0 ? stiffness * std::pow(delta, exponent + 1.0) / (exponent + 1.0) : 0.0;
@@ -25,16 +27,18 @@ double ForceLaw::elastic_energy(double delta) const {
 
 double ForceLaw::clamp_switch(double delta, double delta_rate, double v0) const {
   switch (model) {
-    case ContactModel::hertz: return 1.0;
+    case ContactModel::hertz:
+      return 1.0;
     case ContactModel::kelvin_voigt:
       // Odd extension of K δ^n keeps the function continuous through δ = 0.
       return stiffness * std::copysign(std::pow(std::abs(delta), exponent), delta) + damping * delta_rate;
-    default: return 1.0 + chi() * delta_rate / v0;
+    default:
+      return 1.0 + chi() * delta_rate / v0;
   }
 }
 
-double stiffness_from_materials(double E1, double nu1, double E2, double nu2, double R1, double R2,
-                                bool line_contact, double width) {
+double stiffness_from_materials(double E1, double nu1, double E2, double nu2, double R1, double R2, bool line_contact,
+                                double width) {
   const double e_star = 1.0 / ((1.0 - nu1 * nu1) / E1 + (1.0 - nu2 * nu2) / E2);
   if (line_contact) return std::numbers::pi / 4.0 * e_star * width;
   const double r_star = 1.0 / (1.0 / R1 + 1.0 / R2);

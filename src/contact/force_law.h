@@ -16,11 +16,11 @@ namespace camdyn {
 
 struct ForceLaw {
   ContactModel model = ContactModel::hertz;
-  double stiffness = 0.0;           ///< K [N/m^n], > 0
-  double exponent = 1.5;            ///< n [-], > 0
-  double restitution = 1.0;         ///< target e [-], in (0, 1]
-  double damping = 0.0;             ///< c [N s/m], kelvin_voigt only
-  double reference_velocity = 0.01; ///< floor of v₀ [m/s]
+  double stiffness = 0.0;            ///< K [N/m^n], > 0
+  double exponent = 1.5;             ///< n [-], > 0
+  double restitution = 1.0;          ///< target e [-], in (0, 1]
+  double damping = 0.0;              ///< c [N s/m], kelvin_voigt only
+  double reference_velocity = 0.01;  ///< floor of v₀ [m/s]
 
   /// χ of F = K δ^n (1 + χ δ̇/v₀) for the hysteresis models, 0 otherwise.
   double chi() const;
@@ -63,7 +63,7 @@ struct ForceLaw {
 /// K = (4/3) E* sqrt(R*) with n = 1.5; line contact of width L gives the
 /// linearised K = (π/4) E* L with n = 1. E* = 1 / ((1−ν₁²)/E₁ + (1−ν₂²)/E₂),
 /// 1/R* = 1/R₁ + 1/R₂ (R₁ the cam's base radius, R₂ the roller radius).
-double stiffness_from_materials(double E1, double nu1, double E2, double nu2, double R1, double R2,
-                                bool line_contact, double width);
+double stiffness_from_materials(double E1, double nu1, double E2, double nu2, double R1, double R2, bool line_contact,
+                                double width);
 
 }  // namespace camdyn

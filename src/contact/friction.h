@@ -9,9 +9,9 @@
 namespace camdyn {
 
 struct FrictionLaw {
-  double mu = 0.0;                  ///< Coulomb coefficient [-]
+  double mu = 0.0;                        ///< Coulomb coefficient [-]
   double regularization_velocity = 1e-4;  ///< v_reg [m/s] > 0
-  bool linear_ramp = false;         ///< false: tanh(v/v_reg); true: clamp(v/v_reg, −1, 1)
+  bool linear_ramp = false;               ///< false: tanh(v/v_reg); true: clamp(v/v_reg, −1, 1)
 
   /// Friction coefficient actually acting at slip velocity v_s [m/s], in [−μ, μ],
   /// with the sign of v_s (the force is −coefficient · F_n along the slip direction).

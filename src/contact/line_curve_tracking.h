@@ -11,9 +11,8 @@
 // (point_curve_tracking.h), which shares TrackedPair and the tracking loop.
 #pragma once
 
-#include <cmath>
-
 #include <Eigen/Core>
+#include <cmath>
 
 #include "contact/point_curve_tracking.h"
 #include "geometry/planar_curve.h"

@@ -13,9 +13,8 @@
 // sampled search initialises the pair and recovers when tracking is lost.
 #pragma once
 
-#include <cmath>
-
 #include <Eigen/Core>
+#include <cmath>
 
 #include "geometry/planar_curve.h"
 

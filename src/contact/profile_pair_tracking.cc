@@ -46,9 +46,7 @@ Frame world_frame(const CurvePoint& c, int side, const BodyMotion& m) {
   return f;
 }
 
-double merit_of(const PairEvaluation& p, double length) {
-  return p.f(0) * p.f(0) + length * length * p.f(1) * p.f(1);
-}
+double merit_of(const PairEvaluation& p, double length) { return p.f(0) * p.f(0) + length * length * p.f(1) * p.f(1); }
 
 bool in_domain(const ParameterDomain& d, double x) {
   if (d.periodic) return true;
@@ -162,11 +160,16 @@ PairEvaluation evaluate_profile_pair(const PairProfile& a, const PairProfile& b,
 
 const char* to_string(PairStatus status) {
   switch (status) {
-    case PairStatus::converged: return "converged";
-    case PairStatus::not_converged: return "not converged";
-    case PairStatus::singular: return "singular Jacobian";
-    case PairStatus::invalid: return "invalid pair (normals not opposing or negative relative curvature)";
-    case PairStatus::out_of_domain: return "pair outside a profile's parameter range";
+    case PairStatus::converged:
+      return "converged";
+    case PairStatus::not_converged:
+      return "not converged";
+    case PairStatus::singular:
+      return "singular Jacobian";
+    case PairStatus::invalid:
+      return "invalid pair (normals not opposing or negative relative curvature)";
+    case PairStatus::out_of_domain:
+      return "pair outside a profile's parameter range";
   }
   return "unknown";
 }
@@ -225,8 +228,7 @@ PairStatus profile_pair_rates(const PairEvaluation& pair, double alpha, double& 
 
 // ---------------------------------------------------------------- global search
 
-PairTrackerWorkspace::PairTrackerWorkspace(const PairProfile& a, const PairProfile& b,
-                                           const PairSearchOptions& search)
+PairTrackerWorkspace::PairTrackerWorkspace(const PairProfile& a, const PairProfile& b, const PairSearchOptions& search)
     : options(search) {
   assert(search.samples_a >= 8 && search.samples_b >= 8 && search.candidates >= 1);
   a_offset = sample_offsets(a.domain(), search.samples_a);

@@ -29,10 +29,9 @@
 // building a workspace.
 #pragma once
 
+#include <Eigen/Core>
 #include <numbers>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "geometry/planar_curve.h"
 
@@ -154,18 +153,18 @@ struct BodyMotion {
 
 /// Everything about a candidate pair (u, v) at one instant, world frame.
 struct PairEvaluation {
-  double u = 0.0, v = 0.0;                                  ///< profile parameters [rad or m]
-  Eigen::Vector2d f = Eigen::Vector2d::Zero();              ///< (f1 [m], f2 [-])
-  Eigen::Matrix2d jacobian = Eigen::Matrix2d::Zero();       ///< ∂f/∂(u, v)
-  Eigen::Vector2d f_t = Eigen::Vector2d::Zero();            ///< ∂f/∂t at fixed (u, v) [m/s, 1/s]
-  double gap = 0.0;                                         ///< g [m]
+  double u = 0.0, v = 0.0;                             ///< profile parameters [rad or m]
+  Eigen::Vector2d f = Eigen::Vector2d::Zero();         ///< (f1 [m], f2 [-])
+  Eigen::Matrix2d jacobian = Eigen::Matrix2d::Zero();  ///< ∂f/∂(u, v)
+  Eigen::Vector2d f_t = Eigen::Vector2d::Zero();       ///< ∂f/∂t at fixed (u, v) [m/s, 1/s]
+  double gap = 0.0;                                    ///< g [m]
   double gap_rate = 0.0;  ///< ∂g/∂t at fixed (u, v) [m/s]; the total dg/dt wherever f = 0
-  Eigen::Vector2d point_A_W = Eigen::Vector2d::Zero();      ///< r_A [m]
-  Eigen::Vector2d point_B_W = Eigen::Vector2d::Zero();      ///< r_B [m]
-  Eigen::Vector2d point_W = Eigen::Vector2d::Zero();        ///< contact point: midway between r_A and r_B [m]
-  Eigen::Vector2d normal_W = Eigen::Vector2d::Zero();       ///< n_A, unit, from A towards B when apart
-  Eigen::Vector2d tangent_W = Eigen::Vector2d::Zero();      ///< t_A, unit
-  Eigen::Vector2d normal_B_W = Eigen::Vector2d::Zero();     ///< n_B, unit
+  Eigen::Vector2d point_A_W = Eigen::Vector2d::Zero();   ///< r_A [m]
+  Eigen::Vector2d point_B_W = Eigen::Vector2d::Zero();   ///< r_B [m]
+  Eigen::Vector2d point_W = Eigen::Vector2d::Zero();     ///< contact point: midway between r_A and r_B [m]
+  Eigen::Vector2d normal_W = Eigen::Vector2d::Zero();    ///< n_A, unit, from A towards B when apart
+  Eigen::Vector2d tangent_W = Eigen::Vector2d::Zero();   ///< t_A, unit
+  Eigen::Vector2d normal_B_W = Eigen::Vector2d::Zero();  ///< n_B, unit
   double normal_velocity = 0.0;      ///< n_A · (ṙ_B − ṙ_A) of the material points [m/s] (> 0 separating)
   double tangential_velocity = 0.0;  ///< t_A · (ṙ_B − ṙ_A), the slip velocity [m/s]
   double curvature_A = 0.0, curvature_B = 0.0;  ///< signed, > 0 convex [1/m]
@@ -222,13 +221,13 @@ struct PairTrackerWorkspace {
   PairTrackerWorkspace(const PairProfile& a, const PairProfile& b, const PairSearchOptions& options = {});
 
   PairSearchOptions options;
-  std::vector<double> a_offset, b_offset;    ///< sample parameters relative to the domain start / reference
+  std::vector<double> a_offset, b_offset;        ///< sample parameters relative to the domain start / reference
   std::vector<CurvePoint> a_samples, b_samples;  ///< body frame, at the reference-free sample parameters
-  std::vector<double> merit;                 ///< samples_a × samples_b grid
-  std::vector<int> candidate_cells;          ///< best cells, size options.candidates
+  std::vector<double> merit;                     ///< samples_a × samples_b grid
+  std::vector<int> candidate_cells;              ///< best cells, size options.candidates
 
-  long global_searches = 0;   ///< calls of global_profile_pair
-  long newton_failures = 0;   ///< warm-started Newton solves that failed in track_profile_pair
+  long global_searches = 0;  ///< calls of global_profile_pair
+  long newton_failures = 0;  ///< warm-started Newton solves that failed in track_profile_pair
 };
 
 /// Global initialisation: samples A over [u_ref − π, u_ref + π) (periodic) or

@@ -13,8 +13,8 @@ namespace camdyn {
 
 template <int N>
 struct Dual {
-  double v = 0.0;                 ///< value
-  std::array<double, N> d{};      ///< derivatives with respect to the N seeds
+  double v = 0.0;             ///< value
+  std::array<double, N> d{};  ///< derivatives with respect to the N seeds
 
   Dual() = default;
   Dual(double value) : v(value) {}  // NOLINT(google-explicit-constructor): constants mix freely

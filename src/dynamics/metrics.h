@@ -35,7 +35,7 @@ struct MetricInfo {
 /// field signature of json_archive.h's archives; MetricInfo takes the place of
 /// the checks). Takes Metrics or const Metrics.
 template <class A, class M>
-  requires std::is_same_v<std::remove_const_t<M>, Metrics>
+requires std::is_same_v<std::remove_const_t<M>, Metrics>
 void visit(A& a, M& m) {
   a.field("separation_fraction", m.separation_fraction, MetricInfo{"–"});
   a.field("max_separation_gap", m.max_separation_gap, MetricInfo{"m"});

@@ -1,11 +1,10 @@
 #include "dynamics/model.h"
 
+#include <Eigen/LU>
 #include <cassert>
 #include <cmath>
 #include <limits>
 #include <numbers>
-
-#include <Eigen/LU>
 
 #include "common/errors.h"
 #include "contact/line_curve_tracking.h"
@@ -38,8 +37,7 @@ ForceLaw build_force_law(const SceneConfig& scene, double cam_radius, const std:
     // A flat face has an infinite radius of curvature.
     const ShapeConfig& shape = scene.mechanism.follower.shape;
     const double r2 = shape.type == FollowerShape::flat ? std::numeric_limits<double>::infinity() : shape.radius;
-    law.stiffness = stiffness_from_materials(m.E1, m.nu1, m.E2, m.nu2, cam_radius, r2, line,
-                                             m.width.value_or(0.0));
+    law.stiffness = stiffness_from_materials(m.E1, m.nu1, m.E2, m.nu2, cam_radius, r2, line, m.width.value_or(0.0));
   } else if (c.stiffness) {
     law.stiffness = *c.stiffness;
   } else {
@@ -69,10 +67,10 @@ struct PairSolution {
   double orientation = 1.0;  ///< sign making (r'_y, −r'_x) the outward normal
   bool ok = true;
   // General pair form only (cam frame):
-  double v = 0.0;                ///< follower profile parameter
-  double u_rate = 0.0, v_rate = 0.0;  ///< differential tracking
-  double drift = 0.0;            ///< Newton step back to f = 0 (differential tracking)
-  double gap = 0.0;              ///< [m]
+  double v = 0.0;                                            ///< follower profile parameter
+  double u_rate = 0.0, v_rate = 0.0;                         ///< differential tracking
+  double drift = 0.0;                                        ///< Newton step back to f = 0 (differential tracking)
+  double gap = 0.0;                                          ///< [m]
   Eigen::Vector2d normal = Eigen::Vector2d::Zero();          ///< n_A, unit, towards the follower
   Eigen::Vector2d follower_point = Eigen::Vector2d::Zero();  ///< r_B [m]
 };
@@ -249,8 +247,7 @@ void general_pair_partials(const FollowerGeometry& fg, const PairSolution& ps, d
 }
 
 template <class S>
-void core(const Model& m, const Workspace& ws, double t, const S* x, const PairSolution& ps, const S& u,
-          Core<S>& o) {
+void core(const Model& m, const Workspace& ws, double t, const S* x, const PairSolution& ps, const S& u, Core<S>& o) {
   using std::abs;
   using std::cos;
   using std::sin;
@@ -343,8 +340,7 @@ void core(const Model& m, const Workspace& ws, double t, const S* x, const PairS
 
   support_friction(m, o);
   const S spring = m.spring_preload + m.spring_stiffness * o.q;
-  o.acceleration =
-      (o.generalised_force - spring - m.damping * o.v - m.mass * m.gravity + o.guide + o.pivot) / m.mass;
+  o.acceleration = (o.generalised_force - spring - m.damping * o.v - m.mass * m.gravity + o.guide + o.pivot) / m.mass;
   o.spin_acceleration = m.has_spin ? -(fg.radius * o.friction_force) / m.roller_inertia : S(0.0);
   o.u_rate = m.index_u >= 0 ? (-m.tracking_gain * o.f - f_q * o.v - f_theta * o.omega_c) / o.f_u : S(0.0);
   o.v_rate = S(0.0);
@@ -373,7 +369,7 @@ void build_contour_cam(const ContourConfig& config, const FollowerConfig& f, int
   model.contour = std::make_shared<const ContourCam>(ContourCam::fit(points, options, file, path));
   const ContourFollower kind = f.shape.type == FollowerShape::flat       ? ContourFollower::flat
                                : f.shape.type == FollowerShape::mushroom ? ContourFollower::mushroom
-                                                            : ContourFollower::roller;
+                                                                         : ContourFollower::roller;
   check_contour_for_follower(*model.contour, kind, f.shape.radius, file, path);
   model.contour_lift =
       std::make_shared<const RigidFollowerLift>(*model.contour, kind, f.shape.radius, f.offset, direction, 2048, file);
@@ -693,12 +689,13 @@ void evaluate(const Model& model, Workspace& ws, double t, const double* state, 
   if (model.drive == Drive::constant_speed) {
     ev.power_drive = -o.cam_torque * o.omega_c;
   } else {
-    ev.power_drive = model.motor == Motor::torque_speed ? o.motor_torque * o.motor_speed : o.shaft_torque * o.motor_speed;
+    ev.power_drive =
+        model.motor == Motor::torque_speed ? o.motor_torque * o.motor_speed : o.shaft_torque * o.motor_speed;
   }
   const double shaft_slip = o.motor_speed - o.omega_c;
-  ev.power_damper = model.damping * o.v * o.v + (model.drive == Drive::shaft ? model.shaft_damping * shaft_slip * shaft_slip : 0.0);
-  ev.power_hysteresis =
-      o.delta > 0.0 ? (o.normal_force - model.contact.elastic_force(o.delta)) * o.delta_rate : 0.0;
+  ev.power_damper =
+      model.damping * o.v * o.v + (model.drive == Drive::shaft ? model.shaft_damping * shaft_slip * shaft_slip : 0.0);
+  ev.power_hysteresis = o.delta > 0.0 ? (o.normal_force - model.contact.elastic_force(o.delta)) * o.delta_rate : 0.0;
   ev.power_friction = -o.friction_force * o.slip - (o.guide + o.pivot) * o.v;
 }
 
@@ -780,7 +777,10 @@ double jump_speed_rpm(const Model& model) {
   const double r = (std::sqrt(5.0) - 1.0) / 2.0;
   for (int it = 0; it < 60; ++it) {
     const double x1 = b - r * (b - a), x2 = a + r * (b - a);
-    if (omega_at(x1) < omega_at(x2)) b = x2; else a = x1;
+    if (omega_at(x1) < omega_at(x2))
+      b = x2;
+    else
+      a = x1;
   }
   best = std::min(best, omega_at(0.5 * (a + b)));
   return best * 60.0 / kTwoPi;

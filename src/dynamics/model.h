@@ -21,11 +21,10 @@
 // quadratures (physics.md §5), integrated beside the state.
 #pragma once
 
+#include <Eigen/Core>
 #include <memory>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "contact/force_law.h"
 #include "contact/friction.h"
@@ -70,10 +69,10 @@ struct Model {
   std::shared_ptr<const PairProfile> pair_cam_base;  ///< the profile pair_cam may be an offset of
   std::shared_ptr<const PairProfile> pair_cam;
   std::shared_ptr<const PairProfile> pair_follower;
-  CamGeometryReport geometry;   ///< pressure angle and curvature, checked when the model is built
-  double omega = 0.0;   ///< nominal cam speed |θ̇| [rad/s] (0: cam held still); motor speed with a shaft
-  int direction = +1;   ///< σ: the cam frame is at angle σθ in the world
-  double theta0 = 0.0;  ///< cam angle at t = 0 [rad]
+  CamGeometryReport geometry;  ///< pressure angle and curvature, checked when the model is built
+  double omega = 0.0;          ///< nominal cam speed |θ̇| [rad/s] (0: cam held still); motor speed with a shaft
+  int direction = +1;          ///< σ: the cam frame is at angle σθ in the world
+  double theta0 = 0.0;         ///< cam angle at t = 0 [rad]
 
   double mass = 0.0;            ///< generalised inertia M: follower mass [kg] or arm inertia [kg m²]
   double spring_stiffness = 0;  ///< k [N/m | N m/rad]
@@ -82,28 +81,28 @@ struct Model {
   double gravity = 0.0;         ///< g [m/s²], pulling a translating follower towards the cam
 
   ForceLaw contact;
-  FrictionLaw friction;          ///< sliding friction at the contact
-  bool contact_friction = false; ///< friction force at the contact assembled
-  double roller_inertia = 0.0;   ///< [kg m²]
-  bool has_spin = false;         ///< roller spin state (roller with inertia and friction)
+  FrictionLaw friction;           ///< sliding friction at the contact
+  bool contact_friction = false;  ///< friction force at the contact assembled
+  double roller_inertia = 0.0;    ///< [kg m²]
+  bool has_spin = false;          ///< roller spin state (roller with inertia and friction)
 
   bool has_guide_friction = false;  ///< translating: μ_g |side load| opposing q̇
   FrictionLaw guide_friction;
   bool has_pivot_friction = false;  ///< oscillating: μ_p r_pin |contact force| opposing q̇
   FrictionLaw pivot_friction;
-  double pin_radius = 0.0;          ///< [m]
+  double pin_radius = 0.0;  ///< [m]
 
   Drive drive = Drive::constant_speed;
-  double cam_inertia = 0.0;        ///< J_c [kg m²]
-  double shaft_stiffness = 0.0;    ///< k_s [N m/rad]
-  double shaft_damping = 0.0;      ///< c_s [N m s/rad]
+  double cam_inertia = 0.0;      ///< J_c [kg m²]
+  double shaft_stiffness = 0.0;  ///< k_s [N m/rad]
+  double shaft_damping = 0.0;    ///< c_s [N m s/rad]
   Motor motor = Motor::constant_speed;
-  double stall_torque = 0.0;       ///< T₀ [N m]
-  double no_load_speed = 0.0;      ///< ω₀ [rad/s]
-  double motor_inertia = 0.0;      ///< J_m [kg m²]
+  double stall_torque = 0.0;   ///< T₀ [N m]
+  double no_load_speed = 0.0;  ///< ω₀ [rad/s]
+  double motor_inertia = 0.0;  ///< J_m [kg m²]
 
   Tracking tracking = Tracking::differential;
-  double tracking_gain = 0.0;  ///< α of ḟ = −α f [1/s]
+  double tracking_gain = 0.0;      ///< α of ḟ = −α f [1/s]
   double penetration_limit = 0.0;  ///< a larger δ means the contact model no longer applies [m]
 
   // State layout (−1: not in this scene).
@@ -172,13 +171,13 @@ BodyMotion follower_motion(const FollowerGeometry& follower, double q, double q_
 
 /// Everything the model computes at one (t, state).
 struct Evaluation {
-  double theta = 0.0;        ///< cam angle [rad]
-  double cam_speed = 0.0;    ///< θ̇ [rad/s]
-  double y = 0.0, v = 0.0;   ///< follower coordinate q [m | rad] and rate
-  double spin = 0.0;         ///< roller spin Ω [rad/s] (world frame)
+  double theta = 0.0;       ///< cam angle [rad]
+  double cam_speed = 0.0;   ///< θ̇ [rad/s]
+  double y = 0.0, v = 0.0;  ///< follower coordinate q [m | rad] and rate
+  double spin = 0.0;        ///< roller spin Ω [rad/s] (world frame)
   TrackedPair pair;
-  double pair_v = 0.0;       ///< general pair form: follower profile parameter
-  double pair_drift = 0.0;   ///< size of the Newton step back to f = 0 [rad | m]: drift of differential tracking
+  double pair_v = 0.0;      ///< general pair form: follower profile parameter
+  double pair_drift = 0.0;  ///< size of the Newton step back to f = 0 [rad | m]: drift of differential tracking
   bool tracking_ok = true;
   double gap = 0.0, gap_rate = 0.0;  ///< g [m], ġ [m/s] (at fixed pair parameter)
   double delta = 0.0, delta_rate = 0.0;
@@ -187,16 +186,16 @@ struct Evaluation {
   double slip = 0.0;            ///< slip velocity of the follower over the cam at the contact [m/s]
   double contact_offset = 0.0;  ///< contact point across the follower face from its centre [m]
   Eigen::Vector2d force_world = Eigen::Vector2d::Zero();  ///< contact force on the follower [N]
-  double generalised_force = 0.0;  ///< contact force on q [N | N m]
-  double cam_torque = 0.0;         ///< contact generalised force on the cam angle [N m]
-  double guide_friction = 0.0;     ///< guide friction force on q [N]
-  double pivot_friction = 0.0;     ///< pivot friction torque on q [N m]
-  double acceleration = 0.0;       ///< q̈
+  double generalised_force = 0.0;                         ///< contact force on q [N | N m]
+  double cam_torque = 0.0;                                ///< contact generalised force on the cam angle [N m]
+  double guide_friction = 0.0;                            ///< guide friction force on q [N]
+  double pivot_friction = 0.0;                            ///< pivot friction torque on q [N m]
+  double acceleration = 0.0;                              ///< q̈
   double spin_acceleration = 0.0;
-  double u_rate = 0.0;             ///< u̇ [rad/s] (differential tracking)
-  double v_rate = 0.0;             ///< v̇ (general pair form, differential tracking)
-  double shaft_twist = 0.0;        ///< θ_m − θ_c [rad]
-  double shaft_torque = 0.0;       ///< torque of the shaft on the cam [N m]
+  double u_rate = 0.0;        ///< u̇ [rad/s] (differential tracking)
+  double v_rate = 0.0;        ///< v̇ (general pair form, differential tracking)
+  double shaft_twist = 0.0;   ///< θ_m − θ_c [rad]
+  double shaft_torque = 0.0;  ///< torque of the shaft on the cam [N m]
   double motor_speed = 0.0, motor_torque = 0.0;
   double cam_acceleration = 0.0, motor_acceleration = 0.0;
   double power_drive = 0.0, power_damper = 0.0, power_hysteresis = 0.0, power_friction = 0.0;  ///< [W]

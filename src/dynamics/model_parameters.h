@@ -27,20 +27,20 @@ struct ModelParameters {
   double damping = 0.0;           ///< c [N s/m | N m s/rad], ≥ 0
   double gravity = 0.0;           ///< g [m/s²]; 0 for an oscillating arm
 
-  double contact_stiffness = 0.0;           ///< K [N/m^n], > 0 (from materials: the derived value)
-  double contact_exponent = 1.5;            ///< n [-], in (0, 5]
-  double restitution = 0.8;                 ///< e [-], in (0, 1]; the hysteresis damping follows from it
-  double contact_damping = 0.0;             ///< kelvin_voigt c [N s/m], ≥ 0; 0 for the other laws
-  double reference_velocity = 0.01;         ///< floor of v₀ [m/s], > 0
-  double friction_mu = 0.0;                 ///< μ at the contact [-], ≥ 0
+  double contact_stiffness = 0.0;                  ///< K [N/m^n], > 0 (from materials: the derived value)
+  double contact_exponent = 1.5;                   ///< n [-], in (0, 5]
+  double restitution = 0.8;                        ///< e [-], in (0, 1]; the hysteresis damping follows from it
+  double contact_damping = 0.0;                    ///< kelvin_voigt c [N s/m], ≥ 0; 0 for the other laws
+  double reference_velocity = 0.01;                ///< floor of v₀ [m/s], > 0
+  double friction_mu = 0.0;                        ///< μ at the contact [-], ≥ 0
   double friction_regularization_velocity = 1e-4;  ///< [m/s], > 0
 
-  double guide_mu = 0.0;                          ///< μ_g [-], ≥ 0 (translating, with guide_friction)
-  double guide_regularization_velocity = 1e-4;    ///< [m/s], > 0
-  double pivot_mu = 0.0;                          ///< μ_p [-], ≥ 0 (oscillating, with pivot_friction)
-  double pivot_regularization_velocity = 1e-4;    ///< [m/s], > 0
-  double pin_radius = 0.0;                        ///< r_pin [m], > 0 with pivot friction
-  double roller_inertia = 0.0;                    ///< [kg m²], ≥ 0 (roller only)
+  double guide_mu = 0.0;                        ///< μ_g [-], ≥ 0 (translating, with guide_friction)
+  double guide_regularization_velocity = 1e-4;  ///< [m/s], > 0
+  double pivot_mu = 0.0;                        ///< μ_p [-], ≥ 0 (oscillating, with pivot_friction)
+  double pivot_regularization_velocity = 1e-4;  ///< [m/s], > 0
+  double pin_radius = 0.0;                      ///< r_pin [m], > 0 with pivot friction
+  double roller_inertia = 0.0;                  ///< [kg m²], ≥ 0 (roller only)
 
   double cam_inertia = 0.0;      ///< J_c [kg m²], > 0 (shaft drive)
   double shaft_stiffness = 0.0;  ///< k_s [N m/rad], > 0 (shaft drive)

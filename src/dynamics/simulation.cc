@@ -163,8 +163,10 @@ Failure initial_state(const SceneConfig& scene, const Model& model, Workspace& w
     // Twist the shaft so that it carries the contact torque on the cam.
     evaluate(model, ws, 0.0, y, ev);
     const double twist = -ev.cam_torque / model.shaft_stiffness;
-    if (model.index_motor_angle >= 0) y[model.index_motor_angle] += twist;
-    else ws.motor_phase = twist;
+    if (model.index_motor_angle >= 0)
+      y[model.index_motor_angle] += twist;
+    else
+      ws.motor_phase = twist;
   }
   return {};
 }
@@ -323,7 +325,11 @@ class SeriesRecorder {
  public:
   SeriesRecorder(const Model& model, const RunPlan& p, const SimulationOptions& options, WindowObserver& observer,
                  SimulationResult& result)
-      : model_(model), p_(p), options_(options), observer_(observer), result_(result),
+      : model_(model),
+        p_(p),
+        options_(options),
+        observer_(observer),
+        result_(result),
         eval_start_seen_(p.t_eval <= 0.0) {}
 
   // Records everything due up to t_hi [s].
@@ -416,8 +422,7 @@ bool handle_root(const RunContext& run, const Integrator& integrator, const Eval
 // Differential tracking: projects u back onto the common-normal condition
 // f = 0 by warm-started Newton (global search if that fails) when it drifted
 // beyond `tolerance` [rad]; sets `restart` when it did.
-Failure project_pair(const RunContext& run, const Evaluation& ev, double t, double tolerance, State& y,
-                     bool& restart) {
+Failure project_pair(const RunContext& run, const Evaluation& ev, double t, double tolerance, State& y, bool& restart) {
   const Model& model = run.model;
   Workspace& ws = run.ws;
   if (model.index_u < 0 || !(ev.pair_drift > tolerance)) return {};
@@ -441,16 +446,16 @@ Failure check_contact(const Model& model, const Evaluation& ev, double t) {
   // A penetration beyond half the roller radius (a tenth of the base radius
   // for a flat face) means the contact is far too soft for its load.
   if (ev.delta > model.penetration_limit)
-    return {Termination::penetration_limit,
-            "contact penetration " + std::to_string(ev.delta) + " m exceeds " +
-                std::to_string(model.penetration_limit) + " m (the contact stiffness is far too low for the load) " +
-                where(model, t)};
+    return {Termination::penetration_limit, "contact penetration " + std::to_string(ev.delta) + " m exceeds " +
+                                                std::to_string(model.penetration_limit) +
+                                                " m (the contact stiffness is far too low for the load) " +
+                                                where(model, t)};
   // A flat face whose contact point runs off its edge: the design check
   // (check_cam) passed on the law, so the dynamics drove it there.
   if (model.reduction == ContactReduction::line && ev.delta > 0.0 &&
       std::abs(ev.contact_offset) > 0.5 * model.follower.face_width)
-    return {Termination::left_flat_face, "the contact point left the flat face (" +
-                                             std::to_string(ev.contact_offset) + " m from its centre, face_width " +
+    return {Termination::left_flat_face, "the contact point left the flat face (" + std::to_string(ev.contact_offset) +
+                                             " m from its centre, face_width " +
                                              std::to_string(model.follower.face_width) + " m) " + where(model, t)};
   return {};
 }
@@ -559,14 +564,22 @@ Failure run_scene(const RunContext& run) {
 
 const char* termination_name(Termination termination) {
   switch (termination) {
-    case Termination::converged: return "converged";
-    case Termination::integrator_failure: return "integrator_failure";
-    case Termination::step_budget: return "step_budget";
-    case Termination::wall_time_budget: return "wall_time_budget";
-    case Termination::penetration_limit: return "penetration_limit";
-    case Termination::left_flat_face: return "left_flat_face";
-    case Termination::tracking_lost: return "tracking_lost";
-    case Termination::no_initial_contact: return "no_initial_contact";
+    case Termination::converged:
+      return "converged";
+    case Termination::integrator_failure:
+      return "integrator_failure";
+    case Termination::step_budget:
+      return "step_budget";
+    case Termination::wall_time_budget:
+      return "wall_time_budget";
+    case Termination::penetration_limit:
+      return "penetration_limit";
+    case Termination::left_flat_face:
+      return "left_flat_face";
+    case Termination::tracking_lost:
+      return "tracking_lost";
+    case Termination::no_initial_contact:
+      return "no_initial_contact";
   }
   return "unknown";
 }
@@ -576,15 +589,14 @@ void throw_if_failed(const SimulationResult& result) {
 }
 
 std::vector<std::string> TimeSeries::column_names() {
-  return {"time",   "cam_angle_deg", "follower_position", "follower_velocity", "follower_acceleration",
-          "kinematic_position", "gap", "contact_force", "friction_force", "energy_residual",
-          "contact_offset", "cam_speed_rpm"};
+  return {
+      "time", "cam_angle_deg", "follower_position", "follower_velocity", "follower_acceleration", "kinematic_position",
+      "gap",  "contact_force", "friction_force",    "energy_residual",   "contact_offset",        "cam_speed_rpm"};
 }
 
 std::vector<const std::vector<double>*> TimeSeries::columns() const {
-  return {&time, &cam_angle_deg, &follower_position, &follower_velocity, &follower_acceleration,
-          &kinematic_position, &gap, &contact_force, &friction_force, &energy_residual,
-          &contact_offset, &cam_speed_rpm};
+  return {&time, &cam_angle_deg, &follower_position, &follower_velocity, &follower_acceleration, &kinematic_position,
+          &gap,  &contact_force, &friction_force,    &energy_residual,   &contact_offset,        &cam_speed_rpm};
 }
 
 SimulationResult simulate(const SceneConfig& scene, const Model& model, Workspace& ws,

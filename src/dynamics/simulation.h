@@ -53,9 +53,9 @@ struct SolverSummary {
   std::string method;
   double rtol = 0.0, atol = 0.0;
   SolverCounters counters;
-  long events = 0;            ///< roots located (onsets, separations, force clamp switches)
-  long tracking_resets = 0;   ///< global re-initialisations of the contact pair
-  long projections = 0;       ///< drift projections of the differential tracking
+  long events = 0;           ///< roots located (onsets, separations, force clamp switches)
+  long tracking_resets = 0;  ///< global re-initialisations of the contact pair
+  long projections = 0;      ///< drift projections of the differential tracking
   double run_time_s = 0.0;
   Termination termination = Termination::converged;
   /// Empty when converged; otherwise what stopped the run, naming the time and
@@ -66,9 +66,9 @@ struct SolverSummary {
 
 /// How accurate a run is (summary.json `solver.error_estimate`).
 struct ErrorEstimate {
-  double energy_residual = 0.0;  ///< physics.md §5, always available
-  bool richardson = false;       ///< the fields below were computed
-  double position = 0.0;         ///< max |y − y_tight| over the evaluated cycles [m]
+  double energy_residual = 0.0;     ///< physics.md §5, always available
+  bool richardson = false;          ///< the fields below were computed
+  double position = 0.0;            ///< max |y − y_tight| over the evaluated cycles [m]
   double peak_contact_force = 0.0;  ///< |F_peak / F_peak,tight − 1| [-]
   double tight_run_time_s = 0.0;    ///< cost of the tighter run [s]
 };

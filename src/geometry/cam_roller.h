@@ -55,11 +55,11 @@ struct TranslatingRollerCam {
 };
 
 struct CamGeometryReport {
-  double max_pressure_angle_deg = 0.0;      ///< max |φ| over the cycle
-  double max_pressure_angle_at_deg = 0.0;   ///< cam angle where it occurs
-  double min_radius_of_curvature = 0.0;     ///< min |ρ| of the cam contour [m]
+  double max_pressure_angle_deg = 0.0;     ///< max |φ| over the cycle
+  double max_pressure_angle_at_deg = 0.0;  ///< cam angle where it occurs
+  double min_radius_of_curvature = 0.0;    ///< min |ρ| of the cam contour [m]
   double min_radius_of_curvature_at_deg = 0.0;
-  double max_face_offset = 0.0;         ///< flat face: max |contact offset| from the face centre [m] (0 otherwise)
+  double max_face_offset = 0.0;  ///< flat face: max |contact offset| from the face centre [m] (0 otherwise)
   double max_face_offset_at_deg = 0.0;
 };
 

@@ -34,8 +34,7 @@ Jet operator*(const Jet& a, const Jet& b) {  // Leibniz
 }
 /// F(x) from F, F', F'', F''' at x.v (Faà di Bruno to third order).
 Jet compose(const Jet& x, double f0, double f1, double f2, double f3) {
-  return {f0, f1 * x.d1, f2 * x.d1 * x.d1 + f1 * x.d2,
-          f3 * x.d1 * x.d1 * x.d1 + 3.0 * f2 * x.d1 * x.d2 + f1 * x.d3};
+  return {f0, f1 * x.d1, f2 * x.d1 * x.d1 + f1 * x.d2, f3 * x.d1 * x.d1 * x.d1 + 3.0 * f2 * x.d1 * x.d2 + f1 * x.d3};
 }
 Jet cos(const Jet& x) {
   const double c = std::cos(x.v), s = std::sin(x.v);
@@ -83,8 +82,7 @@ JetVec world_path(const MotionLaw& law, const FollowerGeometry& f, int sigma, do
 
 }  // namespace
 
-SynthesisedCam::SynthesisedCam(std::shared_ptr<const MotionLaw> law, const FollowerGeometry& follower,
-                               int direction)
+SynthesisedCam::SynthesisedCam(std::shared_ptr<const MotionLaw> law, const FollowerGeometry& follower, int direction)
     : law_(std::move(law)), follower_(follower), direction_(direction) {
   assert(law_ != nullptr && (direction == 1 || direction == -1));
 }
@@ -143,8 +141,7 @@ SynthesisedCam::Kinematics SynthesisedCam::kinematics(double theta) const {
   return k;
 }
 
-CamGeometryReport check_cam(const SynthesisedCam& cam, const std::string& file, const std::string& path,
-                            int samples) {
+CamGeometryReport check_cam(const SynthesisedCam& cam, const std::string& file, const std::string& path, int samples) {
   const FollowerGeometry& f = cam.follower();
   const MotionLaw& law = cam.law();
   const double sg = cam.direction();
@@ -198,8 +195,8 @@ CamGeometryReport check_cam(const SynthesisedCam& cam, const std::string& file, 
       std::string hint;
       if (!f.oscillating()) {
         // ρ = r_b + s + s'': the smallest base radius without a cusp is max(−(s + s'')).
-        hint = "; r_b + s + s'' must stay > 0, which needs a base radius above " +
-               num(f.base_radius + cusp.value) + " m";
+        hint =
+            "; r_b + s + s'' must stay > 0, which needs a base radius above " + num(f.base_radius + cusp.value) + " m";
       }
       throw InputError(file, path,
                        "the flat-faced follower's cam contour has a cusp" + at(cusp.u) + " (radius of curvature " +

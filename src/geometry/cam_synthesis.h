@@ -15,10 +15,9 @@
 // law's s … s'''' (the flat-face contour's r''' needs s'''').
 #pragma once
 
+#include <Eigen/Core>
 #include <memory>
 #include <string>
-
-#include <Eigen/Core>
 
 #include "geometry/cam_roller.h"
 #include "geometry/follower_geometry.h"
@@ -41,9 +40,9 @@ class SynthesisedCam final : public PeriodicCurve {
 
   /// The follower exactly on the law at cam angle θ (rigid model).
   struct Kinematics {
-    Eigen::Vector2d contact;  ///< contact point, world [m]
-    Eigen::Vector2d normal;   ///< unit normal of the contact force on the follower, world
-    double g_q = 0.0;  ///< ∂g/∂q [m/m or m/rad]: generalised force on q per newton of normal force
+    Eigen::Vector2d contact;           ///< contact point, world [m]
+    Eigen::Vector2d normal;            ///< unit normal of the contact force on the follower, world
+    double g_q = 0.0;                  ///< ∂g/∂q [m/m or m/rad]: generalised force on q per newton of normal force
     double pressure_angle = 0.0;       ///< angle between the normal and the follower's contact-point velocity [rad]
     double face_offset = 0.0;          ///< contact offset across the face (follower_geometry.h face_frame) [m]
     double radius_of_curvature = 0.0;  ///< of the cam contour at the contact [m], > 0 convex (cusp ≤ 0 for flat)

@@ -99,8 +99,9 @@ CurvePoint eval_curve(int p, int m, const std::vector<double>& knots, const std:
 int validate_points(std::vector<Eigen::Vector2d>& pts, const std::string& file, const std::string& where) {
   for (std::size_t i = 0; i < pts.size(); ++i) {
     if (!pts[i].allFinite())
-      throw InputError(file, where, "point " + std::to_string(i) + " is not finite (" + num(pts[i].x()) + ", " +
-                                        num(pts[i].y()) + ")");
+      throw InputError(
+          file, where,
+          "point " + std::to_string(i) + " is not finite (" + num(pts[i].x()) + ", " + num(pts[i].y()) + ")");
   }
   double scale = 0.0;
   for (const auto& p : pts) scale = std::max(scale, p.norm());
@@ -108,9 +109,9 @@ int validate_points(std::vector<Eigen::Vector2d>& pts, const std::string& file, 
   if (pts.size() > 1 && (pts.back() - pts.front()).norm() <= same) pts.pop_back();
   const int n = static_cast<int>(pts.size());
   if (n < kMinContourPoints)
-    throw InputError(file, where,
-                     "needs at least " + std::to_string(kMinContourPoints) + " distinct points, got " +
-                         std::to_string(n));
+    throw InputError(
+        file, where,
+        "needs at least " + std::to_string(kMinContourPoints) + " distinct points, got " + std::to_string(n));
   for (int i = 0; i < n; ++i) {
     if (pts[i].norm() <= same)
       throw InputError(file, where, "point " + std::to_string(i) + " is at the cam centre (0, 0)");
@@ -449,8 +450,8 @@ Eigen::Vector2d ContourCam::outward_normal(double u) const {
 
 // ---------------------------------------------------------------- follower checks
 
-void check_contour_for_follower(const ContourCam& cam, ContourFollower follower, double radius,
-                                const std::string& file, const std::string& path, double min_convex_radius) {
+void check_contour_for_follower(const ContourCam& cam, ContourFollower follower, double radius, const std::string& file,
+                                const std::string& path, double min_convex_radius) {
   const std::string where = path + ".points";
   const ContourFitReport& rep = cam.report();
   const auto describe = [&](const ConcavePortion& c) {
@@ -469,9 +470,8 @@ void check_contour_for_follower(const ContourCam& cam, ContourFollower follower,
   }
   if (min_convex_radius > 0.0 && rep.min_convex_radius < min_convex_radius)
     throw InputError(file, where,
-                     "the fitted contour's convex radius of curvature " + num(rep.min_convex_radius) +
-                         " m is below " + num(min_convex_radius) + " m at polar angle " +
-                         num(rep.min_convex_radius_angle_deg) +
+                     "the fitted contour's convex radius of curvature " + num(rep.min_convex_radius) + " m is below " +
+                         num(min_convex_radius) + " m at polar angle " + num(rep.min_convex_radius_angle_deg) +
                          "°: the points probably have a corner there that the fit rounded off");
 }
 
@@ -488,7 +488,9 @@ struct LiftTerms {
 
 LiftTerms lift_terms(const CurvePoint& c, double theta, int sigma, bool flat, double rho, double e) {
   const double cs = std::cos(sigma * theta), sn = std::sin(sigma * theta);
-  const auto rot = [&](const Eigen::Vector2d& v) { return Eigen::Vector2d(cs * v.x() - sn * v.y(), sn * v.x() + cs * v.y()); };
+  const auto rot = [&](const Eigen::Vector2d& v) {
+    return Eigen::Vector2d(cs * v.x() - sn * v.y(), sn * v.x() + cs * v.y());
+  };
   const Eigen::Vector2d q = rot(c.r), q_u = rot(c.dr), q_uu = rot(c.d2r);
   const Eigen::Vector2d q_t = sigma * perp(q), q_tt = -q, q_tu = sigma * perp(q_u);
   LiftTerms out;
@@ -509,7 +511,9 @@ LiftTerms lift_terms(const CurvePoint& c, double theta, int sigma, bool flat, do
   if (!(w2 > 0.0)) return out;
   const double w = std::sqrt(w2);
   const double x_u = q_u.x(), x_t = q_t.x();
-  const auto second = [&](double xa, double xb, double xab) { return -(xa * xb + xi * xab) / w - xi * xi * xa * xb / (w2 * w); };
+  const auto second = [&](double xa, double xb, double xab) {
+    return -(xa * xb + xi * xab) / w - xi * xi * xa * xb / (w2 * w);
+  };
   out.valid = true;
   out.y += w;
   out.y_u += -xi * x_u / w;
@@ -522,8 +526,8 @@ LiftTerms lift_terms(const CurvePoint& c, double theta, int sigma, bool flat, do
 
 }  // namespace
 
-RigidFollowerLift::RigidFollowerLift(const PeriodicCurve& curve, ContourFollower follower, double radius,
-                                     double offset, int direction, int samples, const std::string& file,
+RigidFollowerLift::RigidFollowerLift(const PeriodicCurve& curve, ContourFollower follower, double radius, double offset,
+                                     int direction, int samples, const std::string& file,
                                      const std::string& offset_path)
     : curve_(&curve), follower_(follower), radius_(radius), offset_(offset), direction_(direction) {
   assert(direction == 1 || direction == -1);
@@ -541,7 +545,8 @@ RigidFollowerLift::RigidFollowerLift(const PeriodicCurve& curve, ContourFollower
     for (int i = 0; i < kAngles; ++i) {
       const double th = kTwoPi * i / kAngles, cs = std::cos(direction * th), sn = std::sin(direction * th);
       bool reached = false;
-      for (const Eigen::Vector2d& r : sample_r_) reached = reached || std::abs(cs * r.x() - sn * r.y() - offset) < radius;
+      for (const Eigen::Vector2d& r : sample_r_)
+        reached = reached || std::abs(cs * r.x() - sn * r.y() - offset) < radius;
       if (!reached)
         throw InputError(file, offset_path,
                          "the follower axis x = " + num(offset) + " m passes the cam at cam angle " +

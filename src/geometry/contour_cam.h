@@ -17,11 +17,10 @@
 // 1996) smooths rough data further.
 #pragma once
 
+#include <Eigen/Core>
 #include <limits>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "geometry/planar_curve.h"
 
@@ -32,35 +31,35 @@ inline constexpr int kMinContourPoints = 8;
 
 /// How the contour is fitted (`mechanism.cam.motion_law.contour.*` besides `points`).
 struct ContourFitOptions {
-  int degree = 5;               ///< p, polynomial degree of the spline, in [3, kMaxSplineDegree]
-  int control_points = 0;       ///< m, per coordinate; 0 = automatic: N/2 within [2(p + 1), 400], at most N
-  double smoothing = 0.0;       ///< λ ≥ 0, weight of the third-difference penalty relative to the
-                                ///< data term (traces of the normal matrices); 0 = plain least squares
+  int degree = 5;                 ///< p, polynomial degree of the spline, in [3, kMaxSplineDegree]
+  int control_points = 0;         ///< m, per coordinate; 0 = automatic: N/2 within [2(p + 1), 400], at most N
+  double smoothing = 0.0;         ///< λ ≥ 0, weight of the third-difference penalty relative to the
+                                  ///< data term (traces of the normal matrices); 0 = plain least squares
   int parameter_corrections = 4;  ///< projection / refit rounds after the chord-length fit, ≥ 0
 };
 
 /// A portion of the contour where it is concave (signed curvature < 0).
 struct ConcavePortion {
-  double u_begin = 0.0, u_end = 0.0;            ///< curve parameter [rad], u_begin in [0, 2π) < u_end (may exceed 2π)
+  double u_begin = 0.0, u_end = 0.0;  ///< curve parameter [rad], u_begin in [0, 2π) < u_end (may exceed 2π)
   double angle_begin_deg = 0.0, angle_end_deg = 0.0;  ///< polar angle in the cam frame [deg, 0..360)
-  int point_begin = 0, point_end = 0;           ///< nearest input points (indices into the given list)
-  double min_abs_radius = 0.0;                  ///< smallest |ρ| inside the portion [m]
-  double min_abs_radius_angle_deg = 0.0;        ///< polar angle where it occurs [deg]
+  int point_begin = 0, point_end = 0;                 ///< nearest input points (indices into the given list)
+  double min_abs_radius = 0.0;                        ///< smallest |ρ| inside the portion [m]
+  double min_abs_radius_angle_deg = 0.0;              ///< polar angle where it occurs [deg]
 };
 
 /// What the fit achieved and what the contour looks like.
 struct ContourFitReport {
-  int points = 0;          ///< N, after dropping a repeated closing point
-  int degree = 0;          ///< p
-  int control_points = 0;  ///< m
+  int points = 0;              ///< N, after dropping a repeated closing point
+  int degree = 0;              ///< p
+  int control_points = 0;      ///< m
   double rms_residual = 0.0;   ///< sqrt(mean of squared point-to-curve distances) [m]
   double max_residual = 0.0;   ///< largest point-to-curve distance [m]
   int max_residual_point = 0;  ///< index of that point
   double min_radius_of_curvature = std::numeric_limits<double>::infinity();  ///< smallest |ρ| [m]
   double min_radius_of_curvature_angle_deg = 0.0;                            ///< where [deg]
-  double min_convex_radius = std::numeric_limits<double>::infinity();  ///< smallest ρ where convex [m]
-  double min_convex_radius_angle_deg = 0.0;                            ///< where [deg]
-  std::vector<ConcavePortion> concave;  ///< empty for a convex cam
+  double min_convex_radius = std::numeric_limits<double>::infinity();        ///< smallest ρ where convex [m]
+  double min_convex_radius_angle_deg = 0.0;                                  ///< where [deg]
+  std::vector<ConcavePortion> concave;                                       ///< empty for a convex cam
 };
 
 /// The fitted contour: a closed C^{p−1} curve r(u), u periodic in 2π (u is
@@ -126,18 +125,17 @@ enum class ContourFollower { flat, roller, mushroom };
 /// (a smooth fit has no corners), but a convex radius of curvature below
 /// `min_convex_radius` [m] (default 0 = unchecked) is reported the same way,
 /// since it points at a corner in the data that the fit rounded off.
-void check_contour_for_follower(const ContourCam& cam, ContourFollower follower, double radius,
-                                const std::string& file,
+void check_contour_for_follower(const ContourCam& cam, ContourFollower follower, double radius, const std::string& file,
                                 const std::string& path = "mechanism.cam.motion_law.contour",
                                 double min_convex_radius = 0.0);
 
 /// The rigid lift of a translating follower on a curve at one cam angle.
 struct RigidLift {
-  double y = 0.0;    ///< height of the follower reference above the cam centre [m]:
-                     ///< the roller (mushroom arc) centre, or the flat face
-  double dy = 0.0;   ///< dy/dθ [m/rad]
-  double d2y = 0.0;  ///< d²y/dθ² [m/rad²]
-  double u = 0.0;    ///< contour parameter of the contact point [rad]
+  double y = 0.0;                                       ///< height of the follower reference above the cam centre [m]:
+                                                        ///< the roller (mushroom arc) centre, or the flat face
+  double dy = 0.0;                                      ///< dy/dθ [m/rad]
+  double d2y = 0.0;                                     ///< d²y/dθ² [m/rad²]
+  double u = 0.0;                                       ///< contour parameter of the contact point [rad]
   Eigen::Vector2d contact_W = Eigen::Vector2d::Zero();  ///< contact point in the world frame [m]
 };
 
@@ -157,8 +155,8 @@ class RigidFollowerLift {
   /// (ignored for flat), `offset` e [m], `direction` σ = ±1, `samples` of the
   /// curve for the global search. Throws InputError(file, offset_path) when a
   /// roller/mushroom on that axis misses the cam at some angle.
-  RigidFollowerLift(const PeriodicCurve& curve, ContourFollower follower, double radius, double offset,
-                    int direction, int samples = 2048, const std::string& file = "",
+  RigidFollowerLift(const PeriodicCurve& curve, ContourFollower follower, double radius, double offset, int direction,
+                    int samples = 2048, const std::string& file = "",
                     const std::string& offset_path = "mechanism.follower.offset");
 
   /// y, dy/dθ, d²y/dθ² at cam angle θ [rad]. Allocates nothing.

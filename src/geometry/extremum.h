@@ -60,5 +60,4 @@ inline Extremum refine_max(const G& g, const std::vector<double>& us, const std:
   return best;
 }
 
-
 }  // namespace camdyn::geometry_detail

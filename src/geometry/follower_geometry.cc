@@ -34,8 +34,7 @@ FollowerGeometry make_follower_geometry(const FollowerConfig& config, double rb,
   g.face_width = g.circle() ? 0.0 : config.shape.face_width;
   if (!(rb > 0.0) || !std::isfinite(rb))
     throw InputError(file, "mechanism.cam.base_radius", num(rb) + " m must be > 0");
-  if (g.circle() && !(g.radius > 0.0))
-    throw InputError(file, path + ".shape.radius", num(g.radius) + " m must be > 0");
+  if (g.circle() && !(g.radius > 0.0)) throw InputError(file, path + ".shape.radius", num(g.radius) + " m must be > 0");
   if (!g.circle() && !(g.face_width > 0.0))
     throw InputError(file, path + ".shape.face_width", num(g.face_width) + " m must be > 0");
 
@@ -46,8 +45,7 @@ FollowerGeometry make_follower_geometry(const FollowerConfig& config, double rb,
       if (!(std::abs(g.offset) < r))
         throw InputError(file, path + ".offset",
                          "|offset| = " + num(std::abs(g.offset)) + " m must be less than base radius + " +
-                             (g.shape == FollowerShape::roller ? "roller" : "mushroom") +
-                             " radius = " + num(r) + " m");
+                             (g.shape == FollowerShape::roller ? "roller" : "mushroom") + " radius = " + num(r) + " m");
       g.y0 = std::sqrt(r * r - g.offset * g.offset);
     } else {
       g.y0 = rb;
@@ -55,8 +53,7 @@ FollowerGeometry make_follower_geometry(const FollowerConfig& config, double rb,
     return g;
   }
 
-  if (config.pivot.size() != 2)
-    throw InputError(file, path + ".pivot", "expected [x, y] of the arm's pivot in m");
+  if (config.pivot.size() != 2) throw InputError(file, path + ".pivot", "expected [x, y] of the arm's pivot in m");
   g.pivot = Eigen::Vector2d(config.pivot[0], config.pivot[1]);
   g.arm_length = config.arm_length;
   const double a = g.pivot.norm(), alpha = std::atan2(g.pivot.y(), g.pivot.x());
@@ -69,10 +66,12 @@ FollowerGeometry make_follower_geometry(const FollowerConfig& config, double rb,
     if (!(a > 0.0) || !(std::abs(k) < a))
       throw InputError(file, path + ".arm_length",
                        "no lowest position: an arm of " + num(L) + " m from the pivot at distance " + num(a) +
-                           " m cannot put the " + to_string(config.shape.type) + " centre at base radius + radius = " +
-                           num(R) + " m from the cam centre");
+                           " m cannot put the " + to_string(config.shape.type) +
+                           " centre at base radius + radius = " + num(R) + " m from the cam centre");
     const double beta = std::acos(k / a);
-    auto centre = [&](double psi) { return Eigen::Vector2d(g.pivot + L * Eigen::Vector2d(std::cos(psi), std::sin(psi))); };
+    auto centre = [&](double psi) {
+      return Eigen::Vector2d(g.pivot + L * Eigen::Vector2d(std::cos(psi), std::sin(psi)));
+    };
     g.psi0 = higher(alpha + beta, alpha - beta, centre);
     const Eigen::Vector2d u(std::cos(g.psi0), std::sin(g.psi0));
     const double lift_rate = g.pivot.dot(Eigen::Vector2d(-u.y(), u.x()));  // d(A·u)/dψ

@@ -19,10 +19,9 @@
 // All functions are templates over the scalar (double or dual numbers).
 #pragma once
 
+#include <Eigen/Core>
 #include <cmath>
 #include <string>
-
-#include <Eigen/Core>
 
 #include "geometry/vec2.h"
 #include "scene/scene.h"
@@ -32,12 +31,12 @@ namespace camdyn {
 struct FollowerGeometry {
   FollowerMotion motion = FollowerMotion::translating;
   FollowerShape shape = FollowerShape::roller;
-  double base_radius = 0.0;  ///< r_b [m]
-  double radius = 0.0;       ///< ρ: roller / mushroom radius [m] (0 for flat)
-  double face_width = 0.0;   ///< flat face width [m] (0 otherwise)
-  double offset = 0.0;       ///< e [m], translating
+  double base_radius = 0.0;                         ///< r_b [m]
+  double radius = 0.0;                              ///< ρ: roller / mushroom radius [m] (0 for flat)
+  double face_width = 0.0;                          ///< flat face width [m] (0 otherwise)
+  double offset = 0.0;                              ///< e [m], translating
   Eigen::Vector2d pivot = Eigen::Vector2d::Zero();  ///< A [m], oscillating
-  double arm_length = 0.0;   ///< L [m], oscillating
+  double arm_length = 0.0;                          ///< L [m], oscillating
   // Derived by make_follower_geometry:
   double y0 = 0.0;    ///< translating: circle centre height (circle) or face height r_b (flat) at q = 0 [m]
   double psi0 = 0.0;  ///< oscillating: arm (circle) or face (flat) direction angle at q = 0 [rad]

@@ -468,24 +468,29 @@ MotionLaw law_from_table(const TableConfig& tc, const std::string& file, const s
 // ---------------------------------------------------------------- public
 
 const std::vector<SegmentLaw>& classic_rise_laws() {
-  static const std::vector<SegmentLaw> laws = {SegmentLaw::cycloidal, SegmentLaw::polynomial_345,
-                                               SegmentLaw::polynomial_4567, SegmentLaw::harmonic,
+  static const std::vector<SegmentLaw> laws = {SegmentLaw::cycloidal,          SegmentLaw::polynomial_345,
+                                               SegmentLaw::polynomial_4567,    SegmentLaw::harmonic,
                                                SegmentLaw::modified_trapezoid, SegmentLaw::modified_sine};
   return laws;
 }
 
 std::shared_ptr<const NormalisedRise> classic_rise(SegmentLaw law) {
   switch (law) {
-    case SegmentLaw::cycloidal: return std::make_shared<Cycloidal>();
+    case SegmentLaw::cycloidal:
+      return std::make_shared<Cycloidal>();
     case SegmentLaw::polynomial_345:  // 10x³ − 15x⁴ + 6x⁵
       return std::make_shared<Polynomial>(std::array<double, 8>{0, 0, 0, 10, -15, 6, 0, 0});
     case SegmentLaw::polynomial_4567:  // 35x⁴ − 84x⁵ + 70x⁶ − 20x⁷
       return std::make_shared<Polynomial>(std::array<double, 8>{0, 0, 0, 0, 35, -84, 70, -20});
-    case SegmentLaw::harmonic: return std::make_shared<Harmonic>();
-    case SegmentLaw::modified_trapezoid: return modified_trapezoid();
-    case SegmentLaw::modified_sine: return modified_sine();
+    case SegmentLaw::harmonic:
+      return std::make_shared<Harmonic>();
+    case SegmentLaw::modified_trapezoid:
+      return modified_trapezoid();
+    case SegmentLaw::modified_sine:
+      return modified_sine();
     case SegmentLaw::none:
-    case SegmentLaw::spline: break;
+    case SegmentLaw::spline:
+      break;
   }
   return nullptr;
 }

@@ -49,9 +49,9 @@ class MotionLaw {
   /// A whole-cycle spline or table law is one piece [0, 2π) with base 0 and
   /// lift 1 whose shape returns s itself [m] (it is not a normalised rise).
   struct Piece {
-    double start = 0.0, end = 0.0;  ///< [rad]
-    double base = 0.0;              ///< s at the piece start [m]
-    double lift = 0.0;              ///< signed lift over the piece [m] (0 for a dwell)
+    double start = 0.0, end = 0.0;                ///< [rad]
+    double base = 0.0;                            ///< s at the piece start [m]
+    double lift = 0.0;                            ///< signed lift over the piece [m] (0 for a dwell)
     std::shared_ptr<const NormalisedRise> shape;  ///< null for a dwell
   };
 

@@ -3,9 +3,8 @@
 // right-hand side and for its exact Jacobian. J v is v turned by +90°.
 #pragma once
 
-#include <cmath>
-
 #include <Eigen/Core>
+#include <cmath>
 
 namespace camdyn {
 

@@ -1,13 +1,13 @@
 #include "integrate/arkode_integrator.h"
 
-#include <algorithm>
-#include <string>
-
 #include <arkode/arkode_arkstep.h>
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
 #include <sunlinsol/sunlinsol_dense.h>
 #include <sunmatrix/sunmatrix_dense.h>
+
+#include <algorithm>
+#include <string>
 
 #include "common/errors.h"
 #include "integrate/augmented_system.h"
@@ -29,9 +29,8 @@ struct ArkodeIntegrator::Impl {
 
   void check(int flag, const char* call) const {
     if (flag >= 0) return;
-    throw NumericalError(std::string("ARKODE ") + call + " failed (" + ARKStepGetReturnFlagName(flag) +
-                         ") at t = " + std::to_string(t) + " s" +
-                         (last_message.empty() ? std::string() : ": " + last_message));
+    throw NumericalError(std::string("ARKODE ") + call + " failed (" + ARKStepGetReturnFlagName(flag) + ") at t = " +
+                         std::to_string(t) + " s" + (last_message.empty() ? std::string() : ": " + last_message));
   }
   void check_created(const void* p, const char* what) const {
     if (p == nullptr) throw NumericalError(std::string("SUNDIALS could not create ") + what);
@@ -174,7 +173,8 @@ void ArkodeIntegrator::reinit(double t, const double* y, const double* q) {
   const int n = m.system.inner_size();
   for (int i = 0; i < m.system.size(); ++i) NV_Ith_S(m.y, i) = i < n ? y[i] : q[i - n];
   m.t = t;
-  m.check(m.implicit ? ARKStepReInit(m.mem, nullptr, &Impl::rhs, t, m.y) : ARKStepReInit(m.mem, &Impl::rhs, nullptr, t, m.y),
+  m.check(m.implicit ? ARKStepReInit(m.mem, nullptr, &Impl::rhs, t, m.y)
+                     : ARKStepReInit(m.mem, &Impl::rhs, nullptr, t, m.y),
           "ARKStepReInit");
   t_ = t_prev_ = t;
 }

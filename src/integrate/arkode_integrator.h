@@ -13,8 +13,7 @@ namespace camdyn {
 
 class ArkodeIntegrator final : public Integrator {
  public:
-  ArkodeIntegrator(OdeSystem& system, const IntegratorOptions& options, double t0, const double* y0,
-                   const double* q0);
+  ArkodeIntegrator(OdeSystem& system, const IntegratorOptions& options, double t0, const double* y0, const double* q0);
   ~ArkodeIntegrator() override;
   ArkodeIntegrator(const ArkodeIntegrator&) = delete;
   ArkodeIntegrator& operator=(const ArkodeIntegrator&) = delete;

@@ -1,13 +1,13 @@
 #include "integrate/cvode_integrator.h"
 
-#include <cstdio>
-#include <vector>
-
 #include <cvodes/cvodes.h>
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
 #include <sunlinsol/sunlinsol_dense.h>
 #include <sunmatrix/sunmatrix_dense.h>
+
+#include <cstdio>
+#include <vector>
 
 #include "common/errors.h"
 
@@ -26,9 +26,8 @@ struct CvodeIntegrator::Impl {
 
   void check(int flag, const char* call) const {
     if (flag >= 0) return;
-    throw NumericalError(std::string("CVODES ") + call + " failed (" + CVodeGetReturnFlagName(flag) +
-                         ") at t = " + std::to_string(t) + " s" +
-                         (last_message.empty() ? std::string() : ": " + last_message));
+    throw NumericalError(std::string("CVODES ") + call + " failed (" + CVodeGetReturnFlagName(flag) + ") at t = " +
+                         std::to_string(t) + " s" + (last_message.empty() ? std::string() : ": " + last_message));
   }
   void check_created(const void* p, const char* what) const {
     if (p == nullptr) throw NumericalError(std::string("SUNDIALS could not create ") + what);
@@ -103,7 +102,8 @@ CvodeIntegrator::CvodeIntegrator(OdeSystem& system, const IntegratorOptions& opt
   // The contact adds a lightly damped, fast oscillatory mode: BDF of order
   // 3-5 is not stable near the imaginary axis, and stability-limit detection
   // lowers the order instead of shrinking the step.
-  if (options.method != IntegrationMethod::cvode_adams) m.check(CVodeSetStabLimDet(m.mem, SUNTRUE), "CVodeSetStabLimDet");
+  if (options.method != IntegrationMethod::cvode_adams)
+    m.check(CVodeSetStabLimDet(m.mem, SUNTRUE), "CVodeSetStabLimDet");
   m.matrix = SUNDenseMatrix(n, n, m.context);
   m.check_created(m.matrix, "the dense Jacobian matrix");
   m.linear_solver = SUNLinSol_Dense(m.y, m.matrix, m.context);

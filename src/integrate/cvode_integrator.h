@@ -16,8 +16,7 @@ namespace camdyn {
 /// Newton iteration as well, the CVODES default).
 class CvodeIntegrator final : public Integrator {
  public:
-  CvodeIntegrator(OdeSystem& system, const IntegratorOptions& options, double t0, const double* y0,
-                  const double* q0);
+  CvodeIntegrator(OdeSystem& system, const IntegratorOptions& options, double t0, const double* y0, const double* q0);
   ~CvodeIntegrator() override;
   CvodeIntegrator(const CvodeIntegrator&) = delete;
   CvodeIntegrator& operator=(const CvodeIntegrator&) = delete;

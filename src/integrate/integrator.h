@@ -18,11 +18,11 @@ namespace camdyn {
 struct IntegratorOptions {
   IntegrationMethod method = IntegrationMethod::cvode_bdf;
   double rtol = 1e-8;
-  double atol = 1e-12;               ///< state absolute tolerance
-  double quadrature_atol = 1e-12;    ///< quadrature absolute tolerance
-  double max_step = 0.0;             ///< [s], 0: unlimited
-  double fixed_step = 0.0;           ///< rk4 step [s]
-  bool analytic_jacobian = true;     ///< implicit methods: use OdeSystem::jacobian when available
+  double atol = 1e-12;             ///< state absolute tolerance
+  double quadrature_atol = 1e-12;  ///< quadrature absolute tolerance
+  double max_step = 0.0;           ///< [s], 0: unlimited
+  double fixed_step = 0.0;         ///< rk4 step [s]
+  bool analytic_jacobian = true;   ///< implicit methods: use OdeSystem::jacobian when available
   long max_steps_per_call = 100000;
 };
 

@@ -25,7 +25,7 @@ class OdeSystem {
 /// Solver counters, accumulated over re-initialisations.
 struct SolverCounters {
   long steps = 0;
-  long rhs_evaluations = 0;     ///< including those of finite-difference Jacobians
+  long rhs_evaluations = 0;  ///< including those of finite-difference Jacobians
   long error_test_failures = 0;
   long nonlinear_iterations = 0;
   long jacobian_evaluations = 0;

@@ -26,8 +26,8 @@ void Rk4Integrator::evaluate_rhs(double t, const std::vector<double>& y, std::ve
   ++counters_.rhs_evaluations;
   const int flag = system_.rhs(t, y.data(), f.data());
   if (flag != 0)
-    throw NumericalError("rk4: the right-hand side failed (flag " + std::to_string(flag) + ") at t = " +
-                         std::to_string(t) + " s; a fixed step cannot be retried smaller");
+    throw NumericalError("rk4: the right-hand side failed (flag " + std::to_string(flag) +
+                         ") at t = " + std::to_string(t) + " s; a fixed step cannot be retried smaller");
 }
 
 void Rk4Integrator::roots_at(double t, std::vector<double>& g) {

@@ -33,9 +33,9 @@ class Rk4Integrator final : public Integrator {
   AugmentedSystem system_;
   int size_, inner_, roots_;
   double h_;
-  double t_ = 0.0;                     // current time (step end or root)
-  double t0_ = 0.0, t1_ = 0.0;         // last step, over which the Hermite interpolant is valid
-  std::vector<double> y_, f_;          // state and its derivative at t_
+  double t_ = 0.0;              // current time (step end or root)
+  double t0_ = 0.0, t1_ = 0.0;  // last step, over which the Hermite interpolant is valid
+  std::vector<double> y_, f_;   // state and its derivative at t_
   std::vector<double> y0_, f0_, y1_, f1_, k_, stage_;
   mutable std::vector<double> scratch_;  // dense-output buffer
   std::vector<double> g_start_, g_end_, g_probe_;

@@ -38,8 +38,7 @@ AtomicFile::AtomicFile(std::filesystem::path path) : path_(std::move(path)) {
     std::error_code ec;
     std::filesystem::create_directories(path_.parent_path(), ec);
     if (ec) {
-      throw std::runtime_error("cannot create directory '" + path_.parent_path().string() +
-                               "': " + ec.message());
+      throw std::runtime_error("cannot create directory '" + path_.parent_path().string() + "': " + ec.message());
     }
   }
   // Same directory as the target, so rename() stays on one file system and is atomic.

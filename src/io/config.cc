@@ -30,8 +30,7 @@ Check plain_name() {
     if (s.empty()) return "must not be empty";
     if (s == "." || s == "..") return "must be a plain name (it names the output folder)";
     if (s.find_first_of("/\\") != std::string::npos) {
-      return "must not contain '/' or '\\' (it names the output folder), got " +
-             describe_json(Json(s));
+      return "must not contain '/' or '\\' (it names the output folder), got " + describe_json(Json(s));
     }
     return "";
   };
@@ -46,8 +45,7 @@ template <class A>
 void visit(A& a, SegmentConfig& s) {
   a.field("type", s.type);
   if (s.type == SegmentType::dwell) {
-    a.forbid({"law", "lift", "lift_deg", "degree", "control_points"},
-             "a dwell segment has only 'type' and 'end_deg'");
+    a.forbid({"law", "lift", "lift_deg", "degree", "control_points"}, "a dwell segment has only 'type' and 'end_deg'");
     a.field("end_deg", s.end_deg, open_closed(0, 360));
     return;
   }
@@ -55,8 +53,7 @@ void visit(A& a, SegmentConfig& s) {
   a.field("end_deg", s.end_deg, open_closed(0, 360));
   a.field("lift", s.lift, positive());
   a.field("lift_deg", s.lift_deg, positive());
-  a.require(!(s.lift && s.lift_deg), "lift_deg",
-            "give either 'lift' [m] or 'lift_deg' [deg], not both");
+  a.require(!(s.lift && s.lift_deg), "lift_deg", "give either 'lift' [m] or 'lift_deg' [deg], not both");
   // A return without a lift goes back down by the total rise (the geometry
   // module checks that rises and returns balance).
   a.require(s.type != SegmentType::rise || s.lift || s.lift_deg, "lift",
@@ -65,8 +62,7 @@ void visit(A& a, SegmentConfig& s) {
     a.field("degree", s.degree, at_least(3));
     a.field("control_points", s.control_points);
   } else {
-    a.forbid({"degree", "control_points"},
-             "only a segment with law 'spline' has 'degree' and 'control_points'");
+    a.forbid({"degree", "control_points"}, "only a segment with law 'spline' has 'degree' and 'control_points'");
   }
 }
 
@@ -284,8 +280,7 @@ void visit(A& a, ContactConfig& c) {
   a.field("restitution", c.restitution, open_closed(0, 1));
   a.field("damping", c.damping, non_negative());
   if (c.model == ContactModel::kelvin_voigt) {
-    a.require(c.damping.has_value(), "damping",
-              "missing: model 'kelvin_voigt' needs 'damping' [N s/m] >= 0");
+    a.require(c.damping.has_value(), "damping", "missing: model 'kelvin_voigt' needs 'damping' [N s/m] >= 0");
   } else {
     a.require(!c.damping, "damping",
               "only model 'kelvin_voigt' uses 'damping' (model '" + to_string(c.model) +
@@ -310,8 +305,8 @@ void visit(A& a, MechanismConfig& m) {
   if (translating && !contour && m.follower.shape.type != FollowerShape::flat) {
     const double reach = m.cam.base_radius + m.follower.shape.radius;
     a.require(std::abs(m.follower.offset) < reach, "follower.offset",
-              "|offset| must be < base_radius + roller radius = " + format_shortest(reach) +
-                  " m, got " + format_shortest(m.follower.offset));
+              "|offset| must be < base_radius + roller radius = " + format_shortest(reach) + " m, got " +
+                  format_shortest(m.follower.offset));
   }
   const auto& segments = m.cam.motion_law.segments;
   for (std::size_t i = 0; i < segments.size(); ++i) {
@@ -363,23 +358,19 @@ void check_run_control(A& a, const SceneConfig& scene) {
   if (rpm == 0) {
     const std::string still = "the cam stands still (mechanism.cam.rpm = 0): ";
     a.require(s.duration.has_value(), "simulation.duration", still + "give 'duration' [s]");
-    a.require(s.output_step.has_value(), "simulation.output_step",
-              still + "give 'output_step' [s]");
+    a.require(s.output_step.has_value(), "simulation.output_step", still + "give 'output_step' [s]");
     a.require(!s.cycles, "simulation.cycles", still + "use 'duration' [s] instead of 'cycles'");
     a.require(!s.output_step_deg, "simulation.output_step_deg",
               still + "use 'output_step' [s] instead of 'output_step_deg'");
     return;
   }
-  a.require(!(s.cycles && s.duration), "simulation.duration",
-            "give either 'cycles' or 'duration', not both");
+  a.require(!(s.cycles && s.duration), "simulation.duration", "give either 'cycles' or 'duration', not both");
   a.require(!(s.output_step && s.output_step_deg), "simulation.output_step",
             "give either 'output_step_deg' or 'output_step', not both");
-  const double cycles = s.cycles     ? *s.cycles
-                        : s.duration ? *s.duration * rpm / 60.0
-                                     : SimulationConfig::kDefaultCycles;
+  const double cycles = s.cycles ? *s.cycles : s.duration ? *s.duration * rpm / 60.0 : SimulationConfig::kDefaultCycles;
   a.require(cycles > s.discard_cycles, "simulation.discard_cycles",
-            "must be less than the number of cycles simulated (" + format_shortest(cycles) +
-                "), got " + std::to_string(s.discard_cycles));
+            "must be less than the number of cycles simulated (" + format_shortest(cycles) + "), got " +
+                std::to_string(s.discard_cycles));
 }
 
 template <class A>
@@ -404,9 +395,7 @@ void visit(A& a, SceneConfig& s) {
 
 namespace {
 
-std::string directory_of(const std::string& file) {
-  return fs::absolute(fs::path(file)).parent_path().string();
-}
+std::string directory_of(const std::string& file) { return fs::absolute(fs::path(file)).parent_path().string(); }
 
 /// Makes the relative file names of a config that is extended absolute
 /// against its own directory, before its content is merged into a config that
@@ -427,8 +416,7 @@ void rebase_paths(Json& document, const std::string& dir) {
     }
   } else if (law.is_object() && law.contains("table") && law["table"].is_object()) {
     Json& table = law["table"];
-    if (table.contains("file") && table["file"].is_string() &&
-        !table["file"].get<std::string>().empty()) {
+    if (table.contains("file") && table["file"].is_string() && !table["file"].get<std::string>().empty()) {
       table["file"] = absolute_path(table["file"].get<std::string>(), dir);
     }
   }
@@ -439,8 +427,7 @@ Json load_with_extends(const std::string& file, std::vector<std::string>& chain)
   chain.push_back(fs::weakly_canonical(fs::absolute(file), ec).string());
   Json document = read_json_file(file);
   if (!document.is_object()) {
-    throw InputError(file, "",
-                     "expected a JSON object at the top level, got " + describe_json(document));
+    throw InputError(file, "", "expected a JSON object at the top level, got " + describe_json(document));
   }
   const auto it = document.find("extends");
   if (it != document.end()) {
@@ -497,8 +484,7 @@ void apply_assignment(Json& document, const std::string& assignment) {
 
 SceneConfig scene_from_json(const Json& json, const ConfigSource& source) {
   if (!json.is_object()) {
-    throw InputError(source.file, "",
-                     "expected a JSON object at the top level, got " + describe_json(json));
+    throw InputError(source.file, "", "expected a JSON object at the top level, got " + describe_json(json));
   }
   SceneConfig scene;
   JsonReader reader(json, "", source);
@@ -509,8 +495,7 @@ SceneConfig scene_from_json(const Json& json, const ConfigSource& source) {
   SimulationConfig& s = scene.simulation;
   if (scene.mechanism.cam.rpm > 0) {
     if (!s.cycles && !s.duration) s.cycles = SimulationConfig::kDefaultCycles;
-    if (!s.output_step_deg && !s.output_step)
-      s.output_step_deg = SimulationConfig::kDefaultOutputStepDeg;
+    if (!s.output_step_deg && !s.output_step) s.output_step_deg = SimulationConfig::kDefaultOutputStepDeg;
   }
   return scene;
 }

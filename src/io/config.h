@@ -5,10 +5,9 @@
 // are added here, at the boundary.
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "scene/scene.h"
 

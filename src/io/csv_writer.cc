@@ -15,8 +15,8 @@ void append_double(std::string& out, double v) {
 }
 
 void append_text(std::string& out, std::string_view s) {
-  const bool needs_quotes = s.find_first_of(",\"\r\n") != std::string_view::npos ||
-                            (!s.empty() && (s.front() == ' ' || s.back() == ' '));
+  const bool needs_quotes =
+      s.find_first_of(",\"\r\n") != std::string_view::npos || (!s.empty() && (s.front() == ' ' || s.back() == ' '));
   if (!needs_quotes) {
     out.append(s);
     return;
@@ -50,17 +50,15 @@ CsvWriter::CsvWriter(std::filesystem::path path, std::vector<std::string> column
 
 void CsvWriter::check_count(std::size_t n) const {
   if (n != columns_.size()) {
-    throw std::logic_error("CSV " + file_.path().string() + " row " + std::to_string(rows_ + 1) +
-                           ": " + std::to_string(n) + " cells for " +
-                           std::to_string(columns_.size()) + " columns");
+    throw std::logic_error("CSV " + file_.path().string() + " row " + std::to_string(rows_ + 1) + ": " +
+                           std::to_string(n) + " cells for " + std::to_string(columns_.size()) + " columns");
   }
 }
 
 void CsvWriter::check_finite(double v, std::size_t column) const {
   if (!std::isfinite(v)) {
-    throw std::logic_error("CSV " + file_.path().string() + ": non-finite value " +
-                           format_double(v) + " in column '" + columns_[column] + "', row " +
-                           std::to_string(rows_ + 1));
+    throw std::logic_error("CSV " + file_.path().string() + ": non-finite value " + format_double(v) + " in column '" +
+                           columns_[column] + "', row " + std::to_string(rows_ + 1));
   }
 }
 

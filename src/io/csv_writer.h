@@ -23,9 +23,9 @@ class CsvCell {
  public:
   CsvCell(double v) : value_(v) {}  // NOLINT(google-explicit-constructor): cells read like literals
   template <std::integral T>
-  CsvCell(T v) : value_(static_cast<long long>(v)) {}  // NOLINT(google-explicit-constructor)
-  CsvCell(std::string s) : value_(std::move(s)) {}     // NOLINT(google-explicit-constructor)
-  CsvCell(const char* s) : value_(std::string(s)) {}   // NOLINT(google-explicit-constructor)
+  CsvCell(T v) : value_(static_cast<long long>(v)) {}      // NOLINT(google-explicit-constructor)
+  CsvCell(std::string s) : value_(std::move(s)) {}         // NOLINT(google-explicit-constructor)
+  CsvCell(const char* s) : value_(std::string(s)) {}       // NOLINT(google-explicit-constructor)
   CsvCell(std::string_view s) : value_(std::string(s)) {}  // NOLINT(google-explicit-constructor)
 
   const std::variant<double, long long, std::string>& value() const { return value_; }

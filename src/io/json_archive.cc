@@ -71,33 +71,27 @@ Check non_negative() {
 
 Check at_least(double low) {
   const std::string bound = ">= " + format_shortest(low);
-  return number_check("a number " + bound, "must be " + bound,
-                      [low](double x) { return x >= low; });
+  return number_check("a number " + bound, "must be " + bound, [low](double x) { return x >= low; });
 }
 
 Check open_closed(double low, double high) {
   const std::string range = "in (" + format_shortest(low) + ", " + format_shortest(high) + "]";
-  return number_check("a number " + range, "must be " + range,
-                      [low, high](double x) { return x > low && x <= high; });
+  return number_check("a number " + range, "must be " + range, [low, high](double x) { return x > low && x <= high; });
 }
 
 Check closed_open(double low, double high) {
   const std::string range = "in [" + format_shortest(low) + ", " + format_shortest(high) + ")";
-  return number_check("a number " + range, "must be " + range,
-                      [low, high](double x) { return x >= low && x < high; });
+  return number_check("a number " + range, "must be " + range, [low, high](double x) { return x >= low && x < high; });
 }
 
 Check non_empty() {
   Check check;
   check.expected = "a non-empty value";
-  check.size = [](std::size_t n) {
-    return n > 0 ? std::string() : std::string("must not be empty");
-  };
+  check.size = [](std::size_t n) { return n > 0 ? std::string() : std::string("must not be empty"); };
   return check;
 }
 
-Check one_of(std::vector<std::string> allowed, std::vector<std::string> later,
-             std::string later_reason) {
+Check one_of(std::vector<std::string> allowed, std::vector<std::string> later, std::string later_reason) {
   if (later_reason.empty()) later_reason = "'{}' is not supported yet (see the open issues)";
   Check check;
   check.expected = "one of " + quoted_list(allowed);
@@ -110,8 +104,7 @@ Check one_of(std::vector<std::string> allowed, std::vector<std::string> later,
     }
     std::vector<std::string> known = allowed;
     known.insert(known.end(), later.begin(), later.end());
-    return "must be one of " + quoted_list(allowed) + ", got " + describe_json(Json(s)) +
-           did_you_mean(s, known);
+    return "must be one of " + quoted_list(allowed) + ", got " + describe_json(Json(s)) + did_you_mean(s, known);
   };
   return check;
 }
@@ -127,8 +120,7 @@ std::string strip_nlohmann_prefix(std::string message) {
     if (const auto end = message.find("] "); end != std::string::npos) message.erase(0, end + 2);
   }
   if (message.starts_with("parse error")) {
-    if (const auto colon = message.find(": "); colon != std::string::npos)
-      message.erase(0, colon + 2);
+    if (const auto colon = message.find(": "); colon != std::string::npos) message.erase(0, colon + 2);
   }
   return message;
 }
@@ -214,7 +206,7 @@ Json parse_json_text(const std::string& text, const std::string& file) {
     }
     throw InputError(file, "line " + std::to_string(line) + ", column " + std::to_string(column),
                      "JSON " + strip_nlohmann_prefix(e.what()));  // "JSON syntax error while ..."
-  } catch (const Json::exception& e) {  // e.g. a number too large for a double
+  } catch (const Json::exception& e) {                            // e.g. a number too large for a double
     throw InputError(file, "", "invalid JSON: " + strip_nlohmann_prefix(e.what()));
   }
 }
@@ -245,8 +237,7 @@ std::optional<fs::path> find_data_file(const std::string& name, const std::strin
   }
   for (const fs::path& candidate : candidates) {
     const fs::path full = fs::absolute(candidate).lexically_normal();
-    if (tried != nullptr &&
-        std::find(tried->begin(), tried->end(), full.string()) == tried->end()) {
+    if (tried != nullptr && std::find(tried->begin(), tried->end(), full.string()) == tried->end()) {
       tried->push_back(full.string());
     }
     std::error_code ec;
@@ -263,8 +254,7 @@ std::string absolute_path(const std::string& name, const std::string& dir) {
 
 // ---------------------------------------------------------------- reader
 
-JsonReader::JsonReader(const Json& object, std::string path, ConfigSource source,
-                       JsonReader* parent)
+JsonReader::JsonReader(const Json& object, std::string path, ConfigSource source, JsonReader* parent)
     : object_(object), path_(std::move(path)), source_(std::move(source)), parent_(parent) {}
 
 std::string JsonReader::take(std::string_view key) {
@@ -345,9 +335,7 @@ std::string JsonReader::path_of(std::string_view key) const {
   return path_ + "." + std::string(key);
 }
 
-void JsonReader::fail(std::string_view key, const std::string& reason) const {
-  fail_at(path_of(key), reason);
-}
+void JsonReader::fail(std::string_view key, const std::string& reason) const { fail_at(path_of(key), reason); }
 
 void JsonReader::fail_at(const std::string& path, const std::string& reason) const {
   throw InputError(source_.file, path, reason);
@@ -365,16 +353,14 @@ fs::path JsonReader::locate(const std::string& key, const std::string& name) con
   return *found;
 }
 
-void JsonReader::run_checks(const std::string& path, double x,
-                            std::span<const Check> checks) const {
+void JsonReader::run_checks(const std::string& path, double x, std::span<const Check> checks) const {
   for (const Check& check : checks) {
     if (!check.number) continue;
     if (const std::string reason = check.number(x); !reason.empty()) fail_at(path, reason);
   }
 }
 
-void JsonReader::run_checks(const std::string& path, const std::string& s,
-                            std::span<const Check> checks) const {
+void JsonReader::run_checks(const std::string& path, const std::string& s, std::span<const Check> checks) const {
   for (const Check& check : checks) {
     std::string reason;
     if (check.text) reason = check.text(s);
@@ -383,8 +369,7 @@ void JsonReader::run_checks(const std::string& path, const std::string& s,
   }
 }
 
-void JsonReader::run_size_checks(const std::string& path, std::size_t n,
-                                 std::span<const Check> checks) const {
+void JsonReader::run_size_checks(const std::string& path, std::size_t n, std::span<const Check> checks) const {
   for (const Check& check : checks) {
     if (!check.size) continue;
     if (const std::string reason = check.size(n); !reason.empty()) fail_at(path, reason);

@@ -61,8 +61,7 @@ Check non_empty();                           ///< a non-empty string or array
 /// The string is one of `allowed`. Values in `later` are known but not
 /// implemented yet: they fail with `later_reason`, where "{}" stands for the
 /// value (default: "'{}' is not supported yet (see the open issues)").
-Check one_of(std::vector<std::string> allowed, std::vector<std::string> later = {},
-             std::string later_reason = {});
+Check one_of(std::vector<std::string> allowed, std::vector<std::string> later = {}, std::string later_reason = {});
 
 /// Shortest round-trip text of a number ("0.3", "1e-08", "4").
 std::string format_shortest(double x);
@@ -116,8 +115,7 @@ class JsonReader {
 
   /// `object` is found at dotted `path` (empty for the document root) of `source.file`.
   /// A reader with a parent hands its deferred errors up instead of throwing them.
-  JsonReader(const Json& object, std::string path, ConfigSource source,
-             JsonReader* parent = nullptr);
+  JsonReader(const Json& object, std::string path, ConfigSource source, JsonReader* parent = nullptr);
 
   /// Reads `key` into `value` if present; if absent, keeps the default, and a
   /// default that fails a check makes it a required field.
@@ -149,8 +147,7 @@ class JsonReader {
     const Json document = read_json_file(file.string());
     const ConfigSource source{file.string(), file.parent_path().string()};
     if (!document.is_object()) {
-      throw InputError(source.file, "",
-                       "expected a JSON object at the top level, got " + describe_json(document));
+      throw InputError(source.file, "", "expected a JSON object at the top level, got " + describe_json(document));
     }
     JsonReader child(document, path_of(k), source, this);
     child.allow("description", Json::value_t::string);
@@ -195,8 +192,7 @@ class JsonReader {
   void defer(const InputError& error);
   [[noreturn]] void fail_at(const std::string& path, const std::string& reason) const;
   void run_checks(const std::string& path, double x, std::span<const Check> checks) const;
-  void run_checks(const std::string& path, const std::string& s,
-                  std::span<const Check> checks) const;
+  void run_checks(const std::string& path, const std::string& s, std::span<const Check> checks) const;
   void run_size_checks(const std::string& path, std::size_t n, std::span<const Check> checks) const;
 
   const Json& object_;
@@ -221,9 +217,7 @@ class JsonWriter {
   void field_or_file(std::string_view key, const T& value, const std::string* /*resolved*/) {
     field(key, value);
   }
-  void path_field(std::string_view key, const std::string& value, const Check& /*check*/) {
-    field(key, value);
-  }
+  void path_field(std::string_view key, const std::string& value, const Check& /*check*/) { field(key, value); }
   bool given(std::string_view /*key*/, bool writer_state) const { return writer_state; }
   bool given_object(std::string_view /*key*/, bool writer_state) const { return writer_state; }
   void allow(std::string_view /*key*/, Json::value_t /*type*/) {}
@@ -262,8 +256,7 @@ class JsonWriter {
 // ---------------------------------------------------------------- reader internals
 
 template <class T>
-void JsonReader::read(const Json& j, const std::string& path, T& value,
-                      std::span<const Check> checks) {
+void JsonReader::read(const Json& j, const std::string& path, T& value, std::span<const Check> checks) {
   using archive_detail::is_optional;
   using archive_detail::is_vector;
   if constexpr (is_optional<T>::value) {
@@ -306,9 +299,8 @@ void JsonReader::read(const Json& j, const std::string& path, T& value,
     value = static_cast<T>(x);
   } else if constexpr (std::is_integral_v<T>) {
     // Integers may be written as 4 or 4.0, but not 4.5.
-    const bool integral =
-        j.is_number_integer() || (j.is_number_float() && std::isfinite(j.template get<double>()) &&
-                                  std::trunc(j.template get<double>()) == j.template get<double>());
+    const bool integral = j.is_number_integer() || (j.is_number_float() && std::isfinite(j.template get<double>()) &&
+                                                    std::trunc(j.template get<double>()) == j.template get<double>());
     if (!integral) fail_at(path, "expected an integer, got " + describe_json(j));
     const double x = j.template get<double>();
     if (x < static_cast<double>(std::numeric_limits<T>::min()) ||
@@ -336,8 +328,7 @@ void JsonReader::missing(const std::string& key, T& value, std::span<const Check
     if (enum_name(value).empty()) {
       defer(InputError(source_.file, path_of(key), "missing (expected " + one_of_enum<T>().expected + ")"));
     }
-  } else if constexpr (is_vector<T>::value || std::is_same_v<T, std::string> ||
-                       std::is_arithmetic_v<T>) {
+  } else if constexpr (is_vector<T>::value || std::is_same_v<T, std::string> || std::is_arithmetic_v<T>) {
     // A default that fails its own check means the field is required.
     for (const Check& check : checks) {
       std::string reason;

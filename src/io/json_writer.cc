@@ -81,8 +81,6 @@ void write_json_atomic(const std::filesystem::path& path, const nlohmann::ordere
   write_checked(path, doc);
 }
 
-void write_json_atomic(const std::filesystem::path& path, const nlohmann::json& doc) {
-  write_checked(path, doc);
-}
+void write_json_atomic(const std::filesystem::path& path, const nlohmann::json& doc) { write_checked(path, doc); }
 
 }  // namespace camdyn

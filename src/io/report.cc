@@ -16,8 +16,8 @@
 #include <fstream>
 #include <iostream>
 #include <iterator>
-#include <set>
 #include <limits>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 #include <system_error>
@@ -69,8 +69,7 @@ Series drawable_points(const Series& s, bool logx, bool logy) {
   out.y.reserve(s.y.size());
   for (std::size_t i = 0; i < s.x.size(); ++i) {
     const double x = s.x[i], y = s.y[i];
-    const bool ok = std::isfinite(x) && std::isfinite(y) && !(logx && x <= 0.0) &&
-                    !(logy && y <= 0.0);
+    const bool ok = std::isfinite(x) && std::isfinite(y) && !(logx && x <= 0.0) && !(logy && y <= 0.0);
     if (ok) {
       out.x.push_back(x);
       out.y.push_back(y);
@@ -93,8 +92,7 @@ class TempDir {
     std::string pattern = (std::filesystem::temp_directory_path() / "camdyn-plot-XXXXXX").string();
     if (::mkdtemp(pattern.data()) == nullptr) {
       throw std::runtime_error("cannot create a temporary directory in " +
-                               std::filesystem::temp_directory_path().string() + ": " +
-                               std::strerror(errno));
+                               std::filesystem::temp_directory_path().string() + ": " + std::strerror(errno));
     }
     path_ = pattern;
   }
@@ -151,9 +149,8 @@ std::string run_gnuplot(const std::string& program, const std::filesystem::path&
   }
   if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return {};
   const std::string messages = one_line(read_all(log));
-  std::string reason = WIFEXITED(status)
-                           ? "gnuplot exited with status " + std::to_string(WEXITSTATUS(status))
-                           : "gnuplot killed by signal " + std::to_string(WTERMSIG(status));
+  std::string reason = WIFEXITED(status) ? "gnuplot exited with status " + std::to_string(WEXITSTATUS(status))
+                                         : "gnuplot killed by signal " + std::to_string(WTERMSIG(status));
   if (!messages.empty()) reason += ": " + messages;
   return reason;
 }
@@ -161,14 +158,20 @@ std::string run_gnuplot(const std::string& program, const std::filesystem::path&
 std::string placeholder_svg(const std::string& title, const std::string& message) {
   std::string svg =
       "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 800 450\" role=\"img\">\n"
-      "<title>" + escape_html(title) + "</title>\n"
+      "<title>" +
+      escape_html(title) +
+      "</title>\n"
       "<rect x=\"0.5\" y=\"0.5\" width=\"799\" height=\"449\" fill=\"#fafafa\" stroke=\"#cccccc\"/>\n";
   if (!title.empty()) {
-    svg += "<text x=\"400\" y=\"40\" text-anchor=\"middle\" font-family=\"sans-serif\" "
-           "font-size=\"14\" fill=\"#333333\">" + escape_html(title) + "</text>\n";
+    svg +=
+        "<text x=\"400\" y=\"40\" text-anchor=\"middle\" font-family=\"sans-serif\" "
+        "font-size=\"14\" fill=\"#333333\">" +
+        escape_html(title) + "</text>\n";
   }
-  svg += "<text x=\"400\" y=\"225\" text-anchor=\"middle\" font-family=\"sans-serif\" "
-         "font-size=\"14\" fill=\"#777777\">" + escape_html(message) + "</text>\n</svg>\n";
+  svg +=
+      "<text x=\"400\" y=\"225\" text-anchor=\"middle\" font-family=\"sans-serif\" "
+      "font-size=\"14\" fill=\"#777777\">" +
+      escape_html(message) + "</text>\n</svg>\n";
   return svg;
 }
 
@@ -176,8 +179,7 @@ std::string unavailable(const Plot& plot, const std::string& reason) {
   // One warning per process: a report with ten plots should not print ten.
   static std::atomic<bool> warned{false};
   if (!warned.exchange(true)) {
-    std::cerr << "camdyn: warning: plot unavailable: " << reason
-              << " (reports will show placeholders)\n";
+    std::cerr << "camdyn: warning: plot unavailable: " << reason << " (reports will show placeholders)\n";
   }
   return placeholder_svg(plot.title, "plot unavailable: " + reason);
 }
@@ -199,19 +201,16 @@ void write_data(const std::filesystem::path& path, const Series& s) {
 }
 
 std::string gnuplot_script(const Plot& plot, const std::vector<std::filesystem::path>& data,
-                           const std::vector<const Series*>& series,
-                           const std::filesystem::path& svg) {
+                           const std::vector<const Series*>& series, const std::filesystem::path& svg) {
   std::ostringstream gp;
   gp << "set encoding utf8\n"
      << "set terminal svg size 800,450 dynamic enhanced font 'sans,11' background '#ffffff'\n"
      << "set output " << gp_quote(svg.string()) << "\n"
      << "set grid\nset key below\nset border 3\nset tics nomirror\n";
   // A colour-blind-safe palette that reads on screen and in print.
-  const char* colours[] = {"#0072b2", "#d55e00", "#009e73", "#cc79a7",
-                           "#e69f00", "#56b4e9", "#000000", "#f0e442"};
+  const char* colours[] = {"#0072b2", "#d55e00", "#009e73", "#cc79a7", "#e69f00", "#56b4e9", "#000000", "#f0e442"};
   for (int i = 0; i < 8; ++i) {
-    gp << "set linetype " << i + 1 << " lc rgb '" << colours[i] << "' lw 1.5 pt " << i + 1
-       << " ps 0.6\n";
+    gp << "set linetype " << i + 1 << " lc rgb '" << colours[i] << "' lw 1.5 pt " << i + 1 << " ps 0.6\n";
   }
   gp << "set linetype cycle 8\n";
   // noenhanced everywhere: a user's "cam_angle" must not turn into a subscript.
@@ -230,8 +229,7 @@ std::string gnuplot_script(const Plot& plot, const std::vector<std::filesystem::
     const std::string& style = series[i]->style;
     const bool known = style == "lines" || style == "points" || style == "linespoints";
     gp << (i > 0 ? ", \\\n     " : "") << gp_quote(data[i].string()) << " using 1:2 with "
-       << (known ? style : std::string("lines")) << " title " << gp_quote(series[i]->label)
-       << " noenhanced";
+       << (known ? style : std::string("lines")) << " title " << gp_quote(series[i]->label) << " noenhanced";
   }
   gp << "\nunset output\n";
   return gp.str();
@@ -358,15 +356,14 @@ constexpr const char* kSortScript = R"js(
 void render_table(std::ostringstream& html, const Table& table) {
   for (std::size_t r = 0; r < table.rows.size(); ++r) {
     if (table.rows[r].size() != table.columns.size()) {
-      throw std::logic_error("report table '" + table.title + "' row " + std::to_string(r + 1) +
-                             " has " + std::to_string(table.rows[r].size()) + " cells for " +
+      throw std::logic_error("report table '" + table.title + "' row " + std::to_string(r + 1) + " has " +
+                             std::to_string(table.rows[r].size()) + " cells for " +
                              std::to_string(table.columns.size()) + " columns");
     }
   }
   html << "<section class=\"table\">\n";
   if (!table.title.empty()) html << "<h2>" << escape_html(table.title) << "</h2>\n";
-  html << "<div class=\"table-wrap\">\n<table" << (table.sortable ? " class=\"sortable\"" : "")
-       << ">\n<thead><tr>";
+  html << "<div class=\"table-wrap\">\n<table" << (table.sortable ? " class=\"sortable\"" : "") << ">\n<thead><tr>";
   for (const auto& column : table.columns) html << "<th scope=\"col\">" << escape_html(column) << "</th>";
   html << "</tr></thead>\n<tbody>\n";
   const std::set<std::pair<std::size_t, std::size_t>> marked(table.marked.begin(), table.marked.end());
@@ -393,12 +390,23 @@ std::string escape_html(std::string_view text) {
   out.reserve(text.size());
   for (char c : text) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&#39;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&#39;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -453,9 +461,8 @@ std::string render_svg(const Plot& plot) {
   std::vector<Series> prepared;
   for (const auto& s : plot.series) {
     if (s.x.size() != s.y.size()) {
-      throw std::logic_error("plot '" + plot.title + "' series '" + s.label + "': " +
-                             std::to_string(s.x.size()) + " x values for " +
-                             std::to_string(s.y.size()) + " y values");
+      throw std::logic_error("plot '" + plot.title + "' series '" + s.label + "': " + std::to_string(s.x.size()) +
+                             " x values for " + std::to_string(s.y.size()) + " y values");
     }
     Series drawable = decimate_minmax(drawable_points(s, plot.logx, plot.logy));
     if (!drawable.x.empty()) prepared.push_back(std::move(drawable));
@@ -511,8 +518,7 @@ std::string render_html(const Report& report) {
   if (!report.facts.empty()) {
     html << "<dl class=\"facts\">\n";
     for (const auto& [key, value] : report.facts) {
-      html << "<div><dt>" << escape_html(key) << "</dt><dd>" << escape_html(value)
-           << "</dd></div>\n";
+      html << "<div><dt>" << escape_html(key) << "</dt><dd>" << escape_html(value) << "</dd></div>\n";
     }
     html << "</dl>\n";
   }
@@ -532,9 +538,8 @@ std::string render_html(const Report& report) {
   for (std::size_t i = 0; i < report.plots.size(); ++i) {
     const std::string number = std::to_string(i + 1);
     html << "<figure id=\"figure-" << number << "\">\n"
-         << prefix_svg_ids(svgs[i], "fig" + number + "-")
-         << "<figcaption>Figure " << number << ". " << escape_html(report.plots[i].title)
-         << "</figcaption>\n</figure>\n";
+         << prefix_svg_ids(svgs[i], "fig" + number + "-") << "<figcaption>Figure " << number << ". "
+         << escape_html(report.plots[i].title) << "</figcaption>\n</figure>\n";
   }
   if (!report.plots.empty()) html << "</section>\n";
   if (!report.notes.empty()) {

@@ -34,8 +34,7 @@ std::string lower(std::string_view s) {
 }
 }  // namespace
 
-std::optional<std::string> closest_match(std::string_view word,
-                                         const std::vector<std::string>& candidates) {
+std::optional<std::string> closest_match(std::string_view word, const std::vector<std::string>& candidates) {
   const std::size_t limit = word.size() <= 3 ? 1 : word.size() <= 6 ? 2 : 3;
   const std::string w = lower(word);
   std::optional<std::string> best;

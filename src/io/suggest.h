@@ -18,8 +18,7 @@ std::size_t edit_distance(std::string_view a, std::string_view b);
 /// The candidate closest to `word` (case-insensitive), if it is close enough
 /// to be a plausible typo: distance ≤ 1 for words of up to 3 characters, ≤ 2 up
 /// to 6, ≤ 3 beyond. Ties go to the earlier candidate.
-std::optional<std::string> closest_match(std::string_view word,
-                                         const std::vector<std::string>& candidates);
+std::optional<std::string> closest_match(std::string_view word, const std::vector<std::string>& candidates);
 
 /// " (did you mean 'x'?)" for the closest match, or "" when there is none.
 std::string did_you_mean(std::string_view word, const std::vector<std::string>& candidates);

@@ -29,17 +29,23 @@ constexpr std::span<const EnumName<SegmentType>> enum_names(SegmentType) { retur
 
 /// The law of a rise or return segment; `none` on a dwell.
 enum class SegmentLaw {
-  none, cycloidal, polynomial_345, polynomial_4567, harmonic, modified_trapezoid, modified_sine, spline
+  none,
+  cycloidal,
+  polynomial_345,
+  polynomial_4567,
+  harmonic,
+  modified_trapezoid,
+  modified_sine,
+  spline
 };
-inline constexpr EnumName<SegmentLaw> kSegmentLawNames[] = {
-    {SegmentLaw::none, ""},
-    {SegmentLaw::cycloidal, "cycloidal"},
-    {SegmentLaw::polynomial_345, "polynomial_345"},
-    {SegmentLaw::polynomial_4567, "polynomial_4567"},
-    {SegmentLaw::harmonic, "harmonic"},
-    {SegmentLaw::modified_trapezoid, "modified_trapezoid"},
-    {SegmentLaw::modified_sine, "modified_sine"},
-    {SegmentLaw::spline, "spline"}};
+inline constexpr EnumName<SegmentLaw> kSegmentLawNames[] = {{SegmentLaw::none, ""},
+                                                            {SegmentLaw::cycloidal, "cycloidal"},
+                                                            {SegmentLaw::polynomial_345, "polynomial_345"},
+                                                            {SegmentLaw::polynomial_4567, "polynomial_4567"},
+                                                            {SegmentLaw::harmonic, "harmonic"},
+                                                            {SegmentLaw::modified_trapezoid, "modified_trapezoid"},
+                                                            {SegmentLaw::modified_sine, "modified_sine"},
+                                                            {SegmentLaw::spline, "spline"}};
 constexpr std::span<const EnumName<SegmentLaw>> enum_names(SegmentLaw) { return kSegmentLawNames; }
 
 /// The motor of a shaft drive: constant speed, or a torque falling linearly with speed.
@@ -56,9 +62,7 @@ constexpr std::span<const EnumName<Drive>> enum_names(Drive) { return kDriveName
 enum class RotationDirection { ccw, cw };
 inline constexpr EnumName<RotationDirection> kRotationDirectionNames[] = {{RotationDirection::ccw, "ccw"},
                                                                           {RotationDirection::cw, "cw"}};
-constexpr std::span<const EnumName<RotationDirection>> enum_names(RotationDirection) {
-  return kRotationDirectionNames;
-}
+constexpr std::span<const EnumName<RotationDirection>> enum_names(RotationDirection) { return kRotationDirectionNames; }
 
 enum class FollowerShape { roller, flat, mushroom };
 inline constexpr EnumName<FollowerShape> kFollowerShapeNames[] = {
@@ -109,9 +113,7 @@ inline constexpr EnumName<IntegrationMethod> kIntegrationMethodNames[] = {
     {IntegrationMethod::arkode_erk, "arkode_erk"},
     {IntegrationMethod::arkode_dirk, "arkode_dirk"},
     {IntegrationMethod::rk4, "rk4"}};
-constexpr std::span<const EnumName<IntegrationMethod>> enum_names(IntegrationMethod) {
-  return kIntegrationMethodNames;
-}
+constexpr std::span<const EnumName<IntegrationMethod>> enum_names(IntegrationMethod) { return kIntegrationMethodNames; }
 
 /// Where an implicit method's Jacobian comes from.
 enum class JacobianSource { analytic, finite_difference };
@@ -133,11 +135,11 @@ constexpr std::span<const EnumName<ErrorEstimateMethod>> enum_names(ErrorEstimat
 /// One segment of a piecewise motion law (`mechanism.cam.motion_law.segments[i]`).
 struct SegmentConfig {
   SegmentType type = SegmentType::unset;
-  SegmentLaw law = SegmentLaw::none;  ///< rise/return only (none on a dwell)
-  double end_deg = 0.0;        ///< cam angle where the segment ends [deg], in (start, 360]
-  std::optional<double> lift;  ///< rise/return: lift magnitude [m] (translating follower)
-  std::optional<double> lift_deg;  ///< rise/return: arm rotation [deg] (oscillating follower)
-  int degree = 5;              ///< spline only: polynomial degree (>= 3)
+  SegmentLaw law = SegmentLaw::none;   ///< rise/return only (none on a dwell)
+  double end_deg = 0.0;                ///< cam angle where the segment ends [deg], in (start, 360]
+  std::optional<double> lift;          ///< rise/return: lift magnitude [m] (translating follower)
+  std::optional<double> lift_deg;      ///< rise/return: arm rotation [deg] (oscillating follower)
+  int degree = 5;                      ///< spline only: polynomial degree (>= 3)
   std::vector<double> control_points;  ///< spline only: free interior control points,
                                        ///< normalised lift (0 = segment start, 1 = end)
 
@@ -173,10 +175,10 @@ struct TableConfig {
 /// motion law is then the rigid follower's lift on that contour.
 struct ContourConfig {
   std::vector<std::vector<double>> points;  ///< [[x, y], ...] in the cam frame at cam angle 0 [m], in order
-  int degree = 5;                 ///< spline degree, in [3, 7]
-  int control_points = 0;         ///< per coordinate; 0 = automatic (N/2 within [2(degree + 1), 400])
-  double smoothing = 0.0;         ///< third-difference penalty weight λ >= 0 (0 = plain least squares)
-  int parameter_corrections = 4;  ///< foot-point projection / refit rounds, >= 0
+  int degree = 5;                           ///< spline degree, in [3, 7]
+  int control_points = 0;                   ///< per coordinate; 0 = automatic (N/2 within [2(degree + 1), 400])
+  double smoothing = 0.0;                   ///< third-difference penalty weight λ >= 0 (0 = plain least squares)
+  int parameter_corrections = 4;            ///< foot-point projection / refit rounds, >= 0
 
   bool operator==(const ContourConfig&) const = default;
 };
@@ -197,9 +199,9 @@ struct MotionLawConfig {
 /// The motor of a shaft drive (`mechanism.cam.drive.motor`).
 struct MotorConfig {
   Motor type = Motor::constant_speed;  ///< constant_speed: motor angle = ω t at cam.rpm
-  double stall_torque = 0.0;  ///< torque_speed: T₀ at zero speed [N m], > 0
-  double no_load_rpm = 0.0;   ///< torque_speed: speed where the torque falls to 0 [rpm], > 0
-  double inertia = 0.0;       ///< torque_speed: rotor inertia J_m [kg m^2], > 0
+  double stall_torque = 0.0;           ///< torque_speed: T₀ at zero speed [N m], > 0
+  double no_load_rpm = 0.0;            ///< torque_speed: speed where the torque falls to 0 [rpm], > 0
+  double inertia = 0.0;                ///< torque_speed: rotor inertia J_m [kg m^2], > 0
 
   bool operator==(const MotorConfig&) const = default;
 };
@@ -217,8 +219,8 @@ struct DriveConfig {
 };
 
 struct CamConfig {
-  double base_radius = 0.0;        ///< r_b [m], > 0; left out for a contour cam (derived from its points)
-  double rpm = 0.0;                ///< cam speed [rev/min], >= 0 (0 holds the cam still)
+  double base_radius = 0.0;  ///< r_b [m], > 0; left out for a contour cam (derived from its points)
+  double rpm = 0.0;          ///< cam speed [rev/min], >= 0 (0 holds the cam still)
   RotationDirection direction = RotationDirection::ccw;
   double initial_angle_deg = 0.0;  ///< cam angle at t = 0 [deg]
   MotionLawConfig motion_law;
@@ -229,9 +231,9 @@ struct CamConfig {
 
 struct ShapeConfig {
   FollowerShape type = FollowerShape::roller;
-  double radius = 0.0;          ///< roller / mushroom: r_r or R [m], > 0
-  double inertia = 0.0;         ///< roller: spin inertia about its axle [kg m^2], >= 0
-  double face_width = 0.0;      ///< flat: width of the face [m], > 0
+  double radius = 0.0;      ///< roller / mushroom: r_r or R [m], > 0
+  double inertia = 0.0;     ///< roller: spin inertia about its axle [kg m^2], >= 0
+  double face_width = 0.0;  ///< flat: width of the face [m], > 0
 
   bool operator==(const ShapeConfig&) const = default;
 };
@@ -269,17 +271,17 @@ struct PivotFrictionConfig {
 
 struct FollowerConfig {
   FollowerMotion motion = FollowerMotion::translating;
-  double offset = 0.0;                 ///< translating: the follower axis is the line x = e [m]
-  std::vector<double> pivot;           ///< oscillating: [x, y] of the arm pivot, cam frame at angle 0 [m]
-  double arm_length = 0.0;             ///< oscillating: pivot to roller centre (flat: to the face centre) [m], > 0
+  double offset = 0.0;        ///< translating: the follower axis is the line x = e [m]
+  std::vector<double> pivot;  ///< oscillating: [x, y] of the arm pivot, cam frame at angle 0 [m]
+  double arm_length = 0.0;    ///< oscillating: pivot to roller centre (flat: to the face centre) [m], > 0
   ShapeConfig shape;
-  double mass = 0.0;     ///< translating: m [kg], > 0
-  double inertia = 0.0;  ///< oscillating: arm inertia about the pivot [kg m^2], > 0
-  SpringConfig spring;   ///< oscillating: torsional, stiffness [N m/rad] and preload [N m]
-  double damping = 0.0;  ///< viscous damper c [N s/m] (oscillating [N m s/rad]), >= 0
+  double mass = 0.0;                                  ///< translating: m [kg], > 0
+  double inertia = 0.0;                               ///< oscillating: arm inertia about the pivot [kg m^2], > 0
+  SpringConfig spring;                                ///< oscillating: torsional, stiffness [N m/rad] and preload [N m]
+  double damping = 0.0;                               ///< viscous damper c [N s/m] (oscillating [N m s/rad]), >= 0
   std::optional<GuideFrictionConfig> guide_friction;  ///< translating only
   std::optional<PivotFrictionConfig> pivot_friction;  ///< oscillating only
-  InitialConfig initial;  ///< oscillating: position [rad], velocity [rad/s]
+  InitialConfig initial;                              ///< oscillating: position [rad], velocity [rad/s]
 
   bool operator==(const FollowerConfig&) const = default;
 };
@@ -294,8 +296,8 @@ struct MaterialsConfig {
 };
 
 struct FrictionConfig {
-  double mu = 0.0;                          ///< Coulomb coefficient [-], >= 0
-  double regularization_velocity = 1e-4;    ///< v_reg [m/s], > 0
+  double mu = 0.0;                        ///< Coulomb coefficient [-], >= 0
+  double regularization_velocity = 1e-4;  ///< v_reg [m/s], > 0
   FrictionRegularization regularization = FrictionRegularization::tanh;
 
   bool operator==(const FrictionConfig&) const = default;
@@ -303,12 +305,12 @@ struct FrictionConfig {
 
 struct ContactConfig {
   ContactModel model = ContactModel::lankarani_nikravesh;
-  std::optional<double> stiffness;             ///< K [N/m^n]; exactly one of stiffness / from_materials
+  std::optional<double> stiffness;                ///< K [N/m^n]; exactly one of stiffness / from_materials
   std::optional<MaterialsConfig> from_materials;  ///< JSON: "stiffness": { "from_materials": {...} }
-  double exponent = 1.5;                       ///< n [-], > 0
-  double restitution = 0.8;                    ///< target e [-], in (0, 1]
-  std::optional<double> damping;               ///< kelvin_voigt c [N s/m]
-  double reference_velocity = 0.01;            ///< floor of v0 [m/s], > 0
+  double exponent = 1.5;                          ///< n [-], > 0
+  double restitution = 0.8;                       ///< target e [-], in (0, 1]
+  std::optional<double> damping;                  ///< kelvin_voigt c [N s/m]
+  double reference_velocity = 0.01;               ///< floor of v0 [m/s], > 0
   FrictionConfig friction;
   Tracking tracking = Tracking::differential;
   PairFormChoice pair_form = PairFormChoice::automatic;
@@ -343,13 +345,13 @@ struct SimulationConfig {
 
 struct IntegratorConfig {
   IntegrationMethod method = IntegrationMethod::cvode_bdf;  ///< rk4 needs `step`
-  double rtol = 1e-8;                ///< relative tolerance, in (0, 0.1]
-  double atol = 1e-12;               ///< absolute tolerance, > 0
-  std::optional<double> max_step;    ///< [s]
-  std::optional<double> step;        ///< fixed step for rk4 [s]
-  long max_steps = 5'000'000;        ///< step budget for the whole run
-  double max_wall_time_s = 600.0;    ///< wall-time budget for one run [s]
-  JacobianSource jacobian = JacobianSource::analytic;  ///< implicit methods
+  double rtol = 1e-8;                                       ///< relative tolerance, in (0, 0.1]
+  double atol = 1e-12;                                      ///< absolute tolerance, > 0
+  std::optional<double> max_step;                           ///< [s]
+  std::optional<double> step;                               ///< fixed step for rk4 [s]
+  long max_steps = 5'000'000;                               ///< step budget for the whole run
+  double max_wall_time_s = 600.0;                           ///< wall-time budget for one run [s]
+  JacobianSource jacobian = JacobianSource::analytic;       ///< implicit methods
   ErrorEstimateMethod error_estimate = ErrorEstimateMethod::energy;
 
   bool operator==(const IntegratorConfig&) const = default;

@@ -141,9 +141,8 @@ std::string study_fingerprint(const ComparePlan& plan) {
 /// Every metric in compare_metric_names() order (the order Metrics' visit lists them).
 std::vector<double> metric_values(const Metrics& m) {
   std::vector<double> values;
-  for_each_metric(m, [&](const char*, const auto& value, const MetricInfo&) {
-    values.push_back(static_cast<double>(value));
-  });
+  for_each_metric(
+      m, [&](const char*, const auto& value, const MetricInfo&) { values.push_back(static_cast<double>(value)); });
   return values;
 }
 

@@ -71,12 +71,13 @@ Journal::Journal(std::filesystem::path path, std::string study, std::string hash
         throw InputError(path_.string(), "hash",
                          "this output folder holds the journal of a different " + study +
                              " study (the study, a case config or an override changed since; journal "
-                             "fingerprint " + j.value("hash", std::string("?")) + ", now " + hash +
+                             "fingerprint " +
+                             j.value("hash", std::string("?")) + ", now " + hash +
                              "): delete the journal or choose another --out to start afresh");
       continue;
     }
-    const bool valid = !j.is_discarded() && j.is_object() && j.contains("index") &&
-                       j["index"].is_number_unsigned() && j["index"].get<std::size_t>() < runs;
+    const bool valid = !j.is_discarded() && j.is_object() && j.contains("index") && j["index"].is_number_unsigned() &&
+                       j["index"].get<std::size_t>() < runs;
     if (!valid) {
       std::cerr << "camdyn: warning: " << path_.string() << " line " << line_no
                 << " is not a run record; that run is done again\n";

@@ -141,8 +141,9 @@ void distribute_runs(const std::vector<std::size_t>& indices, const std::functio
 Session::Session(int* /*argc*/, char*** /*argv*/) {
   // Every rank would run the whole study and write the same files.
   if (launcher_world_size() > 1) {
-    std::fprintf(stderr, "camdyn: error: started by an MPI launcher, but this camdyn was built without MPI "
-                         "(configure with -DCAMDYN_WITH_MPI=ON); run it without mpirun and use --jobs instead\n");
+    std::fprintf(stderr,
+                 "camdyn: error: started by an MPI launcher, but this camdyn was built without MPI "
+                 "(configure with -DCAMDYN_WITH_MPI=ON); run it without mpirun and use --jobs instead\n");
     std::exit(2);
   }
 }

@@ -25,8 +25,8 @@ std::string progress_line(const std::string& what, std::size_t done, std::size_t
   return line + ", ~" + (remaining_s < 0 ? std::string("--:--") : format_duration(remaining_s)) + " left";
 }
 
-ProgressMeter::ProgressMeter(std::string what, std::size_t total, std::size_t already_done,
-                             std::size_t already_failed, bool enabled)
+ProgressMeter::ProgressMeter(std::string what, std::size_t total, std::size_t already_done, std::size_t already_failed,
+                             bool enabled)
     : what_(std::move(what)),
       total_(total),
       done_(already_done),

@@ -55,7 +55,9 @@ namespace {
 
 std::string follower_name(const Model& model) {
   const FollowerGeometry& f = model.follower;
-  const char* shape = f.shape == FollowerShape::roller ? "roller" : f.shape == FollowerShape::flat ? "flat" : "mushroom";
+  const char* shape = f.shape == FollowerShape::roller ? "roller"
+                      : f.shape == FollowerShape::flat ? "flat"
+                                                       : "mushroom";
   return std::string(f.oscillating() ? "oscillating_" : "translating_") + shape;
 }
 
@@ -157,15 +159,16 @@ void add_contour_fit(const Model& model, Report& report) {
   const ContourCam& cam = *model.contour;
   const ContourFitReport& f = cam.report();
   Table fit{"Contour fit", {"quantity", "value", "unit"}, {}, false};
-  fit.rows = {{"points", std::to_string(f.points), "–"},
-              {"spline degree / control points", std::to_string(f.degree) + " / " + std::to_string(f.control_points), "–"},
-              {"rms residual", format(f.rms_residual * 1e6), "µm"},
-              {"max residual", format(f.max_residual * 1e6) + " (point " + std::to_string(f.max_residual_point) + ")", "µm"},
-              {"smallest radius of curvature", format(f.min_radius_of_curvature * 1e3) + " at " +
-                                                   format(f.min_radius_of_curvature_angle_deg) + "°", "mm"},
-              {"concave portions", std::to_string(f.concave.size()), "–"},
-              {"base radius (derived)", format(model.follower.base_radius * 1e3), "mm"},
-              {"law interpolation error", format(model.law_interpolation_error * 1e9), "nm"}};
+  fit.rows = {
+      {"points", std::to_string(f.points), "–"},
+      {"spline degree / control points", std::to_string(f.degree) + " / " + std::to_string(f.control_points), "–"},
+      {"rms residual", format(f.rms_residual * 1e6), "µm"},
+      {"max residual", format(f.max_residual * 1e6) + " (point " + std::to_string(f.max_residual_point) + ")", "µm"},
+      {"smallest radius of curvature",
+       format(f.min_radius_of_curvature * 1e3) + " at " + format(f.min_radius_of_curvature_angle_deg) + "°", "mm"},
+      {"concave portions", std::to_string(f.concave.size()), "–"},
+      {"base radius (derived)", format(model.follower.base_radius * 1e3), "mm"},
+      {"law interpolation error", format(model.law_interpolation_error * 1e9), "nm"}};
   report.tables.push_back(std::move(fit));
   constexpr int kCurveSamples = 720;
   Series curve{"fitted spline", {}, {}, "lines"}, points{"given points", {}, {}, "points"};
@@ -182,7 +185,9 @@ void add_contour_fit(const Model& model, Report& report) {
     residual.x.push_back(static_cast<double>(i));
     residual.y.push_back(distances[i] * 1e6);
   }
-  report.plots.push_back(Plot{"Cam contour: given points and fitted spline (cam frame at angle 0)", "x [mm]", "y [mm]",
+  report.plots.push_back(Plot{"Cam contour: given points and fitted spline (cam frame at angle 0)",
+                              "x [mm]",
+                              "y [mm]",
                               {std::move(curve), std::move(points)}});
   report.plots.push_back(Plot{"Contour fit residual per point", "point index", "residual [µm]", {std::move(residual)}});
 }
@@ -235,12 +240,15 @@ Report simulation_report(const SceneConfig& scene, const Model& model, const Sim
   };
   const bool arm = model.follower.oscillating();  // follower columns in rad: plotted in degrees
   const double motion_scale = arm ? kRadToDeg : 1e3;
-  report.plots.push_back(Plot{"Follower motion against the motion law", xlabel,
-                          arm ? "arm angle [deg]" : "displacement [mm]",
-                          {{"follower", x, scaled(ts.follower_position, motion_scale)},
-                           {"motion law", x, scaled(ts.kinematic_position, motion_scale)}}});
-  report.plots.push_back(Plot{"Gap between roller and cam (> 0 separated, < 0 penetration)", xlabel, "gap [µm]",
-                          {{"gap", x, scaled(ts.gap, 1e6)}}});
+  report.plots.push_back(Plot{"Follower motion against the motion law",
+                              xlabel,
+                              arm ? "arm angle [deg]" : "displacement [mm]",
+                              {{"follower", x, scaled(ts.follower_position, motion_scale)},
+                               {"motion law", x, scaled(ts.kinematic_position, motion_scale)}}});
+  report.plots.push_back(Plot{"Gap between roller and cam (> 0 separated, < 0 penetration)",
+                              xlabel,
+                              "gap [µm]",
+                              {{"gap", x, scaled(ts.gap, 1e6)}}});
   Plot force{"Contact force", xlabel, "force [N]", {{"contact force", x, ts.contact_force}}};
   if (by_angle) {
     std::vector<double> rigid(x.size());
@@ -249,15 +257,16 @@ Report simulation_report(const SceneConfig& scene, const Model& model, const Sim
   }
   if (model.contact_friction) force.series.push_back({"friction force", x, ts.friction_force});
   report.plots.push_back(std::move(force));
-  report.plots.push_back(Plot{"Energy balance residual (physics.md §5)", "time [s]", "(E − E₀) / scale [–]",
-                          {{"energy residual", ts.time, ts.energy_residual}}});
+  report.plots.push_back(Plot{"Energy balance residual (physics.md §5)",
+                              "time [s]",
+                              "(E − E₀) / scale [–]",
+                              {{"energy residual", ts.time, ts.energy_residual}}});
   if (model.contour) add_contour_fit(model, report);
-  report.notes.push_back("Model: " + std::to_string(model.state_size) + " states; elements assembled: " +
-                         [&] {
-                           std::string list;
-                           for (const auto& e : model.elements) list += (list.empty() ? "" : ", ") + e;
-                           return list;
-                         }());
+  report.notes.push_back("Model: " + std::to_string(model.state_size) + " states; elements assembled: " + [&] {
+    std::string list;
+    for (const auto& e : model.elements) list += (list.empty() ? "" : ", ") + e;
+    return list;
+  }());
   return report;
 }
 
@@ -277,8 +286,8 @@ void write_simulation_outputs(const std::filesystem::path& dir, const SceneConfi
   {
     CsvWriter csv(dir / "events.csv", {"time", "cam_angle_deg", "kind", "speed", "impact"});
     for (const ContactEvent& e : result.events)
-      csv.row({CsvCell(e.time), CsvCell(e.cam_angle_deg), CsvCell(e.onset ? "onset" : "separation"),
-               CsvCell(e.speed), CsvCell(e.impact ? 1 : 0)});
+      csv.row({CsvCell(e.time), CsvCell(e.cam_angle_deg), CsvCell(e.onset ? "onset" : "separation"), CsvCell(e.speed),
+               CsvCell(e.impact ? 1 : 0)});
     csv.commit();
   }
   write_json_atomic(dir / "summary.json", summary_json(scene, model, result));

@@ -12,12 +12,12 @@
 namespace camdyn {
 
 struct StudyContext {
-  std::string config_file;         ///< as given on the command line (for messages)
-  ConfigSource source;             ///< file and directory relative paths resolve against
-  std::filesystem::path out_dir;   ///< output folder (default out/<name>)
-  int jobs = 0;                    ///< parallel jobs; 0 = one per core
-  bool progress = false;           ///< draw progress on stderr
-  bool validate_only = false;      ///< `camdyn validate`: check, print the resolved config, do not run
+  std::string config_file;        ///< as given on the command line (for messages)
+  ConfigSource source;            ///< file and directory relative paths resolve against
+  std::filesystem::path out_dir;  ///< output folder (default out/<name>)
+  int jobs = 0;                   ///< parallel jobs; 0 = one per core
+  bool progress = false;          ///< draw progress on stderr
+  bool validate_only = false;     ///< `camdyn validate`: check, print the resolved config, do not run
 
   /// Number of worker threads to use: `jobs`, or the number of cores.
   int threads() const;

@@ -2,6 +2,7 @@
 // with no console message (no script error, no failed resource), and every
 // figure holds a non-empty gnuplot SVG (not a placeholder). Skips only when
 // Chromium is not installed (scripts/setup.sh installs it).
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <cstdlib>
@@ -10,8 +11,6 @@
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "cli_run.h"
 

@@ -1,5 +1,6 @@
 // The camdyn command line end to end: exit codes, messages naming file and
 // field, outputs written (interface.md).
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -7,13 +8,11 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 
-#include <gtest/gtest.h>
-
 #include "cli_run.h"
-#include <nlohmann/json.hpp>
 
 namespace {
 
@@ -80,13 +79,13 @@ TEST(Cli, ValidatePrintsTheResolvedConfig) {
   const auto resolved = nlohmann::json::parse(o.out);
   EXPECT_EQ(resolved["mechanism"]["cam"]["rpm"].get<double>(), 900.0);
   EXPECT_TRUE(resolved["mechanism"]["cam"]["motion_law"].contains("segments"));  // profile inlined
-  EXPECT_TRUE(resolved["integrator"].contains("max_steps"));                      // defaults filled in
+  EXPECT_TRUE(resolved["integrator"].contains("max_steps"));                     // defaults filled in
 }
 
 TEST(Cli, RunWritesEveryOutputWithoutNaN) {
   const fs::path out = scratch_dir("run");
   const Outcome o = run_cli("run " + kQuickstart + " --quiet --out " + out.string() +
-                           " --set simulation.cycles=2 --set mechanism.contact.tracking=newton");
+                            " --set simulation.cycles=2 --set mechanism.contact.tracking=newton");
   ASSERT_EQ(o.code, 0) << o.err;
   for (const char* f : {"summary.json", "timeseries.csv", "events.csv", "report.html"})
     EXPECT_TRUE(fs::exists(out / f)) << f;
@@ -98,8 +97,8 @@ TEST(Cli, RunWritesEveryOutputWithoutNaN) {
                           "peak_contact_force", "min_contact_force", "max_penetration", "max_kinematic_error",
                           "energy_residual", "max_pressure_angle_deg", "min_radius_of_curvature", "jump_speed_rpm"})
     EXPECT_TRUE(summary["metrics"].contains(key)) << key;
-  for (const char* key : {"method", "rtol", "atol", "steps", "rhs_evaluations", "events", "tracking_resets",
-                          "run_time_s"})
+  for (const char* key :
+       {"method", "rtol", "atol", "steps", "rhs_evaluations", "events", "tracking_resets", "run_time_s"})
     EXPECT_TRUE(summary["solver"].contains(key)) << key;
   EXPECT_EQ(summary["model"]["state_size"].get<int>(), 2);  // newton tracking, frictionless: y, ẏ only
   EXPECT_GT(summary["metrics"]["separation_fraction"].get<double>(), 0.0);  // quickstart runs above jump speed

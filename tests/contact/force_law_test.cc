@@ -1,8 +1,8 @@
 #include "contact/force_law.h"
 
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 namespace camdyn {
 namespace {
@@ -52,8 +52,10 @@ TEST(ForceLaw, ClampSwitchHasTheSignOfTheUnclampedForce) {
       const double delta = 1e-6;
       const double unclamped = law.force(delta, rate, 1.0);
       const double sw = law.clamp_switch(delta, rate, 1.0);
-      if (unclamped > 0.0) EXPECT_GT(sw, 0.0) << to_string(m) << " rate " << rate;
-      else EXPECT_LE(sw, 0.0) << to_string(m) << " rate " << rate;
+      if (unclamped > 0.0)
+        EXPECT_GT(sw, 0.0) << to_string(m) << " rate " << rate;
+      else
+        EXPECT_LE(sw, 0.0) << to_string(m) << " rate " << rate;
     }
   }
 }

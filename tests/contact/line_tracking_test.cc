@@ -1,12 +1,11 @@
 // The flat-face (line) reduction of the common-normal tracker against the
 // analytic support point of an ellipse.
-#include "contact/line_curve_tracking.h"
+#include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
 
-#include <gtest/gtest.h>
-
+#include "contact/line_curve_tracking.h"
 #include "test_curves.h"
 
 namespace camdyn {
@@ -32,8 +31,7 @@ TEST(LineTracking, ResidualDerivativeMatchesFiniteDifference) {
   const Face f = face(e, 0.3, 0.01);
   for (double u : {0.1, 0.7, 2.0, 4.0}) {
     const double h = 1e-6;
-    const double fd =
-        (evaluate_line_pair(e, f.p, f.m, u + h).f - evaluate_line_pair(e, f.p, f.m, u - h).f) / (2 * h);
+    const double fd = (evaluate_line_pair(e, f.p, f.m, u + h).f - evaluate_line_pair(e, f.p, f.m, u - h).f) / (2 * h);
     EXPECT_NEAR(evaluate_line_pair(e, f.p, f.m, u).f_u, fd, 1e-8 * std::abs(fd) + 1e-14);
   }
 }

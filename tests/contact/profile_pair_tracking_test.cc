@@ -4,7 +4,6 @@
 // finite differences (Jacobian, time derivatives), through first contact,
 // under differential tracking, and against the one-parameter circle
 // reduction on a roller cam.
-#include "test_curves.h"
 #include "contact/profile_pair_tracking.h"
 
 #include <gtest/gtest.h>
@@ -21,6 +20,7 @@
 #include "contact/point_curve_tracking.h"
 #include "geometry/cam_roller.h"
 #include "geometry/motion_law.h"
+#include "test_curves.h"
 
 namespace camdyn {
 namespace {
@@ -44,10 +44,14 @@ class Lobed final : public PeriodicCurve {
   double rho(double phi, int order) const {
     const double kk = k_, c = std::cos(kk * phi), s = std::sin(kk * phi);
     switch (order) {
-      case 0: return radius_ * (1 + eps_ * c);
-      case 1: return -radius_ * eps_ * kk * s;
-      case 2: return -radius_ * eps_ * kk * kk * c;
-      default: return radius_ * eps_ * kk * kk * kk * s;
+      case 0:
+        return radius_ * (1 + eps_ * c);
+      case 1:
+        return -radius_ * eps_ * kk * s;
+      case 2:
+        return -radius_ * eps_ * kk * kk * c;
+      default:
+        return radius_ * eps_ * kk * kk * kk * s;
     }
   }
   CurvePoint at(double phi) const override {
@@ -141,9 +145,9 @@ Eigen::Matrix2d rot(double angle) {
 // ------------------------------------------------ ellipse against circle
 
 struct CircleCase {
-  double angle_a;      // ellipse orientation [rad]
+  double angle_a;             // ellipse orientation [rad]
   double centre_x, centre_y;  // circle centre in the ellipse frame [m]
-  double radius;       // [m]
+  double radius;              // [m]
 };
 
 class ProfilePairEllipseCircle : public ::testing::TestWithParam<CircleCase> {};
@@ -174,22 +178,21 @@ TEST_P(ProfilePairEllipseCircle, GapMatchesEberlyDistanceMinusRadius) {
   EXPECT_EQ(ws.global_searches, 1);
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    ApartTouchingAndInterfering, ProfilePairEllipseCircle,
-    ::testing::Values(CircleCase{0.0, 0.09, 0.0, 0.01},       // on the major axis, apart
-                      CircleCase{0.4, 0.04, 0.045, 0.01},     // general point, apart
-                      CircleCase{-1.2, -0.03, -0.04, 0.015},  // third quadrant
-                      CircleCase{2.0, 0.051, 0.012, 0.008},   // interfering (depth < radius)
-                      CircleCase{0.7, 0.0, 0.035, 0.01},      // on the minor axis, interfering
-                      CircleCase{0.0, 0.046, 0.0, 0.01}));    // centre inside the ellipse
+INSTANTIATE_TEST_SUITE_P(ApartTouchingAndInterfering, ProfilePairEllipseCircle,
+                         ::testing::Values(CircleCase{0.0, 0.09, 0.0, 0.01},       // on the major axis, apart
+                                           CircleCase{0.4, 0.04, 0.045, 0.01},     // general point, apart
+                                           CircleCase{-1.2, -0.03, -0.04, 0.015},  // third quadrant
+                                           CircleCase{2.0, 0.051, 0.012, 0.008},   // interfering (depth < radius)
+                                           CircleCase{0.7, 0.0, 0.035, 0.01},      // on the minor axis, interfering
+                                           CircleCase{0.0, 0.046, 0.0, 0.01}));    // centre inside the ellipse
 
 // ------------------------------------------------ ellipse against ellipse
 
 struct EllipsePairCase {
-  double turn;        // both bodies turned by this about the origin [rad]
-  double b_angle;     // B's own orientation relative to A [rad]: 0 or π/2
-  double direction;   // B's centre on A's x axis (0) or y axis (π/2) [rad]
-  double distance;    // centre distance [m]
+  double turn;       // both bodies turned by this about the origin [rad]
+  double b_angle;    // B's own orientation relative to A [rad]: 0 or π/2
+  double direction;  // B's centre on A's x axis (0) or y axis (π/2) [rad]
+  double distance;   // centre distance [m]
 };
 
 class ProfilePairEllipseEllipse : public ::testing::TestWithParam<EllipsePairCase> {};
@@ -218,11 +221,12 @@ TEST_P(ProfilePairEllipseEllipse, SymmetricPairGapIsCentreDistanceMinusSemiAxes)
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    AxesAlignedAndCrossed, ProfilePairEllipseEllipse,
-    ::testing::Values(EllipsePairCase{0.0, 0.0, 0.0, 0.09}, EllipsePairCase{0.8, 0.0, 0.0, 0.0745},
-                      EllipsePairCase{-0.3, kPi / 2, 0.0, 0.07}, EllipsePairCase{1.1, kPi / 2, 0.0, 0.0640},
-                      EllipsePairCase{0.0, 0.0, kPi / 2, 0.05}, EllipsePairCase{2.5, 0.0, kPi / 2, 0.0447}));
+INSTANTIATE_TEST_SUITE_P(AxesAlignedAndCrossed, ProfilePairEllipseEllipse,
+                         ::testing::Values(EllipsePairCase{0.0, 0.0, 0.0, 0.09}, EllipsePairCase{0.8, 0.0, 0.0, 0.0745},
+                                           EllipsePairCase{-0.3, kPi / 2, 0.0, 0.07},
+                                           EllipsePairCase{1.1, kPi / 2, 0.0, 0.0640},
+                                           EllipsePairCase{0.0, 0.0, kPi / 2, 0.05},
+                                           EllipsePairCase{2.5, 0.0, kPi / 2, 0.0447}));
 
 // ------------------------------------------------ flat face and mushroom arc
 
@@ -381,8 +385,8 @@ TEST(ProfilePairDerivatives, JacobianAndTimeDerivativesMatchFiniteDifferences) {
       const auto fv = test::central_difference(
           [&](double x) { return evaluate_profile_pair(a, b, ma, mb, u, x).f(row); }, v, 1e-4, scale);
       const auto ft = test::central_difference(
-          [&](double t) { return evaluate_profile_pair(a, b, scene.a(t), scene.b(t), u, v).f(row); }, scene.t0,
-          1e-5, scale);
+          [&](double t) { return evaluate_profile_pair(a, b, scene.a(t), scene.b(t), u, v).f(row); }, scene.t0, 1e-5,
+          scale);
       EXPECT_NEAR(p.jacobian(row, 0), fu.value, fu.tolerance) << "∂f" << row + 1 << "/∂u at " << u << ", " << v;
       EXPECT_NEAR(p.jacobian(row, 1), fv.value, fv.tolerance) << "∂f" << row + 1 << "/∂v";
       EXPECT_NEAR(p.f_t(row), ft.value, ft.tolerance) << "∂f" << row + 1 << "/∂t";
@@ -436,8 +440,7 @@ TEST_F(ProfilePairTracking, WarmNewtonIsContinuousThroughFirstContact) {
     const double t = static_cast<double>(i) / steps;
     PairNewtonOptions opts;
     opts.max_iterations = 4;
-    ASSERT_EQ(newton_profile_pair(a, b, s.cam(t), s.roller(t), u, v, pair, opts), PairStatus::converged)
-        << "t = " << t;
+    ASSERT_EQ(newton_profile_pair(a, b, s.cam(t), s.roller(t), u, v, pair, opts), PairStatus::converged) << "t = " << t;
     ASSERT_NEAR(pair.gap, s.exact_gap(t), kAcceptanceGap) << "t = " << t;
     const double du = std::abs(u - prev_u), dv = std::abs(v - prev_v);
     max_du = std::max(max_du, du);

@@ -1,11 +1,10 @@
 // The one-parameter common-normal tracker against analytic distances.
-#include "contact/point_curve_tracking.h"
+#include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
 
-#include <gtest/gtest.h>
-
+#include "contact/point_curve_tracking.h"
 #include "test_curves.h"
 
 namespace camdyn {

@@ -1,10 +1,10 @@
 // A translating roller follower on a running cam, against the rigid model of
 // physics.md §6 computed here independently of the library.
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-
-#include <gtest/gtest.h>
 
 #include "dynamics/simulation.h"
 #include "geometry/motion_law.h"
@@ -25,8 +25,8 @@ struct Rigid {
     const auto& f = scene.mechanism.follower;
     const LawSample s = law.eval(theta);
     const double x0 = f.spring.preload / f.spring.stiffness;
-    const double axial = f.mass * omega * omega * s.d2s + f.damping * omega * s.ds +
-                         f.spring.stiffness * (s.s + x0) + f.mass * scene.gravity;
+    const double axial = f.mass * omega * omega * s.d2s + f.damping * omega * s.ds + f.spring.stiffness * (s.s + x0) +
+                         f.mass * scene.gravity;
     const double y0 = scene.mechanism.cam.base_radius + f.shape.radius;
     const double phi = std::atan((s.ds - f.offset) / (y0 + s.s));
     return axial / std::cos(phi);
@@ -38,8 +38,8 @@ struct Rigid {
     for (int i = 0; i < 36000; ++i) {
       const LawSample s = law.eval(kTwoPi * i / 36000);
       if (s.d2s < 0)
-        best = std::min(best, std::sqrt(f.spring.stiffness * (s.s + f.spring.preload / f.spring.stiffness) /
-                                        (-f.mass * s.d2s)));
+        best = std::min(
+            best, std::sqrt(f.spring.stiffness * (s.s + f.spring.preload / f.spring.stiffness) / (-f.mass * s.d2s)));
     }
     return best * 60 / kTwoPi;
   }
@@ -84,7 +84,8 @@ TEST(CamScene, JumpSpeedMatchesIndependentRigidModel) {
 TEST(CamScene, NoSeparationBelowJumpSpeedSeparationAbove) {
   const double jump = Rigid(test::cycloidal_cam_scene(1000.0)).jump_rpm();
   {
-    const SimulationResult r = simulate_scene(test::cycloidal_cam_scene(0.9 * jump, ContactModel::lankarani_nikravesh), "test");
+    const SimulationResult r =
+        simulate_scene(test::cycloidal_cam_scene(0.9 * jump, ContactModel::lankarani_nikravesh), "test");
     EXPECT_EQ(r.metrics.separation_fraction, 0.0);
     EXPECT_GT(r.metrics.min_contact_force, 0.0);
   }

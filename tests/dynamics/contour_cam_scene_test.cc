@@ -3,16 +3,16 @@
 // eccentric disc) and against the same cam synthesised from its law; the
 // general two-parameter tracker against the one-parameter reductions on the
 // same scenes.
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <iomanip>
+#include <numbers>
 #include <ostream>
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "common/errors.h"
 #include "contact/profile_pair_tracking.h"
@@ -115,7 +115,8 @@ TEST_P(ContourOfSynthesisedCam, SimulatesLikeTheCamItWasTakenFrom) {
   const Model a = build_model(original, "test"), b = build_model(contour, "test");
   EXPECT_NEAR(b.follower.base_radius, a.follower.base_radius, 1e-7);
   double worst_s = 0.0;
-  for (int i = 0; i < 720; ++i) worst_s = std::max(worst_s, std::abs(a.law->eval(kTwoPi * i / 720).s - b.law->eval(kTwoPi * i / 720).s));
+  for (int i = 0; i < 720; ++i)
+    worst_s = std::max(worst_s, std::abs(a.law->eval(kTwoPi * i / 720).s - b.law->eval(kTwoPi * i / 720).s));
   EXPECT_LT(worst_s, 1e-7);
   EXPECT_NEAR(jump_speed_rpm(b) / jump_speed_rpm(a), 1.0, 0.02);
 
@@ -238,9 +239,8 @@ TEST(GeneralPairForm, AddsTheFollowerParameterStateOnlyWithDifferentialTracking)
   SceneConfig s = test::follower_scene("translating_roller", 500.0);
   s.mechanism.contact.pair_form = PairFormChoice::general;
   const Model differential = build_model(s, "test");
-  EXPECT_EQ(differential.state_names,
-            (std::vector<std::string>{"follower_position", "follower_velocity", "contact_parameter_u",
-                                      "contact_parameter_v"}));
+  EXPECT_EQ(differential.state_names, (std::vector<std::string>{"follower_position", "follower_velocity",
+                                                                "contact_parameter_u", "contact_parameter_v"}));
   s.mechanism.contact.tracking = Tracking::newton;
   EXPECT_EQ(build_model(s, "test").state_size, 2);
 }

@@ -1,8 +1,8 @@
 // Drop tests against closed forms (physics.md §7): a mass hits a still cam.
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <numbers>
-
-#include <gtest/gtest.h>
 
 #include "dynamics/simulation.h"
 #include "scenes.h"
@@ -40,8 +40,8 @@ TEST(DropTest, HertzMatchesClosedFormPeakForceAndDuration) {
   const Impact impact = run_drop(test::drop_scene(ContactModel::hertz, 1.0, v0));
   const double delta_max = std::pow((n + 1) * m * v0 * v0 / (2 * K), 1 / (n + 1));
   const double f_max = K * std::pow(delta_max, n);
-  const double t_c = 2 * delta_max / v0 * std::sqrt(std::numbers::pi) * std::tgamma(1 + 1 / (n + 1)) /
-                     std::tgamma(0.5 + 1 / (n + 1));
+  const double t_c =
+      2 * delta_max / v0 * std::sqrt(std::numbers::pi) * std::tgamma(1 + 1 / (n + 1)) / std::tgamma(0.5 + 1 / (n + 1));
   // Acceptance: within 0.2 % (the solver runs at rtol 1e-10, so the error is sampling only).
   EXPECT_NEAR(impact.approach, v0, 1e-6 * v0);
   EXPECT_NEAR(impact.peak_force / f_max, 1.0, 2e-3);
@@ -82,17 +82,18 @@ TEST_P(DropHysteresisTest, ReboundRatioMatchesExactSolution) {
       << to_string(c.model) << " e = " << c.restitution << ", exact e* = " << expected;
 }
 
-INSTANTIATE_TEST_SUITE_P(AllModels, DropHysteresisTest,
-                         ::testing::Values(HysteresisCase{ContactModel::hunt_crossley, 0.3}, HysteresisCase{ContactModel::hunt_crossley, 0.5},
-                                           HysteresisCase{ContactModel::hunt_crossley, 0.9},
-                                           HysteresisCase{ContactModel::lankarani_nikravesh, 0.3},
-                                           HysteresisCase{ContactModel::lankarani_nikravesh, 0.5},
-                                           HysteresisCase{ContactModel::lankarani_nikravesh, 0.9}, HysteresisCase{ContactModel::flores, 0.3},
-                                           HysteresisCase{ContactModel::flores, 0.5}, HysteresisCase{ContactModel::flores, 0.9}),
-                         [](const ::testing::TestParamInfo<HysteresisCase>& p) {
-                           return to_string(p.param.model) + "_e" +
-                                  std::to_string(static_cast<int>(p.param.restitution * 10));
-                         });
+INSTANTIATE_TEST_SUITE_P(
+    AllModels, DropHysteresisTest,
+    ::testing::Values(HysteresisCase{ContactModel::hunt_crossley, 0.3},
+                      HysteresisCase{ContactModel::hunt_crossley, 0.5},
+                      HysteresisCase{ContactModel::hunt_crossley, 0.9},
+                      HysteresisCase{ContactModel::lankarani_nikravesh, 0.3},
+                      HysteresisCase{ContactModel::lankarani_nikravesh, 0.5},
+                      HysteresisCase{ContactModel::lankarani_nikravesh, 0.9}, HysteresisCase{ContactModel::flores, 0.3},
+                      HysteresisCase{ContactModel::flores, 0.5}, HysteresisCase{ContactModel::flores, 0.9}),
+    [](const ::testing::TestParamInfo<HysteresisCase>& p) {
+      return to_string(p.param.model) + "_e" + std::to_string(static_cast<int>(p.param.restitution * 10));
+    });
 
 TEST(DropTest, FloresIsClosestToTargetRestitutionAtLowRestitution) {
   // Flores et al. 2011 (their comparison table): at low e, Hunt–Crossley and
@@ -100,7 +101,8 @@ TEST(DropTest, FloresIsClosestToTargetRestitutionAtLowRestitution) {
   const double e = 0.3;
   double error[3];
   int i = 0;
-  for (const ContactModel model : {ContactModel::hunt_crossley, ContactModel::lankarani_nikravesh, ContactModel::flores}) {
+  for (const ContactModel model :
+       {ContactModel::hunt_crossley, ContactModel::lankarani_nikravesh, ContactModel::flores}) {
     const Impact impact = run_drop(test::drop_scene(model, e));
     error[i++] = std::abs(impact.rebound / impact.approach - e);
   }
@@ -121,8 +123,8 @@ TEST(DropTest, KelvinVoigtNeverPullsAndLosesEnergy) {
 }
 
 TEST(DropTest, EnergyBalanceClosesForEveryModel) {
-  for (const ContactModel model : {ContactModel::hertz, ContactModel::hunt_crossley, ContactModel::lankarani_nikravesh,
-                                   ContactModel::flores}) {
+  for (const ContactModel model :
+       {ContactModel::hertz, ContactModel::hunt_crossley, ContactModel::lankarani_nikravesh, ContactModel::flores}) {
     const SimulationResult r = simulate_scene(test::drop_scene(model, 0.5), "drop");
     EXPECT_LT(r.metrics.energy_residual, 1e-6) << to_string(model);
   }

@@ -1,16 +1,16 @@
 // Every follower type (translating roller, flat, mushroom; oscillating roller,
 // flat, mushroom) on a running cam, against the rigid model of
 // rigid_follower.h computed independently of the library.
+#include <gtest/gtest.h>
+
+#include <Eigen/Core>
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <numbers>
 #include <sstream>
 #include <string>
-
-#include <Eigen/Core>
-#include <Eigen/LU>
-#include <gtest/gtest.h>
 
 #include "dynamics/simulation.h"
 #include "geometry/motion_law.h"
@@ -71,12 +71,14 @@ TEST_P(FollowerType, JumpSpeedMatchesTheIndependentRigidModel) {
 TEST_P(FollowerType, NoSeparationJustBelowTheJumpSpeedSeparationJustAbove) {
   const double jump = Rigid(test::follower_scene(GetParam(), 1000.0)).jump_rpm();
   {
-    const SimulationResult r = simulate_scene(test::follower_scene(GetParam(), 0.98 * jump, ContactModel::lankarani_nikravesh), "test");
+    const SimulationResult r =
+        simulate_scene(test::follower_scene(GetParam(), 0.98 * jump, ContactModel::lankarani_nikravesh), "test");
     EXPECT_EQ(r.metrics.separation_fraction, 0.0);
     EXPECT_GT(r.metrics.min_contact_force, 0.0);
   }
   {
-    const SimulationResult r = simulate_scene(test::follower_scene(GetParam(), 1.02 * jump, ContactModel::lankarani_nikravesh), "test");
+    const SimulationResult r =
+        simulate_scene(test::follower_scene(GetParam(), 1.02 * jump, ContactModel::lankarani_nikravesh), "test");
     EXPECT_GT(r.metrics.separation_fraction, 0.0);
     EXPECT_EQ(r.metrics.min_contact_force, 0.0);
   }
@@ -113,7 +115,8 @@ TEST(FlatFace, ContactPointTravelHoldsForBothTrackingModes) {
     const MotionLaw law = build_motion_law(scene.mechanism.cam.motion_law, "test");
     double worst = 0.0;
     for (size_t i = 0; i < r.series.time.size(); ++i)
-      worst = std::max(worst, std::abs(r.series.contact_offset[i] + law.eval(r.series.cam_angle_deg[i] * kTwoPi / 360.0).ds));
+      worst = std::max(worst,
+                       std::abs(r.series.contact_offset[i] + law.eval(r.series.cam_angle_deg[i] * kTwoPi / 360.0).ds));
     EXPECT_LT(worst, 1e-9) << to_string(tracking);
     EXPECT_LT(r.metrics.energy_residual, 1e-6) << to_string(tracking);
   }

@@ -2,11 +2,11 @@
 // mushroom, guide friction of a translating follower, pivot friction of an
 // oscillating one; each against a rigid-model or kinematic result computed
 // here, and each closing the energy balance with its work.
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-
-#include <gtest/gtest.h>
 
 #include "dynamics/simulation.h"
 #include "geometry/motion_law.h"

@@ -1,12 +1,12 @@
 // The analytic Jacobian of the right-hand side against central finite
 // differences (Ceres gradient_checker style), for every follower type,
 // tracking mode, contact law, friction element and drive.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
 #include <cmath>
 #include <numbers>
 #include <string>
-
-#include <Eigen/Dense>
-#include <gtest/gtest.h>
 
 #include "dynamics/model.h"
 #include "scenes.h"
@@ -15,12 +15,12 @@ namespace camdyn {
 namespace {
 
 struct JacobianCase {
-  const char* kind;      ///< test::follower_scene kind
+  const char* kind;  ///< test::follower_scene kind
   const char* tracking;
   const char* model;
-  bool friction;         ///< contact friction (with roller inertia for a roller)
-  bool guide = false;    ///< guide friction (translating)
-  bool pivot = false;    ///< pivot friction (oscillating)
+  bool friction;                         ///< contact friction (with roller inertia for a roller)
+  bool guide = false;                    ///< guide friction (translating)
+  bool pivot = false;                    ///< pivot friction (oscillating)
   const char* drive = "constant_speed";  ///< or "shaft" (constant-speed motor), "motor" (torque–speed motor)
 };
 

@@ -2,17 +2,17 @@
 // follower coordinate and its rate (plus the tracking parameter with
 // differential tracking), and each feature adds exactly its own states and
 // force elements.
+#include <gtest/gtest.h>
+
 #include <filesystem>
 #include <functional>
 #include <string>
 #include <vector>
 
-#include <gtest/gtest.h>
-
 #include "dynamics/model.h"
 #include "dynamics/simulation.h"
-#include "study/simulation_output.h"
 #include "scenes.h"
+#include "study/simulation_output.h"
 
 namespace camdyn {
 namespace {
@@ -44,62 +44,85 @@ std::vector<ModelCase> cases() {
     s.mechanism.cam.drive.torsional_stiffness = 1e4;
   };
   return {
-      {"bare_translating_roller", "translating_roller", newton, kTranslating,
+      {"bare_translating_roller",
+       "translating_roller",
+       newton,
+       kTranslating,
        {"follower_mass", "spring", "contact:hertz"}},
-      {"differential_tracking", "translating_roller", [](SceneConfig&) {}, kTranslating + Names{"contact_parameter_u"},
+      {"differential_tracking",
+       "translating_roller",
+       [](SceneConfig&) {},
+       kTranslating + Names{"contact_parameter_u"},
        {"follower_mass", "spring", "contact:hertz"}},
-      {"friction_without_roller_inertia_is_free_rolling", "translating_roller",
+      {"friction_without_roller_inertia_is_free_rolling",
+       "translating_roller",
        [&](SceneConfig& s) {
          newton(s);
          s.mechanism.contact.friction.mu = 0.2;
        },
-       kTranslating, {"follower_mass", "spring", "contact:hertz"}},
-      {"roller_inertia_with_friction", "translating_roller",
+       kTranslating,
+       {"follower_mass", "spring", "contact:hertz"}},
+      {"roller_inertia_with_friction",
+       "translating_roller",
        [&](SceneConfig& s) {
          newton(s);
          s.mechanism.contact.friction.mu = 0.2;
          s.mechanism.follower.shape.inertia = 1e-6;
        },
-       kTranslating + Names{"roller_spin"}, {"follower_mass", "spring", "contact:hertz", "friction:coulomb_tanh"}},
-      {"damper_gravity_guide_friction", "translating_roller",
+       kTranslating + Names{"roller_spin"},
+       {"follower_mass", "spring", "contact:hertz", "friction:coulomb_tanh"}},
+      {"damper_gravity_guide_friction",
+       "translating_roller",
        [&](SceneConfig& s) {
          newton(s);
          s.mechanism.follower.damping = 2.0;
          s.gravity = 9.81;
          s.mechanism.follower.guide_friction = GuideFrictionConfig{0.1, 1e-4};
        },
-       kTranslating, {"follower_mass", "spring", "damper", "gravity", "contact:hertz", "guide_friction:coulomb_tanh"}},
+       kTranslating,
+       {"follower_mass", "spring", "damper", "gravity", "contact:hertz", "guide_friction:coulomb_tanh"}},
       {"flat_face", "translating_flat", newton, kTranslating, {"follower_mass", "spring", "contact:hertz"}},
-      {"flat_face_sliding_friction", "translating_flat",
+      {"flat_face_sliding_friction",
+       "translating_flat",
        [&](SceneConfig& s) {
          newton(s);
          s.mechanism.contact.friction.mu = 0.1;
        },
-       kTranslating, {"follower_mass", "spring", "contact:hertz", "friction:coulomb_tanh"}},
-      {"mushroom_differential", "translating_mushroom", [](SceneConfig&) {},
-       kTranslating + Names{"contact_parameter_u"}, {"follower_mass", "spring", "contact:hertz"}},
+       kTranslating,
+       {"follower_mass", "spring", "contact:hertz", "friction:coulomb_tanh"}},
+      {"mushroom_differential",
+       "translating_mushroom",
+       [](SceneConfig&) {},
+       kTranslating + Names{"contact_parameter_u"},
+       {"follower_mass", "spring", "contact:hertz"}},
       {"oscillating_roller", "oscillating_roller", newton, kArm, {"arm_inertia", "torsional_spring", "contact:hertz"}},
-      {"oscillating_flat_pivot_friction_damper", "oscillating_flat",
+      {"oscillating_flat_pivot_friction_damper",
+       "oscillating_flat",
        [&](SceneConfig& s) {
          newton(s);
          s.mechanism.follower.damping = 0.01;
          s.mechanism.follower.pivot_friction = PivotFrictionConfig{0.1, 0.005, 1e-4};
        },
-       kArm, {"arm_inertia", "torsional_spring", "torsional_damper", "contact:hertz", "pivot_friction:coulomb_tanh"}},
-      {"zero_mu_assembles_no_friction", "oscillating_flat",
+       kArm,
+       {"arm_inertia", "torsional_spring", "torsional_damper", "contact:hertz", "pivot_friction:coulomb_tanh"}},
+      {"zero_mu_assembles_no_friction",
+       "oscillating_flat",
        [&](SceneConfig& s) {
          newton(s);
          s.mechanism.follower.pivot_friction = PivotFrictionConfig{0.0, 0.005, 1e-4};
        },
-       kArm, {"arm_inertia", "torsional_spring", "contact:hertz"}},
-      {"shaft_constant_speed_motor", "translating_roller",
+       kArm,
+       {"arm_inertia", "torsional_spring", "contact:hertz"}},
+      {"shaft_constant_speed_motor",
+       "translating_roller",
        [&](SceneConfig& s) {
          newton(s);
          shaft(s);
        },
        kTranslating + Names{"cam_angle", "cam_speed"},
        {"follower_mass", "spring", "contact:hertz", "cam_inertia", "shaft_spring", "motor:constant_speed"}},
-      {"shaft_torque_speed_motor_damped_differential", "oscillating_roller",
+      {"shaft_torque_speed_motor_damped_differential",
+       "oscillating_roller",
        [&](SceneConfig& s) {
          shaft(s);
          s.mechanism.cam.drive.torsional_damping = 0.1;
@@ -108,21 +131,27 @@ std::vector<ModelCase> cases() {
        kArm + Names{"contact_parameter_u", "cam_angle", "cam_speed", "motor_angle", "motor_speed"},
        {"arm_inertia", "torsional_spring", "contact:hertz", "cam_inertia", "shaft_spring", "shaft_damper",
         "motor:torque_speed"}},
-      {"general_pair_differential", "translating_roller",
+      {"general_pair_differential",
+       "translating_roller",
        [](SceneConfig& s) { s.mechanism.contact.pair_form = PairFormChoice::general; },
-       kTranslating + Names{"contact_parameter_u", "contact_parameter_v"}, {"follower_mass", "spring", "contact:hertz"}},
-      {"general_pair_newton", "oscillating_flat",
+       kTranslating + Names{"contact_parameter_u", "contact_parameter_v"},
+       {"follower_mass", "spring", "contact:hertz"}},
+      {"general_pair_newton",
+       "oscillating_flat",
        [&](SceneConfig& s) {
          newton(s);
          s.mechanism.contact.pair_form = PairFormChoice::general;
        },
-       kArm, {"arm_inertia", "torsional_spring", "contact:hertz"}},
-      {"contour_cam_adds_nothing", "translating_roller",
+       kArm,
+       {"arm_inertia", "torsional_spring", "contact:hertz"}},
+      {"contour_cam_adds_nothing",
+       "translating_roller",
        [&](SceneConfig& s) {
          newton(s);
          test::use_eccentric_disc_contour(s, 64);
        },
-       kTranslating, {"follower_mass", "spring", "contact:hertz"}},
+       kTranslating,
+       {"follower_mass", "spring", "contact:hertz"}},
   };
 }
 

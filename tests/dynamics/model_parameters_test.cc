@@ -1,14 +1,15 @@
 // The parameter block set in place (dynamics/model_parameters.h) gives the
 // model build_model() makes from the scene with those values, to the last
 // bit, and a workspace reused across runs gives the runs of a fresh one.
-#include <string>
-#include <vector>
+#include "dynamics/model_parameters.h"
 
 #include <gtest/gtest.h>
 
+#include <string>
+#include <vector>
+
 #include "common/errors.h"
 #include "dynamics/model.h"
-#include "dynamics/model_parameters.h"
 #include "dynamics/simulation.h"
 #include "io/config.h"
 #include "scenes.h"

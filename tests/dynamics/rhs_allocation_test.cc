@@ -1,16 +1,14 @@
 // The right-hand side must not allocate (it runs millions of times per
 // optimisation): a counting global operator new checks it.
+#include <gtest/gtest.h>
+
 #include <atomic>
 #include <cstdlib>
 #include <new>
 
-#include <gtest/gtest.h>
-
 #include "allocation_counter.h"
-
 #include "dynamics/model.h"
 #include "scenes.h"
-
 
 namespace camdyn {
 namespace {

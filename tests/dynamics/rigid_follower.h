@@ -5,12 +5,11 @@
 // face lines). For a ccw cam.
 #pragma once
 
+#include <Eigen/Core>
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-
-#include <Eigen/Core>
-#include <Eigen/LU>
 
 #include "geometry/motion_law.h"
 #include "io/config.h"
@@ -31,8 +30,10 @@ double bisect(const H& h, double a, double b) {
   double ha = h(a);
   for (int i = 0; i < 200; ++i) {
     const double m = 0.5 * (a + b), hm = h(m);
-    if ((hm < 0) == (ha < 0)) a = m, ha = hm;
-    else b = m;
+    if ((hm < 0) == (ha < 0))
+      a = m, ha = hm;
+    else
+      b = m;
   }
   return 0.5 * (a + b);
 }

@@ -126,7 +126,7 @@ inline void use_eccentric_disc_contour(SceneConfig& s, int n = 120) {
 }
 
 inline const std::vector<std::string>& follower_kinds() {
-  static const std::vector<std::string> kinds = {"translating_roller", "translating_flat",   "translating_mushroom",
+  static const std::vector<std::string> kinds = {"translating_roller", "translating_flat", "translating_mushroom",
                                                  "oscillating_roller", "oscillating_flat", "oscillating_mushroom"};
   return kinds;
 }
@@ -140,8 +140,10 @@ inline SceneConfig fully_loaded_scene(const std::string& kind, double rpm, Conta
   FollowerConfig& f = scene.mechanism.follower;
   scene.mechanism.contact.friction.mu = 0.1;
   if (f.shape.type == FollowerShape::roller) f.shape.inertia = 1e-6;
-  if (f.motion == FollowerMotion::oscillating) f.pivot_friction = PivotFrictionConfig{0.1, 0.005, 1e-4};
-  else f.guide_friction = GuideFrictionConfig{0.1, 1e-4};
+  if (f.motion == FollowerMotion::oscillating)
+    f.pivot_friction = PivotFrictionConfig{0.1, 0.005, 1e-4};
+  else
+    f.guide_friction = GuideFrictionConfig{0.1, 1e-4};
   scene.mechanism.cam.drive.type = Drive::shaft;
   scene.mechanism.cam.drive.inertia = 0.01;
   scene.mechanism.cam.drive.torsional_stiffness = 1e4;

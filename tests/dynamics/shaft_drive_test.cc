@@ -1,10 +1,10 @@
 // Camshaft drive (mechanism.cam.drive.type = Drive::shaft): a cam with inertia on a
 // torsionally compliant shaft from a constant-speed or torque–speed motor.
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <string>
-
-#include <gtest/gtest.h>
 
 #include "dynamics/simulation.h"
 #include "scenes.h"
@@ -31,7 +31,8 @@ double position_difference(const SimulationResult& a, const SimulationResult& b)
 }
 
 TEST(ShaftDrive, StiffHeavyShaftConvergesToConstantSpeed) {
-  const SimulationResult reference = simulate_scene(test::cycloidal_cam_scene(700.0, ContactModel::lankarani_nikravesh), "test");
+  const SimulationResult reference =
+      simulate_scene(test::cycloidal_cam_scene(700.0, ContactModel::lankarani_nikravesh), "test");
   const SimulationResult soft = simulate_scene(shaft_scene(0.02, 2e3), "test");
   const SimulationResult stiff = simulate_scene(shaft_scene(2.0, 2e5), "test");
   const double e_soft = position_difference(soft, reference), e_stiff = position_difference(stiff, reference);
@@ -56,7 +57,8 @@ TEST(ShaftDrive, EnergyBalanceClosesWithMotorWork) {
   // Conservative everywhere except the motor: Hertz contact, no dampers.
   for (const char* motor : {"constant_speed", "torque_speed"}) {
     SceneConfig scene = shaft_scene(0.01, 500.0, ContactModel::hertz);
-    if (std::string(motor) == "torque_speed") scene.mechanism.cam.drive.motor = MotorConfig{Motor::torque_speed, 5.0, 1000.0, 2e-3};
+    if (std::string(motor) == "torque_speed")
+      scene.mechanism.cam.drive.motor = MotorConfig{Motor::torque_speed, 5.0, 1000.0, 2e-3};
     const SimulationResult r = simulate_scene(scene, "test");
     const auto [lo, hi] = std::minmax_element(r.series.cam_speed_rpm.begin(), r.series.cam_speed_rpm.end());
     EXPECT_GT(*hi - *lo, 1.0) << motor;  // the shaft is really compliant

@@ -1,13 +1,14 @@
 // How simulate() ends: a run that gives up returns its termination status
 // and message instead of throwing, and throw_if_failed turns that status into
 // the NumericalError (exit 3) the callers raised before.
-#include <regex>
-#include <string>
+#include "dynamics/simulation.h"
 
 #include <gtest/gtest.h>
 
+#include <regex>
+#include <string>
+
 #include "common/errors.h"
-#include "dynamics/simulation.h"
 #include "scenes.h"
 
 namespace camdyn {
@@ -75,8 +76,9 @@ TEST(SimulationTermination, IntegratorThatGivesUpIsAnIntegratorFailureNamingTime
     ic.rtol = 1e-40;  // below round-off: CVODES refuses the first step
     ic.atol = 1e-60;
   });
-  expect_failure(r, Termination::integrator_failure,
-                 R"(^CVODES CVode failed \(CV_TOO_MUCH_ACC\) .* \(integrating at t = 0 s, cam angle [-+0-9.e]+ deg\)$)");
+  expect_failure(
+      r, Termination::integrator_failure,
+      R"(^CVODES CVode failed \(CV_TOO_MUCH_ACC\) .* \(integrating at t = 0 s, cam angle [-+0-9.e]+ deg\)$)");
 }
 
 TEST(SimulationTermination, IntegratorThatCannotStartIsAnIntegratorFailure) {

@@ -3,9 +3,9 @@
 // face-width checks naming the cam angle.
 #include "geometry/cam_synthesis.h"
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <memory>
 #include <numbers>
@@ -27,10 +27,9 @@ constexpr double kTwoPi = 2 * std::numbers::pi;
 
 std::shared_ptr<const MotionLaw> law_of(double lift, double rise_end = 120, double dwell_end = 180,
                                         double return_end = 300) {
-  return std::make_shared<const MotionLaw>(test::build(segments({segment("rise", "cycloidal", rise_end, lift),
-                                                                 dwell(dwell_end),
-                                                                 segment("return", "polynomial_345", return_end, lift),
-                                                                 dwell(360)})));
+  return std::make_shared<const MotionLaw>(
+      test::build(segments({segment("rise", "cycloidal", rise_end, lift), dwell(dwell_end),
+                            segment("return", "polynomial_345", return_end, lift), dwell(360)})));
 }
 
 FollowerConfig follower(const std::string& motion, const std::string& shape) {

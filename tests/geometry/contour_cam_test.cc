@@ -3,7 +3,6 @@
 // analytic zero crossings of a polar curve), the follower checks, input
 // validation, and the rigid follower lift against closed forms and against
 // the motion law the contour was synthesised from.
-#include "test_curves.h"
 #include "geometry/contour_cam.h"
 
 #include <gtest/gtest.h>
@@ -21,6 +20,7 @@
 #include "geometry/cam_roller.h"
 #include "io/config.h"
 #include "law_checks.h"
+#include "test_curves.h"
 
 namespace camdyn {
 namespace {

@@ -3,15 +3,13 @@
 // for this test executable) while evaluating every kind of law.
 #include <gtest/gtest.h>
 
-#include "allocation_counter.h"
-
 #include <atomic>
 #include <cstdlib>
 #include <new>
 
+#include "allocation_counter.h"
 #include "geometry/cam_roller.h"
 #include "law_checks.h"
-
 
 namespace camdyn {
 namespace {

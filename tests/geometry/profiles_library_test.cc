@@ -29,8 +29,8 @@ const fs::path kProfiles = fs::path(CAMDYN_SOURCE_DIR) / "profiles";
 
 /// What profiles/README.md promises about a profile.
 struct Documented {
-  double lift;         ///< [m], or [rad] for an oscillating arm
-  int continuity;      ///< 1: C1 (s'' jumps), 2: C2, 3: C3 or better
+  double lift;     ///< [m], or [rad] for an oscillating arm
+  int continuity;  ///< 1: C1 (s'' jumps), 2: C2, 3: C3 or better
   bool oscillating = false;
 };
 

@@ -1,13 +1,13 @@
 // Every integration method on camdyn scenes: convergence order on a smooth
 // scene, error falling with tolerance on an impacting one, and event location
 // (a drop test) with each method.
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <numbers>
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "../dynamics/scenes.h"
 #include "dynamics/simulation.h"
@@ -21,7 +21,8 @@ namespace {
 SceneConfig smooth_scene() {
   SceneConfig s = test::cycloidal_cam_scene(300.0, ContactModel::hertz);
   s.mechanism.cam.motion_law.segments.clear();
-  s.mechanism.cam.motion_law.spline = PeriodicSplineConfig{5, {0, 60, 120, 180, 240, 300}, {0, 0.006, 0.015, 0.02, 0.012, 0.004}};
+  s.mechanism.cam.motion_law.spline =
+      PeriodicSplineConfig{5, {0, 60, 120, 180, 240, 300}, {0, 0.006, 0.015, 0.02, 0.012, 0.004}};
   s.mechanism.contact.stiffness = 1e8;
   s.simulation.cycles = 2;
   s.simulation.discard_cycles = 1;
@@ -112,11 +113,12 @@ TEST_P(AdaptiveMethod, LocatesImpactEventsInADropTest) {
   EXPECT_FALSE(r.events[1].onset);
   EXPECT_NEAR(r.events[0].speed, 1.0, 1e-6);
   EXPECT_NEAR(r.events[1].speed / r.events[0].speed, 1.0, 1e-4);  // Hertz: no dissipation
-  EXPECT_NEAR(r.events[0].time, 1e-4, 1e-9);                        // free flight of 0.1 mm at 1 m/s
+  EXPECT_NEAR(r.events[0].time, 1e-4, 1e-9);                      // free flight of 0.1 mm at 1 m/s
 }
 
 INSTANTIATE_TEST_SUITE_P(Methods, AdaptiveMethod,
-                         ::testing::Values(IntegrationMethod::cvode_bdf, IntegrationMethod::cvode_adams, IntegrationMethod::arkode_erk, IntegrationMethod::arkode_dirk),
+                         ::testing::Values(IntegrationMethod::cvode_bdf, IntegrationMethod::cvode_adams,
+                                           IntegrationMethod::arkode_erk, IntegrationMethod::arkode_dirk),
                          [](const ::testing::TestParamInfo<IntegrationMethod>& p) { return to_string(p.param); });
 
 TEST(Integrators, Rk4LocatesEventsByBisection) {

@@ -1,5 +1,6 @@
 #include "io/atomic_file.h"
 
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -7,8 +8,6 @@
 #include <iterator>
 #include <stdexcept>
 #include <string>
-
-#include <gtest/gtest.h>
 
 namespace camdyn {
 namespace {
@@ -20,8 +19,8 @@ class AtomicFileTest : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("camdyn-atomic-" + std::string(info->name()) + "-" + std::to_string(::getpid()));
+    dir_ =
+        fs::temp_directory_path() / ("camdyn-atomic-" + std::string(info->name()) + "-" + std::to_string(::getpid()));
     fs::remove_all(dir_);
   }
   void TearDown() override { fs::remove_all(dir_); }

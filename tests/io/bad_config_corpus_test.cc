@@ -40,8 +40,8 @@ std::vector<CorpusEntry> load_entries() {
     const Json expected = read_json_file((kCorpusDir / "expected.json").string());
     for (const auto& item : expected.at("files").items()) {
       const Json& e = item.value();
-      entries.push_back({item.key(), e.at("stage").get<std::string>(),
-                         e.at("path").get<std::string>(), e.value("message", std::string())});
+      entries.push_back({item.key(), e.at("stage").get<std::string>(), e.at("path").get<std::string>(),
+                         e.value("message", std::string())});
     }
   } catch (const std::exception&) {
     entries.clear();
@@ -82,8 +82,7 @@ std::string entry_name(const testing::TestParamInfo<CorpusEntry>& info) {
   return name;
 }
 
-INSTANTIATE_TEST_SUITE_P(BadConfigCorpus, BadConfigFile, testing::ValuesIn(load_entries()),
-                         entry_name);
+INSTANTIATE_TEST_SUITE_P(BadConfigCorpus, BadConfigFile, testing::ValuesIn(load_entries()), entry_name);
 
 TEST(BadConfigCorpus, SidecarListsEveryFile) {
   const std::vector<CorpusEntry> entries = load_entries();
@@ -102,9 +101,7 @@ TEST(BadConfigCorpus, SidecarListsEveryFile) {
   }
 }
 
-TEST(BadConfigCorpus, GoodBaseIsAccepted) {
-  EXPECT_NO_THROW(load_scene((kCorpusDir / "good_base.json").string()));
-}
+TEST(BadConfigCorpus, GoodBaseIsAccepted) { EXPECT_NO_THROW(load_scene((kCorpusDir / "good_base.json").string())); }
 
 }  // namespace
 }  // namespace camdyn

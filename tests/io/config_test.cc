@@ -141,20 +141,19 @@ TEST(Config, ToJsonWritesEveryFieldIncludingDefaultsAndNulls) {
 
 TEST(Config, ToJsonWritesOnlyTheFieldsOfEachSegmentType) {
   Json doc = minimal_scene();
-  doc["mechanism"]["cam"]["motion_law"]["segments"][2] = Json::parse(
-      R"({ "type": "return", "law": "spline", "end_deg": 300, "control_points": [0.2, 0.8] })");
-  const Json segments = to_json(scene_from_json(
-      doc, ConfigSource{"x.json", "/"}))["mechanism"]["cam"]["motion_law"]["segments"];
+  doc["mechanism"]["cam"]["motion_law"]["segments"][2] =
+      Json::parse(R"({ "type": "return", "law": "spline", "end_deg": 300, "control_points": [0.2, 0.8] })");
+  const Json segments =
+      to_json(scene_from_json(doc, ConfigSource{"x.json", "/"}))["mechanism"]["cam"]["motion_law"]["segments"];
   auto keys = [](const Json& o) {
     std::vector<std::string> k;
     for (const auto& item : o.items()) k.push_back(item.key());
     return k;
   };
-  EXPECT_EQ(keys(segments[0]),
-            (std::vector<std::string>{"type", "law", "end_deg", "lift", "lift_deg"}));
+  EXPECT_EQ(keys(segments[0]), (std::vector<std::string>{"type", "law", "end_deg", "lift", "lift_deg"}));
   EXPECT_EQ(keys(segments[1]), (std::vector<std::string>{"type", "end_deg"}));
-  EXPECT_EQ(keys(segments[2]), (std::vector<std::string>{"type", "law", "end_deg", "lift",
-                                                         "lift_deg", "degree", "control_points"}));
+  EXPECT_EQ(keys(segments[2]),
+            (std::vector<std::string>{"type", "law", "end_deg", "lift", "lift_deg", "degree", "control_points"}));
 }
 
 TEST(Config, RoundTripOfTheGoodBase) { expect_round_trip(load_scene(kGoodBase)); }
@@ -167,10 +166,9 @@ TEST(Config, RoundTripOfEveryOptionalShape) {
   dir.write("tables/lift.csv", kLiftTable);
   // Periodic spline law, stiffness from materials, kelvin_voigt, set initial state, rk4.
   Json a = minimal_scene();
-  a["mechanism"]["cam"]["motion_law"] = Json::parse(
-      R"({ "spline": { "degree": 3, "knots_deg": [0, 90, 180, 270], "lift": [0, 0.01, 0.02, 0.01] } })");
-  a["mechanism"]["contact"] =
-      Json::parse(R"({ "model": "kelvin_voigt", "damping": 50, "exponent": 1.0,
+  a["mechanism"]["cam"]["motion_law"] =
+      Json::parse(R"({ "spline": { "degree": 3, "knots_deg": [0, 90, 180, 270], "lift": [0, 0.01, 0.02, 0.01] } })");
+  a["mechanism"]["contact"] = Json::parse(R"({ "model": "kelvin_voigt", "damping": 50, "exponent": 1.0,
       "stiffness": { "from_materials": { "E1": 2.1e11, "nu1": 0.29, "E2": 2.0e11, "nu2": 0.3, "width": 0.01 } } })");
   a["mechanism"]["follower"]["initial"] = Json::parse(R"({ "position": 0.001, "velocity": -0.5 })");
   a["integrator"] = Json::parse(R"({ "method": "rk4", "step": 1e-6, "max_step": 1e-4 })");
@@ -364,11 +362,11 @@ TEST(Config, ExtendsChainOfThreeAndLawKindSwitch) {
 
 TEST(Config, SetParsesNumbersStringsArraysObjectsAndNull) {
   const std::vector<std::string> overrides = {
-      "mechanism.cam.rpm=1500",                           // number
-      "mechanism.cam.direction=cw",                       // bare string
-      "name=\"quoted\"",                                  // JSON string
-      "mechanism.cam.motion_law.segments[0].lift=0.015",  // array index
-      "mechanism.cam.motion_law.segments[2].lift=0.015",  // new key inside an element
+      "mechanism.cam.rpm=1500",                                            // number
+      "mechanism.cam.direction=cw",                                        // bare string
+      "name=\"quoted\"",                                                   // JSON string
+      "mechanism.cam.motion_law.segments[0].lift=0.015",                   // array index
+      "mechanism.cam.motion_law.segments[2].lift=0.015",                   // new key inside an element
       "contact.stiffness={\"from_materials\":{\"E1\":2e11,\"E2\":2e11}}",  // shorthand, nested
                                                                            // object
       "contact.friction.mu=0.1",
@@ -402,26 +400,22 @@ TEST(Config, SetParsesNumbersStringsArraysObjectsAndNull) {
 }
 
 TEST(Config, SetRejectsMalformedOverrides) {
-  const auto error = [](const std::string& o) {
-    return expect_input_error([&] { load_config_json(kGoodBase, {o}); });
-  };
+  const auto error = [](const std::string& o) { return expect_input_error([&] { load_config_json(kGoodBase, {o}); }); };
   EXPECT_EQ(error("mechanism.cam.rpm").reason(), "expected KEY=VALUE");
-  for (const std::string bad : {"mechanism..rpm=1", "=1", "mechanism.cam.rpm.=1",
-                                "mechanism.cam.motion_law.segments[x].lift=1",
-                                "mechanism.cam.motion_law.segments[0.lift=1", "mech anism=1"}) {
+  for (const std::string bad :
+       {"mechanism..rpm=1", "=1", "mechanism.cam.rpm.=1", "mechanism.cam.motion_law.segments[x].lift=1",
+        "mechanism.cam.motion_law.segments[0.lift=1", "mech anism=1"}) {
     const InputError e = error(bad);
     EXPECT_EQ(e.file(), "--set") << bad;
     EXPECT_EQ(e.path(), bad.substr(0, bad.find('='))) << bad;
   }
-  EXPECT_NE(error("mechanism.cam.motion_law.segments[9].lift=1").reason().find("out of range"),
-            std::string::npos);
+  EXPECT_NE(error("mechanism.cam.motion_law.segments[9].lift=1").reason().find("out of range"), std::string::npos);
   EXPECT_NE(error("mechanism.cam.rpm.value=1").reason().find("not an object"), std::string::npos);
   EXPECT_NE(error("mechanism.cam[0]=1").reason().find("not an array"), std::string::npos);
 }
 
 TEST(Config, SetUnknownKeyIsCaughtBySceneFromJson) {
-  const InputError e =
-      expect_input_error([] { load_scene(kGoodBase, {"mechanism.follower.mas=1"}); });
+  const InputError e = expect_input_error([] { load_scene(kGoodBase, {"mechanism.follower.mas=1"}); });
   EXPECT_EQ(e.path(), "mechanism.follower.mas");
   EXPECT_NE(e.reason().find("did you mean 'mass'?"), std::string::npos);
 }
@@ -486,8 +480,7 @@ TEST(Config, ErrorsInsideAProfileNameTheProfileFile) {
   EXPECT_EQ(e.path(), "mechanism.cam.motion_law.segments[0].end_deg");
   EXPECT_EQ(e.reason(), "must be in (0, 360], got 400");
 
-  dir.write("p.json",
-            R"({ "segments": [ { "type": "dwell", "end_deg": 360 } ], "descripton": "typo" })");
+  dir.write("p.json", R"({ "segments": [ { "type": "dwell", "end_deg": 360 } ], "descripton": "typo" })");
   const InputError typo = expect_input_error([&] { load_scene(config); });
   EXPECT_EQ(typo.file(), profile);
   EXPECT_EQ(typo.path(), "mechanism.cam.motion_law.descripton");
@@ -509,8 +502,7 @@ TEST(Config, TableFileIsResolvedRelativeToTheFileThatNamesIt) {
 
   // In an extended config elsewhere: relative to that config.
   Json base = minimal_scene();
-  base["mechanism"]["cam"]["motion_law"] =
-      Json::parse(R"({ "table": { "file": "data/lift.csv" } })");
+  base["mechanism"]["cam"]["motion_law"] = Json::parse(R"({ "table": { "file": "data/lift.csv" } })");
   dir.write("bases/base.json", base.dump());
   const std::string child = dir.write("child.json", R"({ "extends": "bases/base.json" })");
   EXPECT_EQ(load_scene(child).mechanism.cam.motion_law.table->file, dir / "bases/data/lift.csv");
@@ -535,8 +527,7 @@ TEST(Config, UnknownKeySuggestsTheClosestValidKey) {
   EXPECT_EQ(e.file(), "scene.json");
   EXPECT_EQ(e.path(), "mechanism.cam.rpmm");
   EXPECT_EQ(e.reason(), "unknown key 'rpmm' (did you mean 'rpm'?)");
-  EXPECT_EQ(std::string(e.what()),
-            "scene.json: mechanism.cam.rpmm: unknown key 'rpmm' (did you mean 'rpm'?)");
+  EXPECT_EQ(std::string(e.what()), "scene.json: mechanism.cam.rpmm: unknown key 'rpmm' (did you mean 'rpm'?)");
 
   // No close match: the valid keys are listed instead.
   doc = minimal_scene();
@@ -550,19 +541,14 @@ TEST(Config, UnknownEnumValueSuggestsTheClosestValue) {
   doc["integrator"]["method"] = "cvode_bfd";
   const InputError e = expect_input_error([&] { scene_from_json(doc, {"scene.json", "/"}); });
   EXPECT_EQ(e.path(), "integrator.method");
-  EXPECT_NE(e.reason().find("got string \"cvode_bfd\" (did you mean 'cvode_bdf'?)"),
-            std::string::npos)
-      << e.reason();
+  EXPECT_NE(e.reason().find("got string \"cvode_bfd\" (did you mean 'cvode_bdf'?)"), std::string::npos) << e.reason();
 }
 
 TEST(Config, MisspeltKeyIsReportedRatherThanTheMissingField) {
   Json doc = minimal_scene();
   doc["mechanism"]["follower"].erase("mass");
   doc["mechanism"]["follower"]["mas"] = 0.3;
-  EXPECT_EQ(expect_input_error([&] {
-              scene_from_json(doc, {"s.json", "/"});
-            }).path(),
-            "mechanism.follower.mas");
+  EXPECT_EQ(expect_input_error([&] { scene_from_json(doc, {"s.json", "/"}); }).path(), "mechanism.follower.mas");
   // A top-level typo hides a whole required object: still the typo first.
   doc = minimal_scene();
   doc["mechanizm"] = doc["mechanism"];
@@ -579,10 +565,7 @@ TEST(Config, MissingRequiredFieldsSayWhatIsExpected) {
 
   doc = minimal_scene();
   doc["mechanism"]["contact"].erase("stiffness");
-  EXPECT_EQ(expect_input_error([&] {
-              scene_from_json(doc, {"s.json", "/"});
-            }).path(),
-            "mechanism.contact.stiffness");
+  EXPECT_EQ(expect_input_error([&] { scene_from_json(doc, {"s.json", "/"}); }).path(), "mechanism.contact.stiffness");
 
   doc = minimal_scene();
   doc["mechanism"]["cam"].erase("motion_law");
@@ -612,10 +595,7 @@ TEST(Config, NumbersAndIntegersAreTypeChecked) {
 
   doc = minimal_scene();
   doc["integrator"]["max_steps"] = 1e30;
-  EXPECT_EQ(expect_input_error([&] {
-              scene_from_json(doc, {"s.json", "/"});
-            }).path(),
-            "integrator.max_steps");
+  EXPECT_EQ(expect_input_error([&] { scene_from_json(doc, {"s.json", "/"}); }).path(), "integrator.max_steps");
 }
 
 TEST(Config, SyntaxErrorGivesLineAndColumnOfTheOffendingToken) {
@@ -641,8 +621,7 @@ TEST(Config, MissingOrUnreadableFileIsAnInputError) {
   const InputError directory = expect_input_error([&] { load_scene(dir / ""); });
   EXPECT_NE(directory.reason().find("directory"), std::string::npos);
   const std::string array = dir.write("array.json", "[1, 2]");
-  EXPECT_NE(expect_input_error([&] { load_scene(array); }).reason().find("JSON object"),
-            std::string::npos);
+  EXPECT_NE(expect_input_error([&] { load_scene(array); }).reason().find("JSON object"), std::string::npos);
   const std::string huge = dir.write("huge.json", R"({ "gravity": 1e999 })");
   EXPECT_EQ(expect_input_error([&] { load_scene(huge); }).file(), huge);
 }
@@ -667,8 +646,7 @@ TEST(Config, CrossFieldChecks) {
   EXPECT_EQ(path_of_error(doc), "simulation.cycles");
 
   doc = minimal_scene();
-  doc["simulation"] =
-      Json::parse(R"({ "duration": 0.1, "discard_cycles": 2 })");  // 2 cycles at 1200 rpm
+  doc["simulation"] = Json::parse(R"({ "duration": 0.1, "discard_cycles": 2 })");  // 2 cycles at 1200 rpm
   EXPECT_EQ(path_of_error(doc), "simulation.discard_cycles");
   doc["simulation"] = Json::parse(R"({ "output_step": 1e-4, "output_step_deg": 1 })");
   EXPECT_EQ(path_of_error(doc), "simulation.output_step");
@@ -688,8 +666,7 @@ TEST(Config, CrossFieldChecks) {
   EXPECT_EQ(path_of_error(doc), "mechanism.cam.motion_law.segments[0].degree");
 
   doc = minimal_scene();
-  doc["mechanism"]["cam"]["motion_law"]["spline"] =
-      Json::parse(R"({ "knots_deg": [0], "lift": [0] })");
+  doc["mechanism"]["cam"]["motion_law"]["spline"] = Json::parse(R"({ "knots_deg": [0], "lift": [0] })");
   EXPECT_EQ(path_of_error(doc), "mechanism.cam.motion_law");
 
   doc = minimal_scene();

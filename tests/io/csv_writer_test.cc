@@ -1,5 +1,6 @@
 #include "io/csv_writer.h"
 
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -12,8 +13,6 @@
 #include <string>
 #include <vector>
 
-#include <gtest/gtest.h>
-
 #include "io/json_writer.h"
 
 namespace camdyn {
@@ -25,8 +24,7 @@ class CsvTest : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("camdyn-csv-" + std::string(info->name()) + "-" + std::to_string(::getpid()));
+    dir_ = fs::temp_directory_path() / ("camdyn-csv-" + std::string(info->name()) + "-" + std::to_string(::getpid()));
     fs::remove_all(dir_);
   }
   void TearDown() override { fs::remove_all(dir_); }
@@ -49,8 +47,7 @@ TEST_F(CsvTest, WritesHeaderAndRows) {
 }
 
 TEST_F(CsvTest, NumbersRoundTrip) {
-  const std::vector<double> values = {0.1, 1.0 / 3.0, 6.02214076e23, 5e-324,
-                                      std::numeric_limits<double>::max(), -0.0};
+  const std::vector<double> values = {0.1, 1.0 / 3.0, 6.02214076e23, 5e-324, std::numeric_limits<double>::max(), -0.0};
   // strtod, not std::stod: stod throws on the subnormal 5e-324.
   for (double v : values) EXPECT_EQ(std::strtod(format_double(v).c_str(), nullptr), v) << format_double(v);
 }
@@ -61,8 +58,7 @@ TEST_F(CsvTest, MixedCellsAreQuotedWhenNeeded) {
   csv.row({"cyc", 1500, 0.5, "says \"no\", twice"});
   csv.row({std::string("a\nb"), std::size_t{2}, 1.0, ""});
   csv.commit();
-  EXPECT_EQ(read(path),
-            "case,rpm,value,error\ncyc,1500,0.5,\"says \"\"no\"\", twice\"\n\"a\nb\",2,1,\n");
+  EXPECT_EQ(read(path), "case,rpm,value,error\ncyc,1500,0.5,\"says \"\"no\"\", twice\"\n\"a\nb\",2,1,\n");
 }
 
 TEST_F(CsvTest, NaNIsRefusedNamingTheColumn) {

@@ -1,12 +1,12 @@
 #include "io/report.h"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "cli_run.h"
 
@@ -32,8 +32,7 @@ Plot make_plot(std::string title, std::string xlabel, std::string ylabel) {
   return plot;
 }
 
-Series make_series(std::string label, std::vector<double> x, std::vector<double> y,
-                   std::string style = "lines") {
+Series make_series(std::string label, std::vector<double> x, std::vector<double> y, std::string style = "lines") {
   Series s;
   s.label = std::move(label);
   s.x = std::move(x);
@@ -42,8 +41,8 @@ Series make_series(std::string label, std::vector<double> x, std::vector<double>
   return s;
 }
 
-Table make_table(std::string title, std::vector<std::string> columns,
-                 std::vector<std::vector<std::string>> rows, bool sortable = true) {
+Table make_table(std::string title, std::vector<std::string> columns, std::vector<std::vector<std::string>> rows,
+                 bool sortable = true) {
   Table t;
   t.title = std::move(title);
   t.columns = std::move(columns);
@@ -80,8 +79,7 @@ TEST(Report, LogAxesDropNonPositiveValues) {
   REQUIRE_GNUPLOT();
   Plot plot = make_plot("Work precision", "rtol", "error");
   plot.logx = plot.logy = true;
-  plot.series.push_back(make_series("bdf", {1e-4, 1e-6, 0.0, 1e-8, -1.0}, {1e-3, 0.0, 1e-5, 1e-7, 1.0},
-                         "linespoints"));
+  plot.series.push_back(make_series("bdf", {1e-4, 1e-6, 0.0, 1e-8, -1.0}, {1e-3, 0.0, 1e-5, 1e-7, 1.0}, "linespoints"));
   const std::string svg = render_svg(plot);
   EXPECT_NE(svg.find("<path"), std::string::npos);
   EXPECT_EQ(svg.find("plot unavailable"), std::string::npos) << svg;
@@ -151,8 +149,8 @@ Report sample_report() {
   r.title = "roller <script>alert(1)</script>";
   r.subtitle = "simulate & check";
   r.facts = {{"rpm", "1200"}, {"name", "a\"b'c"}};
-  r.tables.push_back(make_table("Metrics", {"metric", "value <unit>"}, {{"peak_contact_force", "1234.5"},
-                                                              {"separation_fraction", "0"}}));
+  r.tables.push_back(make_table("Metrics", {"metric", "value <unit>"},
+                                {{"peak_contact_force", "1234.5"}, {"separation_fraction", "0"}}));
   r.tables.push_back(make_table("Solver", {"steps", "rhs_evaluations"}, {{"10", "20"}}, false));
   r.plots.push_back(sine_plot());
   Plot second = sine_plot();

@@ -1,13 +1,12 @@
 // A compare study under `mpirun -np 2` writes the same comparison.csv as the
 // threaded run (timing column aside), and only rank 0 writes outputs.
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
-
-#include <gtest/gtest.h>
 
 #include "cli_run.h"
 
@@ -23,7 +22,8 @@ TEST(CompareMpi, TwoRanksWriteTheSameTableAsThreads) {
   fs::create_directories(dir);
   const fs::path study = dir / "study.json";
   std::ofstream(study) << R"({
-    "extends": ")" << CAMDYN_SOURCE_DIR << R"(/studies/quickstart.json",
+    "extends": ")" << CAMDYN_SOURCE_DIR
+                       << R"(/studies/quickstart.json",
     "name": "mpi", "study": "compare",
     "simulation": { "cycles": 2, "discard_cycles": 1, "output_step_deg": 1.0 },
     "cases": [ { "name": "cycloidal" }, { "name": "soft", "set": ["mechanism.contact.stiffness=1e4"] },

@@ -3,19 +3,19 @@
 // values, read and built again: FitScene's from_json) gives, bit for bit; no JSON is read and no
 // model is built for parameters of the parameter block; setting them and
 // assembling the residuals allocates nothing.
+#include "optim/fit_scene.h"
+
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include <gtest/gtest.h>
-
 #include "allocation_counter.h"
-
 #include "common/errors.h"
 #include "io/config.h"
 #include "optim/fit_residuals.h"
-#include "optim/fit_scene.h"
 #include "optim/identify.h"
 
 namespace camdyn::optim {

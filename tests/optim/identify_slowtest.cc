@@ -1,12 +1,12 @@
 // Slow identification fits (label `slow`, `ctest --preset slow`): the
 // cam-rig acceleration records of studies/identify_cam_rig, whose simulations
 // run a cam revolution each, and a second far start of the drop study.
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <stdexcept>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "io/config.h"
 #include "optim/identify.h"

@@ -2,6 +2,9 @@
 // identifiability verdict, and the acceptance fits on the committed synthetic
 // drop records of studies/identify_drop (made by its generate.py from known
 // parameters plus 1 % noise). The cam-rig fit is in identify_slowtest.cc.
+#include "optim/identify.h"
+
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -14,15 +17,12 @@
 #include <string>
 #include <vector>
 
-#include <gtest/gtest.h>
-
 #include "cli_run.h"
 #include "common/errors.h"
 #include "dynamics/simulation.h"
 #include "io/config.h"
 #include "io/csv_reader.h"
 #include "io/json_archive.h"
-#include "optim/identify.h"
 #include "optim/identify_output.h"
 
 namespace camdyn::optim {

@@ -46,7 +46,7 @@ Json run_study(const std::string& name) {
 
   EXPECT_EQ(
       run_cli("run " + (dir / "out" / "optimized.json").string() + " --out " + (dir / "rerun").string() + " --quiet",
-             dir),
+              dir),
       0)
       << read_text(dir / "camdyn.err");
   const Json summary = Json::parse(read_text(dir / "rerun" / "summary.json"));

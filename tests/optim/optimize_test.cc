@@ -274,7 +274,7 @@ TEST(OptimizeCli, ValidatePrintsTheResolvedStudyAndNamesBadFields) {
 TEST(OptimizeCli, OptimizedConfigReproducesTheReportedMetrics) {
   const fs::path dir = scratch("jump");
   const Outcome run = run_cli("run " + kJump + " --out " + dir.string() +
-                             " --jobs 2 --set optimizer.max_evaluations=12 --set simulation.cycles=2");
+                              " --jobs 2 --set optimizer.max_evaluations=12 --set simulation.cycles=2");
   ASSERT_EQ(run.code, 0) << run.err;
   for (const char* f : {"result.json", "history.csv", "optimized.json", "report.html"})
     EXPECT_TRUE(fs::exists(dir / f)) << f;

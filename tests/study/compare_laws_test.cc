@@ -2,6 +2,7 @@
 // grid speed with separation is the first grid speed above the law's
 // rigid-model jump speed (physics.md §6: no damper, so the rigid model gives
 // the exact onset; the grid keeps >= 2.5 % away from every jump speed).
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -10,8 +11,6 @@
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "cli_run.h"
 

@@ -1,24 +1,22 @@
 // The compare study through the command line: every case at every grid
 // point, failures recorded without stopping the others, jump onset where the
 // rigid model puts it.
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
 #include <string>
-#include <vector>
-
-#include <gtest/gtest.h>
-
-#include <chrono>
-#include <csignal>
 #include <thread>
+#include <vector>
 
 #include "cli_run.h"
 
@@ -95,13 +93,13 @@ TEST(CompareStudy, RunsEveryCaseAtEveryGridPointAndRecordsFailures) {
   fs::remove_all(dir);
 }
 
-
 // A scratch folder per test, removed at the end.
 class CompareCli : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / ("camdyn_compare_" + std::string(test->name()) + "_" + std::to_string(::getpid()));
+    dir_ =
+        fs::temp_directory_path() / ("camdyn_compare_" + std::string(test->name()) + "_" + std::to_string(::getpid()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -112,7 +110,8 @@ class CompareCli : public ::testing::Test {
   fs::path write_study(const std::string& extra = "") {
     const fs::path file = dir_ / "study.json";
     std::ofstream(file) << R"({
-      "extends": ")" << CAMDYN_SOURCE_DIR << R"(/studies/quickstart.json",
+      "extends": ")" << CAMDYN_SOURCE_DIR
+                        << R"(/studies/quickstart.json",
       "name": "resume", "study": "compare",
       "simulation": { "cycles": 2, "discard_cycles": 1, "output_step_deg": 1.0 },
       "cases": [ { "name": "cycloidal" },
@@ -124,7 +123,9 @@ class CompareCli : public ::testing::Test {
   fs::path dir_;
 };
 
-std::size_t count_lines(const std::string& text) { return static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n')); }
+std::size_t count_lines(const std::string& text) {
+  return static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
+}
 
 TEST_F(CompareCli, JobsOneAndTwoWriteTheSameTable) {
   const fs::path study = write_study();
@@ -168,7 +169,7 @@ TEST_F(CompareCli, KilledStudyResumesToTheUninterruptedTable) {
       << read_text(dir_ / "resumed.err");
   const std::string after = read_text(journal);
   EXPECT_EQ(after.substr(0, before.size()), before);  // finished runs kept, not redone
-  EXPECT_EQ(count_lines(after), 13u);                  // header + each run once
+  EXPECT_EQ(count_lines(after), 13u);                 // header + each run once
   EXPECT_EQ(without_last_column(out / "comparison.csv"), without_last_column(dir_ / "whole" / "comparison.csv"));
 
   // Once complete, a rerun does nothing but rewrite the outputs from the journal.
@@ -203,7 +204,8 @@ TEST_F(CompareCli, InlineCaseOverlaysAndBestMarks) {
   ASSERT_EQ(rows.size(), 12u);
   for (const auto& row : rows) ASSERT_EQ(row.at("status"), "ok") << row.at("error");
   // The heavier follower jumps earlier: jump speed scales as 1/sqrt(m).
-  const double light = std::stod(rows.front().at("jump_speed_rpm")), heavy = std::stod(rows.back().at("jump_speed_rpm"));
+  const double light = std::stod(rows.front().at("jump_speed_rpm")),
+               heavy = std::stod(rows.back().at("jump_speed_rpm"));
   EXPECT_NEAR(heavy / light, std::sqrt(0.3 / 0.45), 1e-9);
   const std::string html = read_text(dir_ / "out" / "report.html");
   EXPECT_NE(html.find("Contact force against cam angle (last revolution), mechanism.cam.rpm=1300"), std::string::npos);

@@ -3,14 +3,13 @@
 // journal of another study is refused.
 #include "study/journal.h"
 
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
-
-#include <gtest/gtest.h>
 
 #include "common/errors.h"
 
@@ -65,7 +64,11 @@ TEST_F(JournalTest, LineCutByAKillIsDropped) {
 
 TEST_F(JournalTest, UnreadableLineIsSkippedAndIndexOutOfRangeIgnored) {
   { Journal(path_, "compare", "abc", 3).append(Json{{"index", 0}}); }
-  std::ofstream(path_, std::ios::app) << "garbage\n" << R"({"index": 7})" << "\n" << R"({"index": 2})" << "\n";
+  std::ofstream(path_, std::ios::app) << "garbage\n"
+                                      << R"({"index": 7})"
+                                      << "\n"
+                                      << R"({"index": 2})"
+                                      << "\n";
   Journal j(path_, "compare", "abc", 3);
   EXPECT_EQ(j.done().size(), 2u);
   EXPECT_TRUE(j.done().count(2));

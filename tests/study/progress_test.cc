@@ -1,9 +1,9 @@
 #include "study/progress.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <limits>
-
-#include <gtest/gtest.h>
 
 namespace {
 
@@ -21,7 +21,8 @@ TEST(Progress, Line) {
             "compare: 12/40 runs, 1 failed, 00:31 elapsed, ~01:12 left");
   EXPECT_EQ(camdyn::progress_line("compare", 0, 40, 0, 1.0, -1.0),
             "compare: 0/40 runs, 0 failed, 00:01 elapsed, ~--:-- left");
-  EXPECT_EQ(camdyn::progress_line("compare", 40, 40, 2, 100.0, 0.0), "compare: 40/40 runs, 2 failed, 01:40 elapsed, done");
+  EXPECT_EQ(camdyn::progress_line("compare", 40, 40, 2, 100.0, 0.0),
+            "compare: 40/40 runs, 2 failed, 01:40 elapsed, done");
 }
 
 }  // namespace

@@ -1,15 +1,16 @@
 // summary.json of a simulate run: the metrics in the order Metrics' visit
 // lists them, and the solver block with its termination status and message
 // after the counters that were there before.
+#include "study/simulation_output.h"
+
+#include <gtest/gtest.h>
+
 #include <string>
 #include <utility>
 #include <vector>
 
-#include <gtest/gtest.h>
-
 #include "../dynamics/scenes.h"
 #include "dynamics/simulation.h"
-#include "study/simulation_output.h"
 
 namespace camdyn {
 namespace {
@@ -41,11 +42,25 @@ TEST(SimulationOutput, SummaryListsEveryMetricOnceInVisitOrder) {
 TEST(SimulationOutput, SolverBlockEndsWithTerminationAndMessage) {
   const SceneRun run(test::cycloidal_cam_scene(700.0));
   const Json solver = summary_json(run.scene, run.model, run.result)["solver"];
-  const std::vector<std::string> expected = {
-      "method",          "rtol",           "atol",           "steps",          "rhs_evaluations",
-      "events",          "tracking_resets", "run_time_s",    "error_estimate", "error_test_failures",
-      "nonlinear_iterations", "jacobian_evaluations", "restarts", "tracking_projections", "tracking",
-      "simulated_time_s", "evaluated_from_s", "termination", "message"};
+  const std::vector<std::string> expected = {"method",
+                                             "rtol",
+                                             "atol",
+                                             "steps",
+                                             "rhs_evaluations",
+                                             "events",
+                                             "tracking_resets",
+                                             "run_time_s",
+                                             "error_estimate",
+                                             "error_test_failures",
+                                             "nonlinear_iterations",
+                                             "jacobian_evaluations",
+                                             "restarts",
+                                             "tracking_projections",
+                                             "tracking",
+                                             "simulated_time_s",
+                                             "evaluated_from_s",
+                                             "termination",
+                                             "message"};
   EXPECT_EQ(keys(solver), expected);
   EXPECT_EQ(solver["termination"], "converged");
   EXPECT_EQ(solver["message"], "");

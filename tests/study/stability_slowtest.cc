@@ -2,6 +2,7 @@
 // several minutes: label `slow`). Every run ends ok with finite metrics and a
 // closed energy balance, or failed with a stated reason; never a crash, a
 // hang or NaN.
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -11,8 +12,6 @@
 #include <fstream>
 #include <sstream>
 #include <string>
-
-#include <gtest/gtest.h>
 
 #include "cli_run.h"
 

@@ -1,5 +1,6 @@
 // studies/work_precision.json (label `slow`, about a minute on 2 cores): the
 // CSV shows, for each adaptive method, errors spanning at least four decades.
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -12,8 +13,6 @@
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "cli_run.h"
 
