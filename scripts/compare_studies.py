@@ -11,8 +11,10 @@ comparison.json and the CSV outputs (timeseries, history, fit, comparison,
 work_precision). Left out, because they differ between any two runs: run and
 wall times, the version string, and file paths. Numbers are compared as parsed
 doubles (the writers print round-trip text), so equal means bit-identical.
-Exit status 0 when every study agrees, 1 otherwise; each difference is printed
-with the study, file and key.
+Keys that only the new binary writes are additions (the interface allows
+them) and are listed once, not counted as differences; a key the new binary
+no longer writes is a difference. Exit status 0 when every study agrees, 1
+otherwise; each difference is printed with the study, file and key.
 """
 import argparse
 import csv
@@ -76,21 +78,24 @@ def same_number(a, b):
     return a == b or (math.isnan(a) and math.isnan(b))
 
 
-def compare_json(a, b, where, diffs):
+def compare_json(a, b, where, diffs, added):
     if isinstance(a, dict) and isinstance(b, dict):
         for key in sorted(set(a) | set(b)):
             if volatile(key):
                 continue
-            if key not in a or key not in b:
-                diffs.append(f"{where}.{key}: only in {'new' if key in b else 'old'}")
+            if key not in a:
+                added.append(f"{where}.{key}")  # an addition to the outputs, allowed by the interface
                 continue
-            compare_json(a[key], b[key], f"{where}.{key}", diffs)
+            if key not in b:
+                diffs.append(f"{where}.{key}: only in old (removed)")
+                continue
+            compare_json(a[key], b[key], f"{where}.{key}", diffs, added)
     elif isinstance(a, list) and isinstance(b, list):
         if len(a) != len(b):
             diffs.append(f"{where}: {len(a)} elements (old) vs {len(b)} (new)")
             return
         for i, (x, y) in enumerate(zip(a, b)):
-            compare_json(x, y, f"{where}[{i}]", diffs)
+            compare_json(x, y, f"{where}[{i}]", diffs, added)
     elif isinstance(a, (int, float)) and isinstance(b, (int, float)) and not isinstance(a, bool):
         if not same_number(float(a), float(b)):
             diffs.append(f"{where}: {a!r} (old) vs {b!r} (new), rel {rel(a, b):.3g}")
@@ -128,7 +133,7 @@ def compare_csv(path_a, path_b, where, diffs):
                 reported += 1
 
 
-def compare_outputs(dir_a, dir_b, study_name):
+def compare_outputs(dir_a, dir_b, study_name, added):
     diffs = []
     for name in OUTPUT_FILES:
         a, b = dir_a / name, dir_b / name
@@ -138,7 +143,8 @@ def compare_outputs(dir_a, dir_b, study_name):
             diffs.append(f"{study_name}/{name}: only in {'new' if b.exists() else 'old'}")
             continue
         if name.endswith(".json"):
-            compare_json(json.loads(a.read_text()), json.loads(b.read_text()), f"{study_name}/{name}", diffs)
+            compare_json(json.loads(a.read_text()), json.loads(b.read_text()), f"{study_name}/{name}", diffs,
+                         added)
         else:
             compare_csv(a, b, f"{study_name}/{name}", diffs)
     return diffs
@@ -179,17 +185,21 @@ def main():
                     print(f"      {line}")
 
     failed = 0
+    added = []
     for study in studies:
         name = str(study.relative_to(ROOT / "studies").with_suffix("")).replace(os.sep, "__")
         diffs = []
         if exit_codes[(name, "old")] != exit_codes[(name, "new")]:
             diffs.append(f"exit {exit_codes[(name, 'old')]} (old) vs {exit_codes[(name, 'new')]} (new)")
-        diffs += compare_outputs(out / "old" / name, out / "new" / name, name)
+        diffs += compare_outputs(out / "old" / name, out / "new" / name, name, added)
         status = "identical" if not diffs else f"{len(diffs)} differences"
         print(f"{name:45s} {status}")
         for d in diffs[:20]:
             print(f"    {d}")
         failed += bool(diffs)
+    keys = sorted({a.split("/", 1)[1] for a in added})
+    if keys:
+        print(f"added output keys (not differences): {', '.join(keys)}")
     print(f"{len(studies) - failed} identical, {failed} differ")
     return 1 if failed else 0
 
