@@ -562,28 +562,6 @@ Failure run_scene(const RunContext& run) {
 
 }  // namespace
 
-const char* termination_name(Termination termination) {
-  switch (termination) {
-    case Termination::converged:
-      return "converged";
-    case Termination::integrator_failure:
-      return "integrator_failure";
-    case Termination::step_budget:
-      return "step_budget";
-    case Termination::wall_time_budget:
-      return "wall_time_budget";
-    case Termination::penetration_limit:
-      return "penetration_limit";
-    case Termination::left_flat_face:
-      return "left_flat_face";
-    case Termination::tracking_lost:
-      return "tracking_lost";
-    case Termination::no_initial_contact:
-      return "no_initial_contact";
-  }
-  return "unknown";
-}
-
 void throw_if_failed(const SimulationResult& result) {
   if (!result.solver.converged()) throw NumericalError(result.solver.message);
 }

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <functional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -46,8 +47,16 @@ enum class Termination {
   no_initial_contact,  ///< no contact pair at the start
 };
 
-/// The name summary.json gives a termination ("converged", "step_budget", ...).
-const char* termination_name(Termination termination);
+/// The names summary.json gives a termination (`solver.termination`).
+inline constexpr EnumName<Termination> kTerminationNames[] = {{Termination::converged, "converged"},
+                                                              {Termination::integrator_failure, "integrator_failure"},
+                                                              {Termination::step_budget, "step_budget"},
+                                                              {Termination::wall_time_budget, "wall_time_budget"},
+                                                              {Termination::penetration_limit, "penetration_limit"},
+                                                              {Termination::left_flat_face, "left_flat_face"},
+                                                              {Termination::tracking_lost, "tracking_lost"},
+                                                              {Termination::no_initial_contact, "no_initial_contact"}};
+constexpr std::span<const EnumName<Termination>> enum_names(Termination) { return kTerminationNames; }
 
 struct SolverSummary {
   std::string method;

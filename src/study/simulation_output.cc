@@ -138,7 +138,7 @@ Json summary_json(const SceneConfig& scene, const Model& model, const Simulation
                            {"tracking", model.tracking == Tracking::newton ? "newton" : "differential"},
                            {"simulated_time_s", result.end_time},
                            {"evaluated_from_s", result.evaluated_from},
-                           {"termination", termination_name(s.termination)},
+                           {"termination", to_string(s.termination)},
                            {"message", s.message}};
   summary["model"] = Json{{"state_size", model.state_size},
                           {"states", model.state_names},

@@ -4,8 +4,8 @@
 #include "dynamics/simulation.h"
 
 #include <gtest/gtest.h>
+#include <regex.h>  // POSIX: std::regex trips a false -Wmaybe-uninitialized in GCC 12 sanitizer builds
 
-#include <regex>
 #include <string>
 
 #include "common/errors.h"
@@ -39,12 +39,24 @@ std::string thrown_message(const SimulationResult& result) {
   return "";
 }
 
+/// Whether `text` contains a match of the POSIX extended regular expression `pattern`.
+bool contains_match(const std::string& text, const std::string& pattern) {
+  regex_t re;
+  if (regcomp(&re, pattern.c_str(), REG_EXTENDED | REG_NOSUB) != 0) {
+    ADD_FAILURE() << "bad pattern " << pattern;
+    return false;
+  }
+  const bool found = regexec(&re, text.c_str(), 0, nullptr, 0) == 0;
+  regfree(&re);
+  return found;
+}
+
 // `r` ended with `termination` and a message matching `pattern`, which
 // throw_if_failed throws as it is.
 void expect_failure(const SimulationResult& r, Termination termination, const std::string& pattern) {
-  EXPECT_EQ(r.solver.termination, termination) << termination_name(r.solver.termination);
+  EXPECT_EQ(r.solver.termination, termination) << to_string(r.solver.termination);
   EXPECT_FALSE(r.solver.converged());
-  EXPECT_TRUE(std::regex_search(r.solver.message, std::regex(pattern))) << r.solver.message;
+  EXPECT_TRUE(contains_match(r.solver.message, pattern)) << r.solver.message;
   EXPECT_EQ(thrown_message(r), r.solver.message);
 }
 
@@ -53,7 +65,7 @@ TEST(SimulationTermination, CompleteRunConvergesWithEmptyMessage) {
   EXPECT_EQ(r.solver.termination, Termination::converged);
   EXPECT_TRUE(r.solver.converged());
   EXPECT_EQ(r.solver.message, "");
-  EXPECT_STREQ(termination_name(r.solver.termination), "converged");
+  EXPECT_EQ(to_string(r.solver.termination), "converged");
   EXPECT_NO_THROW(throw_if_failed(r));
 }
 
@@ -61,7 +73,7 @@ TEST(SimulationTermination, StepBudgetReturnsStatusAndThrowIfFailedThrowsItsMess
   const SimulationResult r = run_with([](IntegratorConfig& ic) { ic.max_steps = 20; });
   expect_failure(r, Termination::step_budget,
                  R"(^step budget of 20 steps \(integrator\.max_steps\) exceeded)" + kWhere);
-  EXPECT_STREQ(termination_name(r.solver.termination), "step_budget");
+  EXPECT_EQ(to_string(r.solver.termination), "step_budget");
   EXPECT_EQ(r.solver.counters.steps, 21);  // the check runs after every step: stopped at the first one over
 }
 
