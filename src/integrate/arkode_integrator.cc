@@ -11,6 +11,7 @@
 
 #include "common/errors.h"
 #include "integrate/augmented_system.h"
+#include "integrate/sundials_flag_name.h"
 
 namespace camdyn {
 
@@ -29,8 +30,9 @@ struct ArkodeIntegrator::Impl {
 
   void check(int flag, const char* call) const {
     if (flag >= 0) return;
-    throw NumericalError(std::string("ARKODE ") + call + " failed (" + ARKStepGetReturnFlagName(flag) + ") at t = " +
-                         std::to_string(t) + " s" + (last_message.empty() ? std::string() : ": " + last_message));
+    throw NumericalError(std::string("ARKODE ") + call + " failed (" + take_flag_name(ARKStepGetReturnFlagName(flag)) +
+                         ") at t = " + std::to_string(t) + " s" +
+                         (last_message.empty() ? std::string() : ": " + last_message));
   }
   void check_created(const void* p, const char* what) const {
     if (p == nullptr) throw NumericalError(std::string("SUNDIALS could not create ") + what);

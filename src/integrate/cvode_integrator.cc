@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "common/errors.h"
+#include "integrate/sundials_flag_name.h"
 
 namespace camdyn {
 
@@ -26,8 +27,9 @@ struct CvodeIntegrator::Impl {
 
   void check(int flag, const char* call) const {
     if (flag >= 0) return;
-    throw NumericalError(std::string("CVODES ") + call + " failed (" + CVodeGetReturnFlagName(flag) + ") at t = " +
-                         std::to_string(t) + " s" + (last_message.empty() ? std::string() : ": " + last_message));
+    throw NumericalError(std::string("CVODES ") + call + " failed (" + take_flag_name(CVodeGetReturnFlagName(flag)) +
+                         ") at t = " + std::to_string(t) + " s" +
+                         (last_message.empty() ? std::string() : ": " + last_message));
   }
   void check_created(const void* p, const char* what) const {
     if (p == nullptr) throw NumericalError(std::string("SUNDIALS could not create ") + what);
