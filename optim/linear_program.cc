@@ -1,0 +1,133 @@
+#include "optim/linear_program.h"
+
+#include <ClpSimplex.hpp>
+#include <CoinPackedMatrix.hpp>
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace camdyn::optim {
+
+namespace {
+
+/// CLP's infinity for a bound that is infinite here.
+double clp_bound(double v) {
+  if (v == kLpInfinity) return COIN_DBL_MAX;
+  if (v == -kLpInfinity) return -COIN_DBL_MAX;
+  return v;
+}
+
+std::vector<double> clp_bounds(const std::vector<double>& v) {
+  std::vector<double> out(v.size());
+  std::transform(v.begin(), v.end(), out.begin(), clp_bound);
+  return out;
+}
+
+/// CLP's problem status in words.
+std::string clp_status_text(const ClpSimplex& model) {
+  switch (model.problemStatus()) {
+    case 0: return "optimal";
+    case 1: return "primal infeasible";
+    case 2: return "dual infeasible (unbounded)";
+    case 3: return "stopped on the iteration limit";
+    case 4: return "stopped on numerical difficulties";
+    default: return "status " + std::to_string(model.problemStatus());
+  }
+}
+
+/// Largest violation of the rows and column bounds by x, relative to the
+/// size of the bound (at least 1).
+double worst_violation(const LinearProgram& lp, const std::vector<double>& x, const std::vector<double>& activity) {
+  double worst = 0.0;
+  auto check = [&worst](double v, double lo, double hi) {
+    const double scale = std::max({1.0, std::isfinite(lo) ? std::abs(lo) : 0.0, std::isfinite(hi) ? std::abs(hi) : 0.0});
+    if (v < lo) worst = std::max(worst, (lo - v) / scale);
+    if (v > hi) worst = std::max(worst, (v - hi) / scale);
+  };
+  for (int j = 0; j < lp.columns(); ++j) check(x[j], lp.column_lower()[j], lp.column_upper()[j]);
+  for (int r = 0; r < lp.rows(); ++r) check(activity[r], lp.row_lower()[r], lp.row_upper()[r]);
+  return worst;
+}
+
+}  // namespace
+
+int LinearProgram::add_column(double lower, double upper, double cost) {
+  col_lower_.push_back(lower);
+  col_upper_.push_back(upper);
+  cost_.push_back(cost);
+  return columns() - 1;
+}
+
+int LinearProgram::add_row(const std::vector<std::pair<int, double>>& terms, double lower, double upper) {
+  const int row = rows();
+  for (const auto& [column, value] : terms) {
+    if (column < 0 || column >= columns()) throw std::out_of_range("LinearProgram::add_row: no such column");
+    if (value == 0.0) continue;
+    t_row_.push_back(row);
+    t_col_.push_back(column);
+    t_val_.push_back(value);
+  }
+  row_lower_.push_back(lower);
+  row_upper_.push_back(upper);
+  return row;
+}
+
+void LinearProgram::set_cost(int column, double cost) { cost_.at(static_cast<std::size_t>(column)) = cost; }
+
+const char* to_string(LpStatus status) {
+  switch (status) {
+    case LpStatus::optimal: return "optimal";
+    case LpStatus::infeasible: return "infeasible";
+    case LpStatus::unbounded: return "unbounded";
+    case LpStatus::failed: return "failed";
+  }
+  return "failed";
+}
+
+LpSolution solve(const LinearProgram& lp) {
+  LpSolution out;
+  for (double v : lp.triplet_values())
+    if (!std::isfinite(v)) {
+      out.message = "a coefficient is not finite";
+      return out;
+    }
+  const CoinPackedMatrix matrix(true, lp.triplet_rows().data(), lp.triplet_columns().data(),
+                                lp.triplet_values().data(), static_cast<CoinBigIndex>(lp.triplet_values().size()));
+  ClpSimplex model;
+  model.setLogLevel(0);
+  const std::vector<double> cl = clp_bounds(lp.column_lower()), cu = clp_bounds(lp.column_upper());
+  const std::vector<double> rl = clp_bounds(lp.row_lower()), ru = clp_bounds(lp.row_upper());
+  // The triplet constructor sizes the matrix by the largest index used; rows
+  // or columns without a nonzero are added explicitly.
+  CoinPackedMatrix full = matrix;
+  full.setDimensions(lp.rows(), lp.columns());
+  model.loadProblem(full, cl.data(), cu.data(), lp.costs().data(), rl.data(), ru.data());
+  model.setMaximumIterations(200000);
+  model.dual();
+  if (model.problemStatus() == 3 || model.problemStatus() == 4) model.primal();  // a second opinion
+  out.iterations = model.numberIterations();
+  switch (model.problemStatus()) {
+    case 0: out.status = LpStatus::optimal; break;
+    case 1: out.status = LpStatus::infeasible; break;
+    case 2: out.status = LpStatus::unbounded; break;
+    default: out.status = LpStatus::failed; break;
+  }
+  if (out.status != LpStatus::optimal) {
+    out.message = clp_status_text(model);
+    return out;
+  }
+  const double* x = model.primalColumnSolution();
+  const double* activity = model.primalRowSolution();
+  out.x.assign(x, x + lp.columns());
+  out.row_activity.assign(activity, activity + lp.rows());
+  out.objective = 0.0;
+  for (int j = 0; j < lp.columns(); ++j) out.objective += lp.costs()[j] * out.x[j];
+  const double violation = worst_violation(lp, out.x, out.row_activity);
+  if (!(violation <= 1e-7)) {
+    out.status = LpStatus::failed;
+    out.message = "CLP reported optimal but the solution violates a row or bound by " + std::to_string(violation);
+  }
+  return out;
+}
+
+}  // namespace camdyn::optim
