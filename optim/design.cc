@@ -323,6 +323,35 @@ std::vector<double> DesignSpace::control_points(const Designed& d, const Levels&
   return c;
 }
 
+std::vector<std::pair<double, double>> DesignSpace::control_point_levels() const {
+  const std::vector<Levels> lv = levels_vary_ ? levels(skeleton(initial_)) : fixed_levels_;
+  std::vector<std::pair<double, double>> out;
+  for (const Levels& l : lv) out.emplace_back(l.low, l.high);
+  return out;
+}
+
+SceneConfig DesignSpace::scene_with_control_points(const std::vector<double>& c) const {
+  SceneConfig scene = skeleton(initial_);
+  std::vector<SegmentConfig>& segs = scene.mechanism.cam.motion_law.segments;
+  const auto m = static_cast<std::size_t>(config_.control_points);
+  for (std::size_t k = 0; k < designed_.size(); ++k)
+    segs[designed_[k].index].control_points.assign(c.begin() + static_cast<std::ptrdiff_t>(k * m),
+                                                   c.begin() + static_cast<std::ptrdiff_t>((k + 1) * m));
+  return scene;
+}
+
+std::vector<double> DesignSpace::design_from_control_points(const std::vector<double>& c) const {
+  const std::vector<Levels> lv = levels_vary_ ? levels(skeleton(initial_)) : fixed_levels_;
+  std::vector<double> x = initial_;
+  const auto m = static_cast<std::size_t>(config_.control_points);
+  for (std::size_t k = 0; k < designed_.size(); ++k)
+    set_initial_control_points(designed_[k], lv[k],
+                               std::vector<double>(c.begin() + static_cast<std::ptrdiff_t>(k * m),
+                                                   c.begin() + static_cast<std::ptrdiff_t>((k + 1) * m)),
+                               x);
+  return x;
+}
+
 SceneConfig DesignSpace::scene(const std::vector<double>& x) const {
   SceneConfig scene = skeleton(x);
   const std::vector<Levels> lv = levels_vary_ ? levels(scene) : fixed_levels_;

@@ -15,6 +15,7 @@
 
 #include <cstddef>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "io/config.h"
@@ -58,6 +59,21 @@ class DesignSpace {
 
   /// Indices (into motion_law.segments) of the designed segments.
   std::vector<std::size_t> designed_segments() const;
+
+  // The raw control points: the free control points c of every designed
+  // segment (control_points per segment, in segment order; normalised lift),
+  // with the end angles at their baseline values. The lift is affine in c,
+  // which the rigid-model stage (optim/rigid_design.h) uses.
+
+  int control_point_count() const { return config_.control_points * static_cast<int>(designed_.size()); }
+  /// Levels (c_2, c_{n−3}) of each designed segment: with `monotone` its free
+  /// control points lie ordered between them.
+  std::vector<std::pair<double, double>> control_point_levels() const;
+  /// The baseline with the designed segments' free control points set to c.
+  SceneConfig scene_with_control_points(const std::vector<double>& c) const;
+  /// The design vector of c; with `monotone` c must be ordered within the
+  /// levels (it is clamped into the box otherwise).
+  std::vector<double> design_from_control_points(const std::vector<double>& c) const;
 
  private:
   struct Designed {

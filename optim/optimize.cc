@@ -125,13 +125,13 @@ std::function<void(const SearchProgress&)> progress_printer(const OptimizeOption
 void search_designs(const DesignSpace& space, const DesignEvaluator& evaluator, const SimulationPool& pool,
                     const OptimizeStudyConfig& config, const OptimizeOptions& options, OptimizeOutcome& out) {
   const EvaluationSettings loop = loop_settings(config.optimizer);
-  out.initial = evaluator.evaluate(space.scene(space.initial()), loop, out.loop_simulated);
+  out.initial = evaluator.evaluate(space.scene(out.x_initial), loop, out.loop_simulated);
   const long sims_before = pool.simulations();
   BestSoFar best;
   SearchProblem problem;
   problem.lower = space.lower();
   problem.upper = space.upper();
-  problem.x0 = space.initial();
+  problem.x0 = out.x_initial;
   problem.constraint_count = static_cast<int>(out.constraints.size());
   problem.evaluate = [&](const std::vector<double>& x, int start, PointKind kind) {
     DesignEvaluation e;
@@ -228,6 +228,11 @@ OptimizeOutcome run_optimize(const SceneConfig& baseline, const OptimizeStudyCon
   out.variables = space.variables();
   out.x_initial = space.initial();
   out.fit = space.fit_quality();
+  if (config.rigid.enabled) {
+    say(options, "rigid-model stage (linear programmes)");
+    out.rigid = run_rigid_stage(baseline, config, space, file);
+    if (out.rigid.design.have) out.x_initial = out.rigid.design.x;  // the dynamic stage starts from it
+  }
 
   const int threads = std::clamp(options.threads, 1, static_cast<int>(config.operating_rpm.size()));
   SimulationPool pool(threads, file);

@@ -14,6 +14,7 @@
 #include "optim/design.h"
 #include "optim/objectives.h"
 #include "optim/optimize_config.h"
+#include "optim/rigid_design.h"
 #include "optim/search.h"
 
 namespace camdyn::optim {
@@ -47,7 +48,8 @@ struct OptimizeOutcome {
   bool loop_simulated = false;  ///< the loop ran simulations (else kinematics and geometry only)
 
   DesignEvaluation baseline;    ///< the baseline law, scene settings, time series kept
-  DesignEvaluation initial;     ///< the spline fit to the baseline (the first start), loop settings
+  RigidStageResult rigid;       ///< the rigid-model stage and its certificate (rigid.enabled)
+  DesignEvaluation initial;     ///< the first start of the search (the rigid design, else the spline fit), loop settings
   DesignEvaluation optimized;   ///< the chosen design, scene settings, time series kept
   SceneConfig optimized_scene;  ///< the `simulate` config written to optimized.json
   int candidates_tried = 0;     ///< designs re-evaluated at the scene settings to find a feasible one

@@ -10,7 +10,8 @@
 namespace camdyn::optim {
 
 const std::vector<std::string>& optimize_study_keys() {
-  static const std::vector<std::string> keys = {"design", "operating_rpm", "objective", "constraints", "optimizer"};
+  static const std::vector<std::string> keys = {"design",      "operating_rpm", "objective",
+                                                "constraints", "optimizer",     "rigid"};
   return keys;
 }
 
@@ -99,12 +100,22 @@ void visit(A& a, OptimizerConfig& o) {
 }
 
 template <class A>
+void visit(A& a, RigidStageConfig& r) {
+  a.field("enabled", r.enabled);
+  a.field("samples", r.samples, at_least(11));
+  a.field("certificate_grid", r.certificate_grid, at_least(50));
+  a.field("min_contact_force", r.min_contact_force, non_negative());
+  a.field("speed_factor", r.speed_factor, at_least(1.0));
+}
+
+template <class A>
 void visit(A& a, OptimizeStudyConfig& s) {
   a.field("design", s.design);
   a.field("operating_rpm", s.operating_rpm, non_empty(), positive());
   a.field("objective", s.objective);
   a.field("constraints", s.constraints);
   a.field("optimizer", s.optimizer);
+  a.field("rigid", s.rigid);
 }
 
 OptimizeStudyConfig optimize_config_from_json(const Json& study_part, const ConfigSource& source) {

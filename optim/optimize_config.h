@@ -82,6 +82,27 @@ struct OptimizerConfig {
   bool operator==(const OptimizerConfig&) const = default;
 };
 
+/// `rigid`: the rigid-model stage (optim/rigid_design.h) that runs before the
+/// search: a linear programme over the spline's control points that
+/// maximises the worst rigid-model contact-force margin at the operating
+/// speeds, and the jump-speed certificate. Translating followers only.
+struct RigidStageConfig {
+  bool enabled = true;           ///< false: the search starts from the spline fit of the baseline
+  int samples = 121;             ///< constraint samples per designed segment (ends included)
+  int certificate_grid = 400;    ///< intervals per segment of the any-law programme
+  /// The contact force the rigid stage keeps at every angle [N]; null: the
+  /// constraint `min_contact_force` if given, else 0 (then the stage
+  /// maximises the margin above 0).
+  std::optional<double> min_contact_force;
+  /// The design is kept jump-free up to this multiple of the top operating
+  /// speed (where the family reaches it) while it minimises the peak force or
+  /// acceleration the objective weighs; with neither weighed it is the
+  /// family's fastest design.
+  double speed_factor = 1.1;
+
+  bool operator==(const RigidStageConfig&) const = default;
+};
+
 /// The fields an optimize study adds to a scene.
 struct OptimizeStudyConfig {
   DesignConfig design;
@@ -89,6 +110,7 @@ struct OptimizeStudyConfig {
   ObjectiveConfig objective;
   ConstraintsConfig constraints;
   OptimizerConfig optimizer;
+  RigidStageConfig rigid;
 
   bool operator==(const OptimizeStudyConfig&) const = default;
 };

@@ -90,6 +90,41 @@ Json design_json(const DesignEvaluation& e, const OptimizeOutcome& outcome, cons
   return j;
 }
 
+/// The rigid-model stage: the certificate (jump-free speeds are null when
+/// unbounded) and the design the dynamic stage starts from.
+Json rigid_json(const RigidStageResult& r, bool enabled) {
+  const Certificate& c = r.certificate;
+  Json j = Json::object();
+  j["enabled"] = enabled;
+  j["available"] = c.available;
+  if (!c.available) {
+    j["reason"] = enabled ? c.reason : "rigid.enabled is false";
+    return j;
+  }
+  Json speeds = Json::array();
+  for (const SpeedCertificate& s : c.speeds)
+    speeds.push_back(Json{{"rpm", s.rpm}, {"feasible", s.feasible}, {"best_margin", s.best_margin}});
+  j["certificate"] = Json{{"min_contact_force", c.min_contact_force},
+                          {"any_law_jump_free_rpm", finite_or_null(c.any_law_rpm)},
+                          {"any_law_binding", c.any_law_binding},
+                          {"family_jump_free_rpm", finite_or_null(c.family_rpm)},
+                          {"family_binding", c.family_binding},
+                          {"baseline_jump_free_rpm", finite_or_null(c.baseline_rpm)},
+                          {"all_feasible", c.all_feasible()},
+                          {"speeds", speeds}};
+  const RigidDesign& d = r.design;
+  Json dj{{"made", d.have}};
+  if (d.have) {
+    dj["jump_free_rpm"] = finite_or_null(d.jump_free_rpm);
+    dj["verified_margin"] = d.verified_margin;
+    dj["control_points"] = d.control_points;
+  }
+  j["design"] = dj;
+  j["lp_solves"] = r.lp_solves;
+  j["run_time_s"] = r.run_time_s;
+  return j;
+}
+
 }  // namespace
 
 Json result_json(const OptimizeOutcome& o, const std::string& name, const std::string& file) {
@@ -140,6 +175,7 @@ Json result_json(const OptimizeOutcome& o, const std::string& name, const std::s
       {"fit", Json{{"max_lift_error", o.fit.max_lift_error}, {"max_acceleration_error", o.fit.max_acceleration_error}}},
       {"candidates_tried", o.candidates_tried},
       {"variables", vars}};
+  r["rigid_stage"] = rigid_json(o.rigid, o.config.rigid.enabled);
   r["baseline"] = design_json(o.baseline, o, file);
   r["initial"] = Json{{"objective", o.initial.objective}, {"feasible", o.initial.feasible}, {"valid", o.initial.valid}};
   r["optimized"] = design_json(o.optimized, o, file);

@@ -8,6 +8,7 @@
 
 #include "common/errors.h"
 #include "geometry/motion_law.h"
+#include "optim/rigid_design.h"
 
 namespace camdyn::optim {
 
@@ -78,13 +79,41 @@ const SpeedResult* at_rpm(const DesignEvaluation& e, double rpm) {
   return nullptr;
 }
 
+/// The answer first: the rigid jump speed before and after, and the certificate.
+std::vector<std::pair<std::string, std::string>> answer_facts(const OptimizeOutcome& o) {
+  std::vector<std::pair<std::string, std::string>> facts;
+  const DesignEvaluation& b = o.baseline;
+  const DesignEvaluation& p = o.optimized;
+  if (!b.speeds.empty() && !p.speeds.empty())
+    facts.emplace_back("rigid-model jump speed",
+                       format_number(b.speeds.front().result.metrics.jump_speed_rpm, 5) + " → " +
+                           format_number(p.speeds.front().result.metrics.jump_speed_rpm, 5) + " rpm");
+  const Certificate& c = o.rigid.certificate;
+  if (!c.available) {
+    facts.emplace_back("certificate", o.config.rigid.enabled ? "not available: " + c.reason : "rigid stage disabled");
+    return facts;
+  }
+  std::string binding;
+  for (const std::string& x : c.family_binding) binding += (binding.empty() ? "" : ", ") + x;
+  facts.emplace_back("certificate (contact force ≥ " + format_number(c.min_contact_force) + " N)",
+                     "any law: " + format_number(c.any_law_rpm, 5) + " rpm (set by " + c.any_law_binding +
+                         "); this spline family: " + format_number(c.family_rpm, 5) + " rpm (held by " + binding +
+                         "); baseline law: " + format_number(c.baseline_rpm, 5) + " rpm");
+  std::string verdict;
+  for (const SpeedCertificate& s : c.speeds)
+    verdict += (verdict.empty() ? "" : "; ") + format_number(s.rpm) + " rpm " + (s.feasible ? "feasible" : "INFEASIBLE");
+  facts.emplace_back("operating speeds", verdict);
+  return facts;
+}
+
 /// The run at a glance: algorithm, budget used, run time, objective, feasibility.
 std::vector<std::pair<std::string, std::string>> summary_facts(const OptimizeOutcome& o) {
   const DesignEvaluation& b = o.baseline;
   const DesignEvaluation& p = o.optimized;
   std::string speeds;
   for (double rpm : o.config.operating_rpm) speeds += (speeds.empty() ? "" : ", ") + format_number(rpm);
-  return {{"algorithm", o.search.method},
+  std::vector<std::pair<std::string, std::string>> facts = answer_facts(o);
+  std::vector<std::pair<std::string, std::string>> run = {{"algorithm", o.search.method},
           {"stop reason", o.search.stop_reason},
           {"evaluations", std::to_string(o.search.evaluations) + " (" + std::to_string(o.search.invalid_evaluations) +
                               " invalid designs)"},
@@ -96,6 +125,24 @@ std::vector<std::pair<std::string, std::string>> summary_facts(const OptimizeOut
           {"operating speeds", speeds + " rpm (" + o.config.objective.aggregate + " case)"},
           {"objective", format_number(b.objective) + " → " + format_number(p.objective)},
           {"all constraints hold", "baseline: " + yes_no(b.feasible) + ", optimised: " + yes_no(p.feasible)}};
+  facts.insert(facts.end(), run.begin(), run.end());
+  return facts;
+}
+
+/// Rigid-model margin P − P_min against cam angle, baseline and optimised, at each operating speed.
+void add_margin_plots(const OptimizeOutcome& o, Report& r) {
+  if (!o.rigid.certificate.available) return;
+  std::vector<double> angles;
+  for (int i = 0; i <= static_cast<int>(360.0 / kLawStepDeg); ++i) angles.push_back(i * kLawStepDeg);
+  const double pmin = o.rigid.certificate.min_contact_force;
+  for (const double rpm : o.config.operating_rpm) {
+    const std::vector<double> mb = rigid_margin_curve(o.baseline.scene, rpm, pmin, angles);
+    const std::vector<double> mp = rigid_margin_curve(o.optimized.scene, rpm, pmin, angles);
+    if (mb.empty() || mp.empty()) return;
+    r.plots.push_back(make_plot("Rigid-model contact-force margin P − " + format_number(pmin) + " N at " +
+                                    format_number(rpm) + " rpm (< 0: the follower jumps)",
+                                "cam angle [deg]", "margin [N]", {{"baseline", angles, mb}, {"optimised", angles, mp}}));
+  }
 }
 
 /// Constraints with their limits and margins, baseline against optimised.
@@ -269,7 +316,11 @@ std::vector<std::string> report_notes(const OptimizeOutcome& o) {
            : "evaluates kinematics and geometry only (no term or constraint needs a simulation)") +
       "; the baseline and the optimised design are evaluated with the scene's own settings (" +
       std::to_string(o.candidates_tried) + " best design(s) re-evaluated to find one that holds every constraint).");
-  notes.push_back("Initial design: least-squares spline fit to the baseline law, max lift error " +
+  if (o.rigid.design.have)
+    notes.push_back("Rigid-model stage: " + std::to_string(o.rigid.lp_solves) + " linear programmes in " +
+                    format_number(o.rigid.run_time_s, 3) + " s; its design, jump-free to " +
+                    format_number(o.rigid.design.jump_free_rpm, 5) + " rpm on the rigid model, starts the search.");
+  notes.push_back("Spline fit of the baseline law: max lift error " +
                   format_number(o.fit.max_lift_error, 3) + " of the lift, max acceleration error " +
                   format_number(o.fit.max_acceleration_error, 3) + " of the peak.");
   if (!o.optimized.feasible) notes.push_back("WARNING: the optimised design does not satisfy every constraint.");
@@ -281,7 +332,7 @@ std::vector<std::string> report_notes(const OptimizeOutcome& o) {
 Report optimize_report(const OptimizeOutcome& o, const std::string& name) {
   Report r;
   r.title = "camdyn optimize: " + name;
-  r.subtitle = "Spline cam design with NLopt: baseline against the optimised design";
+  r.subtitle = "Spline cam design: rigid-model linear programmes, then NLopt on simulations; baseline against the optimised design";
   r.facts = summary_facts(o);
   const Table constraints = constraints_table(o);
   if (!constraints.rows.empty()) r.tables.push_back(constraints);
@@ -290,6 +341,7 @@ Report optimize_report(const OptimizeOutcome& o, const std::string& name) {
   r.tables.push_back(segments_table(o.baseline, o.optimized));
   r.tables.push_back(starts_table(o.search));
   r.tables.push_back(variables_table(o));
+  add_margin_plots(o, r);
   add_kinematics_plots(o.baseline, o.optimized, r);
   add_dynamics_plots(o, r);
   r.plots.push_back(convergence_plot(o.history));

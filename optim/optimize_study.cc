@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <string>
 
 #include "common/errors.h"
 #include "io/json_writer.h"
@@ -12,6 +13,35 @@
 #include "optim/optimize_output.h"
 
 namespace camdyn::optim {
+
+namespace {
+
+/// The certificate on stdout: the bounds, then each operating speed.
+void print_certificate(const OptimizeOutcome& o) {
+  const Certificate& c = o.rigid.certificate;
+  if (!c.available) {
+    if (o.config.rigid.enabled) std::printf("  rigid-model stage not run: %s\n", c.reason.c_str());
+    return;
+  }
+  std::string binding;
+  for (const std::string& b : c.family_binding) binding += (binding.empty() ? "" : ", ") + b;
+  std::printf("  certificate (rigid model, contact force >= %g N): any law %.5g rpm (set by %s); this spline family "
+              "%.5g rpm (held by %s); baseline law %.5g rpm\n",
+              c.min_contact_force, c.any_law_rpm, c.any_law_binding.c_str(), c.family_rpm, binding.c_str(),
+              c.baseline_rpm);
+  for (const SpeedCertificate& s : c.speeds) {
+    if (s.feasible)
+      std::printf("  %6g rpm: feasible (best rigid margin %.4g N)\n", s.rpm, s.best_margin);
+    else
+      std::printf("  %6g rpm: INFEASIBLE, above the family's bound %.5g rpm (any law: %.5g rpm; held by %s)\n", s.rpm,
+                  c.family_rpm, c.any_law_rpm, binding.c_str());
+  }
+  if (o.rigid.design.have)
+    std::printf("  rigid design: jump-free to %.5g rpm, start of the dynamic stage (%d LPs, %.3g s)\n",
+                o.rigid.design.jump_free_rpm, o.rigid.lp_solves, o.rigid.run_time_s);
+}
+
+}  // namespace
 
 int run_optimize_study(const Json& doc, const StudyContext& ctx) {
   const OptimizeStudy study = read_optimize_study(doc, ctx.source);
@@ -31,6 +61,7 @@ int run_optimize_study(const Json& doc, const StudyContext& ctx) {
   const OptimizeOutcome o = run_optimize(baseline, config, ctx.config_file, options);
   write_optimize_outputs(ctx.out_dir, o, baseline.name, ctx.config_file);
 
+  print_certificate(o);
   const auto& b = o.baseline;
   const auto& p = o.optimized;
   std::printf("%s: %s, %ld evaluations (%ld invalid), stop reason %s, %.3g s\n", baseline.name.c_str(),
@@ -47,6 +78,9 @@ int run_optimize_study(const Json& doc, const StudyContext& ctx) {
         b.speeds[i].rpm, mb.separation_fraction, mp.separation_fraction, mb.peak_contact_force, mp.peak_contact_force,
         mb.min_contact_force, mp.min_contact_force);
   }
+  if (!b.speeds.empty() && !p.speeds.empty())
+    std::printf("  rigid-model jump speed %.6g -> %.6g rpm\n", b.speeds.front().result.metrics.jump_speed_rpm,
+                p.speeds.front().result.metrics.jump_speed_rpm);
   const auto abs_out = std::filesystem::absolute(ctx.out_dir).lexically_normal();
   std::printf("  optimised config: %s\n", (abs_out / "optimized.json").c_str());
   std::printf("  report: %s\n", (abs_out / "report.html").c_str());

@@ -306,5 +306,54 @@ TEST(OptimizeCli, OptimizedConfigReproducesTheReportedMetrics) {
   }
 }
 
+// Acceptance of the rigid-model stage: with `objective: {separation: 1}`
+// alone and no no_separation constraint, the design written to
+// optimized.json, re-run at each operating speed, never leaves the cam; the
+// certificate and the rigid jump speed are on stdout and in result.json.
+TEST(OptimizeCli, SeparationObjectiveAloneGivesADesignThatStaysOnTheCam) {
+  const fs::path dir = scratch("separation_only");
+  const Outcome run =
+      run_cli("run " + kJump + " --out " + dir.string() + " --jobs 2 --set optimizer.max_evaluations=16" +
+              " --set objective={\"separation\":1} --set constraints.no_separation=false" +
+              " --set constraints.min_contact_force=null");
+  ASSERT_EQ(run.code, 0) << run.err;
+  EXPECT_NE(run.out.find("certificate (rigid model"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("rigid-model jump speed"), std::string::npos) << run.out;
+  const Json result = Json::parse(read_text(dir / "result.json"));
+  const Json& cert = result["rigid_stage"]["certificate"];
+  EXPECT_TRUE(cert["all_feasible"].get<bool>());
+  EXPECT_GT(cert["family_jump_free_rpm"].get<double>(), 1300.0);
+  EXPECT_LE(cert["family_jump_free_rpm"].get<double>(), cert["any_law_jump_free_rpm"].get<double>());
+  for (const double rpm : {1000.0, 1150.0, 1300.0}) {
+    const fs::path rerun = dir / ("rerun_" + std::to_string(static_cast<int>(rpm)));
+    const Outcome again = run_cli("run " + (dir / "optimized.json").string() + " --out " + rerun.string() +
+                                  " --quiet --set mechanism.cam.rpm=" + std::to_string(rpm));
+    ASSERT_EQ(again.code, 0) << again.err;
+    const Json m = Json::parse(read_text(rerun / "summary.json"))["metrics"];
+    EXPECT_EQ(m["separation_fraction"].get<double>(), 0.0) << rpm;
+    EXPECT_EQ(m["impact_count"].get<long>(), 0) << rpm;
+    EXPECT_GT(m["jump_speed_rpm"].get<double>(), 1300.0) << rpm;
+  }
+}
+
+// A target above the certificate's bound: reported infeasible with the bound,
+// exit 0, and the best design is still written.
+TEST(OptimizeCli, TargetAboveTheBoundIsReportedInfeasibleAndTheBestDesignWritten) {
+  const fs::path dir = scratch("above_bound");
+  const Outcome run = run_cli("run " + kJump + " --out " + dir.string() +
+                              " --jobs 2 --set optimizer.max_evaluations=4 --set operating_rpm=[1000,2500]" +
+                              " --set simulation.cycles=2 --set optimizer.evaluation_cycles=1.5");
+  ASSERT_EQ(run.code, 0) << run.err;
+  EXPECT_NE(run.out.find("2500 rpm: INFEASIBLE, above the family's bound"), std::string::npos) << run.out;
+  const Json result = Json::parse(read_text(dir / "result.json"));
+  const Json& cert = result["rigid_stage"]["certificate"];
+  EXPECT_FALSE(cert["all_feasible"].get<bool>());
+  EXPECT_TRUE(cert["speeds"][0]["feasible"].get<bool>());
+  EXPECT_FALSE(cert["speeds"][1]["feasible"].get<bool>());
+  EXPECT_LT(cert["any_law_jump_free_rpm"].get<double>(), 2500.0);
+  EXPECT_TRUE(fs::exists(dir / "optimized.json"));
+  EXPECT_TRUE(result["rigid_stage"]["design"]["made"].get<bool>());
+}
+
 }  // namespace
 }  // namespace camdyn::optim

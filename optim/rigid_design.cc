@@ -1,0 +1,401 @@
+#include "optim/rigid_design.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "common/errors.h"
+#include "dynamics/model.h"
+#include "geometry/motion_law.h"
+#include "optim/jump_bound.h"
+#include "optim/linear_program.h"
+
+namespace camdyn::optim {
+
+namespace {
+
+constexpr double kRadPerRpm = 2.0 * std::numbers::pi / 60.0;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kBisectionRtol = 1e-4;  // relative width of the bracket on ω
+constexpr int kVerifySamples = 4000;     // per piece, for the margins of built laws
+
+/// s, s', s'' at one sample angle, affine in the control points:
+/// value[k] = constant[k] + Σ_j coefficient[j][k] c[first + j].
+struct AffineSample {
+  std::array<double, 3> constant{};
+  int first = 0;
+  std::vector<std::array<double, 3>> coefficient;
+};
+
+std::array<double, 3> derivatives(const LawSample& s) { return {s.s, s.ds, s.d2s}; }
+
+/// Which linear constraints a programme has, and what it optimises.
+struct FamilyOptions {
+  bool monotone = true;
+  bool pressure_angle = true;
+  /// max_margin: maximise t. Otherwise keep t ≥ 0 and minimise the peak of
+  /// the rigid contact force P (min_peak_force) or of |s''|
+  /// (min_peak_acceleration) at `peak_omega`.
+  enum class Goal { max_margin, min_peak_force, min_peak_acceleration } goal = Goal::max_margin;
+  double peak_omega = 0.0;  ///< [rad/s]
+};
+
+/// The spline family of the design space as the rigid stage sees it: the
+/// affine samples of the designed segments, the fixed rest of the law, and
+/// the linear constraints.
+class SplineFamily {
+ public:
+  SplineFamily(const DesignSpace& space, const DesignConfig& design, const RigidFollower& follower,
+               const FollowerGeometry& geometry, std::optional<double> max_pressure_angle_deg, int samples,
+               const std::string& file)
+      : follower_(follower), m_(design.control_points), monotone_(design.monotone) {
+    const int count = space.control_point_count();
+    const auto scene_law = [&](const std::vector<double>& c) {
+      return build_motion_law(space.scene_with_control_points(c).mechanism.cam.motion_law, file);
+    };
+    std::vector<double> c(static_cast<std::size_t>(count), 0.0);
+    law0_ = std::make_shared<MotionLaw>(scene_law(c));
+    std::vector<MotionLaw> unit;
+    for (int j = 0; j < count; ++j) {
+      c.assign(c.size(), 0.0);
+      c[j] = 1.0;
+      unit.push_back(scene_law(c));
+    }
+    designed_ = space.designed_segments();
+    levels_ = space.control_point_levels();
+    for (std::size_t k = 0; k < designed_.size(); ++k) sample_segment(k, unit, samples);
+    if (max_pressure_angle_deg && geometry.circle() && !geometry.oscillating()) {
+      tan_max_ = std::tan(*max_pressure_angle_deg * std::numbers::pi / 180.0);
+      pitch_height_ = geometry.y0;
+      offset_ = std::abs(geometry.offset);
+    }
+  }
+
+  int columns() const { return static_cast<int>(levels_.size()) * m_; }
+  /// Column index of the margin t in margin_program's programmes.
+  int margin_column() const { return columns(); }
+  const MotionLaw& law0() const { return *law0_; }
+  const std::vector<std::size_t>& designed() const { return designed_; }
+  bool has_pressure_rows() const { return tan_max_ > 0.0; }
+  bool monotone() const { return monotone_; }
+
+  /// Worst margin over the pieces that are not designed, at every ω of `omegas` [N].
+  double fixed_margin(const std::vector<double>& omegas) const {
+    double worst = kInf;
+    const auto& pieces = law0_->pieces();
+    for (std::size_t i = 0; i < pieces.size(); ++i) {
+      if (std::find(designed_.begin(), designed_.end(), i) != designed_.end()) continue;
+      for (int n = 0; n <= kVerifySamples; ++n) {
+        const double x = std::clamp(static_cast<double>(n) / kVerifySamples, 1e-12, 1.0 - 1e-12);
+        const LawSample s = law0_->eval(pieces[i].start + x * (pieces[i].end - pieces[i].start));
+        for (const double w : omegas) worst = std::min(worst, follower_.margin(w, s));
+      }
+    }
+    return worst;
+  }
+
+  /// The programme: maximise t with P − P_min ≥ t at every sample and ω in
+  /// `omegas`. Columns: c, then t (the last).
+  LinearProgram margin_program(const std::vector<double>& omegas, const FamilyOptions& options) const;
+
+ private:
+  /// A column z (the last, cost 1) and z ≥ P_i(peak_omega), or z ≥ ±s''_i, at every sample.
+  void add_peak_rows(LinearProgram& lp, const FamilyOptions& options) const {
+    const int z = lp.add_column(-kLpInfinity, kLpInfinity, 1.0);
+    const bool force = options.goal == FamilyOptions::Goal::min_peak_force;
+    const double w = options.peak_omega;
+    const std::array<double, 3> a = force ? std::array<double, 3>{follower_.coefficient_s(), follower_.coefficient_ds(w),
+                                                                  follower_.coefficient_d2s(w)}
+                                          : std::array<double, 3>{0.0, 0.0, 1.0};
+    const double offset = force ? follower_.constant() + follower_.min_force : 0.0;  // P = Σ a·s + F₀ + M g
+    std::vector<std::pair<int, double>> terms;
+    for (const AffineSample& s : samples_) {
+      for (const double sign : force ? std::vector<double>{1.0} : std::vector<double>{1.0, -1.0}) {
+        terms.clear();
+        for (int j = 0; j < m_; ++j) {
+          const auto& d = s.coefficient[j];
+          terms.emplace_back(s.first + j, -sign * (a[0] * d[0] + a[1] * d[1] + a[2] * d[2]));
+        }
+        terms.emplace_back(z, 1.0);
+        const double known = a[0] * s.constant[0] + a[1] * s.constant[1] + a[2] * s.constant[2] + offset;
+        lp.add_row(terms, sign * known, kLpInfinity);
+      }
+    }
+  }
+
+  void sample_segment(std::size_t k, const std::vector<MotionLaw>& unit, int samples) {
+    const MotionLaw::Piece& pc = law0_->pieces()[designed_[k]];
+    for (int i = 0; i < samples; ++i) {
+      const double x = std::clamp(static_cast<double>(i) / (samples - 1), 1e-12, 1.0 - 1e-12);
+      const double theta = pc.start + x * (pc.end - pc.start);
+      AffineSample a;
+      a.constant = derivatives(law0_->eval(theta));
+      a.first = static_cast<int>(k) * m_;
+      for (int j = 0; j < m_; ++j) {
+        const std::array<double, 3> v = derivatives(unit[a.first + j].eval(theta));
+        a.coefficient.push_back({v[0] - a.constant[0], v[1] - a.constant[1], v[2] - a.constant[2]});
+      }
+      samples_.push_back(std::move(a));
+    }
+  }
+
+  RigidFollower follower_;
+  int m_ = 0;
+  bool monotone_ = true;
+  std::shared_ptr<const MotionLaw> law0_;
+  std::vector<std::size_t> designed_;
+  std::vector<std::pair<double, double>> levels_;
+  std::vector<AffineSample> samples_;
+  double tan_max_ = 0.0, pitch_height_ = 0.0, offset_ = 0.0;
+};
+
+LinearProgram SplineFamily::margin_program(const std::vector<double>& omegas, const FamilyOptions& options) const {
+  LinearProgram lp;
+  for (std::size_t k = 0; k < levels_.size(); ++k) {
+    const auto [low, high] = levels_[k];
+    const double span = std::max(high - low, 1e-3);
+    for (int j = 0; j < m_; ++j) {
+      if (options.monotone)
+        lp.add_column(std::min(low, high), std::max(low, high));
+      else
+        lp.add_column(low - 0.5 * span, high + 0.5 * span);
+    }
+  }
+  const double force_scale = std::abs(follower_.constant()) + follower_.stiffness * 0.1 + 1.0;
+  const bool max_margin = options.goal == FamilyOptions::Goal::max_margin;
+  const int t = lp.add_column(max_margin ? -kLpInfinity : 0.0, 1e3 * force_scale, max_margin ? -1.0 : 0.0);
+  if (!max_margin) add_peak_rows(lp, options);
+  std::vector<std::pair<int, double>> terms;
+  for (const double w : omegas) {
+    const std::array<double, 3> a = {follower_.coefficient_s(), follower_.coefficient_ds(w),
+                                     follower_.coefficient_d2s(w)};
+    for (const AffineSample& s : samples_) {
+      terms.clear();
+      for (int j = 0; j < m_; ++j) {
+        const auto& d = s.coefficient[j];
+        terms.emplace_back(s.first + j, a[0] * d[0] + a[1] * d[1] + a[2] * d[2]);
+      }
+      terms.emplace_back(t, -1.0);
+      const double known = a[0] * s.constant[0] + a[1] * s.constant[1] + a[2] * s.constant[2] + follower_.constant();
+      lp.add_row(terms, -known, kLpInfinity);
+    }
+  }
+  if (options.monotone) {
+    for (std::size_t k = 0; k < levels_.size(); ++k) {
+      const int first = static_cast<int>(k) * m_;
+      for (int j = 0; j + 1 < m_; ++j) lp.add_row({{first + j + 1, 1.0}, {first + j, -1.0}}, 0.0, kLpInfinity);
+    }
+  }
+  if (options.pressure_angle && has_pressure_rows()) {
+    // ±s' − tan φ s ≤ tan φ y₀ − |e| at every sample.
+    const double rhs = tan_max_ * pitch_height_ - offset_;
+    for (const AffineSample& s : samples_) {
+      for (const double sign : {1.0, -1.0}) {
+        terms.clear();
+        for (int j = 0; j < m_; ++j)
+          terms.emplace_back(s.first + j, sign * s.coefficient[j][1] - tan_max_ * s.coefficient[j][0]);
+        lp.add_row(terms, -kLpInfinity, rhs - (sign * s.constant[1] - tan_max_ * s.constant[0]));
+      }
+    }
+  }
+  return lp;
+}
+
+/// Solves a margin programme; returns t* [N] and the control points.
+struct MarginSolution {
+  double margin = -kInf;
+  std::vector<double> c;
+};
+
+MarginSolution solve_margin(const SplineFamily& family, const std::vector<double>& omegas,
+                            const FamilyOptions& options, int& solves) {
+  const LinearProgram lp = family.margin_program(omegas, options);
+  const LpSolution sol = solve(lp);
+  ++solves;
+  if (sol.status != LpStatus::optimal)
+    throw NumericalError(std::string("the rigid-model design programme could not be solved (CLP: ") + sol.message +
+                         ")");
+  MarginSolution out;
+  out.margin = sol.x[family.margin_column()];
+  out.c.assign(sol.x.begin(), sol.x.begin() + family.columns());
+  return out;
+}
+
+/// The speeds the design programme checks: every operating speed (with the
+/// damper's fractions of each).
+std::vector<double> operating_omegas(const OptimizeStudyConfig& config, const RigidFollower& f) {
+  std::vector<double> out;
+  for (const double rpm : config.operating_rpm)
+    for (const double w : check_speeds(rpm * kRadPerRpm, f)) out.push_back(w);
+  return out;
+}
+
+/// The family's highest jump-free speed with `options` [rad/s]; `design`
+/// (if given) receives the solution at the highest feasible speed tried.
+double family_bound(const SplineFamily& family, const RigidFollower& f, const FamilyOptions& options, double hint,
+                    int& solves, MarginSolution* design = nullptr) {
+  const double tol = 1e-9 * (std::abs(f.constant()) + 1.0);
+  double best_w = -1.0;
+  auto feasible = [&](double w) {
+    const std::vector<double> omegas = check_speeds(w, f);
+    if (family.fixed_margin(omegas) < -tol) return false;
+    MarginSolution sol = solve_margin(family, omegas, options, solves);
+    if (sol.margin < -tol) return false;
+    if (design && w > best_w) {
+      best_w = w;
+      *design = std::move(sol);
+    }
+    return true;
+  };
+  return highest_feasible_speed(feasible, hint, 1e3 * hint, kBisectionRtol);
+}
+
+/// The jump-free speed of a built law [rad/s].
+double law_bound(const MotionLaw& law, const RigidFollower& f, double hint) {
+  auto feasible = [&](double w) {
+    for (const double om : check_speeds(w, f))
+      if (worst_margin(law, f, om, kVerifySamples) < 0.0) return false;
+    return true;
+  };
+  return highest_feasible_speed(feasible, hint, 1e3 * hint, kBisectionRtol);
+}
+
+double as_rpm(double omega) { return std::isfinite(omega) ? omega / kRadPerRpm : kInf; }
+
+/// (a): the any-law bound of the designed pieces and the fixed rest's own bound.
+void any_law_part(const SplineFamily& family, const RigidFollower& f, double hint, int grid, Certificate& cert) {
+  const std::vector<SegmentJumpBound> bounds = any_law_jump_bounds(family.law0(), f, family.designed(), hint, grid);
+  double best = kInf;
+  for (const SegmentJumpBound& b : bounds) {
+    if (b.omega < best) {
+      best = b.omega;
+      cert.any_law_binding = "segments[" + std::to_string(b.piece) + "]";
+    }
+  }
+  auto fixed_ok = [&](double w) { return family.fixed_margin(check_speeds(w, f)) >= 0.0; };
+  const double fixed = highest_feasible_speed(fixed_ok, hint, 1e3 * hint, kBisectionRtol);
+  if (fixed < best) {
+    best = fixed;
+    cert.any_law_binding = fixed == 0.0 ? "the spring cannot hold the follower at rest with the required force"
+                                        : "the segments that are not designed";
+  }
+  cert.any_law_rpm = best >= 1e3 * hint ? kInf : as_rpm(best);
+}
+
+/// (b) and what binds it; `fastest` receives the family's fastest design.
+double family_part(const SplineFamily& family, const RigidFollower& f, double hint, Certificate& cert, int& solves,
+                   MarginSolution& fastest) {
+  const FamilyOptions all{family.monotone(), true};
+  const double bound = family_bound(family, f, all, hint, solves, &fastest);
+  cert.family_rpm = as_rpm(bound);
+  if (family.has_pressure_rows() &&
+      family_bound(family, f, FamilyOptions{all.monotone, false}, hint, solves) > 1.005 * bound)
+    cert.family_binding.push_back("max_pressure_angle_deg");
+  if (family.monotone() && family_bound(family, f, FamilyOptions{false, true}, hint, solves) > 1.005 * bound)
+    cert.family_binding.push_back("monotone");
+  if (std::isfinite(cert.any_law_rpm) && cert.family_rpm >= 0.99 * cert.any_law_rpm)
+    cert.family_binding.push_back("spring and mass (no law does better)");
+  else if (cert.family_binding.empty())
+    cert.family_binding.push_back("spline family (degree and control points)");
+  return bound;
+}
+
+/// The stage's design. Jump-free up to rigid.speed_factor × the top
+/// operating speed where the family allows it, and then, as the study's
+/// objective asks, with the lowest peak contact force or acceleration at the
+/// top speed; otherwise (or when the family cannot reach that speed) the
+/// family's fastest design.
+RigidDesign make_design(const SplineFamily& family, const RigidFollower& f, const OptimizeStudyConfig& config,
+                        const DesignSpace& space, double bound, const MarginSolution& fastest, int& solves) {
+  const double top = *std::max_element(config.operating_rpm.begin(), config.operating_rpm.end()) * kRadPerRpm;
+  const double wanted = config.rigid.speed_factor * top;
+  FamilyOptions options{family.monotone(), true};
+  if (config.objective.peak_contact_force > 0.0)
+    options.goal = FamilyOptions::Goal::min_peak_force;
+  else if (config.objective.peak_acceleration > 0.0)
+    options.goal = FamilyOptions::Goal::min_peak_acceleration;
+  options.peak_omega = top;
+  MarginSolution chosen = fastest;
+  if (options.goal != FamilyOptions::Goal::max_margin && bound >= wanted) {
+    std::vector<double> omegas = check_speeds(wanted, f);
+    for (const double w : operating_omegas(config, f)) omegas.push_back(w);
+    chosen = solve_margin(family, omegas, options, solves);
+  }
+  RigidDesign d;
+  d.have = !chosen.c.empty();
+  if (!d.have) return d;
+  d.control_points = chosen.c;
+  d.x = space.design_from_control_points(chosen.c);
+  d.lp_margin = chosen.margin;
+  return d;
+}
+
+}  // namespace
+
+bool Certificate::all_feasible() const {
+  return available && std::all_of(speeds.begin(), speeds.end(), [](const SpeedCertificate& s) { return s.feasible; });
+}
+
+std::vector<double> rigid_margin_curve(const SceneConfig& scene, double rpm, double min_force,
+                                       const std::vector<double>& angles_deg) {
+  SceneConfig at = scene;
+  at.mechanism.cam.rpm = rpm;
+  const Model model = build_model(at, "");
+  if (model.follower.oscillating()) return {};
+  const RigidFollower f = rigid_follower(model, min_force, "");
+  std::vector<double> out;
+  for (const double deg : angles_deg)
+    out.push_back(f.margin(rpm * kRadPerRpm, model.law->eval(std::min(deg, 360.0 - 1e-9) * std::numbers::pi / 180.0)));
+  return out;
+}
+
+double rigid_min_contact_force(const OptimizeStudyConfig& config) {
+  return config.rigid.min_contact_force.value_or(config.constraints.min_contact_force.value_or(0.0));
+}
+
+RigidStageResult run_rigid_stage(const SceneConfig& baseline, const OptimizeStudyConfig& config,
+                                 const DesignSpace& space, const std::string& file) {
+  const auto t0 = std::chrono::steady_clock::now();
+  RigidStageResult out;
+  Certificate& cert = out.certificate;
+  cert.min_contact_force = rigid_min_contact_force(config);
+  const Model model = build_model(baseline, file);
+  if (model.follower.oscillating()) {
+    cert.reason = "the rigid-model stage handles translating followers; an arm's contact condition is not linear";
+    return out;
+  }
+  const RigidFollower f = rigid_follower(model, cert.min_contact_force, file);
+  const SplineFamily family(space, config.design, f, model.follower, config.constraints.max_pressure_angle_deg,
+                            config.rigid.samples, file);
+  const double hint = *std::max_element(config.operating_rpm.begin(), config.operating_rpm.end()) * kRadPerRpm;
+  cert.available = true;
+  cert.baseline_rpm = as_rpm(law_bound(*model.law, f, hint));
+  any_law_part(family, f, hint, config.rigid.certificate_grid, cert);
+  MarginSolution fastest;
+  const double bound = family_part(family, f, hint, cert, out.lp_solves, fastest);
+  const FamilyOptions all{family.monotone(), true};
+  for (const double rpm : config.operating_rpm) {
+    const std::vector<double> omegas = check_speeds(rpm * kRadPerRpm, f);
+    const double m =
+        std::min(solve_margin(family, omegas, all, out.lp_solves).margin, family.fixed_margin(omegas));
+    cert.speeds.push_back({rpm, m >= -1e-9 * (std::abs(f.constant()) + 1.0), m});
+  }
+
+  out.design = make_design(family, f, config, space, bound, fastest, out.lp_solves);
+  RigidDesign& d = out.design;
+  if (!d.have) {
+    out.run_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return out;
+  }
+  const MotionLaw law = build_motion_law(space.scene(d.x).mechanism.cam.motion_law, file);
+  for (const double rpm : config.operating_rpm)
+    d.verified_margin.push_back(worst_margin(law, f, rpm * kRadPerRpm, kVerifySamples));
+  d.jump_free_rpm = as_rpm(law_bound(law, f, hint));
+  out.run_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return out;
+}
+
+}  // namespace camdyn::optim

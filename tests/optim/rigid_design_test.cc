@@ -1,0 +1,110 @@
+// The rigid-model stage of an optimize study (optim/rigid_design.h) on the
+// study studies/optimize_jump.json: its certificate against independent
+// computations (the cycloidal law's jump speed from its closed-form
+// acceleration, the any-law bound's closed form), its design against its
+// own claims, and a target above the bound reported infeasible.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "geometry/motion_law.h"
+#include "io/config.h"
+#include "optim/design.h"
+#include "optim/jump_bound.h"
+#include "optim/optimize.h"
+#include "optim/rigid_design.h"
+
+namespace camdyn::optim {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+// Bisection stops at a bracket 1e-4 wide; dense sampling of a built law finds
+// its minimum to ~1e-6 relative.
+constexpr double kBisection = 2e-4;
+
+OptimizeStudy jump_study(const std::vector<std::string>& overrides = {}) {
+  const std::string file = std::string(CAMDYN_SOURCE_DIR) + "/studies/optimize_jump.json";
+  return read_optimize_study(load_config_json(file, overrides), ConfigSource{file, CAMDYN_SOURCE_DIR "/studies"});
+}
+
+/// Jump speed of the quickstart's cycloidal rise with P_min, from
+/// s = h (x − sin 2πx / 2π), s'' = 2π h / β² sin 2πx, sampled finely [rpm].
+double cycloidal_jump_rpm(double min_force) {
+  const double h = 0.02, beta = 2.0 * kPi / 3.0, m = 0.3, k = 5000.0, f0 = 40.0;
+  double best = INFINITY;
+  for (int i = 1; i < 200000; ++i) {
+    const double x = i / 200000.0;
+    const double a = 2.0 * kPi * h / (beta * beta) * std::sin(2.0 * kPi * x);
+    if (a >= 0.0) continue;
+    const double s = h * (x - std::sin(2.0 * kPi * x) / (2.0 * kPi));
+    best = std::min(best, std::sqrt((k * s + f0 - min_force) / (-m * a)));
+  }
+  return best * 30.0 / kPi;
+}
+
+TEST(RigidStage, CertificateOfTheJumpStudy) {
+  const OptimizeStudy study = jump_study();
+  const DesignSpace space(study.baseline, study.config.design, "optimize_jump.json");
+  const RigidStageResult r = run_rigid_stage(study.baseline, study.config, space, "optimize_jump.json");
+  const Certificate& c = r.certificate;
+  ASSERT_TRUE(c.available) << c.reason;
+  EXPECT_EQ(c.min_contact_force, 10.0);  // the study's min_contact_force constraint
+  EXPECT_NEAR(c.baseline_rpm / cycloidal_jump_rpm(10.0), 1.0, kBisection);
+
+  RigidFollower f;
+  f.mass = 0.3;
+  f.stiffness = 5000.0;
+  f.preload = 40.0;
+  f.min_force = 10.0;
+  const double any_law = any_law_jump_speed_closed_form(f, 0.0, 0.02, 2.0 * kPi / 3.0) * 30.0 / kPi;
+  EXPECT_NEAR(c.any_law_rpm / any_law, 1.0, 2.0 / study.config.rigid.certificate_grid);
+  // The family lies between the baseline (which it nearly contains) and any law.
+  EXPECT_GT(c.family_rpm, c.baseline_rpm);
+  EXPECT_LE(c.family_rpm, c.any_law_rpm * (1.0 + kBisection));
+  ASSERT_EQ(c.speeds.size(), 3u);
+  for (const SpeedCertificate& s : c.speeds) EXPECT_EQ(s.feasible, s.rpm <= c.family_rpm) << s.rpm;
+  EXPECT_TRUE(c.all_feasible());
+
+  const RigidDesign& d = r.design;
+  ASSERT_TRUE(d.have);
+  EXPECT_GE(d.lp_margin, 0.0);
+  // The study weighs the peak force: the design keeps contact up to
+  // speed_factor × 1300 rpm with the least peak force. Between the LP's
+  // samples the margin may dip by a sliver, so the built law's own speed is
+  // checked with a little room.
+  for (std::size_t i = 0; i < d.verified_margin.size(); ++i)
+    EXPECT_GT(d.verified_margin[i], 0.0) << study.config.operating_rpm[i];
+  EXPECT_GT(d.jump_free_rpm, 0.99 * study.config.rigid.speed_factor * 1300.0);
+  std::printf("baseline %.1f rpm, any law %.1f rpm (%s), family %.1f rpm, design %.1f rpm, margin %.3f N, %d LPs, %.3f s\n",
+              c.baseline_rpm, c.any_law_rpm, c.any_law_binding.c_str(), c.family_rpm, d.jump_free_rpm, d.lp_margin,
+              r.lp_solves, r.run_time_s);
+  for (const auto& b : c.family_binding) std::printf("  binding: %s\n", b.c_str());
+}
+
+TEST(RigidStage, WithoutAPeakTermTheDesignIsTheFamilysFastest) {
+  const OptimizeStudy study = jump_study({"objective={\"separation\": 1}"});
+  const DesignSpace space(study.baseline, study.config.design, "optimize_jump.json");
+  const RigidStageResult r = run_rigid_stage(study.baseline, study.config, space, "optimize_jump.json");
+  ASSERT_TRUE(r.design.have);
+  EXPECT_NEAR(r.design.jump_free_rpm / r.certificate.family_rpm, 1.0, 0.01);
+}
+
+TEST(RigidStage, TargetAboveTheBoundIsInfeasible) {
+  const OptimizeStudy study = jump_study({"operating_rpm=[1000, 2500]"});
+  const DesignSpace space(study.baseline, study.config.design, "optimize_jump.json");
+  const RigidStageResult r = run_rigid_stage(study.baseline, study.config, space, "optimize_jump.json");
+  const Certificate& c = r.certificate;
+  ASSERT_TRUE(c.available);
+  EXPECT_LT(c.any_law_rpm, 2500.0);
+  ASSERT_EQ(c.speeds.size(), 2u);
+  EXPECT_TRUE(c.speeds[0].feasible);
+  EXPECT_FALSE(c.speeds[1].feasible);
+  EXPECT_LT(c.speeds[1].best_margin, 0.0);
+  EXPECT_FALSE(c.all_feasible());
+  EXPECT_TRUE(r.design.have);  // the best design is still made
+}
+
+}  // namespace
+}  // namespace camdyn::optim
