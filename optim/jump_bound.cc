@@ -65,6 +65,22 @@ double piece_margin(const PieceGrid& g, const RigidFollower& f, const std::vecto
   return sol.x[t];
 }
 
+/// Whether two pieces have the same programme: equal, or (without a damper,
+/// whose c ω s' changes sign) one the time reversal of the other, which
+/// leaves s and s'' and so every row unchanged.
+/// Equal to round-off (angles that went through degrees differ in the last bits).
+bool same_bound(const PieceGrid& a, const PieceGrid& b, bool reversible) {
+  const double ds = 1e-12 * (std::abs(a.s_start) + std::abs(a.s_end) + 1e-9);
+  const double dv = 1e-12 * (std::abs(a.v_in) + std::abs(a.v_out) + 1e-9);
+  auto near = [](double x, double y, double tol) { return std::abs(x - y) <= tol; };
+  if (!near(a.beta, b.beta, 1e-12 * a.beta) || a.n != b.n) return false;
+  if (near(a.s_start, b.s_start, ds) && near(a.s_end, b.s_end, ds) && near(a.v_in, b.v_in, dv) &&
+      near(a.v_out, b.v_out, dv))
+    return true;
+  return reversible && near(a.s_start, b.s_end, ds) && near(a.s_end, b.s_start, ds) && near(a.v_in, -b.v_out, dv) &&
+         near(a.v_out, -b.v_in, dv);
+}
+
 }  // namespace
 
 RigidFollower rigid_follower(const Model& model, double min_force, const std::string& file) {
@@ -90,14 +106,14 @@ std::vector<double> check_speeds(double omega, const RigidFollower& follower) {
 }
 
 double highest_feasible_speed(const std::function<bool(double)>& feasible, double omega_hint, double omega_cap,
-                              double rtol) {
+                              double rtol, double growth) {
   double lo = 0.0, hi = 0.0;
   double w = std::min(omega_hint, omega_cap);
   if (feasible(w)) {
     lo = w;
     while (true) {
       if (lo >= omega_cap) return omega_cap;
-      const double next = std::min(2.0 * lo, omega_cap);
+      const double next = std::min(growth * lo, omega_cap);
       if (!feasible(next)) {
         hi = next;
         break;
@@ -107,7 +123,7 @@ double highest_feasible_speed(const std::function<bool(double)>& feasible, doubl
   } else {
     hi = w;
     while (true) {
-      const double next = 0.5 * hi;
+      const double next = hi / growth;
       if (next < omega_hint * 1e-6) return 0.0;
       if (feasible(next)) {
         lo = next;
@@ -138,8 +154,9 @@ double worst_margin(const MotionLaw& law, const RigidFollower& follower, double 
 
 std::vector<SegmentJumpBound> any_law_jump_bounds(const MotionLaw& law, const RigidFollower& follower,
                                                   const std::vector<std::size_t>& pieces, double omega_hint,
-                                                  int grid) {
+                                                  int grid, double rtol) {
   std::vector<SegmentJumpBound> out;
+  std::vector<PieceGrid> solved;  // grids already bisected, beside `out`
   const auto& all = law.pieces();
   for (const std::size_t index : pieces) {
     const MotionLaw::Piece& pc = all.at(index);
@@ -157,9 +174,23 @@ std::vector<SegmentJumpBound> any_law_jump_bounds(const MotionLaw& law, const Ri
     b.start_deg = pc.start * kDeg;
     b.end_deg = pc.end * kDeg;
     b.lift = pc.lift;
-    b.omega = highest_feasible_speed(feasible, omega_hint, 1e3 * omega_hint, 1e-5);
+    const auto same = std::find_if(solved.begin(), solved.end(), [&](const PieceGrid& o) {
+      return same_bound(o, g, follower.damping == 0.0);
+    });
+    if (same != solved.end()) {
+      b.omega = out[static_cast<std::size_t>(same - solved.begin())].omega;
+      out.push_back(b);
+      solved.push_back(g);
+      continue;
+    }
+    const double guess = any_law_jump_speed_closed_form(follower, g.s_start, g.s_end, g.beta);
+    // The closed form ignores a damper, so it is then only a rough start.
+    const bool good_guess = std::isfinite(guess) && guess > 0.0;
+    b.omega = highest_feasible_speed(feasible, good_guess ? guess : omega_hint, 1e3 * omega_hint, rtol,
+                                     !good_guess ? 2.0 : follower.damping == 0.0 ? 1.01 : 1.1);
     if (b.omega >= 1e3 * omega_hint) b.omega = std::numeric_limits<double>::infinity();
     out.push_back(b);
+    solved.push_back(g);
   }
   return out;
 }

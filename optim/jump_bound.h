@@ -63,11 +63,12 @@ RigidFollower rigid_follower(const Model& model, double min_force, const std::st
 std::vector<double> check_speeds(double omega, const RigidFollower& follower);
 
 /// The largest ω in (0, ω_cap] with feasible(ω), for a `feasible` that holds
-/// on an interval (0, ω*]: bracketing from `omega_hint` [rad/s] then
+/// on an interval (0, ω*]: bracketing from `omega_hint` [rad/s] by factors of
+/// `growth` (> 1; a good hint with a growth near 1 saves solves) then
 /// bisection to a relative width `rtol`. Returns 0 when feasible fails even
 /// at ω → 0 (checked at omega_hint · 1e-6), and ω_cap when it still holds there.
 double highest_feasible_speed(const std::function<bool(double)>& feasible, double omega_hint, double omega_cap,
-                              double rtol = 1e-5);
+                              double rtol = 1e-5, double growth = 2.0);
 
 /// Minimum over one full turn of the margin P − P_min at ω, sampled
 /// `samples` times per piece of the law (piece ends included) [N].
@@ -84,11 +85,13 @@ struct SegmentJumpBound {
 /// For each piece in `pieces` (rises and returns of `law`), the highest speed
 /// at which some lift s(θ) between the piece's end levels, meeting the
 /// neighbours with their slope, keeps P ≥ P_min: the LP of this file on
-/// `grid` intervals. Throws NumericalError when CLP fails (not for an
-/// infeasible programme, which is an answer).
+/// `grid` intervals, bisected to `rtol` from the closed form's value (exact
+/// only without a damper, so only the starting bracket). Throws
+/// NumericalError when CLP fails (not for an infeasible programme, which is
+/// an answer).
 std::vector<SegmentJumpBound> any_law_jump_bounds(const MotionLaw& law, const RigidFollower& follower,
                                                   const std::vector<std::size_t>& pieces, double omega_hint,
-                                                  int grid = 600);
+                                                  int grid = 600, double rtol = 1e-4);
 
 /// The closed form of the file comment for an undamped rest-to-rest piece
 /// from level s_start to s_end over β [rad]: the highest jump-free speed of

@@ -106,6 +106,7 @@ void visit(A& a, RigidStageConfig& r) {
   a.field("certificate_grid", r.certificate_grid, at_least(50));
   a.field("min_contact_force", r.min_contact_force, non_negative());
   a.field("speed_factor", r.speed_factor, at_least(1.0));
+  a.field("explain_bound", r.explain_bound);
 }
 
 template <class A>

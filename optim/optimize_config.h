@@ -89,7 +89,7 @@ struct OptimizerConfig {
 struct RigidStageConfig {
   bool enabled = true;           ///< false: the search starts from the spline fit of the baseline
   int samples = 121;             ///< constraint samples per designed segment (ends included)
-  int certificate_grid = 400;    ///< intervals per segment of the any-law programme
+  int certificate_grid = 300;    ///< intervals per segment of the any-law programme (bound error ~0.5/grid)
   /// The contact force the rigid stage keeps at every angle [N]; null: the
   /// constraint `min_contact_force` if given, else 0 (then the stage
   /// maximises the margin above 0).
@@ -99,6 +99,9 @@ struct RigidStageConfig {
   /// acceleration the objective weighs; with neither weighed it is the
   /// family's fastest design.
   double speed_factor = 1.1;
+  /// Name the constraints that hold the family's bound down even when every
+  /// operating speed is feasible (always done when one is not).
+  bool explain_bound = false;
 
   bool operator==(const RigidStageConfig&) const = default;
 };

@@ -97,8 +97,8 @@ std::vector<std::pair<std::string, std::string>> answer_facts(const OptimizeOutc
   for (const std::string& x : c.family_binding) binding += (binding.empty() ? "" : ", ") + x;
   facts.emplace_back("certificate (contact force ≥ " + format_number(c.min_contact_force) + " N)",
                      "any law: " + format_number(c.any_law_rpm, 5) + " rpm (set by " + c.any_law_binding +
-                         "); this spline family: " + format_number(c.family_rpm, 5) + " rpm (held by " + binding +
-                         "); baseline law: " + format_number(c.baseline_rpm, 5) + " rpm");
+                         "); this spline family: " + format_number(c.family_rpm, 5) + " rpm" +
+                         (binding.empty() ? "" : " (held by " + binding + ")") + "; baseline law: " + format_number(c.baseline_rpm, 5) + " rpm");
   std::string verdict;
   for (const SpeedCertificate& s : c.speeds)
     verdict += (verdict.empty() ? "" : "; ") + format_number(s.rpm) + " rpm " + (s.feasible ? "feasible" : "INFEASIBLE");

@@ -25,16 +25,17 @@ void print_certificate(const OptimizeOutcome& o) {
   }
   std::string binding;
   for (const std::string& b : c.family_binding) binding += (binding.empty() ? "" : ", ") + b;
+  const std::string held = binding.empty() ? "" : " (held by " + binding + ")";
   std::printf("  certificate (rigid model, contact force >= %g N): any law %.5g rpm (set by %s); this spline family "
-              "%.5g rpm (held by %s); baseline law %.5g rpm\n",
-              c.min_contact_force, c.any_law_rpm, c.any_law_binding.c_str(), c.family_rpm, binding.c_str(),
+              "%.5g rpm%s; baseline law %.5g rpm\n",
+              c.min_contact_force, c.any_law_rpm, c.any_law_binding.c_str(), c.family_rpm, held.c_str(),
               c.baseline_rpm);
   for (const SpeedCertificate& s : c.speeds) {
     if (s.feasible)
       std::printf("  %6g rpm: feasible (best rigid margin %.4g N)\n", s.rpm, s.best_margin);
     else
-      std::printf("  %6g rpm: INFEASIBLE, above the family's bound %.5g rpm (any law: %.5g rpm; held by %s)\n", s.rpm,
-                  c.family_rpm, c.any_law_rpm, binding.c_str());
+      std::printf("  %6g rpm: INFEASIBLE, above the family's bound %.5g rpm (any law: %.5g rpm)%s\n", s.rpm,
+                  c.family_rpm, c.any_law_rpm, held.c_str());
   }
   if (o.rigid.design.have)
     std::printf("  rigid design: jump-free to %.5g rpm, start of the dynamic stage (%d LPs, %.3g s)\n",

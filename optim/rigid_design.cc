@@ -9,6 +9,7 @@
 
 #include "common/errors.h"
 #include "dynamics/model.h"
+#include "geometry/bspline.h"
 #include "geometry/motion_law.h"
 #include "optim/jump_bound.h"
 #include "optim/linear_program.h"
@@ -20,7 +21,34 @@ namespace {
 constexpr double kRadPerRpm = 2.0 * std::numbers::pi / 60.0;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kBisectionRtol = 1e-4;  // relative width of the bracket on ω
-constexpr int kVerifySamples = 4000;     // per piece, for the margins of built laws
+constexpr int kVerifySamples = 2000;     // per piece, for the margins of built laws
+
+/// A law sampled densely once (kVerifySamples per piece, inside each piece at
+/// both ends so a jump at a boundary counts on both sides), so the margin at
+/// any ω is a loop over numbers.
+class SampledLaw {
+ public:
+  SampledLaw(const MotionLaw& law, const std::vector<std::size_t>& skip = {}) {
+    const auto& pieces = law.pieces();
+    for (std::size_t i = 0; i < pieces.size(); ++i) {
+      if (std::find(skip.begin(), skip.end(), i) != skip.end()) continue;
+      for (int n = 0; n <= kVerifySamples; ++n) {
+        const double x = std::clamp(static_cast<double>(n) / kVerifySamples, 1e-12, 1.0 - 1e-12);
+        samples_.push_back(law.eval(pieces[i].start + x * (pieces[i].end - pieces[i].start)));
+      }
+    }
+  }
+  /// Worst margin P − P_min at every ω of `omegas` [N] (+inf without samples).
+  double worst_margin(const RigidFollower& f, const std::vector<double>& omegas) const {
+    double worst = kInf;
+    for (const LawSample& s : samples_)
+      for (const double w : omegas) worst = std::min(worst, f.margin(w, s));
+    return worst;
+  }
+
+ private:
+  std::vector<LawSample> samples_;
+};
 
 /// s, s', s'' at one sample angle, affine in the control points:
 /// value[k] = constant[k] + Σ_j coefficient[j][k] c[first + j].
@@ -56,17 +84,11 @@ class SplineFamily {
     const auto scene_law = [&](const std::vector<double>& c) {
       return build_motion_law(space.scene_with_control_points(c).mechanism.cam.motion_law, file);
     };
-    std::vector<double> c(static_cast<std::size_t>(count), 0.0);
-    law0_ = std::make_shared<MotionLaw>(scene_law(c));
-    std::vector<MotionLaw> unit;
-    for (int j = 0; j < count; ++j) {
-      c.assign(c.size(), 0.0);
-      c[j] = 1.0;
-      unit.push_back(scene_law(c));
-    }
+    law0_ = std::make_shared<MotionLaw>(scene_law(std::vector<double>(static_cast<std::size_t>(count), 0.0)));
     designed_ = space.designed_segments();
+    fixed_ = std::make_shared<SampledLaw>(*law0_, designed_);
     levels_ = space.control_point_levels();
-    for (std::size_t k = 0; k < designed_.size(); ++k) sample_segment(k, unit, samples);
+    for (std::size_t k = 0; k < designed_.size(); ++k) sample_segment(k, design.degree, samples);
     if (max_pressure_angle_deg && geometry.circle() && !geometry.oscillating()) {
       tan_max_ = std::tan(*max_pressure_angle_deg * std::numbers::pi / 180.0);
       pitch_height_ = geometry.y0;
@@ -83,19 +105,7 @@ class SplineFamily {
   bool monotone() const { return monotone_; }
 
   /// Worst margin over the pieces that are not designed, at every ω of `omegas` [N].
-  double fixed_margin(const std::vector<double>& omegas) const {
-    double worst = kInf;
-    const auto& pieces = law0_->pieces();
-    for (std::size_t i = 0; i < pieces.size(); ++i) {
-      if (std::find(designed_.begin(), designed_.end(), i) != designed_.end()) continue;
-      for (int n = 0; n <= kVerifySamples; ++n) {
-        const double x = std::clamp(static_cast<double>(n) / kVerifySamples, 1e-12, 1.0 - 1e-12);
-        const LawSample s = law0_->eval(pieces[i].start + x * (pieces[i].end - pieces[i].start));
-        for (const double w : omegas) worst = std::min(worst, follower_.margin(w, s));
-      }
-    }
-    return worst;
-  }
+  double fixed_margin(const std::vector<double>& omegas) const { return fixed_->worst_margin(follower_, omegas); }
 
   /// The programme: maximise t with P − P_min ≥ t at every sample and ω in
   /// `omegas`. Columns: c, then t (the last).
@@ -126,17 +136,29 @@ class SplineFamily {
     }
   }
 
-  void sample_segment(std::size_t k, const std::vector<MotionLaw>& unit, int samples) {
+  /// The affine samples of designed segment k. The segment's lift is
+  /// s = base + h f(ξ), ξ = (θ − start) / β, with f the clamped spline of
+  /// degree p on m + 6 uniform-knot control points whose free ones are
+  /// coefficients 3 … m + 2 (geometry/motion_law.cc; the boundary ones do not
+  /// depend on them), so ∂s⁽ᵏ⁾/∂c_j = h N⁽ᵏ⁾_{3+j}(ξ) / βᵏ exactly.
+  void sample_segment(std::size_t k, int p, int samples) {
     const MotionLaw::Piece& pc = law0_->pieces()[designed_[k]];
+    const double beta = pc.end - pc.start;
+    const int n = m_ + 6;
+    const std::vector<double> knots = ClampedBSpline::uniform_knots(p, n);
     for (int i = 0; i < samples; ++i) {
       const double x = std::clamp(static_cast<double>(i) / (samples - 1), 1e-12, 1.0 - 1e-12);
-      const double theta = pc.start + x * (pc.end - pc.start);
       AffineSample a;
-      a.constant = derivatives(law0_->eval(theta));
+      a.constant = derivatives(law0_->eval(pc.start + x * beta));
       a.first = static_cast<int>(k) * m_;
-      for (int j = 0; j < m_; ++j) {
-        const std::array<double, 3> v = derivatives(unit[a.first + j].eval(theta));
-        a.coefficient.push_back({v[0] - a.constant[0], v[1] - a.constant[1], v[2] - a.constant[2]});
+      a.coefficient.assign(static_cast<std::size_t>(m_), {0.0, 0.0, 0.0});
+      const int span = find_span(n, p, x, knots);
+      const BasisDerivatives b = basis_derivatives(span, x, p, knots);
+      for (int r = 0; r <= p; ++r) {
+        const int j = span - p + r - 3;  // free control point j is coefficient 3 + j
+        if (j < 0 || j >= m_) continue;
+        a.coefficient[j] = {pc.lift * b.ders[0][r], pc.lift * b.ders[1][r] / beta,
+                            pc.lift * b.ders[2][r] / (beta * beta)};
       }
       samples_.push_back(std::move(a));
     }
@@ -147,6 +169,7 @@ class SplineFamily {
   bool monotone_ = true;
   std::shared_ptr<const MotionLaw> law0_;
   std::vector<std::size_t> designed_;
+  std::shared_ptr<const SampledLaw> fixed_;  ///< the pieces that are not designed
   std::vector<std::pair<double, double>> levels_;
   std::vector<AffineSample> samples_;
   double tan_max_ = 0.0, pitch_height_ = 0.0, offset_ = 0.0;
@@ -255,11 +278,8 @@ double family_bound(const SplineFamily& family, const RigidFollower& f, const Fa
 
 /// The jump-free speed of a built law [rad/s].
 double law_bound(const MotionLaw& law, const RigidFollower& f, double hint) {
-  auto feasible = [&](double w) {
-    for (const double om : check_speeds(w, f))
-      if (worst_margin(law, f, om, kVerifySamples) < 0.0) return false;
-    return true;
-  };
+  const SampledLaw sampled(law);
+  auto feasible = [&](double w) { return sampled.worst_margin(f, check_speeds(w, f)) >= 0.0; };
   return highest_feasible_speed(feasible, hint, 1e3 * hint, kBisectionRtol);
 }
 
@@ -285,12 +305,19 @@ void any_law_part(const SplineFamily& family, const RigidFollower& f, double hin
   cert.any_law_rpm = best >= 1e3 * hint ? kInf : as_rpm(best);
 }
 
-/// (b) and what binds it; `fastest` receives the family's fastest design.
+/// (b); `fastest` receives the family's fastest design.
 double family_part(const SplineFamily& family, const RigidFollower& f, double hint, Certificate& cert, int& solves,
                    MarginSolution& fastest) {
   const FamilyOptions all{family.monotone(), true};
   const double bound = family_bound(family, f, all, hint, solves, &fastest);
   cert.family_rpm = as_rpm(bound);
+  return bound;
+}
+
+/// What holds (b) down: two more bisections, each without one kind of constraint.
+void family_binding(const SplineFamily& family, const RigidFollower& f, double hint, double bound, Certificate& cert,
+                    int& solves) {
+  const FamilyOptions all{family.monotone(), true};
   if (family.has_pressure_rows() &&
       family_bound(family, f, FamilyOptions{all.monotone, false}, hint, solves) > 1.005 * bound)
     cert.family_binding.push_back("max_pressure_angle_deg");
@@ -300,7 +327,6 @@ double family_part(const SplineFamily& family, const RigidFollower& f, double hi
     cert.family_binding.push_back("spring and mass (no law does better)");
   else if (cert.family_binding.empty())
     cert.family_binding.push_back("spline family (degree and control points)");
-  return bound;
 }
 
 /// The stage's design. Jump-free up to rigid.speed_factor × the top
@@ -383,6 +409,8 @@ RigidStageResult run_rigid_stage(const SceneConfig& baseline, const OptimizeStud
         std::min(solve_margin(family, omegas, all, out.lp_solves).margin, family.fixed_margin(omegas));
     cert.speeds.push_back({rpm, m >= -1e-9 * (std::abs(f.constant()) + 1.0), m});
   }
+  if (config.rigid.explain_bound || !cert.all_feasible())
+    family_binding(family, f, hint, bound, cert, out.lp_solves);
 
   out.design = make_design(family, f, config, space, bound, fastest, out.lp_solves);
   RigidDesign& d = out.design;

@@ -43,7 +43,9 @@ struct Certificate {
   double family_rpm = 0.0;         ///< (b) [rpm]
   /// What holds (b) down: "max_pressure_angle_deg" and "monotone" when dropping
   /// them raises (b) by more than 0.5 %; "spline family" otherwise;
-  /// "spring and mass" when (b) is within 1 % of (a).
+  /// "spring and mass" when (b) is within 1 % of (a). Found (two more
+  /// bisections) when an operating speed is infeasible or rigid.explain_bound
+  /// is set; empty otherwise.
   std::vector<std::string> family_binding;
   double baseline_rpm = 0.0;                 ///< the baseline law's own rigid jump-free speed at P_min [rpm]
   std::vector<SpeedCertificate> speeds;      ///< (c), in operating_rpm order

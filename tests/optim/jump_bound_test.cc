@@ -129,6 +129,18 @@ INSTANTIATE_TEST_SUITE_P(Followers, AnyLawJumpBoundCases,
                                            BoundCase{"short_preload", 50.0, 5000.0, 0.0}),
                          [](const auto& param_info) { return std::string(param_info.param.name); });
 
+TEST(AnyLawJumpBound, ADamperHelpsTheRiseAndHurtsTheReturn) {
+  // c ω s' pushes the follower onto the cam where s' > 0 and pulls it off
+  // where s' < 0, so the two pieces (time reversals of each other) part:
+  // the undamped closed form lies between them.
+  RigidFollower f = quickstart_follower();
+  f.damping = 20.0;
+  const std::vector<SegmentJumpBound> b = any_law_jump_bounds(quickstart_law(), f, {0, 2}, 100.0, kGrid / 2);
+  const double undamped = any_law_jump_speed_closed_form(f, 0.0, 0.02, 2.0 * kPi / 3.0);
+  EXPECT_GT(b[0].omega, undamped * (1.0 + 2.0 * kGridTolerance));
+  EXPECT_LT(b[1].omega, undamped * (1.0 - 2.0 * kGridTolerance));
+}
+
 TEST(AnyLawJumpBound, TheLawsOwnWorstMarginVanishesAtItsJumpSpeed) {
   // Cycloidal rise: s'' = 2π h/β² sin(2π x): the margin's minimum is 0 at the
   // rigid jump speed, found here by bisection on worst_margin.
