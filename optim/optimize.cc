@@ -10,6 +10,7 @@
 #include "common/errors.h"
 #include "dynamics/model.h"
 #include "io/json_archive.h"
+#include "optim/optimize_checkpoint.h"
 #include "study/study.h"
 
 namespace camdyn::optim {
@@ -64,13 +65,15 @@ struct BestSoFar {
   double objective = 0.0;
   bool feasible = false;
 
-  /// Takes e when it is better.
-  void update(const DesignEvaluation& e) {
+  /// Takes e when it is better; returns whether it did.
+  bool update(const DesignEvaluation& e) {
     if (e.valid && (!have || (e.feasible && !feasible) || (e.feasible == feasible && e.objective < objective))) {
       have = true;
       objective = e.objective;
       feasible = e.feasible;
+      return true;
     }
+    return false;
   }
 };
 
@@ -123,7 +126,8 @@ std::function<void(const SearchProgress&)> progress_printer(const OptimizeOption
 /// out.initial, out.history, out.search, out.loop_time_s and
 /// out.loop_simulations. Throws NumericalError when no design was valid.
 void search_designs(const DesignSpace& space, const DesignEvaluator& evaluator, const SimulationPool& pool,
-                    const OptimizeStudyConfig& config, const OptimizeOptions& options, OptimizeOutcome& out) {
+                    const OptimizeStudyConfig& config, const OptimizeOptions& options, CheckpointWriter& checkpoint,
+                    OptimizeOutcome& out) {
   const EvaluationSettings loop = loop_settings(config.optimizer);
   out.initial = evaluator.evaluate(space.scene(out.x_initial), loop, out.loop_simulated);
   const long sims_before = pool.simulations();
@@ -142,8 +146,9 @@ void search_designs(const DesignSpace& space, const DesignEvaluator& evaluator, 
       e.error = err.what();
       evaluator.score(e);
     }
-    best.update(e);
+    const bool improved = best.update(e);
     out.history.push_back(history_record(e, static_cast<long>(out.history.size()) + 1, start, kind, best));
+    checkpoint.evaluated(out, space, x, e, improved);
     return point_value(e);
   };
   const auto loop_t0 = Clock::now();
@@ -233,6 +238,12 @@ OptimizeOutcome run_optimize(const SceneConfig& baseline, const OptimizeStudyCon
     out.rigid = run_rigid_stage(baseline, config, space, file);
     if (out.rigid.design.have) out.x_initial = out.rigid.design.x;  // the dynamic stage starts from it
   }
+  if (const auto x = read_checkpoint(options.checkpoint_dir, config, space.dimension())) {
+    say(options, "resuming from the best design of an earlier run (checkpoint.json)");
+    out.x_initial = *x;
+    out.resumed = true;
+  }
+  CheckpointWriter checkpoint(options.checkpoint_dir, config, baseline.name, top_speed(config), file);
 
   const int threads = std::clamp(options.threads, 1, static_cast<int>(config.operating_rpm.size()));
   SimulationPool pool(threads, file);
@@ -251,7 +262,7 @@ OptimizeOutcome run_optimize(const SceneConfig& baseline, const OptimizeStudyCon
   evaluator.score(out.baseline);
 
   say(options, "searching");
-  search_designs(space, evaluator, pool, config, options, out);
+  search_designs(space, evaluator, pool, config, options, checkpoint, out);
 
   say(options, "re-evaluating the best designs with the scene's settings");
   choose_optimized(space, evaluator, full, baseline.name + "-optimized", top_speed(config), file, out);

@@ -7,6 +7,7 @@
 // reproduces the reported metrics.
 #pragma once
 
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,9 @@ struct HistoryRecord {
 struct OptimizeOptions {
   int threads = 1;        ///< simulation threads (one per operating speed is enough)
   bool progress = false;  ///< progress lines on stderr
+  /// Where history.csv, best_design.json and checkpoint.json are kept while
+  /// the search runs, and a killed run's checkpoint is looked for (empty: none).
+  std::filesystem::path checkpoint_dir;
 };
 
 struct OptimizeOutcome {
@@ -53,6 +57,7 @@ struct OptimizeOutcome {
   DesignEvaluation optimized;   ///< the chosen design, scene settings, time series kept
   SceneConfig optimized_scene;  ///< the `simulate` config written to optimized.json
   int candidates_tried = 0;     ///< designs re-evaluated at the scene settings to find a feasible one
+  bool resumed = false;         ///< the search started from the checkpoint of an earlier, killed run
 
   SearchResult search;
   std::vector<HistoryRecord> history;

@@ -176,6 +176,7 @@ Json result_json(const OptimizeOutcome& o, const std::string& name, const std::s
       {"candidates_tried", o.candidates_tried},
       {"variables", vars}};
   r["rigid_stage"] = rigid_json(o.rigid, o.config.rigid.enabled);
+  r["resumed_from_checkpoint"] = o.resumed;
   r["baseline"] = design_json(o.baseline, o, file);
   r["initial"] = Json{{"objective", o.initial.objective}, {"feasible", o.initial.feasible}, {"valid", o.initial.valid}};
   r["optimized"] = design_json(o.optimized, o, file);

@@ -9,6 +9,7 @@
 #include "io/json_writer.h"
 #include "io/report.h"
 #include "optim/optimize.h"
+#include "optim/optimize_checkpoint.h"
 #include "optim/optimize_config.h"
 #include "optim/optimize_output.h"
 
@@ -59,8 +60,11 @@ int run_optimize_study(const Json& doc, const StudyContext& ctx) {
   OptimizeOptions options;
   options.threads = ctx.threads();
   options.progress = ctx.progress;
+  options.checkpoint_dir = ctx.out_dir;
   const OptimizeOutcome o = run_optimize(baseline, config, ctx.config_file, options);
   write_optimize_outputs(ctx.out_dir, o, baseline.name, ctx.config_file);
+  remove_checkpoint(ctx.out_dir);
+  if (o.resumed) std::printf("  resumed from the best design of an earlier run (checkpoint.json)\n");
 
   print_certificate(o);
   const auto& b = o.baseline;

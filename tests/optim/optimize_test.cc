@@ -6,10 +6,12 @@
 #include "optim/optimize.h"
 
 #include <gtest/gtest.h>
+#include <sys/types.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <csignal>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -290,6 +292,25 @@ TEST(OptimizeCli, OptimizedConfigReproducesTheReportedMetrics) {
             "feasible,start,kind,valid,best_objective,error");
   EXPECT_EQ(std::count(history.begin(), history.end(), '\n'), 13);
 
+  // The loop's best objective is the verified objective of optimized.json to
+  // within the integration tolerance: the rigid stage's design stays on the
+  // cam, so the metrics are periodic and the loop's shorter window and looser
+  // rtol (1e-7) change them only by the integration error, taken here as
+  // 20 rtol relative.
+  std::istringstream rows(history);
+  std::string line;
+  std::getline(rows, line);
+  double loop_best = INFINITY;
+  while (std::getline(rows, line)) {
+    std::vector<std::string> cells;
+    std::stringstream cs(line);
+    for (std::string cell; std::getline(cs, cell, ',');) cells.push_back(cell);
+    ASSERT_GE(cells.size(), 7u) << line;
+    if (cells[6] == "1") loop_best = std::min(loop_best, std::stod(cells[1]));
+  }
+  const double verified = result["optimized"]["objective"]["value"].get<double>();
+  EXPECT_NEAR(loop_best, verified, 20.0 * 1e-7 * std::abs(verified));
+
   const fs::path rerun = dir / "rerun";
   const Outcome again = run_cli("run " + (dir / "optimized.json").string() + " --out " + rerun.string() + " --quiet");
   ASSERT_EQ(again.code, 0) << again.err;
@@ -353,6 +374,47 @@ TEST(OptimizeCli, TargetAboveTheBoundIsReportedInfeasibleAndTheBestDesignWritten
   EXPECT_LT(cert["any_law_jump_free_rpm"].get<double>(), 2500.0);
   EXPECT_TRUE(fs::exists(dir / "optimized.json"));
   EXPECT_TRUE(result["rigid_stage"]["design"]["made"].get<bool>());
+}
+
+// Kill -9 part-way: history.csv and the best design so far are on disk and
+// parse, and a re-run of the same study into the same folder resumes from it.
+TEST(OptimizeCli, AKilledRunLeavesItsHistoryAndBestDesignAndARerunResumes) {
+  const fs::path dir = scratch("killed");
+  const std::vector<std::string> argv = {CAMDYN_BINARY, "run", kJump, "--out", (dir / "out").string(), "--jobs", "2",
+                                         "--quiet", "--set", "optimizer.max_evaluations=60"};
+  const pid_t pid = test::spawn(argv, dir / "first.out", dir / "first.err");
+  ASSERT_GT(pid, 0);
+  bool seen = false;
+  for (int i = 0; i < 1200 && !seen; ++i) {  // up to 60 s for the first evaluations
+    seen = fs::exists(dir / "out" / "checkpoint.json") && fs::exists(dir / "out" / "history.csv");
+    if (!seen) ::usleep(50000);
+  }
+  ::kill(pid, SIGKILL);
+  EXPECT_EQ(test::wait_for(pid), 128 + SIGKILL) << read_text(dir / "first.err");
+  ASSERT_TRUE(seen) << read_text(dir / "first.err");
+  EXPECT_FALSE(fs::exists(dir / "out" / "result.json"));  // it did not finish
+
+  std::istringstream history(read_text(dir / "out" / "history.csv"));
+  std::string line;
+  ASSERT_TRUE(std::getline(history, line));
+  EXPECT_EQ(line.rfind("evaluation,objective,", 0), 0u) << line;
+  long rows = 0;
+  while (std::getline(history, line)) {
+    EXPECT_EQ(std::stol(line.substr(0, line.find(','))), ++rows) << line;
+  }
+  EXPECT_GE(rows, 1);
+  const Json best = Json::parse(read_text(dir / "out" / "best_design.json"));
+  EXPECT_EQ(best["study"], "simulate");
+  const Json checkpoint = Json::parse(read_text(dir / "out" / "checkpoint.json"));
+  EXPECT_TRUE(checkpoint["x"].is_array());
+
+  // The same study again: it starts from the checkpoint and completes.
+  const Outcome again = test::run_camdyn(std::vector<std::string>(argv.begin() + 1, argv.end()), dir);
+  ASSERT_EQ(again.code, 0) << again.err;
+  EXPECT_NE(again.out.find("resumed from the best design of an earlier run"), std::string::npos) << again.out;
+  const Json result = Json::parse(read_text(dir / "out" / "result.json"));
+  EXPECT_TRUE(result["resumed_from_checkpoint"].get<bool>());
+  EXPECT_FALSE(fs::exists(dir / "out" / "checkpoint.json"));
 }
 
 }  // namespace
