@@ -53,6 +53,7 @@ DesignEvaluator::DesignEvaluator(const OptimizeStudyConfig& config, std::string 
   if (c.min_contact_force)
     constraints_.push_back({"min_contact_force", Sense::at_least, *c.min_contact_force, "N", true});
   if (c.no_separation) constraints_.push_back({"no_separation", Sense::zero, 0.0, "-", true});
+  if (c.max_peak_jerk) constraints_.push_back({"max_peak_jerk", Sense::at_most, *c.max_peak_jerk, "m/rad^3", false});
 
   const ObjectiveConfig& o = config.objective;
   needs_simulation_ = o.separation > 0.0 || o.peak_contact_force > 0.0 || o.contact_force_margin > 0.0 ||
@@ -189,6 +190,9 @@ void DesignEvaluator::score(DesignEvaluation& e) const {
     } else if (spec.name == "min_radius_of_curvature") {
       c.value = e.geometry.min_radius_of_curvature;
       c.residual = (limit - c.value) / limit;
+    } else if (spec.name == "max_peak_jerk") {
+      c.value = e.kinematics.peak_jerk;
+      c.residual = (c.value - limit) / limit;
     } else if (spec.name == "max_peak_contact_force") {
       c.value = max_of(peak);
       c.residual = (c.value - limit) / limit;

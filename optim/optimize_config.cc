@@ -75,6 +75,7 @@ void visit(A& a, ConstraintsConfig& c) {
   // then 0): use no_separation for that.
   a.field("min_contact_force", c.min_contact_force, positive());
   a.field("no_separation", c.no_separation);
+  a.field("max_peak_jerk", c.max_peak_jerk, positive());
 }
 
 template <class A>

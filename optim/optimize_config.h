@@ -55,6 +55,7 @@ struct ConstraintsConfig {
   std::optional<double> max_peak_contact_force;         ///< at every operating speed [N]
   std::optional<double> min_contact_force;              ///< floor of the smallest contact force [N], > 0
   bool no_separation = false;                           ///< separation_fraction 0 at every operating speed
+  std::optional<double> max_peak_jerk;                  ///< max |d³s/dθ³| over the cycle [m/rad³]
 
   bool operator==(const ConstraintsConfig&) const = default;
 };

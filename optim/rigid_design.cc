@@ -50,20 +50,21 @@ class SampledLaw {
   std::vector<LawSample> samples_;
 };
 
-/// s, s', s'' at one sample angle, affine in the control points:
+/// s, s', s'', s''' at one sample angle, affine in the control points:
 /// value[k] = constant[k] + Σ_j coefficient[j][k] c[first + j].
 struct AffineSample {
-  std::array<double, 3> constant{};
+  std::array<double, 4> constant{};
   int first = 0;
-  std::vector<std::array<double, 3>> coefficient;
+  std::vector<std::array<double, 4>> coefficient;
 };
 
-std::array<double, 3> derivatives(const LawSample& s) { return {s.s, s.ds, s.d2s}; }
+std::array<double, 4> derivatives(const LawSample& s) { return {s.s, s.ds, s.d2s, s.d3s}; }
 
 /// Which linear constraints a programme has, and what it optimises.
 struct FamilyOptions {
   bool monotone = true;
   bool pressure_angle = true;
+  bool jerk = true;
   /// max_margin: maximise t. Otherwise keep t ≥ 0 and minimise the peak of
   /// the rigid contact force P (min_peak_force) or of |s''|
   /// (min_peak_acceleration) at `peak_omega`.
@@ -77,9 +78,11 @@ struct FamilyOptions {
 class SplineFamily {
  public:
   SplineFamily(const DesignSpace& space, const DesignConfig& design, const RigidFollower& follower,
-               const FollowerGeometry& geometry, std::optional<double> max_pressure_angle_deg, int samples,
+               const FollowerGeometry& geometry, const ConstraintsConfig& constraints, int samples,
                const std::string& file)
       : follower_(follower), m_(design.control_points), monotone_(design.monotone) {
+    const std::optional<double>& max_pressure_angle_deg = constraints.max_pressure_angle_deg;
+    max_jerk_ = constraints.max_peak_jerk.value_or(0.0);
     const int count = space.control_point_count();
     const auto scene_law = [&](const std::vector<double>& c) {
       return build_motion_law(space.scene_with_control_points(c).mechanism.cam.motion_law, file);
@@ -102,6 +105,7 @@ class SplineFamily {
   const MotionLaw& law0() const { return *law0_; }
   const std::vector<std::size_t>& designed() const { return designed_; }
   bool has_pressure_rows() const { return tan_max_ > 0.0; }
+  bool has_jerk_rows() const { return max_jerk_ > 0.0; }
   bool monotone() const { return monotone_; }
 
   /// Worst margin over the pieces that are not designed, at every ω of `omegas` [N].
@@ -151,14 +155,14 @@ class SplineFamily {
       AffineSample a;
       a.constant = derivatives(law0_->eval(pc.start + x * beta));
       a.first = static_cast<int>(k) * m_;
-      a.coefficient.assign(static_cast<std::size_t>(m_), {0.0, 0.0, 0.0});
+      a.coefficient.assign(static_cast<std::size_t>(m_), {0.0, 0.0, 0.0, 0.0});
       const int span = find_span(n, p, x, knots);
       const BasisDerivatives b = basis_derivatives(span, x, p, knots);
       for (int r = 0; r <= p; ++r) {
         const int j = span - p + r - 3;  // free control point j is coefficient 3 + j
         if (j < 0 || j >= m_) continue;
         a.coefficient[j] = {pc.lift * b.ders[0][r], pc.lift * b.ders[1][r] / beta,
-                            pc.lift * b.ders[2][r] / (beta * beta)};
+                            pc.lift * b.ders[2][r] / (beta * beta), pc.lift * b.ders[3][r] / (beta * beta * beta)};
       }
       samples_.push_back(std::move(a));
     }
@@ -173,6 +177,7 @@ class SplineFamily {
   std::vector<std::pair<double, double>> levels_;
   std::vector<AffineSample> samples_;
   double tan_max_ = 0.0, pitch_height_ = 0.0, offset_ = 0.0;
+  double max_jerk_ = 0.0;  ///< |s'''| bound [m/rad³] (0: none)
 };
 
 LinearProgram SplineFamily::margin_program(const std::vector<double>& omegas, const FamilyOptions& options) const {
@@ -212,6 +217,14 @@ LinearProgram SplineFamily::margin_program(const std::vector<double>& omegas, co
       for (int j = 0; j + 1 < m_; ++j) lp.add_row({{first + j + 1, 1.0}, {first + j, -1.0}}, 0.0, kLpInfinity);
     }
   }
+  if (options.jerk && has_jerk_rows()) {
+    // −J ≤ s''' ≤ J at every sample.
+    for (const AffineSample& s : samples_) {
+      terms.clear();
+      for (int j = 0; j < m_; ++j) terms.emplace_back(s.first + j, s.coefficient[j][3]);
+      lp.add_row(terms, -max_jerk_ - s.constant[3], max_jerk_ - s.constant[3]);
+    }
+  }
   if (options.pressure_angle && has_pressure_rows()) {
     // ±s' − tan φ s ≤ tan φ y₀ − |e| at every sample.
     const double rhs = tan_max_ * pitch_height_ - offset_;
@@ -238,6 +251,7 @@ MarginSolution solve_margin(const SplineFamily& family, const std::vector<double
   const LinearProgram lp = family.margin_program(omegas, options);
   const LpSolution sol = solve(lp);
   ++solves;
+  if (sol.status == LpStatus::infeasible) return {};  // no design meets the other constraints (e.g. a jerk bound)
   if (sol.status != LpStatus::optimal)
     throw NumericalError(std::string("the rigid-model design programme could not be solved (CLP: ") + sol.message +
                          ")");
@@ -319,9 +333,12 @@ void family_binding(const SplineFamily& family, const RigidFollower& f, double h
                     int& solves) {
   const FamilyOptions all{family.monotone(), true};
   if (family.has_pressure_rows() &&
-      family_bound(family, f, FamilyOptions{all.monotone, false}, hint, solves) > 1.005 * bound)
+      family_bound(family, f, FamilyOptions{all.monotone, false, true}, hint, solves) > 1.005 * bound)
     cert.family_binding.push_back("max_pressure_angle_deg");
-  if (family.monotone() && family_bound(family, f, FamilyOptions{false, true}, hint, solves) > 1.005 * bound)
+  if (family.has_jerk_rows() &&
+      family_bound(family, f, FamilyOptions{all.monotone, true, false}, hint, solves) > 1.005 * bound)
+    cert.family_binding.push_back("max_peak_jerk");
+  if (family.monotone() && family_bound(family, f, FamilyOptions{false, true, true}, hint, solves) > 1.005 * bound)
     cert.family_binding.push_back("monotone");
   if (std::isfinite(cert.any_law_rpm) && cert.family_rpm >= 0.99 * cert.any_law_rpm)
     cert.family_binding.push_back("spring and mass (no law does better)");
@@ -394,8 +411,8 @@ RigidStageResult run_rigid_stage(const SceneConfig& baseline, const OptimizeStud
     return out;
   }
   const RigidFollower f = rigid_follower(model, cert.min_contact_force, file);
-  const SplineFamily family(space, config.design, f, model.follower, config.constraints.max_pressure_angle_deg,
-                            config.rigid.samples, file);
+  const SplineFamily family(space, config.design, f, model.follower, config.constraints, config.rigid.samples,
+                            file);
   const double hint = *std::max_element(config.operating_rpm.begin(), config.operating_rpm.end()) * kRadPerRpm;
   cert.available = true;
   cert.baseline_rpm = as_rpm(law_bound(*model.law, f, hint));

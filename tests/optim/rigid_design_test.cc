@@ -5,6 +5,7 @@
 // own claims, and a target above the bound reported infeasible.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -89,6 +90,28 @@ TEST(RigidStage, WithoutAPeakTermTheDesignIsTheFamilysFastest) {
   const RigidStageResult r = run_rigid_stage(study.baseline, study.config, space, "optimize_jump.json");
   ASSERT_TRUE(r.design.have);
   EXPECT_NEAR(r.design.jump_free_rpm / r.certificate.family_rpm, 1.0, 0.01);
+}
+
+TEST(RigidStage, AJerkBoundHoldsInTheDesignAndLowersTheFamilysSpeed) {
+  // 1.5 × the cycloidal rise's peak jerk h (2π)² / β³.
+  const double beta = 2.0 * kPi / 3.0, bound = 1.5 * 0.02 * 4.0 * kPi * kPi / (beta * beta * beta);
+  const OptimizeStudy free = jump_study({"objective={\"separation\": 1}"});
+  const OptimizeStudy limited =
+      jump_study({"objective={\"separation\": 1}", "constraints.max_peak_jerk=" + std::to_string(bound),
+                  "rigid.explain_bound=true"});
+  const DesignSpace space(free.baseline, free.config.design, "optimize_jump.json");
+  const RigidStageResult a = run_rigid_stage(free.baseline, free.config, space, "optimize_jump.json");
+  const RigidStageResult b = run_rigid_stage(limited.baseline, limited.config, space, "optimize_jump.json");
+  ASSERT_TRUE(b.design.have);
+  EXPECT_LT(b.certificate.family_rpm, a.certificate.family_rpm);
+  EXPECT_NE(std::find(b.certificate.family_binding.begin(), b.certificate.family_binding.end(), "max_peak_jerk"),
+            b.certificate.family_binding.end());
+  // The LP holds the bound at its samples; between them s''' (a quadratic on
+  // each knot span of a quintic) can overshoot by a sliver.
+  const MotionLaw law = build_motion_law(space.scene(b.design.x).mechanism.cam.motion_law, "test.json");
+  double peak = 0.0;
+  for (int i = 0; i <= 36000; ++i) peak = std::max(peak, std::abs(law.eval(2.0 * kPi * i / 36000).d3s));
+  EXPECT_LE(peak, 1.02 * bound);
 }
 
 TEST(RigidStage, TargetAboveTheBoundIsInfeasible) {
