@@ -13,13 +13,8 @@ LawKinematics law_kinematics(const MotionLaw& law, const std::vector<SegmentConf
     const MotionLaw::Piece& pc = pieces[i];
     if (!pc.shape) continue;  // a dwell
     const double beta = pc.end - pc.start;
-    double f1 = 0.0, f2 = 0.0, f3 = 0.0;  // peaks of the normalised shape's derivatives
-    for (int j = 0; j <= samples; ++j) {
-      const LawSample f = pc.shape->eval(static_cast<double>(j) / samples);
-      f1 = std::max(f1, std::abs(f.ds));
-      f2 = std::max(f2, std::abs(f.d2s));
-      f3 = std::max(f3, std::abs(f.d3s));
-    }
+    const ShapePeaks peaks = shape_peaks(*pc.shape, samples);  // of the normalised shape's derivatives
+    const double f1 = peaks.d1, f2 = peaks.d2, f3 = peaks.d3;
     const double h = std::abs(pc.lift);
     k.peak_velocity = std::max(k.peak_velocity, h * f1 / beta);
     k.peak_acceleration = std::max(k.peak_acceleration, h * f2 / (beta * beta));

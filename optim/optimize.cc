@@ -161,6 +161,23 @@ void search_designs(const DesignSpace& space, const DesignEvaluator& evaluator, 
                          " evaluations (stop reason " + out.search.stop_reason + ")");
 }
 
+/// `scene` with the study's geometric constraints that design `e` meets as
+/// `mechanism.cam.limits`, so `camdyn validate optimized.json` re-checks them
+/// (one it breaks is left out, or optimized.json could not be run at all;
+/// result.json reports it).
+SceneConfig with_limits(const SceneConfig& scene, const std::vector<ConstraintSpec>& specs,
+                        const DesignEvaluation& e) {
+  SceneConfig s = scene;
+  CamLimitsConfig& l = s.mechanism.cam.limits;
+  for (std::size_t i = 0; i < specs.size() && i < e.constraints.size(); ++i) {
+    if (!e.constraints[i].holds) continue;
+    if (specs[i].name == "max_pressure_angle_deg") l.max_pressure_angle_deg = specs[i].limit;
+    if (specs[i].name == "min_radius_of_curvature") l.min_radius_of_curvature = specs[i].limit;
+    if (specs[i].name == "max_peak_jerk") l.max_peak_jerk = specs[i].limit;
+  }
+  return s;
+}
+
 /// A design of the search re-evaluated with the scene's settings.
 struct Candidate {
   DesignEvaluation evaluation;
@@ -184,12 +201,12 @@ void choose_optimized(const DesignSpace& space, const DesignEvaluator& evaluator
     const SceneConfig scene = simulate_scene(space.scene(x), top, name, file);
     DesignEvaluation e = evaluator.evaluate(scene, full, true);
     if (e.valid && e.feasible) {
+      out.optimized_scene = with_limits(scene, out.constraints, e);
       out.optimized = std::move(e);
-      out.optimized_scene = scene;
       out.x_optimized = x;
       return;
     }
-    if (e.valid && !fallback) fallback = Candidate{std::move(e), scene, x};
+    if (e.valid && !fallback) fallback = Candidate{e, with_limits(scene, out.constraints, e), x};
   }
   if (!fallback)
     throw NumericalError("none of the " + std::to_string(out.candidates_tried) +

@@ -3,6 +3,7 @@
 #include <Eigen/LU>
 #include <cassert>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <numbers>
 
@@ -434,6 +435,35 @@ void scatter_state_rates(const Model& m, const Rates& r, const S& cam_speed, S* 
 
 namespace {
 
+std::string number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+
+/// Throws InputError naming `mechanism.cam.limits.<key>` when the cam breaks a limit.
+void check_cam_limits(const CamLimitsConfig& limits, const CamGeometryReport& g, const MotionLaw& law,
+                      const std::string& file) {
+  const std::string at = "mechanism.cam.limits.";
+  if (limits.max_pressure_angle_deg && g.max_pressure_angle_deg > *limits.max_pressure_angle_deg)
+    throw InputError(file, at + "max_pressure_angle_deg",
+                     "the cam's pressure angle reaches " + number(g.max_pressure_angle_deg) + " deg at cam angle " +
+                         number(g.max_pressure_angle_at_deg) + " deg, above the limit " +
+                         number(*limits.max_pressure_angle_deg) + " deg");
+  if (limits.min_radius_of_curvature && g.min_radius_of_curvature < *limits.min_radius_of_curvature)
+    throw InputError(file, at + "min_radius_of_curvature",
+                     "the cam contour's radius of curvature falls to " + number(g.min_radius_of_curvature) +
+                         " m at cam angle " + number(g.min_radius_of_curvature_at_deg) + " deg, below the limit " +
+                         number(*limits.min_radius_of_curvature) + " m");
+  if (limits.max_peak_jerk) {
+    const double jerk = law_peaks(law).jerk;
+    if (jerk > *limits.max_peak_jerk)
+      throw InputError(file, at + "max_peak_jerk",
+                       "the law's peak jerk |d³s/dθ³| is " + number(jerk) + ", above the limit " +
+                           number(*limits.max_peak_jerk));
+  }
+}
+
 /// The mass, spring, damper, gravity, contact law, friction and drive of the
 /// mechanism (the model's geometry is already built).
 void assemble_elements(const SceneConfig& scene, const std::string& file, Model& model) {
@@ -554,6 +584,7 @@ Model build_model(const SceneConfig& scene, const std::string& file) {
   // copy of the contour within law_interpolation_error: pressure angle, and the
   // contact's travel across a flat face against its width.
   model.geometry = check_cam(*model.cam, file);
+  check_cam_limits(mech.cam.limits, model.geometry, *model.law, file);
   if (mech.contact.pair_form == PairFormChoice::general) build_general_pair(model);
 
   assemble_elements(scene, file, model);

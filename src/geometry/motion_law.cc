@@ -540,4 +540,29 @@ MotionLaw build_motion_law(const MotionLawConfig& config, const std::string& fil
   return law_from_segments(config.segments, file, path);
 }
 
+ShapePeaks shape_peaks(const NormalisedRise& shape, int samples) {
+  ShapePeaks p;
+  for (int j = 0; j <= samples; ++j) {
+    const LawSample f = shape.eval(static_cast<double>(j) / samples);
+    p.d1 = std::max(p.d1, std::abs(f.ds));
+    p.d2 = std::max(p.d2, std::abs(f.d2s));
+    p.d3 = std::max(p.d3, std::abs(f.d3s));
+  }
+  return p;
+}
+
+LawPeaks law_peaks(const MotionLaw& law, int samples) {
+  LawPeaks k;
+  for (const MotionLaw::Piece& pc : law.pieces()) {
+    if (!pc.shape) continue;  // a dwell
+    const double beta = pc.end - pc.start;
+    const ShapePeaks f = shape_peaks(*pc.shape, samples);
+    const double h = std::abs(pc.lift);
+    k.velocity = std::max(k.velocity, h * f.d1 / beta);
+    k.acceleration = std::max(k.acceleration, h * f.d2 / (beta * beta));
+    k.jerk = std::max(k.jerk, h * f.d3 / (beta * beta * beta));
+  }
+  return k;
+}
+
 }  // namespace camdyn

@@ -65,6 +65,21 @@ class MotionLaw {
   double min_s_ = 0.0, max_s_ = 0.0;
 };
 
+/// Peaks of |f'|, |f''|, |f'''| of a normalised shape, sampled at `samples` + 1
+/// points of [0, 1] (both ends included).
+struct ShapePeaks {
+  double d1 = 0.0, d2 = 0.0, d3 = 0.0;
+};
+ShapePeaks shape_peaks(const NormalisedRise& shape, int samples);
+
+/// Peaks of |s'| [m/rad], |s''| [m/rad²] and |s'''| [m/rad³] over the cycle:
+/// every piece's shape_peaks scaled by its lift and length, so a jump at a
+/// piece boundary counts on both sides. Dwells contribute 0.
+struct LawPeaks {
+  double velocity = 0.0, acceleration = 0.0, jerk = 0.0;
+};
+LawPeaks law_peaks(const MotionLaw& law, int samples = 4000);
+
 /// Builds the law from config. `path` is the dotted path of the motion_law
 /// object and `file` the config file, both for InputError messages: segments
 /// not covering 360°, lift mismatch between rises and returns, bad spline

@@ -140,6 +140,13 @@ void visit(A& a, DriveConfig& d) {
 }
 
 template <class A>
+void visit(A& a, CamLimitsConfig& l) {
+  a.field("max_pressure_angle_deg", l.max_pressure_angle_deg, open_closed(0, 90));
+  a.field("min_radius_of_curvature", l.min_radius_of_curvature, positive());
+  a.field("max_peak_jerk", l.max_peak_jerk, positive());
+}
+
+template <class A>
 void visit(A& a, CamConfig& c) {
   // Required (> 0) unless the cam is a contour: checked with the motion law below.
   const bool base_given = a.given("base_radius", c.base_radius > 0.0);
@@ -149,6 +156,7 @@ void visit(A& a, CamConfig& c) {
   a.field("initial_angle_deg", c.initial_angle_deg);
   a.field_or_file("motion_law", c.motion_law, &c.motion_law.source);
   a.field("drive", c.drive);
+  a.field("limits", c.limits);
   if (c.motion_law.contour) {
     a.require(!base_given || c.base_radius == 0.0, "base_radius",
               "a contour cam's base radius follows from its points: leave 'base_radius' out");

@@ -218,6 +218,18 @@ struct DriveConfig {
   bool operator==(const DriveConfig&) const = default;
 };
 
+/// `mechanism.cam.limits`: what the cam must meet to be made, checked when the
+/// model is built (so `camdyn validate` and `camdyn run` refuse a cam that
+/// breaks one, exit 2). null: no limit. An optimize study writes the
+/// geometric constraints its design meets into optimized.json here.
+struct CamLimitsConfig {
+  std::optional<double> max_pressure_angle_deg;   ///< max |φ| over the cycle [deg]
+  std::optional<double> min_radius_of_curvature;  ///< min |ρ| of the cam contour [m]
+  std::optional<double> max_peak_jerk;            ///< max |d³s/dθ³| [m/rad³ or rad/rad³]
+
+  bool operator==(const CamLimitsConfig&) const = default;
+};
+
 struct CamConfig {
   double base_radius = 0.0;  ///< r_b [m], > 0; left out for a contour cam (derived from its points)
   double rpm = 0.0;          ///< cam speed [rev/min], >= 0 (0 holds the cam still)
@@ -225,6 +237,7 @@ struct CamConfig {
   double initial_angle_deg = 0.0;  ///< cam angle at t = 0 [deg]
   MotionLawConfig motion_law;
   DriveConfig drive;
+  CamLimitsConfig limits;
 
   bool operator==(const CamConfig&) const = default;
 };

@@ -345,6 +345,17 @@ TEST(OptimizeCli, SeparationObjectiveAloneGivesADesignThatStaysOnTheCam) {
   EXPECT_TRUE(cert["all_feasible"].get<bool>());
   EXPECT_GT(cert["family_jump_free_rpm"].get<double>(), 1300.0);
   EXPECT_LE(cert["family_jump_free_rpm"].get<double>(), cert["any_law_jump_free_rpm"].get<double>());
+  // optimized.json carries the study's geometric constraints as cam limits,
+  // and `camdyn validate` re-checks them; a limit the cam breaks is refused.
+  const Outcome valid = run_cli("validate " + (dir / "optimized.json").string());
+  ASSERT_EQ(valid.code, 0) << valid.err;
+  const Json limits = Json::parse(valid.out)["mechanism"]["cam"]["limits"];
+  EXPECT_EQ(limits["max_pressure_angle_deg"].get<double>(), 30.0);
+  EXPECT_EQ(limits["min_radius_of_curvature"].get<double>(), 0.006);
+  const Outcome broken = run_cli("validate " + (dir / "optimized.json").string() +
+                                 " --set mechanism.cam.limits.max_pressure_angle_deg=5");
+  EXPECT_EQ(broken.code, 2);
+  EXPECT_NE(broken.err.find("mechanism.cam.limits.max_pressure_angle_deg"), std::string::npos) << broken.err;
   for (const double rpm : {1000.0, 1150.0, 1300.0}) {
     const fs::path rerun = dir / ("rerun_" + std::to_string(static_cast<int>(rpm)));
     const Outcome again = run_cli("run " + (dir / "optimized.json").string() + " --out " + rerun.string() +

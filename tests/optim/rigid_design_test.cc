@@ -106,12 +106,13 @@ TEST(RigidStage, AJerkBoundHoldsInTheDesignAndLowersTheFamilysSpeed) {
   EXPECT_LT(b.certificate.family_rpm, a.certificate.family_rpm);
   EXPECT_NE(std::find(b.certificate.family_binding.begin(), b.certificate.family_binding.end(), "max_peak_jerk"),
             b.certificate.family_binding.end());
-  // The LP holds the bound at its samples; between them s''' (a quadratic on
-  // each knot span of a quintic) can overshoot by a sliver.
+  // The LP holds 98 % of the bound at its samples, so the law sampled
+  // densely (as the dynamic stage and `validate` sample it) meets the bound.
   const MotionLaw law = build_motion_law(space.scene(b.design.x).mechanism.cam.motion_law, "test.json");
   double peak = 0.0;
   for (int i = 0; i <= 36000; ++i) peak = std::max(peak, std::abs(law.eval(2.0 * kPi * i / 36000).d3s));
-  EXPECT_LE(peak, 1.02 * bound);
+  EXPECT_LE(peak, bound);
+  EXPECT_LE(law_peaks(law).jerk, bound);
 }
 
 TEST(RigidStage, TargetAboveTheBoundIsInfeasible) {
