@@ -17,7 +17,7 @@ constexpr double kDeg = 180.0 / std::numbers::pi;
 
 /// One rise or return piece as the any-law programme samples it.
 struct PieceGrid {
-  double beta = 0.0;                 ///< [rad]
+  double beta = 0.0;                  ///< [rad]
   double s_start = 0.0, s_end = 0.0;  ///< end levels [m]
   double v_in = 0.0, v_out = 0.0;     ///< neighbours' slopes at the ends [m/rad]
   int n = 600;                        ///< intervals
@@ -45,7 +45,7 @@ double piece_margin(const PieceGrid& g, const RigidFollower& f, const std::vecto
     for (int i = 0; i <= g.n; ++i) {
       // P_i − P_min = a2 (s₊ − 2 s + s₋) + a1 (s₊ − s₋) + a0 s + constant ≥ t
       const std::array<std::pair<int, double>, 3> stencil = {std::pair{i - 1, a2 - a1}, std::pair{i, a0 - 2.0 * a2},
-                                                            std::pair{i + 1, a2 + a1}};
+                                                             std::pair{i + 1, a2 + a1}};
       double rhs = -f.constant();
       terms.clear();
       for (const auto& [k, coefficient] : stencil) {
@@ -153,8 +153,8 @@ double worst_margin(const MotionLaw& law, const RigidFollower& follower, double 
 }
 
 std::vector<SegmentJumpBound> any_law_jump_bounds(const MotionLaw& law, const RigidFollower& follower,
-                                                  const std::vector<std::size_t>& pieces, double omega_hint,
-                                                  int grid, double rtol) {
+                                                  const std::vector<std::size_t>& pieces, double omega_hint, int grid,
+                                                  double rtol) {
   std::vector<SegmentJumpBound> out;
   std::vector<PieceGrid> solved;  // grids already bisected, beside `out`
   const auto& all = law.pieces();
@@ -174,9 +174,8 @@ std::vector<SegmentJumpBound> any_law_jump_bounds(const MotionLaw& law, const Ri
     b.start_deg = pc.start * kDeg;
     b.end_deg = pc.end * kDeg;
     b.lift = pc.lift;
-    const auto same = std::find_if(solved.begin(), solved.end(), [&](const PieceGrid& o) {
-      return same_bound(o, g, follower.damping == 0.0);
-    });
+    const auto same = std::find_if(solved.begin(), solved.end(),
+                                   [&](const PieceGrid& o) { return same_bound(o, g, follower.damping == 0.0); });
     if (same != solved.end()) {
       b.omega = out[static_cast<std::size_t>(same - solved.begin())].omega;
       out.push_back(b);
@@ -187,7 +186,9 @@ std::vector<SegmentJumpBound> any_law_jump_bounds(const MotionLaw& law, const Ri
     // The closed form ignores a damper, so it is then only a rough start.
     const bool good_guess = std::isfinite(guess) && guess > 0.0;
     b.omega = highest_feasible_speed(feasible, good_guess ? guess : omega_hint, 1e3 * omega_hint, rtol,
-                                     !good_guess ? 2.0 : follower.damping == 0.0 ? 1.01 : 1.1);
+                                     !good_guess               ? 2.0
+                                     : follower.damping == 0.0 ? 1.01
+                                                               : 1.1);
     if (b.omega >= 1e3 * omega_hint) b.omega = std::numeric_limits<double>::infinity();
     out.push_back(b);
     solved.push_back(g);

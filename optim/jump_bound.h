@@ -76,10 +76,10 @@ double worst_margin(const MotionLaw& law, const RigidFollower& follower, double 
 
 /// The any-law bound of one rise or return piece.
 struct SegmentJumpBound {
-  std::size_t piece = 0;            ///< index into law.pieces()
+  std::size_t piece = 0;  ///< index into law.pieces()
   double start_deg = 0.0, end_deg = 0.0;
-  double lift = 0.0;                ///< signed [m]
-  double omega = 0.0;               ///< highest jump-free speed of any law [rad/s] (inf: no limit found)
+  double lift = 0.0;   ///< signed [m]
+  double omega = 0.0;  ///< highest jump-free speed of any law [rad/s] (inf: no limit found)
 };
 
 /// For each piece in `pieces` (rises and returns of `law`), the highest speed

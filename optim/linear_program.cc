@@ -26,12 +26,18 @@ std::vector<double> clp_bounds(const std::vector<double>& v) {
 /// CLP's problem status in words.
 std::string clp_status_text(const ClpSimplex& model) {
   switch (model.problemStatus()) {
-    case 0: return "optimal";
-    case 1: return "primal infeasible";
-    case 2: return "dual infeasible (unbounded)";
-    case 3: return "stopped on the iteration limit";
-    case 4: return "stopped on numerical difficulties";
-    default: return "status " + std::to_string(model.problemStatus());
+    case 0:
+      return "optimal";
+    case 1:
+      return "primal infeasible";
+    case 2:
+      return "dual infeasible (unbounded)";
+    case 3:
+      return "stopped on the iteration limit";
+    case 4:
+      return "stopped on numerical difficulties";
+    default:
+      return "status " + std::to_string(model.problemStatus());
   }
 }
 
@@ -40,7 +46,8 @@ std::string clp_status_text(const ClpSimplex& model) {
 double worst_violation(const LinearProgram& lp, const std::vector<double>& x, const std::vector<double>& activity) {
   double worst = 0.0;
   auto check = [&worst](double v, double lo, double hi) {
-    const double scale = std::max({1.0, std::isfinite(lo) ? std::abs(lo) : 0.0, std::isfinite(hi) ? std::abs(hi) : 0.0});
+    const double scale =
+        std::max({1.0, std::isfinite(lo) ? std::abs(lo) : 0.0, std::isfinite(hi) ? std::abs(hi) : 0.0});
     if (v < lo) worst = std::max(worst, (lo - v) / scale);
     if (v > hi) worst = std::max(worst, (v - hi) / scale);
   };
@@ -76,10 +83,14 @@ void LinearProgram::set_cost(int column, double cost) { cost_.at(static_cast<std
 
 const char* to_string(LpStatus status) {
   switch (status) {
-    case LpStatus::optimal: return "optimal";
-    case LpStatus::infeasible: return "infeasible";
-    case LpStatus::unbounded: return "unbounded";
-    case LpStatus::failed: return "failed";
+    case LpStatus::optimal:
+      return "optimal";
+    case LpStatus::infeasible:
+      return "infeasible";
+    case LpStatus::unbounded:
+      return "unbounded";
+    case LpStatus::failed:
+      return "failed";
   }
   return "failed";
 }
@@ -91,8 +102,8 @@ LpSolution solve(const LinearProgram& lp) {
       out.message = "a coefficient is not finite";
       return out;
     }
-  const CoinPackedMatrix matrix(true, lp.triplet_rows().data(), lp.triplet_columns().data(),
-                                lp.triplet_values().data(), static_cast<CoinBigIndex>(lp.triplet_values().size()));
+  const CoinPackedMatrix matrix(true, lp.triplet_rows().data(), lp.triplet_columns().data(), lp.triplet_values().data(),
+                                static_cast<CoinBigIndex>(lp.triplet_values().size()));
   ClpSimplex model;
   model.setLogLevel(0);
   const std::vector<double> cl = clp_bounds(lp.column_lower()), cu = clp_bounds(lp.column_upper());
@@ -107,10 +118,18 @@ LpSolution solve(const LinearProgram& lp) {
   if (model.problemStatus() == 3 || model.problemStatus() == 4) model.primal();  // a second opinion
   out.iterations = model.numberIterations();
   switch (model.problemStatus()) {
-    case 0: out.status = LpStatus::optimal; break;
-    case 1: out.status = LpStatus::infeasible; break;
-    case 2: out.status = LpStatus::unbounded; break;
-    default: out.status = LpStatus::failed; break;
+    case 0:
+      out.status = LpStatus::optimal;
+      break;
+    case 1:
+      out.status = LpStatus::infeasible;
+      break;
+    case 2:
+      out.status = LpStatus::unbounded;
+      break;
+    default:
+      out.status = LpStatus::failed;
+      break;
   }
   if (out.status != LpStatus::optimal) {
     out.message = clp_status_text(model);

@@ -66,11 +66,11 @@ const char* to_string(LpStatus status);
 
 struct LpSolution {
   LpStatus status = LpStatus::failed;
-  std::vector<double> x;            ///< the optimal point (only when optimal)
+  std::vector<double> x;             ///< the optimal point (only when optimal)
   std::vector<double> row_activity;  ///< A x (only when optimal)
-  double objective = 0.0;           ///< cᵀx (only when optimal)
-  int iterations = 0;               ///< simplex iterations
-  std::string message;              ///< CLP's status in words (when not optimal)
+  double objective = 0.0;            ///< cᵀx (only when optimal)
+  int iterations = 0;                ///< simplex iterations
+  std::string message;               ///< CLP's status in words (when not optimal)
 };
 
 /// Solves `lp` with CLP's dual simplex (quiet). Never throws for an

@@ -165,8 +165,7 @@ void search_designs(const DesignSpace& space, const DesignEvaluator& evaluator, 
 /// `mechanism.cam.limits`, so `camdyn validate optimized.json` re-checks them
 /// (one it breaks is left out, or optimized.json could not be run at all;
 /// result.json reports it).
-SceneConfig with_limits(const SceneConfig& scene, const std::vector<ConstraintSpec>& specs,
-                        const DesignEvaluation& e) {
+SceneConfig with_limits(const SceneConfig& scene, const std::vector<ConstraintSpec>& specs, const DesignEvaluation& e) {
   SceneConfig s = scene;
   CamLimitsConfig& l = s.mechanism.cam.limits;
   for (std::size_t i = 0; i < specs.size() && i < e.constraints.size(); ++i) {

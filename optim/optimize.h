@@ -51,10 +51,10 @@ struct OptimizeOutcome {
   Normalisation normalisation;
   bool loop_simulated = false;  ///< the loop ran simulations (else kinematics and geometry only)
 
-  DesignEvaluation baseline;    ///< the baseline law, scene settings, time series kept
-  RigidStageResult rigid;       ///< the rigid-model stage and its certificate (rigid.enabled)
-  DesignEvaluation initial;     ///< the first start of the search (the rigid design, else the spline fit), loop settings
-  DesignEvaluation optimized;   ///< the chosen design, scene settings, time series kept
+  DesignEvaluation baseline;   ///< the baseline law, scene settings, time series kept
+  RigidStageResult rigid;      ///< the rigid-model stage and its certificate (rigid.enabled)
+  DesignEvaluation initial;    ///< the first start of the search (the rigid design, else the spline fit), loop settings
+  DesignEvaluation optimized;  ///< the chosen design, scene settings, time series kept
   SceneConfig optimized_scene;  ///< the `simulate` config written to optimized.json
   int candidates_tried = 0;     ///< designs re-evaluated at the scene settings to find a feasible one
   bool resumed = false;         ///< the search started from the checkpoint of an earlier, killed run

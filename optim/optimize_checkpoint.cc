@@ -51,8 +51,8 @@ void remove_checkpoint(const std::filesystem::path& dir) {
   std::filesystem::remove(dir / kBestDesign, ec);
 }
 
-std::optional<std::vector<double>> read_checkpoint(const std::filesystem::path& dir,
-                                                   const OptimizeStudyConfig& config, int dimension) {
+std::optional<std::vector<double>> read_checkpoint(const std::filesystem::path& dir, const OptimizeStudyConfig& config,
+                                                   int dimension) {
   if (dir.empty()) return std::nullopt;
   std::ifstream in(dir / kCheckpoint);
   if (!in) return std::nullopt;

@@ -46,7 +46,7 @@ void remove_checkpoint(const std::filesystem::path& dir);
 
 /// The best design vector of an earlier, killed run of the same study in
 /// `dir` (same study fields, `dimension` variables), if there is one.
-std::optional<std::vector<double>> read_checkpoint(const std::filesystem::path& dir,
-                                                   const OptimizeStudyConfig& config, int dimension);
+std::optional<std::vector<double>> read_checkpoint(const std::filesystem::path& dir, const OptimizeStudyConfig& config,
+                                                   int dimension);
 
 }  // namespace camdyn::optim

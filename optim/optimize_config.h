@@ -88,9 +88,9 @@ struct OptimizerConfig {
 /// maximises the worst rigid-model contact-force margin at the operating
 /// speeds, and the jump-speed certificate. Translating followers only.
 struct RigidStageConfig {
-  bool enabled = true;           ///< false: the search starts from the spline fit of the baseline
-  int samples = 121;             ///< constraint samples per designed segment (ends included)
-  int certificate_grid = 300;    ///< intervals per segment of the any-law programme (bound error ~0.5/grid)
+  bool enabled = true;         ///< false: the search starts from the spline fit of the baseline
+  int samples = 121;           ///< constraint samples per designed segment (ends included)
+  int certificate_grid = 300;  ///< intervals per segment of the any-law programme (bound error ~0.5/grid)
   /// The contact force the rigid stage keeps at every angle [N]; null: the
   /// constraint `min_contact_force` if given, else 0 (then the stage
   /// maximises the margin above 0).

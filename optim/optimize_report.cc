@@ -98,10 +98,12 @@ std::vector<std::pair<std::string, std::string>> answer_facts(const OptimizeOutc
   facts.emplace_back("certificate (contact force ≥ " + format_number(c.min_contact_force) + " N)",
                      "any law: " + format_number(c.any_law_rpm, 5) + " rpm (set by " + c.any_law_binding +
                          "); this spline family: " + format_number(c.family_rpm, 5) + " rpm" +
-                         (binding.empty() ? "" : " (held by " + binding + ")") + "; baseline law: " + format_number(c.baseline_rpm, 5) + " rpm");
+                         (binding.empty() ? "" : " (held by " + binding + ")") +
+                         "; baseline law: " + format_number(c.baseline_rpm, 5) + " rpm");
   std::string verdict;
   for (const SpeedCertificate& s : c.speeds)
-    verdict += (verdict.empty() ? "" : "; ") + format_number(s.rpm) + " rpm " + (s.feasible ? "feasible" : "INFEASIBLE");
+    verdict +=
+        (verdict.empty() ? "" : "; ") + format_number(s.rpm) + " rpm " + (s.feasible ? "feasible" : "INFEASIBLE");
   facts.emplace_back("operating speeds", verdict);
   return facts;
 }
@@ -113,18 +115,19 @@ std::vector<std::pair<std::string, std::string>> summary_facts(const OptimizeOut
   std::string speeds;
   for (double rpm : o.config.operating_rpm) speeds += (speeds.empty() ? "" : ", ") + format_number(rpm);
   std::vector<std::pair<std::string, std::string>> facts = answer_facts(o);
-  std::vector<std::pair<std::string, std::string>> run = {{"algorithm", o.search.method},
-          {"stop reason", o.search.stop_reason},
-          {"evaluations", std::to_string(o.search.evaluations) + " (" + std::to_string(o.search.invalid_evaluations) +
-                              " invalid designs)"},
-          {"simulations", std::to_string(o.simulations)},
-          {"run time",
-           format_number(o.run_time_s, 4) + " s (search loop " + format_number(o.loop_time_s, 4) + " s, " +
-               format_number(o.loop_time_s > 0 ? static_cast<double>(o.search.evaluations) / o.loop_time_s : 0.0, 4) +
-               " evaluations/s)"},
-          {"operating speeds", speeds + " rpm (" + o.config.objective.aggregate + " case)"},
-          {"objective", format_number(b.objective) + " → " + format_number(p.objective)},
-          {"all constraints hold", "baseline: " + yes_no(b.feasible) + ", optimised: " + yes_no(p.feasible)}};
+  std::vector<std::pair<std::string, std::string>> run = {
+      {"algorithm", o.search.method},
+      {"stop reason", o.search.stop_reason},
+      {"evaluations", std::to_string(o.search.evaluations) + " (" + std::to_string(o.search.invalid_evaluations) +
+                          " invalid designs)"},
+      {"simulations", std::to_string(o.simulations)},
+      {"run time",
+       format_number(o.run_time_s, 4) + " s (search loop " + format_number(o.loop_time_s, 4) + " s, " +
+           format_number(o.loop_time_s > 0 ? static_cast<double>(o.search.evaluations) / o.loop_time_s : 0.0, 4) +
+           " evaluations/s)"},
+      {"operating speeds", speeds + " rpm (" + o.config.objective.aggregate + " case)"},
+      {"objective", format_number(b.objective) + " → " + format_number(p.objective)},
+      {"all constraints hold", "baseline: " + yes_no(b.feasible) + ", optimised: " + yes_no(p.feasible)}};
   facts.insert(facts.end(), run.begin(), run.end());
   return facts;
 }
@@ -141,7 +144,8 @@ void add_margin_plots(const OptimizeOutcome& o, Report& r) {
     if (mb.empty() || mp.empty()) return;
     r.plots.push_back(make_plot("Rigid-model contact-force margin P − " + format_number(pmin) + " N at " +
                                     format_number(rpm) + " rpm (< 0: the follower jumps)",
-                                "cam angle [deg]", "margin [N]", {{"baseline", angles, mb}, {"optimised", angles, mp}}));
+                                "cam angle [deg]", "margin [N]",
+                                {{"baseline", angles, mb}, {"optimised", angles, mp}}));
   }
 }
 
@@ -320,9 +324,9 @@ std::vector<std::string> report_notes(const OptimizeOutcome& o) {
     notes.push_back("Rigid-model stage: " + std::to_string(o.rigid.lp_solves) + " linear programmes in " +
                     format_number(o.rigid.run_time_s, 3) + " s; its design, jump-free to " +
                     format_number(o.rigid.design.jump_free_rpm, 5) + " rpm on the rigid model, starts the search.");
-  notes.push_back("Spline fit of the baseline law: max lift error " +
-                  format_number(o.fit.max_lift_error, 3) + " of the lift, max acceleration error " +
-                  format_number(o.fit.max_acceleration_error, 3) + " of the peak.");
+  notes.push_back("Spline fit of the baseline law: max lift error " + format_number(o.fit.max_lift_error, 3) +
+                  " of the lift, max acceleration error " + format_number(o.fit.max_acceleration_error, 3) +
+                  " of the peak.");
   if (!o.optimized.feasible) notes.push_back("WARNING: the optimised design does not satisfy every constraint.");
   return notes;
 }
@@ -332,7 +336,9 @@ std::vector<std::string> report_notes(const OptimizeOutcome& o) {
 Report optimize_report(const OptimizeOutcome& o, const std::string& name) {
   Report r;
   r.title = "camdyn optimize: " + name;
-  r.subtitle = "Spline cam design: rigid-model linear programmes, then NLopt on simulations; baseline against the optimised design";
+  r.subtitle =
+      "Spline cam design: rigid-model linear programmes, then NLopt on simulations; baseline against the optimised "
+      "design";
   r.facts = summary_facts(o);
   const Table constraints = constraints_table(o);
   if (!constraints.rows.empty()) r.tables.push_back(constraints);

@@ -27,10 +27,10 @@ void print_certificate(const OptimizeOutcome& o) {
   std::string binding;
   for (const std::string& b : c.family_binding) binding += (binding.empty() ? "" : ", ") + b;
   const std::string held = binding.empty() ? "" : " (held by " + binding + ")";
-  std::printf("  certificate (rigid model, contact force >= %g N): any law %.5g rpm (set by %s); this spline family "
-              "%.5g rpm%s; baseline law %.5g rpm\n",
-              c.min_contact_force, c.any_law_rpm, c.any_law_binding.c_str(), c.family_rpm, held.c_str(),
-              c.baseline_rpm);
+  std::printf(
+      "  certificate (rigid model, contact force >= %g N): any law %.5g rpm (set by %s); this spline family "
+      "%.5g rpm%s; baseline law %.5g rpm\n",
+      c.min_contact_force, c.any_law_rpm, c.any_law_binding.c_str(), c.family_rpm, held.c_str(), c.baseline_rpm);
   for (const SpeedCertificate& s : c.speeds) {
     if (s.feasible)
       std::printf("  %6g rpm: feasible (best rigid margin %.4g N)\n", s.rpm, s.best_margin);

@@ -124,9 +124,10 @@ class SplineFamily {
     const int z = lp.add_column(-kLpInfinity, kLpInfinity, 1.0);
     const bool force = options.goal == FamilyOptions::Goal::min_peak_force;
     const double w = options.peak_omega;
-    const std::array<double, 3> a = force ? std::array<double, 3>{follower_.coefficient_s(), follower_.coefficient_ds(w),
-                                                                  follower_.coefficient_d2s(w)}
-                                          : std::array<double, 3>{0.0, 0.0, 1.0};
+    const std::array<double, 3> a = force
+                                        ? std::array<double, 3>{follower_.coefficient_s(), follower_.coefficient_ds(w),
+                                                                follower_.coefficient_d2s(w)}
+                                        : std::array<double, 3>{0.0, 0.0, 1.0};
     const double offset = force ? follower_.constant() + follower_.min_force : 0.0;  // P = Σ a·s + F₀ + M g
     std::vector<std::pair<int, double>> terms;
     for (const AffineSample& s : samples_) {
@@ -249,8 +250,8 @@ struct MarginSolution {
   std::vector<double> c;
 };
 
-MarginSolution solve_margin(const SplineFamily& family, const std::vector<double>& omegas,
-                            const FamilyOptions& options, int& solves) {
+MarginSolution solve_margin(const SplineFamily& family, const std::vector<double>& omegas, const FamilyOptions& options,
+                            int& solves) {
   const LinearProgram lp = family.margin_program(omegas, options);
   const LpSolution sol = solve(lp);
   ++solves;
@@ -414,8 +415,7 @@ RigidStageResult run_rigid_stage(const SceneConfig& baseline, const OptimizeStud
     return out;
   }
   const RigidFollower f = rigid_follower(model, cert.min_contact_force, file);
-  const SplineFamily family(space, config.design, f, model.follower, config.constraints, config.rigid.samples,
-                            file);
+  const SplineFamily family(space, config.design, f, model.follower, config.constraints, config.rigid.samples, file);
   const double hint = *std::max_element(config.operating_rpm.begin(), config.operating_rpm.end()) * kRadPerRpm;
   cert.available = true;
   cert.baseline_rpm = as_rpm(law_bound(*model.law, f, hint));
@@ -425,12 +425,10 @@ RigidStageResult run_rigid_stage(const SceneConfig& baseline, const OptimizeStud
   const FamilyOptions all{family.monotone(), true};
   for (const double rpm : config.operating_rpm) {
     const std::vector<double> omegas = check_speeds(rpm * kRadPerRpm, f);
-    const double m =
-        std::min(solve_margin(family, omegas, all, out.lp_solves).margin, family.fixed_margin(omegas));
+    const double m = std::min(solve_margin(family, omegas, all, out.lp_solves).margin, family.fixed_margin(omegas));
     cert.speeds.push_back({rpm, m >= -1e-9 * (std::abs(f.constant()) + 1.0), m});
   }
-  if (config.rigid.explain_bound || !cert.all_feasible())
-    family_binding(family, f, hint, bound, cert, out.lp_solves);
+  if (config.rigid.explain_bound || !cert.all_feasible()) family_binding(family, f, hint, bound, cert, out.lp_solves);
 
   out.design = make_design(family, f, config, space, bound, fastest, out.lp_solves);
   RigidDesign& d = out.design;

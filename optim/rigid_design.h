@@ -47,8 +47,8 @@ struct Certificate {
   /// bisections) when an operating speed is infeasible or rigid.explain_bound
   /// is set; empty otherwise.
   std::vector<std::string> family_binding;
-  double baseline_rpm = 0.0;                 ///< the baseline law's own rigid jump-free speed at P_min [rpm]
-  std::vector<SpeedCertificate> speeds;      ///< (c), in operating_rpm order
+  double baseline_rpm = 0.0;             ///< the baseline law's own rigid jump-free speed at P_min [rpm]
+  std::vector<SpeedCertificate> speeds;  ///< (c), in operating_rpm order
   bool all_feasible() const;
 };
 

@@ -458,9 +458,9 @@ void check_cam_limits(const CamLimitsConfig& limits, const CamGeometryReport& g,
   if (limits.max_peak_jerk) {
     const double jerk = law_peaks(law).jerk;
     if (jerk > *limits.max_peak_jerk)
-      throw InputError(file, at + "max_peak_jerk",
-                       "the law's peak jerk |d³s/dθ³| is " + number(jerk) + ", above the limit " +
-                           number(*limits.max_peak_jerk));
+      throw InputError(
+          file, at + "max_peak_jerk",
+          "the law's peak jerk |d³s/dθ³| is " + number(jerk) + ", above the limit " + number(*limits.max_peak_jerk));
   }
 }
 

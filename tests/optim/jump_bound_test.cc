@@ -3,6 +3,8 @@
 // rest-to-rest rises and returns, with and without a required contact force,
 // gravity and a constant-force spring; and the LP wrapper on small
 // programmes with known answers.
+#include "optim/jump_bound.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -12,7 +14,6 @@
 #include <vector>
 
 #include "geometry/motion_law.h"
-#include "optim/jump_bound.h"
 #include "optim/linear_program.h"
 
 namespace camdyn::optim {
@@ -113,8 +114,8 @@ TEST_P(AnyLawJumpBoundCases, LinearProgrammeMatchesTheClosedForm) {
   ASSERT_EQ(b.size(), 2u);
   const double expected = any_law_jump_speed_closed_form(f, 0.0, 0.02, 2.0 * kPi / 3.0);
   for (const SegmentJumpBound& s : b) {
-    EXPECT_NEAR(s.omega / expected, 1.0, kGridTolerance) << c.name << ", piece " << s.piece << ": " << s.omega
-                                                         << " against " << expected << " rad/s";
+    EXPECT_NEAR(s.omega / expected, 1.0, kGridTolerance)
+        << c.name << ", piece " << s.piece << ": " << s.omega << " against " << expected << " rad/s";
     // The bound is an upper bound of what the cycloidal law itself reaches.
     EXPECT_GT(s.omega, 1.05 * 2.0 * kPi / 3.0 * std::sqrt(0.008 * 5000 / 0.3 / (0.02 * 2 * kPi)));
   }

@@ -11,8 +11,8 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <csignal>
 #include <cmath>
+#include <csignal>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -352,8 +352,8 @@ TEST(OptimizeCli, SeparationObjectiveAloneGivesADesignThatStaysOnTheCam) {
   const Json limits = Json::parse(valid.out)["mechanism"]["cam"]["limits"];
   EXPECT_EQ(limits["max_pressure_angle_deg"].get<double>(), 30.0);
   EXPECT_EQ(limits["min_radius_of_curvature"].get<double>(), 0.006);
-  const Outcome broken = run_cli("validate " + (dir / "optimized.json").string() +
-                                 " --set mechanism.cam.limits.max_pressure_angle_deg=5");
+  const Outcome broken =
+      run_cli("validate " + (dir / "optimized.json").string() + " --set mechanism.cam.limits.max_pressure_angle_deg=5");
   EXPECT_EQ(broken.code, 2);
   EXPECT_NE(broken.err.find("mechanism.cam.limits.max_pressure_angle_deg"), std::string::npos) << broken.err;
   for (const double rpm : {1000.0, 1150.0, 1300.0}) {
@@ -391,8 +391,8 @@ TEST(OptimizeCli, TargetAboveTheBoundIsReportedInfeasibleAndTheBestDesignWritten
 // parse, and a re-run of the same study into the same folder resumes from it.
 TEST(OptimizeCli, AKilledRunLeavesItsHistoryAndBestDesignAndARerunResumes) {
   const fs::path dir = scratch("killed");
-  const std::vector<std::string> argv = {CAMDYN_BINARY, "run", kJump, "--out", (dir / "out").string(), "--jobs", "2",
-                                         "--quiet", "--set", "optimizer.max_evaluations=60"};
+  const std::vector<std::string> argv = {CAMDYN_BINARY, "run", kJump,     "--out", (dir / "out").string(),
+                                         "--jobs",      "2",   "--quiet", "--set", "optimizer.max_evaluations=60"};
   const pid_t pid = test::spawn(argv, dir / "first.out", dir / "first.err");
   ASSERT_GT(pid, 0);
   bool seen = false;

@@ -3,6 +3,8 @@
 // computations (the cycloidal law's jump speed from its closed-form
 // acceleration, the any-law bound's closed form), its design against its
 // own claims, and a target above the bound reported infeasible.
+#include "optim/rigid_design.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -15,7 +17,6 @@
 #include "optim/design.h"
 #include "optim/jump_bound.h"
 #include "optim/optimize.h"
-#include "optim/rigid_design.h"
 
 namespace camdyn::optim {
 namespace {
@@ -78,9 +79,10 @@ TEST(RigidStage, CertificateOfTheJumpStudy) {
   for (std::size_t i = 0; i < d.verified_margin.size(); ++i)
     EXPECT_GT(d.verified_margin[i], 0.0) << study.config.operating_rpm[i];
   EXPECT_GT(d.jump_free_rpm, 0.99 * study.config.rigid.speed_factor * 1300.0);
-  std::printf("baseline %.1f rpm, any law %.1f rpm (%s), family %.1f rpm, design %.1f rpm, margin %.3f N, %d LPs, %.3f s\n",
-              c.baseline_rpm, c.any_law_rpm, c.any_law_binding.c_str(), c.family_rpm, d.jump_free_rpm, d.lp_margin,
-              r.lp_solves, r.run_time_s);
+  std::printf(
+      "baseline %.1f rpm, any law %.1f rpm (%s), family %.1f rpm, design %.1f rpm, margin %.3f N, %d LPs, %.3f s\n",
+      c.baseline_rpm, c.any_law_rpm, c.any_law_binding.c_str(), c.family_rpm, d.jump_free_rpm, d.lp_margin, r.lp_solves,
+      r.run_time_s);
   EXPECT_TRUE(c.family_binding.empty());  // every speed is feasible and explain_bound is off
 }
 
@@ -127,7 +129,7 @@ TEST(RigidStage, TargetAboveTheBoundIsInfeasible) {
   EXPECT_FALSE(c.speeds[1].feasible);
   EXPECT_LT(c.speeds[1].best_margin, 0.0);
   EXPECT_FALSE(c.all_feasible());
-  EXPECT_TRUE(r.design.have);  // the best design is still made
+  EXPECT_TRUE(r.design.have);              // the best design is still made
   ASSERT_FALSE(c.family_binding.empty());  // an infeasible speed: what holds the bound down is named
   EXPECT_NE(c.family_binding[0].find("spline family"), std::string::npos) << c.family_binding[0];
 }
