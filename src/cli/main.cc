@@ -23,6 +23,7 @@
 #include "study/convergence_study.h"
 #include "study/mpi_runner.h"
 #include "study/simulation_output.h"
+#include "study/speed_limit.h"
 #include "study/study.h"
 
 namespace {
@@ -155,6 +156,7 @@ int main(int argc, char** argv) {
     }
     if (study == "optimize") return camdyn::optim::run_optimize_study(doc, ctx);
     if (study == "identify") return camdyn::optim::run_identify_study(doc, ctx);
+    if (study == "speed_limit") return camdyn::run_speed_limit_study(doc, ctx);
     return run_simulate(doc, ctx);  // simulate; any other study name is reported by the config layer
   } catch (const camdyn::InputError& e) {
     if (!root) return kExitInput;  // every rank reads the same input: rank 0 says what is wrong

@@ -1,0 +1,192 @@
+#include "study/speed_limit.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+
+#include "common/errors.h"
+#include "common/parallel.h"
+#include "dynamics/model.h"
+#include "dynamics/simulation.h"
+#include "io/json_archive.h"
+#include "io/json_writer.h"
+#include "io/report.h"
+
+namespace camdyn {
+
+namespace {
+
+const std::vector<std::string> kStudyKeys = {"speed_limit"};
+
+/// The scene's metrics at `rpm`.
+SpeedCheck check_speed(const SceneConfig& base, double rpm, double min_force, const std::string& file) {
+  SceneConfig s = base;
+  s.mechanism.cam.rpm = rpm;
+  SimulationOptions options;
+  options.record_series = false;
+  const SimulationResult r = simulate_scene(s, file, options);
+  SpeedCheck c;
+  c.rpm = rpm;
+  c.converged = r.solver.termination == Termination::converged;
+  c.message = c.converged ? "" : r.solver.message;
+  c.separation_fraction = r.metrics.separation_fraction;
+  c.min_contact_force = r.metrics.min_contact_force;
+  c.peak_contact_force = r.metrics.peak_contact_force;
+  c.ok = c.converged && c.separation_fraction == 0.0 && (min_force <= 0.0 || c.min_contact_force >= min_force);
+  return c;
+}
+
+}  // namespace
+
+template <class A>
+void visit(A& a, SpeedLimitConfig& c) {
+  a.field("low_rpm", c.low_rpm, positive());
+  a.field("high_rpm", c.high_rpm, positive());
+  a.field("scan", c.scan, at_least(2));
+  a.field("tolerance_rpm", c.tolerance_rpm, positive());
+  a.field("min_contact_force", c.min_contact_force, non_negative());
+  a.require(!c.high_rpm || *c.high_rpm > c.low_rpm, "high_rpm", "must be above low_rpm");
+}
+
+SpeedLimitStudy read_speed_limit_study(const Json& doc, const StudyContext& ctx) {
+  SpeedLimitStudy study;
+  Json part;
+  study.scene = scene_from_study_json(doc, ctx.source, kStudyKeys, part);
+  const Json fields = part.value("speed_limit", Json::object());  // the reader keeps a reference
+  JsonReader reader(fields, "speed_limit", ctx.source);
+  visit(reader, study.config);
+  reader.finish();
+  build_model(study.scene, ctx.config_file);  // the geometry and contact law, before any run
+  JsonWriter writer;
+  visit(writer, study.config);
+  study.resolved = resolved_study_json(study.scene, "speed_limit", Json{{"speed_limit", writer.json()}});
+  return study;
+}
+
+SpeedLimitResult run_speed_limit(const SpeedLimitStudy& study, const StudyContext& ctx) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const SpeedLimitConfig& c = study.config;
+  SpeedLimitResult r;
+  SceneConfig at_low = study.scene;
+  at_low.mechanism.cam.rpm = c.low_rpm;
+  r.rigid_jump_speed_rpm = jump_speed_rpm(build_model(at_low, ctx.config_file));
+  const double high =
+      c.high_rpm.value_or(std::isfinite(r.rigid_jump_speed_rpm) ? 2.0 * r.rigid_jump_speed_rpm : 10.0 * c.low_rpm);
+  const double hi = std::max(high, 1.01 * c.low_rpm);
+
+  // The scan, in parallel: low_rpm … hi evenly.
+  std::vector<SpeedCheck> scan(static_cast<std::size_t>(c.scan));
+  parallel_for(scan.size(), ctx.threads(), [&](std::size_t i) {
+    const double rpm = c.low_rpm + (hi - c.low_rpm) * static_cast<double>(i) / (c.scan - 1);
+    scan[i] = check_speed(study.scene, rpm, c.min_contact_force, ctx.config_file);
+  });
+  r.checks = scan;
+  const auto failed = std::find_if(scan.begin(), scan.end(), [](const SpeedCheck& s) { return !s.ok; });
+  if (failed == scan.end()) {
+    r.speed_limit_rpm = hi;
+  } else if (failed == scan.begin()) {
+    r.limited = true;
+    r.first_failure_rpm = failed->rpm;
+  } else {
+    // Bisect between the last speed that kept contact and the first that did not.
+    double lo = (failed - 1)->rpm, up = failed->rpm;
+    while (up - lo > c.tolerance_rpm) {
+      const double mid = 0.5 * (lo + up);
+      r.checks.push_back(check_speed(study.scene, mid, c.min_contact_force, ctx.config_file));
+      (r.checks.back().ok ? lo : up) = mid;
+    }
+    r.limited = true;
+    r.speed_limit_rpm = lo;
+    r.first_failure_rpm = up;
+  }
+  r.run_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
+
+Json speed_limit_json(const SpeedLimitStudy& study, const SpeedLimitResult& r) {
+  Json checks = Json::array();
+  for (const SpeedCheck& s : r.checks) {
+    Json j{{"rpm", s.rpm},
+           {"in_contact", s.ok},
+           {"converged", s.converged},
+           {"separation_fraction", s.separation_fraction},
+           {"min_contact_force", s.min_contact_force},
+           {"peak_contact_force", s.peak_contact_force}};
+    if (!s.converged) j["message"] = s.message;
+    checks.push_back(j);
+  }
+  return Json{{"name", study.scene.name},
+              {"study", "speed_limit"},
+              {"camdyn_version", CAMDYN_VERSION},
+              {"speed_limit_rpm", r.speed_limit_rpm},
+              {"limited", r.limited},
+              {"first_failure_rpm", r.limited ? Json(r.first_failure_rpm) : Json(nullptr)},
+              {"tolerance_rpm", study.config.tolerance_rpm},
+              {"rigid_jump_speed_rpm", std::isfinite(r.rigid_jump_speed_rpm) ? Json(r.rigid_jump_speed_rpm) : Json()},
+              {"min_contact_force", study.config.min_contact_force},
+              {"checks", checks},
+              {"run_time_s", r.run_time_s}};
+}
+
+namespace {
+
+/// report.html: separation fraction and smallest contact force against speed.
+Report speed_limit_report(const SpeedLimitStudy& study, const SpeedLimitResult& r) {
+  std::vector<SpeedCheck> sorted = r.checks;
+  std::sort(sorted.begin(), sorted.end(), [](const SpeedCheck& a, const SpeedCheck& b) { return a.rpm < b.rpm; });
+  Series sep{"separation fraction", {}, {}, "linespoints"}, force{"smallest contact force", {}, {}, "linespoints"};
+  Table table{"Simulated speeds", {"rpm", "in contact", "separation fraction", "min contact force [N]",
+                                   "peak contact force [N]"}, {}};
+  for (const SpeedCheck& s : sorted) {
+    sep.x.push_back(s.rpm);
+    sep.y.push_back(s.separation_fraction);
+    force.x.push_back(s.rpm);
+    force.y.push_back(s.min_contact_force);
+    table.rows.push_back({format_number(s.rpm), s.ok ? "yes" : "NO", format_number(s.separation_fraction),
+                          format_number(s.min_contact_force), format_number(s.peak_contact_force)});
+  }
+  Report rep;
+  rep.title = "camdyn speed_limit: " + study.scene.name;
+  rep.subtitle = "How fast can this go? The highest speed at which the follower stays on the cam";
+  rep.facts = {{"speed limit (simulated)", r.limited ? format_number(r.speed_limit_rpm, 5) + " rpm (fails at " +
+                                                           format_number(r.first_failure_rpm, 5) + " rpm)"
+                                                     : "none found up to " + format_number(r.speed_limit_rpm, 5) + " rpm"},
+               {"rigid-model jump speed", format_number(r.rigid_jump_speed_rpm, 5) + " rpm"},
+               {"simulations", std::to_string(r.checks.size()) + " in " + format_number(r.run_time_s, 3) + " s"}};
+  rep.tables.push_back(table);
+  rep.plots.push_back(Plot{"Separation against speed", "cam speed [rpm]", "separation fraction [-]", {sep}});
+  rep.plots.push_back(Plot{"Smallest contact force against speed", "cam speed [rpm]", "force [N]", {force}});
+  return rep;
+}
+
+}  // namespace
+
+int run_speed_limit_study(const Json& doc, const StudyContext& ctx) {
+  const SpeedLimitStudy study = read_speed_limit_study(doc, ctx);
+  if (ctx.validate_only) {
+    std::cout << dump_json(study.resolved);
+    return 0;
+  }
+  const SpeedLimitResult r = run_speed_limit(study, ctx);
+  std::filesystem::create_directories(ctx.out_dir);
+  write_json_atomic(ctx.out_dir / "speed_limit.json", speed_limit_json(study, r));
+  write_report(ctx.out_dir / "report.html", speed_limit_report(study, r));
+  if (r.limited && r.speed_limit_rpm == 0.0)
+    std::printf("%s: the follower leaves the cam already at %.6g rpm (the lowest speed checked)\n",
+                study.scene.name.c_str(), r.first_failure_rpm);
+  else if (r.limited)
+    std::printf("%s: stays on the cam up to %.6g rpm (simulated; leaves it at %.6g rpm); rigid-model jump speed "
+                "%.6g rpm\n",
+                study.scene.name.c_str(), r.speed_limit_rpm, r.first_failure_rpm, r.rigid_jump_speed_rpm);
+  else
+    std::printf("%s: stays on the cam at every speed checked, up to %.6g rpm; rigid-model jump speed %.6g rpm\n",
+                study.scene.name.c_str(), r.speed_limit_rpm, r.rigid_jump_speed_rpm);
+  std::printf("  %zu simulations, %.3g s; report: %s\n", r.checks.size(), r.run_time_s,
+              std::filesystem::absolute(ctx.out_dir / "report.html").lexically_normal().c_str());
+  return 0;
+}
+
+}  // namespace camdyn

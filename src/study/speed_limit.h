@@ -1,0 +1,75 @@
+// The `speed_limit` study: "how fast can this go?" The highest cam speed at
+// which the follower stays on the cam in the compliant simulation (no
+// separation over the evaluated cycles, and at least `min_contact_force`),
+// with the rigid-model jump speed beside it.
+//
+// Separation is not monotone in speed in general (resonances of the follower
+// on its spring), so the study does not bisect blindly: it simulates a scan
+// of `scan` speeds from `low_rpm` to `high_rpm`, takes the first speed that
+// fails, and bisects between it and the scan speed below to `tolerance_rpm`.
+// The answer is "every scanned speed up to here keeps contact, and the speed
+// just above the limit does not", which is what a designer can rely on.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "io/config.h"
+#include "study/study.h"
+
+namespace camdyn {
+
+/// The study's own fields (`speed_limit` in the config).
+struct SpeedLimitConfig {
+  double low_rpm = 100.0;                 ///< lowest speed checked [rpm], > 0
+  std::optional<double> high_rpm;         ///< highest [rpm]; null: twice the rigid-model jump speed
+  int scan = 12;                          ///< speeds of the first scan, ≥ 2
+  double tolerance_rpm = 5.0;             ///< width of the final bracket [rpm]
+  double min_contact_force = 0.0;         ///< contact force to keep [N]; 0: no separation is enough
+
+  bool operator==(const SpeedLimitConfig&) const = default;
+};
+
+struct SpeedLimitStudy {
+  SceneConfig scene;
+  SpeedLimitConfig config;
+  Json resolved;  ///< the resolved study config (`camdyn validate` prints it)
+};
+
+/// One simulated speed.
+struct SpeedCheck {
+  double rpm = 0.0;
+  bool ok = false;                   ///< in contact (and the force floor held)
+  bool converged = true;             ///< the simulation finished (else ok is false)
+  double separation_fraction = 0.0;  ///< [-]
+  double min_contact_force = 0.0;    ///< [N]
+  double peak_contact_force = 0.0;   ///< [N]
+  std::string message;               ///< the solver's message when it did not converge
+};
+
+struct SpeedLimitResult {
+  /// The highest speed known to keep contact [rpm]: 0 when even low_rpm
+  /// fails, high_rpm when nothing failed up to it (`limited` false).
+  double speed_limit_rpm = 0.0;
+  double first_failure_rpm = 0.0;  ///< the lowest speed known to fail [rpm] (0 when none did)
+  bool limited = false;            ///< some speed in [low_rpm, high_rpm] failed
+  double rigid_jump_speed_rpm = 0.0;
+  std::vector<SpeedCheck> checks;  ///< every simulation, in the order run
+  double run_time_s = 0.0;
+};
+
+/// Reads a `speed_limit` study config; throws InputError.
+SpeedLimitStudy read_speed_limit_study(const Json& doc, const StudyContext& ctx);
+
+/// Runs it on ctx.threads() threads (the scan in parallel).
+SpeedLimitResult run_speed_limit(const SpeedLimitStudy& study, const StudyContext& ctx);
+
+/// speed_limit.json.
+Json speed_limit_json(const SpeedLimitStudy& study, const SpeedLimitResult& result);
+
+/// Runs (or, with ctx.validate_only, checks) the study and writes
+/// speed_limit.json and report.html; returns the exit code.
+int run_speed_limit_study(const Json& doc, const StudyContext& ctx);
+
+}  // namespace camdyn

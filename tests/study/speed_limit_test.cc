@@ -1,0 +1,87 @@
+// The speed_limit study ("how fast can this go?") on the quickstart
+// mechanism: the simulated limit against the rigid model's jump speed
+// (physics.md §6: below it the follower stays on the cam, above it it
+// leaves), with and without the damper, whose c ω s' term lowers the bound on
+// the return; and the config's errors.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <numbers>
+#include <string>
+
+#include "cli_run.h"
+#include "dynamics/model.h"
+#include "io/config.h"
+#include "optim/jump_bound.h"
+
+namespace camdyn {
+namespace {
+
+namespace fs = std::filesystem;
+using test::read_text;
+
+const std::string kQuickstart = std::string(CAMDYN_SOURCE_DIR) + "/studies/quickstart.json";
+
+/// Runs the quickstart as a speed_limit study with `extra` settings; returns speed_limit.json.
+Json run_limit(const std::string& name, const std::vector<std::string>& extra) {
+  const fs::path dir = test::scratch_dir("speed_limit_test", name);
+  std::vector<std::string> args = {"run", kQuickstart, "--out", (dir / "out").string(), "--quiet",
+                                   "--set", "study=speed_limit", "--set",
+                                   "speed_limit={\"low_rpm\": 600, \"high_rpm\": 1600, \"scan\": 6, "
+                                   "\"tolerance_rpm\": 2}"};
+  args.insert(args.end(), extra.begin(), extra.end());
+  const test::Outcome r = test::run_camdyn(args, dir);
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("stays on the cam up to"), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::exists(dir / "out" / "report.html"));
+  return Json::parse(read_text(dir / "out" / "speed_limit.json"));
+}
+
+/// The rigid-model jump speed with the damper's c ω s' term [rpm].
+double rigid_bound_rpm(double damping) {
+  SceneConfig s = load_scene(kQuickstart);
+  s.mechanism.follower.damping = damping;
+  const Model model = build_model(s, kQuickstart);
+  const optim::RigidFollower f = optim::rigid_follower(model, 0.0, kQuickstart);
+  auto ok = [&](double w) {
+    for (const double om : optim::check_speeds(w, f))
+      if (optim::worst_margin(*model.law, f, om, 4000) < 0.0) return false;
+    return true;
+  };
+  return optim::highest_feasible_speed(ok, 100.0, 1e4, 1e-6) * 30.0 / std::numbers::pi;
+}
+
+// The compliant contact (K = 1e10 N/m^1.5) lets the follower deviate from the
+// rigid law by microns, which moves the limit by a fraction of a percent; the
+// bracket is 2 rpm wide.
+constexpr double kCompliance = 0.01;
+
+TEST(SpeedLimit, UndampedLimitIsTheRigidJumpSpeed) {
+  const Json j = run_limit("undamped", {"--set", "mechanism.follower.damping=0"});
+  EXPECT_TRUE(j["limited"].get<bool>());
+  const double limit = j["speed_limit_rpm"].get<double>(), rigid = j["rigid_jump_speed_rpm"].get<double>();
+  EXPECT_NEAR(limit / rigid, 1.0, kCompliance) << limit << " against " << rigid;
+  EXPECT_NEAR(rigid, rigid_bound_rpm(0.0), 1e-3 * rigid);
+  EXPECT_LE(j["first_failure_rpm"].get<double>() - limit, 2.0);
+}
+
+TEST(SpeedLimit, TheDamperLowersTheLimitAsTheRigidBoundWithItsTermSays) {
+  const Json j = run_limit("damped", {});
+  const double limit = j["speed_limit_rpm"].get<double>();
+  const double bound = rigid_bound_rpm(20.0);
+  EXPECT_LT(bound, j["rigid_jump_speed_rpm"].get<double>());  // the reported undamped figure overstates it
+  EXPECT_NEAR(limit / bound, 1.0, kCompliance) << limit << " against " << bound;
+}
+
+TEST(SpeedLimit, BadFieldsAreNamed) {
+  const fs::path dir = test::scratch_dir("speed_limit_test", "bad");
+  const test::Outcome r = test::run_camdyn({"validate", kQuickstart, "--set", "study=speed_limit", "--set",
+                                            "speed_limit={\"low_rpm\": 900, \"high_rpm\": 800}"},
+                                           dir);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("speed_limit.high_rpm"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace camdyn
