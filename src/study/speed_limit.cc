@@ -138,8 +138,9 @@ Report speed_limit_report(const SpeedLimitStudy& study, const SpeedLimitResult& 
   std::vector<SpeedCheck> sorted = r.checks;
   std::sort(sorted.begin(), sorted.end(), [](const SpeedCheck& a, const SpeedCheck& b) { return a.rpm < b.rpm; });
   Series sep{"separation fraction", {}, {}, "linespoints"}, force{"smallest contact force", {}, {}, "linespoints"};
-  Table table{"Simulated speeds", {"rpm", "in contact", "separation fraction", "min contact force [N]",
-                                   "peak contact force [N]"}, {}};
+  Table table{"Simulated speeds",
+              {"rpm", "in contact", "separation fraction", "min contact force [N]", "peak contact force [N]"},
+              {}};
   for (const SpeedCheck& s : sorted) {
     sep.x.push_back(s.rpm);
     sep.y.push_back(s.separation_fraction);
@@ -151,11 +152,12 @@ Report speed_limit_report(const SpeedLimitStudy& study, const SpeedLimitResult& 
   Report rep;
   rep.title = "camdyn speed_limit: " + study.scene.name;
   rep.subtitle = "How fast can this go? The highest speed at which the follower stays on the cam";
-  rep.facts = {{"speed limit (simulated)", r.limited ? format_number(r.speed_limit_rpm, 5) + " rpm (fails at " +
-                                                           format_number(r.first_failure_rpm, 5) + " rpm)"
-                                                     : "none found up to " + format_number(r.speed_limit_rpm, 5) + " rpm"},
-               {"rigid-model jump speed", format_number(r.rigid_jump_speed_rpm, 5) + " rpm"},
-               {"simulations", std::to_string(r.checks.size()) + " in " + format_number(r.run_time_s, 3) + " s"}};
+  rep.facts = {
+      {"speed limit (simulated)", r.limited ? format_number(r.speed_limit_rpm, 5) + " rpm (fails at " +
+                                                  format_number(r.first_failure_rpm, 5) + " rpm)"
+                                            : "none found up to " + format_number(r.speed_limit_rpm, 5) + " rpm"},
+      {"rigid-model jump speed", format_number(r.rigid_jump_speed_rpm, 5) + " rpm"},
+      {"simulations", std::to_string(r.checks.size()) + " in " + format_number(r.run_time_s, 3) + " s"}};
   rep.tables.push_back(table);
   rep.plots.push_back(Plot{"Separation against speed", "cam speed [rpm]", "separation fraction [-]", {sep}});
   rep.plots.push_back(Plot{"Smallest contact force against speed", "cam speed [rpm]", "force [N]", {force}});
@@ -178,9 +180,10 @@ int run_speed_limit_study(const Json& doc, const StudyContext& ctx) {
     std::printf("%s: the follower leaves the cam already at %.6g rpm (the lowest speed checked)\n",
                 study.scene.name.c_str(), r.first_failure_rpm);
   else if (r.limited)
-    std::printf("%s: stays on the cam up to %.6g rpm (simulated; leaves it at %.6g rpm); rigid-model jump speed "
-                "%.6g rpm\n",
-                study.scene.name.c_str(), r.speed_limit_rpm, r.first_failure_rpm, r.rigid_jump_speed_rpm);
+    std::printf(
+        "%s: stays on the cam up to %.6g rpm (simulated; leaves it at %.6g rpm); rigid-model jump speed "
+        "%.6g rpm\n",
+        study.scene.name.c_str(), r.speed_limit_rpm, r.first_failure_rpm, r.rigid_jump_speed_rpm);
   else
     std::printf("%s: stays on the cam at every speed checked, up to %.6g rpm; rigid-model jump speed %.6g rpm\n",
                 study.scene.name.c_str(), r.speed_limit_rpm, r.rigid_jump_speed_rpm);

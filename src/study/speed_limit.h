@@ -22,11 +22,11 @@ namespace camdyn {
 
 /// The study's own fields (`speed_limit` in the config).
 struct SpeedLimitConfig {
-  double low_rpm = 100.0;                 ///< lowest speed checked [rpm], > 0
-  std::optional<double> high_rpm;         ///< highest [rpm]; null: twice the rigid-model jump speed
-  int scan = 12;                          ///< speeds of the first scan, ≥ 2
-  double tolerance_rpm = 5.0;             ///< width of the final bracket [rpm]
-  double min_contact_force = 0.0;         ///< contact force to keep [N]; 0: no separation is enough
+  double low_rpm = 100.0;          ///< lowest speed checked [rpm], > 0
+  std::optional<double> high_rpm;  ///< highest [rpm]; null: twice the rigid-model jump speed
+  int scan = 12;                   ///< speeds of the first scan, ≥ 2
+  double tolerance_rpm = 5.0;      ///< width of the final bracket [rpm]
+  double min_contact_force = 0.0;  ///< contact force to keep [N]; 0: no separation is enough
 
   bool operator==(const SpeedLimitConfig&) const = default;
 };

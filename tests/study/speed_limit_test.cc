@@ -26,8 +26,14 @@ const std::string kQuickstart = std::string(CAMDYN_SOURCE_DIR) + "/studies/quick
 /// Runs the quickstart as a speed_limit study with `extra` settings; returns speed_limit.json.
 Json run_limit(const std::string& name, const std::vector<std::string>& extra) {
   const fs::path dir = test::scratch_dir("speed_limit_test", name);
-  std::vector<std::string> args = {"run", kQuickstart, "--out", (dir / "out").string(), "--quiet",
-                                   "--set", "study=speed_limit", "--set",
+  std::vector<std::string> args = {"run",
+                                   kQuickstart,
+                                   "--out",
+                                   (dir / "out").string(),
+                                   "--quiet",
+                                   "--set",
+                                   "study=speed_limit",
+                                   "--set",
                                    "speed_limit={\"low_rpm\": 600, \"high_rpm\": 1600, \"scan\": 6, "
                                    "\"tolerance_rpm\": 2}"};
   args.insert(args.end(), extra.begin(), extra.end());
