@@ -14,6 +14,7 @@ namespace camdyn::optim {
 namespace {
 
 constexpr double kDeg = 180.0 / std::numbers::pi;
+constexpr double kTwoPiTurn = 2.0 * std::numbers::pi;
 
 /// One rise or return piece as the any-law programme samples it.
 struct PieceGrid {
@@ -83,11 +84,7 @@ bool same_bound(const PieceGrid& a, const PieceGrid& b, bool reversible) {
 
 }  // namespace
 
-RigidFollower rigid_follower(const Model& model, double min_force, const std::string& file) {
-  if (model.follower.oscillating())
-    throw InputError(file, "mechanism.follower.motion",
-                     "the rigid-model stage handles translating followers (an arm's contact condition is not "
-                     "linear in its law)");
+RigidFollower rigid_follower(const Model& model, double min_force) {
   RigidFollower f;
   f.mass = model.mass;
   f.stiffness = model.spring_stiffness;
@@ -95,6 +92,15 @@ RigidFollower rigid_follower(const Model& model, double min_force, const std::st
   f.damping = model.damping;
   f.weight = model.mass * model.gravity;
   f.min_force = min_force;
+  if (model.follower.oscillating()) {
+    // On an arm the same P is the torque Q about the pivot, and the normal
+    // force is Q / g_q with the lever g_q (less μ r_pin with pivot friction).
+    // Q ≥ 0 is exact; Q ≥ P_min · 1.2 max g_q keeps N ≥ P_min with room for
+    // a design whose lever differs a little from the baseline's.
+    double lever = 0.0;
+    for (int i = 0; i < 720; ++i) lever = std::max(lever, std::abs(model.cam->kinematics(kTwoPiTurn * i / 720).g_q));
+    f.min_force = min_force * 1.2 * lever;
+  }
   return f;
 }
 

@@ -1,4 +1,4 @@
-// The rigid-model contact condition of a translating follower as linear
+// The rigid-model contact condition of a follower as linear
 // constraints (physics.md §6), and the highest jump-free speed that ANY law
 // with a segment's lift and duration can reach: the first half of an
 // optimize study's certificate.
@@ -52,10 +52,12 @@ struct RigidFollower {
   double constant() const { return preload + weight - min_force; }
 };
 
-/// The rigid follower of a translating model, with P_min = `min_force`.
-/// Throws InputError (naming `file`) for an oscillating follower, whose
-/// contact condition is not linear in the arm angle's law.
-RigidFollower rigid_follower(const Model& model, double min_force, const std::string& file);
+/// The rigid follower of a model, with P_min = `min_force` [N]. For an
+/// oscillating arm the same form holds in the arm angle (M the arm inertia,
+/// k and F₀ torsional, P the torque about the pivot [N m]); its min_force is
+/// then the torque P_min · 1.2 · (largest lever ∂g/∂q of the baseline cam),
+/// conservative (exact for P_min = 0).
+RigidFollower rigid_follower(const Model& model, double min_force);
 
 /// The speeds at which a design that is to be jump-free up to ω [rad/s] is
 /// checked: ω itself; with a damper (whose term c ω s' is not monotone in ω)

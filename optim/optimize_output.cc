@@ -104,11 +104,15 @@ Json rigid_json(const RigidStageResult& r, bool enabled) {
   Json speeds = Json::array();
   for (const SpeedCertificate& s : c.speeds)
     speeds.push_back(Json{{"rpm", s.rpm}, {"feasible", s.feasible}, {"best_margin", s.best_margin}});
-  j["certificate"] =
-      Json{{"min_contact_force", c.min_contact_force}, {"any_law_jump_free_rpm", finite_or_null(c.any_law_rpm)},
-           {"any_law_binding", c.any_law_binding},     {"family_jump_free_rpm", finite_or_null(c.family_rpm)},
-           {"family_binding", c.family_binding},       {"baseline_jump_free_rpm", finite_or_null(c.baseline_rpm)},
-           {"all_feasible", c.all_feasible()},         {"speeds", speeds}};
+  j["certificate"] = Json{{"min_contact_force", c.min_contact_force},
+                          {"margin_unit", c.margin_unit},
+                          {"any_law_jump_free_rpm", finite_or_null(c.any_law_rpm)},
+                          {"any_law_binding", c.any_law_binding},
+                          {"family_jump_free_rpm", finite_or_null(c.family_rpm)},
+                          {"family_binding", c.family_binding},
+                          {"baseline_jump_free_rpm", finite_or_null(c.baseline_rpm)},
+                          {"all_feasible", c.all_feasible()},
+                          {"speeds", speeds}};
   const RigidDesign& d = r.design;
   Json dj{{"made", d.have}};
   if (d.have) {

@@ -144,7 +144,7 @@ void add_margin_plots(const OptimizeOutcome& o, Report& r) {
     if (mb.empty() || mp.empty()) return;
     r.plots.push_back(make_plot("Rigid-model contact-force margin P − " + format_number(pmin) + " N at " +
                                     format_number(rpm) + " rpm (< 0: the follower jumps)",
-                                "cam angle [deg]", "margin [N]",
+                                "cam angle [deg]", "margin [" + o.rigid.certificate.margin_unit + "]",
                                 {{"baseline", angles, mb}, {"optimised", angles, mp}}));
   }
 }

@@ -33,7 +33,7 @@ void print_certificate(const OptimizeOutcome& o) {
       c.min_contact_force, c.any_law_rpm, c.any_law_binding.c_str(), c.family_rpm, held.c_str(), c.baseline_rpm);
   for (const SpeedCertificate& s : c.speeds) {
     if (s.feasible)
-      std::printf("  %6g rpm: feasible (best rigid margin %.4g N)\n", s.rpm, s.best_margin);
+      std::printf("  %6g rpm: feasible (best rigid margin %.4g %s)\n", s.rpm, s.best_margin, c.margin_unit.c_str());
     else
       std::printf("  %6g rpm: INFEASIBLE, above the family's bound %.5g rpm (any law: %.5g rpm)%s\n", s.rpm,
                   c.family_rpm, c.any_law_rpm, held.c_str());

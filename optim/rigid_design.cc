@@ -391,8 +391,7 @@ std::vector<double> rigid_margin_curve(const SceneConfig& scene, double rpm, dou
   SceneConfig at = scene;
   at.mechanism.cam.rpm = rpm;
   const Model model = build_model(at, "");
-  if (model.follower.oscillating()) return {};
-  const RigidFollower f = rigid_follower(model, min_force, "");
+  const RigidFollower f = rigid_follower(model, min_force);
   std::vector<double> out;
   for (const double deg : angles_deg)
     out.push_back(f.margin(rpm * kRadPerRpm, model.law->eval(std::min(deg, 360.0 - 1e-9) * std::numbers::pi / 180.0)));
@@ -410,11 +409,8 @@ RigidStageResult run_rigid_stage(const SceneConfig& baseline, const OptimizeStud
   Certificate& cert = out.certificate;
   cert.min_contact_force = rigid_min_contact_force(config);
   const Model model = build_model(baseline, file);
-  if (model.follower.oscillating()) {
-    cert.reason = "the rigid-model stage handles translating followers; an arm's contact condition is not linear";
-    return out;
-  }
-  const RigidFollower f = rigid_follower(model, cert.min_contact_force, file);
+  const RigidFollower f = rigid_follower(model, cert.min_contact_force);
+  cert.margin_unit = model.follower.oscillating() ? "N m" : "N";
   const SplineFamily family(space, config.design, f, model.follower, config.constraints, config.rigid.samples, file);
   const double hint = *std::max_element(config.operating_rpm.begin(), config.operating_rpm.end()) * kRadPerRpm;
   cert.available = true;

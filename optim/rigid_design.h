@@ -38,6 +38,7 @@ struct Certificate {
   bool available = false;
   std::string reason;              ///< why not, when not available
   double min_contact_force = 0.0;  ///< P_min [N]
+  std::string margin_unit = "N";   ///< of the margins: "N", or "N m" for an arm (torque about its pivot)
   double any_law_rpm = 0.0;        ///< (a) [rpm] (+inf: no limit below 1000× the top speed)
   std::string any_law_binding;     ///< the segment (or the fixed part of the law) that sets (a)
   double family_rpm = 0.0;         ///< (b) [rpm]
@@ -68,14 +69,13 @@ struct RigidStageResult {
   double run_time_s = 0.0;
 };
 
-/// Runs the stage on `baseline` (a translating follower; otherwise the
-/// certificate says why it is not available and no design is made). Throws
+/// Runs the stage on `baseline` (translating or oscillating follower). Throws
 /// NumericalError when CLP fails on a programme (not for an infeasible one).
 RigidStageResult run_rigid_stage(const SceneConfig& baseline, const OptimizeStudyConfig& config,
                                  const DesignSpace& space, const std::string& file);
 
-/// The rigid-model margin P − P_min [N] of `scene`'s law at `rpm` at each
-/// cam angle of `angles_deg` (translating followers; empty for an arm).
+/// The rigid-model margin P − P_min [N, or N m for an arm] of `scene`'s law
+/// at `rpm` at each cam angle of `angles_deg`.
 std::vector<double> rigid_margin_curve(const SceneConfig& scene, double rpm, double min_force,
                                        const std::vector<double>& angles_deg);
 

@@ -12,6 +12,7 @@
 #include <numbers>
 #include <string>
 
+#include "dynamics/model.h"
 #include "geometry/motion_law.h"
 #include "io/config.h"
 #include "optim/design.h"
@@ -115,6 +116,42 @@ TEST(RigidStage, AJerkBoundHoldsInTheDesignAndLowersTheFamilysSpeed) {
   for (int i = 0; i <= 36000; ++i) peak = std::max(peak, std::abs(law.eval(2.0 * kPi * i / 36000).d3s));
   EXPECT_LE(peak, bound);
   EXPECT_LE(law_peaks(law).jerk, bound);
+}
+
+// An oscillating roller (studies/followers/oscillating_roller.json): the
+// same programme in the arm angle, torque about the pivot as the margin.
+TEST(RigidStage, OscillatingArmGetsACertificateAndADesign) {
+  const std::string file = std::string(CAMDYN_SOURCE_DIR) + "/studies/followers/oscillating_roller.json";
+  Json doc = load_config_json(file);
+  doc["study"] = "optimize";
+  doc["mechanism"]["cam"].erase("rpm");
+  doc["mechanism"]["follower"]["damping"] = 0.0;  // so that the closed forms hold exactly
+  doc["design"] = Json{{"segments", {"rise", "return"}}, {"control_points", 6}, {"degree", 5}};
+  doc["operating_rpm"] = {1200, 1600};
+  doc["objective"] = Json{{"separation", 1}};
+  doc["constraints"] = Json{{"max_pressure_angle_deg", nullptr}};
+  const OptimizeStudy study = read_optimize_study(doc, ConfigSource{file, CAMDYN_SOURCE_DIR "/studies/followers"});
+  const DesignSpace space(study.baseline, study.config.design, file);
+  const RigidStageResult r = run_rigid_stage(study.baseline, study.config, space, file);
+  const Certificate& c = r.certificate;
+  ASSERT_TRUE(c.available) << c.reason;
+  EXPECT_EQ(c.margin_unit, "N m");
+  // With P_min = 0 and no damper the condition is the model's own jump speed.
+  SceneConfig at = study.baseline;
+  at.mechanism.cam.rpm = 1600;
+  EXPECT_NEAR(c.baseline_rpm / jump_speed_rpm(build_model(at, file)), 1.0, 1e-3);
+  // The rise: 12 deg over 120 deg, arm inertia 2e-3 kg m², 50 N m/rad, 5 N m.
+  RigidFollower f;
+  f.mass = 0.002;
+  f.stiffness = 50.0;
+  f.preload = 5.0;
+  const double any_law = any_law_jump_speed_closed_form(f, 0.0, 12.0 * kPi / 180.0, 2.0 * kPi / 3.0) * 30.0 / kPi;
+  EXPECT_NEAR(c.any_law_rpm / any_law, 1.0, 2.0 / study.config.rigid.certificate_grid);
+  EXPECT_GT(c.family_rpm, c.baseline_rpm);
+  EXPECT_LE(c.family_rpm, c.any_law_rpm * (1.0 + kBisection));
+  EXPECT_TRUE(c.all_feasible());  // 1600 rpm is above the baseline's jump speed, not the family's
+  ASSERT_TRUE(r.design.have);
+  EXPECT_GT(r.design.jump_free_rpm, 1600.0);
 }
 
 TEST(RigidStage, TargetAboveTheBoundIsInfeasible) {

@@ -49,7 +49,7 @@ double rigid_bound_rpm(double damping) {
   SceneConfig s = load_scene(kQuickstart);
   s.mechanism.follower.damping = damping;
   const Model model = build_model(s, kQuickstart);
-  const optim::RigidFollower f = optim::rigid_follower(model, 0.0, kQuickstart);
+  const optim::RigidFollower f = optim::rigid_follower(model, 0.0);
   auto ok = [&](double w) {
     for (const double om : optim::check_speeds(w, f))
       if (optim::worst_margin(*model.law, f, om, 4000) < 0.0) return false;
