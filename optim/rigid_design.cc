@@ -95,6 +95,13 @@ class SplineFamily {
     fixed_ = std::make_shared<SampledLaw>(*law0_, designed_);
     levels_ = space.control_point_levels();
     for (std::size_t k = 0; k < designed_.size(); ++k) sample_segment(k, design.degree, samples);
+    if (!geometry.oscillating() && geometry.offset == 0.0) {
+      curvature_ = true;
+      flat_ = !geometry.circle();
+      circle_radius_ = geometry.radius;
+      pitch_height_ = geometry.y0;
+      rho_min_ = constraints.min_radius_of_curvature.value_or(0.0);
+    }
     if (max_pressure_angle_deg && geometry.circle() && !geometry.oscillating()) {
       tan_max_ = std::tan(*max_pressure_angle_deg * std::numbers::pi / 180.0);
       pitch_height_ = geometry.y0;
@@ -109,6 +116,68 @@ class SplineFamily {
   const std::vector<std::size_t>& designed() const { return designed_; }
   bool has_pressure_rows() const { return tan_max_ > 0.0; }
   bool has_jerk_rows() const { return max_jerk_ > 0.0; }
+
+  /// Whether the cam's radius of curvature has a pointwise form in (s, s', s'')
+  /// here (translating follower without offset) and a limit is asked for.
+  bool curvature_linearisable() const { return curvature_ && rho_min_ > 0.0; }
+  /// Radius of curvature of the cam contour [m] for the lift values x =
+  /// (s, s', s''): flat face r_b + s + s''; circle of radius r: the pitch
+  /// curve's (r_p² + s'²)^{3/2} / (r_p² + 2 s'² − r_p s'') less r, r_p = y₀ + s
+  /// (+inf where the pitch curve is concave: its contour radius only grows).
+  double radius_of_curvature(const std::array<double, 4>& x) const {
+    const double rp = pitch_height_ + x[0];
+    if (flat_) return rp + x[2];
+    const double den = rp * rp + 2.0 * x[1] * x[1] - rp * x[2];
+    if (den <= 0.0) return kInf;
+    return std::pow(rp * rp + x[1] * x[1], 1.5) / den - circle_radius_;
+  }
+  /// Adds, at every sample where the radius at c0 is below 1.5 × the limit,
+  /// the row "radius linearised at c0 ≥ 1.002 × limit" (kept for every later
+  /// programme: cuts), and a trust region |c − c0| ≤ `step` (replaced on each
+  /// call).
+  void add_curvature_cuts(const std::vector<double>& c0, double step) {
+    trust_.clear();
+    for (int j = 0; j < columns(); ++j) trust_.push_back({{{j, 1.0}}, c0[j] - step, c0[j] + step});
+    for (const AffineSample& a : samples_) {
+      std::array<double, 4> x = a.constant;
+      for (int j = 0; j < m_; ++j)
+        for (int k = 0; k < 4; ++k) x[k] += a.coefficient[j][k] * c0[a.first + j];
+      const double g = radius_of_curvature(x);
+      if (!(g < 1.5 * rho_min_)) continue;
+      std::array<double, 3> grad{};
+      for (int k = 0; k < 3; ++k) {
+        const double h = 1e-7 * (std::abs(x[k]) + 1e-3);
+        std::array<double, 4> up = x, down = x;
+        up[k] += h;
+        down[k] -= h;
+        grad[k] = (radius_of_curvature(up) - radius_of_curvature(down)) / (2.0 * h);
+      }
+      Cut cut;
+      double at_c0 = 0.0;
+      for (int j = 0; j < m_; ++j) {
+        const auto& d = a.coefficient[j];
+        const double v = grad[0] * d[0] + grad[1] * d[1] + grad[2] * d[2];
+        cut.terms.emplace_back(a.first + j, v);
+        at_c0 += v * c0[a.first + j];
+      }
+      if (!std::isfinite(at_c0)) continue;
+      cut.lower = 1.002 * rho_min_ - g + at_c0;
+      cuts_.push_back(std::move(cut));
+    }
+  }
+  /// Smallest radius of curvature of the designed segments of `law`, densely sampled [m].
+  double smallest_radius(const MotionLaw& law) const {
+    double smallest = kInf;
+    for (const std::size_t i : designed_) {
+      const MotionLaw::Piece& pc = law.pieces()[i];
+      for (int n = 0; n <= kVerifySamples; ++n) {
+        const double x = std::clamp(static_cast<double>(n) / kVerifySamples, 1e-12, 1.0 - 1e-12);
+        const LawSample s = law.eval(pc.start + x * (pc.end - pc.start));
+        smallest = std::min(smallest, radius_of_curvature({s.s, s.ds, s.d2s, s.d3s}));
+      }
+    }
+    return smallest;
+  }
   bool monotone() const { return monotone_; }
 
   /// Worst margin over the pieces that are not designed, at every ω of `omegas` [N].
@@ -182,6 +251,14 @@ class SplineFamily {
   std::vector<AffineSample> samples_;
   double tan_max_ = 0.0, pitch_height_ = 0.0, offset_ = 0.0;
   double max_jerk_ = 0.0;  ///< |s'''| bound [m/rad³] (0: none)
+  // Radius of curvature: pointwise form and the limit, and the rows added so far.
+  bool curvature_ = false, flat_ = false;
+  double circle_radius_ = 0.0, rho_min_ = 0.0;
+  struct Cut {
+    std::vector<std::pair<int, double>> terms;
+    double lower = 0.0, upper = kLpInfinity;
+  };
+  std::vector<Cut> cuts_, trust_;
 };
 
 LinearProgram SplineFamily::margin_program(const std::vector<double>& omegas, const FamilyOptions& options) const {
@@ -221,6 +298,8 @@ LinearProgram SplineFamily::margin_program(const std::vector<double>& omegas, co
       for (int j = 0; j + 1 < m_; ++j) lp.add_row({{first + j + 1, 1.0}, {first + j, -1.0}}, 0.0, kLpInfinity);
     }
   }
+  for (const std::vector<Cut>* rows : {&cuts_, &trust_})
+    for (const Cut& cut : *rows) lp.add_row(cut.terms, cut.lower, cut.upper);
   if (options.jerk && has_jerk_rows()) {
     // −J ≤ s''' ≤ J at every sample.
     for (const AffineSample& s : samples_) {
@@ -380,6 +459,28 @@ RigidDesign make_design(const SplineFamily& family, const RigidFollower& f, cons
   return d;
 }
 
+/// The radius-of-curvature limit, which is not linear: while the design's
+/// smallest radius (densely sampled) is below the limit, linearise it at the
+/// design's samples, add the cuts and a trust region, and design again (at
+/// most 8 rounds; the dynamic stage holds the limit in any case).
+RigidDesign tighten_curvature(SplineFamily& family, const RigidFollower& f, const OptimizeStudyConfig& config,
+                              const DesignSpace& space, double hint, RigidDesign d, int& solves) {
+  const double limit = *config.constraints.min_radius_of_curvature;
+  double step = 0.2;  // trust region in normalised lift
+  for (int round = 0; round < 8 && d.have; ++round) {
+    const MotionLaw law = build_motion_law(space.scene(d.x).mechanism.cam.motion_law, "");
+    if (family.smallest_radius(law) >= limit) break;
+    family.add_curvature_cuts(d.control_points, step);
+    MarginSolution fastest;
+    const double bound = family_bound(family, f, FamilyOptions{family.monotone(), true}, hint, solves, &fastest);
+    const RigidDesign next = make_design(family, f, config, space, bound, fastest, solves);
+    if (!next.have) break;  // the cuts leave nothing: keep the last design
+    d = next;
+    step *= 0.7;
+  }
+  return d;
+}
+
 }  // namespace
 
 bool Certificate::all_feasible() const {
@@ -411,7 +512,7 @@ RigidStageResult run_rigid_stage(const SceneConfig& baseline, const OptimizeStud
   const Model model = build_model(baseline, file);
   const RigidFollower f = rigid_follower(model, cert.min_contact_force);
   cert.margin_unit = model.follower.oscillating() ? "N m" : "N";
-  const SplineFamily family(space, config.design, f, model.follower, config.constraints, config.rigid.samples, file);
+  SplineFamily family(space, config.design, f, model.follower, config.constraints, config.rigid.samples, file);
   const double hint = *std::max_element(config.operating_rpm.begin(), config.operating_rpm.end()) * kRadPerRpm;
   cert.available = true;
   cert.baseline_rpm = as_rpm(law_bound(*model.law, f, hint));
@@ -427,6 +528,8 @@ RigidStageResult run_rigid_stage(const SceneConfig& baseline, const OptimizeStud
   if (config.rigid.explain_bound || !cert.all_feasible()) family_binding(family, f, hint, bound, cert, out.lp_solves);
 
   out.design = make_design(family, f, config, space, bound, fastest, out.lp_solves);
+  if (family.curvature_linearisable())
+    out.design = tighten_curvature(family, f, config, space, hint, out.design, out.lp_solves);
   RigidDesign& d = out.design;
   if (!d.have) {
     out.run_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
