@@ -5,6 +5,6 @@
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
-bash scripts/setup.sh release
+bash scripts/setup.sh release camdyn  # only what the quickstart runs
 build/release/camdyn run studies/quickstart.json --out out/quickstart
 echo "$(pwd -P)/out/quickstart/report.html"

@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
 # Prepares a fresh Debian 12 machine for camdyn and builds one CMake preset:
-#   scripts/setup.sh [PRESET]     PRESET: release (default), ci, debug, asan
+#   scripts/setup.sh [PRESET [TARGET...]]   PRESET: release (default), ci, debug, asan
+# With TARGETs only those are built (the quickstart builds just `camdyn`).
 # Only the packages that are missing are installed, so a second run neither
 # needs root nor touches the network.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
 preset="${1:-release}"
+targets=("${@:2}")
 packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libsundials-dev libnlopt-cxx-dev libnlopt-dev libceres-dev
@@ -50,4 +52,8 @@ fi
 
 echo "setup: configuring and building preset '$preset'" >&2
 cmake --preset "$preset"
-cmake --build --preset "$preset"
+if ((${#targets[@]} > 0)); then
+  cmake --build --preset "$preset" --target "${targets[@]}"
+else
+  cmake --build --preset "$preset"
+fi
