@@ -14,7 +14,7 @@ namespace camdyn::optim {
 namespace {
 
 constexpr double kDeg = 180.0 / std::numbers::pi;
-constexpr double kTwoPiTurn = 2.0 * std::numbers::pi;
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 /// One rise or return piece as the any-law programme samples it.
 struct PieceGrid {
@@ -82,6 +82,13 @@ bool same_bound(const PieceGrid& a, const PieceGrid& b, bool reversible) {
          near(a.v_out, -b.v_in, dv);
 }
 
+/// 0 … n − 1 for the n pieces of `law`.
+std::vector<std::size_t> all_pieces(const MotionLaw& law) {
+  std::vector<std::size_t> all(law.pieces().size());
+  for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
+  return all;
+}
+
 }  // namespace
 
 RigidFollower rigid_follower(const Model& model, double min_force) {
@@ -98,7 +105,7 @@ RigidFollower rigid_follower(const Model& model, double min_force) {
     // Q ≥ 0 is exact; Q ≥ P_min · 1.2 max g_q keeps N ≥ P_min with room for
     // a design whose lever differs a little from the baseline's.
     double lever = 0.0;
-    for (int i = 0; i < 720; ++i) lever = std::max(lever, std::abs(model.cam->kinematics(kTwoPiTurn * i / 720).g_q));
+    for (int i = 0; i < 720; ++i) lever = std::max(lever, std::abs(model.cam->kinematics(kTwoPi * i / 720).g_q));
     f.min_force = min_force * 1.2 * lever;
   }
   return f;
@@ -145,16 +152,22 @@ double highest_feasible_speed(const std::function<bool(double)>& feasible, doubl
   return lo;
 }
 
-double worst_margin(const MotionLaw& law, const RigidFollower& follower, double omega, int samples) {
-  double worst = std::numeric_limits<double>::infinity();
-  for (const MotionLaw::Piece& pc : law.pieces()) {
-    for (int i = 0; i <= samples; ++i) {
-      // Inside the piece at both ends, so a jump at a boundary counts on both sides.
-      const double x = std::clamp(static_cast<double>(i) / samples, 1e-12, 1.0 - 1e-12);
-      const LawSample s = law.eval(pc.start + x * (pc.end - pc.start));
-      worst = std::min(worst, follower.margin(omega, s));
+SampledLaw::SampledLaw(const MotionLaw& law, int samples) : SampledLaw(law, all_pieces(law), samples) {}
+
+SampledLaw::SampledLaw(const MotionLaw& law, const std::vector<std::size_t>& pieces, int samples) {
+  for (const std::size_t i : pieces) {
+    const MotionLaw::Piece& pc = law.pieces().at(i);
+    for (int n = 0; n <= samples; ++n) {
+      const double x = std::clamp(static_cast<double>(n) / samples, 1e-12, 1.0 - 1e-12);
+      samples_.push_back(law.eval(pc.start + x * (pc.end - pc.start)));
     }
   }
+}
+
+double SampledLaw::worst_margin(const RigidFollower& follower, const std::vector<double>& omegas) const {
+  double worst = std::numeric_limits<double>::infinity();
+  for (const LawSample& s : samples_)
+    for (const double w : omegas) worst = std::min(worst, follower.margin(w, s));
   return worst;
 }
 

@@ -72,9 +72,27 @@ std::vector<double> check_speeds(double omega, const RigidFollower& follower);
 double highest_feasible_speed(const std::function<bool(double)>& feasible, double omega_hint, double omega_cap,
                               double rtol = 1e-5, double growth = 2.0);
 
-/// Minimum over one full turn of the margin P − P_min at ω, sampled
-/// `samples` times per piece of the law (piece ends included) [N].
-double worst_margin(const MotionLaw& law, const RigidFollower& follower, double omega, int samples = 2000);
+/// A law sampled once, `samples` intervals per piece with both ends, each
+/// end taken from inside its own piece so that a jump at a piece boundary
+/// counts on both sides; the margin at any ω is then a loop over numbers.
+class SampledLaw {
+ public:
+  /// Every piece of `law`.
+  explicit SampledLaw(const MotionLaw& law, int samples = 2000);
+  /// Only the pieces `pieces` (indices into law.pieces()).
+  SampledLaw(const MotionLaw& law, const std::vector<std::size_t>& pieces, int samples = 2000);
+
+  /// Minimum of the margin P − P_min over the samples at every ω of `omegas`
+  /// [N] (+inf without samples).
+  double worst_margin(const RigidFollower& follower, const std::vector<double>& omegas) const;
+  double worst_margin(const RigidFollower& follower, double omega) const {
+    return worst_margin(follower, std::vector<double>{omega});
+  }
+  const std::vector<LawSample>& samples() const { return samples_; }
+
+ private:
+  std::vector<LawSample> samples_;
+};
 
 /// The any-law bound of one rise or return piece.
 struct SegmentJumpBound {

@@ -23,33 +23,6 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kBisectionRtol = 1e-4;  // relative width of the bracket on ω
 constexpr int kVerifySamples = 2000;     // per piece, for the margins of built laws
 
-/// A law sampled densely once (kVerifySamples per piece, inside each piece at
-/// both ends so a jump at a boundary counts on both sides), so the margin at
-/// any ω is a loop over numbers.
-class SampledLaw {
- public:
-  SampledLaw(const MotionLaw& law, const std::vector<std::size_t>& skip = {}) {
-    const auto& pieces = law.pieces();
-    for (std::size_t i = 0; i < pieces.size(); ++i) {
-      if (std::find(skip.begin(), skip.end(), i) != skip.end()) continue;
-      for (int n = 0; n <= kVerifySamples; ++n) {
-        const double x = std::clamp(static_cast<double>(n) / kVerifySamples, 1e-12, 1.0 - 1e-12);
-        samples_.push_back(law.eval(pieces[i].start + x * (pieces[i].end - pieces[i].start)));
-      }
-    }
-  }
-  /// Worst margin P − P_min at every ω of `omegas` [N] (+inf without samples).
-  double worst_margin(const RigidFollower& f, const std::vector<double>& omegas) const {
-    double worst = kInf;
-    for (const LawSample& s : samples_)
-      for (const double w : omegas) worst = std::min(worst, f.margin(w, s));
-    return worst;
-  }
-
- private:
-  std::vector<LawSample> samples_;
-};
-
 /// s, s', s'', s''' at one sample angle, affine in the control points:
 /// value[k] = constant[k] + Σ_j coefficient[j][k] c[first + j].
 struct AffineSample {
@@ -92,7 +65,10 @@ class SplineFamily {
     };
     law0_ = std::make_shared<MotionLaw>(scene_law(std::vector<double>(static_cast<std::size_t>(count), 0.0)));
     designed_ = space.designed_segments();
-    fixed_ = std::make_shared<SampledLaw>(*law0_, designed_);
+    std::vector<std::size_t> fixed;
+    for (std::size_t i = 0; i < law0_->pieces().size(); ++i)
+      if (std::find(designed_.begin(), designed_.end(), i) == designed_.end()) fixed.push_back(i);
+    fixed_ = std::make_shared<SampledLaw>(*law0_, fixed, kVerifySamples);
     levels_ = space.control_point_levels();
     for (std::size_t k = 0; k < designed_.size(); ++k) sample_segment(k, design.degree, samples);
     if (!geometry.oscillating() && geometry.offset == 0.0) {
@@ -168,14 +144,9 @@ class SplineFamily {
   /// Smallest radius of curvature of the designed segments of `law`, densely sampled [m].
   double smallest_radius(const MotionLaw& law) const {
     double smallest = kInf;
-    for (const std::size_t i : designed_) {
-      const MotionLaw::Piece& pc = law.pieces()[i];
-      for (int n = 0; n <= kVerifySamples; ++n) {
-        const double x = std::clamp(static_cast<double>(n) / kVerifySamples, 1e-12, 1.0 - 1e-12);
-        const LawSample s = law.eval(pc.start + x * (pc.end - pc.start));
-        smallest = std::min(smallest, radius_of_curvature({s.s, s.ds, s.d2s, s.d3s}));
-      }
-    }
+    const SampledLaw sampled(law, designed_, kVerifySamples);  // named: it must outlive the loop
+    for (const LawSample& s : sampled.samples())
+      smallest = std::min(smallest, radius_of_curvature({s.s, s.ds, s.d2s, s.d3s}));
     return smallest;
   }
   bool monotone() const { return monotone_; }
@@ -373,9 +344,8 @@ double family_bound(const SplineFamily& family, const RigidFollower& f, const Fa
   return highest_feasible_speed(feasible, hint, 1e3 * hint, kBisectionRtol);
 }
 
-/// The jump-free speed of a built law [rad/s].
-double law_bound(const MotionLaw& law, const RigidFollower& f, double hint) {
-  const SampledLaw sampled(law);
+/// The jump-free speed of a sampled law [rad/s].
+double law_bound(const SampledLaw& sampled, const RigidFollower& f, double hint) {
   auto feasible = [&](double w) { return sampled.worst_margin(f, check_speeds(w, f)) >= 0.0; };
   return highest_feasible_speed(feasible, hint, 1e3 * hint, kBisectionRtol);
 }
@@ -515,7 +485,7 @@ RigidStageResult run_rigid_stage(const SceneConfig& baseline, const OptimizeStud
   SplineFamily family(space, config.design, f, model.follower, config.constraints, config.rigid.samples, file);
   const double hint = *std::max_element(config.operating_rpm.begin(), config.operating_rpm.end()) * kRadPerRpm;
   cert.available = true;
-  cert.baseline_rpm = as_rpm(law_bound(*model.law, f, hint));
+  cert.baseline_rpm = as_rpm(law_bound(SampledLaw(*model.law, kVerifySamples), f, hint));
   any_law_part(family, f, hint, config.rigid.certificate_grid, cert);
   MarginSolution fastest;
   const double bound = family_part(family, f, hint, cert, out.lp_solves, fastest);
@@ -535,9 +505,8 @@ RigidStageResult run_rigid_stage(const SceneConfig& baseline, const OptimizeStud
     out.run_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return out;
   }
-  const MotionLaw law = build_motion_law(space.scene(d.x).mechanism.cam.motion_law, file);
-  for (const double rpm : config.operating_rpm)
-    d.verified_margin.push_back(worst_margin(law, f, rpm * kRadPerRpm, kVerifySamples));
+  const SampledLaw law(build_motion_law(space.scene(d.x).mechanism.cam.motion_law, file), kVerifySamples);
+  for (const double rpm : config.operating_rpm) d.verified_margin.push_back(law.worst_margin(f, rpm * kRadPerRpm));
   d.jump_free_rpm = as_rpm(law_bound(law, f, hint));
   out.run_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;

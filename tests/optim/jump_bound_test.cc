@@ -144,13 +144,14 @@ TEST(AnyLawJumpBound, ADamperHelpsTheRiseAndHurtsTheReturn) {
 
 TEST(AnyLawJumpBound, TheLawsOwnWorstMarginVanishesAtItsJumpSpeed) {
   // Cycloidal rise: s'' = 2π h/β² sin(2π x): the margin's minimum is 0 at the
-  // rigid jump speed, found here by bisection on worst_margin.
+  // rigid jump speed, found here by bisection on the sampled law's worst margin.
   const MotionLaw law = quickstart_law();
   const RigidFollower f = quickstart_follower();
-  const double w = highest_feasible_speed([&](double om) { return worst_margin(law, f, om) >= 0.0; }, 100.0, 1e4);
+  const SampledLaw sampled(law);
+  const double w = highest_feasible_speed([&](double om) { return sampled.worst_margin(f, om) >= 0.0; }, 100.0, 1e4);
   EXPECT_NEAR(rpm(w), 1174.0, 2.0);  // physics.md §6 for the quickstart: ≈ 1174 rpm
-  EXPECT_GT(worst_margin(law, f, 0.99 * w), 0.0);
-  EXPECT_LT(worst_margin(law, f, 1.01 * w), 0.0);
+  EXPECT_GT(sampled.worst_margin(f, 0.99 * w), 0.0);
+  EXPECT_LT(sampled.worst_margin(f, 1.01 * w), 0.0);
 }
 
 }  // namespace

@@ -50,11 +50,8 @@ double rigid_bound_rpm(double damping) {
   s.mechanism.follower.damping = damping;
   const Model model = build_model(s, kQuickstart);
   const optim::RigidFollower f = optim::rigid_follower(model, 0.0);
-  auto ok = [&](double w) {
-    for (const double om : optim::check_speeds(w, f))
-      if (optim::worst_margin(*model.law, f, om, 4000) < 0.0) return false;
-    return true;
-  };
+  const optim::SampledLaw law(*model.law, 4000);
+  auto ok = [&](double w) { return law.worst_margin(f, optim::check_speeds(w, f)) >= 0.0; };
   return optim::highest_feasible_speed(ok, 100.0, 1e4, 1e-6) * 30.0 / std::numbers::pi;
 }
 
