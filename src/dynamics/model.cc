@@ -3,13 +3,13 @@
 #include <Eigen/LU>
 #include <cassert>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <numbers>
 
 #include "common/errors.h"
 #include "contact/line_curve_tracking.h"
 #include "dynamics/dual.h"
+#include "geometry/check_text.h"
 
 namespace camdyn {
 
@@ -435,32 +435,26 @@ void scatter_state_rates(const Model& m, const Rates& r, const S& cam_speed, S* 
 
 namespace {
 
-std::string number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
-
 /// Throws InputError naming `mechanism.cam.limits.<key>` when the cam breaks a limit.
 void check_cam_limits(const CamLimitsConfig& limits, const CamGeometryReport& g, const MotionLaw& law,
                       const std::string& file) {
   const std::string at = "mechanism.cam.limits.";
   if (limits.max_pressure_angle_deg && g.max_pressure_angle_deg > *limits.max_pressure_angle_deg)
     throw InputError(file, at + "max_pressure_angle_deg",
-                     "the cam's pressure angle reaches " + number(g.max_pressure_angle_deg) + " deg at cam angle " +
-                         number(g.max_pressure_angle_at_deg) + " deg, above the limit " +
-                         number(*limits.max_pressure_angle_deg) + " deg");
+                     "the cam's pressure angle reaches " + check_text::num(g.max_pressure_angle_deg) +
+                         " deg at cam angle " + check_text::num(g.max_pressure_angle_at_deg) +
+                         " deg, above the limit " + check_text::num(*limits.max_pressure_angle_deg) + " deg");
   if (limits.min_radius_of_curvature && g.min_radius_of_curvature < *limits.min_radius_of_curvature)
     throw InputError(file, at + "min_radius_of_curvature",
-                     "the cam contour's radius of curvature falls to " + number(g.min_radius_of_curvature) +
-                         " m at cam angle " + number(g.min_radius_of_curvature_at_deg) + " deg, below the limit " +
-                         number(*limits.min_radius_of_curvature) + " m");
+                     "the cam contour's radius of curvature falls to " + check_text::num(g.min_radius_of_curvature) +
+                         " m at cam angle " + check_text::num(g.min_radius_of_curvature_at_deg) +
+                         " deg, below the limit " + check_text::num(*limits.min_radius_of_curvature) + " m");
   if (limits.max_peak_jerk) {
     const double jerk = law_peaks(law).jerk;
     if (jerk > *limits.max_peak_jerk)
-      throw InputError(
-          file, at + "max_peak_jerk",
-          "the law's peak jerk |d³s/dθ³| is " + number(jerk) + ", above the limit " + number(*limits.max_peak_jerk));
+      throw InputError(file, at + "max_peak_jerk",
+                       "the law's peak jerk |d³s/dθ³| is " + check_text::num(jerk) + ", above the limit " +
+                           check_text::num(*limits.max_peak_jerk));
   }
 }
 
