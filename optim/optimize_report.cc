@@ -93,8 +93,7 @@ std::vector<std::pair<std::string, std::string>> answer_facts(const OptimizeOutc
     facts.emplace_back("certificate", o.config.rigid.enabled ? "not available: " + c.reason : "rigid stage disabled");
     return facts;
   }
-  std::string binding;
-  for (const std::string& x : c.family_binding) binding += (binding.empty() ? "" : ", ") + x;
+  const std::string binding = c.binding_text();
   facts.emplace_back("certificate (contact force ≥ " + format_number(c.min_contact_force) + " N)",
                      "any law: " + format_number(c.any_law_rpm, 5) + " rpm (set by " + c.any_law_binding +
                          "); this spline family: " + format_number(c.family_rpm, 5) + " rpm" +

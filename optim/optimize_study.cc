@@ -24,8 +24,7 @@ void print_certificate(const OptimizeOutcome& o) {
     if (o.config.rigid.enabled) std::printf("  rigid-model stage not run: %s\n", c.reason.c_str());
     return;
   }
-  std::string binding;
-  for (const std::string& b : c.family_binding) binding += (binding.empty() ? "" : ", ") + b;
+  const std::string binding = c.binding_text();
   const std::string held = binding.empty() ? "" : " (held by " + binding + ")";
   std::printf(
       "  certificate (rigid model, contact force >= %g N): any law %.5g rpm (set by %s); this spline family "

@@ -469,6 +469,12 @@ std::vector<double> rigid_margin_curve(const SceneConfig& scene, double rpm, dou
   return out;
 }
 
+std::string Certificate::binding_text() const {
+  std::string text;
+  for (const std::string& b : family_binding) text += (text.empty() ? "" : ", ") + b;
+  return text;
+}
+
 double rigid_min_contact_force(const OptimizeStudyConfig& config) {
   return config.rigid.min_contact_force.value_or(config.constraints.min_contact_force.value_or(0.0));
 }

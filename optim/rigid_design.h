@@ -51,6 +51,8 @@ struct Certificate {
   double baseline_rpm = 0.0;             ///< the baseline law's own rigid jump-free speed at P_min [rpm]
   std::vector<SpeedCertificate> speeds;  ///< (c), in operating_rpm order
   bool all_feasible() const;
+  /// family_binding joined by ", " ("" when none was worked out).
+  std::string binding_text() const;
 };
 
 struct RigidDesign {
