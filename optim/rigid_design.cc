@@ -53,17 +53,15 @@ class SplineFamily {
   SplineFamily(const DesignSpace& space, const DesignConfig& design, const RigidFollower& follower,
                const FollowerGeometry& geometry, const ConstraintsConfig& constraints, int samples,
                const std::string& file)
-      : follower_(follower), m_(design.control_points), monotone_(design.monotone) {
+      : follower_(follower), m_(design.control_points), monotone_(design.monotone), pitch_height_(geometry.y0) {
     const std::optional<double>& max_pressure_angle_deg = constraints.max_pressure_angle_deg;
     // s''' is held at the samples only; between them (a quadratic per knot
     // span of a quintic) it can overshoot by ~1 %, so the LP keeps 2 % clear
     // and the dense check of the dynamic stage and `validate` then holds.
     max_jerk_ = 0.98 * constraints.max_peak_jerk.value_or(0.0);
-    const int count = space.control_point_count();
-    const auto scene_law = [&](const std::vector<double>& c) {
-      return build_motion_law(space.scene_with_control_points(c).mechanism.cam.motion_law, file);
-    };
-    law0_ = std::make_shared<MotionLaw>(scene_law(std::vector<double>(static_cast<std::size_t>(count), 0.0)));
+    const std::vector<double> zero(static_cast<std::size_t>(space.control_point_count()), 0.0);
+    law0_ = std::make_shared<MotionLaw>(
+        build_motion_law(space.scene_with_control_points(zero).mechanism.cam.motion_law, file));
     designed_ = space.designed_segments();
     std::vector<std::size_t> fixed;
     for (std::size_t i = 0; i < law0_->pieces().size(); ++i)
@@ -75,12 +73,10 @@ class SplineFamily {
       curvature_ = true;
       flat_ = !geometry.circle();
       circle_radius_ = geometry.radius;
-      pitch_height_ = geometry.y0;
       rho_min_ = constraints.min_radius_of_curvature.value_or(0.0);
     }
     if (max_pressure_angle_deg && geometry.circle() && !geometry.oscillating()) {
       tan_max_ = std::tan(*max_pressure_angle_deg * std::numbers::pi / 180.0);
-      pitch_height_ = geometry.y0;
       offset_ = std::abs(geometry.offset);
     }
   }
@@ -220,8 +216,8 @@ class SplineFamily {
   std::shared_ptr<const SampledLaw> fixed_;  ///< the pieces that are not designed
   std::vector<std::pair<double, double>> levels_;
   std::vector<AffineSample> samples_;
-  double tan_max_ = 0.0, pitch_height_ = 0.0, offset_ = 0.0;
-  double max_jerk_ = 0.0;  ///< |s'''| bound [m/rad³] (0: none)
+  double tan_max_ = 0.0, pitch_height_ = 0.0, offset_ = 0.0;  ///< pitch_height_: y₀ of the follower [m]
+  double max_jerk_ = 0.0;                                     ///< |s'''| bound [m/rad³] (0: none)
   // Radius of curvature: pointwise form and the limit, and the rows added so far.
   bool curvature_ = false, flat_ = false;
   double circle_radius_ = 0.0, rho_min_ = 0.0;
