@@ -31,6 +31,14 @@ IdentifyProblem cam_rig() { return load_identify_problem(load_config_json(kStudy
 /// Near the optimum the study finds (stiffness [N/m^1.5], damping [N s/m]).
 const std::vector<double> kValues{6e9, 20.0};
 
+/// One FitScene per experiment; `from_json`: the old route (JSON → scene → model).
+std::vector<std::unique_ptr<FitScene>> fit_scenes(const IdentifyProblem& problem, bool from_json) {
+  std::vector<std::unique_ptr<FitScene>> scenes;
+  for (const FitExperiment& e : problem.experiments)
+    scenes.push_back(std::make_unique<FitScene>(e, problem.parameters, problem.source, from_json));
+  return scenes;
+}
+
 void report_allocations(benchmark::State& state, long allocations) {
   state.counters["allocations_per_evaluation"] =
       static_cast<double>(allocations) / static_cast<double>(state.iterations());
@@ -41,9 +49,7 @@ void report_allocations(benchmark::State& state, long allocations) {
 void BM_ResidualEvaluation(benchmark::State& state) {
   const IdentifyProblem problem = cam_rig();
   const bool from_json = state.range(0) == 1;
-  std::vector<std::unique_ptr<FitScene>> scenes;
-  for (const FitExperiment& e : problem.experiments)
-    scenes.push_back(std::make_unique<FitScene>(e, problem.parameters, problem.source, from_json));
+  const std::vector<std::unique_ptr<FitScene>> scenes = fit_scenes(problem, from_json);
   ResidualAssembler assembler(problem);
   std::vector<double> r(problem.residual_count());
   std::vector<FitRun> runs(problem.experiments.size());
@@ -62,9 +68,7 @@ BENCHMARK(BM_ResidualEvaluation)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond);
 void BM_SetParameters(benchmark::State& state) {
   const IdentifyProblem problem = cam_rig();
   const bool from_json = state.range(0) == 1;
-  std::vector<std::unique_ptr<FitScene>> scenes;
-  for (const FitExperiment& e : problem.experiments)
-    scenes.push_back(std::make_unique<FitScene>(e, problem.parameters, problem.source, from_json));
+  const std::vector<std::unique_ptr<FitScene>> scenes = fit_scenes(problem, from_json);
   const long before = test::allocation_count();
   for (auto _ : state) {
     for (const std::unique_ptr<FitScene>& scene : scenes) scene->set(kValues);
