@@ -59,7 +59,8 @@ SpeedLimitStudy read_speed_limit_study(const Json& doc, const StudyContext& ctx)
   JsonReader reader(fields, "speed_limit", ctx.source);
   visit(reader, study.config);
   reader.finish();
-  build_model(study.scene, ctx.config_file);  // the geometry and contact law, before any run
+  // The geometry and contact law are checked here, before any run.
+  study.rigid_jump_speed_rpm = jump_speed_rpm(build_model(study.scene, ctx.config_file));
   JsonWriter writer;
   visit(writer, study.config);
   study.resolved = resolved_study_json(study.scene, "speed_limit", Json{{"speed_limit", writer.json()}});
@@ -70,9 +71,7 @@ SpeedLimitResult run_speed_limit(const SpeedLimitStudy& study, const StudyContex
   const auto t0 = std::chrono::steady_clock::now();
   const SpeedLimitConfig& c = study.config;
   SpeedLimitResult r;
-  SceneConfig at_low = study.scene;
-  at_low.mechanism.cam.rpm = c.low_rpm;
-  r.rigid_jump_speed_rpm = jump_speed_rpm(build_model(at_low, ctx.config_file));
+  r.rigid_jump_speed_rpm = study.rigid_jump_speed_rpm;
   const double high =
       c.high_rpm.value_or(std::isfinite(r.rigid_jump_speed_rpm) ? 2.0 * r.rigid_jump_speed_rpm : 10.0 * c.low_rpm);
   const double hi = std::max(high, 1.01 * c.low_rpm);

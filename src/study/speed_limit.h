@@ -34,7 +34,8 @@ struct SpeedLimitConfig {
 struct SpeedLimitStudy {
   SceneConfig scene;
   SpeedLimitConfig config;
-  Json resolved;  ///< the resolved study config (`camdyn validate` prints it)
+  Json resolved;                      ///< the resolved study config (`camdyn validate` prints it)
+  double rigid_jump_speed_rpm = 0.0;  ///< of the scene's model, built when the config is read
 };
 
 /// One simulated speed.
