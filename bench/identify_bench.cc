@@ -3,7 +3,10 @@
 // experiments simulated and the residuals assembled) by the old route (the
 // scene's JSON with the values read again and the model built, FitScene's
 // from_json) and with the values set in place on the model; the
-// parameter-setting part alone both ways; and the whole study on one thread.
+// parameter-setting part alone both ways; one experiment's simulation with
+// the metrics followed over every step (what simulate does for a report) and
+// with the samples alone (what identification asks for); and the whole study
+// on one thread.
 // Counters: heap allocations per evaluation (the counting operator new).
 //
 //   build/release/bench/identify_bench --benchmark_out=bench/results/identify.json --benchmark_out_format=json
@@ -14,6 +17,8 @@
 #include <vector>
 
 #include "allocation_counter.h"
+#include "dynamics/model.h"
+#include "dynamics/simulation.h"
 #include "io/config.h"
 #include "optim/fit_residuals.h"
 #include "optim/fit_scene.h"
@@ -79,6 +84,29 @@ void BM_SetParameters(benchmark::State& state) {
 }
 BENCHMARK(BM_SetParameters)->Arg(1)->Arg(0)->Unit(benchmark::kMicrosecond);
 
+/// The 1300 rpm experiment simulated at kValues' starting scene and sampled
+/// on its record's times; range(0) = 1: metrics and energy balance followed
+/// over every step, 0: the samples alone (SimulationOptions::step_metrics).
+void BM_SampledSimulation(benchmark::State& state) {
+  const IdentifyProblem problem = cam_rig();
+  const FitExperiment& experiment = problem.experiments.back();
+  const Model model = build_model(experiment.scene, problem.source.file);
+  Workspace ws = make_workspace(model);
+  SimulationOptions options;
+  options.record_series = false;
+  options.sample_times = experiment.record.time;
+  options.step_metrics = state.range(0) == 1;
+  long steps = 0;
+  for (auto _ : state) {
+    const SimulationResult result = simulate(experiment.scene, model, ws, options);
+    steps = result.solver.counters.steps;
+    benchmark::DoNotOptimize(steps);
+  }
+  state.counters["steps"] = static_cast<double>(steps);
+  state.SetLabel(options.step_metrics ? "every step observed" : "samples only");
+}
+BENCHMARK(BM_SampledSimulation)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond);
+
 /// The whole study on one thread (what `camdyn run` does with --jobs 1).
 void BM_IdentifyCamRigStudy(benchmark::State& state) {
   const IdentifyProblem problem = cam_rig();
@@ -90,6 +118,7 @@ void BM_IdentifyCamRigStudy(benchmark::State& state) {
     benchmark::ClobberMemory();
   }
   state.counters["simulations"] = static_cast<double>(result.simulations);
+  state.counters["reused_points"] = static_cast<double>(result.reused_points);
   state.counters["final_cost"] = result.final_cost;
 }
 BENCHMARK(BM_IdentifyCamRigStudy)->Unit(benchmark::kSecond)->Iterations(1);

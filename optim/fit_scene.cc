@@ -136,6 +136,10 @@ FitScene::FitScene(const FitExperiment& experiment, const std::vector<FitParamet
   ws_ = make_workspace(model_);
   options_.record_series = false;
   options_.sample_times = experiment.record.time;
+  // The residuals read only the samples; the energy residual is the one
+  // sampled column that needs the balance followed over every step.
+  const std::vector<std::string>& signals = experiment.record.signals;
+  options_.step_metrics = std::find(signals.begin(), signals.end(), "energy_residual") != signals.end();
   const std::vector<std::string> names = TimeSeries::column_names();
   for (const std::string& signal : experiment.record.signals) {
     const auto it = std::find(names.begin(), names.end(), signal);

@@ -4,10 +4,11 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
-#include <atomic>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <cstdio>
 #include <exception>
 #include <memory>
@@ -52,27 +53,51 @@ std::string fmt(double x) { return format_shortest(x); }
 /// Each run takes an idle FitScene of its experiment (built on first use, one
 /// per worker at most), sets the values in place and simulates: nothing is
 /// rebuilt from JSON, and threads share nothing but the read-only problem.
+/// The runs of the last points evaluated are kept (kept_points()): a continuation stage starts
+/// where the last one stopped, and the covariance and the final check are at
+/// the optimum, so their points (centre and difference steps) were simulated
+/// already. A point is the same when its values are the same to the bit; the
+/// simulation is deterministic, so a kept run is the run.
 class Simulator {
  public:
   Simulator(const IdentifyProblem& problem, int threads)
-      : problem_(problem), threads_(std::max(1, threads)), idle_(problem.experiments.size()) {}
+      : problem_(problem),
+        threads_(std::max(1, threads)),
+        kept_(kept_points(problem)),
+        idle_(problem.experiments.size()) {}
 
   /// runs[j][k]: experiment k at parameter vector points[j].
   std::vector<std::vector<FitRun>> run(const std::vector<std::vector<double>>& points) {
+    const std::lock_guard<std::mutex> calls(run_mutex_);
     const std::size_t experiments = problem_.experiments.size();
-    const std::size_t tasks = points.size() * experiments;
-    std::vector<std::vector<FitRun>> runs(points.size(), std::vector<FitRun>(experiments));
+    std::vector<std::vector<FitRun>> runs(points.size());
+    std::vector<std::size_t> missing;  // indices into points
+    for (std::size_t j = 0; j < points.size(); ++j) {
+      const auto hit = std::find_if(kept_runs_.begin(), kept_runs_.end(),
+                                    [&](const KeptRun& k) { return same_bits(k.point, points[j]); });
+      if (hit != kept_runs_.end()) {
+        runs[j] = hit->runs;
+        ++reused_;
+      } else {
+        runs[j].resize(experiments);
+        missing.push_back(j);
+      }
+    }
+    const std::size_t tasks = missing.size() * experiments;
     parallel_for(tasks, threads_, [&](std::size_t task) {
-      const std::size_t j = task / experiments, k = task % experiments;
+      const std::size_t j = missing[task / experiments], k = task % experiments;
       std::unique_ptr<FitScene> scene = acquire(k);
       runs[j][k] = scene->run(points[j]);
       release(k, std::move(scene));
     });
     simulations_ += static_cast<long>(tasks);
+    for (const std::size_t j : missing) keep(points[j], runs[j]);
     return runs;
   }
 
   long simulations() const { return simulations_; }
+  /// Points whose runs were kept from an earlier call.
+  long reused_points() const { return reused_; }
 
  private:
   std::unique_ptr<FitScene> acquire(std::size_t experiment) {
@@ -93,11 +118,43 @@ class Simulator {
     idle_[experiment].push_back(std::move(scene));
   }
 
+  /// Points kept: two Jacobians' worth (centre and 2p difference points),
+  /// within 256 MB of simulated signals.
+  static std::size_t kept_points(const IdentifyProblem& problem) {
+    std::size_t bytes = 0;  // one point's runs
+    for (const FitExperiment& e : problem.experiments)
+      bytes += e.record.signals.size() * e.record.time.size() * sizeof(double);
+    const std::size_t budget = std::size_t{256} << 20;
+    return std::min(4 * (2 * problem.parameters.size() + 1), budget / std::max<std::size_t>(bytes, 1));
+  }
+
+  struct KeptRun {
+    std::vector<double> point;
+    std::vector<FitRun> runs;  ///< per experiment
+  };
+
+  static bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
+    return std::equal(a.begin(), a.end(), b.begin(), b.end(), [](double x, double y) {
+      return std::bit_cast<std::uint64_t>(x) == std::bit_cast<std::uint64_t>(y);
+    });
+  }
+
+  // Keeps a point's runs if they all succeeded, the oldest dropped beyond kept_.
+  void keep(const std::vector<double>& point, const std::vector<FitRun>& runs) {
+    if (kept_ == 0 || !std::all_of(runs.begin(), runs.end(), [](const FitRun& r) { return r.ok; })) return;
+    if (kept_runs_.size() == kept_) kept_runs_.erase(kept_runs_.begin());
+    kept_runs_.push_back({point, runs});
+  }
+
   const IdentifyProblem& problem_;
   int threads_;
-  std::mutex mutex_;
+  std::size_t kept_;                                          ///< points whose runs are kept
+  std::mutex run_mutex_;                                      ///< one run() at a time: it owns kept_runs_
+  std::mutex mutex_;                                          ///< guards idle_
   std::vector<std::vector<std::unique_ptr<FitScene>>> idle_;  ///< per experiment
-  std::atomic<long> simulations_{0};
+  std::vector<KeptRun> kept_runs_;                            ///< oldest first
+  long simulations_ = 0;
+  long reused_ = 0;
 };
 
 // ---------------------------------------------------------------- residuals and their derivatives
@@ -929,6 +986,7 @@ IdentifyResult identify(const IdentifyProblem& problem, const IdentifyOptions& o
   record_fits(problem, simulator, optimum.values, result);
   result.identified_scene = scene_with(to_json(problem.scene), problem.parameters, optimum.values, problem.source);
   result.simulations = simulator.simulations();
+  result.reused_points = simulator.reused_points();
   result.run_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   return result;
 }

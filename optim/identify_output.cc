@@ -73,6 +73,7 @@ Json identified_json(const IdentifyProblem& problem, const IdentifyResult& resul
   j["message"] = result.message;
   j["run_time_s"] = result.run_time_s;
   j["simulations"] = result.simulations;
+  j["reused_points"] = result.reused_points;
   Json stages = Json::array();
   for (const StageSummary& st : result.stages)
     stages.push_back(Json{{"smoothing_s", st.smoothing_s},
@@ -141,7 +142,8 @@ Report identify_report(const IdentifyProblem& problem, const IdentifyResult& res
                   {"final cost", format_number(result.final_cost)},
                   {"RMS residual (weighted)", format_number(result.rms_residual)},
                   {"measured values", std::to_string(result.residuals)},
-                  {"simulations", std::to_string(result.simulations)},
+                  {"simulations", std::to_string(result.simulations) + " (" + std::to_string(result.reused_points) +
+                                      " points reused)"},
                   {"loss", result.loss == "none" ? "none (least squares)"
                                                  : result.loss + ", scale " + format_number(result.loss_scale)},
                   {"run time", format_number(result.run_time_s, 3) + " s"}};

@@ -34,9 +34,9 @@ int run_identify_study(const Json& doc, const StudyContext& ctx) {
   if (ctx.progress) std::fprintf(stderr, "\n");
   write_identify_outputs(ctx.out_dir, problem, result, resolved);
 
-  std::printf("%s: %s after %d iterations (%s), %ld simulations, %.3g s\n", problem.scene.name.c_str(),
-              result.identifiable ? "identified" : "NOT IDENTIFIABLE", result.iterations, result.termination.c_str(),
-              result.simulations, result.run_time_s);
+  std::printf("%s: %s after %d iterations (%s), %ld simulations (%ld points reused), %.3g s\n",
+              problem.scene.name.c_str(), result.identifiable ? "identified" : "NOT IDENTIFIABLE", result.iterations,
+              result.termination.c_str(), result.simulations, result.reused_points, result.run_time_s);
   for (const ParameterEstimate& p : result.parameters) {
     if (p.std_error)
       std::printf("  %-28s %.8g ± %.3g (%.3g %%)\n", p.name.c_str(), p.value, *p.std_error,

@@ -8,6 +8,7 @@
 #include <numeric>
 
 #include "common/errors.h"
+#include "dynamics/contact_stress.h"
 #include "dynamics/model.h"
 #include "geometry/cam_synthesis.h"
 #include "geometry/motion_law.h"
@@ -54,6 +55,8 @@ DesignEvaluator::DesignEvaluator(const OptimizeStudyConfig& config, std::string 
     constraints_.push_back({"min_contact_force", Sense::at_least, *c.min_contact_force, "N", true});
   if (c.no_separation) constraints_.push_back({"no_separation", Sense::zero, 0.0, "-", true});
   if (c.max_peak_jerk) constraints_.push_back({"max_peak_jerk", Sense::at_most, *c.max_peak_jerk, "m/rad^3", false});
+  if (c.max_contact_stress)
+    constraints_.push_back({"max_contact_stress", Sense::at_most, *c.max_contact_stress, "Pa", false});
 
   const ObjectiveConfig& o = config.objective;
   needs_simulation_ = o.separation > 0.0 || o.peak_contact_force > 0.0 || o.contact_force_margin > 0.0 ||
@@ -103,6 +106,7 @@ DesignEvaluation DesignEvaluator::evaluate(const SceneConfig& scene, const Evalu
                              make_follower_geometry(scene.mechanism.follower, scene.mechanism.cam.base_radius, file_),
                              scene.mechanism.cam.direction == RotationDirection::cw ? -1 : +1);
     e.geometry = check_cam(cam, file_);
+    if (config_.constraints.max_contact_stress) peak_contact_stress(e);
     e.valid = true;
   } catch (const InputError& err) {
     e.error = err.what();
@@ -125,6 +129,19 @@ DesignEvaluation DesignEvaluator::evaluate(const SceneConfig& scene, const Evalu
   }
   score(e);
   return e;
+}
+
+void DesignEvaluator::peak_contact_stress(DesignEvaluation& e) const {
+  const Model model = build_model(e.scene, file_);
+  const LineContact contact = *line_contact(e.scene.mechanism.contact);  // check_optimize made sure
+  e.peak_contact_stress = 0.0;
+  for (const double rpm : config_.operating_rpm) {
+    const double p = peak_rigid_contact_pressure(model, contact, rpm * 2.0 * std::numbers::pi / 60.0).pressure;
+    if (p > e.peak_contact_stress) {
+      e.peak_contact_stress = p;
+      e.contact_stress_rpm = rpm;
+    }
+  }
 }
 
 double DesignEvaluator::aggregate(const std::vector<double>& v, bool worst_is_max) const {
@@ -190,6 +207,9 @@ void DesignEvaluator::score(DesignEvaluation& e) const {
     } else if (spec.name == "min_radius_of_curvature") {
       c.value = e.geometry.min_radius_of_curvature;
       c.residual = (limit - c.value) / limit;
+    } else if (spec.name == "max_contact_stress") {
+      c.value = e.peak_contact_stress;
+      c.residual = (c.value - limit) / limit;
     } else if (spec.name == "max_peak_jerk") {
       c.value = e.kinematics.peak_jerk;
       c.residual = (c.value - limit) / limit;

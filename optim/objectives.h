@@ -77,6 +77,10 @@ struct DesignEvaluation {
   SceneConfig scene;  ///< as evaluated (simulation settings of the evaluation, rpm of the top speed)
   LawKinematics kinematics;
   CamGeometryReport geometry;
+  /// Highest rigid-model Hertz pressure over the operating speeds [Pa]
+  /// (only with constraints.max_contact_stress), at `contact_stress_rpm`.
+  double peak_contact_stress = 0.0;
+  double contact_stress_rpm = 0.0;
   bool simulated = false;
   std::vector<SpeedResult> speeds;  ///< one per operating speed, when simulated
 
@@ -124,6 +128,8 @@ class DesignEvaluator {
 
  private:
   double aggregate(const std::vector<double>& v, bool worst_is_max) const;
+  /// e.peak_contact_stress over the operating speeds, from the model of e.scene.
+  void peak_contact_stress(DesignEvaluation& e) const;
 
   OptimizeStudyConfig config_;
   std::string file_;

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "common/errors.h"
+#include "dynamics/contact_stress.h"
 #include "dynamics/model.h"
 #include "io/json_archive.h"
 #include "optim/optimize_checkpoint.h"
@@ -173,6 +174,7 @@ SceneConfig with_limits(const SceneConfig& scene, const std::vector<ConstraintSp
     if (specs[i].name == "max_pressure_angle_deg") l.max_pressure_angle_deg = specs[i].limit;
     if (specs[i].name == "min_radius_of_curvature") l.min_radius_of_curvature = specs[i].limit;
     if (specs[i].name == "max_peak_jerk") l.max_peak_jerk = specs[i].limit;
+    if (specs[i].name == "max_contact_stress") l.max_contact_stress = specs[i].limit;
   }
   return s;
 }
@@ -231,6 +233,10 @@ void check_optimize(const SceneConfig& baseline, const OptimizeStudyConfig& conf
     throw InputError(file, "optimizer.evaluation_cycles",
                      "must be more than simulation.discard_cycles (" +
                          std::to_string(baseline.simulation.discard_cycles) + "), got " + format_shortest(cycles));
+  if (config.constraints.max_contact_stress && !line_contact(baseline.mechanism.contact))
+    throw InputError(file, "constraints.max_contact_stress",
+                     "needs the contact's materials and width (mechanism.contact.stiffness: {\"from_materials\": "
+                     "{..., \"width\": ...}}): the limit is on the Hertz line-contact pressure");
   for (double rpm : config.operating_rpm) {
     SceneConfig s = baseline;
     s.mechanism.cam.rpm = rpm;

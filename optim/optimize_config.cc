@@ -76,6 +76,7 @@ void visit(A& a, ConstraintsConfig& c) {
   a.field("min_contact_force", c.min_contact_force, positive());
   a.field("no_separation", c.no_separation);
   a.field("max_peak_jerk", c.max_peak_jerk, positive());
+  a.field("max_contact_stress", c.max_contact_stress, positive());
 }
 
 template <class A>

@@ -56,6 +56,9 @@ struct ConstraintsConfig {
   std::optional<double> min_contact_force;              ///< floor of the smallest contact force [N], > 0
   bool no_separation = false;                           ///< separation_fraction 0 at every operating speed
   std::optional<double> max_peak_jerk;                  ///< max |d³s/dθ³| over the cycle [m/rad³]
+  /// Hertz line-contact pressure of the rigid-model contact force at every
+  /// operating speed [Pa] (dynamics/contact_stress.h; needs the contact's materials and width)
+  std::optional<double> max_contact_stress;
 
   bool operator==(const ConstraintsConfig&) const = default;
 };

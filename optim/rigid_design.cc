@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "common/errors.h"
+#include "dynamics/contact_stress.h"
 #include "dynamics/model.h"
 #include "geometry/bspline.h"
 #include "geometry/motion_law.h"
@@ -103,39 +104,74 @@ class SplineFamily {
     if (den <= 0.0) return kInf;
     return std::pow(rp * rp + x[1] * x[1], 1.5) / den - circle_radius_;
   }
-  /// Adds, at every sample where the radius at c0 is below 1.5 × the limit,
-  /// the row "radius linearised at c0 ≥ 1.002 × limit" (kept for every later
-  /// programme: cuts), and a trust region |c − c0| ≤ `step` (replaced on each
-  /// call).
-  void add_curvature_cuts(const std::vector<double>& c0, double step) {
+  /// The trust region |c − c0| ≤ `step` of the next programmes (replaced on each call).
+  void set_trust_region(const std::vector<double>& c0, double step) {
     trust_.clear();
     for (int j = 0; j < columns(); ++j) trust_.push_back({{{j, 1.0}}, c0[j] - step, c0[j] + step});
+  }
+  /// Adds, at every sample where the radius at c0 is below 1.5 × the limit,
+  /// the row "radius linearised at c0 ≥ 1.002 × limit" (kept for every later
+  /// programme: cuts).
+  void add_curvature_cuts(const std::vector<double>& c0) {
     for (const AffineSample& a : samples_) {
-      std::array<double, 4> x = a.constant;
-      for (int j = 0; j < m_; ++j)
-        for (int k = 0; k < 4; ++k) x[k] += a.coefficient[j][k] * c0[a.first + j];
+      const std::array<double, 4> x = at(a, c0);
       const double g = radius_of_curvature(x);
-      if (!(g < 1.5 * rho_min_)) continue;
-      std::array<double, 3> grad{};
-      for (int k = 0; k < 3; ++k) {
-        const double h = 1e-7 * (std::abs(x[k]) + 1e-3);
-        std::array<double, 4> up = x, down = x;
-        up[k] += h;
-        down[k] -= h;
-        grad[k] = (radius_of_curvature(up) - radius_of_curvature(down)) / (2.0 * h);
-      }
-      Cut cut;
-      double at_c0 = 0.0;
-      for (int j = 0; j < m_; ++j) {
-        const auto& d = a.coefficient[j];
-        const double v = grad[0] * d[0] + grad[1] * d[1] + grad[2] * d[2];
-        cut.terms.emplace_back(a.first + j, v);
-        at_c0 += v * c0[a.first + j];
-      }
-      if (!std::isfinite(at_c0)) continue;
-      cut.lower = 1.002 * rho_min_ - g + at_c0;
-      cuts_.push_back(std::move(cut));
+      if (g < 1.5 * rho_min_)
+        add_cut(
+            a, c0, x, g, [this](const std::array<double, 4>& y) { return radius_of_curvature(y); }, 1.002 * rho_min_,
+            kLpInfinity);
     }
+  }
+
+  /// Holds the rigid-model Hertz pressure p₀ = √(P_n κ E* / (π L)) (P_n the
+  /// normal force, κ the curvature sum) at most `limit` [Pa] at every ω of
+  /// `omegas`: P_n κ ≤ Q = limit² π L / E*. Translating follower without
+  /// offset only (pressure_linearisable()).
+  void limit_contact_pressure(const LineContact& contact, double limit, std::vector<double> omegas) {
+    pressure_q_ = limit * limit * std::numbers::pi * contact.width / contact.e_star;
+    pressure_omegas_ = std::move(omegas);
+  }
+  bool pressure_linearisable() const { return curvature_ && pressure_q_ > 0.0; }
+  /// P_n κ [N/m] of the rigid model at lift values x = (s, s', s'') and cam
+  /// speed ω; 0 where the follower is not pressed or the surfaces conform,
+  /// +inf where the roller does not fit the pitch curve (an undercut).
+  double pressure_load(const std::array<double, 4>& x, double omega) const {
+    const double force = follower_.coefficient_s() * x[0] + follower_.coefficient_ds(omega) * x[1] +
+                         follower_.coefficient_d2s(omega) * x[2] + follower_.constant() + follower_.min_force;
+    if (!(force > 0.0)) return 0.0;
+    const double rp = pitch_height_ + x[0];
+    if (flat_) {  // the face is normal to the axis: P_n = P, κ = 1 / (r_b + s + s'')
+      const double rho = rp + x[2];
+      return rho > 0.0 ? force / rho : kInf;
+    }
+    // Roller: P_n = P / cos φ with tan φ = s' / r_p; κ = 1 / (r (1 − r κ_p)), κ_p the pitch curve's curvature.
+    const double q2 = rp * rp + x[1] * x[1];
+    const double kappa_p = (rp * rp + 2.0 * x[1] * x[1] - rp * x[2]) / std::pow(q2, 1.5);
+    const double reduced = circle_radius_ * (1.0 - circle_radius_ * kappa_p);
+    return reduced > 0.0 ? force * std::sqrt(q2) / rp / reduced : kInf;
+  }
+  /// Adds, at every sample and speed where P_n κ at c0 is above half of Q, the
+  /// row "P_n κ linearised at c0 ≤ 0.996 Q" (p₀ ≤ 0.998 × the limit; cuts).
+  void add_pressure_cuts(const std::vector<double>& c0) {
+    for (const double w : pressure_omegas_) {
+      for (const AffineSample& a : samples_) {
+        const std::array<double, 4> x = at(a, c0);
+        const double load = pressure_load(x, w);
+        if (load > 0.5 * pressure_q_)
+          add_cut(
+              a, c0, x, load, [this, w](const std::array<double, 4>& y) { return pressure_load(y, w); }, -kLpInfinity,
+              0.996 * pressure_q_);
+      }
+    }
+  }
+  /// Largest p₀ / limit over the designed segments of `law`, densely sampled, at every ω.
+  double largest_pressure_ratio(const MotionLaw& law) const {
+    double largest = 0.0;
+    const SampledLaw sampled(law, designed_, kVerifySamples);
+    for (const double w : pressure_omegas_)
+      for (const LawSample& s : sampled.samples())
+        largest = std::max(largest, pressure_load({s.s, s.ds, s.d2s, s.d3s}, w) / pressure_q_);
+    return std::sqrt(largest);
   }
   /// Smallest radius of curvature of the designed segments of `law`, densely sampled [m].
   double smallest_radius(const MotionLaw& law) const {
@@ -208,6 +244,40 @@ class SplineFamily {
     }
   }
 
+  /// (s, s', s'', s''') of sample `a` at control points c.
+  std::array<double, 4> at(const AffineSample& a, const std::vector<double>& c) const {
+    std::array<double, 4> x = a.constant;
+    for (int j = 0; j < m_; ++j)
+      for (int k = 0; k < 4; ++k) x[k] += a.coefficient[j][k] * c[a.first + j];
+    return x;
+  }
+  /// The cut lower ≤ g(x(c0)) + ∇g · (x(c) − x(c0)) ≤ upper for a function g
+  /// of (s, s', s'') at sample `a` (value `g0` at c0; gradient by central differences).
+  template <class G>
+  void add_cut(const AffineSample& a, const std::vector<double>& c0, const std::array<double, 4>& x, double g0,
+               const G& g, double lower, double upper) {
+    std::array<double, 3> grad{};
+    for (int k = 0; k < 3; ++k) {
+      const double h = 1e-7 * (std::abs(x[k]) + 1e-3);
+      std::array<double, 4> up = x, down = x;
+      up[k] += h;
+      down[k] -= h;
+      grad[k] = (g(up) - g(down)) / (2.0 * h);
+    }
+    Cut cut;
+    double at_c0 = 0.0;
+    for (int j = 0; j < m_; ++j) {
+      const auto& d = a.coefficient[j];
+      const double v = grad[0] * d[0] + grad[1] * d[1] + grad[2] * d[2];
+      cut.terms.emplace_back(a.first + j, v);
+      at_c0 += v * c0[a.first + j];
+    }
+    if (!std::isfinite(at_c0) || !std::isfinite(g0)) return;
+    cut.lower = std::isfinite(lower) ? lower - g0 + at_c0 : -kLpInfinity;
+    cut.upper = std::isfinite(upper) ? upper - g0 + at_c0 : kLpInfinity;
+    cuts_.push_back(std::move(cut));
+  }
+
   RigidFollower follower_;
   int m_ = 0;
   bool monotone_ = true;
@@ -221,6 +291,9 @@ class SplineFamily {
   // Radius of curvature: pointwise form and the limit, and the rows added so far.
   bool curvature_ = false, flat_ = false;
   double circle_radius_ = 0.0, rho_min_ = 0.0;
+  // Contact pressure: Q = limit² π L / E* [N/m] (0: no limit) and the speeds it holds at [rad/s].
+  double pressure_q_ = 0.0;
+  std::vector<double> pressure_omegas_;
   struct Cut {
     std::vector<std::pair<int, double>> terms;
     double lower = 0.0, upper = kLpInfinity;
@@ -425,18 +498,22 @@ RigidDesign make_design(const SplineFamily& family, const RigidFollower& f, cons
   return d;
 }
 
-/// The radius-of-curvature limit, which is not linear: while the design's
-/// smallest radius (densely sampled) is below the limit, linearise it at the
+/// The limits that are not linear (radius of curvature, contact pressure):
+/// while the design (densely sampled) breaks one, linearise it at the
 /// design's samples, add the cuts and a trust region, and design again (at
-/// most 8 rounds; the dynamic stage holds the limit in any case).
-RigidDesign tighten_curvature(SplineFamily& family, const RigidFollower& f, const OptimizeStudyConfig& config,
+/// most 8 rounds; the dynamic stage holds the limits in any case).
+RigidDesign tighten_nonlinear(SplineFamily& family, const RigidFollower& f, const OptimizeStudyConfig& config,
                               const DesignSpace& space, double hint, RigidDesign d, int& solves) {
-  const double limit = *config.constraints.min_radius_of_curvature;
   double step = 0.2;  // trust region in normalised lift
   for (int round = 0; round < 8 && d.have; ++round) {
     const MotionLaw law = build_motion_law(space.scene(d.x).mechanism.cam.motion_law, "");
-    if (family.smallest_radius(law) >= limit) break;
-    family.add_curvature_cuts(d.control_points, step);
+    const bool curvature_short =
+        family.curvature_linearisable() && family.smallest_radius(law) < *config.constraints.min_radius_of_curvature;
+    const bool pressure_over = family.pressure_linearisable() && family.largest_pressure_ratio(law) > 1.0;
+    if (!curvature_short && !pressure_over) break;
+    family.set_trust_region(d.control_points, step);
+    if (curvature_short) family.add_curvature_cuts(d.control_points);
+    if (pressure_over) family.add_pressure_cuts(d.control_points);
     MarginSolution fastest;
     const double bound = family_bound(family, f, FamilyOptions{family.monotone(), true}, hint, solves, &fastest);
     const RigidDesign next = make_design(family, f, config, space, bound, fastest, solves);
@@ -485,6 +562,9 @@ RigidStageResult run_rigid_stage(const SceneConfig& baseline, const OptimizeStud
   const RigidFollower f = rigid_follower(model, cert.min_contact_force);
   cert.margin_unit = model.follower.oscillating() ? "N m" : "N";
   SplineFamily family(space, config.design, f, model.follower, config.constraints, config.rigid.samples, file);
+  if (const std::optional<LineContact> contact = line_contact(baseline.mechanism.contact);
+      contact && config.constraints.max_contact_stress)
+    family.limit_contact_pressure(*contact, *config.constraints.max_contact_stress, operating_omegas(config, f));
   const double hint = *std::max_element(config.operating_rpm.begin(), config.operating_rpm.end()) * kRadPerRpm;
   cert.available = true;
   cert.baseline_rpm = as_rpm(law_bound(SampledLaw(*model.law, kVerifySamples), f, hint));
@@ -500,8 +580,8 @@ RigidStageResult run_rigid_stage(const SceneConfig& baseline, const OptimizeStud
   if (config.rigid.explain_bound || !cert.all_feasible()) family_binding(family, f, hint, bound, cert, out.lp_solves);
 
   out.design = make_design(family, f, config, space, bound, fastest, out.lp_solves);
-  if (family.curvature_linearisable())
-    out.design = tighten_curvature(family, f, config, space, hint, out.design, out.lp_solves);
+  if (family.curvature_linearisable() || family.pressure_linearisable())
+    out.design = tighten_nonlinear(family, f, config, space, hint, out.design, out.lp_solves);
   RigidDesign& d = out.design;
   if (!d.have) {
     out.run_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -16,8 +16,8 @@ packages=(
   gnuplot-nox python3 python3-numpy python3-scipy
   libopenmpi-dev openmpi-bin chromium
 )
-# The test presets also check formatting (scripts/check_format.sh).
-[[ "$preset" == release ]] || packages+=(clang-format)
+# The test presets also check formatting and run clang-tidy (scripts/check_format.sh, check_tidy.sh).
+[[ "$preset" == release ]] || packages+=(clang-format clang-tidy)
 
 if ! command -v dpkg-query >/dev/null 2>&1; then
   echo "setup: dpkg-query not found; this script supports Debian 12 only." >&2

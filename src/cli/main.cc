@@ -61,8 +61,8 @@ int run_simulate(const camdyn::Json& doc, const camdyn::StudyContext& ctx) {
   const camdyn::Model model = camdyn::build_model(scene, ctx.config_file);
   if (ctx.validate_only) {
     std::cout << camdyn::dump_json(camdyn::to_json(scene));
-    std::cerr << "camdyn: " << ctx.config_file << " is valid (" << model.state_size << " states: ";
-    for (size_t i = 0; i < model.state_names.size(); ++i) std::cerr << (i ? ", " : "") << model.state_names[i];
+    std::cerr << "camdyn: " << ctx.config_file << " is valid (" << model.layout.size << " states: ";
+    for (size_t i = 0; i < model.layout.names.size(); ++i) std::cerr << (i ? ", " : "") << model.layout.names[i];
     std::cerr << ")\n";
     return kExitOk;
   }

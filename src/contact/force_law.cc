@@ -3,6 +3,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "contact/hertz_pressure.h"
+
 namespace camdyn {
 
 double ForceLaw::chi() const {
@@ -39,7 +41,7 @@ double ForceLaw::clamp_switch(double delta, double delta_rate, double v0) const 
 
 double stiffness_from_materials(double E1, double nu1, double E2, double nu2, double R1, double R2, bool line_contact,
                                 double width) {
-  const double e_star = 1.0 / ((1.0 - nu1 * nu1) / E1 + (1.0 - nu2 * nu2) / E2);
+  const double e_star = effective_modulus(E1, nu1, E2, nu2);
   if (line_contact) return std::numbers::pi / 4.0 * e_star * width;
   const double r_star = 1.0 / (1.0 / R1 + 1.0 / R2);
   return 4.0 / 3.0 * e_star * std::sqrt(r_star);

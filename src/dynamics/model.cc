@@ -8,6 +8,7 @@
 
 #include "common/errors.h"
 #include "contact/line_curve_tracking.h"
+#include "dynamics/contact_stress.h"
 #include "dynamics/dual.h"
 #include "geometry/check_text.h"
 
@@ -16,7 +17,7 @@ namespace camdyn {
 namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
-using Jet = Dual<Model::kMaxState>;
+using Jet = Dual<StateLayout::kMax>;
 
 /// `cam_radius` [m]: the cam's radius for stiffness from materials (its base radius).
 ForceLaw build_force_law(const SceneConfig& scene, double cam_radius, const std::string& file) {
@@ -95,7 +96,7 @@ void element_in_cam_frame(const Model& m, double q, double theta, Eigen::Vector2
 }
 
 double cam_angle(const Model& m, double t, const double* x) {
-  return m.drive == Drive::shaft ? x[m.index_cam_angle] : m.theta(t);
+  return m.drive == Drive::shaft ? x[*m.layout.cam_angle] : m.theta(t);
 }
 
 /// The general pair form: both profiles in their motion, tracked by
@@ -103,14 +104,14 @@ double cam_angle(const Model& m, double t, const double* x) {
 PairSolution solve_general(const Model& m, Workspace& ws, double t, const double* x) {
   PairSolution ps;
   const double theta = cam_angle(m, t, x);
-  const double omega_c = m.drive == Drive::shaft ? x[m.index_cam_speed] : m.omega;
+  const double omega_c = m.drive == Drive::shaft ? x[*m.layout.cam_speed] : m.omega;
   const double phi = m.direction * theta;
   const BodyMotion cam = BodyMotion::make(phi, Eigen::Vector2d::Zero(), m.direction * omega_c);
   const BodyMotion follower = follower_motion(m.follower, x[0], x[1]);
   PairEvaluation pair;
   if (m.tracking == Tracking::differential) {
-    ps.u = x[m.index_u];
-    ps.v = x[m.index_v];
+    ps.u = x[*m.layout.u];
+    ps.v = x[*m.layout.v];
     pair = evaluate_profile_pair(*m.pair_cam, *m.pair_follower, cam, follower, ps.u, ps.v);
     ps.ok = pair.valid() && profile_pair_rates(pair, m.tracking_gain, ps.u_rate, ps.v_rate) == PairStatus::converged;
     ps.drift = ps.ok ? (pair.jacobian.inverse() * pair.f).cwiseAbs().maxCoeff() : INFINITY;
@@ -137,7 +138,7 @@ PairSolution solve_pair(const Model& m, Workspace& ws, double t, const double* x
   PairSolution ps;
   TrackedPair pair;
   if (m.tracking == Tracking::differential) {
-    ps.u = x[m.index_u];
+    ps.u = x[*m.layout.u];
   } else {
     const double theta = cam_angle(m, t, x);
     Eigen::Vector2d a, b;
@@ -202,8 +203,8 @@ void drive_dynamics(const Model& m, const Workspace& ws, double t, const S* x, C
   if (m.drive == Drive::shaft) {
     S motor_angle = S(m.theta(t) + ws.motor_phase);
     if (m.motor == Motor::torque_speed) {
-      motor_angle = x[m.index_motor_angle];
-      o.motor_speed = x[m.index_motor_speed];
+      motor_angle = x[*m.layout.motor_angle];
+      o.motor_speed = x[*m.layout.motor_speed];
       o.motor_torque = m.stall_torque * (1.0 - o.motor_speed / m.no_load_speed);
     }
     o.twist = motor_angle - o.theta;
@@ -257,10 +258,10 @@ void core(const Model& m, const Workspace& ws, double t, const S* x, const PairS
   const FollowerGeometry& fg = m.follower;
   o.q = x[0];
   o.v = x[1];
-  o.spin = m.index_spin >= 0 ? x[m.index_spin] : S(0.0);
+  o.spin = m.layout.spin ? x[*m.layout.spin] : S(0.0);
   if (m.drive == Drive::shaft) {
-    o.theta = x[m.index_cam_angle];
-    o.omega_c = x[m.index_cam_speed];
+    o.theta = x[*m.layout.cam_angle];
+    o.omega_c = x[*m.layout.cam_speed];
   } else {
     o.theta = S(m.theta(t));
     o.omega_c = S(m.omega);
@@ -343,7 +344,7 @@ void core(const Model& m, const Workspace& ws, double t, const S* x, const PairS
   const S spring = m.spring_preload + m.spring_stiffness * o.q;
   o.acceleration = (o.generalised_force - spring - m.damping * o.v - m.mass * m.gravity + o.guide + o.pivot) / m.mass;
   o.spin_acceleration = m.has_spin ? -(fg.radius * o.friction_force) / m.roller_inertia : S(0.0);
-  o.u_rate = m.index_u >= 0 ? (-m.tracking_gain * o.f - f_q * o.v - f_theta * o.omega_c) / o.f_u : S(0.0);
+  o.u_rate = m.layout.u ? (-m.tracking_gain * o.f - f_q * o.v - f_theta * o.omega_c) / o.f_u : S(0.0);
   o.v_rate = S(0.0);
   if (m.pair_form == PairForm::general) {
     o.u_rate = S(ps.u_rate);
@@ -418,16 +419,16 @@ template <class S, class Rates>
 void scatter_state_rates(const Model& m, const Rates& r, const S& cam_speed, S* x_dot) {
   x_dot[0] = r.v;
   x_dot[1] = r.acceleration;
-  if (m.index_u >= 0) x_dot[m.index_u] = r.u_rate;
-  if (m.index_v >= 0) x_dot[m.index_v] = r.v_rate;
-  if (m.index_spin >= 0) x_dot[m.index_spin] = r.spin_acceleration;
-  if (m.index_cam_angle >= 0) {
-    x_dot[m.index_cam_angle] = cam_speed;
-    x_dot[m.index_cam_speed] = r.cam_acceleration;
+  if (m.layout.u) x_dot[*m.layout.u] = r.u_rate;
+  if (m.layout.v) x_dot[*m.layout.v] = r.v_rate;
+  if (m.layout.spin) x_dot[*m.layout.spin] = r.spin_acceleration;
+  if (m.layout.cam_angle) {
+    x_dot[*m.layout.cam_angle] = cam_speed;
+    x_dot[*m.layout.cam_speed] = r.cam_acceleration;
   }
-  if (m.index_motor_angle >= 0) {
-    x_dot[m.index_motor_angle] = r.motor_speed;
-    x_dot[m.index_motor_speed] = r.motor_acceleration;
+  if (m.layout.motor_angle) {
+    x_dot[*m.layout.motor_angle] = r.motor_speed;
+    x_dot[*m.layout.motor_speed] = r.motor_acceleration;
   }
 }
 
@@ -456,6 +457,26 @@ void check_cam_limits(const CamLimitsConfig& limits, const CamGeometryReport& g,
                        "the law's peak jerk |d³s/dθ³| is " + check_text::num(jerk) + ", above the limit " +
                            check_text::num(*limits.max_peak_jerk));
   }
+}
+
+/// Throws InputError naming `mechanism.cam.limits.max_contact_stress` when
+/// the rigid-model Hertz pressure at the scene's speed exceeds it, or when the
+/// scene gives no line-contact materials to compute it from.
+void check_contact_stress_limit(const MechanismConfig& mech, const Model& model, const std::string& file) {
+  const std::optional<double>& limit = mech.cam.limits.max_contact_stress;
+  if (!limit) return;
+  const std::string at = "mechanism.cam.limits.max_contact_stress";
+  const std::optional<LineContact> contact = line_contact(mech.contact);
+  if (!contact)
+    throw InputError(file, at,
+                     "needs the contact's materials and width (mechanism.contact.stiffness: {\"from_materials\": "
+                     "{..., \"width\": ...}}): the limit is on the Hertz line-contact pressure");
+  const PressurePeak peak = peak_rigid_contact_pressure(model, *contact, model.omega);
+  if (peak.pressure > *limit)
+    throw InputError(file, at,
+                     "the rigid-model Hertz contact pressure reaches " + check_text::num(peak.pressure) +
+                         " Pa at cam angle " + check_text::num(peak.at_deg) + " deg at " +
+                         check_text::num(mech.cam.rpm) + " rpm, above the limit " + check_text::num(*limit) + " Pa");
 }
 
 /// The mass, spring, damper, gravity, contact law, friction and drive of the
@@ -513,35 +534,21 @@ void assemble_elements(const SceneConfig& scene, const std::string& file, Model&
 /// The state layout of model.h's header comment: q, q̇, then only what this
 /// model needs (pair parameters, roller spin, cam and motor angles and speeds).
 void assign_state_layout(Model& model) {
-  const bool oscillating = model.follower.oscillating();
-  model.state_names = oscillating ? std::vector<std::string>{"arm_angle", "arm_angular_velocity"}
-                                  : std::vector<std::string>{"follower_position", "follower_velocity"};
-  int next = 2;
+  StateLayout& layout = model.layout;
+  layout = StateLayout::follower_only(model.follower.oscillating());
   if (model.tracking == Tracking::differential) {
-    model.index_u = next++;
-    model.state_names.push_back("contact_parameter_u");
-    if (model.pair_form == PairForm::general) {
-      model.index_v = next++;
-      model.state_names.push_back("contact_parameter_v");
-    }
+    layout.u = layout.add("contact_parameter_u");
+    if (model.pair_form == PairForm::general) layout.v = layout.add("contact_parameter_v");
   }
-  if (model.has_spin) {
-    model.index_spin = next++;
-    model.state_names.push_back("roller_spin");
-  }
+  if (model.has_spin) layout.spin = layout.add("roller_spin");
   if (model.drive == Drive::shaft) {
-    model.index_cam_angle = next++;
-    model.index_cam_speed = next++;
-    model.state_names.push_back("cam_angle");
-    model.state_names.push_back("cam_speed");
+    layout.cam_angle = layout.add("cam_angle");
+    layout.cam_speed = layout.add("cam_speed");
     if (model.motor == Motor::torque_speed) {
-      model.index_motor_angle = next++;
-      model.index_motor_speed = next++;
-      model.state_names.push_back("motor_angle");
-      model.state_names.push_back("motor_speed");
+      layout.motor_angle = layout.add("motor_angle");
+      layout.motor_speed = layout.add("motor_speed");
     }
   }
-  model.state_size = next;
 }
 
 }  // namespace
@@ -582,6 +589,7 @@ Model build_model(const SceneConfig& scene, const std::string& file) {
   if (mech.contact.pair_form == PairFormChoice::general) build_general_pair(model);
 
   assemble_elements(scene, file, model);
+  check_contact_stress_limit(mech, model, file);
   model.tracking = mech.contact.tracking;
   // Drift of f decays with time constant 1/α, well below a cam degree.
   model.tracking_gain = 1000.0 + 100.0 * model.omega;
@@ -726,19 +734,19 @@ void evaluate(const Model& model, Workspace& ws, double t, const double* state, 
 
 void state_jacobian(const Model& model, Workspace& ws, double t, const double* state, double* jacobian) {
   assert(model.exact_jacobian());
-  const int n = model.state_size;
+  const int n = model.layout.size;
   const PairSolution ps = solve_pair(model, ws, t, state);
-  Jet x[Model::kMaxState];
+  Jet x[StateLayout::kMax];
   for (int i = 0; i < n; ++i) x[i] = Jet::variable(state[i], i);
-  Jet u = model.index_u >= 0 ? x[model.index_u] : Jet(ps.u);
+  Jet u = model.layout.u ? x[*model.layout.u] : Jet(ps.u);
   Core<Jet> o;
-  if (model.index_u < 0) {
+  if (!model.layout.u) {
     // Newton: u(x) solves f(x, u) = 0, so ∂u/∂x = −(∂f/∂x) / f_u.
     core(model, ws, t, x, ps, u, o);
     for (int i = 0; i < n; ++i) u.d[i] = -o.f.d[i] / o.f_u.v;
   }
   core(model, ws, t, x, ps, u, o);
-  Jet x_dot[Model::kMaxState];
+  Jet x_dot[StateLayout::kMax];
   scatter_state_rates(model, o, o.omega_c, x_dot);
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) jacobian[i + n * j] = x_dot[i].d[j];
@@ -811,12 +819,14 @@ double jump_speed_rpm(const Model& model) {
   return best * 60.0 / kTwoPi;
 }
 
-double rigid_normal_force(const Model& model, double theta) {
+double rigid_normal_force(const Model& model, double theta) { return rigid_normal_force(model, theta, model.omega); }
+
+double rigid_normal_force(const Model& model, double theta, double omega) {
   const LawSample s = model.law->eval(theta);
   const double x0 = model.spring_stiffness > 0.0 ? model.spring_preload / model.spring_stiffness : 0.0;
   const double spring = model.spring_stiffness > 0.0 ? model.spring_stiffness * (s.s + x0) : model.spring_preload;
-  const double generalised = model.mass * model.omega * model.omega * s.d2s + model.damping * model.omega * s.ds +
-                             spring + model.mass * model.gravity;
+  const double generalised =
+      model.mass * omega * omega * s.d2s + model.damping * omega * s.ds + spring + model.mass * model.gravity;
   return generalised / model.cam->kinematics(theta).g_q;
 }
 

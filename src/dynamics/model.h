@@ -30,6 +30,7 @@
 #include "contact/friction.h"
 #include "contact/point_curve_tracking.h"
 #include "contact/profile_pair_tracking.h"
+#include "dynamics/state_layout.h"
 #include "geometry/cam_roller.h"
 #include "geometry/cam_synthesis.h"
 #include "geometry/contour_cam.h"
@@ -105,19 +106,11 @@ struct Model {
   double tracking_gain = 0.0;      ///< α of ḟ = −α f [1/s]
   double penetration_limit = 0.0;  ///< a larger δ means the contact model no longer applies [m]
 
-  // State layout (−1: not in this scene).
-  int state_size = 2;
-  int index_u = -1;
-  int index_v = -1;
-  int index_spin = -1;
-  int index_cam_angle = -1, index_cam_speed = -1;
-  int index_motor_angle = -1, index_motor_speed = -1;
-  static constexpr int kMaxState = 9;
+  StateLayout layout;  ///< which states this model has, where, and their names
   /// W_drive, W_damper, W_hysteresis, W_friction [J], and ∫ max(g, 0) dt [m s].
   static constexpr int kQuadratures = 5;
 
-  std::vector<std::string> state_names;  ///< for summary.json `model`
-  std::vector<std::string> elements;     ///< force elements assembled
+  std::vector<std::string> elements;  ///< force elements assembled
 
   /// Nominal cam angle at time t [rad]: the cam's with constant-speed drive,
   /// the motor's (without the shaft's twist) with a shaft.
@@ -214,7 +207,7 @@ void quadrature_derivative(const Evaluation& ev, double* q_dot);
 
 /// Exact Jacobian ∂ẋ/∂x of the state derivative at (t, state), written
 /// column-major into `jacobian` (jacobian[i + n j] = ∂ẋ_i/∂x_j, n =
-/// model.state_size): the same templated right-hand side evaluated with
+/// model.layout.size): the same templated right-hand side evaluated with
 /// forward-mode dual numbers (dynamics/dual.h), the Newton pair parameter
 /// differentiated by the implicit function theorem. Allocates nothing.
 /// Checked against finite differences in tests/dynamics/jacobian_test.cc.
@@ -241,5 +234,7 @@ double jump_speed_rpm(const Model& model);
 /// Q / (∂g/∂q) with Q = M ω² s'' + c ω s' + k (s + x₀) + m g (translating
 /// roller: P / cos φ of physics.md §6). Negative: the follower would need pulling.
 double rigid_normal_force(const Model& model, double theta);
+/// The same at cam speed `omega` [rad/s] instead of the model's.
+double rigid_normal_force(const Model& model, double theta, double omega);
 
 }  // namespace camdyn

@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <numbers>
 #include <sstream>
@@ -17,7 +19,7 @@ namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 constexpr double kRadToDeg = 180.0 / std::numbers::pi;
-constexpr int kMaxState = Model::kMaxState;
+constexpr int kMaxState = StateLayout::kMax;
 constexpr int kSamplesPerStep = 4;  // dense samples per internal step for the metrics
 
 using State = std::array<double, kMaxState>;
@@ -25,26 +27,29 @@ using Quadratures = std::array<double, Model::kQuadratures>;
 using Clock = std::chrono::steady_clock;
 
 // The scene as an OdeSystem: the model's evaluation behind SUNDIALS' callbacks.
+// After each step CVODE asks for the quadratures and the roots at the state it
+// accepted, and the loop evaluates there once more: evaluated() reuses the
+// last evaluation when its point is the same to the bit. Only where an
+// evaluation is a function of (t, y) and the contact episode's approach speed
+// alone: Newton tracking also depends on its warm start, so it always solves.
 class SceneOde final : public OdeSystem {
  public:
-  SceneOde(const Model& model, Workspace& ws) : model_(model), ws_(ws) {}
-  int size() const override { return model_.state_size; }
+  SceneOde(const Model& model, Workspace& ws) : model_(model), ws_(ws), reuse_(model.tracking != Tracking::newton) {}
+  int size() const override { return model_.layout.size; }
   int quadrature_size() const override { return Model::kQuadratures; }
   int root_count() const override { return model_.root_count(); }
   int rhs(double t, const double* y, double* y_dot) override {
-    evaluate(model_, ws_, t, y, ev_);
-    if (!ev_.tracking_ok) return 1;  // recoverable: the integrator retries a smaller step
-    state_derivative(model_, ev_, y_dot);
+    const Evaluation& ev = evaluated(t, y);
+    if (!ev.tracking_ok) return 1;  // recoverable: the integrator retries a smaller step
+    state_derivative(model_, ev, y_dot);
     return 0;
   }
   int quadrature(double t, const double* y, double* q_dot) override {
-    evaluate(model_, ws_, t, y, ev_);
-    quadrature_derivative(ev_, q_dot);
+    quadrature_derivative(evaluated(t, y), q_dot);
     return 0;
   }
   int roots(double t, const double* y, double* g) override {
-    evaluate(model_, ws_, t, y, ev_);
-    root_functions(model_, ws_, ev_, g);
+    root_functions(model_, ws_, evaluated(t, y), g);
     return 0;
   }
   bool has_jacobian() const override { return model_.exact_jacobian(); }
@@ -53,10 +58,34 @@ class SceneOde final : public OdeSystem {
     return 0;
   }
 
+  // The model evaluated at (t, y).
+  const Evaluation& evaluated(double t, const double* y) {
+    const std::size_t n = static_cast<std::size_t>(model_.layout.size);
+    const bool same = reuse_ && valid_ && same_bits(t, t_) && same_bits(ws_.v0, v0_) &&
+                      same_bits(ws_.motor_phase, motor_phase_) &&
+                      std::equal(y, y + n, y_.begin(), [](double a, double b) { return same_bits(a, b); });
+    if (same) return ev_;
+    evaluate(model_, ws_, t, y, ev_);
+    std::copy(y, y + n, y_.begin());
+    t_ = t;
+    v0_ = ws_.v0;
+    motor_phase_ = ws_.motor_phase;
+    valid_ = true;
+    return ev_;
+  }
+
  private:
+  static bool same_bits(double a, double b) {
+    return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
+  }
+
   const Model& model_;
   Workspace& ws_;
+  const bool reuse_;
   Evaluation ev_;
+  bool valid_ = false;
+  double t_ = 0.0, v0_ = 0.0, motor_phase_ = 0.0;  // the point of ev_ [s], [m/s], [rad]
+  std::array<double, kMaxState> y_{};
 };
 
 std::string where(const Model& model, double t) {
@@ -83,14 +112,10 @@ Failure initial_state(const SceneConfig& scene, const Model& model, Workspace& w
   // The set-up probe: Newton tracking, no spin, the cam at constant speed.
   Model probe = model;
   probe.tracking = Tracking::newton;
-  probe.index_u = -1;
-  probe.index_v = -1;
   probe.contact_friction = model.contact_friction && !model.has_spin;
   probe.has_spin = false;
-  probe.index_spin = -1;
   probe.drive = Drive::constant_speed;
-  probe.index_cam_angle = probe.index_cam_speed = probe.index_motor_angle = probe.index_motor_speed = -1;
-  probe.state_size = 2;
+  probe.layout = StateLayout::follower_only(model.follower.oscillating());
   Evaluation ev;
   std::array<double, kMaxState> s{};
   ws.v0 = model.contact.reference_velocity;
@@ -141,30 +166,30 @@ Failure initial_state(const SceneConfig& scene, const Model& model, Workspace& w
     return {Termination::no_initial_contact, "could not find the initial contact pair " + where(model, 0.0)};
   ws.u_warm = ev.pair.u;
   ws.v_warm = ev.pair_v;
-  std::fill(y, y + model.state_size, 0.0);
+  std::fill(y, y + model.layout.size, 0.0);
   y[0] = s[0];
   y[1] = s[1];
-  if (model.index_u >= 0) y[model.index_u] = ev.pair.u;
-  if (model.index_v >= 0) y[model.index_v] = ev.pair_v;
-  if (model.index_cam_angle >= 0) {
-    y[model.index_cam_angle] = theta;
-    y[model.index_cam_speed] = model.omega;
+  if (model.layout.u) y[*model.layout.u] = ev.pair.u;
+  if (model.layout.v) y[*model.layout.v] = ev.pair_v;
+  if (model.layout.cam_angle) {
+    y[*model.layout.cam_angle] = theta;
+    y[*model.layout.cam_speed] = model.omega;
   }
-  if (model.index_motor_angle >= 0) {
-    y[model.index_motor_angle] = theta;
-    y[model.index_motor_speed] = model.omega;
+  if (model.layout.motor_angle) {
+    y[*model.layout.motor_angle] = theta;
+    y[*model.layout.motor_speed] = model.omega;
   }
-  if (model.index_spin >= 0) {
+  if (model.layout.spin) {
     // Rolling without slip at the start: slip = slip(Ω = 0) − r_r Ω = 0.
     evaluate(model, ws, 0.0, y, ev);
-    y[model.index_spin] = ev.slip / model.follower.radius;
+    y[*model.layout.spin] = ev.slip / model.follower.radius;
   }
   if (model.drive == Drive::shaft) {
     // Twist the shaft so that it carries the contact torque on the cam.
     evaluate(model, ws, 0.0, y, ev);
     const double twist = -ev.cam_torque / model.shaft_stiffness;
-    if (model.index_motor_angle >= 0)
-      y[model.index_motor_angle] += twist;
+    if (model.layout.motor_angle)
+      y[*model.layout.motor_angle] += twist;
     else
       ws.motor_phase = twist;
   }
@@ -218,8 +243,15 @@ IntegratorOptions integrator_options(const IntegratorConfig& ic, const RunPlan& 
 class WindowObserver {
  public:
   WindowObserver(const Model& model, Workspace& ws, const Integrator& integrator, const State& y0,
-                 const Quadratures& q0, double t_eval, Metrics& m)
-      : model_(model), ws_(ws), integrator_(integrator), y0_(y0), q0_(q0), t_eval_(t_eval), m_(m) {
+                 const Quadratures& q0, double t_eval, bool every_step, Metrics& m)
+      : model_(model),
+        ws_(ws),
+        integrator_(integrator),
+        y0_(y0),
+        q0_(q0),
+        t_eval_(t_eval),
+        every_step_(every_step),
+        m_(m) {
     m_.min_contact_force = std::numeric_limits<double>::infinity();
   }
 
@@ -257,10 +289,17 @@ class WindowObserver {
 
   // The step [t0, t] the integrator just took: metrics from dense samples over
   // it; the gap keeps its sign inside a step (its zeros are located as roots),
-  // so the midpoint decides separation.
+  // so the midpoint decides separation. Without `every_step` only the dense
+  // output becomes available; Newton tracking still solves at the midpoint,
+  // whose pair warm-starts the evaluation after the step, so that the run
+  // stays the same to the last bit.
   void observe_step(double t0, double t) {
     stepped_ = true;
-    for (int j = 1; j <= kSamplesPerStep; ++j) observe(t0 + (t - t0) * j / kSamplesPerStep);
+    if (every_step_) {
+      for (int j = 1; j <= kSamplesPerStep; ++j) observe(t0 + (t - t0) * j / kSamplesPerStep);
+    } else if (model_.tracking != Tracking::newton) {
+      return;
+    }
     const double t_mid = 0.5 * (t0 + t);
     integrator_.dense(t_mid, ys_.data());
     evaluate(model_, ws_, t_mid, ys_.data(), ev_);
@@ -293,6 +332,7 @@ class WindowObserver {
   const State& y0_;
   const Quadratures& q0_;
   const double t_eval_;  // start of the evaluated window [s]
+  const bool every_step_;
   Metrics& m_;
   bool stepped_ = false;
   Evaluation ev_;
@@ -425,18 +465,18 @@ bool handle_root(const RunContext& run, const Integrator& integrator, const Eval
 Failure project_pair(const RunContext& run, const Evaluation& ev, double t, double tolerance, State& y, bool& restart) {
   const Model& model = run.model;
   Workspace& ws = run.ws;
-  if (model.index_u < 0 || !(ev.pair_drift > tolerance)) return {};
+  if (!model.layout.u || !(ev.pair_drift > tolerance)) return {};
   Model newton_model = model;
   newton_model.tracking = Tracking::newton;
   Evaluation projected;
-  ws.u_warm = y[model.index_u];
-  if (model.index_v >= 0) ws.v_warm = y[model.index_v];
+  ws.u_warm = y[*model.layout.u];
+  if (model.layout.v) ws.v_warm = y[*model.layout.v];
   const long resets_before = ws.tracking_resets;
   evaluate(newton_model, ws, t, y.data(), projected);
   if (!projected.tracking_ok) return {Termination::tracking_lost, "contact pair tracking lost " + where(model, t)};
   if (ws.tracking_resets == resets_before) ++run.result.solver.projections;
-  y[model.index_u] = projected.pair.u;
-  if (model.index_v >= 0) y[model.index_v] = projected.pair_v;
+  y[*model.layout.u] = projected.pair.u;
+  if (model.layout.v) y[*model.layout.v] = projected.pair_v;
   restart = true;
   return {};
 }
@@ -483,8 +523,8 @@ Failure check_budgets(const RunContext& run, const Integrator& integrator, doubl
 // and outputs from dense output over each step; contact events at roots and
 // drift projection, each followed by a restart; then the contact checks and
 // the budgets. `y`, `q` hold the state and quadratures at the last step.
-Failure integrate(const RunContext& run, Integrator& integrator, State& y, Quadratures& q, WindowObserver& observer,
-                  SeriesRecorder& recorder) {
+Failure integrate(const RunContext& run, SceneOde& ode, Integrator& integrator, State& y, Quadratures& q,
+                  WindowObserver& observer, SeriesRecorder& recorder) {
   const Model& model = run.model;
   Workspace& ws = run.ws;
   const double t_end = run.plan.t_end;
@@ -509,8 +549,8 @@ Failure integrate(const RunContext& run, Integrator& integrator, State& y, Quadr
     recorder.record_until(t);
 
     const double* state = integrator.state();
-    std::copy(state, state + model.state_size, y.begin());
-    evaluate(model, ws, t, y.data(), ev);
+    std::copy(state, state + model.layout.size, y.begin());
+    ev = ode.evaluated(t, y.data());
     if (model.tracking == Tracking::newton) {
       ws.u_warm = ev.pair.u;
       ws.v_warm = ev.pair_v;
@@ -542,11 +582,12 @@ Failure run_scene(const RunContext& run) {
   const std::unique_ptr<Integrator> integrator_ptr =
       make_integrator(ode, integrator_options(run.scene.integrator, run.plan), 0.0, y.data(), q.data());
   Integrator& integrator = *integrator_ptr;
-  WindowObserver observer(model, run.ws, integrator, y, q, run.plan.t_eval, run.result.metrics);
+  WindowObserver observer(model, run.ws, integrator, y, q, run.plan.t_eval, run.options.step_metrics,
+                          run.result.metrics);
   SeriesRecorder recorder(model, run.plan, run.options, observer, run.result);
   Failure failure;
   try {
-    failure = integrate(run, integrator, y, q, observer, recorder);
+    failure = integrate(run, ode, integrator, y, q, observer, recorder);
     if (!failure) {
       integrator.dense_quadrature(integrator.time(), q.data());
       observer.finish(run.plan.t_end, q[4] - recorder.separation_integral_at_eval());

@@ -144,6 +144,7 @@ void visit(A& a, CamLimitsConfig& l) {
   a.field("max_pressure_angle_deg", l.max_pressure_angle_deg, open_closed(0, 90));
   a.field("min_radius_of_curvature", l.min_radius_of_curvature, positive());
   a.field("max_peak_jerk", l.max_peak_jerk, positive());
+  a.field("max_contact_stress", l.max_contact_stress, positive());
 }
 
 template <class A>

@@ -226,6 +226,8 @@ struct CamLimitsConfig {
   std::optional<double> max_pressure_angle_deg;   ///< max |φ| over the cycle [deg]
   std::optional<double> min_radius_of_curvature;  ///< min |ρ| of the cam contour [m]
   std::optional<double> max_peak_jerk;            ///< max |d³s/dθ³| [m/rad³ or rad/rad³]
+  /// max Hertz line-contact pressure of the rigid-model contact force at the scene's speed [Pa]
+  std::optional<double> max_contact_stress;
 
   bool operator==(const CamLimitsConfig&) const = default;
 };

@@ -140,8 +140,8 @@ Json summary_json(const SceneConfig& scene, const Model& model, const Simulation
                            {"evaluated_from_s", result.evaluated_from},
                            {"termination", to_string(s.termination)},
                            {"message", s.message}};
-  summary["model"] = Json{{"state_size", model.state_size},
-                          {"states", model.state_names},
+  summary["model"] = Json{{"state_size", model.layout.size},
+                          {"states", model.layout.names},
                           {"elements", model.elements},
                           {"quadratures", {"drive_work", "damper_work", "hysteresis_work", "friction_work"}},
                           {"cam", drive_name(model)},
@@ -262,7 +262,7 @@ Report simulation_report(const SceneConfig& scene, const Model& model, const Sim
                               "(E − E₀) / scale [–]",
                               {{"energy residual", ts.time, ts.energy_residual}}});
   if (model.contour) add_contour_fit(model, report);
-  report.notes.push_back("Model: " + std::to_string(model.state_size) + " states; elements assembled: " + [&] {
+  report.notes.push_back("Model: " + std::to_string(model.layout.size) + " states; elements assembled: " + [&] {
     std::string list;
     for (const auto& e : model.elements) list += (list.empty() ? "" : ", ") + e;
     return list;

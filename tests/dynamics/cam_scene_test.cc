@@ -159,15 +159,15 @@ TEST(CamScene, ModelHoldsOnlyWhatTheSceneNeeds) {
   SceneConfig scene = test::cycloidal_cam_scene(500.0);
   scene.mechanism.contact.tracking = Tracking::newton;
   Model m = build_model(scene, "test");
-  EXPECT_EQ(m.state_size, 2);
+  EXPECT_EQ(m.layout.size, 2);
   EXPECT_EQ(m.elements, (std::vector<std::string>{"follower_mass", "spring", "contact:hertz"}));
   scene.mechanism.contact.tracking = Tracking::differential;
-  EXPECT_EQ(build_model(scene, "test").state_size, 3);
+  EXPECT_EQ(build_model(scene, "test").layout.size, 3);
   scene.mechanism.contact.friction.mu = 0.2;  // no roller inertia: rolls freely, no friction work
-  EXPECT_EQ(build_model(scene, "test").state_size, 3);
+  EXPECT_EQ(build_model(scene, "test").layout.size, 3);
   scene.mechanism.follower.shape.inertia = 1e-6;
   m = build_model(scene, "test");
-  EXPECT_EQ(m.state_size, 4);
+  EXPECT_EQ(m.layout.size, 4);
   EXPECT_EQ(m.elements.back(), "friction:coulomb_tanh");
   scene.mechanism.follower.damping = 1.0;
   scene.gravity = 9.81;
@@ -212,6 +212,39 @@ TEST(CamScene, SamplesAtRequestedTimesMatchTheOutputGrid) {
     EXPECT_EQ(sampled.samples.time[k], grid.series.time[i]);
     EXPECT_DOUBLE_EQ(sampled.samples.contact_force[k], grid.series.contact_force[i]);
     EXPECT_DOUBLE_EQ(sampled.samples.follower_position[k], grid.series.follower_position[i]);
+  }
+}
+
+// Identification asks for the samples alone (step_metrics off): the run must
+// be the same run to the last bit, steps, events and sampled values, with the
+// follower jumping (events) and with either tracking.
+TEST(CamScene, SamplesOnlyRunIsTheSameRunToTheBit) {
+  for (const Tracking tracking : {Tracking::differential, Tracking::newton}) {
+    SCOPED_TRACE(tracking == Tracking::newton ? "newton" : "differential");
+    const double jump = Rigid(test::cycloidal_cam_scene(1000.0)).jump_rpm();
+    SceneConfig scene = test::cycloidal_cam_scene(1.15 * jump, ContactModel::lankarani_nikravesh);
+    scene.mechanism.contact.tracking = tracking;
+    SimulationOptions options;
+    options.record_series = false;
+    const SimulationResult grid = simulate_scene(scene, "test");
+    for (size_t i = 3; i < grid.series.time.size(); i += 7) options.sample_times.push_back(grid.series.time[i]);
+    const SimulationResult every_step = simulate_scene(scene, "test", options);
+    options.step_metrics = false;
+    const SimulationResult samples_only = simulate_scene(scene, "test", options);
+
+    ASSERT_GT(every_step.events.size(), 1u);  // it jumps and lands
+    EXPECT_EQ(samples_only.solver.counters.steps, every_step.solver.counters.steps);
+    EXPECT_EQ(samples_only.solver.counters.rhs_evaluations, every_step.solver.counters.rhs_evaluations);
+    ASSERT_EQ(samples_only.events.size(), every_step.events.size());
+    for (size_t k = 0; k < every_step.events.size(); ++k)
+      EXPECT_EQ(samples_only.events[k].time, every_step.events[k].time);
+    const std::vector<const std::vector<double>*> a = every_step.samples.columns(), b = samples_only.samples.columns();
+    const std::vector<std::string> names = TimeSeries::column_names();
+    for (size_t c = 0; c < names.size(); ++c) {
+      if (names[c] == "energy_residual") continue;  // scaled by the energy followed over every step
+      ASSERT_EQ(b[c]->size(), a[c]->size()) << names[c];
+      for (size_t i = 0; i < a[c]->size(); ++i) ASSERT_EQ((*b[c])[i], (*a[c])[i]) << names[c] << " sample " << i;
+    }
   }
 }
 

@@ -239,10 +239,10 @@ TEST(GeneralPairForm, AddsTheFollowerParameterStateOnlyWithDifferentialTracking)
   SceneConfig s = test::follower_scene("translating_roller", 500.0);
   s.mechanism.contact.pair_form = PairFormChoice::general;
   const Model differential = build_model(s, "test");
-  EXPECT_EQ(differential.state_names, (std::vector<std::string>{"follower_position", "follower_velocity",
-                                                                "contact_parameter_u", "contact_parameter_v"}));
+  EXPECT_EQ(differential.layout.names, (std::vector<std::string>{"follower_position", "follower_velocity",
+                                                                 "contact_parameter_u", "contact_parameter_v"}));
   s.mechanism.contact.tracking = Tracking::newton;
-  EXPECT_EQ(build_model(s, "test").state_size, 2);
+  EXPECT_EQ(build_model(s, "test").layout.size, 2);
 }
 
 }  // namespace

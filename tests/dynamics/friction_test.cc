@@ -32,7 +32,7 @@ TEST(Friction, FlatFaceSlipIsTheCamSurfaceSpeedAndFrictionIsMuTimesNormalForce) 
     const double t = theta_deg / 360.0 * kTwoPi / omega;
     const LawSample s = model.law->eval(model.theta(t));
     const double y = s.s - 4e-6;
-    double state[Model::kMaxState] = {y, omega * s.ds, model.theta(t)};
+    double state[StateLayout::kMax] = {y, omega * s.ds, model.theta(t)};
     ws.u_warm = model.theta(t);
     Evaluation ev;
     evaluate(model, ws, t, state, ev);

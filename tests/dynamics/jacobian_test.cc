@@ -61,14 +61,14 @@ TEST_P(JacobianTest, MatchesCentralFiniteDifferences) {
     if (drive == "motor") d.motor = MotorConfig{Motor::torque_speed, 20.0, 1500.0, 5e-3};
   }
   const Model model = build_model(scene, "test");
-  const int n = model.state_size;
+  const int n = model.layout.size;
   Workspace ws;
   ws.v0 = 0.3;
   ws.motor_phase = 1e-3;
   const double omega = rpm * 2 * std::numbers::pi / 60;
   for (double theta_deg : {30.0, 75.0, 200.0, 260.0}) {
     const double t = theta_deg * std::numbers::pi / 180 / omega;
-    const double theta = model.theta(t) + (model.index_cam_angle >= 0 ? 2e-3 : 0.0);  // a shaft twisted a little
+    const double theta = model.theta(t) + (model.layout.cam_angle ? 2e-3 : 0.0);  // a shaft twisted a little
     const LawSample s = model.law->eval(theta);
     // In contact with a few µm of interference, approaching at 2 cm/s, slightly off the common normal.
     Eigen::VectorXd state = Eigen::VectorXd::Zero(n);
@@ -76,24 +76,24 @@ TEST_P(JacobianTest, MatchesCentralFiniteDifferences) {
     state(0) = s.s - (oscillating ? 5e-5 : 5e-6);
     state(1) = omega * s.ds - (oscillating ? 0.2 : 0.02);
     scale(0) = oscillating ? 1e-2 : 1e-3;
-    if (model.index_u >= 0) state(model.index_u) = theta + 1e-4;
-    if (model.index_cam_angle >= 0) {
-      state(model.index_cam_angle) = theta;
-      state(model.index_cam_speed) = 1.01 * omega;
-      scale(model.index_cam_speed) = omega;
+    if (model.layout.u) state(*model.layout.u) = theta + 1e-4;
+    if (model.layout.cam_angle) {
+      state(*model.layout.cam_angle) = theta;
+      state(*model.layout.cam_speed) = 1.01 * omega;
+      scale(*model.layout.cam_speed) = omega;
     }
-    if (model.index_motor_angle >= 0) {
-      state(model.index_motor_angle) = theta + 3e-3;
-      state(model.index_motor_speed) = 0.99 * omega;
-      scale(model.index_motor_speed) = omega;
+    if (model.layout.motor_angle) {
+      state(*model.layout.motor_angle) = theta + 3e-3;
+      state(*model.layout.motor_speed) = 0.99 * omega;
+      scale(*model.layout.motor_speed) = omega;
     }
     ws.u_warm = theta;
-    if (model.index_spin >= 0) {
+    if (model.layout.spin) {
       // Spin for a slip of 1 cm/s, inside the regularisation band, where friction depends on slip.
       Evaluation probe;
       evaluate(model, ws, t, state.data(), probe);  // Ω = 0: slip₀
-      state(model.index_spin) = (probe.slip - 0.01) / model.follower.radius;
-      scale(model.index_spin) = omega;
+      state(*model.layout.spin) = (probe.slip - 0.01) / model.follower.radius;
+      scale(*model.layout.spin) = omega;
     }
     Eigen::MatrixXd analytic(n, n);
     state_jacobian(model, ws, t, state.data(), analytic.data());
@@ -130,7 +130,7 @@ TEST_P(JacobianTest, MatchesCentralFiniteDifferences) {
       const double row_scale = numeric.row(i).cwiseAbs().maxCoeff() + 1e-12;
       for (int j = 0; j < n; ++j)
         EXPECT_NEAR(analytic(i, j), numeric(i, j), 1e-5 * std::abs(numeric(i, j)) + 1e-9 * row_scale)
-            << model.state_names[i] << " by " << model.state_names[j] << " at " << theta_deg << " deg";
+            << model.layout.names[i] << " by " << model.layout.names[j] << " at " << theta_deg << " deg";
     }
   }
 }

@@ -4,6 +4,7 @@
 // force elements.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -162,11 +163,11 @@ TEST_P(ModelBlock, ListsExactlyTheStatesAndElementsTheSceneNeeds) {
   SceneConfig scene = test::follower_scene(c.kind, 500.0);
   c.change(scene);
   const Model model = build_model(scene, "test");
-  EXPECT_EQ(model.state_names, c.states);
-  EXPECT_EQ(model.state_size, static_cast<int>(c.states.size()));
+  EXPECT_EQ(model.layout.names, c.states);
+  EXPECT_EQ(model.layout.size, static_cast<int>(c.states.size()));
   EXPECT_EQ(model.elements, c.elements);
   const Json block = summary_json(scene, model, SimulationResult{}).at("model");
-  EXPECT_EQ(block.at("state_size").get<int>(), model.state_size);
+  EXPECT_EQ(block.at("state_size").get<int>(), model.layout.size);
   EXPECT_EQ(block.at("states").get<Names>(), c.states);
   EXPECT_EQ(block.at("elements").get<Names>(), c.elements);
   EXPECT_EQ(block.at("follower").get<std::string>(), c.kind);
@@ -178,6 +179,28 @@ TEST_P(ModelBlock, ListsExactlyTheStatesAndElementsTheSceneNeeds) {
 
 INSTANTIATE_TEST_SUITE_P(Scenes, ModelBlock, ::testing::ValuesIn(cases()),
                          [](const ::testing::TestParamInfo<ModelCase>& p) { return p.param.name; });
+
+// Every named state has its slot at its position in the names; absent states have none.
+TEST(StateLayout, SlotsMatchTheNamesAndAbsentStatesHaveNone) {
+  const std::vector<std::pair<std::string, StateSlot StateLayout::*>> slots = {
+      {"contact_parameter_u", &StateLayout::u},  {"contact_parameter_v", &StateLayout::v},
+      {"roller_spin", &StateLayout::spin},       {"cam_angle", &StateLayout::cam_angle},
+      {"cam_speed", &StateLayout::cam_speed},    {"motor_angle", &StateLayout::motor_angle},
+      {"motor_speed", &StateLayout::motor_speed}};
+  for (const ModelCase& c : cases()) {
+    SCOPED_TRACE(c.name);
+    SceneConfig scene = test::follower_scene(c.kind, 500.0);
+    c.change(scene);
+    const StateLayout& layout = build_model(scene, "test").layout;
+    for (const auto& [name, slot] : slots) {
+      const auto it = std::find(layout.names.begin(), layout.names.end(), name);
+      ASSERT_EQ(static_cast<bool>(layout.*slot), it != layout.names.end()) << name;
+      if (layout.*slot) {
+        EXPECT_EQ(*(layout.*slot), it - layout.names.begin()) << name;
+      }
+    }
+  }
+}
 
 }  // namespace
 }  // namespace camdyn
@@ -194,7 +217,7 @@ TEST(FollowerExamples, EveryStudyConfigLoadsAndBuildsItsModel) {
     SCOPED_TRACE(entry.path().string());
     const SceneConfig scene = load_scene(entry.path().string());
     const Model model = build_model(scene, entry.path().string());
-    EXPECT_GE(model.state_size, 2);
+    EXPECT_GE(model.layout.size, 2);
     ++count;
   }
   EXPECT_GE(count, 5);

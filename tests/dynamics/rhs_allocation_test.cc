@@ -19,8 +19,8 @@ namespace {
 long allocations_in_rhs_calls(const Model& model, Workspace& ws, const double* y, double t0 = 0.0,
                               bool jacobian = false) {
   Evaluation ev;
-  double y_dot[Model::kMaxState], q_dot[Model::kQuadratures], g[2];
-  double jac[Model::kMaxState * Model::kMaxState];
+  double y_dot[StateLayout::kMax], q_dot[Model::kQuadratures], g[2];
+  double jac[StateLayout::kMax * StateLayout::kMax];
   const long before = camdyn::test::allocation_count();
   for (int i = 0; i < 100; ++i) {
     const double t = t0 + 1e-4 * i;
@@ -41,7 +41,7 @@ TEST(RightHandSide, AllocatesNothingInEveryTrackingMode) {
     scene.mechanism.contact.friction.mu = 0.1;
     const Model model = build_model(scene, "test");
     Workspace ws;
-    const double y[Model::kMaxState] = {0.005, 0.3, 0.8, 100.0};
+    const double y[StateLayout::kMax] = {0.005, 0.3, 0.8, 100.0};
     ws.u_warm = 0.8;
     EXPECT_EQ(allocations_in_rhs_calls(model, ws, y), 0) << tracking;
   }
@@ -55,15 +55,15 @@ TEST(RightHandSide, AllocatesNothingForAnyFollowerFrictionOrDrive) {
       scene.mechanism.contact.tracking = tracking;
       const Model model = build_model(scene, "test");
       Workspace ws;
-      double y[Model::kMaxState] = {};
+      double y[StateLayout::kMax] = {};
       y[0] = oscillating ? 0.05 : 0.005;
       y[1] = 0.3;
-      if (model.index_u >= 0) y[model.index_u] = 0.8;
-      if (model.index_spin >= 0) y[model.index_spin] = 100.0;
-      y[model.index_cam_angle] = 0.8;
-      y[model.index_cam_speed] = 100.0;
-      y[model.index_motor_angle] = 0.81;
-      y[model.index_motor_speed] = 100.0;
+      if (model.layout.u) y[*model.layout.u] = 0.8;
+      if (model.layout.spin) y[*model.layout.spin] = 100.0;
+      y[*model.layout.cam_angle] = 0.8;
+      y[*model.layout.cam_speed] = 100.0;
+      y[*model.layout.motor_angle] = 0.81;
+      y[*model.layout.motor_speed] = 100.0;
       ws.u_warm = 0.8;
       EXPECT_EQ(allocations_in_rhs_calls(model, ws, y, 0.0, true), 0) << kind << " " << tracking;
     }
@@ -80,10 +80,10 @@ TEST(RightHandSide, AllocatesNothingWithTheGeneralPairFormOrAContourCam) {
       if (contour) test::use_eccentric_disc_contour(scene, 64);
       const Model model = build_model(scene, "test");
       Workspace ws = make_workspace(model);
-      double y[Model::kMaxState] = {0.002, 0.3};
+      double y[StateLayout::kMax] = {0.002, 0.3};
       ws.u_warm = model.pair_guess(0.8);
-      if (model.index_u >= 0) y[model.index_u] = ws.u_warm;
-      if (model.index_v >= 0) y[model.index_v] = ws.v_warm;
+      if (model.layout.u) y[*model.layout.u] = ws.u_warm;
+      if (model.layout.v) y[*model.layout.v] = ws.v_warm;
       EXPECT_EQ(allocations_in_rhs_calls(model, ws, y, 0.8 / model.omega), 0)
           << tracking << (contour ? " contour" : " general");
     }

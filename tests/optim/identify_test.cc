@@ -244,6 +244,33 @@ TEST(IdentifyFit, NoiseFreeRecordIsRecoveredToTheSolverTolerance) {
   fs::remove_all(dir);
 }
 
+// A continuation stage starts where the last one stopped, so its first
+// residuals and Jacobian (the centre and 2p difference points) were simulated
+// already; the optimum's covariance and final check are there too. Those runs
+// are reused, not simulated again, and the fit is the same fit.
+TEST(IdentifyFit, PointsSimulatedBeforeAreReusedAcrossStages) {
+  const fs::path dir = temp_dir("reuse");
+  SceneConfig truth = load_scene(kDropStudy + "rig.json");
+  truth.mechanism.contact.stiffness = 3e9;
+  const SimulationResult sim = simulate_scene(truth, "truth");
+  {
+    std::ofstream out(dir / "clean.csv");
+    out.precision(17);
+    out << "time,force_N\n";
+    for (std::size_t i = 0; i < sim.series.time.size(); ++i) {
+      if (sim.series.time[i] < 1e-4 || sim.series.time[i] > 5e-4) continue;
+      out << sim.series.time[i] << "," << sim.series.contact_force[i] << "\n";
+    }
+  }
+  const IdentifyProblem p =
+      load(kData + "single.json", {"reference.file=" + (dir / "clean.csv").string(), "solver.smoothing=[2e-5]"});
+  const IdentifyResult r = identify(p, IdentifyOptions{});
+  const long points_per_jacobian = 2 * static_cast<long>(p.parameters.size()) + 1;
+  EXPECT_GE(r.reused_points, points_per_jacobian);  // at least the second stage's start
+  EXPECT_NEAR(estimate(r, "contact.stiffness").value / 3e9 - 1.0, 0.0, 1e-4);
+  fs::remove_all(dir);
+}
+
 /// The four-drop study, run once through the command line as a user would.
 class IdentifyDropStudy : public ::testing::Test {
  protected:
