@@ -620,7 +620,7 @@ TEST(ProfilePairVsCircleReduction, SamePairAndGapOnARollerCamOverATurn) {
     ++compared;
   }
   EXPECT_EQ(compared, 721);
-  EXPECT_LT(max_gap_diff, 1e-12);
+  EXPECT_LT(max_gap_diff, kAnalyticGap);
   EXPECT_LT(max_point_diff, 1e-9);
   EXPECT_LT(max_normal_diff, 1e-9);
   EXPECT_EQ(ws.global_searches, 1) << "warm-started Newton kept the pair over the whole turn";

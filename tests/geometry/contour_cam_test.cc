@@ -125,7 +125,7 @@ TEST(ContourFit, DerivativesMatchFiniteDifferences) {
       EXPECT_NEAR(c.d3r(axis), d3.value, d3.tolerance) << "u = " << u;
     }
     // Periodic: the parameter may be any real.
-    EXPECT_LT((cam.at(u + 3 * kTwoPi).r - c.r).norm(), 1e-15);
+    EXPECT_LT((cam.at(u + 3 * kTwoPi).r - c.r).norm(), test::kRoundoff * test::kLengthScale);
   }
 }
 
@@ -136,7 +136,7 @@ TEST(ContourFit, InterpolatesWhenThereAreAsManyControlPointsAsPoints) {
   options.control_points = 12;
   const ContourCam cam = ContourCam::fit(pts, options, kFile);
   EXPECT_EQ(cam.report().control_points, 12);
-  EXPECT_LT(cam.report().max_residual, 1e-15);
+  EXPECT_LT(cam.report().max_residual, test::kRoundoff * test::kLengthScale);
   EXPECT_EQ(cam.orientation(), +1);
 }
 
@@ -152,7 +152,8 @@ TEST(ContourFit, ExactPointsOfARollerCamGiveAFitFarBelowManufacturingTolerance) 
   // Degree 5 on a 1° grid: errors ~ h⁶ |r⁽⁶⁾|, far below a micrometre. (The
   // cycloidal law's jerk jumps at its segment ends, so r is only C² there.)
   EXPECT_LT(deviation, 1e-7);
-  EXPECT_LE(rep.max_residual, deviation + 1e-15) << "residuals at the points bound by the deviation";
+  EXPECT_LE(rep.max_residual, deviation + test::kRoundoff * test::kLengthScale)
+      << "residuals at the points bound by the deviation";
   EXPECT_LE(rep.rms_residual, rep.max_residual);
   EXPECT_TRUE(rep.concave.empty());
   // The contour's smallest radius of curvature, from the synthesis: ρ_pitch − r_r.
@@ -461,7 +462,7 @@ TEST(ContourGoldenFiles, PythonSynthesisedRollerCamGivesBackTheLaw) {
   const RollerCamScene s;
   const auto pts = read_points("roller_cam_cycloidal.json");
   ASSERT_EQ(pts.size(), 360u);
-  EXPECT_LT((pts[0] - s.cam.contour(0.0)).norm(), 1e-12) << "the same cam";
+  EXPECT_LT((pts[0] - s.cam.contour(0.0)).norm(), test::kAmplifiedRoundoff) << "the same cam";
   const ContourCam cam = ContourCam::fit(pts, {}, kFile);
   const double deviation = max_deviation(cam, [&](double u) { return s.cam.contour(u); });
   EXPECT_LT(deviation, 1e-6);
