@@ -23,6 +23,7 @@
 
 namespace {
 
+using camdyn::test::kConverged;
 using camdyn::test::read_text;
 using camdyn::test::run_camdyn;
 using camdyn::test::without_last_column;
@@ -208,7 +209,7 @@ TEST_F(CompareCli, InlineCaseOverlaysAndBestMarks) {
   // refined by a golden-section search).
   const double light = std::stod(rows.front().at("jump_speed_rpm")),
                heavy = std::stod(rows.back().at("jump_speed_rpm"));
-  EXPECT_NEAR(heavy / light, std::sqrt(0.3 / 0.45), test::kConverged);
+  EXPECT_NEAR(heavy / light, std::sqrt(0.3 / 0.45), kConverged);
   const std::string html = read_text(dir_ / "out" / "report.html");
   EXPECT_NE(html.find("Contact force against cam angle (last revolution), mechanism.cam.rpm=1300"), std::string::npos);
   EXPECT_NE(html.find("Follower displacement against cam angle"), std::string::npos);
