@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "tolerance.h"
+
 namespace camdyn {
 namespace {
 
@@ -40,7 +42,7 @@ TEST(ForceLaw, ElasticEnergyDerivativeIsElasticForce) {
   for (double delta : {1e-7, 1e-6, 1e-5, 1e-4}) {
     const double h = delta * 1e-5;
     const double fd = (law.elastic_energy(delta + h) - law.elastic_energy(delta - h)) / (2 * h);
-    EXPECT_NEAR(fd / law.elastic_force(delta), 1.0, 1e-8);
+    EXPECT_NEAR(fd / law.elastic_force(delta), 1.0, test::kFiniteDifference);
   }
 }
 

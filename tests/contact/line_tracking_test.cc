@@ -7,6 +7,7 @@
 
 #include "contact/line_curve_tracking.h"
 #include "test_curves.h"
+#include "tolerance.h"
 
 namespace camdyn {
 namespace {
@@ -32,7 +33,7 @@ TEST(LineTracking, ResidualDerivativeMatchesFiniteDifference) {
   for (double u : {0.1, 0.7, 2.0, 4.0}) {
     const double h = 1e-6;
     const double fd = (evaluate_line_pair(e, f.p, f.m, u + h).f - evaluate_line_pair(e, f.p, f.m, u - h).f) / (2 * h);
-    EXPECT_NEAR(evaluate_line_pair(e, f.p, f.m, u).f_u, fd, 1e-8 * std::abs(fd) + 1e-14);
+    EXPECT_NEAR(evaluate_line_pair(e, f.p, f.m, u).f_u, fd, test::kFiniteDifference * std::abs(fd) + test::kRoundoff);
   }
 }
 
@@ -46,12 +47,12 @@ TEST(LineTracking, NewtonAndGlobalFindTheSupportPointAndTheExactGap) {
       double u = 0.0;
       TrackedPair pair;
       ASSERT_TRUE(global_line_pair(e, f.p, f.m, u_star + 0.5, u, pair)) << angle;
-      EXPECT_NEAR(std::remainder(u - u_star, 2 * std::numbers::pi), 0.0, 1e-12) << angle;
-      EXPECT_NEAR(pair.gap, h, 1e-15) << angle;
-      EXPECT_NEAR(pair.normal.dot(f.m), -1.0, 1e-12);  // normals opposed
+      EXPECT_NEAR(std::remainder(u - u_star, 2 * std::numbers::pi), 0.0, test::kAmplifiedRoundoff) << angle;
+      EXPECT_NEAR(pair.gap, h, test::kRoundoff * test::kLengthScale) << angle;
+      EXPECT_NEAR(pair.normal.dot(f.m), -1.0, test::kAmplifiedRoundoff);  // normals opposed
       double v = u_star + 0.2;
       ASSERT_TRUE(newton_track_line(e, f.p, f.m, v, pair));
-      EXPECT_NEAR(std::remainder(v - u_star, 2 * std::numbers::pi), 0.0, 1e-12);
+      EXPECT_NEAR(std::remainder(v - u_star, 2 * std::numbers::pi), 0.0, test::kAmplifiedRoundoff);
     }
   }
 }

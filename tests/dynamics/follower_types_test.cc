@@ -53,19 +53,19 @@ TEST_P(FollowerType, LowSpeedFollowsTheLawWithTheRigidForce) {
   }
   // Acceptance: the contact force within 0.5 % of the rigid-model force, and
   // the follower on the law within twice the static contact deflection.
-  EXPECT_LT(worst_force, 5e-3);
+  EXPECT_LT(worst_force, test::kRigidForceAcceptance);
   const double static_deflection = std::pow(f_max / *scene.mechanism.contact.stiffness, 1.0 / 1.5);
   record("worst_force_error", worst_force);
   record("worst_normal_deviation_m", worst_normal_error);
   record("static_deflection_m", static_deflection);
   EXPECT_LT(worst_normal_error, 2.0 * static_deflection);
-  EXPECT_NEAR(r.metrics.peak_contact_force / f_max, 1.0, 5e-3);
+  EXPECT_NEAR(r.metrics.peak_contact_force / f_max, 1.0, test::kRigidForceAcceptance);
 }
 
 TEST_P(FollowerType, JumpSpeedMatchesTheIndependentRigidModel) {
   const SceneConfig scene = test::follower_scene(GetParam(), 1000.0);
   const Model model = build_model(scene, "test");
-  EXPECT_NEAR(jump_speed_rpm(model) / Rigid(scene).jump_rpm(), 1.0, 1e-6);
+  EXPECT_NEAR(jump_speed_rpm(model) / Rigid(scene).jump_rpm(), 1.0, test::kRigidJumpGrid);
 }
 
 TEST_P(FollowerType, NoSeparationJustBelowTheJumpSpeedSeparationJustAbove) {

@@ -12,6 +12,7 @@
 #include "geometry/motion_law.h"
 #include "rigid_follower.h"
 #include "scenes.h"
+#include "tolerance.h"
 
 namespace camdyn {
 namespace {
@@ -37,7 +38,7 @@ TEST(Friction, FlatFaceSlipIsTheCamSurfaceSpeedAndFrictionIsMuTimesNormalForce) 
     Evaluation ev;
     evaluate(model, ws, t, state, ev);
     ASSERT_GT(ev.normal_force, 0.0);
-    EXPECT_NEAR(std::abs(ev.slip), omega * (scene.mechanism.cam.base_radius + s.s), 1e-12 * omega);
+    EXPECT_NEAR(std::abs(ev.slip), omega * (scene.mechanism.cam.base_radius + s.s), test::kAmplifiedRoundoff * omega);
     EXPECT_NEAR(std::abs(ev.friction_force), 0.1 * ev.normal_force, 1e-9 * ev.normal_force);
     EXPECT_GT(ev.power_friction, 0.0);
   }
@@ -50,9 +51,11 @@ TEST(Friction, SlidingFrictionClosesTheEnergyBalance) {
     scene.mechanism.contact.friction.regularization_velocity = 1e-3;
     const SimulationResult r = simulate_scene(scene, "test");
     EXPECT_LT(r.metrics.energy_residual, 1e-6) << kind;
+    // The friction peak is read from the 0.5° output series, the force peak at the integrator's steps.
+    constexpr double kSampledPeaks = 2e-3;
     double max_friction = 0.0;
     for (double f : r.series.friction_force) max_friction = std::max(max_friction, std::abs(f));
-    EXPECT_NEAR(max_friction / r.metrics.peak_contact_force, 0.1, 2e-3) << kind;
+    EXPECT_NEAR(max_friction / r.metrics.peak_contact_force, 0.1, kSampledPeaks) << kind;
   }
 }
 

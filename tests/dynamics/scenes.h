@@ -9,6 +9,14 @@
 
 namespace camdyn::test {
 
+/// The acceptance level of the rigid-model comparisons: a simulated contact
+/// force within 0.5 % of the rigid model's.
+inline constexpr double kRigidForceAcceptance = 5e-3;
+/// Relative accuracy of the tests' rigid-model jump speeds: the minimum over
+/// 36000 sampled angles misses a smooth minimum between samples by
+/// ≈ (π/36000)²·|ω''/ω| ≪ 1e-6.
+inline constexpr double kRigidJumpGrid = 1e-6;
+
 /// A cam with a 20 mm cycloidal rise over 120°, dwell, cycloidal return over
 /// 120°, dwell; base radius 40 mm, roller 10 mm, follower 0.3 kg on a 5 kN/m
 /// spring with 40 N preload; Hertz-type contact K = 1e10 N/m^1.5.

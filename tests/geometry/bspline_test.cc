@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "finite_difference.h"
+#include "tolerance.h"
 
 namespace camdyn {
 namespace {
@@ -44,7 +45,7 @@ TEST(BSplineBasis, BezierKnotsGiveBernsteinPolynomialsAndTheirDerivatives) {
           }
           d *= binomial(p, i);
           // Values are O(1), derivatives up to p³·2^p: relative rounding of a few ulps.
-          EXPECT_NEAR(b.ders[k][i], d, 1e-12 * std::max(1.0, std::abs(d)))
+          EXPECT_NEAR(b.ders[k][i], d, test::kAmplifiedRoundoff * std::max(1.0, std::abs(d)))
               << "p=" << p << " i=" << i << " k=" << k << " x=" << x;
         }
       }
@@ -61,8 +62,9 @@ TEST(BSplineBasis, PartitionOfUnityOnUniformKnots) {
     double sum[4] = {0, 0, 0, 0};
     for (int k = 0; k < 4; ++k)
       for (int j = 0; j <= p; ++j) sum[k] += b.ders[k][j];
-    EXPECT_NEAR(sum[0], 1.0, 1e-14);
-    for (int k = 1; k < 4; ++k) EXPECT_NEAR(sum[k], 0.0, 1e-9) << "k=" << k;  // ders ~ 1e4
+    EXPECT_NEAR(sum[0], 1.0, test::kRoundoff);
+    for (int k = 1; k < 4; ++k)
+      EXPECT_NEAR(sum[k], 0.0, test::kRoundoff * 1e5) << "k=" << k;  // ders up to (p/Δ)³ ≈ 3e4
   }
 }
 
@@ -80,10 +82,10 @@ TEST(ClampedBSpline, DerivativesMatchFiniteDifferencesAndEndsInterpolate) {
   const int p = 5;
   const std::vector<double> c = {0.0, 0.1, -0.3, 0.8, 0.5, 1.2, 0.9, 1.0};
   const ClampedBSpline s(p, ClampedBSpline::uniform_knots(p, static_cast<int>(c.size())), c);
-  EXPECT_NEAR(s.eval(0.0)[0], c.front(), 1e-15);
-  EXPECT_NEAR(s.eval(1.0)[0], c.back(), 1e-15);
+  EXPECT_NEAR(s.eval(0.0)[0], c.front(), test::kExact);
+  EXPECT_NEAR(s.eval(1.0)[0], c.back(), test::kExact);
   // End slope of a clamped spline: p (c1 − c0) / (knot step).
-  EXPECT_NEAR(s.eval(0.0)[1], p * (c[1] - c[0]) / (1.0 / 3.0), 1e-12);
+  EXPECT_NEAR(s.eval(0.0)[1], p * (c[1] - c[0]) / (1.0 / 3.0), test::kAmplifiedRoundoff);
   constexpr double h = 1e-4;
   for (int i = 0; i < 50; ++i) {
     const double x = (i + 0.5) / 50.0;  // ≥ 0.01 from the knots 1/3, 2/3
@@ -101,15 +103,15 @@ TEST(PeriodicBSpline, ReproducesAConstantAndInterpolates) {
     const auto flat = PeriodicBSpline::interpolate(p, sites, std::vector<double>(7, 2.5), 1.0);
     ASSERT_TRUE(flat.has_value());
     for (double x : {-0.3, 0.05, 0.6, 3.99}) {
-      EXPECT_NEAR(flat->eval(x)[0], 2.5, 1e-13) << p;
-      EXPECT_NEAR(flat->eval(x)[1], 0.0, 1e-11) << p;
+      EXPECT_NEAR(flat->eval(x)[0], 2.5, test::kRoundoff * 10) << p;
+      EXPECT_NEAR(flat->eval(x)[1], 0.0, test::kAmplifiedRoundoff * 10) << p;
     }
     const std::vector<double> values = {1.0, -2.0, 0.5, 3.0, 0.0, 1.5, -1.0};
     const auto s = PeriodicBSpline::interpolate(p, sites, values, 1.0);
     ASSERT_TRUE(s.has_value());
     for (std::size_t j = 0; j < sites.size(); ++j) {
-      EXPECT_NEAR(s->eval(sites[j])[0], values[j], 1e-12) << p;
-      EXPECT_NEAR(s->eval(sites[j] + 5.0)[0], values[j], 1e-12) << p;  // period 1
+      EXPECT_NEAR(s->eval(sites[j])[0], values[j], test::kAmplifiedRoundoff) << p;
+      EXPECT_NEAR(s->eval(sites[j] + 5.0)[0], values[j], test::kAmplifiedRoundoff) << p;  // period 1
     }
     EXPECT_EQ(s->breakpoints().size(), sites.size());
   }
@@ -121,7 +123,7 @@ TEST(PeriodicBSpline, EvenDegreeUsesMidpointBreakpoints) {
   const std::vector<double> expected = {0.1, 0.4, 0.7, 0.85, 0.95};
   const std::vector<double> got = s->breakpoints();
   ASSERT_EQ(got.size(), expected.size());
-  for (std::size_t j = 0; j < got.size(); ++j) EXPECT_NEAR(got[j], expected[j], 1e-15);
+  for (std::size_t j = 0; j < got.size(); ++j) EXPECT_NEAR(got[j], expected[j], test::kExact);
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 #include "allocation_counter.h"
 #include "common/errors.h"
 #include "law_checks.h"
+#include "tolerance.h"
 
 namespace camdyn {
 namespace {
@@ -74,7 +75,8 @@ TEST_P(EveryFollower, ProfileDerivativesMatchFiniteDifferences) {
           return v[k](c);
         };
         const test::FdEstimate fd = test::central_difference(g, u, 1e-4, 0.1);
-        EXPECT_NEAR(d[k](c), fd.value, fd.tolerance + 1e-12) << "derivative " << k + 1 << " at " << deg;
+        EXPECT_NEAR(d[k](c), fd.value, fd.tolerance + test::kAmplifiedRoundoff)
+            << "derivative " << k + 1 << " at " << deg;
       }
   }
 }
@@ -88,7 +90,7 @@ TEST_P(EveryFollower, ChecksPassForTheStandardDesignAndReportTheGeometry) {
   // pressure angle 0.
   const bool flat_face = GetParam().shape == "flat";
   EXPECT_GE(r.max_pressure_angle_deg, 0.0);
-  EXPECT_LT(r.max_pressure_angle_deg, flat_face ? 1e-12 : 60.0);
+  EXPECT_LT(r.max_pressure_angle_deg, flat_face ? test::kAmplifiedRoundoff : 60.0);
   if (!flat_face) {
     EXPECT_GT(r.max_pressure_angle_deg, 1.0);
   }
@@ -101,9 +103,10 @@ TEST_P(EveryFollower, ChecksPassForTheStandardDesignAndReportTheGeometry) {
     const double sg = GetParam().sigma;
     const Eigen::Vector2d r_world = Eigen::Rotation2Dd(sg * theta) * cam.at(theta).r;
     const Eigen::Vector2d t_world = Eigen::Rotation2Dd(sg * theta) * cam.at(theta).dr;
-    EXPECT_NEAR(k.normal.dot(t_world), 0.0, 1e-12) << deg;  // the contact normal is normal to the profile
+    EXPECT_NEAR(k.normal.dot(t_world), 0.0, test::kAmplifiedRoundoff)
+        << deg;  // the contact normal is normal to the profile
     if (GetParam().shape == "flat") {
-      EXPECT_NEAR((k.contact - r_world).norm(), 0.0, 1e-15) << deg;
+      EXPECT_NEAR((k.contact - r_world).norm(), 0.0, test::kRoundoff * test::kLengthScale) << deg;
     }
     EXPECT_GT(k.g_q, 0.0);
   }
@@ -126,9 +129,9 @@ TEST(CamSynthesis, TranslatingRollerCentreCurveIsThePitchCurve) {
   const SynthesisedCam cam = make("translating", "roller");
   for (int i = 0; i < 72; ++i) {
     const double u = i * 5 * kDeg;
-    EXPECT_NEAR((cam.at(u).r - roller.pitch(u).r).norm(), 0.0, 1e-16);
-    EXPECT_NEAR((cam.at(u).d3r - roller.pitch(u).d3r).norm(), 0.0, 1e-14);
-    EXPECT_NEAR(cam.kinematics(u).pressure_angle, roller.pressure_angle(u), 1e-14);
+    EXPECT_NEAR((cam.at(u).r - roller.pitch(u).r).norm(), 0.0, test::kExact * test::kLengthScale);
+    EXPECT_NEAR((cam.at(u).d3r - roller.pitch(u).d3r).norm(), 0.0, test::kRoundoff);
+    EXPECT_NEAR(cam.kinematics(u).pressure_angle, roller.pressure_angle(u), test::kRoundoff);
   }
 }
 
@@ -141,12 +144,12 @@ TEST(CamSynthesis, TranslatingFlatContourIsSPrimeAcrossAndBasePlusSUp) {
       const double theta = i * 10 * kDeg + 0.1;
       const LawSample s = cam.law().eval(theta);
       const SynthesisedCam::Kinematics k = cam.kinematics(theta);
-      EXPECT_NEAR(k.contact.x(), sigma * s.ds, 1e-15);
-      EXPECT_NEAR(k.contact.y(), 0.04 + s.s, 1e-15);
-      EXPECT_NEAR(k.face_offset, sigma * s.ds, 1e-15);
-      EXPECT_NEAR(k.radius_of_curvature, 0.04 + s.s + s.d2s, 1e-14);
-      EXPECT_NEAR(k.g_q, 1.0, 1e-15);
-      EXPECT_NEAR(k.pressure_angle, 0.0, 1e-15);
+      EXPECT_NEAR(k.contact.x(), sigma * s.ds, test::kRoundoff * test::kLengthScale);
+      EXPECT_NEAR(k.contact.y(), 0.04 + s.s, test::kRoundoff * test::kLengthScale);
+      EXPECT_NEAR(k.face_offset, sigma * s.ds, test::kRoundoff * test::kLengthScale);
+      EXPECT_NEAR(k.radius_of_curvature, 0.04 + s.s + s.d2s, test::kRoundoff);
+      EXPECT_NEAR(k.g_q, 1.0, test::kExact);
+      EXPECT_NEAR(k.pressure_angle, 0.0, test::kExact);
     }
   }
 }
@@ -158,11 +161,12 @@ TEST(CamSynthesis, OscillatingRollerCentreIsOnTheArmCircle) {
   for (int i = 0; i < 36; ++i) {
     const double theta = i * 10 * kDeg;
     const Eigen::Vector2d c = Eigen::Rotation2Dd(theta) * cam.at(theta).r;  // centre, world
-    EXPECT_NEAR((c - pivot).norm(), 0.08, 1e-15);
+    EXPECT_NEAR((c - pivot).norm(), 0.08, test::kRoundoff * test::kLengthScale);
     const double psi = std::atan2(c.y() - pivot.y(), c.x() - pivot.x());
-    EXPECT_NEAR(std::remainder(psi - f.psi0 - f.kappa * cam.law().eval(theta).s, kTwoPi), 0.0, 1e-13);
+    EXPECT_NEAR(std::remainder(psi - f.psi0 - f.kappa * cam.law().eval(theta).s, kTwoPi), 0.0,
+                test::kRoundoff * kTwoPi);
   }
-  EXPECT_NEAR(cam.at(330 * kDeg).r.norm(), 0.05, 1e-15);  // on the base-circle dwell
+  EXPECT_NEAR(cam.at(330 * kDeg).r.norm(), 0.05, test::kRoundoff * test::kLengthScale);  // on the base-circle dwell
 }
 
 TEST(CamSynthesis, FlatFaceCuspNamesTheMinimumBaseRadius) {

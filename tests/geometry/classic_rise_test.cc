@@ -9,6 +9,7 @@
 #include "finite_difference.h"
 #include "geometry/motion_law.h"
 #include "law_checks.h"
+#include "tolerance.h"
 
 namespace camdyn {
 namespace {
@@ -26,20 +27,17 @@ void PrintTo(const ClassicCase& c, std::ostream* os) { *os << c.name; }
 
 class ClassicRise : public ::testing::TestWithParam<ClassicCase> {};
 
-// Closed forms are exact to a few ulps.
-constexpr double kExact = 1e-14;
-
 TEST_P(ClassicRise, StartsAtZeroEndsAtOneWithZeroVelocity) {
   const auto f = classic_rise(parse_enum<SegmentLaw>(GetParam().name));
   ASSERT_NE(f, nullptr);
   const LawSample a = f->eval(0.0), b = f->eval(1.0);
-  EXPECT_NEAR(a.s, 0.0, kExact);
-  EXPECT_NEAR(b.s, 1.0, kExact);
-  EXPECT_NEAR(a.ds, 0.0, kExact);
-  EXPECT_NEAR(b.ds, 0.0, kExact);
+  EXPECT_NEAR(a.s, 0.0, test::kRoundoff);
+  EXPECT_NEAR(b.s, 1.0, test::kRoundoff);
+  EXPECT_NEAR(a.ds, 0.0, test::kRoundoff);
+  EXPECT_NEAR(b.ds, 0.0, test::kRoundoff);
   // f'' at the ends is scaled by up to (4π)² inside the law: allow that many ulps more.
-  EXPECT_NEAR(a.d2s, GetParam().accel_at_0, 1e-12);
-  EXPECT_NEAR(b.d2s, GetParam().accel_at_1, 1e-12);
+  EXPECT_NEAR(a.d2s, GetParam().accel_at_0, test::kAmplifiedRoundoff);
+  EXPECT_NEAR(b.d2s, GetParam().accel_at_1, test::kAmplifiedRoundoff);
 }
 
 TEST_P(ClassicRise, IsPointSymmetricAboutTheMidpoint) {
@@ -47,8 +45,8 @@ TEST_P(ClassicRise, IsPointSymmetricAboutTheMidpoint) {
   const auto f = classic_rise(parse_enum<SegmentLaw>(GetParam().name));
   for (int i = 0; i <= 100; ++i) {
     const double x = i / 100.0;
-    EXPECT_NEAR(f->eval(1.0 - x).s, 1.0 - f->eval(x).s, kExact) << "x = " << x;
-    EXPECT_NEAR(f->eval(1.0 - x).ds, f->eval(x).ds, 1e-13) << "x = " << x;
+    EXPECT_NEAR(f->eval(1.0 - x).s, 1.0 - f->eval(x).s, test::kRoundoff) << "x = " << x;
+    EXPECT_NEAR(f->eval(1.0 - x).ds, f->eval(x).ds, 2 * kPi * test::kRoundoff) << "x = " << x;
   }
 }
 
@@ -80,8 +78,8 @@ TEST_P(ClassicRise, PeakCoefficientsMatchTextbookValues) {
     peak_a = std::max(peak_a, std::abs(l.d2s));
   }
   // Textbook coefficients are quoted to 2–3 decimals.
-  EXPECT_NEAR(peak_v, GetParam().peak_velocity, 0.01);
-  EXPECT_NEAR(peak_a, GetParam().peak_acceleration, 0.01);
+  EXPECT_NEAR(peak_v, GetParam().peak_velocity, test::kQuoted);
+  EXPECT_NEAR(peak_a, GetParam().peak_acceleration, test::kQuoted);
 }
 
 INSTANTIATE_TEST_SUITE_P(AllLaws, ClassicRise,
@@ -105,16 +103,16 @@ TEST(ClassicRiseModified, AccelerationFollowsThePrescribedShape) {
   // shape itself at the span centres (as multiples of the peak, f''(1/8)).
   const auto ms = classic_rise(SegmentLaw::modified_sine);
   const double ca = ms->eval(0.125).d2s;
-  EXPECT_NEAR(ms->eval(0.5).d2s, 0.0, 1e-12);
-  EXPECT_NEAR(ms->eval(0.875).d2s, -ca, 1e-12);
-  EXPECT_NEAR(ms->eval(0.0625).d2s, ca * std::sin(kPi / 4), 1e-12);
+  EXPECT_NEAR(ms->eval(0.5).d2s, 0.0, test::kAmplifiedRoundoff);
+  EXPECT_NEAR(ms->eval(0.875).d2s, -ca, test::kAmplifiedRoundoff);
+  EXPECT_NEAR(ms->eval(0.0625).d2s, ca * std::sin(kPi / 4), test::kAmplifiedRoundoff);
   const auto mt = classic_rise(SegmentLaw::modified_trapezoid);
   const double ct = mt->eval(0.25).d2s;
-  EXPECT_NEAR(mt->eval(0.125).d2s, ct, 1e-12);
-  EXPECT_NEAR(mt->eval(0.375).d2s, ct, 1e-12);
-  EXPECT_NEAR(mt->eval(0.5).d2s, 0.0, 1e-12);
-  EXPECT_NEAR(mt->eval(0.75).d2s, -ct, 1e-12);
-  EXPECT_NEAR(mt->eval(0.0625).d2s, ct * std::sin(kPi / 4), 1e-12);
+  EXPECT_NEAR(mt->eval(0.125).d2s, ct, test::kAmplifiedRoundoff);
+  EXPECT_NEAR(mt->eval(0.375).d2s, ct, test::kAmplifiedRoundoff);
+  EXPECT_NEAR(mt->eval(0.5).d2s, 0.0, test::kAmplifiedRoundoff);
+  EXPECT_NEAR(mt->eval(0.75).d2s, -ct, test::kAmplifiedRoundoff);
+  EXPECT_NEAR(mt->eval(0.0625).d2s, ct * std::sin(kPi / 4), test::kAmplifiedRoundoff);
 }
 
 }  // namespace

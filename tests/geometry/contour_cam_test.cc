@@ -21,6 +21,7 @@
 #include "io/config.h"
 #include "law_checks.h"
 #include "test_curves.h"
+#include "tolerance.h"
 
 namespace camdyn {
 namespace {
@@ -124,7 +125,7 @@ TEST(ContourFit, DerivativesMatchFiniteDifferences) {
       EXPECT_NEAR(c.d3r(axis), d3.value, d3.tolerance) << "u = " << u;
     }
     // Periodic: the parameter may be any real.
-    EXPECT_LT((cam.at(u + 3 * kTwoPi).r - c.r).norm(), 1e-15);
+    EXPECT_LT((cam.at(u + 3 * kTwoPi).r - c.r).norm(), test::kRoundoff * test::kLengthScale);
   }
 }
 
@@ -135,7 +136,7 @@ TEST(ContourFit, InterpolatesWhenThereAreAsManyControlPointsAsPoints) {
   options.control_points = 12;
   const ContourCam cam = ContourCam::fit(pts, options, kFile);
   EXPECT_EQ(cam.report().control_points, 12);
-  EXPECT_LT(cam.report().max_residual, 1e-15);
+  EXPECT_LT(cam.report().max_residual, test::kRoundoff * test::kLengthScale);
   EXPECT_EQ(cam.orientation(), +1);
 }
 
@@ -151,7 +152,8 @@ TEST(ContourFit, ExactPointsOfARollerCamGiveAFitFarBelowManufacturingTolerance) 
   // Degree 5 on a 1° grid: errors ~ h⁶ |r⁽⁶⁾|, far below a micrometre. (The
   // cycloidal law's jerk jumps at its segment ends, so r is only C² there.)
   EXPECT_LT(deviation, 1e-7);
-  EXPECT_LE(rep.max_residual, deviation + 1e-15) << "residuals at the points bound by the deviation";
+  EXPECT_LE(rep.max_residual, deviation + test::kRoundoff * test::kLengthScale)
+      << "residuals at the points bound by the deviation";
   EXPECT_LE(rep.rms_residual, rep.max_residual);
   EXPECT_TRUE(rep.concave.empty());
   // The contour's smallest radius of curvature, from the synthesis: ρ_pitch − r_r.
@@ -261,12 +263,14 @@ TEST(ContourConcave, PortionsMatchTheAnalyticCurvatureZeros) {
     const double centre = std::round((c.angle_begin_deg + 60) / 120) * 120 - 60;  // 60, 180 or 300
     const double offset = centre - 60;
     // 360 exact points, degree 5 (2° per control point): the curvature is
-    // accurate to ~1e-4 relative, the zeros to far below 0.01°.
-    EXPECT_NEAR(c.angle_begin_deg, begin + offset, 0.01);
-    EXPECT_NEAR(c.angle_end_deg, end + offset, 0.01);
+    // accurate to ~1e-4 relative, the zeros to far below 0.01°; the first
+    // point of a portion is the sample nearest its zero, one per degree.
+    constexpr double kZeroDeg = 0.01, kOnePoint = 1.0;
+    EXPECT_NEAR(c.angle_begin_deg, begin + offset, kZeroDeg);
+    EXPECT_NEAR(c.angle_end_deg, end + offset, kZeroDeg);
     EXPECT_NEAR(c.min_abs_radius, rho, 1e-4 * rho) << "curvature: two derivatives of the fit, ~h⁴";
-    EXPECT_NEAR(c.min_abs_radius_angle_deg, centre, 0.01);
-    EXPECT_NEAR(c.point_begin, std::round(begin + offset), 1.0) << "one point per degree";
+    EXPECT_NEAR(c.min_abs_radius_angle_deg, centre, kZeroDeg);
+    EXPECT_NEAR(c.point_begin, std::round(begin + offset), kOnePoint) << "one point per degree";
     EXPECT_GE(c.u_begin, 0.0);
     EXPECT_LT(c.u_begin, kTwoPi);
     EXPECT_GT(c.u_end, c.u_begin);
@@ -309,7 +313,8 @@ TEST(ContourConcave, ConvexCamPassesEveryFollower) {
   EXPECT_NO_THROW(check_contour_for_follower(cam, ContourFollower::flat, 0.0, kFile, kPath));
   EXPECT_NO_THROW(check_contour_for_follower(cam, ContourFollower::roller, 0.2, kFile, kPath));
   // The ellipse's smallest radius b²/a = 0.018 m flags a corner check set above it.
-  EXPECT_NEAR(cam.report().min_convex_radius, 0.03 * 0.03 / 0.05, 1e-6);
+  constexpr double kFitRadius = 1e-6;  // [m], a fit through 180 exact points: ≈ 5e-5 relative
+  EXPECT_NEAR(cam.report().min_convex_radius, 0.03 * 0.03 / 0.05, kFitRadius);
   const double at = cam.report().min_convex_radius_angle_deg;  // the ends of the major axis
   EXPECT_LT(std::min({at, std::abs(at - 180), 360 - at}), 0.01);
   EXPECT_THROW(check_contour_for_follower(cam, ContourFollower::flat, 0.0, kFile, kPath, 0.02), InputError);
@@ -368,11 +373,11 @@ TEST(RigidLift, FlatFaceOnAnEllipseIsItsSupportFunction) {
     const double dy = (a * a - b * b) * s * c / y;
     const double d2y = ((a * a - b * b) * std::cos(2 * th) - dy * dy) / y;
     const RigidLift l = lift.at(th);
-    EXPECT_NEAR(l.y, y, 1e-15);
-    EXPECT_NEAR(l.dy, dy, 1e-14);
-    EXPECT_NEAR(l.d2y, d2y, 1e-12);
+    EXPECT_NEAR(l.y, y, test::kRoundoff * test::kLengthScale);
+    EXPECT_NEAR(l.dy, dy, test::kRoundoff);
+    EXPECT_NEAR(l.d2y, d2y, test::kAmplifiedRoundoff);
   }
-  EXPECT_NEAR(lift.lowest(), b, 1e-15);
+  EXPECT_NEAR(lift.lowest(), b, test::kRoundoff * test::kLengthScale);
 }
 
 TEST(RigidLift, RollerOnAnEccentricCircleMatchesTheClosedForm) {
@@ -398,11 +403,11 @@ TEST(RigidLift, RollerOnAnEccentricCircleMatchesTheClosedForm) {
       const RigidLift l = lift.at(th);
       const auto dy = test::central_difference(y_of, th, 1e-4, 0.05);
       const auto d2y = test::central_difference([&](double x) { return lift.at(x).dy; }, th, 1e-4, 0.01);
-      EXPECT_NEAR(l.y, y_of(th), 1e-15);
+      EXPECT_NEAR(l.y, y_of(th), test::kRoundoff * test::kLengthScale);
       EXPECT_NEAR(l.dy, dy.value, dy.tolerance);
       EXPECT_NEAR(l.d2y, d2y.value, d2y.tolerance);
       // The contact point is on the cam, ρ from the roller centre.
-      EXPECT_NEAR((l.contact_W - Eigen::Vector2d(e, l.y)).norm(), rho, 1e-15);
+      EXPECT_NEAR((l.contact_W - Eigen::Vector2d(e, l.y)).norm(), rho, test::kRoundoff * test::kLengthScale);
     }
   }
 }
@@ -457,7 +462,7 @@ TEST(ContourGoldenFiles, PythonSynthesisedRollerCamGivesBackTheLaw) {
   const RollerCamScene s;
   const auto pts = read_points("roller_cam_cycloidal.json");
   ASSERT_EQ(pts.size(), 360u);
-  EXPECT_LT((pts[0] - s.cam.contour(0.0)).norm(), 1e-12) << "the same cam";
+  EXPECT_LT((pts[0] - s.cam.contour(0.0)).norm(), test::kAmplifiedRoundoff) << "the same cam";
   const ContourCam cam = ContourCam::fit(pts, {}, kFile);
   const double deviation = max_deviation(cam, [&](double u) { return s.cam.contour(u); });
   EXPECT_LT(deviation, 1e-6);

@@ -14,6 +14,7 @@
 #include "common/errors.h"
 #include "finite_difference.h"
 #include "geometry/motion_law.h"
+#include "tolerance.h"
 
 namespace camdyn::test {
 
@@ -65,7 +66,7 @@ inline void expect_c2_at(const MotionLaw& law, double theta_b, const std::string
   constexpr double delta = 1e-7;  // [rad]
   const RateBounds b = sampled_bounds(law);
   const LawSample l = law.eval(theta_b - delta), r = law.eval(theta_b + delta);
-  const double rounding = 1e-14 * std::max(law.max_s(), 1e-3);
+  const double rounding = kRoundoff * std::max(law.max_s(), 1e-3);
   EXPECT_NEAR(l.s, r.s, 2 * delta * 2 * b.ds + rounding) << "s at " << what;
   EXPECT_NEAR(l.ds, r.ds, 2 * delta * 2 * b.d2s + rounding) << "s' at " << what;
   EXPECT_NEAR(l.d2s, r.d2s, 2 * delta * 2 * b.d3s + rounding) << "s'' at " << what;

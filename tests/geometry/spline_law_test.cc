@@ -10,6 +10,7 @@
 
 #include "io/config.h"  // load_table_rows
 #include "law_checks.h"
+#include "tolerance.h"
 
 namespace camdyn {
 namespace {
@@ -37,8 +38,8 @@ TEST(SplineSegment, IsC2BetweenDwells) {
   const MotionLaw law = build(segments(
       {dwell(30), spline("rise", 150, 0.02, {0.1, 0.5, 0.9}), dwell(200), segment("return", "cycloidal", 360, 0.02)}));
   for (double deg : {30.0, 150.0}) test::expect_c2_at(law, deg * kDeg, std::to_string(deg) + "°");
-  EXPECT_NEAR(law.eval(30 * kDeg).s, 0.0, 1e-17);
-  EXPECT_NEAR(law.eval(150 * kDeg).s, 0.02, 1e-16);
+  EXPECT_NEAR(law.eval(30 * kDeg).s, 0.0, test::kEps * 0.02);
+  EXPECT_NEAR(law.eval(150 * kDeg).s, 0.02, test::kExact * 0.02);
 }
 
 TEST(SplineSegment, IsC2WithHarmonicAndCycloidalNeighbours) {
@@ -57,8 +58,8 @@ TEST(SplineSegment, AdjacentSplinesMeetAtRest) {
   const MotionLaw law = build(segments({spline("rise", 120, 0.01, {0.5}, 3), spline("return", 360, 0.01, {0.4, 0.6})}));
   for (double deg : {0.0, 120.0}) {
     const LawSample l = law.eval(deg * kDeg);
-    EXPECT_NEAR(l.ds, 0.0, 1e-15) << deg;
-    EXPECT_NEAR(l.d2s, 0.0, 1e-14) << deg;
+    EXPECT_NEAR(l.ds, 0.0, test::kRoundoff * 0.01) << deg;
+    EXPECT_NEAR(l.d2s, 0.0, test::kRoundoff * 0.01) << deg;
     test::expect_c2_at(law, deg * kDeg, std::to_string(deg) + "°");
   }
 }
@@ -79,8 +80,8 @@ TEST_P(SplineSegmentDegree, LinearRampControlPointsGiveAMonotoneRise) {
     min_ds = std::min(min_ds, ds);
   }
   EXPECT_GT(max_ds, 0.0);
-  EXPECT_GE(min_ds, -1e-15 * max_ds);  // rounding only
-  EXPECT_NEAR(law.eval(110 * kDeg).s, 0.015, 1e-16);
+  EXPECT_GE(min_ds, -test::kExact * max_ds);  // rounding only
+  EXPECT_NEAR(law.eval(110 * kDeg).s, 0.015, test::kExact * 0.015);
   test::expect_c2_at(law, 20 * kDeg, "20°");
   test::expect_c2_at(law, 110 * kDeg, "110°");
   test::expect_derivatives_match_fd(law, {0.0, 20 * kDeg, 110 * kDeg, 200 * kDeg, kTwoPi});
@@ -91,8 +92,8 @@ INSTANTIATE_TEST_SUITE_P(Degrees, SplineSegmentDegree, ::testing::Values(3, 5, 7
 TEST(SplineSegment, WorksWithOnlyTheBoundaryControlPoints) {
   const MotionLaw law =
       build(segments({spline("rise", 90, 0.01, {}), dwell(180), segment("return", "modified_sine", 360, 0.01)}));
-  EXPECT_NEAR(law.eval(90 * kDeg).s, 0.01, 1e-16);
-  EXPECT_NEAR(law.eval(45 * kDeg).s, 0.005, 1e-16);  // degree 5 Bézier 0,0,0,1,1,1 is symmetric
+  EXPECT_NEAR(law.eval(90 * kDeg).s, 0.01, test::kExact * 0.01);
+  EXPECT_NEAR(law.eval(45 * kDeg).s, 0.005, test::kExact * 0.01);  // degree 5 Bézier 0,0,0,1,1,1 is symmetric
   test::expect_c2_at(law, 90 * kDeg, "90°");
 }
 
@@ -149,14 +150,14 @@ TEST_P(PeriodicSpline, InterpolatesTheKnotsExactly) {
   const MotionLaw l = law();
   // The 12×12 collocation system is well conditioned: residuals are a few ulps of 0.01 m.
   for (std::size_t j = 0; j < knots().size(); ++j)
-    EXPECT_NEAR(l.eval(knots()[j] * kDeg).s, lifts()[j], 1e-12) << knots()[j] << "°";
+    EXPECT_NEAR(l.eval(knots()[j] * kDeg).s, lifts()[j], test::kAmplifiedRoundoff * 0.01) << knots()[j] << "°";
 }
 
 TEST_P(PeriodicSpline, IsPeriodicAndSmoothAtItsBreakpoints) {
   const MotionLaw l = law();
   for (double th : {0.3, 2.0, 5.5}) {
-    EXPECT_NEAR(l.eval(th + kTwoPi).s, l.eval(th).s, 1e-16);
-    EXPECT_NEAR(l.eval(th - 2 * kTwoPi).ds, l.eval(th).ds, 1e-15);
+    EXPECT_NEAR(l.eval(th + kTwoPi).s, l.eval(th).s, test::kRoundoff * 0.01);
+    EXPECT_NEAR(l.eval(th - 2 * kTwoPi).ds, l.eval(th).ds, test::kRoundoff * test::kLengthScale);
   }
   // s, s', s'' continuous (degree − 1 ≥ 2) ...
   for (double b : breakpoints_deg()) test::expect_c2_at(l, b * kDeg, std::to_string(b) + "°");
@@ -198,8 +199,8 @@ TEST(PeriodicTable, GivesTheSameLawAsTheInlineSpline) {
   // Same numbers in, same arithmetic: equal to rounding.
   for (int i = 0; i < 720; ++i) {
     const double th = i * 0.5 * kDeg;
-    EXPECT_NEAR(from_table.eval(th).s, inline_law.eval(th).s, 1e-17);
-    EXPECT_NEAR(from_table.eval(th).d2s, inline_law.eval(th).d2s, 1e-15);
+    EXPECT_NEAR(from_table.eval(th).s, inline_law.eval(th).s, test::kExact * 0.01);
+    EXPECT_NEAR(from_table.eval(th).d2s, inline_law.eval(th).d2s, test::kRoundoff * test::kLengthScale);
   }
 }
 

@@ -24,6 +24,7 @@
 #include "io/csv_reader.h"
 #include "io/json_archive.h"
 #include "optim/identify_output.h"
+#include "tolerance.h"
 
 namespace camdyn::optim {
 namespace {
@@ -200,7 +201,7 @@ TEST(IdentifyData, DefaultWeightIsOneOverTheSignalRms) {
   const CsvColumns csv = read_csv(kData + "good.csv", {"force_N"});
   double sum2 = 0.0;
   for (double f : csv.values[0]) sum2 += f * f;
-  EXPECT_NEAR(rec.weights[0], 1.0 / std::sqrt(sum2 / static_cast<double>(csv.rows())), 1e-12);
+  EXPECT_NEAR(rec.weights[0], 1.0 / std::sqrt(sum2 / static_cast<double>(csv.rows())), test::kAmplifiedRoundoff);
 }
 
 TEST(IdentifyData, NoiseEstimateOfWhiteNoiseOnASmoothSignal) {
@@ -208,8 +209,10 @@ TEST(IdentifyData, NoiseEstimateOfWhiteNoiseOnASmoothSignal) {
   std::normal_distribution<double> noise(0.0, 0.5);
   std::vector<double> y(4000);
   for (std::size_t i = 0; i < y.size(); ++i) y[i] = 100.0 * std::sin(1e-3 * static_cast<double>(i)) + noise(rng);
-  // Robust scale estimate from 4000 samples: a few per cent.
-  EXPECT_NEAR(estimate_noise(y), 0.5, 0.05);
+  // Robust scale estimate from 4000 samples: a few per cent (standard error
+  // ≈ 2.5 %), allowed four times over.
+  constexpr double kScaleEstimate = 0.1;  // relative
+  EXPECT_NEAR(estimate_noise(y), 0.5, kScaleEstimate * 0.5);
 }
 
 // ---------------------------------------------------------------- fits
@@ -238,8 +241,11 @@ TEST(IdentifyFit, NoiseFreeRecordIsRecoveredToTheSolverTolerance) {
   IdentifyOptions opt;
   opt.threads = 2;
   const IdentifyResult r = identify(p, opt);
-  EXPECT_NEAR(estimate(r, "contact.stiffness").value / 3e9 - 1.0, 0.0, 1e-4);
-  EXPECT_NEAR(estimate(r, "contact.exponent").value, 1.4, 1e-5);
+  // Noise-free data: the fit lands on the truth up to the optimizer's stopping
+  // tolerance (the stiffness, with the weaker gradient, the less sharply).
+  constexpr double kCleanStiffness = 1e-4, kCleanExponent = 1e-5;  // relative, absolute
+  EXPECT_NEAR(estimate(r, "contact.stiffness").value / 3e9 - 1.0, 0.0, kCleanStiffness);
+  EXPECT_NEAR(estimate(r, "contact.exponent").value, 1.4, kCleanExponent);
   EXPECT_LT(r.rms_residual, 1e-5);
   fs::remove_all(dir);
 }
@@ -295,9 +301,10 @@ TEST_F(IdentifyDropStudy, RecoversStiffnessExponentAndRestitutionWithinTwoPercen
   const std::vector<std::pair<std::string, double>> truth = {{"contact.stiffness", kTrueStiffness},
                                                              {"contact.exponent", kTrueExponent},
                                                              {"contact.restitution", kTrueRestitution}};
+  constexpr double kTwoPercent = 0.02;  // the acceptance of the drop-test identification
   for (const auto& [name, true_value] : truth) {
     SCOPED_TRACE(name);
-    EXPECT_NEAR(value(name) / true_value - 1.0, 0.0, 0.02);
+    EXPECT_NEAR(value(name) / true_value - 1.0, 0.0, kTwoPercent);
     // The reported uncertainty is honest: the truth lies within three standard errors.
     EXPECT_LT(std::abs(value(name) - true_value), 3.0 * std_error(name));
   }

@@ -17,6 +17,7 @@
 #include "optim/kinematics.h"
 #include "optim/optimize_config.h"
 #include "study/study.h"
+#include "tolerance.h"
 
 namespace camdyn::optim {
 namespace {
@@ -59,7 +60,9 @@ TEST(Kinematics, ClassicLawCoefficientsMatchTheirClosedForms) {
     EXPECT_NEAR(s.jerk_coefficient, 4.0 * kPi * kPi, 4.0 * kPi * kPi * kSampledPeak);
   }
   const double beta = 120.0 * kPi / 180.0;
-  EXPECT_NEAR(cyc.peak_acceleration, 2.0 * kPi * 0.02 / (beta * beta), 1e-9);
+  // The cycloidal peak (x = 1/4) falls on a sample: only rounding remains.
+  constexpr double kOnASample = 1e-9;
+  EXPECT_NEAR(cyc.peak_acceleration, 2.0 * kPi * 0.02 / (beta * beta), kOnASample);
   EXPECT_EQ(cyc.segments[1].type, "return");
   EXPECT_DOUBLE_EQ(cyc.segments[1].start_deg, 180.0);
 
@@ -111,7 +114,7 @@ TEST(DesignSpace, MonotoneBoundsKeepEveryDesignMonotone) {
     const MotionLaw law = build_motion_law(scene.mechanism.cam.motion_law, "test.json");
     for (int i = 0; i <= 1000; ++i) {
       const double theta = (120.0 * i / 1000.0) * kPi / 180.0;
-      EXPECT_GE(law.eval(theta).ds, -1e-12) << "trial " << trial << " at " << theta;
+      EXPECT_GE(law.eval(theta).ds, -test::kAmplifiedRoundoff) << "trial " << trial << " at " << theta;
     }
   }
 }
@@ -137,14 +140,17 @@ TEST(DesignSpace, MovingEndAngleKeepsContinuityWithAClassicNeighbour) {
     for (double& v : x) v = std::uniform_real_distribution<double>(0.0, 1.0)(rng);
     const SceneConfig scene = space.scene(x);
     const double end_deg = scene.mechanism.cam.motion_law.segments[0].end_deg;
-    EXPECT_NEAR(end_deg, 100.0 + 40.0 * x.back(), 1e-12);
+    EXPECT_NEAR(end_deg, 100.0 + 40.0 * x.back(), test::kAmplifiedRoundoff);
     const MotionLaw law = build_motion_law(scene.mechanism.cam.motion_law, "test.json");
     const double te = end_deg * kPi / 180.0, eps = 1e-7;
     const LawSample left = law.eval(te - eps), right = law.eval(te + eps);
-    EXPECT_NEAR(left.s, right.s, 1e-9);
-    EXPECT_NEAR(left.ds, right.ds, 1e-6);
+    // Continuous across te: s moves by O(ε²) (s' = 0 there), s' by ≈ 2ε·|s''|.
+    constexpr double kJoin = 1e-9, kJoinSlope = 1e-6;  // [m], [m/rad]
+    EXPECT_NEAR(left.s, right.s, kJoin);
+    EXPECT_NEAR(left.ds, right.ds, kJoinSlope);
     EXPECT_NEAR(left.d2s, right.d2s, 1e-4 * std::abs(right.d2s) + 1e-6) << "trial " << trial;
-    for (int i = 0; i < 1000; ++i) EXPECT_GE(law.eval(te * i / 1000.0).ds, -1e-12) << "trial " << trial;
+    for (int i = 0; i < 1000; ++i)
+      EXPECT_GE(law.eval(te * i / 1000.0).ds, -test::kAmplifiedRoundoff) << "trial " << trial;
   }
 }
 

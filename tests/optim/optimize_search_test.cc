@@ -131,7 +131,10 @@ TEST(Search, AFailedStartDoesNotLoseTheOthers) {
   EXPECT_EQ(r.starts[2].stop_reason, "forced_stop");
   EXPECT_TRUE(known_reason(r.starts[0].stop_reason));
   ASSERT_FALSE(r.candidates.empty());
-  EXPECT_NEAR(objective_at(r.candidates.front()), kOptimum, 1e-4);
+  // COBYLA, stopped by xtol_rel or its budget, lands near the constrained
+  // optimum, where |∇f| ≈ 0.4 does not vanish.
+  constexpr double kNearOptimum = 1e-4;
+  EXPECT_NEAR(objective_at(r.candidates.front()), kOptimum, kNearOptimum);
   EXPECT_EQ(r.stop_reason, r.starts[0].stop_reason);  // the start that found the chosen point
 }
 

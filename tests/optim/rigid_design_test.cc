@@ -92,7 +92,8 @@ TEST(RigidStage, WithoutAPeakTermTheDesignIsTheFamilysFastest) {
   const DesignSpace space(study.baseline, study.config.design, "optimize_jump.json");
   const RigidStageResult r = run_rigid_stage(study.baseline, study.config, space, "optimize_jump.json");
   ASSERT_TRUE(r.design.have);
-  EXPECT_NEAR(r.design.jump_free_rpm / r.certificate.family_rpm, 1.0, 0.01);
+  // The family's bound is good to O(1/grid); the optimizer reaches it to about as much again.
+  EXPECT_NEAR(r.design.jump_free_rpm / r.certificate.family_rpm, 1.0, 3.0 / study.config.rigid.certificate_grid);
 }
 
 TEST(RigidStage, AJerkBoundHoldsInTheDesignAndLowersTheFamilysSpeed) {
@@ -166,7 +167,8 @@ TEST(RigidStage, OscillatingArmGetsACertificateAndADesign) {
   // With P_min = 0 and no damper the condition is the model's own jump speed.
   SceneConfig at = study.baseline;
   at.mechanism.cam.rpm = 1600;
-  EXPECT_NEAR(c.baseline_rpm / jump_speed_rpm(build_model(at, file)), 1.0, 1e-3);
+  // Bisection on the sampled arm margin, the lever sampled as well.
+  EXPECT_NEAR(c.baseline_rpm / jump_speed_rpm(build_model(at, file)), 1.0, 5 * kBisection);
   // The rise: 12 deg over 120 deg, arm inertia 2e-3 kg m², 50 N m/rad, 5 N m.
   RigidFollower f;
   f.mass = 0.002;
