@@ -9,11 +9,13 @@
 #include <cmath>
 #include <numbers>
 
+#include "tolerance.h"
+
 namespace camdyn {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-constexpr double kRoundoff = 1e-14;  // a few operations on O(1) ratios
+using test::kRoundoff;  // a few operations on O(1) ratios
 
 TEST(HertzPressure, EffectiveModulusOfSteelOnSteel) {
   // 1/E* = 2 (1 − 0.3²) / 210 GPa.
