@@ -14,6 +14,7 @@
 #include "geometry/motion_law.h"
 #include "optim/jump_bound.h"
 #include "optim/linear_program.h"
+#include "optim/rigid_limits.h"
 
 namespace camdyn::optim {
 
@@ -27,6 +28,7 @@ constexpr int kVerifySamples = 2000;     // per piece, for the margins of built 
 /// s, s', s'', s''' at one sample angle, affine in the control points:
 /// value[k] = constant[k] + Σ_j coefficient[j][k] c[first + j].
 struct AffineSample {
+  double theta = 0.0;  ///< cam angle [rad]
   std::array<double, 4> constant{};
   int first = 0;
   std::vector<std::array<double, 4>> coefficient;
@@ -104,6 +106,14 @@ class SplineFamily {
     if (den <= 0.0) return kInf;
     return std::pow(rp * rp + x[1] * x[1], 1.5) / den - circle_radius_;
   }
+  /// The cam angles of the samples [rad].
+  std::vector<double> sample_angles() const {
+    std::vector<double> out;
+    for (const AffineSample& a : samples_) out.push_back(a.theta);
+    return out;
+  }
+  /// Rows over the control points kept for every later programme (a probe's cuts).
+  void add_cuts(const std::vector<LimitCut>& cuts) { cuts_.insert(cuts_.end(), cuts.begin(), cuts.end()); }
   /// The trust region |c − c0| ≤ `step` of the next programmes (replaced on each call).
   void set_trust_region(const std::vector<double>& c0, double step) {
     trust_.clear();
@@ -229,7 +239,8 @@ class SplineFamily {
     for (int i = 0; i < samples; ++i) {
       const double x = std::clamp(static_cast<double>(i) / (samples - 1), 1e-12, 1.0 - 1e-12);
       AffineSample a;
-      a.constant = derivatives(law0_->eval(pc.start + x * beta));
+      a.theta = pc.start + x * beta;
+      a.constant = derivatives(law0_->eval(a.theta));
       a.first = static_cast<int>(k) * m_;
       a.coefficient.assign(static_cast<std::size_t>(m_), {0.0, 0.0, 0.0, 0.0});
       const int span = find_span(n, p, x, knots);
@@ -294,10 +305,7 @@ class SplineFamily {
   // Contact pressure: Q = limit² π L / E* [N/m] (0: no limit) and the speeds it holds at [rad/s].
   double pressure_q_ = 0.0;
   std::vector<double> pressure_omegas_;
-  struct Cut {
-    std::vector<std::pair<int, double>> terms;
-    double lower = 0.0, upper = kLpInfinity;
-  };
+  using Cut = LimitCut;
   std::vector<Cut> cuts_, trust_;
 };
 
@@ -498,22 +506,26 @@ RigidDesign make_design(const SplineFamily& family, const RigidFollower& f, cons
   return d;
 }
 
-/// The limits that are not linear (radius of curvature, contact pressure):
-/// while the design (densely sampled) breaks one, linearise it at the
-/// design's samples, add the cuts and a trust region, and design again (at
-/// most 8 rounds; the dynamic stage holds the limits in any case).
-RigidDesign tighten_nonlinear(SplineFamily& family, const RigidFollower& f, const OptimizeStudyConfig& config,
-                              const DesignSpace& space, double hint, RigidDesign d, int& solves) {
+/// The limits that are not linear (radius of curvature, contact pressure,
+/// an arm's pressure angle): while the design (densely sampled) breaks one,
+/// linearise it at the design's samples (pointwise forms in the family, the
+/// rest through `probe`), add the cuts and a trust region, and design again
+/// (at most 8 rounds; the dynamic stage holds the limits in any case).
+RigidDesign tighten_nonlinear(SplineFamily& family, const RigidLimitProbe* probe, const RigidFollower& f,
+                              const OptimizeStudyConfig& config, const DesignSpace& space, double hint, RigidDesign d,
+                              int& solves) {
   double step = 0.2;  // trust region in normalised lift
   for (int round = 0; round < 8 && d.have; ++round) {
     const MotionLaw law = build_motion_law(space.scene(d.x).mechanism.cam.motion_law, "");
     const bool curvature_short =
         family.curvature_linearisable() && family.smallest_radius(law) < *config.constraints.min_radius_of_curvature;
     const bool pressure_over = family.pressure_linearisable() && family.largest_pressure_ratio(law) > 1.0;
-    if (!curvature_short && !pressure_over) break;
+    const bool probed_broken = probe && probe->broken(d.control_points);
+    if (!curvature_short && !pressure_over && !probed_broken) break;
     family.set_trust_region(d.control_points, step);
     if (curvature_short) family.add_curvature_cuts(d.control_points);
     if (pressure_over) family.add_pressure_cuts(d.control_points);
+    if (probed_broken) family.add_cuts(probe->cuts(d.control_points));
     MarginSolution fastest;
     const double bound = family_bound(family, f, FamilyOptions{family.monotone(), true}, hint, solves, &fastest);
     const RigidDesign next = make_design(family, f, config, space, bound, fastest, solves);
@@ -522,6 +534,27 @@ RigidDesign tighten_nonlinear(SplineFamily& family, const RigidFollower& f, cons
     step *= 0.7;
   }
   return d;
+}
+
+/// The probe for the limits the family has no linear or pointwise form of:
+/// an arm's pressure angle, and the radius of curvature and contact pressure
+/// of offset followers and arms. None when there are none.
+std::optional<RigidLimitProbe> limit_probe(const SceneConfig& baseline, const Model& model, const RigidFollower& f,
+                                           const OptimizeStudyConfig& config, const DesignSpace& space,
+                                           const SplineFamily& family) {
+  const ConstraintsConfig& c = config.constraints;
+  const FollowerGeometry& g = model.follower;
+  const bool pointwise = !g.oscillating() && g.offset == 0.0;  // the family's own forms
+  ProbedLimits limits;
+  if (g.oscillating()) limits.max_pressure_angle_deg = c.max_pressure_angle_deg;
+  if (!pointwise) {
+    limits.min_radius_of_curvature = c.min_radius_of_curvature;
+    limits.contact = line_contact(baseline.mechanism.contact);
+    if (limits.contact) limits.max_contact_stress = c.max_contact_stress;
+  }
+  if (!limits.any()) return std::nullopt;
+  limits.omegas = operating_omegas(config, f);
+  return RigidLimitProbe(space, g, model.direction, f, std::move(limits), family.sample_angles());
 }
 
 }  // namespace
@@ -580,8 +613,10 @@ RigidStageResult run_rigid_stage(const SceneConfig& baseline, const OptimizeStud
   if (config.rigid.explain_bound || !cert.all_feasible()) family_binding(family, f, hint, bound, cert, out.lp_solves);
 
   out.design = make_design(family, f, config, space, bound, fastest, out.lp_solves);
-  if (family.curvature_linearisable() || family.pressure_linearisable())
-    out.design = tighten_nonlinear(family, f, config, space, hint, out.design, out.lp_solves);
+  const std::optional<RigidLimitProbe> probe = limit_probe(baseline, model, f, config, space, family);
+  if (family.curvature_linearisable() || family.pressure_linearisable() || probe)
+    out.design =
+        tighten_nonlinear(family, probe ? &*probe : nullptr, f, config, space, hint, out.design, out.lp_solves);
   RigidDesign& d = out.design;
   if (!d.have) {
     out.run_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

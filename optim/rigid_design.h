@@ -13,13 +13,13 @@
 //    spline family reaches under the same linear constraints, and which
 //    constraints hold it down; (c) for each operating speed whether the
 //    family can be jump-free there. All by bisection on ω over CLP solves.
-// Constraints that are not linear: for a translating follower without
-// offset the radius of curvature and the Hertz contact pressure have a
-// pointwise form in (s, s', s''), and the stage tightens the design under
-// them (cuts where the dense check fails, a shrinking trust region, at most
-// 8 rounds). The rest (an arm's pressure angle, those limits for offset
-// followers and arms) is left to the dynamic stage's constraint handling and
-// re-checked on the final design.
+// Constraints that are not linear (radius of curvature, Hertz contact
+// pressure, an arm's pressure angle): the stage tightens the design under
+// them, with cuts where the dense check fails, a shrinking trust region and
+// at most 8 rounds. For a translating follower without offset the first two
+// have a pointwise form in (s, s', s''); the rest come from a probe through
+// the cam synthesis (optim/rigid_limits.h). The dynamic stage holds them as
+// constraints as well, and the final design is re-checked.
 #pragma once
 
 #include <string>

@@ -100,9 +100,8 @@ int report_input_error(const camdyn::InputError& e, const std::string& config) {
   return kExitInput;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+// The command line: parse, dispatch the study, map its errors to exit codes.
+int run_command(int argc, char** argv) {
   // Under mpirun (built with -DCAMDYN_WITH_MPI=ON) a compare study spreads its
   // runs over the ranks; rank 0 alone prints and writes outputs.
   const camdyn::mpi::Session mpi_session(&argc, &argv);
@@ -169,4 +168,19 @@ int main(int argc, char** argv) {
     std::cerr << "camdyn: error: " << e.what() << "\n";
     return kExitOther;
   }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // Nothing escapes: what the command's own handlers did not catch (set-up,
+  // or a handler's output failing) is reported without iostreams.
+  try {
+    return run_command(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "camdyn: internal error: %s\n", e.what());
+  } catch (...) {
+    std::fprintf(stderr, "camdyn: internal error\n");
+  }
+  return kExitOther;
 }
