@@ -217,6 +217,36 @@ void choose_optimized(const DesignSpace& space, const DesignEvaluator& evaluator
   out.x_optimized = std::move(fallback->x);
 }
 
+/// The chosen design's objective over a window twice as long (WindowCheck).
+WindowCheck check_window(const DesignEvaluator& evaluator, const OptimizeOutcome& out) {
+  WindowCheck w;
+  const SimulationConfig& sim = out.optimized_scene.simulation;
+  if (!evaluator.needs_simulation()) {
+    w.reason = "the objective and constraints are kinematic";
+    return w;
+  }
+  if (!sim.cycles || sim.duration) {
+    w.reason = "the scene sets simulation.duration, not cycles";
+    return w;
+  }
+  w.evaluated_cycles = *sim.cycles - sim.discard_cycles;
+  w.doubled_cycles = sim.discard_cycles + 2.0 * w.evaluated_cycles;
+  EvaluationSettings doubled;
+  doubled.cycles = w.doubled_cycles;
+  const DesignEvaluation e = evaluator.evaluate(out.optimized_scene, doubled, true);
+  if (!e.valid) {
+    w.reason = "the design could not be simulated over the longer window: " + e.error;
+    return w;
+  }
+  w.checked = true;
+  w.objective = out.optimized.objective;
+  w.objective_doubled = e.objective;
+  w.feasible_doubled = e.feasible;
+  w.relative_change = std::abs(e.objective - w.objective) / std::max(std::abs(w.objective), 1e-12);
+  w.converged = w.relative_change <= WindowCheck::kTolerance && e.feasible == out.optimized.feasible;
+  return w;
+}
+
 }  // namespace
 
 OptimizeStudy read_optimize_study(const Json& doc, const ConfigSource& source) {
@@ -288,6 +318,8 @@ OptimizeOutcome run_optimize(const SceneConfig& baseline, const OptimizeStudyCon
 
   say(options, "re-evaluating the best designs with the scene's settings");
   choose_optimized(space, evaluator, full, baseline.name + "-optimized", top_speed(config), file, out);
+  say(options, "checking that the objective does not depend on the window");
+  out.window_check = check_window(evaluator, out);
   out.simulations = pool.simulations();
   out.run_time_s = seconds_since(t0);
   return out;

@@ -42,6 +42,22 @@ struct OptimizeOptions {
   std::filesystem::path checkpoint_dir;
 };
 
+/// The optimised design evaluated again over an evaluated window twice as
+/// long: an objective that changes with the window is a transient's, not the
+/// design's. Converged when it changes by at most `kTolerance` relative.
+struct WindowCheck {
+  static constexpr double kTolerance = 1e-3;
+  bool checked = false;
+  std::string reason;              ///< why not checked
+  double evaluated_cycles = 0.0;   ///< the scene's evaluated window [rev]
+  double doubled_cycles = 0.0;     ///< the check's [rev]
+  double objective = 0.0;          ///< over the scene's window
+  double objective_doubled = 0.0;  ///< over the doubled window
+  bool feasible_doubled = false;
+  double relative_change = 0.0;
+  bool converged = false;
+};
+
 struct OptimizeOutcome {
   OptimizeStudyConfig config;
   std::vector<DesignVariable> variables;
@@ -56,6 +72,7 @@ struct OptimizeOutcome {
   DesignEvaluation initial;    ///< the first start of the search (the rigid design, else the spline fit), loop settings
   DesignEvaluation optimized;  ///< the chosen design, scene settings, time series kept
   SceneConfig optimized_scene;  ///< the `simulate` config written to optimized.json
+  WindowCheck window_check;     ///< the optimised objective over a doubled window (dynamic objectives only)
   int candidates_tried = 0;     ///< designs re-evaluated at the scene settings to find a feasible one
   bool resumed = false;         ///< the search started from the checkpoint of an earlier, killed run
 

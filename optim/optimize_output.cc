@@ -178,6 +178,17 @@ Json result_json(const OptimizeOutcome& o, const std::string& name, const std::s
       {"variables", vars}};
   r["rigid_stage"] = rigid_json(o.rigid, o.config.rigid.enabled);
   r["resumed_from_checkpoint"] = o.resumed;
+  const WindowCheck& w = o.window_check;
+  r["window_check"] = w.checked ? Json{{"checked", true},
+                                       {"evaluated_cycles", w.evaluated_cycles},
+                                       {"doubled_cycles", w.doubled_cycles},
+                                       {"objective", w.objective},
+                                       {"objective_doubled", w.objective_doubled},
+                                       {"feasible_doubled", w.feasible_doubled},
+                                       {"relative_change", w.relative_change},
+                                       {"tolerance", WindowCheck::kTolerance},
+                                       {"converged", w.converged}}
+                                : Json{{"checked", false}, {"reason", w.reason}};
   r["baseline"] = design_json(o.baseline, o, file);
   r["initial"] = Json{{"objective", o.initial.objective}, {"feasible", o.initial.feasible}, {"valid", o.initial.valid}};
   r["optimized"] = design_json(o.optimized, o, file);

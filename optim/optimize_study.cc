@@ -82,6 +82,12 @@ int run_optimize_study(const Json& doc, const StudyContext& ctx) {
         b.speeds[i].rpm, mb.separation_fraction, mp.separation_fraction, mb.peak_contact_force, mp.peak_contact_force,
         mb.min_contact_force, mp.min_contact_force);
   }
+  const WindowCheck& w = o.window_check;
+  if (w.checked)
+    std::printf(
+        "  window check: objective %.6g over %g evaluated revolutions, %.6g over %g (change %.2g): %s\n", w.objective,
+        w.evaluated_cycles, w.objective_doubled, 2.0 * w.evaluated_cycles, w.relative_change,
+        w.converged ? "converged" : "NOT converged: the objective depends on the window; raise simulation.cycles");
   if (!b.speeds.empty() && !p.speeds.empty())
     std::printf("  rigid-model jump speed %.6g -> %.6g rpm\n", b.speeds.front().result.metrics.jump_speed_rpm,
                 p.speeds.front().result.metrics.jump_speed_rpm);

@@ -81,6 +81,19 @@ int run_cli(const std::string& args, const fs::path& dir, std::string* err = nul
   return o.code;
 }
 
+/// The drop `truth` simulated, its contact force around the impact written
+/// as a noise-free record (time,force_N) to `file`.
+void write_clean_record(const SceneConfig& truth, const fs::path& file) {
+  const SimulationResult sim = simulate_scene(truth, "truth");
+  std::ofstream out(file);
+  out.precision(17);
+  out << "time,force_N\n";
+  for (std::size_t i = 0; i < sim.series.time.size(); ++i) {
+    if (sim.series.time[i] < 1e-4 || sim.series.time[i] > 5e-4) continue;  // around the impact
+    out << sim.series.time[i] << "," << sim.series.contact_force[i] << "\n";
+  }
+}
+
 // ---------------------------------------------------------------- config
 
 TEST(IdentifyConfig, UnknownSolverKeyIsSuggested) {
@@ -225,16 +238,7 @@ TEST(IdentifyFit, NoiseFreeRecordIsRecoveredToTheSolverTolerance) {
   SceneConfig truth = load_scene(kDropStudy + "rig.json");
   truth.mechanism.contact.stiffness = 3e9;
   truth.mechanism.contact.exponent = 1.4;
-  const SimulationResult sim = simulate_scene(truth, "truth");
-  {
-    std::ofstream out(dir / "clean.csv");
-    out.precision(17);
-    out << "time,force_N\n";
-    for (std::size_t i = 0; i < sim.series.time.size(); ++i) {
-      if (sim.series.time[i] < 1e-4 || sim.series.time[i] > 5e-4) continue;  // around the impact
-      out << sim.series.time[i] << "," << sim.series.contact_force[i] << "\n";
-    }
-  }
+  write_clean_record(truth, dir / "clean.csv");
   const IdentifyProblem p =
       load(kData + "single.json", {"reference.file=" + (dir / "clean.csv").string(),
                                    "parameters.contact.exponent={\"initial\": 1.5, \"lower\": 1.0, \"upper\": 2.5}"});
@@ -258,16 +262,7 @@ TEST(IdentifyFit, PointsSimulatedBeforeAreReusedAcrossStages) {
   const fs::path dir = temp_dir("reuse");
   SceneConfig truth = load_scene(kDropStudy + "rig.json");
   truth.mechanism.contact.stiffness = 3e9;
-  const SimulationResult sim = simulate_scene(truth, "truth");
-  {
-    std::ofstream out(dir / "clean.csv");
-    out.precision(17);
-    out << "time,force_N\n";
-    for (std::size_t i = 0; i < sim.series.time.size(); ++i) {
-      if (sim.series.time[i] < 1e-4 || sim.series.time[i] > 5e-4) continue;
-      out << sim.series.time[i] << "," << sim.series.contact_force[i] << "\n";
-    }
-  }
+  write_clean_record(truth, dir / "clean.csv");
   const IdentifyProblem p =
       load(kData + "single.json", {"reference.file=" + (dir / "clean.csv").string(), "solver.smoothing=[2e-5]"});
   const IdentifyResult r = identify(p, IdentifyOptions{});

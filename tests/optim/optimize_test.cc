@@ -349,6 +349,12 @@ TEST(OptimizeCli, SeparationObjectiveAloneGivesADesignThatStaysOnTheCam) {
   EXPECT_TRUE(cert["all_feasible"].get<bool>());
   EXPECT_GT(cert["family_jump_free_rpm"].get<double>(), 1300.0);
   EXPECT_LE(cert["family_jump_free_rpm"].get<double>(), cert["any_law_jump_free_rpm"].get<double>());
+  // The design stays on the cam, so its motion is periodic once started: the
+  // objective over a window twice as long is the same to within its tolerance.
+  const Json& window = result["window_check"];
+  ASSERT_TRUE(window["checked"].get<bool>()) << window.dump();
+  EXPECT_TRUE(window["converged"].get<bool>()) << window.dump();
+  EXPECT_LE(window["relative_change"].get<double>(), window["tolerance"].get<double>());
   // optimized.json carries the study's geometric constraints as cam limits,
   // and `camdyn validate` re-checks them; a limit the cam breaks is refused.
   const Outcome valid = run_cli("validate " + (dir / "optimized.json").string());
