@@ -1,9 +1,12 @@
 #include "geometry/bspline.h"
 
 #include <Eigen/Dense>
+#include <Eigen/SparseCore>
+#include <Eigen/SparseLU>
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 namespace camdyn {
@@ -118,6 +121,7 @@ std::optional<PeriodicBSpline> PeriodicBSpline::interpolate(int degree, const st
   const int m = static_cast<int>(sites.size());
   const int p = degree;
   assert(p >= 1 && p <= kMaxSplineDegree && m >= p + 1 && values.size() == sites.size());
+  if (m <= 0 || p < 1 || p > kMaxSplineDegree || m < p + 1 || values.size() != sites.size()) return std::nullopt;
   PeriodicBSpline spline;
   spline.degree_ = p;
   spline.period_ = period;
@@ -135,13 +139,32 @@ std::optional<PeriodicBSpline> PeriodicBSpline::interpolate(int degree, const st
     spline.knots_[k] = breaks[q - wraps * m] + period * wraps;
   }
 
+  std::optional<std::vector<double>> c =
+      m <= kDenseCollocation ? solve_dense(spline, sites, values) : solve_banded(spline, sites, values);
+  if (!c) return std::nullopt;
+  spline.coefficients_ = std::move(*c);
+  return spline;
+}
+
+void PeriodicBSpline::collocation_row(double site, int& first, std::array<double, kMaxSplineDegree + 1>& row) const {
+  const double x = reduce(site);
+  const int span = find_span(m_ + degree_, degree_, x, knots_);
+  const BasisDerivatives b = basis_derivatives(span, x, degree_, knots_);
+  first = span - degree_;
+  for (int r = 0; r <= degree_; ++r) row[r] = b.ders[0][r];
+}
+
+std::optional<std::vector<double>> PeriodicBSpline::solve_dense(const PeriodicBSpline& spline,
+                                                                const std::vector<double>& sites,
+                                                                const std::vector<double>& values) {
+  const int m = spline.m_, p = spline.degree_;
   Eigen::MatrixXd a = Eigen::MatrixXd::Zero(m, m);
   Eigen::VectorXd rhs(m);
+  std::array<double, kMaxSplineDegree + 1> row{};
   for (int j = 0; j < m; ++j) {
-    const double x = spline.reduce(sites[j]);
-    const int span = find_span(m + p, p, x, spline.knots_);
-    const BasisDerivatives b = basis_derivatives(span, x, p, spline.knots_);
-    for (int r = 0; r <= p; ++r) a(j, (span - p + r) % m) += b.ders[0][r];
+    int first = 0;
+    spline.collocation_row(sites[j], first, row);
+    for (int r = 0; r <= p; ++r) a(j, (first + r) % m) += row[r];
     rhs(j) = values[j];
   }
   const Eigen::PartialPivLU<Eigen::MatrixXd> lu(a);
@@ -149,8 +172,36 @@ std::optional<PeriodicBSpline> PeriodicBSpline::interpolate(int degree, const st
   // far below that the sites are (nearly) coincident or misplaced.
   if (!(lu.rcond() > 1e-10)) return std::nullopt;
   const Eigen::VectorXd c = lu.solve(rhs);
-  spline.coefficients_.assign(c.data(), c.data() + m);
-  return spline;
+  return std::vector<double>(c.data(), c.data() + m);
+}
+
+std::optional<std::vector<double>> PeriodicBSpline::solve_banded(const PeriodicBSpline& spline,
+                                                                 const std::vector<double>& sites,
+                                                                 const std::vector<double>& values) {
+  const int m = spline.m_, p = spline.degree_;
+  std::vector<Eigen::Triplet<double>> entries;
+  entries.reserve(static_cast<std::size_t>(m) * static_cast<std::size_t>(p + 1));
+  std::array<double, kMaxSplineDegree + 1> row{};
+  Eigen::VectorXd rhs(m);
+  for (int j = 0; j < m; ++j) {
+    int first = 0;
+    spline.collocation_row(sites[j], first, row);
+    for (int r = 0; r <= p; ++r) entries.emplace_back(j, (first + r) % m, row[r]);
+    rhs(j) = values[j];
+  }
+  Eigen::SparseMatrix<double> a(m, m);
+  a.setFromTriplets(entries.begin(), entries.end());  // sums the entries of a wrapped column, as the dense path does
+  Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;
+  lu.compute(a);
+  if (lu.info() != Eigen::Success) return std::nullopt;
+  const Eigen::VectorXd c = lu.solve(rhs);
+  if (lu.info() != Eigen::Success || !c.allFinite()) return std::nullopt;
+  // No condition estimate here: a nearly singular system shows as a residual
+  // that is not at round-off or as coefficients far larger than the data
+  // (interpolating B-spline coefficients stay within a small multiple of it).
+  const double scale = rhs.cwiseAbs().maxCoeff() + std::numeric_limits<double>::min();
+  if ((a * c - rhs).cwiseAbs().maxCoeff() > 1e-9 * scale || c.cwiseAbs().maxCoeff() > 1e6 * scale) return std::nullopt;
+  return std::vector<double>(c.data(), c.data() + m);
 }
 
 double PeriodicBSpline::reduce(double x) const {
