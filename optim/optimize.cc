@@ -263,10 +263,8 @@ void check_optimize(const SceneConfig& baseline, const OptimizeStudyConfig& conf
     throw InputError(file, "optimizer.evaluation_cycles",
                      "must be more than simulation.discard_cycles (" +
                          std::to_string(baseline.simulation.discard_cycles) + "), got " + format_shortest(cycles));
-  if (config.constraints.max_contact_stress && !line_contact(baseline.mechanism.contact))
-    throw InputError(file, "constraints.max_contact_stress",
-                     "needs the contact's materials and width (mechanism.contact.stiffness: {\"from_materials\": "
-                     "{..., \"width\": ...}}): the limit is on the Hertz line-contact pressure");
+  if (config.constraints.max_contact_stress)
+    require_line_contact(baseline.mechanism.contact, file, "constraints.max_contact_stress");
   for (double rpm : config.operating_rpm) {
     SceneConfig s = baseline;
     s.mechanism.cam.rpm = rpm;

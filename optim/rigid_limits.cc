@@ -47,7 +47,6 @@ std::vector<double> RigidLimitProbe::ratios(const std::vector<double>& c) const 
   const std::unique_ptr<SynthesisedCam> cam = cam_of(space_, geometry_, direction_, c);
   std::vector<double> out;
   if (!cam) return out;
-  const double follower_curvature = geometry_.circle() ? 1.0 / geometry_.radius : 0.0;  // [1/m]
   double q = 0.0;  // P_n κ at the pressure limit [N/m]
   if (limits_.max_contact_stress)
     q = *limits_.max_contact_stress * *limits_.max_contact_stress * std::numbers::pi * limits_.contact->width /
@@ -61,7 +60,7 @@ std::vector<double> RigidLimitProbe::ratios(const std::vector<double>& c) const 
       out.push_back(std::isfinite(rho) ? *limits_.min_radius_of_curvature / std::abs(rho) : 0.0);
     if (limits_.max_contact_stress) {
       const LawSample s = cam->law().eval(theta);
-      const double kappa = (std::isfinite(rho) && rho != 0.0 ? 1.0 / rho : 0.0) + follower_curvature;
+      const double kappa = curvature_sum(rho, geometry_);
       for (const double w : limits_.omegas) {
         const double normal = (follower_.margin(w, s) + follower_.min_force) / k.g_q;  // [N]
         out.push_back(normal > 0.0 && kappa > 0.0 ? normal * kappa / q : 0.0);
@@ -83,12 +82,10 @@ bool RigidLimitProbe::broken(const std::vector<double>& c) const {
   if (limits_.max_pressure_angle_deg && report.max_pressure_angle_deg > *limits_.max_pressure_angle_deg) return true;
   if (limits_.min_radius_of_curvature && report.min_radius_of_curvature < *limits_.min_radius_of_curvature) return true;
   if (!limits_.max_contact_stress) return false;
-  const double follower_curvature = geometry_.circle() ? 1.0 / geometry_.radius : 0.0;
   for (int i = 0; i < kDenseSamples; ++i) {
     const double theta = 2.0 * std::numbers::pi * i / kDenseSamples;
     const SynthesisedCam::Kinematics k = cam->kinematics(theta);
-    const double rho = k.radius_of_curvature;
-    const double kappa = (std::isfinite(rho) && rho != 0.0 ? 1.0 / rho : 0.0) + follower_curvature;
+    const double kappa = curvature_sum(k.radius_of_curvature, geometry_);
     const LawSample s = cam->law().eval(theta);
     for (const double w : limits_.omegas) {
       const double normal = (follower_.margin(w, s) + follower_.min_force) / k.g_q;

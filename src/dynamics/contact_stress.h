@@ -8,6 +8,7 @@
 #pragma once
 
 #include <optional>
+#include <string>
 
 #include "dynamics/model.h"
 
@@ -23,14 +24,23 @@ struct LineContact {
 /// (line contact); none otherwise.
 std::optional<LineContact> line_contact(const ContactConfig& contact);
 
+/// The line contact of `contact`, or InputError(file, path) saying that the
+/// limit at `path` needs the contact's materials and width.
+LineContact require_line_contact(const ContactConfig& contact, const std::string& file, const std::string& path);
+
+/// κ₁ + κ₂ [1/m] of the contact: the cam contour's curvature from its radius
+/// `cam_radius_of_curvature` [m] (concave negative; infinite or 0: straight)
+/// plus the follower's (1/r for a roller or mushroom, 0 for a flat face).
+double curvature_sum(double cam_radius_of_curvature, const FollowerGeometry& follower);
+
 struct PressurePeak {
   double pressure = 0.0;  ///< [Pa]
   double at_deg = 0.0;    ///< cam angle [deg], in [0, 360)
 };
 
 /// The highest rigid-model Hertz pressure over a revolution at cam speed
-/// `omega` [rad/s]: sampled every 0.1°, then refined by golden section around
-/// the highest sample. The follower's curvature is its radius's inverse for a
+/// `omega` [rad/s]: sampled every 0.1°, the highest local maxima refined by
+/// golden section (geometry/extremum.h, as the cam checks do). The follower's curvature is its radius's inverse for a
 /// roller or mushroom and 0 for a flat face; the cam's is its contour's at the
 /// contact (concave negative).
 PressurePeak peak_rigid_contact_pressure(const Model& model, const LineContact& contact, double omega);

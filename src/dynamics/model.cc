@@ -466,12 +466,8 @@ void check_contact_stress_limit(const MechanismConfig& mech, const Model& model,
   const std::optional<double>& limit = mech.cam.limits.max_contact_stress;
   if (!limit) return;
   const std::string at = "mechanism.cam.limits.max_contact_stress";
-  const std::optional<LineContact> contact = line_contact(mech.contact);
-  if (!contact)
-    throw InputError(file, at,
-                     "needs the contact's materials and width (mechanism.contact.stiffness: {\"from_materials\": "
-                     "{..., \"width\": ...}}): the limit is on the Hertz line-contact pressure");
-  const PressurePeak peak = peak_rigid_contact_pressure(model, *contact, model.omega);
+  const LineContact contact = require_line_contact(mech.contact, file, at);
+  const PressurePeak peak = peak_rigid_contact_pressure(model, contact, model.omega);
   if (peak.pressure > *limit)
     throw InputError(file, at,
                      "the rigid-model Hertz contact pressure reaches " + check_text::num(peak.pressure) +

@@ -24,7 +24,8 @@ inline Extremum refine_max(const G& g, const std::vector<double>& us, const std:
   auto u_at = [&](std::ptrdiff_t i) {  // cyclic, continued across 2π
     const auto m = static_cast<std::ptrdiff_t>(n);
     const std::ptrdiff_t k = ((i % m) + m) % m;
-    return us[k] + kTwoPi * static_cast<double>((i - k) / m);
+    const std::ptrdiff_t wraps = (i - k) / m;  // exact: i − k is a multiple of m
+    return us[k] + kTwoPi * static_cast<double>(wraps);
   };
   std::vector<std::size_t> peaks;
   for (std::size_t i = 0; i < n; ++i)
