@@ -22,6 +22,7 @@
 #include "study/compare_study.h"
 #include "study/convergence_study.h"
 #include "study/mpi_runner.h"
+#include "study/periodic_study.h"
 #include "study/simulation_output.h"
 #include "study/speed_limit.h"
 #include "study/study.h"
@@ -156,6 +157,7 @@ int run_command(int argc, char** argv) {
     if (study == "optimize") return camdyn::optim::run_optimize_study(doc, ctx);
     if (study == "identify") return camdyn::optim::run_identify_study(doc, ctx);
     if (study == "speed_limit") return camdyn::run_speed_limit_study(doc, ctx);
+    if (study == "periodic") return camdyn::run_periodic_study(doc, ctx);
     return run_simulate(doc, ctx);  // simulate; any other study name is reported by the config layer
   } catch (const camdyn::InputError& e) {
     if (!root) return kExitInput;  // every rank reads the same input: rank 0 says what is wrong

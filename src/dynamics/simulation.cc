@@ -9,6 +9,7 @@
 #include <limits>
 #include <numbers>
 #include <sstream>
+#include <stdexcept>
 
 #include "common/errors.h"
 #include "integrate/integrator.h"
@@ -193,6 +194,32 @@ Failure initial_state(const SceneConfig& scene, const Model& model, Workspace& w
     else
       ws.motor_phase = twist;
   }
+  return {};
+}
+
+// A given start (SimulationOptions::start): every state as given except the
+// pair parameters, which warm-started Newton (global search if that fails)
+// finds from the others at t = 0, as the drift projection does.
+Failure given_state(const Model& model, Workspace& ws, const StartState& start, double* y) {
+  if (static_cast<int>(start.y.size()) != model.layout.size)
+    throw std::logic_error("simulate: a start state of " + std::to_string(start.y.size()) + " values for a model of " +
+                           std::to_string(model.layout.size) + " states");
+  std::copy(start.y.begin(), start.y.end(), y);
+  ws.v0 = std::max(start.approach_speed, model.contact.reference_velocity);
+  ws.motor_phase = start.motor_phase;
+  ws.u_warm = model.pair_guess(model.theta(0.0));
+  Model newton_model = model;
+  newton_model.tracking = Tracking::newton;
+  Evaluation ev;
+  const long resets = ws.tracking_resets;
+  evaluate(newton_model, ws, 0.0, y, ev);
+  ws.tracking_resets = resets;  // the set-up search is not a loss of tracking
+  if (!ev.tracking_ok)
+    return {Termination::no_initial_contact, "could not find the contact pair of the start state " + where(model, 0.0)};
+  ws.u_warm = ev.pair.u;
+  ws.v_warm = ev.pair_v;
+  if (model.layout.u) y[*model.layout.u] = ev.pair.u;
+  if (model.layout.v) y[*model.layout.v] = ev.pair_v;
   return {};
 }
 
@@ -442,7 +469,7 @@ bool handle_root(const RunContext& run, const Integrator& integrator, const Eval
   if (root_dirs[0] < 0) {  // gap closing: contact onset
     const double approach = -ev.gap_rate;
     run.ws.v0 = std::max(approach, model.contact.reference_velocity);
-    ContactEvent event{t, ev.theta * kRadToDeg, true, approach, separated};
+    ContactEvent event{t, ev.theta * kRadToDeg, true, approach, separated, ev.v};
     if (separated && t >= run.plan.t_eval) {
       ++result.metrics.impact_count;
       result.metrics.max_impact_velocity = std::max(result.metrics.max_impact_velocity, approach);
@@ -451,7 +478,7 @@ bool handle_root(const RunContext& run, const Integrator& integrator, const Eval
     separated = false;
     restart = true;
   } else if (root_dirs[0] > 0) {  // gap opening: separation
-    result.events.push_back({t, ev.theta * kRadToDeg, false, ev.gap_rate, false});
+    result.events.push_back({t, ev.theta * kRadToDeg, false, ev.gap_rate, false, ev.v});
     separated = true;
     restart = true;
   }
@@ -575,7 +602,9 @@ Failure integrate(const RunContext& run, SceneOde& ode, Integrator& integrator, 
 Failure run_scene(const RunContext& run) {
   const Model& model = run.model;
   State y{};
-  if (Failure f = initial_state(run.scene, model, run.ws, y.data())) return f;
+  if (Failure f = run.options.start ? given_state(model, run.ws, *run.options.start, y.data())
+                                    : initial_state(run.scene, model, run.ws, y.data()))
+    return f;
   Quadratures q{};
 
   SceneOde ode(model, run.ws);
@@ -598,6 +627,9 @@ Failure run_scene(const RunContext& run) {
     failure = {Termination::integrator_failure, e.what()};
   }
   run.result.solver.counters = integrator.counters();
+  run.result.final_state.assign(y.begin(), y.begin() + model.layout.size);
+  run.result.final_approach_speed = run.ws.v0;
+  run.result.final_motor_phase = run.ws.motor_phase;
   return failure;
 }
 

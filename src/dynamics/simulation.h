@@ -4,6 +4,7 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -27,11 +28,12 @@ struct TimeSeries {
 
 /// A contact onset or separation located by root finding.
 struct ContactEvent {
-  double time = 0.0;           ///< [s]
-  double cam_angle_deg = 0.0;  ///< [deg]
-  bool onset = true;           ///< onset (gap closes) or separation (gap opens)
-  double speed = 0.0;          ///< normal approach speed at onset, separation speed at separation [m/s]
-  bool impact = false;         ///< onset after a separation
+  double time = 0.0;               ///< [s]
+  double cam_angle_deg = 0.0;      ///< [deg]
+  bool onset = true;               ///< onset (gap closes) or separation (gap opens)
+  double speed = 0.0;              ///< normal approach speed at onset, separation speed at separation [m/s]
+  bool impact = false;             ///< onset after a separation
+  double follower_velocity = 0.0;  ///< q̇ at the event [m/s | rad/s]
 };
 
 /// How a run ended (summary.json `solver.termination`), in the manner of
@@ -91,6 +93,22 @@ struct SimulationResult {
   ErrorEstimate error;
   double evaluated_from = 0.0;  ///< start of the evaluated window [s]
   double end_time = 0.0;        ///< [s]
+  /// Where the run ended: the state (one value per state of Model::layout),
+  /// the approach speed of the contact episode then in progress (v₀ [m/s])
+  /// and the constant-speed motor's phase [rad]: what a run that continues
+  /// this one starts from (SimulationOptions::start).
+  std::vector<double> final_state;
+  double final_approach_speed = 0.0, final_motor_phase = 0.0;
+};
+
+/// A state to start a run from instead of the equilibrium on the law: the
+/// periodic study's shooting starts each revolution of its map here.
+struct StartState {
+  /// One value per state of Model::layout; the contact pair parameters in it
+  /// are found again from the others (Newton, as at any start).
+  std::vector<double> y;
+  double approach_speed = 0.0;  ///< v₀ of the contact episode in progress [m/s] (floored as always)
+  double motor_phase = 0.0;     ///< shaft drive at constant motor speed: the motor's angle offset [rad]
 };
 
 struct SimulationOptions {
@@ -107,6 +125,8 @@ struct SimulationOptions {
   std::vector<double> sample_times;
   /// Called now and then with the fraction of simulated time done, in [0, 1].
   std::function<void(double)> progress;
+  /// Start here (at t = 0) instead of in equilibrium on the law (scene.mechanism.follower.initial).
+  std::optional<StartState> start;
 };
 
 /// Runs the scene. When the integrator gives up, a budget (steps, wall time)

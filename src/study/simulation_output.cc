@@ -23,17 +23,6 @@ std::string format(double v, const char* unit = "") {
   return buffer;
 }
 
-Json metrics_json(const Metrics& m) {
-  Json j = Json::object();
-  for_each_metric(m, [&](const char* name, const auto& value, const MetricInfo& info) {
-    if constexpr (std::is_floating_point_v<std::remove_cvref_t<decltype(value)>>)
-      j[name] = info.infinite_is_null ? finite_or_null(value) : Json(value);
-    else
-      j[name] = value;
-  });
-  return j;
-}
-
 Json error_estimate_json(const ErrorEstimate& e) {
   Json j{{"energy_residual", e.energy_residual}};
   if (e.richardson) {
@@ -48,6 +37,17 @@ Json error_estimate_json(const ErrorEstimate& e) {
 }
 
 }  // namespace
+
+Json metrics_json(const Metrics& m) {
+  Json j = Json::object();
+  for_each_metric(m, [&](const char* name, const auto& value, const MetricInfo& info) {
+    if constexpr (std::is_floating_point_v<std::remove_cvref_t<decltype(value)>>)
+      j[name] = info.infinite_is_null ? finite_or_null(value) : Json(value);
+    else
+      j[name] = value;
+  });
+  return j;
+}
 
 double rigid_contact_force(const Model& model, double theta) { return rigid_normal_force(model, theta); }
 

@@ -11,6 +11,9 @@
 
 namespace camdyn {
 
+/// The metrics as JSON, in their one order; an infinite jump speed is null.
+Json metrics_json(const Metrics& m);
+
 /// summary.json: name, study, version, metrics, solver counters, the model
 /// that was assembled and the fully resolved config. No NaN/inf: an infinite
 /// jump speed (a law that never decelerates) is written as null.

@@ -1,0 +1,260 @@
+#include "study/periodic_orbit.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <mutex>
+
+#include "common/errors.h"
+#include "common/parallel.h"
+
+namespace camdyn {
+
+namespace {
+
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+VectorXd to_vector(const std::vector<double>& x) { return Eigen::Map<const VectorXd>(x.data(), std::ssize(x)); }
+
+std::string format(const char* fmt, auto... args) {
+  char buffer[256];
+  std::snprintf(buffer, sizeof buffer, fmt, args...);
+  return buffer;
+}
+
+// The map evaluations of one analysis: a workspace per thread, the count of
+// revolutions integrated, and the failures' messages.
+class Shooter {
+ public:
+  Shooter(const PoincareMap& map, const PeriodicOptions& options)
+      : map_(map), options_(options), scales_(to_vector(map.scales())) {
+    const int threads = std::max(1, options.threads);
+    for (int i = 0; i < threads; ++i) workspaces_.push_back(make_workspace(map.model()));
+  }
+
+  // P^k(p) on worker w's workspace; nullopt when the run failed.
+  std::optional<SectionPoint> apply(const SectionPoint& p, int k, int w = 0, long* impacts = nullptr) {
+    const MapResult r = map_.apply(p, k, workspaces_[static_cast<std::size_t>(w)]);
+    revolutions_ += k;
+    ++evaluations_;
+    if (impacts) *impacts = r.impacts;
+    if (!r.ok) {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      failure_ = r.message;
+      return std::nullopt;
+    }
+    return r.end;
+  }
+
+  // Max |a_j| / scale_j.
+  double scaled_norm(const VectorXd& a) const { return a.cwiseQuotient(scales_).cwiseAbs().maxCoeff(); }
+
+  // ∂P^k/∂x at p by central differences, the 2n evaluations in parallel;
+  // nullopt when one failed.
+  std::optional<MatrixXd> jacobian(const SectionPoint& p, int k) {
+    const int n = map_.dimension();
+    const double h_rel = 10.0 * std::sqrt(std::max(map_.scene().integrator.rtol, 1e-14));
+    std::vector<std::optional<SectionPoint>> ends(2 * static_cast<std::size_t>(n));
+    parallel_for_workers(ends.size(), static_cast<int>(workspaces_.size()), [&](int w, std::size_t i) {
+      SectionPoint q = p;
+      const std::size_t j = i / 2;
+      q.x[j] += (i % 2 == 0 ? 1.0 : -1.0) * h_rel * scales_[static_cast<Eigen::Index>(j)];
+      ends[i] = apply(q, k, w);
+    });
+    MatrixXd J(n, n);
+    for (int j = 0; j < n; ++j) {
+      const auto& plus = ends[2 * static_cast<std::size_t>(j)];
+      const auto& minus = ends[2 * static_cast<std::size_t>(j) + 1];
+      if (!plus || !minus) return std::nullopt;
+      J.col(j) = (to_vector(plus->x) - to_vector(minus->x)) / (2.0 * h_rel * scales_[j]);
+    }
+    return J;
+  }
+
+  void log(const std::string& line) const {
+    if (options_.log) options_.log(line);
+  }
+  const VectorXd& scales() const { return scales_; }
+  long revolutions() const { return revolutions_; }
+  long evaluations() const { return evaluations_; }
+  const std::string& failure() const { return failure_; }
+
+ private:
+  const PoincareMap& map_;
+  const PeriodicOptions& options_;
+  const VectorXd scales_;
+  std::vector<Workspace> workspaces_;
+  std::atomic<long> revolutions_{0}, evaluations_{0};
+  std::mutex mutex_;
+  std::string failure_;
+};
+
+// Newton on P^k(x) − x = 0 from `start`, with step halving when a full step
+// does not lower the residual; the converged orbit, or nullopt.
+std::optional<Orbit> shoot(Shooter& shooter, const SectionPoint& start, int k, const PeriodicOptions& options,
+                           std::vector<NewtonStep>& trace) {
+  SectionPoint x = start;
+  std::optional<SectionPoint> image = shooter.apply(x, k);
+  const int n = static_cast<int>(x.x.size());
+  for (int it = 0; image; ++it) {
+    const VectorXd residual = to_vector(image->x) - to_vector(x.x);
+    const double norm = shooter.scaled_norm(residual);
+    trace.push_back({k, it, norm});
+    shooter.log(format("period %d: Newton iteration %d, residual %.3e", k, it, norm));
+    std::optional<MatrixXd> J = shooter.jacobian(x, k);
+    if (!J) return std::nullopt;
+    if (norm <= options.tolerance) {
+      Orbit orbit{k, x, *J, floquet_multipliers(*J), false, it, norm};
+      orbit.stable = orbit.spectral_radius() < 1.0;
+      return orbit;
+    }
+    if (it >= options.max_newton_iterations || !std::isfinite(norm)) return std::nullopt;
+    const VectorXd step = (*J - MatrixXd::Identity(n, n)).fullPivLu().solve(-residual);
+    if (!step.allFinite()) return std::nullopt;
+    // Halve the step until the residual falls (at most 5 times), keeping the
+    // trial's image for the next iteration.
+    bool accepted = false;
+    for (double t = 1.0; t > 0.03 && !accepted; t *= 0.5) {
+      SectionPoint trial = x;
+      for (int j = 0; j < n; ++j) trial.x[static_cast<std::size_t>(j)] += t * step[j];
+      std::optional<SectionPoint> trial_image = shooter.apply(trial, k);
+      if (!trial_image) continue;
+      const double trial_norm = shooter.scaled_norm(to_vector(trial_image->x) - to_vector(trial.x));
+      if (trial_norm < norm || t < 0.05) {
+        x = trial;
+        x.approach_speed = trial_image->approach_speed;  // the episode the orbit closes on
+        image = trial_image;
+        accepted = true;
+      }
+    }
+    if (!accepted) return std::nullopt;
+  }
+  return std::nullopt;
+}
+
+// Whether `orbit` is one already found (a fixed point of a period dividing its own).
+bool known(const Shooter& shooter, const Orbit& orbit, const std::vector<Orbit>& found, double tolerance) {
+  for (const Orbit& o : found) {
+    if (orbit.period % o.period != 0) continue;
+    const double d = shooter.scaled_norm(to_vector(orbit.fixed_point.x) - to_vector(o.fixed_point.x));
+    if (d < 1e3 * tolerance) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+std::vector<std::complex<double>> floquet_multipliers(const MatrixXd& monodromy) {
+  const Eigen::EigenSolver<MatrixXd> solver(monodromy, false);
+  if (solver.info() != Eigen::Success) throw NumericalError("the Floquet multipliers did not converge");
+  std::vector<std::complex<double>> mu(solver.eigenvalues().begin(), solver.eigenvalues().end());
+  std::stable_sort(mu.begin(), mu.end(), [](const auto& a, const auto& b) { return std::abs(a) > std::abs(b); });
+  return mu;
+}
+
+PeriodicAnalysis find_periodic_orbit(const PoincareMap& map, const SectionPoint& start,
+                                     const PeriodicOptions& options) {
+  Shooter shooter(map, options);
+  PeriodicAnalysis a;
+  a.transient_end = start;
+  std::vector<Orbit> found;
+  SectionPoint from = start;
+  bool moved_on = false;  // the start was moved once already
+  for (int k = 1; k <= options.max_period && !a.orbit; ++k) {
+    std::optional<Orbit> orbit = shoot(shooter, from, k, options, a.newton);
+    if (orbit && known(shooter, *orbit, found, options.tolerance) && !moved_on) {
+      // Newton went back to a repelling orbit found before: the start is still
+      // near it. Follow the motion further, away from it, and try k again.
+      const int revolutions = 4 * options.transient_revolutions;
+      shooter.log(
+          format("period %d: converged to the orbit found before; following the motion %d more "
+                 "revolutions and trying again",
+                 k, revolutions));
+      moved_on = true;
+      if (std::optional<SectionPoint> later = shooter.apply(from, revolutions)) from = *later;
+      --k;
+      continue;
+    }
+    if (!orbit || known(shooter, *orbit, found, options.tolerance)) continue;
+    found.push_back(*orbit);
+    shooter.log(format("period %d: orbit found, largest |multiplier| %.4g: %s", k, orbit->spectral_radius(),
+                       orbit->stable ? "stable" : "unstable"));
+    if (orbit->stable) {
+      a.orbit = std::move(orbit);
+      a.motion = MotionKind::periodic;
+    } else {
+      a.unstable_orbits.push_back(std::move(*orbit));
+    }
+  }
+  a.revolutions = shooter.revolutions();
+  a.map_evaluations = shooter.evaluations();
+  a.failure = shooter.failure();
+  return a;
+}
+
+LyapunovEstimate estimate_lyapunov(const PoincareMap& map, const SectionPoint& start, const PeriodicOptions& options,
+                                   long* revolutions) {
+  PeriodicOptions two = options;
+  two.threads = std::min(2, std::max(1, options.threads));
+  Shooter shooter(map, two);
+  const double d0 = std::max(1e-7, 1e3 * map.scene().integrator.rtol);  // scaled distance [-]
+  const VectorXd& scales = shooter.scales();
+  const int n = map.dimension();
+  SectionPoint x = start, neighbour = start;
+  for (int j = 0; j < n; ++j) neighbour.x[static_cast<std::size_t>(j)] += d0 * scales[j];
+  LyapunovEstimate e;
+  double sum = 0.0;
+  for (int r = 0; r < options.lyapunov_revolutions; ++r) {
+    std::optional<SectionPoint> ends[2];
+    long impacts = 0;
+    parallel_for_workers(2, two.threads, [&](int w, std::size_t i) {
+      ends[i] = i == 0 ? shooter.apply(x, 1, w, &impacts) : shooter.apply(neighbour, 1, w);
+    });
+    if (!ends[0] || !ends[1])
+      throw NumericalError("the Lyapunov run failed after " + std::to_string(r) + " revolutions: " + shooter.failure());
+    const VectorXd difference = to_vector(ends[1]->x) - to_vector(ends[0]->x);
+    const double d = std::max(shooter.scaled_norm(difference), 1e-300);
+    sum += std::log(d / d0);
+    e.impacts += impacts;
+    ++e.revolutions;
+    x = *ends[0];
+    e.section_points.push_back(x.x);
+    neighbour = x;
+    const VectorXd pulled = to_vector(x.x) + difference * (d0 / d);
+    for (int j = 0; j < n; ++j) neighbour.x[static_cast<std::size_t>(j)] = pulled[j];
+    neighbour.approach_speed = ends[1]->approach_speed;
+  }
+  e.per_revolution = sum / static_cast<double>(e.revolutions);
+  e.per_impact = e.impacts > 0 ? sum / static_cast<double>(e.impacts) : 0.0;
+  if (revolutions) *revolutions += shooter.revolutions();
+  return e;
+}
+
+PeriodicAnalysis analyse_steady_state(const PoincareMap& map, const PeriodicOptions& options) {
+  Workspace ws = make_workspace(map.model());
+  SimulationOptions run;
+  run.record_series = false;
+  run.step_metrics = false;
+  const SimulationResult transient = simulate(map.scene_for(options.transient_revolutions), map.model(), ws, run);
+  throw_if_failed(transient);
+  const SectionPoint start = map.point(transient);
+  if (options.log) options.log(format("transient: %d revolutions", options.transient_revolutions));
+  PeriodicAnalysis a = find_periodic_orbit(map, start, options);
+  a.revolutions += options.transient_revolutions;
+  if (a.orbit) return a;
+  if (options.log)
+    options.log(
+        format("no stable orbit up to period %d: estimating the Lyapunov exponent over %d "
+               "revolutions",
+               options.max_period, options.lyapunov_revolutions));
+  a.lyapunov = estimate_lyapunov(map, start, options, &a.revolutions);
+  const double lambda = a.lyapunov->per_revolution;
+  a.motion = lambda > options.chaos_threshold    ? MotionKind::chaotic
+             : lambda > -options.chaos_threshold ? MotionKind::quasi_periodic
+                                                 : MotionKind::unresolved;
+  return a;
+}
+
+}  // namespace camdyn

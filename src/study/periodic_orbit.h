@@ -1,0 +1,102 @@
+// The steady state of a cam-follower at one speed: periodic orbits of the
+// once-per-revolution Poincaré map (dynamics/poincare_map.h) by shooting, their
+// Floquet multipliers, and, when no orbit up to the longest period asked for
+// converges, the largest Lyapunov exponent of the motion.
+//
+// Shooting: Newton on R(x) = P^k(x) − x for k = 1, 2, …, started from the end
+// of a short transient run. The Jacobian of P^k is taken by central
+// differences through the event handling, each column two map evaluations,
+// run in parallel. At a converged orbit that Jacobian (recomputed there) is
+// the monodromy matrix; its eigenvalues are the Floquet multipliers, and the
+// orbit is stable when they all lie inside the unit circle.
+//
+// Lyapunov exponent (Benettin et al. 1980): a neighbour trajectory a small
+// distance d₀ away, advanced one revolution at a time beside the reference
+// and pulled back to d₀ each revolution; λ is the mean of ln(d / d₀) per
+// revolution (and per impact).
+#pragma once
+
+#include <Eigen/Dense>
+#include <complex>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "dynamics/poincare_map.h"
+
+namespace camdyn {
+
+struct PeriodicOptions {
+  int max_period = 8;              ///< longest period k tried [revolutions]
+  int transient_revolutions = 4;   ///< run before the first Newton start
+  int max_newton_iterations = 15;  ///< per period
+  double tolerance = 1e-7;         ///< max |R_j| / scale_j at a converged orbit [-]
+  int lyapunov_revolutions = 200;  ///< of the Lyapunov run when no stable orbit converged
+  double chaos_threshold = 0.01;   ///< λ per revolution above which the motion is called chaotic [-]
+  int threads = 1;
+  /// Told what the search is doing (period tried, Newton residual).
+  std::function<void(const std::string&)> log;
+};
+
+/// One Newton iterate of the shooting.
+struct NewtonStep {
+  int period = 0;
+  int iteration = 0;
+  double residual = 0.0;  ///< max |R_j| / scale_j [-]
+};
+
+/// A periodic orbit: x = P^k(x).
+struct Orbit {
+  int period = 0;                                 ///< k [revolutions]
+  SectionPoint fixed_point;                       ///< at the section t = 0 (mod kT)
+  Eigen::MatrixXd monodromy;                      ///< ∂P^k/∂x at the fixed point
+  std::vector<std::complex<double>> multipliers;  ///< its eigenvalues, largest modulus first
+  bool stable = false;                            ///< every |μ| < 1
+  int newton_iterations = 0;
+  double residual = 0.0;  ///< at the fixed point [-]
+  double spectral_radius() const { return multipliers.empty() ? 0.0 : std::abs(multipliers.front()); }
+};
+
+struct LyapunovEstimate {
+  double per_revolution = 0.0;  ///< λ [1/revolution]
+  double per_impact = 0.0;      ///< λ per impact (0 without impacts)
+  long revolutions = 0;
+  long impacts = 0;
+  std::vector<std::vector<double>> section_points;  ///< the reference trajectory's x, once per revolution
+};
+
+enum class MotionKind { periodic, chaotic, quasi_periodic, unresolved };
+inline constexpr EnumName<MotionKind> kMotionKindNames[] = {{MotionKind::periodic, "periodic"},
+                                                            {MotionKind::chaotic, "chaotic"},
+                                                            {MotionKind::quasi_periodic, "quasi_periodic"},
+                                                            {MotionKind::unresolved, "unresolved"}};
+constexpr std::span<const EnumName<MotionKind>> enum_names(MotionKind) { return kMotionKindNames; }
+
+struct PeriodicAnalysis {
+  MotionKind motion = MotionKind::unresolved;
+  std::optional<Orbit> orbit;          ///< the stable orbit, when one converged
+  std::vector<Orbit> unstable_orbits;  ///< orbits that converged but repel
+  std::optional<LyapunovEstimate> lyapunov;
+  std::vector<NewtonStep> newton;  ///< every iterate, in order
+  SectionPoint transient_end;
+  long revolutions = 0;  ///< integrated in all, transient included
+  long map_evaluations = 0;
+  std::string failure;  ///< the last map evaluation that failed, if any
+};
+
+/// The orbit search from `start` (normally the end of a transient run).
+PeriodicAnalysis find_periodic_orbit(const PoincareMap& map, const SectionPoint& start, const PeriodicOptions& options);
+
+/// The whole analysis: the transient run from the scene's own start, the
+/// orbit search, and the Lyapunov run when no stable orbit converged.
+PeriodicAnalysis analyse_steady_state(const PoincareMap& map, const PeriodicOptions& options);
+
+/// λ of the motion from `start` over options.lyapunov_revolutions revolutions.
+LyapunovEstimate estimate_lyapunov(const PoincareMap& map, const SectionPoint& start, const PeriodicOptions& options,
+                                   long* revolutions = nullptr);
+
+/// Floquet multipliers of a monodromy matrix, largest modulus first.
+std::vector<std::complex<double>> floquet_multipliers(const Eigen::MatrixXd& monodromy);
+
+}  // namespace camdyn

@@ -1,0 +1,131 @@
+#include "study/periodic_report.h"
+
+#include <cmath>
+#include <numbers>
+#include <string>
+
+namespace camdyn {
+
+namespace {
+
+// The orbit (or the last revolution) in the phase plane, and its section points.
+Plot phase_plane(const PeriodicResult& r, const PoincareMap& map) {
+  const TimeSeries& s = r.orbit_run.series;
+  Plot p{"Phase plane: follower position against velocity", "follower velocity [m/s]", "follower position [m]", {}};
+  if (map.model().follower.oscillating()) {
+    p.xlabel = "arm angular velocity [rad/s]";
+    p.ylabel = "arm angle [rad]";
+  }
+  p.series.push_back({r.analysis.orbit ? "orbit" : "last revolution", s.follower_velocity, s.follower_position});
+  Series section{"Poincaré points (once per revolution)", {}, {}, "points"};
+  if (r.analysis.orbit) {
+    const double period = map.period();
+    for (std::size_t i = 0; i < s.time.size(); ++i) {
+      const double revolutions = s.time[i] / period;
+      if (std::abs(revolutions - std::round(revolutions)) < 1e-9) {
+        section.x.push_back(s.follower_velocity[i]);
+        section.y.push_back(s.follower_position[i]);
+      }
+    }
+  } else if (r.analysis.lyapunov) {
+    for (const std::vector<double>& x : r.analysis.lyapunov->section_points) {
+      section.x.push_back(x[1]);
+      section.y.push_back(x[0]);
+    }
+  }
+  p.series.push_back(std::move(section));
+  return p;
+}
+
+Plot contact_force(const PeriodicResult& r) {
+  const TimeSeries& s = r.orbit_run.series;
+  std::vector<double> angle(s.cam_angle_deg);
+  for (double& a : angle) a -= s.cam_angle_deg.front();
+  return Plot{"Contact force over one period",
+              "cam angle from the section [deg]",
+              "contact force [N]",
+              {{"contact force", angle, s.contact_force}}};
+}
+
+Plot multipliers(const Orbit& o) {
+  Series circle{"unit circle", {}, {}};
+  constexpr int kPoints = 180;
+  for (int i = 0; i <= kPoints; ++i) {
+    const double phi = 2.0 * std::numbers::pi * i / kPoints;
+    circle.x.push_back(std::cos(phi));
+    circle.y.push_back(std::sin(phi));
+  }
+  Series mu{"Floquet multipliers", {}, {}, "points"};
+  for (const std::complex<double>& m : o.multipliers) {
+    mu.x.push_back(m.real());
+    mu.y.push_back(m.imag());
+  }
+  return Plot{"Floquet multipliers (stable inside the unit circle)", "Re μ", "Im μ", {circle, mu}};
+}
+
+Plot newton_residuals(const PeriodicAnalysis& a) {
+  Plot p{"Shooting: Newton residual per iteration", "iteration", "max |P^k(x) − x| / scale [-]", {}};
+  p.logy = true;
+  for (const NewtonStep& s : a.newton) {
+    if (p.series.empty() || p.series.back().label != "period " + std::to_string(s.period))
+      p.series.push_back({"period " + std::to_string(s.period), {}, {}, "linespoints"});
+    p.series.back().x.push_back(s.iteration);
+    p.series.back().y.push_back(s.residual);
+  }
+  return p;
+}
+
+Table orbit_table(const PeriodicResult& r) {
+  Table t{"Impacts and take-offs on the orbit",
+          {"event", "cam angle [deg]", "normal speed [m/s]", "follower velocity"},
+          {}};
+  for (const OrbitEvent& e : r.impacts)
+    t.rows.push_back(
+        {"impact", format_number(e.cam_angle_deg), format_number(e.speed), format_number(e.follower_velocity)});
+  for (const OrbitEvent& e : r.take_offs)
+    t.rows.push_back(
+        {"take-off", format_number(e.cam_angle_deg), format_number(e.speed), format_number(e.follower_velocity)});
+  return t;
+}
+
+}  // namespace
+
+Report periodic_report(const PeriodicStudy& study, const PeriodicResult& r, const PoincareMap& map) {
+  const PeriodicAnalysis& a = r.analysis;
+  Report rep;
+  rep.title = "camdyn periodic: " + study.scene.name;
+  rep.subtitle = periodic_verdict(r);
+  rep.facts = {{"cam speed", format_number(r.rpm) + " rpm"},
+               {"rigid-model jump speed", format_number(r.jump_speed_rpm, 5) + " rpm"},
+               {"motion", to_string(a.motion)}};
+  if (a.orbit) {
+    std::string mu;
+    for (const std::complex<double>& m : a.orbit->multipliers)
+      mu += (mu.empty() ? "" : ", ") + format_number(m.real(), 4) + (m.imag() >= 0 ? " + " : " − ") +
+            format_number(std::abs(m.imag()), 4) + "i";
+    rep.facts.push_back({"period", std::to_string(a.orbit->period) + " revolution(s)"});
+    rep.facts.push_back({"Floquet multipliers", mu});
+  }
+  for (const Orbit& o : a.unstable_orbits)
+    rep.facts.push_back({"unstable orbit", "period " + std::to_string(o.period) + ", largest |μ| " +
+                                               format_number(o.spectral_radius(), 4)});
+  if (a.lyapunov)
+    rep.facts.push_back({"largest Lyapunov exponent", format_number(a.lyapunov->per_revolution, 4) +
+                                                          " per revolution over " +
+                                                          std::to_string(a.lyapunov->revolutions) + " revolutions"});
+  rep.facts.push_back({"revolutions integrated",
+                       std::to_string(a.revolutions) + " (" + std::to_string(a.map_evaluations) + " map evaluations)"});
+  rep.facts.push_back({"run time", format_number(r.run_time_s, 3) + " s"});
+  rep.plots.push_back(phase_plane(r, map));
+  rep.plots.push_back(contact_force(r));
+  if (a.orbit) rep.plots.push_back(multipliers(*a.orbit));
+  if (!a.newton.empty()) rep.plots.push_back(newton_residuals(a));
+  rep.tables.push_back(orbit_table(r));
+  rep.notes.push_back(
+      "The orbit is found by shooting on the once-per-revolution Poincaré map; the metrics in periodic.json and "
+      "orbit/summary.json are over one period of it (over the last revolution when no stable orbit converged). "
+      "orbit/ holds that period as a simulate run's outputs.");
+  return rep;
+}
+
+}  // namespace camdyn

@@ -1,0 +1,214 @@
+#include "study/periodic_study.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <numbers>
+
+#include "common/errors.h"
+#include "dynamics/model.h"
+#include "io/json_archive.h"
+#include "io/json_writer.h"
+#include "study/periodic_report.h"
+#include "study/simulation_output.h"
+
+namespace camdyn {
+
+namespace {
+
+const std::vector<std::string> kStudyKeys = {"periodic"};
+
+// One period of the orbit from its fixed point (or `revolutions` from `p`),
+// with the series and the metrics over every step.
+SimulationResult run_orbit(const PoincareMap& map, const SectionPoint& p, int revolutions) {
+  SceneConfig scene = map.scene_for(revolutions);
+  scene.simulation.output_step_deg = map.scene().simulation.output_step_deg.value_or(0.5);
+  Workspace ws = make_workspace(map.model());
+  SimulationOptions options;
+  options.start = map.start(p);
+  SimulationResult r = simulate(scene, map.model(), ws, options);
+  throw_if_failed(r);
+  return r;
+}
+
+// The impacts (onset = true) or the take-offs of a run.
+std::vector<OrbitEvent> orbit_events(const SimulationResult& r, bool onset) {
+  std::vector<OrbitEvent> events;
+  for (const ContactEvent& e : r.events)
+    if (onset ? e.onset && e.impact : !e.onset)
+      events.push_back({std::fmod(e.cam_angle_deg, 360.0), e.speed, e.follower_velocity});
+  return events;
+}
+
+Json events_json(const std::vector<OrbitEvent>& events, const char* speed) {
+  Json j = Json::array();
+  for (const OrbitEvent& e : events)
+    j.push_back({{"cam_angle_deg", e.cam_angle_deg}, {speed, e.speed}, {"follower_velocity", e.follower_velocity}});
+  return j;
+}
+
+Json section_json(const SectionPoint& p, const std::vector<std::string>& names) {
+  Json j = Json::object();
+  for (std::size_t i = 0; i < names.size(); ++i) j[names[i]] = p.x[i];
+  return j;
+}
+
+Json orbit_json(const Orbit& o, const std::vector<std::string>& names) {
+  Json multipliers = Json::array();
+  for (const std::complex<double>& mu : o.multipliers)
+    multipliers.push_back({{"re", mu.real()}, {"im", mu.imag()}, {"modulus", std::abs(mu)}});
+  return Json{{"period", o.period},
+              {"stable", o.stable},
+              {"fixed_point", section_json(o.fixed_point, names)},
+              {"floquet_multipliers", multipliers},
+              {"spectral_radius", o.spectral_radius()},
+              {"newton_iterations", o.newton_iterations},
+              {"residual", o.residual}};
+}
+
+}  // namespace
+
+template <class A>
+void visit(A& a, PeriodicConfig& c) {
+  PeriodicOptions& o = c.options;
+  a.field("max_period", o.max_period, at_least(1));
+  a.field("transient_revolutions", o.transient_revolutions, at_least(1));
+  a.field("tolerance", o.tolerance, open_closed(0, 0.1));
+  a.field("max_newton_iterations", o.max_newton_iterations, at_least(1));
+  a.field("lyapunov_revolutions", o.lyapunov_revolutions, at_least(10));
+  a.field("chaos_threshold", o.chaos_threshold, positive());
+}
+
+PeriodicStudy read_periodic_study(const Json& doc, const StudyContext& ctx) {
+  PeriodicStudy study;
+  Json part;
+  study.scene = scene_from_study_json(doc, ctx.source, kStudyKeys, part);
+  const Json fields = part.value("periodic", Json::object());  // the reader keeps a reference
+  JsonReader reader(fields, "periodic", ctx.source);
+  visit(reader, study.config);
+  reader.finish();
+  const Model model = build_model(study.scene, ctx.config_file);  // the geometry and contact law are checked here
+  [[maybe_unused]] const PoincareMap map(study.scene, model, ctx.config_file);  // and that the drive sets the speed
+  JsonWriter writer;
+  visit(writer, study.config);
+  study.resolved = resolved_study_json(study.scene, "periodic", Json{{"periodic", writer.json()}});
+  return study;
+}
+
+PeriodicResult run_periodic(const PeriodicStudy& study, const StudyContext& ctx,
+                            const std::function<void(const std::string&)>& log) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const Model model = build_model(study.scene, ctx.config_file);
+  const PoincareMap map(study.scene, model, ctx.config_file);
+  PeriodicOptions options = study.config.options;
+  options.threads = ctx.threads();
+  options.log = log;
+  PeriodicResult r;
+  r.rpm = study.scene.mechanism.cam.rpm;
+  r.jump_speed_rpm = jump_speed_rpm(model);
+  r.analysis = analyse_steady_state(map, options);
+  const PeriodicAnalysis& a = r.analysis;
+  if (a.orbit) {
+    r.orbit_run = run_orbit(map, a.orbit->fixed_point, a.orbit->period);
+  } else {
+    SectionPoint last = a.transient_end;
+    if (a.lyapunov && !a.lyapunov->section_points.empty()) last.x = a.lyapunov->section_points.back();
+    r.orbit_run = run_orbit(map, last, 1);
+  }
+  r.analysis.revolutions += a.orbit ? a.orbit->period : 1;
+  r.impacts = orbit_events(r.orbit_run, true);
+  r.take_offs = orbit_events(r.orbit_run, false);
+  r.run_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
+
+std::string periodic_verdict(const PeriodicResult& r) {
+  const PeriodicAnalysis& a = r.analysis;
+  char buffer[512];
+  if (a.orbit) {
+    const Metrics& m = r.orbit_run.metrics;
+    std::snprintf(buffer, sizeof buffer,
+                  "period-%d orbit, stable (largest |Floquet multiplier| %.3g); %zu impact%s per period, max gap "
+                  "%.3g m, contact force %.4g to %.4g N",
+                  a.orbit->period, a.orbit->spectral_radius(), r.impacts.size(), r.impacts.size() == 1 ? "" : "s",
+                  m.max_separation_gap, m.min_contact_force, m.peak_contact_force);
+    return buffer;
+  }
+  const int max_period = a.newton.empty() ? 0 : a.newton.back().period;
+  const double lambda = a.lyapunov ? a.lyapunov->per_revolution : 0.0;
+  const double per_impact = a.lyapunov ? a.lyapunov->per_impact : 0.0;
+  const char* kind = a.motion == MotionKind::chaotic          ? "chaotic: the largest Lyapunov exponent is positive"
+                     : a.motion == MotionKind::quasi_periodic ? "quasi-periodic: the largest Lyapunov exponent is ~0"
+                                                              : "unresolved: the motion contracts, so a longer "
+                                                                "period or a slow transient (raise "
+                                                                "periodic.max_period or transient_revolutions)";
+  std::snprintf(buffer, sizeof buffer,
+                "no stable periodic orbit up to period %d; %s (%+.3g per revolution, %+.3g per impact)", max_period,
+                kind, lambda, per_impact);
+  return buffer;
+}
+
+Json periodic_json(const PeriodicStudy& study, const PeriodicResult& r, const std::vector<std::string>& coordinates) {
+  const PeriodicAnalysis& a = r.analysis;
+  Json unstable = Json::array();
+  for (const Orbit& o : a.unstable_orbits) unstable.push_back(orbit_json(o, coordinates));
+  Json newton = Json::array();
+  for (const NewtonStep& s : a.newton)
+    newton.push_back({{"period", s.period}, {"iteration", s.iteration}, {"residual", s.residual}});
+  Json lyapunov = nullptr;
+  if (a.lyapunov)
+    lyapunov = {{"per_revolution", a.lyapunov->per_revolution},
+                {"per_impact", a.lyapunov->per_impact},
+                {"revolutions", a.lyapunov->revolutions},
+                {"impacts", a.lyapunov->impacts}};
+  const Metrics& m = r.orbit_run.metrics;
+  return Json{{"name", study.scene.name},
+              {"study", "periodic"},
+              {"camdyn_version", CAMDYN_VERSION},
+              {"rpm", r.rpm},
+              {"rigid_jump_speed_rpm", std::isfinite(r.jump_speed_rpm) ? Json(r.jump_speed_rpm) : Json()},
+              {"motion", to_string(a.motion)},
+              {"verdict", periodic_verdict(r)},
+              {"coordinates", coordinates},
+              {"orbit", a.orbit ? orbit_json(*a.orbit, coordinates) : Json()},
+              {"unstable_orbits", unstable},
+              {"impacts", events_json(r.impacts, "approach_speed")},
+              {"take_offs", events_json(r.take_offs, "separation_speed")},
+              {"max_gap", m.max_separation_gap},
+              {"peak_contact_force", m.peak_contact_force},
+              {"min_contact_force", m.min_contact_force},
+              {"metrics_on", a.orbit ? "orbit" : "last_revolution"},
+              {"metrics", metrics_json(m)},
+              {"lyapunov", lyapunov},
+              {"newton", newton},
+              {"revolutions_integrated", a.revolutions},
+              {"map_evaluations", a.map_evaluations},
+              {"run_time_s", r.run_time_s}};
+}
+
+int run_periodic_study(const Json& doc, const StudyContext& ctx) {
+  const PeriodicStudy study = read_periodic_study(doc, ctx);
+  if (ctx.validate_only) {
+    std::cout << dump_json(study.resolved);
+    return 0;
+  }
+  const std::string& name = study.scene.name;
+  const PeriodicResult r =
+      run_periodic(study, ctx, [&](const std::string& line) { std::printf("%s: %s\n", name.c_str(), line.c_str()); });
+  const Model model = build_model(study.scene, ctx.config_file);
+  const PoincareMap map(study.scene, model, ctx.config_file);
+  std::filesystem::create_directories(ctx.out_dir);
+  write_json_atomic(ctx.out_dir / "periodic.json", periodic_json(study, r, map.coordinate_names()));
+  write_simulation_outputs(ctx.out_dir / "orbit", map.scene_for(r.analysis.orbit ? r.analysis.orbit->period : 1), model,
+                           r.orbit_run);
+  write_report(ctx.out_dir / "report.html", periodic_report(study, r, map));
+  std::printf("%s at %.6g rpm (rigid jump speed %.6g rpm): %s\n", name.c_str(), r.rpm, r.jump_speed_rpm,
+              periodic_verdict(r).c_str());
+  std::printf("  %ld revolutions integrated, %.3g s; report: %s\n", r.analysis.revolutions, r.run_time_s,
+              std::filesystem::absolute(ctx.out_dir / "report.html").lexically_normal().c_str());
+  return 0;
+}
+
+}  // namespace camdyn

@@ -1,0 +1,60 @@
+// The periodic study from the command line: its outputs (periodic.json with
+// the orbit, its multipliers and impacts, the orbit as a simulate run's
+// outputs, the report), what it prints while it searches, `validate`, and the
+// errors of its own fields.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "cli_run.h"
+#include "io/config.h"
+
+namespace camdyn {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kBouncingBall = std::string(CAMDYN_SOURCE_DIR) + "/studies/periodic/bouncing_ball.json";
+
+TEST(PeriodicStudy, WritesTheOrbitItsMultipliersAndAReport) {
+  const fs::path dir = test::scratch_dir("periodic_study_test", "run");
+  const test::Outcome r = test::run_camdyn({"run", kBouncingBall, "--out", (dir / "out").string(), "--quiet"}, dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("period 1: Newton iteration 0, residual"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("period-1 orbit, stable"), std::string::npos) << r.out;
+  const Json j = Json::parse(test::read_text(dir / "out" / "periodic.json"));
+  EXPECT_EQ(j["motion"], "periodic");
+  EXPECT_EQ(j["orbit"]["period"], 1);
+  EXPECT_TRUE(j["orbit"]["stable"].get<bool>());
+  EXPECT_EQ(j["orbit"]["floquet_multipliers"].size(), 2u);
+  EXPECT_EQ(j["impacts"].size(), 1u);
+  EXPECT_EQ(j["metrics_on"], "orbit");
+  EXPECT_EQ(j["metrics"]["impact_count"], 1);
+  EXPECT_TRUE(j["lyapunov"].is_null());
+  for (const char* file : {"report.html", "orbit/summary.json", "orbit/timeseries.csv", "orbit/events.csv"})
+    EXPECT_TRUE(fs::exists(dir / "out" / file)) << file;
+}
+
+TEST(PeriodicStudy, ValidatePrintsTheResolvedFields) {
+  const fs::path dir = test::scratch_dir("periodic_study_test", "validate");
+  const test::Outcome r = test::run_camdyn({"validate", kBouncingBall}, dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Json j = Json::parse(r.out);
+  EXPECT_EQ(j["study"], "periodic");
+  EXPECT_EQ(j["periodic"]["max_period"], 4);
+  EXPECT_EQ(j["periodic"]["transient_revolutions"], 4);
+}
+
+TEST(PeriodicStudy, BadFieldsAreNamed) {
+  const fs::path dir = test::scratch_dir("periodic_study_test", "bad");
+  const test::Outcome zero = test::run_camdyn({"validate", kBouncingBall, "--set", "periodic.max_period=0"}, dir);
+  EXPECT_EQ(zero.code, 2);
+  EXPECT_NE(zero.err.find("periodic.max_period"), std::string::npos) << zero.err;
+  const test::Outcome typo = test::run_camdyn({"validate", kBouncingBall, "--set", "periodic.max_perod=3"}, dir);
+  EXPECT_EQ(typo.code, 2);
+  EXPECT_NE(typo.err.find("max_period"), std::string::npos) << typo.err;
+}
+
+}  // namespace
+}  // namespace camdyn
