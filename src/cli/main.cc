@@ -21,6 +21,7 @@
 #include "optim/optimize_study.h"
 #include "study/compare_study.h"
 #include "study/convergence_study.h"
+#include "study/jump_map.h"
 #include "study/mpi_runner.h"
 #include "study/periodic_study.h"
 #include "study/simulation_output.h"
@@ -148,6 +149,7 @@ int run_command(int argc, char** argv) {
         doc.contains("study") && doc["study"].is_string() ? doc["study"].get<std::string>() : "simulate";
     if (study == "convergence") return camdyn::run_convergence_study(doc, ctx);
     if (study == "compare") return camdyn::run_compare_study(doc, ctx);
+    if (study == "jump_map") return camdyn::run_jump_map_study(doc, ctx);
     if (camdyn::mpi::size() > 1 && !ctx.validate_only) {
       // Only compare studies are spread over ranks; the others run on rank 0.
       if (!root) return kExitOk;

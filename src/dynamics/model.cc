@@ -815,6 +815,30 @@ double jump_speed_rpm(const Model& model) {
   return best * 60.0 / kTwoPi;
 }
 
+double damped_jump_speed_rpm(const Model& model) {
+  const double undamped = jump_speed_rpm(model);  // [rpm]
+  if (model.damping == 0.0 || !std::isfinite(undamped)) return undamped;
+  constexpr int kAngles = 3600, kSpeeds = 200;
+  auto holds = [&](double omega) {
+    for (int i = 0; i < kAngles; ++i)
+      if (rigid_normal_force(model, kTwoPi * i / kAngles, omega) < 0.0) return false;
+    return true;
+  };
+  // A scan up to twice the undamped bound (the force need not change sign
+  // once only), then bisection in the first interval where it fails [rad/s].
+  const double top = 2.0 * undamped * kTwoPi / 60.0;
+  for (int j = 1; j <= kSpeeds; ++j) {
+    if (holds(top * j / kSpeeds)) continue;
+    double lo = top * (j - 1) / kSpeeds, hi = top * j / kSpeeds;
+    for (int it = 0; it < 60 && hi - lo > 1e-12 * hi; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      (holds(mid) ? lo : hi) = mid;
+    }
+    return lo * 60.0 / kTwoPi;
+  }
+  return std::numeric_limits<double>::infinity();
+}
+
 double rigid_normal_force(const Model& model, double theta) { return rigid_normal_force(model, theta, model.omega); }
 
 double rigid_normal_force(const Model& model, double theta, double omega) {

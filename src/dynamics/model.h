@@ -230,6 +230,12 @@ EnergyTerms energy_terms(const Model& model, const Evaluation& ev);
 /// +inf if the law never decelerates.
 double jump_speed_rpm(const Model& model);
 
+/// The same bound with the damper's c ω s' term: the lowest cam speed at
+/// which the rigid-model normal force (rigid_normal_force) turns negative
+/// somewhere on the cam [rpm]. A damper lowers it on the return (s' < 0);
+/// equal to jump_speed_rpm without one; +inf if the force never turns.
+double damped_jump_speed_rpm(const Model& model);
+
 /// Rigid-model normal contact force at cam angle θ and constant speed [N]:
 /// Q / (∂g/∂q) with Q = M ω² s'' + c ω s' + k (s + x₀) + m g (translating
 /// roller: P / cos φ of physics.md §6). Negative: the follower would need pulling.

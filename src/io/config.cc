@@ -385,9 +385,10 @@ void check_run_control(A& a, const SceneConfig& scene) {
 template <class A>
 void visit(A& a, SceneConfig& s) {
   a.field("name", s.name, plain_name());
-  a.field("study", s.study,
-          one_of({"simulate"}, {"optimize", "identify", "compare", "convergence", "speed_limit", "periodic"},
-                 "study '{}' is not available in this version of camdyn (see the open issues)"));
+  a.field(
+      "study", s.study,
+      one_of({"simulate"}, {"optimize", "identify", "compare", "convergence", "speed_limit", "periodic", "jump_map"},
+             "study '{}' is not available in this version of camdyn (see the open issues)"));
   a.allow("description", Json::value_t::string);
   a.forbid({"extends"}, "'extends' is resolved when the file is loaded (load_config_json)");
   a.field("mechanism", s.mechanism);

@@ -21,8 +21,9 @@ struct ComparePoint {
   bool overlay = false;      ///< its contact force and follower motion are plotted
 };
 
-/// A run's outcome, read back from its journal record.
-struct CompareOutcome {
+/// A run's outcome, read back from its journal record. (clang-tidy reads the
+/// implicit noexcept move of its Json member as able to throw; it cannot.)
+struct CompareOutcome {  // NOLINT(bugprone-exception-escape)
   bool ok = false;
   std::string error;
   std::vector<double> metrics;  ///< one per compare_metric_names(); NaN where not available

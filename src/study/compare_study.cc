@@ -10,12 +10,9 @@
 #include <iostream>
 #include <limits>
 #include <map>
-#include <memory>
-#include <mutex>
 #include <optional>
 
 #include "common/errors.h"
-#include "common/parallel.h"
 #include "dynamics/simulation.h"
 #include "io/json_archive.h"
 #include "io/json_merge.h"
@@ -23,8 +20,8 @@
 #include "study/compare_config.h"
 #include "study/compare_output.h"
 #include "study/journal.h"
+#include "study/journaled_runs.h"
 #include "study/mpi_runner.h"
-#include "study/progress.h"
 
 namespace camdyn {
 
@@ -42,15 +39,6 @@ struct ComparePlan {
   std::vector<std::string> keys;  ///< spec.keys()
   std::vector<CaseBase> bases;    ///< one per case
   std::vector<ComparePoint> points;
-};
-
-/// The runs of this invocation: the journal (rank 0) with the records already
-/// done, and the runs still to do (every rank).
-struct RunState {
-  std::unique_ptr<Journal> journal;
-  std::map<std::size_t, Json> records;
-  std::vector<std::size_t> pending;
-  std::size_t resumed = 0, resumed_failed = 0;
 };
 
 std::vector<CaseBase> resolve_cases(const CompareSpec& spec, const Json& scene_doc, const StudyContext& ctx) {
@@ -212,83 +200,6 @@ Json run_record(const ComparePlan& plan, std::size_t i, const StudyContext& ctx)
   return record;
 }
 
-/// Rank 0 opens the journal and reads the runs already done; the runs still to
-/// do go to every rank. Returns an exit code when the study must stop (under
-/// MPI, rank 0's reason is shared so that every rank stops); throws otherwise.
-std::optional<int> open_journal(const ComparePlan& plan, const StudyContext& ctx, RunState& state) {
-  const bool root = mpi::rank() == 0;
-  const bool distributed = mpi::size() > 1;
-  std::string failure;  // rank 0's reason to stop: the exit code digit, then the message
-  if (root) {
-    try {
-      std::filesystem::create_directories(ctx.out_dir);
-      state.journal = std::make_unique<Journal>(ctx.out_dir / "journal.jsonl", "compare", study_fingerprint(plan),
-                                                plan.points.size());
-      state.records = state.journal->done();
-    } catch (const InputError& e) {
-      if (!distributed) throw;
-      failure = std::string("2") + e.what();
-    } catch (const std::exception& e) {
-      if (!distributed) throw;
-      failure = std::string("1") + e.what();
-    }
-    for (std::size_t i = 0; i < plan.points.size(); ++i)
-      if (!state.records.count(i)) state.pending.push_back(i);
-  }
-  if (distributed) {
-    Json shared{{"failure", failure}, {"pending", state.pending}};
-    shared = Json::parse(mpi::broadcast(shared.dump()));
-    failure = shared["failure"].get<std::string>();
-    state.pending = shared["pending"].get<std::vector<std::size_t>>();
-    if (!failure.empty()) {
-      if (root) std::cerr << "camdyn: error: " << failure.substr(1) << "\n";  // the other ranks: rank 0 says why
-      return failure[0] - '0';
-    }
-  }
-  for (const auto& [i, record] : state.records)
-    if (record.value("status", std::string()) != "ok") ++state.resumed_failed;
-  state.resumed = plan.points.size() - state.pending.size();
-  if (root && state.resumed > 0)
-    std::cerr << "camdyn: resuming: " << state.resumed << " of " << plan.points.size() << " runs already done ("
-              << (ctx.out_dir / "journal.jsonl").string() << "), skipped\n";
-  return std::nullopt;
-}
-
-/// Runs the pending runs on threads (one process) or MPI ranks; rank 0
-/// journals each record as it arrives.
-void run_pending(const ComparePlan& plan, const StudyContext& ctx, RunState& state) {
-  const bool distributed = mpi::size() > 1;
-  ProgressMeter progress("compare", plan.points.size(), state.resumed, state.resumed_failed,
-                         ctx.progress && mpi::rank() == 0);
-  std::mutex mutex;
-  auto finished = [&](Json record) {  // rank 0, serialised by the caller
-    const std::size_t i = record["index"].get<std::size_t>();
-    const bool failed = record["status"] != "ok";
-    state.journal->append(record);
-    state.records[i] = std::move(record);
-    progress.finished(failed);
-  };
-  try {
-    if (distributed) {
-      mpi::distribute_runs(
-          state.pending,
-          [&](std::size_t i) { return run_record(plan, i, ctx).dump(-1, ' ', false, Json::error_handler_t::replace); },
-          [&](const std::string& text) { finished(Json::parse(text)); });
-    } else {
-      parallel_for(state.pending.size(), ctx.threads(), [&](std::size_t k) {
-        Json record = run_record(plan, state.pending[k], ctx);
-        const std::lock_guard<std::mutex> lock(mutex);
-        finished(std::move(record));
-      });
-    }
-  } catch (const std::exception& e) {
-    if (!distributed) throw;
-    // The other ranks may wait for rank 0 (or it for them): end them all.
-    std::cerr << "camdyn: error: rank " << mpi::rank() << ": " << e.what() << "\n";
-    mpi::abort_all(1);
-  }
-}
-
 double number_or_nan(const Json& j) {
   return j.is_number() ? j.get<double>() : std::numeric_limits<double>::quiet_NaN();
 }
@@ -314,10 +225,12 @@ int run_compare_study(const Json& doc, const StudyContext& ctx) {
     std::cerr << "camdyn: " << ctx.config_file << " is valid (" << plan.points.size() << " runs)\n";
     return 0;
   }
-  RunState state;
-  if (const std::optional<int> code = open_journal(plan, ctx, state)) return *code;
   const auto wall_start = std::chrono::steady_clock::now();
-  run_pending(plan, ctx, state);
+  JournaledRuns state;
+  if (const std::optional<int> code = run_journaled(
+          "compare", study_fingerprint(plan), plan.points.size(),
+          [&](std::size_t i) { return run_record(plan, i, ctx); }, ctx, state))
+    return *code;
   if (mpi::rank() != 0) return 0;  // rank 0 writes the outputs
 
   // Outputs, from the records in (case, grid point) order: a resumed study

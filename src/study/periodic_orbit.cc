@@ -232,6 +232,20 @@ LyapunovEstimate estimate_lyapunov(const PoincareMap& map, const SectionPoint& s
   return e;
 }
 
+PeriodicAnalysis analyse_from(const PoincareMap& map, const SectionPoint& start, const PeriodicOptions& options) {
+  PeriodicAnalysis a = find_periodic_orbit(map, start, options);
+  if (a.orbit) return a;
+  if (options.log)
+    options.log(format("no stable orbit up to period %d: estimating the Lyapunov exponent over %d revolutions",
+                       options.max_period, options.lyapunov_revolutions));
+  a.lyapunov = estimate_lyapunov(map, start, options, &a.revolutions);
+  const double lambda = a.lyapunov->per_revolution;
+  a.motion = lambda > options.chaos_threshold    ? MotionKind::chaotic
+             : lambda > -options.chaos_threshold ? MotionKind::quasi_periodic
+                                                 : MotionKind::unresolved;
+  return a;
+}
+
 PeriodicAnalysis analyse_steady_state(const PoincareMap& map, const PeriodicOptions& options) {
   Workspace ws = make_workspace(map.model());
   SimulationOptions run;
@@ -239,21 +253,9 @@ PeriodicAnalysis analyse_steady_state(const PoincareMap& map, const PeriodicOpti
   run.step_metrics = false;
   const SimulationResult transient = simulate(map.scene_for(options.transient_revolutions), map.model(), ws, run);
   throw_if_failed(transient);
-  const SectionPoint start = map.point(transient);
   if (options.log) options.log(format("transient: %d revolutions", options.transient_revolutions));
-  PeriodicAnalysis a = find_periodic_orbit(map, start, options);
+  PeriodicAnalysis a = analyse_from(map, map.point(transient), options);
   a.revolutions += options.transient_revolutions;
-  if (a.orbit) return a;
-  if (options.log)
-    options.log(
-        format("no stable orbit up to period %d: estimating the Lyapunov exponent over %d "
-               "revolutions",
-               options.max_period, options.lyapunov_revolutions));
-  a.lyapunov = estimate_lyapunov(map, start, options, &a.revolutions);
-  const double lambda = a.lyapunov->per_revolution;
-  a.motion = lambda > options.chaos_threshold    ? MotionKind::chaotic
-             : lambda > -options.chaos_threshold ? MotionKind::quasi_periodic
-                                                 : MotionKind::unresolved;
   return a;
 }
 

@@ -88,6 +88,10 @@ struct PeriodicAnalysis {
 /// The orbit search from `start` (normally the end of a transient run).
 PeriodicAnalysis find_periodic_orbit(const PoincareMap& map, const SectionPoint& start, const PeriodicOptions& options);
 
+/// The orbit search from `start`, and the Lyapunov run from there when no
+/// stable orbit converged, with the motion classified.
+PeriodicAnalysis analyse_from(const PoincareMap& map, const SectionPoint& start, const PeriodicOptions& options);
+
 /// The whole analysis: the transient run from the scene's own start, the
 /// orbit search, and the Lyapunov run when no stable orbit converged.
 PeriodicAnalysis analyse_steady_state(const PoincareMap& map, const PeriodicOptions& options);

@@ -70,17 +70,6 @@ Json orbit_json(const Orbit& o, const std::vector<std::string>& names) {
 
 }  // namespace
 
-template <class A>
-void visit(A& a, PeriodicConfig& c) {
-  PeriodicOptions& o = c.options;
-  a.field("max_period", o.max_period, at_least(1));
-  a.field("transient_revolutions", o.transient_revolutions, at_least(1));
-  a.field("tolerance", o.tolerance, open_closed(0, 0.1));
-  a.field("max_newton_iterations", o.max_newton_iterations, at_least(1));
-  a.field("lyapunov_revolutions", o.lyapunov_revolutions, at_least(10));
-  a.field("chaos_threshold", o.chaos_threshold, positive());
-}
-
 PeriodicStudy read_periodic_study(const Json& doc, const StudyContext& ctx) {
   PeriodicStudy study;
   Json part;

@@ -13,6 +13,7 @@
 
 #include "dynamics/simulation.h"
 #include "io/config.h"
+#include "io/json_archive.h"
 #include "study/periodic_orbit.h"
 #include "study/study.h"
 
@@ -22,6 +23,18 @@ namespace camdyn {
 struct PeriodicConfig {
   PeriodicOptions options;  ///< max_period … chaos_threshold (threads and log are not config)
 };
+
+/// The `periodic` fields, read and written in one place.
+template <class A>
+void visit(A& a, PeriodicConfig& c) {
+  PeriodicOptions& o = c.options;
+  a.field("max_period", o.max_period, at_least(1));
+  a.field("transient_revolutions", o.transient_revolutions, at_least(1));
+  a.field("tolerance", o.tolerance, open_closed(0, 0.1));
+  a.field("max_newton_iterations", o.max_newton_iterations, at_least(1));
+  a.field("lyapunov_revolutions", o.lyapunov_revolutions, at_least(10));
+  a.field("chaos_threshold", o.chaos_threshold, positive());
+}
 
 struct PeriodicStudy {
   SceneConfig scene;

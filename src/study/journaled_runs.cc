@@ -1,0 +1,113 @@
+#include "study/journaled_runs.h"
+
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <mutex>
+#include <vector>
+
+#include "common/errors.h"
+#include "common/parallel.h"
+#include "study/journal.h"
+#include "study/mpi_runner.h"
+#include "study/progress.h"
+
+namespace camdyn {
+
+namespace {
+
+/// The runs of this invocation: the journal (rank 0) with the records already
+/// done, and the runs still to do (every rank).
+struct RunState {
+  std::unique_ptr<Journal> journal;
+  std::vector<std::size_t> pending;
+};
+
+/// Rank 0 opens the journal and reads the runs already done; the runs still to
+/// do go to every rank. Returns an exit code when the study must stop (under
+/// MPI, rank 0's reason is shared so that every rank stops); throws otherwise.
+std::optional<int> open_journal(const std::string& study, const std::string& hash, std::size_t count,
+                                const StudyContext& ctx, RunState& state, JournaledRuns& out) {
+  const bool root = mpi::rank() == 0;
+  const bool distributed = mpi::size() > 1;
+  std::string failure;  // rank 0's reason to stop: the exit code digit, then the message
+  if (root) {
+    try {
+      std::filesystem::create_directories(ctx.out_dir);
+      state.journal = std::make_unique<Journal>(ctx.out_dir / "journal.jsonl", study, hash, count);
+      out.records = state.journal->done();
+    } catch (const InputError& e) {
+      if (!distributed) throw;
+      failure = std::string("2") + e.what();
+    } catch (const std::exception& e) {
+      if (!distributed) throw;
+      failure = std::string("1") + e.what();
+    }
+    for (std::size_t i = 0; i < count; ++i)
+      if (!out.records.count(i)) state.pending.push_back(i);
+  }
+  if (distributed) {
+    Json shared{{"failure", failure}, {"pending", state.pending}};
+    shared = Json::parse(mpi::broadcast(shared.dump()));
+    failure = shared["failure"].get<std::string>();
+    state.pending = shared["pending"].get<std::vector<std::size_t>>();
+    if (!failure.empty()) {
+      if (root) std::cerr << "camdyn: error: " << failure.substr(1) << "\n";  // the other ranks: rank 0 says why
+      return failure[0] - '0';
+    }
+  }
+  for (const auto& [i, record] : out.records)
+    if (record.value("status", std::string()) != "ok") ++out.resumed_failed;
+  out.resumed = count - state.pending.size();
+  if (root && out.resumed > 0)
+    std::cerr << "camdyn: resuming: " << out.resumed << " of " << count << " runs already done ("
+              << (ctx.out_dir / "journal.jsonl").string() << "), skipped\n";
+  return std::nullopt;
+}
+
+/// Runs the pending runs on threads (one process) or MPI ranks; rank 0
+/// journals each record as it arrives.
+void run_pending(const std::string& study, std::size_t count, const std::function<Json(std::size_t)>& run,
+                 const StudyContext& ctx, RunState& state, JournaledRuns& out) {
+  const bool distributed = mpi::size() > 1;
+  ProgressMeter progress(study, count, out.resumed, out.resumed_failed, ctx.progress && mpi::rank() == 0);
+  std::mutex mutex;
+  auto finished = [&](Json record) {  // rank 0, serialised by the caller
+    const std::size_t i = record["index"].get<std::size_t>();
+    const bool failed = record["status"] != "ok";
+    state.journal->append(record);
+    out.records[i] = std::move(record);
+    progress.finished(failed);
+  };
+  try {
+    if (distributed) {
+      mpi::distribute_runs(
+          state.pending, [&](std::size_t i) { return run(i).dump(-1, ' ', false, Json::error_handler_t::replace); },
+          [&](const std::string& text) { finished(Json::parse(text)); });
+    } else {
+      parallel_for(state.pending.size(), ctx.threads(), [&](std::size_t k) {
+        Json record = run(state.pending[k]);
+        const std::lock_guard<std::mutex> lock(mutex);
+        finished(std::move(record));
+      });
+    }
+  } catch (const std::exception& e) {
+    if (!distributed) throw;
+    // The other ranks may wait for rank 0 (or it for them): end them all.
+    std::cerr << "camdyn: error: rank " << mpi::rank() << ": " << e.what() << "\n";
+    mpi::abort_all(1);
+  }
+}
+
+}  // namespace
+
+std::optional<int> run_journaled(const std::string& study, const std::string& hash, std::size_t count,
+                                 const std::function<Json(std::size_t)>& run, const StudyContext& ctx,
+                                 JournaledRuns& out) {
+  RunState state;
+  if (const std::optional<int> code = open_journal(study, hash, count, ctx, state, out)) return code;
+  run_pending(study, count, run, ctx, state, out);
+  return std::nullopt;
+}
+
+}  // namespace camdyn

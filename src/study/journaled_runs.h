@@ -1,0 +1,35 @@
+// The independent runs of a study (the compare study's runs, the jump map's
+// speed ranges) done once each and kept: rank 0 opens the study's journal
+// (study/journal.h) and skips the runs already in it; the others run on
+// threads, or on MPI ranks when started under mpirun, and each record is
+// journalled as it arrives, so a killed study resumes where it stopped.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <map>
+#include <optional>
+#include <string>
+
+#include "io/config.h"
+#include "study/study.h"
+
+namespace camdyn {
+
+struct JournaledRuns {
+  std::map<std::size_t, Json> records;  ///< every run's record by index (rank 0), resumed ones included
+  std::size_t resumed = 0;              ///< runs found in the journal
+  std::size_t resumed_failed = 0;       ///< of which failed (a record whose "status" is not "ok")
+};
+
+/// Runs `run(i)` for every i in [0, count) not yet in `<ctx.out_dir>/journal.jsonl`
+/// (a journal of `study` with fingerprint `hash`); `run` returns the run's
+/// record, an object with "index" = i and "status" ("ok" or not), and never
+/// throws. Returns an exit code when the study must stop before its runs
+/// (under MPI, rank 0's reason is shared so that every rank stops); throws
+/// otherwise (InputError when the journal belongs to another study).
+std::optional<int> run_journaled(const std::string& study, const std::string& hash, std::size_t count,
+                                 const std::function<Json(std::size_t)>& run, const StudyContext& ctx,
+                                 JournaledRuns& out);
+
+}  // namespace camdyn

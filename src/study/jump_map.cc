@@ -1,0 +1,204 @@
+#include "study/jump_map.h"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include "common/errors.h"
+#include "dynamics/model.h"
+#include "dynamics/poincare_map.h"
+#include "io/json_writer.h"
+
+namespace camdyn {
+
+namespace {
+
+const std::vector<std::string> kStudyKeys = {"jump_map", "periodic"};
+
+template <class A>
+void visit(A& a, JumpMapConfig& c) {
+  a.field("low_rpm", c.low_rpm, positive());
+  a.field("high_rpm", c.high_rpm, positive());
+  a.field("speeds", c.speeds, at_least(2));
+  a.field("ranges", c.ranges, at_least(1));
+  a.field("transient_revolutions", c.transient_revolutions, at_least(1));
+  a.field("samples", c.samples, at_least(1));
+  a.require(c.high_rpm > c.low_rpm, "high_rpm", "must be above low_rpm");
+}
+
+// The section samples after the transient: `samples` revolutions from `from`,
+// the state sampled once per revolution, the metrics over every step.
+SimulationResult sample_run(const PoincareMap& map, const SectionPoint& from, int samples) {
+  SimulationOptions options;
+  options.record_series = false;
+  options.start = map.start(from);
+  for (int j = 1; j <= samples; ++j) options.sample_times.push_back(j * map.period());
+  Workspace ws = make_workspace(map.model());
+  SimulationResult r = simulate(map.scene_for(samples), map.model(), ws, options);
+  throw_if_failed(r);
+  return r;
+}
+
+// One speed: the transient from `carry` (the neighbour's end) or from the
+// scene's own start, the periodic analysis, the samples; `carry` becomes
+// this speed's end.
+JumpMapPoint run_speed(const JumpMapStudy& study, double rpm, const std::string& file,
+                       std::optional<SectionPoint>& carry) {
+  SceneConfig scene = study.scene;
+  scene.mechanism.cam.rpm = rpm;
+  const Model model = build_model(scene, file);
+  const PoincareMap map(scene, model, file);
+  Workspace ws = make_workspace(model);
+  const int transient = study.config.transient_revolutions;
+  SectionPoint start;
+  if (carry) {
+    const MapResult r = map.apply(*carry, transient, ws);
+    if (!r.ok) throw NumericalError(r.message);
+    start = r.end;
+  } else {
+    SimulationOptions options;
+    options.record_series = false;
+    options.step_metrics = false;
+    const SimulationResult r = simulate(map.scene_for(transient), model, ws, options);
+    throw_if_failed(r);
+    start = map.point(r);
+  }
+  PeriodicOptions options = study.periodic.options;
+  options.threads = 1;  // the ranges run in parallel
+  const PeriodicAnalysis a = analyse_from(map, start, options);
+  const SimulationResult samples = sample_run(map, a.orbit ? a.orbit->fixed_point : start, study.config.samples);
+  JumpMapPoint p;
+  p.rpm = rpm;
+  p.ok = true;
+  p.motion = a.motion;
+  if (a.orbit) {
+    p.period = a.orbit->period;
+    p.spectral_radius = a.orbit->spectral_radius();
+  }
+  if (a.lyapunov) p.lyapunov = a.lyapunov->per_revolution;
+  for (const ContactEvent& e : samples.events)
+    if (e.onset && e.impact) {
+      p.impact_angle_deg.push_back(std::fmod(e.cam_angle_deg, 360.0));
+      p.impact_speed.push_back(e.speed);
+    }
+  p.section_position = samples.samples.follower_position;
+  p.separation_fraction = samples.metrics.separation_fraction;
+  p.max_gap = samples.metrics.max_separation_gap;
+  p.peak_contact_force = samples.metrics.peak_contact_force;
+  carry = map.point(samples);
+  return p;
+}
+
+}  // namespace
+
+JumpMapStudy read_jump_map_study(const Json& doc, const StudyContext& ctx) {
+  JumpMapStudy study;
+  Json part;
+  study.scene = scene_from_study_json(doc, ctx.source, kStudyKeys, part);
+  const Json fields = part.value("jump_map", Json::object());  // the readers keep references
+  JsonReader reader(fields, "jump_map", ctx.source);
+  visit(reader, study.config);
+  reader.finish();
+  study.periodic.options.lyapunov_revolutions = 100;  // per speed: a shorter default than the periodic study's
+  const Json periodic = part.value("periodic", Json::object());
+  JsonReader periodic_reader(periodic, "periodic", ctx.source);
+  visit(periodic_reader, study.periodic);
+  periodic_reader.finish();
+  const Model model = build_model(study.scene, ctx.config_file);
+  [[maybe_unused]] const PoincareMap map(study.scene, model, ctx.config_file);  // the drive sets the speed
+  study.rigid_jump_speed_rpm = jump_speed_rpm(model);
+  study.damped_rigid_jump_speed_rpm = damped_jump_speed_rpm(model);
+  const JumpMapConfig& c = study.config;
+  for (int i = 0; i < c.speeds; ++i) study.rpm.push_back(c.low_rpm + (c.high_rpm - c.low_rpm) * i / (c.speeds - 1));
+  JsonWriter writer, periodic_writer;
+  visit(writer, study.config);
+  visit(periodic_writer, study.periodic);
+  study.resolved = resolved_study_json(study.scene, "jump_map",
+                                       Json{{"jump_map", writer.json()}, {"periodic", periodic_writer.json()}});
+  return study;
+}
+
+std::vector<std::size_t> jump_map_range(const JumpMapStudy& study, std::size_t r) {
+  const std::size_t n = study.rpm.size();
+  const std::size_t ranges = std::min(n, static_cast<std::size_t>(study.config.ranges));
+  std::vector<std::size_t> indices;
+  for (std::size_t i = r * n / ranges; i < (r + 1) * n / ranges; ++i) indices.push_back(i);
+  return indices;
+}
+
+std::vector<JumpMapPoint> run_jump_map_range(const JumpMapStudy& study, std::size_t r, const std::string& file) {
+  std::vector<JumpMapPoint> points;
+  std::optional<SectionPoint> carry;
+  for (const std::size_t i : jump_map_range(study, r)) {
+    try {
+      points.push_back(run_speed(study, study.rpm[i], file, carry));
+    } catch (const std::exception& e) {
+      JumpMapPoint p;
+      p.rpm = study.rpm[i];
+      p.error = e.what();
+      points.push_back(std::move(p));
+      carry.reset();  // the next speed starts afresh
+    }
+  }
+  return points;
+}
+
+std::vector<JumpMapTransition> jump_map_transitions(const std::vector<JumpMapPoint>& points) {
+  std::vector<JumpMapTransition> t;
+  const JumpMapPoint* previous = nullptr;
+  for (const JumpMapPoint& p : points) {
+    if (!p.ok) continue;
+    if (previous) {
+      const JumpMapPoint& a = *previous;
+      const bool left_a = !a.impact_speed.empty() || a.separation_fraction > 0;
+      const bool left_b = !p.impact_speed.empty() || p.separation_fraction > 0;
+      const int pa = a.motion == MotionKind::periodic ? a.period : 0;
+      const int pb = p.motion == MotionKind::periodic ? p.period : 0;
+      auto add = [&](const char* kind) { t.push_back({kind, a.rpm, p.rpm, pa, pb}); };
+      if (!left_a && left_b) add("separation");
+      if (left_a && !left_b) add("reattachment");
+      if (pa > 0 && pb > 0 && pa != pb)
+        add(pb == 2 * pa ? "period_doubling" : pb == pa + 1 ? "period_adding" : "period_change");
+      if (a.motion != MotionKind::chaotic && p.motion == MotionKind::chaotic) add("chaos_onset");
+      if (a.motion == MotionKind::chaotic && p.motion != MotionKind::chaotic) add("chaos_end");
+    }
+    previous = &p;
+  }
+  return t;
+}
+
+Json jump_map_point_json(const JumpMapPoint& p) {
+  return Json{{"rpm", p.rpm},
+              {"ok", p.ok},
+              {"error", p.error},
+              {"motion", to_string(p.motion)},
+              {"period", p.period},
+              {"spectral_radius", p.spectral_radius},
+              {"lyapunov", p.lyapunov},
+              {"impact_angle_deg", p.impact_angle_deg},
+              {"impact_speed", p.impact_speed},
+              {"section_position", p.section_position},
+              {"separation_fraction", p.separation_fraction},
+              {"max_gap", p.max_gap},
+              {"peak_contact_force", p.peak_contact_force}};
+}
+
+JumpMapPoint jump_map_point_from_json(const Json& j) {
+  JumpMapPoint p;
+  p.rpm = j.at("rpm").get<double>();
+  p.ok = j.at("ok").get<bool>();
+  p.error = j.at("error").get<std::string>();
+  p.motion = parse_enum<MotionKind>(j.at("motion").get<std::string>());
+  p.period = j.at("period").get<int>();
+  p.spectral_radius = j.at("spectral_radius").get<double>();
+  p.lyapunov = j.at("lyapunov").get<double>();
+  p.impact_angle_deg = j.at("impact_angle_deg").get<std::vector<double>>();
+  p.impact_speed = j.at("impact_speed").get<std::vector<double>>();
+  p.section_position = j.at("section_position").get<std::vector<double>>();
+  p.separation_fraction = j.at("separation_fraction").get<double>();
+  p.max_gap = j.at("max_gap").get<double>();
+  p.peak_contact_force = j.at("peak_contact_force").get<double>();
+  return p;
+}
+
+}  // namespace camdyn

@@ -1,0 +1,85 @@
+// The `jump_map` study: the bifurcation diagram of a cam-follower over a
+// speed range. At each speed it follows the motion past its transient,
+// records the Poincaré samples (the state once per revolution) with every
+// impact (cam angle, approach speed), and runs the periodic analysis
+// (study/periodic_orbit.h) on it. Each speed starts from the neighbouring
+// speed's orbit (natural-parameter continuation) within a contiguous range of
+// speeds; the ranges run in parallel, journalled like a compare study's runs
+// (resume, --jobs, MPI). From the sequence it marks where the follower first
+// leaves the cam, period doublings, other period changes and chaotic bands.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "io/config.h"
+#include "study/periodic_study.h"
+#include "study/study.h"
+
+namespace camdyn {
+
+/// The study's own fields (`jump_map` in the config).
+struct JumpMapConfig {
+  double low_rpm = 0.0;            ///< [rpm], > 0
+  double high_rpm = 0.0;           ///< [rpm], > low_rpm
+  int speeds = 21;                 ///< grid points, low to high, ≥ 2
+  int ranges = 4;                  ///< contiguous ranges run in parallel (continuation within each), ≥ 1
+  int transient_revolutions = 20;  ///< followed at each speed before its samples and analysis
+  int samples = 30;                ///< Poincaré samples recorded at each speed
+};
+
+struct JumpMapStudy {
+  SceneConfig scene;
+  JumpMapConfig config;
+  PeriodicConfig periodic;  ///< `periodic` fields: the analysis at each speed
+  Json resolved;
+  double rigid_jump_speed_rpm = 0.0;         ///< jump_speed_rpm of the scene [rpm]
+  double damped_rigid_jump_speed_rpm = 0.0;  ///< damped_jump_speed_rpm (the damper's c ω s' included) [rpm]
+  std::vector<double> rpm;                   ///< the grid
+};
+
+/// What one speed gave.
+struct JumpMapPoint {
+  double rpm = 0.0;
+  bool ok = false;
+  std::string error;
+  MotionKind motion = MotionKind::unresolved;
+  int period = 0;                                      ///< of the stable orbit (0 when none)
+  double spectral_radius = 0.0;                        ///< of its monodromy matrix
+  double lyapunov = 0.0;                               ///< per revolution, when estimated
+  std::vector<double> impact_angle_deg, impact_speed;  ///< every impact of the samples [deg], [m/s]
+  std::vector<double> section_position;                ///< follower coordinate at each sample [m | rad]
+  double separation_fraction = 0.0;                    ///< over the samples
+  double max_gap = 0.0;                                ///< [m]
+  double peak_contact_force = 0.0;                     ///< [N]
+};
+
+/// A change of character between two neighbouring grid speeds.
+struct JumpMapTransition {
+  std::string kind;  ///< separation, period_doubling, period_adding, period_change, chaos_onset, chaos_end
+  double from_rpm = 0.0, to_rpm = 0.0;
+  int from_period = 0, to_period = 0;  ///< 0: not periodic
+};
+
+/// Reads a `jump_map` study config; throws InputError.
+JumpMapStudy read_jump_map_study(const Json& doc, const StudyContext& ctx);
+
+/// The speeds of range `r` (indices into study.rpm), run in order with continuation.
+std::vector<std::size_t> jump_map_range(const JumpMapStudy& study, std::size_t r);
+
+/// Runs range `r`; one point per speed, in order. Never throws: a speed that
+/// fails is a point with ok false and the error, and the next starts afresh.
+std::vector<JumpMapPoint> run_jump_map_range(const JumpMapStudy& study, std::size_t r, const std::string& file);
+
+/// The transitions along the grid (points in rpm order).
+std::vector<JumpMapTransition> jump_map_transitions(const std::vector<JumpMapPoint>& points);
+
+/// A point as a journal record and back.
+Json jump_map_point_json(const JumpMapPoint& p);
+JumpMapPoint jump_map_point_from_json(const Json& j);
+
+/// Runs (or, with ctx.validate_only, checks) the study; writes jump_map.json,
+/// jump_map.csv and report.html; returns the exit code.
+int run_jump_map_study(const Json& doc, const StudyContext& ctx);
+
+}  // namespace camdyn

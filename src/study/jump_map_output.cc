@@ -1,0 +1,178 @@
+// The jump map's run (ranges journalled on threads or MPI ranks) and its
+// outputs: jump_map.json, jump_map.csv (one row per speed), impacts.csv (one
+// row per impact) and report.html with the diagram.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <set>
+
+#include "io/csv_writer.h"
+#include "io/json_writer.h"
+#include "io/report.h"
+#include "study/journal.h"
+#include "study/journaled_runs.h"
+#include "study/jump_map.h"
+#include "study/mpi_runner.h"
+
+namespace camdyn {
+
+namespace {
+
+Json range_record(const JumpMapStudy& study, std::size_t r, const std::string& file) {
+  Json points = Json::array();
+  for (const JumpMapPoint& p : run_jump_map_range(study, r, file)) points.push_back(jump_map_point_json(p));
+  return Json{{"index", r}, {"status", "ok"}, {"points", points}};
+}
+
+void write_csvs(const std::filesystem::path& dir, const std::vector<JumpMapPoint>& points) {
+  CsvWriter speeds(dir / "jump_map.csv",
+                   {"rpm", "motion", "period", "spectral_radius", "lyapunov_per_revolution", "impacts",
+                    "max_impact_speed", "separation_fraction", "max_gap", "peak_contact_force", "status", "error"});
+  CsvWriter impacts(dir / "impacts.csv", {"rpm", "motion", "period", "cam_angle_deg", "approach_speed"});
+  for (const JumpMapPoint& p : points) {
+    double fastest = 0.0;
+    for (std::size_t i = 0; i < p.impact_speed.size(); ++i) {
+      fastest = std::max(fastest, p.impact_speed[i]);
+      impacts.row({CsvCell(p.rpm), CsvCell(to_string(p.motion)), CsvCell(p.period), CsvCell(p.impact_angle_deg[i]),
+                   CsvCell(p.impact_speed[i])});
+    }
+    speeds.row({CsvCell(p.rpm), CsvCell(p.ok ? to_string(p.motion) : ""), CsvCell(p.period), CsvCell(p.spectral_radius),
+                CsvCell(p.lyapunov), CsvCell(static_cast<long>(p.impact_speed.size())), CsvCell(fastest),
+                CsvCell(p.separation_fraction), CsvCell(p.max_gap), CsvCell(p.peak_contact_force),
+                CsvCell(p.ok ? "ok" : "failed"), CsvCell(p.error)});
+  }
+  speeds.commit();
+  impacts.commit();
+}
+
+// The class a speed is drawn in: its period, or its kind of motion.
+std::string motion_label(const JumpMapPoint& p) {
+  if (p.motion == MotionKind::periodic) return "period " + std::to_string(p.period);
+  return to_string(p.motion);
+}
+
+// `y(p)` against rpm for every speed, one series per motion label, and the
+// rigid jump speed as a vertical line.
+template <class Values>
+Plot diagram(const std::vector<JumpMapPoint>& points, double jump_rpm, Plot plot, Values values) {
+  std::map<std::string, Series> by_label;
+  double lo = 0.0, hi = 0.0;
+  for (const JumpMapPoint& p : points) {
+    if (!p.ok) continue;
+    Series& s = by_label.try_emplace(motion_label(p), Series{motion_label(p), {}, {}, "points"}).first->second;
+    for (const double v : values(p)) {
+      s.x.push_back(p.rpm);
+      s.y.push_back(v);
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+    }
+  }
+  for (auto& [label, s] : by_label) plot.series.push_back(std::move(s));
+  if (std::isfinite(jump_rpm))
+    plot.series.push_back({"rigid-model jump speed", {jump_rpm, jump_rpm}, {lo, hi}, "lines"});
+  return plot;
+}
+
+Report jump_map_report(const JumpMapStudy& study, const std::vector<JumpMapPoint>& points,
+                       const std::vector<JumpMapTransition>& transitions, double run_time) {
+  Report rep;
+  rep.title = "camdyn jump_map: " + study.scene.name;
+  const auto first = std::find_if(points.begin(), points.end(), [](const JumpMapPoint& p) {
+    return p.ok && (!p.impact_speed.empty() || p.separation_fraction > 0);
+  });
+  rep.subtitle = first == points.end() ? "the follower stays on the cam at every speed of the map"
+                                       : "the follower first leaves the cam at " + format_number(first->rpm, 5) +
+                                             " rpm (rigid-model jump speed " +
+                                             format_number(study.damped_rigid_jump_speed_rpm, 5) + " rpm)";
+  rep.facts = {
+      {"speeds", std::to_string(points.size()) + " from " + format_number(study.config.low_rpm) + " to " +
+                     format_number(study.config.high_rpm) + " rpm"},
+      {"rigid-model jump speed", format_number(study.damped_rigid_jump_speed_rpm, 5) + " rpm with the damper, " +
+                                     format_number(study.rigid_jump_speed_rpm, 5) + " rpm without"},
+      {"run time", format_number(run_time, 3) + " s"}};
+  for (const JumpMapTransition& t : transitions)
+    rep.facts.push_back({t.kind, "between " + format_number(t.from_rpm, 5) + " and " + format_number(t.to_rpm, 5) +
+                                     " rpm (period " + std::to_string(t.from_period) + " → " +
+                                     std::to_string(t.to_period) + ")"});
+  const double jump = study.damped_rigid_jump_speed_rpm;
+  rep.plots.push_back(diagram(
+      points, jump,
+      Plot{"Jump map: impact speed against cam speed", "cam speed [rpm]", "normal approach speed at impact [m/s]", {}},
+      [](const JumpMapPoint& p) { return p.impact_speed; }));
+  rep.plots.push_back(diagram(points, jump,
+                              Plot{"Poincaré section: follower position once per revolution",
+                                   "cam speed [rpm]",
+                                   "follower position at the section [m]",
+                                   {}},
+                              [](const JumpMapPoint& p) { return p.section_position; }));
+  rep.plots.push_back(diagram(points, jump, Plot{"Impact angles", "cam speed [rpm]", "cam angle at impact [deg]", {}},
+                              [](const JumpMapPoint& p) { return p.impact_angle_deg; }));
+  Table table{
+      "Speeds", {"rpm", "motion", "impacts", "separation fraction", "max gap [m]", "peak force [N]", "error"}, {}};
+  for (const JumpMapPoint& p : points)
+    table.rows.push_back({format_number(p.rpm), p.ok ? motion_label(p) : "failed",
+                          std::to_string(p.impact_speed.size()), format_number(p.separation_fraction),
+                          format_number(p.max_gap), format_number(p.peak_contact_force), p.error});
+  rep.tables.push_back(table);
+  rep.notes.push_back(
+      "Each speed is followed past its transient (starting from its neighbour's motion), then "
+      "sampled once per revolution; its orbit is found by shooting (the periodic study).");
+  return rep;
+}
+
+}  // namespace
+
+int run_jump_map_study(const Json& doc, const StudyContext& ctx) {
+  const JumpMapStudy study = read_jump_map_study(doc, ctx);
+  if (ctx.validate_only) {
+    std::cout << dump_json(study.resolved);
+    return 0;
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::size_t ranges = std::min(study.rpm.size(), static_cast<std::size_t>(study.config.ranges));
+  JournaledRuns runs;
+  if (const std::optional<int> code = run_journaled(
+          "jump_map", fingerprint(dump_json(study.resolved)), ranges,
+          [&](std::size_t r) { return range_record(study, r, ctx.config_file); }, ctx, runs))
+    return *code;
+  if (mpi::rank() != 0) return 0;  // rank 0 writes the outputs
+  std::vector<JumpMapPoint> points;
+  for (std::size_t r = 0; r < ranges; ++r)
+    for (const Json& j : runs.records.at(r).at("points")) points.push_back(jump_map_point_from_json(j));
+  const std::vector<JumpMapTransition> transitions = jump_map_transitions(points);
+  const double run_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  Json speeds = Json::array(), changes = Json::array();
+  for (const JumpMapPoint& p : points) speeds.push_back(jump_map_point_json(p));
+  for (const JumpMapTransition& t : transitions)
+    changes.push_back({{"kind", t.kind},
+                       {"from_rpm", t.from_rpm},
+                       {"to_rpm", t.to_rpm},
+                       {"from_period", t.from_period},
+                       {"to_period", t.to_period}});
+  const double jump = study.rigid_jump_speed_rpm, damped = study.damped_rigid_jump_speed_rpm;
+  write_json_atomic(ctx.out_dir / "jump_map.json",
+                    Json{{"name", study.scene.name},
+                         {"study", "jump_map"},
+                         {"camdyn_version", CAMDYN_VERSION},
+                         {"rigid_jump_speed_rpm", std::isfinite(jump) ? Json(jump) : Json()},
+                         {"damped_rigid_jump_speed_rpm", std::isfinite(damped) ? Json(damped) : Json()},
+                         {"transitions", changes},
+                         {"speeds", speeds},
+                         {"resumed_ranges", runs.resumed},
+                         {"run_time_s", run_time}});
+  write_csvs(ctx.out_dir, points);
+  write_report(ctx.out_dir / "report.html", jump_map_report(study, points, transitions, run_time));
+  long failed = 0;
+  for (const JumpMapPoint& p : points) failed += p.ok ? 0 : 1;
+  std::printf("%s: %zu speeds (%ld failed), %zu transitions, %.3g s\n", study.scene.name.c_str(), points.size(), failed,
+              transitions.size(), run_time);
+  for (const JumpMapTransition& t : transitions)
+    std::printf("  %s between %.6g and %.6g rpm\n", t.kind.c_str(), t.from_rpm, t.to_rpm);
+  std::printf("  report: %s\n", std::filesystem::absolute(ctx.out_dir / "report.html").lexically_normal().c_str());
+  return failed == static_cast<long>(points.size()) ? 3 : 0;
+}
+
+}  // namespace camdyn

@@ -1,0 +1,108 @@
+// The jump_map study: on the quickstart mechanism the follower first leaves
+// the cam at the first grid speed above the rigid-model jump speed (with its
+// damper), and below it every speed is a period-1 motion without impacts; a
+// rerun into the same folder resumes from the journal; the transitions found
+// along a grid.
+#include "study/jump_map.h"
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "cli_run.h"
+#include "io/config.h"
+
+namespace camdyn {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kQuickstart = std::string(CAMDYN_SOURCE_DIR) + "/studies/quickstart.json";
+
+std::vector<std::string> jump_map_args(const fs::path& out) {
+  return {"run",
+          kQuickstart,
+          "--out",
+          out.string(),
+          "--quiet",
+          "--jobs",
+          "2",
+          "--set",
+          "study=jump_map",
+          "--set",
+          R"(jump_map={"low_rpm": 900, "high_rpm": 1400, "speeds": 6, "ranges": 2, "transient_revolutions": 10,
+             "samples": 10})",
+          "--set",
+          R"(periodic={"max_period": 2, "lyapunov_revolutions": 20})"};
+}
+
+TEST(JumpMap, QuickstartLeavesTheCamAtTheFirstSpeedAboveTheRigidJumpSpeed) {
+  const fs::path dir = test::scratch_dir("jump_map_test", "quickstart");
+  const test::Outcome r = test::run_camdyn(jump_map_args(dir / "out"), dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Json j = Json::parse(test::read_text(dir / "out" / "jump_map.json"));
+  const double jump = j["damped_rigid_jump_speed_rpm"].get<double>();
+  bool seen_separation = false;
+  for (const Json& p : j["speeds"]) {
+    const double rpm = p["rpm"].get<double>();
+    ASSERT_TRUE(p["ok"].get<bool>()) << rpm << ": " << p["error"];
+    const bool separates = !p["impact_speed"].empty() || p["separation_fraction"].get<double>() > 0;
+    if (rpm < jump) {
+      EXPECT_FALSE(separates) << rpm << " rpm is below the jump speed " << jump;
+      EXPECT_EQ(p["motion"], "periodic") << rpm;
+      EXPECT_EQ(p["period"], 1) << rpm;
+    } else if (!seen_separation) {
+      EXPECT_TRUE(separates) << rpm << " rpm is the first grid speed above the jump speed " << jump;
+      seen_separation = true;
+    }
+  }
+  EXPECT_TRUE(seen_separation);
+  EXPECT_EQ(j["transitions"][0]["kind"], "separation");
+  for (const char* file : {"jump_map.csv", "impacts.csv", "report.html", "journal.jsonl"})
+    EXPECT_TRUE(fs::exists(dir / "out" / file)) << file;
+
+  // Run again into the same folder: every range comes from the journal, and the outputs are the same.
+  const test::Outcome again = test::run_camdyn(jump_map_args(dir / "out"), dir, "again");
+  ASSERT_EQ(again.code, 0) << again.err;
+  EXPECT_NE(again.err.find("resuming: 2 of 2 runs already done"), std::string::npos) << again.err;
+  const Json k = Json::parse(test::read_text(dir / "out" / "jump_map.json"));
+  EXPECT_EQ(k["speeds"], j["speeds"]);
+}
+
+JumpMapPoint point(double rpm, MotionKind motion, int period, int impacts) {
+  JumpMapPoint p;
+  p.rpm = rpm;
+  p.ok = true;
+  p.motion = motion;
+  p.period = period;
+  p.impact_speed.assign(static_cast<std::size_t>(impacts), 0.1);
+  return p;
+}
+
+TEST(JumpMap, TransitionsAlongTheGrid) {
+  const std::vector<JumpMapPoint> points = {
+      point(100, MotionKind::periodic, 1, 0), point(200, MotionKind::periodic, 1, 1),
+      point(300, MotionKind::periodic, 2, 2), point(400, MotionKind::periodic, 3, 3),
+      point(500, MotionKind::chaotic, 0, 5),  point(600, MotionKind::periodic, 1, 1)};
+  const std::vector<JumpMapTransition> t = jump_map_transitions(points);
+  ASSERT_EQ(t.size(), 5u);
+  EXPECT_EQ(t[0].kind, "separation");
+  EXPECT_EQ(t[0].from_rpm, 100);
+  EXPECT_EQ(t[1].kind, "period_doubling");
+  EXPECT_EQ(t[2].kind, "period_adding");
+  EXPECT_EQ(t[3].kind, "chaos_onset");
+  EXPECT_EQ(t[4].kind, "chaos_end");
+}
+
+TEST(JumpMap, BadRangeIsNamed) {
+  const fs::path dir = test::scratch_dir("jump_map_test", "bad");
+  const test::Outcome r = test::run_camdyn(
+      {"validate", kQuickstart, "--set", "study=jump_map", "--set", R"(jump_map={"low_rpm": 900, "high_rpm": 800})"},
+      dir);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("jump_map.high_rpm"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace camdyn
