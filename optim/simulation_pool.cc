@@ -7,6 +7,7 @@
 
 #include "common/errors.h"
 #include "common/parallel.h"
+#include "study/steady_state.h"
 
 namespace camdyn::optim {
 
@@ -25,6 +26,7 @@ void SimulationPool::run_job(Worker& worker, std::size_t job) {
     worker.model = build_model(scene, file_);
     out.result = simulate(scene, worker.model, worker.ws, options_);
     throw_if_failed(out.result);
+    apply_steady_state(scene, worker.model, out.result);
     out.status = SimulationOutcome::Status::ok;
   } catch (const InputError& e) {
     out.status = SimulationOutcome::Status::input_error;

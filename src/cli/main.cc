@@ -26,6 +26,7 @@
 #include "study/periodic_study.h"
 #include "study/simulation_output.h"
 #include "study/speed_limit.h"
+#include "study/steady_state.h"
 #include "study/study.h"
 
 namespace {
@@ -75,6 +76,7 @@ int run_simulate(const camdyn::Json& doc, const camdyn::StudyContext& ctx) {
   camdyn::SimulationResult result = camdyn::simulate(scene, model, ws, options);
   camdyn::estimate_error(scene, model, result);
   camdyn::throw_if_failed(result);
+  camdyn::apply_steady_state(scene, model, result, ctx.threads());
   const std::filesystem::path& out = ctx.out_dir;
   camdyn::write_simulation_outputs(out, scene, model, result);
 
@@ -82,6 +84,7 @@ int run_simulate(const camdyn::Json& doc, const camdyn::StudyContext& ctx) {
   std::printf("%s: %s, %.6g rpm (rigid-model jump speed %.6g rpm)\n", scene.name.c_str(),
               m.separation_fraction > 0.0 ? "follower SEPARATES" : "follower stays in contact", scene.mechanism.cam.rpm,
               m.jump_speed_rpm);
+  if (!result.metrics_note.empty()) std::printf("  steady state: %s\n", result.metrics_note.c_str());
   std::printf("  separation_fraction %.4g, impacts %ld, peak_contact_force %.6g N, min_contact_force %.6g N\n",
               m.separation_fraction, m.impact_count, m.peak_contact_force, m.min_contact_force);
   std::printf("  energy_residual %.3g, %ld steps, %ld RHS evaluations, %.3g s\n", m.energy_residual,

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <numbers>
 
 #include "common/errors.h"
@@ -103,7 +104,7 @@ MapResult PoincareMap::apply(const SectionPoint& p, int k, Workspace& ws) const 
   SimulationOptions options;
   options.record_series = false;
   options.step_metrics = false;
-  options.start = start(p);
+  options.start = std::make_shared<const StartState>(start(p));
   const SimulationResult r = simulate(scene_for(k), model_, ws, options);
   MapResult m;
   m.ok = r.solver.converged();

@@ -4,7 +4,7 @@
 #pragma once
 
 #include <functional>
-#include <optional>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -86,6 +86,11 @@ struct ErrorEstimate {
 
 struct SimulationResult {
   Metrics metrics;
+  /// What `metrics` are over: "window" (the evaluated cycles) or
+  /// "periodic_orbit" (simulation.steady_state found a stable orbit: one
+  /// period of it; study/steady_state.h), and a sentence saying which and why.
+  std::string metrics_over = "window";
+  std::string metrics_note;
   SolverSummary solver;
   TimeSeries series;
   TimeSeries samples;  ///< at SimulationOptions::sample_times
@@ -125,8 +130,11 @@ struct SimulationOptions {
   std::vector<double> sample_times;
   /// Called now and then with the fraction of simulated time done, in [0, 1].
   std::function<void(double)> progress;
-  /// Start here (at t = 0) instead of in equilibrium on the law (scene.mechanism.follower.initial).
-  std::optional<StartState> start;
+  /// Start here (at t = 0) instead of in equilibrium on the law
+  /// (scene.mechanism.follower.initial); null: there. (A pointer, not an
+  /// optional: GCC 12's sanitizer build misreads an optional of it as
+  /// maybe-uninitialised wherever options are copied.)
+  std::shared_ptr<const StartState> start;
 };
 
 /// Runs the scene. When the integrator gives up, a budget (steps, wall time)

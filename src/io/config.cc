@@ -343,6 +343,7 @@ void visit(A& a, SimulationConfig& s) {
   a.field("duration", s.duration, positive());
   a.field("output_step_deg", s.output_step_deg, open_closed(0, 90));
   a.field("output_step", s.output_step, positive());
+  a.field("steady_state", s.steady_state);
 }
 
 template <class A>
@@ -371,6 +372,7 @@ void check_run_control(A& a, const SceneConfig& scene) {
     a.require(!s.cycles, "simulation.cycles", still + "use 'duration' [s] instead of 'cycles'");
     a.require(!s.output_step_deg, "simulation.output_step_deg",
               still + "use 'output_step' [s] instead of 'output_step_deg'");
+    a.require(!s.steady_state, "simulation.steady_state", still + "a periodic steady state needs a turning cam");
     return;
   }
   a.require(!(s.cycles && s.duration), "simulation.duration", "give either 'cycles' or 'duration', not both");

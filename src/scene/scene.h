@@ -349,6 +349,10 @@ struct SimulationConfig {
   std::optional<double> duration;         ///< [s]; required when rpm = 0, replaces cycles
   std::optional<double> output_step_deg;  ///< time-series step in cam angle [deg] (default 0.5)
   std::optional<double> output_step;      ///< time-series step [s] (required instead when rpm = 0)
+  /// Report the metrics over one period of the periodic orbit the run settles
+  /// on (the periodic study's shooting from the run's end) instead of over the
+  /// evaluated window, when a stable orbit is found.
+  bool steady_state = false;
 
   /// Filled in by scene_from_json when rpm > 0 and neither cycles nor duration
   /// (resp. neither output step) is given, so the resolved config shows them.

@@ -22,6 +22,7 @@
 #include "study/journal.h"
 #include "study/journaled_runs.h"
 #include "study/mpi_runner.h"
+#include "study/steady_state.h"
 
 namespace camdyn {
 
@@ -177,8 +178,9 @@ Json run_record(const ComparePlan& plan, std::size_t i, const StudyContext& ctx)
     const SceneConfig scene = scene_from_json(run, plan.bases[p.case_index].source);
     SimulationOptions options;
     options.record_series = p.overlay && scene.mechanism.cam.rpm > 0;
-    const SimulationResult r = simulate_scene(scene, ctx.config_file, options);
+    SimulationResult r = simulate_scene(scene, ctx.config_file, options);
     throw_if_failed(r);
+    if (scene.simulation.steady_state) apply_steady_state(scene, build_model(scene, ctx.config_file), r);
     values = metric_values(r.metrics);
     run_time = r.solver.run_time_s;
     for (std::size_t m = 0; m + 1 < values.size() && error.empty(); ++m)  // jump_speed_rpm may be +inf: empty

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <optional>
 
 #include "common/errors.h"
@@ -31,7 +32,7 @@ void visit(A& a, JumpMapConfig& c) {
 SimulationResult sample_run(const PoincareMap& map, const SectionPoint& from, int samples) {
   SimulationOptions options;
   options.record_series = false;
-  options.start = map.start(from);
+  options.start = std::make_shared<const StartState>(map.start(from));
   for (int j = 1; j <= samples; ++j) options.sample_times.push_back(j * map.period());
   Workspace ws = make_workspace(map.model());
   SimulationResult r = simulate(map.scene_for(samples), map.model(), ws, options);

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 #include <numbers>
 
 #include "common/errors.h"
@@ -27,7 +28,7 @@ SimulationResult run_orbit(const PoincareMap& map, const SectionPoint& p, int re
   scene.simulation.output_step_deg = map.scene().simulation.output_step_deg.value_or(0.5);
   Workspace ws = make_workspace(map.model());
   SimulationOptions options;
-  options.start = map.start(p);
+  options.start = std::make_shared<const StartState>(map.start(p));
   SimulationResult r = simulate(scene, map.model(), ws, options);
   throw_if_failed(r);
   return r;

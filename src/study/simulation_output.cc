@@ -121,6 +121,8 @@ Json summary_json(const SceneConfig& scene, const Model& model, const Simulation
   summary["study"] = "simulate";
   summary["camdyn_version"] = CAMDYN_VERSION;
   summary["metrics"] = metrics_json(result.metrics);
+  summary["metrics_over"] = result.metrics_over;
+  if (!result.metrics_note.empty()) summary["steady_state"] = result.metrics_note;
   summary["solver"] = Json{{"method", s.method},
                            {"rtol", s.rtol},
                            {"atol", s.atol},
@@ -211,7 +213,11 @@ Report simulation_report(const SceneConfig& scene, const Model& model, const Sim
                   {"run time", format(result.solver.run_time_s, "s")},
                   {"energy residual", format(m.energy_residual)}};
 
-  Table metrics{"Metrics (evaluated cycles)", {"metric", "value", "unit"}, {}, true};
+  Table metrics{result.metrics_over == "periodic_orbit" ? "Metrics (one period of the periodic orbit)"
+                                                        : "Metrics (evaluated cycles)",
+                {"metric", "value", "unit"},
+                {},
+                true};
   for_each_metric(m, [&](const char* name, const auto& value, const MetricInfo& info) {
     metrics.rows.push_back({name, format(static_cast<double>(value)), info.unit});
   });

@@ -20,6 +20,7 @@
 #include "dynamics/model.h"
 #include "io/config.h"
 #include "study/periodic_study.h"
+#include "study/steady_state.h"
 #include "tolerance.h"
 
 namespace camdyn {
@@ -230,6 +231,50 @@ TEST(PeriodicOrbit, StillCamIsAnInputErrorNamingTheSpeed) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("mechanism.cam.rpm"), std::string::npos) << e.what();
   }
+}
+
+}  // namespace
+}  // namespace camdyn
+
+namespace camdyn {
+namespace {
+
+// simulation.steady_state: a run's metrics over one period of its orbit.
+TEST(SteadyState, MetricsOverOnePeriodOfTheStableOrbit) {
+  BallOrbit expected;
+  PeriodicStudy study = read_study(kBouncingBall);
+  study.scene.mechanism.cam.rpm = 570;
+  expected = ball_orbit(study.scene);
+  study.scene.mechanism.follower.initial.position = expected.section_position;
+  study.scene.mechanism.follower.initial.velocity = expected.section_velocity;
+  study.scene.simulation.steady_state = true;
+  const Model model = build_model(study.scene, "test");
+  Workspace ws = make_workspace(model);
+  SimulationResult r = simulate(study.scene, model, ws);
+  ASSERT_TRUE(r.solver.converged());
+  EXPECT_EQ(r.metrics.impact_count, 4);  // the window: four revolutions, one impact each
+  const SteadyStateOutcome o = apply_steady_state(study.scene, model, r);
+  EXPECT_TRUE(o.on_orbit) << o.note;
+  EXPECT_EQ(o.period, 1);
+  EXPECT_EQ(r.metrics_over, "periodic_orbit");
+  EXPECT_EQ(r.metrics.impact_count, 1);  // one period of the orbit
+  EXPECT_NE(r.metrics_note.find("period-1"), std::string::npos) << r.metrics_note;
+}
+
+TEST(SteadyState, ChaoticRunKeepsTheWindowAndSaysWhy) {
+  PeriodicStudy study = read_study(kChaotic);
+  study.scene.simulation.steady_state = true;
+  const Model model = build_model(study.scene, "test");
+  Workspace ws = make_workspace(model);
+  SimulationResult r = simulate(study.scene, model, ws);
+  ASSERT_TRUE(r.solver.converged());
+  const Metrics window = r.metrics;
+  const SteadyStateOutcome o = apply_steady_state(study.scene, model, r);
+  EXPECT_FALSE(o.on_orbit);
+  EXPECT_EQ(o.motion, "chaotic");
+  EXPECT_EQ(r.metrics_over, "window");
+  EXPECT_EQ(r.metrics.impact_count, window.impact_count);
+  EXPECT_NE(r.metrics_note.find("evaluated window"), std::string::npos) << r.metrics_note;
 }
 
 }  // namespace

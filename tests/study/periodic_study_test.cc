@@ -56,5 +56,29 @@ TEST(PeriodicStudy, BadFieldsAreNamed) {
   EXPECT_NE(typo.err.find("max_period"), std::string::npos) << typo.err;
 }
 
+TEST(PeriodicStudy, SimulateWithSteadyStateSaysWhatItsMetricsAreOver) {
+  const fs::path dir = test::scratch_dir("periodic_study_test", "steady_state");
+  const std::string quickstart = std::string(CAMDYN_SOURCE_DIR) + "/studies/quickstart.json";
+  const test::Outcome r = test::run_camdyn(
+      {"run", quickstart, "--out", (dir / "out").string(), "--quiet", "--set", "simulation.steady_state=true"}, dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("steady state: metrics over one period of the stable period-1 orbit"), std::string::npos)
+      << r.out;
+  const Json j = Json::parse(test::read_text(dir / "out" / "summary.json"));
+  EXPECT_EQ(j["metrics_over"], "periodic_orbit");
+  EXPECT_EQ(j["config"]["simulation"]["steady_state"], true);
+}
+
+TEST(PeriodicStudy, SteadyStateOfAStillCamIsAnInputError) {
+  const fs::path dir = test::scratch_dir("periodic_study_test", "still");
+  const std::string quickstart = std::string(CAMDYN_SOURCE_DIR) + "/studies/quickstart.json";
+  const test::Outcome r = test::run_camdyn({"validate", quickstart, "--set", "mechanism.cam.rpm=0", "--set",
+                                            "simulation={\"duration\": 0.1, \"output_step\": 0.001, "
+                                            "\"steady_state\": true}"},
+                                           dir);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("simulation.steady_state"), std::string::npos) << r.err;
+}
+
 }  // namespace
 }  // namespace camdyn
