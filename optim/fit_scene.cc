@@ -6,6 +6,7 @@
 
 #include "common/errors.h"
 #include "dynamics/model_parameters.h"
+#include "geometry/follower_shape.h"
 #include "io/json_archive.h"
 
 namespace camdyn::optim {
@@ -114,7 +115,7 @@ std::optional<FieldBinding> bind_field(const std::string& path, const SceneConfi
     b.field = [](SceneConfig& s) -> double& { return s.mechanism.cam.base_radius; };
     return b;
   }
-  if (path == "mechanism.follower.shape.radius" && follower.shape.type != FollowerShape::flat) {
+  if (path == "mechanism.follower.shape.radius" && follower_shape_traits(follower.shape.type).takes_radius()) {
     b.field = [](SceneConfig& s) -> double& { return s.mechanism.follower.shape.radius; };
     return b;
   }

@@ -2,23 +2,55 @@
 
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
+#include <string>
 
 #include "contact/hertz_pressure.h"
 
 namespace camdyn {
 
+// ---------------------------------------------------------------- the laws
+// A new law: its word in scene/scene.h, a case in both switches below.
+
+ForceForm force_form(ContactModel model) {
+  switch (model) {
+    case ContactModel::hertz:
+      return ForceForm::elastic;
+    case ContactModel::kelvin_voigt:
+      return ForceForm::viscous;
+    case ContactModel::hunt_crossley:
+    case ContactModel::lankarani_nikravesh:
+    case ContactModel::flores:
+      return ForceForm::hysteresis;
+  }
+  throw std::invalid_argument("not a ContactModel value");
+}
+
 double ForceLaw::chi() const {
   const double e = restitution;
   switch (model) {
+    case ContactModel::hertz:
+    case ContactModel::kelvin_voigt:
+      return 0.0;
     case ContactModel::hunt_crossley:
       return 1.5 * (1.0 - e);
     case ContactModel::lankarani_nikravesh:
       return 0.75 * (1.0 - e * e);
     case ContactModel::flores:
       return 1.6 * (1.0 - e) / e;
-    default:
-      return 0.0;
   }
+  throw std::invalid_argument("not a ContactModel value");
+}
+
+// ---------------------------------------------------------------- from the form
+
+std::string law_words(ForceForm form) {
+  std::string words;
+  for (const EnumName<ContactModel>& law : enum_names(ContactModel{})) {
+    if (force_form(law.value) != form) continue;
+    words += (words.empty() ? "'" : " or '") + std::string(law.name) + "'";
+  }
+  return words;
 }
 
 double ForceLaw::elastic_force(double delta) const { return delta > 0.0 ? stiffness * std::pow(delta, exponent) : 0.0; }
@@ -28,15 +60,16 @@ double ForceLaw::elastic_energy(double delta) const {
 }
 
 double ForceLaw::clamp_switch(double delta, double delta_rate, double v0) const {
-  switch (model) {
-    case ContactModel::hertz:
+  switch (force_form(model)) {
+    case ForceForm::elastic:
       return 1.0;
-    case ContactModel::kelvin_voigt:
+    case ForceForm::viscous:
       // Odd extension of K δ^n keeps the function continuous through δ = 0.
       return stiffness * std::copysign(std::pow(std::abs(delta), exponent), delta) + damping * delta_rate;
-    default:
+    case ForceForm::hysteresis:
       return 1.0 + chi() * delta_rate / v0;
   }
+  throw std::invalid_argument("not a ForceForm value");
 }
 
 double stiffness_from_materials(double E1, double nu1, double E2, double nu2, double R1, double R2, bool line_contact,

@@ -4,6 +4,9 @@
 //   Lankarani & Nikravesh 1990:    D = 3 K (1 − e²) / (4 v₀)   δ^n
 //   Flores et al. 2011:            D = 8 K (1 − e)  / (5 e v₀) δ^n
 // The last three share the form F = K δ^n (1 + χ δ̇ / v₀) with a model factor χ.
+// What each law is (its form, its χ) is in force_law.cc, in the two switches
+// over ContactModel (force_form() and ForceLaw::chi()); everything else asks
+// them (docs/architecture.md, "Adding a contact law").
 #pragma once
 
 #include <cmath>
@@ -14,15 +17,29 @@
 
 namespace camdyn {
 
+/// The form of a law's normal force F_n (physics.md §3).
+enum class ForceForm {
+  elastic,     ///< K δ^n: no damping, no clamp switch (hertz)
+  viscous,     ///< K δ^n + c δ̇ with the config's 'damping' c [N s/m] (kelvin_voigt)
+  hysteresis,  ///< K δ^n (1 + χ δ̇ / v₀), χ from the restitution e (ForceLaw::chi())
+};
+
+/// The form of `model`'s force. A law missing here is a compiler error (-Wswitch).
+ForceForm force_form(ContactModel model);
+
+/// The config words of the laws of `form`, each quoted and joined by " or "
+/// ("'kelvin_voigt'"), for messages.
+std::string law_words(ForceForm form);
+
 struct ForceLaw {
   ContactModel model = ContactModel::hertz;
   double stiffness = 0.0;            ///< K [N/m^n], > 0
   double exponent = 1.5;             ///< n [-], > 0
   double restitution = 1.0;          ///< target e [-], in (0, 1]
-  double damping = 0.0;              ///< c [N s/m], kelvin_voigt only
+  double damping = 0.0;              ///< c [N s/m], the viscous form only
   double reference_velocity = 0.01;  ///< floor of v₀ [m/s]
 
-  /// χ of F = K δ^n (1 + χ δ̇/v₀) for the hysteresis models, 0 otherwise.
+  /// χ [-] of F = K δ^n (1 + χ δ̇/v₀) for the hysteresis form, 0 otherwise.
   double chi() const;
 
   /// Normal force [N] at penetration δ [m] and penetration rate δ̇ [m/s] in a
@@ -36,10 +53,15 @@ struct ForceLaw {
     using std::pow;
     if (!(value(delta) > 0.0)) return S(0.0);
     S f = stiffness * pow(delta, exponent);
-    if (model == ContactModel::kelvin_voigt) {
-      f = f + damping * delta_rate;
-    } else if (model != ContactModel::hertz) {
-      f = f * (1.0 + chi() * delta_rate / v0);
+    switch (force_form(model)) {
+      case ForceForm::elastic:
+        break;
+      case ForceForm::viscous:
+        f = f + damping * delta_rate;
+        break;
+      case ForceForm::hysteresis:
+        f = f * (1.0 + chi() * delta_rate / v0);
+        break;
     }
     return value(f) > 0.0 ? f : S(0.0);
   }
@@ -56,7 +78,7 @@ struct ForceLaw {
   double clamp_switch(double delta, double delta_rate, double v0) const;
 
   /// True when the law has a force clamp switch (a root function to watch).
-  bool has_clamp_switch() const { return model != ContactModel::hertz; }
+  bool has_clamp_switch() const { return force_form(model) != ForceForm::elastic; }
 };
 
 /// Effective stiffness from materials: point contact (no width) gives the Hertz

@@ -11,6 +11,7 @@
 #include "dynamics/contact_stress.h"
 #include "dynamics/dual.h"
 #include "geometry/check_text.h"
+#include "geometry/follower_shape.h"
 
 namespace camdyn {
 
@@ -36,9 +37,10 @@ ForceLaw build_force_law(const SceneConfig& scene, double cam_radius, const std:
       throw InputError(file, "mechanism.contact.exponent",
                        std::string("stiffness from materials is for ") + (line ? "line" : "point") +
                            " contact, which needs exponent " + (line ? "1" : "1.5"));
-    // A flat face has an infinite radius of curvature.
+    // A circle has radius of curvature ρ, a flat face's line an infinite one.
     const ShapeConfig& shape = scene.mechanism.follower.shape;
-    const double r2 = shape.type == FollowerShape::flat ? std::numeric_limits<double>::infinity() : shape.radius;
+    const double r2 =
+        follower_shape_traits(shape.type).circle() ? shape.radius : std::numeric_limits<double>::infinity();
     law.stiffness = stiffness_from_materials(m.E1, m.nu1, m.E2, m.nu2, cam_radius, r2, line, m.width.value_or(0.0));
   } else if (c.stiffness) {
     law.stiffness = *c.stiffness;
@@ -239,7 +241,7 @@ void general_pair_partials(const FollowerGeometry& fg, const PairSolution& ps, d
   const Vec2<S> B_q = to_cam(fg.body_point_rate(to_world(X)));
   g_q = dot(n, B_q);
   g_theta = dot(n, (-sigma) * perp(X));
-  if (fg.shape == FollowerShape::roller) {
+  if (fg.rolls()) {
     Vec2<S> centre, centre_q;
     fg.centre(o.q, centre, centre_q);
     X_q = to_cam(centre_q);
@@ -302,7 +304,7 @@ void core(const Model& m, const Workspace& ws, double t, const S* x, const PairS
     g_theta = dot(n, C_theta);
     X = C - fg.radius * n;
     // A roller takes the friction force at its axle (its torque goes to the spin).
-    X_q = fg.shape == FollowerShape::roller ? C_q : to_cam(fg.body_point_rate(to_world(X)));
+    X_q = fg.rolls() ? C_q : to_cam(fg.body_point_rate(to_world(X)));
   } else {
     Vec2<S> p, mw, p_q, mw_q;
     fg.face(o.q, p, mw, p_q, mw_q);
@@ -369,9 +371,7 @@ void build_contour_cam(const ContourConfig& config, const FollowerConfig& f, int
   options.smoothing = config.smoothing;
   options.parameter_corrections = config.parameter_corrections;
   model.contour = std::make_shared<const ContourCam>(ContourCam::fit(points, options, file, path));
-  const ContourFollower kind = f.shape.type == FollowerShape::flat       ? ContourFollower::flat
-                               : f.shape.type == FollowerShape::mushroom ? ContourFollower::mushroom
-                                                                         : ContourFollower::roller;
+  const FollowerContact kind = follower_shape_traits(f.shape.type).contact;
   check_contour_for_follower(*model.contour, kind, f.shape.radius, file, path);
   model.contour_lift =
       std::make_shared<const RigidFollowerLift>(*model.contour, kind, f.shape.radius, f.offset, direction, 2048, file);
@@ -493,7 +493,7 @@ void assemble_elements(const SceneConfig& scene, const std::string& file, Model&
   model.contact = build_force_law(scene, fg.base_radius, file);
   const FrictionConfig& fc = mech.contact.friction;
   model.friction = friction_law(fc.mu, fc.regularization_velocity, fc.regularization);
-  const bool roller = fg.shape == FollowerShape::roller;
+  const bool roller = fg.rolls();
   model.roller_inertia = roller ? f.shape.inertia : 0.0;
   // A roller without inertia rolls freely: friction can do no work, so neither
   // the spin state nor the friction force is assembled (physics.md §3). A flat
@@ -559,7 +559,7 @@ Model build_model(const SceneConfig& scene, const std::string& file) {
     build_contour_cam(*mech.cam.motion_law.contour, f, model.direction, file, model);
     const double lowest = model.contour_lift->lowest();
     // The base circle is the one the follower touches at its lowest position.
-    base_radius = f.shape.type == FollowerShape::flat ? lowest : std::hypot(lowest, f.offset) - f.shape.radius;
+    base_radius = follower_shape_traits(f.shape.type).circle() ? std::hypot(lowest, f.offset) - f.shape.radius : lowest;
   } else {
     model.law = std::make_shared<const MotionLaw>(build_motion_law(mech.cam.motion_law, file));
   }

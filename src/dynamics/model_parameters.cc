@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "common/errors.h"
+#include "contact/force_law.h"
 
 namespace camdyn {
 
@@ -55,10 +56,10 @@ void check_parameters(const Model& model, const ModelParameters& p, const std::s
   c.up_to("mechanism.contact.exponent", p.contact_exponent, 5.0, "must be in (0, 5]");
   c.up_to("mechanism.contact.restitution", p.restitution, 1.0, "must be in (0, 1]");
   c.non_negative("mechanism.contact.damping", p.contact_damping);
-  if (model.contact.model != ContactModel::kelvin_voigt && p.contact_damping != 0.0)
+  if (force_form(model.contact.model) != ForceForm::viscous && p.contact_damping != 0.0)
     throw InputError(file, "mechanism.contact.damping",
-                     std::string("only model 'kelvin_voigt' uses 'damping' (model '") + to_string(model.contact.model) +
-                         "' derives it from 'restitution'); set it to null");
+                     "only model " + law_words(ForceForm::viscous) + " uses 'damping' (model '" +
+                         to_string(model.contact.model) + "' derives it from 'restitution'); set it to null");
   c.positive("mechanism.contact.reference_velocity", p.reference_velocity);
   c.non_negative("mechanism.contact.friction.mu", p.friction_mu);
   c.positive("mechanism.contact.friction.regularization_velocity", p.friction_regularization_velocity);
@@ -131,7 +132,7 @@ ModelParameters model_parameters(const SceneConfig& scene, const Model& model) {
 
 bool same_structure(const Model& model, const ModelParameters& p) {
   // As build_model() decides them.
-  const bool roller = model.follower.shape == FollowerShape::roller;
+  const bool roller = model.follower.rolls();
   const bool has_spin = roller && p.roller_inertia > 0.0 && p.friction_mu > 0.0;
   const bool contact_friction = p.friction_mu > 0.0 && (!roller || has_spin);
   // μ of an absent guide or pivot friction block is 0 (model_parameters()).
@@ -157,7 +158,7 @@ void set_parameters(Model& model, const ModelParameters& p, const std::string& f
   model.contact.reference_velocity = p.reference_velocity;
   model.friction.mu = p.friction_mu;
   model.friction.regularization_velocity = p.friction_regularization_velocity;
-  model.roller_inertia = model.follower.shape == FollowerShape::roller ? p.roller_inertia : 0.0;
+  model.roller_inertia = model.follower.rolls() ? p.roller_inertia : 0.0;
   if (model.has_guide_friction) {
     model.guide_friction.mu = p.guide_mu;
     model.guide_friction.regularization_velocity = p.guide_regularization_velocity;

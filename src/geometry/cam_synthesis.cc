@@ -178,8 +178,8 @@ CamGeometryReport check_cam(const SynthesisedCam& cam, const std::string& file, 
     if (kappa.value * f.radius >= 1.0)
       throw InputError(file, path,
                        "the pitch curve's radius of curvature " + num(1.0 / kappa.value) +
-                           " m is not larger than the " + (f.shape == FollowerShape::roller ? "roller" : "mushroom") +
-                           " radius " + num(f.radius) + " m" + at(kappa.u) +
+                           " m is not larger than the " + std::string(f.traits().label) + " radius " + num(f.radius) +
+                           " m" + at(kappa.u) +
                            ": the cam contour has a cusp or undercut (use a larger base radius, a smaller radius "
                            "or a gentler law)");
   } else {

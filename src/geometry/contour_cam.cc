@@ -450,7 +450,7 @@ Eigen::Vector2d ContourCam::outward_normal(double u) const {
 
 // ---------------------------------------------------------------- follower checks
 
-void check_contour_for_follower(const ContourCam& cam, ContourFollower follower, double radius, const std::string& file,
+void check_contour_for_follower(const ContourCam& cam, FollowerContact follower, double radius, const std::string& file,
                                 const std::string& path, double min_convex_radius) {
   const std::string where = path + ".points";
   const ContourFitReport& rep = cam.report();
@@ -461,7 +461,7 @@ void check_contour_for_follower(const ContourCam& cam, ContourFollower follower,
            num(c.min_abs_radius_angle_deg) + "°";
   };
   for (const ConcavePortion& c : rep.concave) {
-    if (follower == ContourFollower::flat)
+    if (follower == FollowerContact::line)
       throw InputError(file, where, describe(c) + ": a flat-faced follower cannot follow a concave flank");
     if (c.min_abs_radius < radius)
       throw InputError(file, where,
@@ -526,12 +526,12 @@ LiftTerms lift_terms(const CurvePoint& c, double theta, int sigma, bool flat, do
 
 }  // namespace
 
-RigidFollowerLift::RigidFollowerLift(const PeriodicCurve& curve, ContourFollower follower, double radius, double offset,
+RigidFollowerLift::RigidFollowerLift(const PeriodicCurve& curve, FollowerContact follower, double radius, double offset,
                                      int direction, int samples, const std::string& file,
                                      const std::string& offset_path)
     : curve_(&curve), follower_(follower), radius_(radius), offset_(offset), direction_(direction) {
   assert(direction == 1 || direction == -1);
-  assert(follower == ContourFollower::flat || radius > 0.0);
+  assert(follower == FollowerContact::line || radius > 0.0);
   assert(samples >= 16);
   sample_u_.resize(samples);
   sample_r_.resize(samples);
@@ -540,7 +540,7 @@ RigidFollowerLift::RigidFollowerLift(const PeriodicCurve& curve, ContourFollower
     sample_r_[k] = curve.at(sample_u_[k]).r;
   }
   constexpr int kAngles = 720;
-  if (follower != ContourFollower::flat) {
+  if (follower != FollowerContact::line) {
     // The roller must reach the cam at every angle: some contour point within ρ of its axis.
     for (int i = 0; i < kAngles; ++i) {
       const double th = kTwoPi * i / kAngles, cs = std::cos(direction * th), sn = std::sin(direction * th);
@@ -572,7 +572,7 @@ RigidFollowerLift::RigidFollowerLift(const PeriodicCurve& curve, ContourFollower
 }
 
 RigidLift RigidFollowerLift::at(double theta) const {
-  const bool flat = follower_ == ContourFollower::flat;
+  const bool flat = follower_ == FollowerContact::line;
   const int n = static_cast<int>(sample_u_.size());
   const double cs = std::cos(direction_ * theta), sn = std::sin(direction_ * theta);
   // Sampled Y(θ, u_k) without derivatives: the best two local maxima.

@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "geometry/follower_shape.h"
 #include "geometry/planar_curve.h"
 
 namespace camdyn {
@@ -114,18 +115,15 @@ class ContourCam final : public PeriodicCurve {
   ContourFitReport report_;
 };
 
-/// The follower types whose contact with a contour is checked.
-enum class ContourFollower { flat, roller, mushroom };
-
 /// Throws InputError(file, path + ".points", reason naming the polar angle and
 /// the nearest point) when the follower cannot follow the fitted contour:
-/// a flat face any concave portion (it would bridge it); a roller or mushroom
-/// of radius `radius` [m] any concave portion with |ρ| < radius (its centre
+/// a flat face (`follower` = line) any concave portion (it would bridge it); a
+/// roller or mushroom (circle) of radius `radius` [m] any concave portion with |ρ| < radius (its centre
 /// path would have a cusp: two-point contact). Convex portions need nothing
 /// (a smooth fit has no corners), but a convex radius of curvature below
 /// `min_convex_radius` [m] (default 0 = unchecked) is reported the same way,
 /// since it points at a corner in the data that the fit rounded off.
-void check_contour_for_follower(const ContourCam& cam, ContourFollower follower, double radius, const std::string& file,
+void check_contour_for_follower(const ContourCam& cam, FollowerContact follower, double radius, const std::string& file,
                                 const std::string& path = "mechanism.cam.motion_law.contour",
                                 double min_convex_radius = 0.0);
 
@@ -151,11 +149,12 @@ struct RigidLift {
 /// The kinematic law of a contour cam is s(θ) = y(θ) − lowest().
 class RigidFollowerLift {
  public:
-  /// `curve` must outlive this object. `radius` [m] > 0 for roller/mushroom
-  /// (ignored for flat), `offset` e [m], `direction` σ = ±1, `samples` of the
-  /// curve for the global search. Throws InputError(file, offset_path) when a
-  /// roller/mushroom on that axis misses the cam at some angle.
-  RigidFollowerLift(const PeriodicCurve& curve, ContourFollower follower, double radius, double offset, int direction,
+  /// `curve` must outlive this object. `radius` ρ [m] > 0 for a circle
+  /// `follower` (roller, mushroom; ignored for a line, the flat face),
+  /// `offset` e [m], `direction` σ = ±1, `samples` of the curve for the global
+  /// search. Throws InputError(file, offset_path) when a roller/mushroom on
+  /// that axis misses the cam at some angle.
+  RigidFollowerLift(const PeriodicCurve& curve, FollowerContact follower, double radius, double offset, int direction,
                     int samples = 2048, const std::string& file = "",
                     const std::string& offset_path = "mechanism.follower.offset");
 
@@ -171,7 +170,7 @@ class RigidFollowerLift {
 
  private:
   const PeriodicCurve* curve_;
-  ContourFollower follower_;
+  FollowerContact follower_;
   double radius_, offset_;
   int direction_;
   std::vector<double> sample_u_;

@@ -45,7 +45,7 @@ FollowerGeometry make_follower_geometry(const FollowerConfig& config, double rb,
       if (!(std::abs(g.offset) < r))
         throw InputError(file, path + ".offset",
                          "|offset| = " + num(std::abs(g.offset)) + " m must be less than base radius + " +
-                             (g.shape == FollowerShape::roller ? "roller" : "mushroom") + " radius = " + num(r) + " m");
+                             std::string(g.traits().label) + " radius = " + num(r) + " m");
       g.y0 = std::sqrt(r * r - g.offset * g.offset);
     } else {
       g.y0 = rb;

@@ -23,6 +23,7 @@
 #include <cmath>
 #include <string>
 
+#include "geometry/follower_shape.h"
 #include "geometry/vec2.h"
 #include "scene/scene.h"
 
@@ -43,7 +44,12 @@ struct FollowerGeometry {
   int kappa = 1;      ///< oscillating: ψ = ψ₀ + κ q
   int face_side = 1;  ///< oscillating flat: m = face_side · J d
 
-  bool circle() const { return shape != FollowerShape::flat; }
+  /// The shape's description (follower_shape.h).
+  constexpr FollowerShapeTraits traits() const { return follower_shape_traits(shape); }
+  /// Touches the cam with a circle of radius ρ (else with a flat face's line).
+  bool circle() const { return traits().circle(); }
+  /// Spins on an axle (a roller): friction acts at the axle and on a spin state.
+  bool rolls() const { return traits().rolls; }
   bool oscillating() const { return motion == FollowerMotion::oscillating; }
 
   /// Circle centre c(q) and dc/dq in the world.

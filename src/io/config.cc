@@ -11,6 +11,8 @@
 #include <vector>
 
 #include "common/errors.h"
+#include "contact/force_law.h"
+#include "geometry/follower_shape.h"
 #include "io/csv_reader.h"
 #include "io/dotted_path.h"
 #include "io/json_archive.h"
@@ -168,21 +170,22 @@ void visit(A& a, CamConfig& c) {
   }
 }
 
+/// The fields follow from the shape's description (geometry/follower_shape.h):
+/// a circle's 'radius', a line's 'face_width', a rolling shape's 'inertia'.
 template <class A>
 void visit(A& a, ShapeConfig& s) {
   a.field("type", s.type);
-  if (s.type == FollowerShape::flat) {
-    a.forbid({"radius", "inertia"}, "a flat face has 'face_width' only");
-    a.field("face_width", s.face_width, positive());
-    return;
-  }
-  a.forbid({"face_width"}, "only a flat face has 'face_width'");
-  a.field("radius", s.radius, positive());
-  if (s.type == FollowerShape::roller) {
-    a.field("inertia", s.inertia, non_negative());
-  } else {
-    a.forbid({"inertia"}, "a mushroom face is fixed to the follower (it does not spin): no 'inertia'");
-  }
+  const FollowerShapeTraits shape = follower_shape_traits(s.type);
+  const std::string a_shape = "a " + std::string(shape.label);
+  if (!shape.takes_radius())
+    a.forbid({"radius"}, a_shape + " touches the cam with a line: it has 'face_width', no 'radius'");
+  if (!shape.takes_face_width())
+    a.forbid({"face_width"}, a_shape + " touches the cam with a circle: it has a 'radius', no 'face_width'");
+  if (!shape.takes_inertia())
+    a.forbid({"inertia"}, a_shape + " is fixed to the follower (it does not spin): no 'inertia'");
+  if (shape.takes_radius()) a.field("radius", s.radius, positive());
+  if (shape.takes_face_width()) a.field("face_width", s.face_width, positive());
+  if (shape.takes_inertia()) a.field("inertia", s.inertia, non_negative());
 }
 
 template <class A>
@@ -288,11 +291,12 @@ void visit(A& a, ContactConfig& c) {
   a.field("exponent", c.exponent, open_closed(0, 5));
   a.field("restitution", c.restitution, open_closed(0, 1));
   a.field("damping", c.damping, non_negative());
-  if (c.model == ContactModel::kelvin_voigt) {
-    a.require(c.damping.has_value(), "damping", "missing: model 'kelvin_voigt' needs 'damping' [N s/m] >= 0");
+  if (force_form(c.model) == ForceForm::viscous) {
+    a.require(c.damping.has_value(), "damping",
+              "missing: model '" + to_string(c.model) + "' needs 'damping' [N s/m] >= 0");
   } else {
     a.require(!c.damping, "damping",
-              "only model 'kelvin_voigt' uses 'damping' (model '" + to_string(c.model) +
+              "only model " + law_words(ForceForm::viscous) + " uses 'damping' (model '" + to_string(c.model) +
                   "' derives it from 'restitution'); set it to null");
   }
   a.field("reference_velocity", c.reference_velocity, positive());
@@ -311,11 +315,12 @@ void visit(A& a, MechanismConfig& m) {
   a.require(translating || !contour, "follower.motion",
             "a contour cam needs a translating follower (the lift of an oscillating arm on a contour is not "
             "derived)");
-  if (translating && !contour && m.follower.shape.type != FollowerShape::flat) {
+  const FollowerShapeTraits shape = follower_shape_traits(m.follower.shape.type);
+  if (translating && !contour && shape.circle()) {
     const double reach = m.cam.base_radius + m.follower.shape.radius;
     a.require(std::abs(m.follower.offset) < reach, "follower.offset",
-              "|offset| must be < base_radius + roller radius = " + format_shortest(reach) + " m, got " +
-                  format_shortest(m.follower.offset));
+              "|offset| must be < base_radius + " + std::string(shape.label) + " radius = " + format_shortest(reach) +
+                  " m, got " + format_shortest(m.follower.offset));
   }
   const auto& segments = m.cam.motion_law.segments;
   for (std::size_t i = 0; i < segments.size(); ++i) {

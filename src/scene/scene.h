@@ -64,6 +64,8 @@ inline constexpr EnumName<RotationDirection> kRotationDirectionNames[] = {{Rotat
                                                                           {RotationDirection::cw, "cw"}};
 constexpr std::span<const EnumName<RotationDirection>> enum_names(RotationDirection) { return kRotationDirectionNames; }
 
+/// What each shape is (contact element, rolling, label, its config fields):
+/// geometry/follower_shape.h, the one switch over this enum.
 enum class FollowerShape { roller, flat, mushroom };
 inline constexpr EnumName<FollowerShape> kFollowerShapeNames[] = {
     {FollowerShape::roller, "roller"}, {FollowerShape::flat, "flat"}, {FollowerShape::mushroom, "mushroom"}};

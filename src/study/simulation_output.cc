@@ -55,10 +55,7 @@ namespace {
 
 std::string follower_name(const Model& model) {
   const FollowerGeometry& f = model.follower;
-  const char* shape = f.shape == FollowerShape::roller ? "roller"
-                      : f.shape == FollowerShape::flat ? "flat"
-                                                       : "mushroom";
-  return std::string(f.oscillating() ? "oscillating_" : "translating_") + shape;
+  return std::string(f.oscillating() ? "oscillating_" : "translating_") + to_string(f.shape);
 }
 
 std::string drive_name(const Model& model) {
@@ -69,7 +66,7 @@ std::string drive_name(const Model& model) {
 
 std::string contact_pair_name(const Model& model) {
   const bool flat = model.reduction == ContactReduction::line;
-  const std::string shape = flat ? "flat face" : model.follower.shape == FollowerShape::roller ? "roller" : "mushroom";
+  const std::string shape(model.follower.traits().label);
   const std::string cam = model.contour ? "the fitted contour" : flat ? "the cam contour" : "the pitch curve";
   if (model.pair_form == PairForm::general)
     return shape + ": " + (flat ? "face segment" : "circle") + " against the cam contour (general two-parameter pair)";

@@ -62,6 +62,34 @@ TEST(ForceLaw, ClampSwitchHasTheSignOfTheUnclampedForce) {
   }
 }
 
+TEST(ForceLaw, EveryLawHasAFormAndItsDampingFollowsIt) {
+  for (const EnumName<ContactModel>& entry : enum_names(ContactModel{})) {
+    const ForceLaw law = law_of(entry.value, 0.5);
+    const double delta = 1e-6, elastic = law.elastic_force(delta);
+    switch (force_form(entry.value)) {
+      case ForceForm::elastic:  // no damping, nothing to switch on
+        EXPECT_EQ(law.chi(), 0.0) << entry.name;
+        EXPECT_EQ(law.force(delta, 1.0, 1.0), elastic) << entry.name;
+        EXPECT_FALSE(law.has_clamp_switch()) << entry.name;
+        break;
+      case ForceForm::viscous:  // the config's c
+        EXPECT_EQ(law.chi(), 0.0) << entry.name;
+        EXPECT_EQ(law.force(delta, 1.0, 1.0), elastic + law.damping * 1.0) << entry.name;
+        EXPECT_TRUE(law.has_clamp_switch()) << entry.name;
+        break;
+      case ForceForm::hysteresis:  // χ(e) > 0 for e < 1
+        EXPECT_GT(law.chi(), 0.0) << entry.name;
+        EXPECT_EQ(law.force(delta, 1.0, 1.0), elastic * (1.0 + law.chi())) << entry.name;
+        EXPECT_TRUE(law.has_clamp_switch()) << entry.name;
+        break;
+    }
+  }
+  EXPECT_EQ(force_form(ContactModel::hertz), ForceForm::elastic);
+  EXPECT_EQ(force_form(ContactModel::kelvin_voigt), ForceForm::viscous);
+  EXPECT_EQ(law_words(ForceForm::viscous), "'kelvin_voigt'");
+  EXPECT_EQ(law_words(ForceForm::hysteresis), "'hunt_crossley' or 'lankarani_nikravesh' or 'flores'");
+}
+
 TEST(ForceLaw, StiffnessFromMaterialsMatchesHertz) {
   // Steel on steel, R* = 8 mm: K = 4/3 E* sqrt(R*).
   const double E = 210e9, nu = 0.3;

@@ -190,7 +190,7 @@ TEST(ContourFit, NoisyPointsLeaveResidualsOfTheNoiseAndAFitCloserThanIt) {
   // Averaging: the fit is closer to the true contour than the noise (√(m/N) σ ≈ 0.7σ rms).
   EXPECT_LT(max_deviation(cam, exact), 3 * sigma);
   // The recovered law is within the fit's deviation.
-  const RigidFollowerLift lift(cam, ContourFollower::roller, 0.01, 0.005, +1);
+  const RigidFollowerLift lift(cam, FollowerContact::circle, 0.01, 0.005, +1);
   double worst = 0;
   for (int i = 0; i < 360; ++i) {
     const double th = kTwoPi * i / 360;
@@ -282,7 +282,7 @@ TEST(ContourConcave, FlatFaceCannotFollowAConcaveFlank) {
   const Lobed lobed;
   const ContourCam cam = ContourCam::fit(sample([&](double u) { return lobed.point(u); }, 360), {}, kFile);
   try {
-    check_contour_for_follower(cam, ContourFollower::flat, 0.0, kFile, kPath);
+    check_contour_for_follower(cam, FollowerContact::line, 0.0, kFile, kPath);
     ADD_FAILURE() << "expected an InputError";
   } catch (const InputError& e) {
     EXPECT_EQ(e.path(), kPoints);
@@ -295,10 +295,10 @@ TEST(ContourConcave, FlatFaceCannotFollowAConcaveFlank) {
 TEST(ContourConcave, RollerFollowsHollowsWiderThanItself) {
   const Lobed lobed;  // hollows of radius 0.0578 m
   const ContourCam cam = ContourCam::fit(sample([&](double u) { return lobed.point(u); }, 360), {}, kFile);
-  EXPECT_NO_THROW(check_contour_for_follower(cam, ContourFollower::roller, 0.02, kFile, kPath));
-  EXPECT_NO_THROW(check_contour_for_follower(cam, ContourFollower::mushroom, 0.05, kFile, kPath));
+  EXPECT_NO_THROW(check_contour_for_follower(cam, FollowerContact::circle, 0.02, kFile, kPath));
+  EXPECT_NO_THROW(check_contour_for_follower(cam, FollowerContact::circle, 0.05, kFile, kPath));
   try {
-    check_contour_for_follower(cam, ContourFollower::roller, 0.07, kFile, kPath);
+    check_contour_for_follower(cam, FollowerContact::circle, 0.07, kFile, kPath);
     ADD_FAILURE() << "expected an InputError";
   } catch (const InputError& e) {
     EXPECT_EQ(e.path(), kPoints);
@@ -310,14 +310,14 @@ TEST(ContourConcave, ConvexCamPassesEveryFollower) {
   const Ellipse ellipse(0.05, 0.03);
   const ContourCam cam = ContourCam::fit(sample([&](double u) { return ellipse.at(u).r; }, 180), {}, kFile);
   EXPECT_TRUE(cam.report().concave.empty());
-  EXPECT_NO_THROW(check_contour_for_follower(cam, ContourFollower::flat, 0.0, kFile, kPath));
-  EXPECT_NO_THROW(check_contour_for_follower(cam, ContourFollower::roller, 0.2, kFile, kPath));
+  EXPECT_NO_THROW(check_contour_for_follower(cam, FollowerContact::line, 0.0, kFile, kPath));
+  EXPECT_NO_THROW(check_contour_for_follower(cam, FollowerContact::circle, 0.2, kFile, kPath));
   // The ellipse's smallest radius b²/a = 0.018 m flags a corner check set above it.
   constexpr double kFitRadius = 1e-6;  // [m], a fit through 180 exact points: ≈ 5e-5 relative
   EXPECT_NEAR(cam.report().min_convex_radius, 0.03 * 0.03 / 0.05, kFitRadius);
   const double at = cam.report().min_convex_radius_angle_deg;  // the ends of the major axis
   EXPECT_LT(std::min({at, std::abs(at - 180), 360 - at}), 0.01);
-  EXPECT_THROW(check_contour_for_follower(cam, ContourFollower::flat, 0.0, kFile, kPath, 0.02), InputError);
+  EXPECT_THROW(check_contour_for_follower(cam, FollowerContact::line, 0.0, kFile, kPath, 0.02), InputError);
 }
 
 // ------------------------------------------------ validation
@@ -364,7 +364,7 @@ TEST(ContourValidation, RejectsBadOptions) {
 TEST(RigidLift, FlatFaceOnAnEllipseIsItsSupportFunction) {
   const double a = 0.05, b = 0.03;
   const Ellipse ellipse(a, b);
-  const RigidFollowerLift lift(ellipse, ContourFollower::flat, 0.0, 0.0, +1);
+  const RigidFollowerLift lift(ellipse, FollowerContact::line, 0.0, 0.0, +1);
   for (int i = 0; i < 50; ++i) {
     const double th = kTwoPi * (i + 0.1) / 50;
     // Turned by θ, the height of the ellipse is y = sqrt(a² sin²θ + b² cos²θ).
@@ -393,7 +393,7 @@ TEST(RigidLift, RollerOnAnEccentricCircleMatchesTheClosedForm) {
     }
   } cam(big_r, eps);
   for (int sigma : {+1, -1}) {
-    const RigidFollowerLift lift(cam, ContourFollower::roller, rho, e, sigma);
+    const RigidFollowerLift lift(cam, FollowerContact::circle, rho, e, sigma);
     const auto y_of = [&](double th) {
       const double ex = eps * std::cos(sigma * th), ey = eps * std::sin(sigma * th);
       return ey + std::sqrt((big_r + rho) * (big_r + rho) - (e - ex) * (e - ex));
@@ -417,7 +417,7 @@ TEST(RigidLift, RecoversTheMotionLawOfASynthesisedRollerCam) {
   const auto exact = [&](double u) { return s.cam.contour(u); };
   const ContourCam cam = ContourCam::fit(sample(exact, 720), {}, kFile);
   const double deviation = max_deviation(cam, exact);
-  const RigidFollowerLift lift(cam, ContourFollower::roller, 0.01, 0.005, +1);
+  const RigidFollowerLift lift(cam, FollowerContact::circle, 0.01, 0.005, +1);
   // The lowest centre height is the synthesis' y₀ (base circle + roller).
   EXPECT_NEAR(lift.lowest(), s.cam.y0(), 2 * deviation);
   double worst_s = 0, worst_ds = 0;
@@ -437,7 +437,7 @@ TEST(RigidLift, RecoversTheMotionLawOfASynthesisedRollerCam) {
 TEST(RigidLift, RollerThatMissesTheCamIsAnInputError) {
   const Ellipse ellipse(0.05, 0.03);
   try {
-    const RigidFollowerLift lift(ellipse, ContourFollower::roller, 0.01, 0.045, +1, 2048, kFile);
+    const RigidFollowerLift lift(ellipse, FollowerContact::circle, 0.01, 0.045, +1, 2048, kFile);
     ADD_FAILURE() << "expected an InputError";
   } catch (const InputError& e) {
     EXPECT_EQ(e.path(), "mechanism.follower.offset");
@@ -466,7 +466,7 @@ TEST(ContourGoldenFiles, PythonSynthesisedRollerCamGivesBackTheLaw) {
   const ContourCam cam = ContourCam::fit(pts, {}, kFile);
   const double deviation = max_deviation(cam, [&](double u) { return s.cam.contour(u); });
   EXPECT_LT(deviation, 1e-6);
-  const RigidFollowerLift lift(cam, ContourFollower::roller, 0.01, 0.005, +1);
+  const RigidFollowerLift lift(cam, FollowerContact::circle, 0.01, 0.005, +1);
   double worst = 0;
   for (int i = 0; i < 720; ++i) {
     const double th = kTwoPi * i / 720;
@@ -490,7 +490,7 @@ TEST(ContourGoldenFiles, NoisyMeasurementNeedsSmoothingForTheAcceleration) {
   // takes two derivatives of the contour: noise σ/h² on 1° spacing swamps it
   // without smoothing; with λ = 10 it is a few per cent.
   const auto worst_d2s = [&](const ContourCam& cam) {
-    const RigidFollowerLift lift(cam, ContourFollower::roller, 0.01, 0.005, +1);
+    const RigidFollowerLift lift(cam, FollowerContact::circle, 0.01, 0.005, +1);
     double worst = 0;
     for (int i = 0; i < 720; ++i) {
       const double th = kTwoPi * i / 720;
@@ -507,7 +507,7 @@ TEST(ContourGoldenFiles, NoisyMeasurementNeedsSmoothingForTheAcceleration) {
 TEST(ContourGoldenFiles, LobedContourIsRejectedForAFlatFace) {
   const ContourCam cam = ContourCam::fit(read_points("lobed_concave.json"), {}, kFile);
   EXPECT_EQ(cam.report().concave.size(), 3u);
-  EXPECT_THROW(check_contour_for_follower(cam, ContourFollower::flat, 0.0, kFile, kPath), InputError);
+  EXPECT_THROW(check_contour_for_follower(cam, FollowerContact::line, 0.0, kFile, kPath), InputError);
 }
 
 // ------------------------------------------------ allocation
@@ -515,7 +515,7 @@ TEST(ContourGoldenFiles, LobedContourIsRejectedForAFlatFace) {
 TEST(ContourAllocation, EvaluationAndRigidLiftDoNotAllocate) {
   const Lobed lobed;
   const ContourCam cam = ContourCam::fit(sample([&](double u) { return lobed.point(u); }, 120), {}, kFile);
-  const RigidFollowerLift lift(cam, ContourFollower::roller, 0.01, 0.0, +1);
+  const RigidFollowerLift lift(cam, FollowerContact::circle, 0.01, 0.0, +1);
   const long before = test::allocation_count();
   double sink = 0;
   for (int i = -300; i < 300; ++i) {
