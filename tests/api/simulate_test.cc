@@ -6,6 +6,7 @@
 
 #include <cstring>
 #include <string>
+#include <thread>
 
 #include "common/errors.h"
 #include "dynamics/metrics.h"
@@ -59,6 +60,23 @@ TEST(Simulate, GivesTheInternalRunToTheBit) {
   }
   EXPECT_TRUE(same_bits(result.evaluated_from, internal.evaluated_from));
   EXPECT_TRUE(same_bits(result.end_time, internal.end_time));
+}
+
+// A Scene is immutable: threads may simulate one scene (one Model) at once,
+// each run with its own workspace, and get the run a single thread gets.
+TEST(Simulate, OneSceneFromTwoThreadsGivesTheSameRun) {
+  const Scene scene = Scene::load(kQuickstart);
+  SimulateOptions options;
+  options.record_series = false;
+  const Result alone = simulate(scene, options);
+  Result first, second;
+  std::thread other([&] { first = simulate(scene, options); });
+  second = simulate(scene, options);
+  other.join();
+  for (const Result* r : {&first, &second}) {
+    EXPECT_EQ(r->solver.steps, alone.solver.steps);
+    for (const auto& [name, value] : alone.metrics) EXPECT_TRUE(same_bits(r->metrics.at(name), value)) << name;
+  }
 }
 
 TEST(Simulate, SamplesAtTheRequestedTimes) {
