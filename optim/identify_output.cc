@@ -1,5 +1,7 @@
 #include "optim/identify_output.h"
 
+#include <camdyn/version.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>

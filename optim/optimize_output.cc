@@ -1,5 +1,7 @@
 #include "optim/optimize_output.h"
 
+#include <camdyn/version.h>
+
 #include <cmath>
 #include <vector>
 

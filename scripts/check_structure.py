@@ -2,9 +2,14 @@
 """Checks the two structural rules of camdyn's code (../shared/style.md, "Layers"):
 
 1. No folder includes a folder above it. The layers, bottom first:
-       common < scene < geometry < contact < integrate < dynamics < io < study < optim < cli
+       common < scene < geometry < contact < integrate < dynamics < io < study < api < optim < cli
    A file in src/<layer>/ (optim/ is the optim layer) may include headers of
    its own layer and of the layers below it only, and never with "../".
+   The public headers (include/camdyn/) belong to the api layer, except
+   <camdyn/errors.h> and <camdyn/version.h>, which every layer may include.
+   A public header includes only public headers and standard ones: a
+   "dynamics/..." (or any private or third-party) header there would leak
+   into every caller's build.
 2. No function in src/ or optim/ runs over MAX_LINES lines (from the line that
    opens its body to the line that closes it). Functions are found as the
    project's clang-format writes them: a definition whose body opens at the
@@ -20,8 +25,13 @@ import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-LAYERS = ["common", "scene", "geometry", "contact", "integrate", "dynamics", "io", "study", "optim", "cli"]
+LAYERS = ["common", "scene", "geometry", "contact", "integrate", "dynamics", "io", "study", "api", "optim", "cli"]
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"')
+ANY_INCLUDE = re.compile(r'^\s*#\s*include\s+([<"])([^>"]+)[>"]')
+# Public headers any layer may include (they depend on nothing); the others are the api layer's.
+PUBLIC_BASE = {"camdyn/errors.h", "camdyn/version.h"}
+# A standard library header: <name>, no folder and no extension.
+STANDARD = re.compile(r"^[a-z_0-9]+$")
 NOT_FUNCTIONS = re.compile(r"^(namespace|struct|class|enum|union|extern)\b|=\s*\{$|^(static\s+)?(const|constexpr)\b.*=")
 
 
@@ -49,6 +59,11 @@ def include_violations():
             found.append(f"{path.relative_to(ROOT)}: folder '{own}' is not a known layer ({', '.join(LAYERS)})")
             continue
         for number, line in enumerate(path.read_text(encoding="utf-8").splitlines(), start=1):
+            public = ANY_INCLUDE.match(line)
+            if (public and public.group(1) == "<" and public.group(2).startswith("camdyn/")
+                    and public.group(2) not in PUBLIC_BASE and LAYERS.index(own) < LAYERS.index("api")):
+                found.append(f"{path.relative_to(ROOT)}:{number}: layer '{own}' includes the public header "
+                             f"'<{public.group(2)}>' of the layer above it, 'api'")
             match = INCLUDE.match(line)
             if not match:
                 continue
@@ -62,6 +77,26 @@ def include_violations():
             if LAYERS.index(head) > LAYERS.index(own):
                 found.append(f"{path.relative_to(ROOT)}:{number}: layer '{own}' includes '{target}' "
                              f"from the layer above it, '{head}'")
+    return found
+
+
+def public_headers():
+    return sorted(p for p in (ROOT / "include").rglob("*") if p.name.endswith((".h", ".h.in")))
+
+
+def public_include_violations():
+    """A public header includes only <camdyn/...> and standard headers."""
+    found = []
+    for path in public_headers():
+        for number, line in enumerate(path.read_text(encoding="utf-8").splitlines(), start=1):
+            match = ANY_INCLUDE.match(line)
+            if not match:
+                continue
+            bracket, target = match.groups()
+            if bracket == "<" and (target.startswith("camdyn/") or STANDARD.match(target)):
+                continue
+            found.append(f"{path.relative_to(ROOT)}:{number}: public header includes '{target}': only "
+                         f"<camdyn/...> and standard headers may be included there (it would leak)")
     return found
 
 
@@ -100,10 +135,11 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--max-lines", type=int, default=120)
     args = parser.parse_args()
-    problems = include_violations() + long_functions(args.max_lines)
+    problems = include_violations() + public_include_violations() + long_functions(args.max_lines)
     for problem in problems:
         print(problem)
     print(f"check_structure: {len(problems)} problem(s) in {sum(1 for _ in sources())} files "
+          f"and {len(public_headers())} public headers "
           f"(layers {' < '.join(LAYERS)}; functions <= {args.max_lines} lines)")
     return 1 if problems else 0
 

@@ -57,7 +57,7 @@ for file in "${files[@]}"; do
     echo "check_tidy: $file is not in the ci build; skipped"
     continue
   fi
-  if ! "$tidy" -p build/ci --quiet --header-filter="^$root/(src|optim|bench)/" "$file" 2>/dev/null; then
+  if ! "$tidy" -p build/ci --quiet --header-filter="^$root/(src|optim|bench|include)/" "$file" 2>/dev/null; then
     failed+=("$file")
   fi
 done

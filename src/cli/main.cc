@@ -2,6 +2,7 @@
 // CONFIG`, `--version`. Exit codes: 0 success, 2 invalid input, 3 numerical
 // failure, 1 anything else. Progress goes to stderr on a terminal; results to
 // files; stdout gets a short summary.
+#include <camdyn/version.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>

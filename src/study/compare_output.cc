@@ -1,6 +1,8 @@
 // comparison.csv / comparison.json and the summary line of a compare study.
 #include "study/compare_output.h"
 
+#include <camdyn/version.h>
+
 #include <cmath>
 #include <cstdio>
 

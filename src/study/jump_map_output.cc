@@ -1,6 +1,8 @@
 // The jump map's run (ranges journalled on threads or MPI ranks) and its
 // outputs: jump_map.json, jump_map.csv (one row per speed), impacts.csv (one
 // row per impact) and report.html with the diagram.
+#include <camdyn/version.h>
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>

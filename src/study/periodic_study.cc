@@ -1,5 +1,7 @@
 #include "study/periodic_study.h"
 
+#include <camdyn/version.h>
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>

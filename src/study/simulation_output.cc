@@ -1,5 +1,7 @@
 #include "study/simulation_output.h"
 
+#include <camdyn/version.h>
+
 #include <cmath>
 #include <cstdio>
 #include <numbers>

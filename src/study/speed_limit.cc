@@ -1,5 +1,7 @@
 #include "study/speed_limit.h"
 
+#include <camdyn/version.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>

@@ -1,0 +1,56 @@
+// A scene: a cam-follower mechanism and how to run it, loaded from a config
+// (../shared/spec/interface.md) and checked completely: the config's fields,
+// the motion law, the cam geometry (undercut, pressure angle) and the contact
+// law, as `camdyn validate` checks them. Part of the public API.
+//
+//     const camdyn::Scene scene = camdyn::Scene::load("studies/quickstart.json", {"cam.rpm=1200"});
+//     const camdyn::Result result = camdyn::simulate(scene);
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace camdyn {
+
+struct Result;
+struct SimulateOptions;
+
+/// An immutable, checked scene. Copies share it; several threads may simulate
+/// one scene at once.
+class Scene {
+ public:
+  /// Reads a config file as `camdyn run FILE --set KEY=VALUE ...` does:
+  /// `extends` resolved, then each override "dotted.path=VALUE" applied
+  /// (VALUE parsed as JSON, else taken as a string; a leading "cam.",
+  /// "follower." or "contact." means "mechanism.…"). Relative file names in
+  /// it (a profile, a table's CSV) resolve against the file's directory.
+  /// Throws InputError naming the file, the dotted path and the reason.
+  static Scene load(const std::string& file, const std::vector<std::string>& overrides = {});
+
+  /// A scene from the text of a JSON config (no `extends`). Relative file
+  /// names in it resolve against `base_dir` (empty: the current directory).
+  /// Throws InputError; its file() is empty, its path() the dotted path.
+  static Scene from_json(const std::string& json_text, const std::string& base_dir = {},
+                         const std::vector<std::string>& overrides = {});
+
+  /// The config's `name`.
+  const std::string& name() const;
+  /// The cam speed the scene runs at [rpm].
+  double rpm() const;
+  /// The fully resolved config (every field, defaults filled in) as JSON
+  /// text, as `camdyn validate` prints it; Scene::from_json reads it back.
+  std::string resolved_json() const;
+  /// The rigid-model jump speed [rpm]: the lowest cam speed at which the
+  /// follower leaves a rigid cam (physics.md); +inf if the law never decelerates.
+  double jump_speed_rpm() const;
+
+ private:
+  struct Impl;
+  explicit Scene(std::shared_ptr<const Impl> impl);
+  std::shared_ptr<const Impl> impl_;
+
+  friend Result simulate(const Scene& scene, const SimulateOptions& options);
+};
+
+}  // namespace camdyn

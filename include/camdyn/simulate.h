@@ -1,0 +1,113 @@
+// Simulating a scene and reading the result, with plain standard types only:
+// the metrics by name, a summary of the integration in the manner of Ceres'
+// Solver::Summary (how it ended, why, and the counters), the time series as
+// named columns and the contact events. Part of the public API.
+#pragma once
+
+#include <camdyn/scene.h>
+
+#include <cstddef>
+#include <functional>
+#include <map>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace camdyn {
+
+struct SimulateOptions {
+  /// Record the time series (Result::series) at the config's output step.
+  bool record_series = true;
+  /// Extra times [s] (ascending, within the run) at which the state is
+  /// sampled from the integrator's dense output into Result::samples.
+  std::vector<double> sample_times;
+  /// Called now and then with the fraction of simulated time done, in [0, 1].
+  std::function<void(double)> progress;
+};
+
+/// How a run ended (summary.json's `solver.termination`).
+enum class TerminationStatus {
+  converged,           ///< integrated to the end time
+  integrator_failure,  ///< the integrator gave up
+  step_budget,         ///< more internal steps than integrator.max_steps
+  wall_time_budget,    ///< longer than integrator.max_wall_time_s
+  penetration_limit,   ///< penetration far beyond what the contact law describes
+  left_flat_face,      ///< the contact point ran off the flat face
+  tracking_lost,       ///< the contact pair could not be found again
+  no_initial_contact,  ///< no contact pair at the start
+};
+
+/// The word summary.json writes for a status ("converged", "step_budget", ...).
+const char* termination_name(TerminationStatus status);
+
+/// The integration: how it ended and what it cost.
+struct RunSummary {
+  TerminationStatus termination = TerminationStatus::converged;
+  /// Empty when converged; otherwise what stopped the run, naming the time and
+  /// cam angle reached.
+  std::string message;
+  std::string method;  ///< integrator.method
+  double rtol = 0.0, atol = 0.0;
+  long steps = 0;
+  long rhs_evaluations = 0;
+  long error_test_failures = 0;
+  long nonlinear_iterations = 0;
+  long jacobian_evaluations = 0;
+  long reinitialisations = 0;
+  long events = 0;           ///< roots located (onsets, separations, force clamp switches)
+  long tracking_resets = 0;  ///< global re-initialisations of the contact pair
+  long projections = 0;      ///< drift projections of the differential tracking
+  double run_time_s = 0.0;   ///< wall time of the run [s]
+  /// Richardson estimate (integrator.error_estimate = "richardson"): max
+  /// position difference [m] and relative peak force difference [-] to a run
+  /// at a 100x tighter tolerance; both 0 without it.
+  bool error_estimated = false;
+  double error_position = 0.0;
+  double error_peak_contact_force = 0.0;
+
+  bool converged() const { return termination == TerminationStatus::converged; }
+};
+
+/// Time series as named columns of equal length (timeseries.csv's columns:
+/// time, cam_angle_deg, follower_position, ..., in that order).
+struct Columns {
+  std::vector<std::string> names;
+  std::vector<std::vector<double>> values;  ///< values[i] is the column names[i]
+
+  /// The column called `name`; throws std::out_of_range if there is none.
+  const std::vector<double>& operator[](std::string_view name) const;
+  std::size_t rows() const { return values.empty() ? 0 : values.front().size(); }
+};
+
+/// A contact onset or separation located by root finding.
+struct Event {
+  double time = 0.0;           ///< [s]
+  double cam_angle_deg = 0.0;  ///< [deg]
+  bool onset = true;           ///< onset (gap closes) or separation (gap opens)
+  double speed = 0.0;          ///< normal approach speed at onset, separation speed at separation [m/s]
+  bool impact = false;         ///< an onset after a separation
+};
+
+struct Result {
+  /// summary.json's metrics over the evaluated cycles, by name (SI units;
+  /// impact_count as a number; jump_speed_rpm +inf when the law never
+  /// decelerates). Partial when the run did not converge.
+  std::map<std::string, double> metrics;
+  RunSummary solver;
+  Columns series;   ///< at the config's output step (empty without record_series)
+  Columns samples;  ///< at SimulateOptions::sample_times
+  std::vector<Event> events;
+  double evaluated_from = 0.0;  ///< start of the evaluated window [s]
+  double end_time = 0.0;        ///< [s]
+};
+
+/// Simulates the scene. A solver that gives up or a budget that runs out is
+/// not an exception: result.solver says how the run ended (call
+/// throw_if_failed to make it one). Throws InputError when the follower has
+/// no static equilibrium to start from.
+Result simulate(const Scene& scene, const SimulateOptions& options = {});
+
+/// Throws NumericalError(result.solver.message) unless the run converged.
+void throw_if_failed(const Result& result);
+
+}  // namespace camdyn

@@ -1,0 +1,107 @@
+// camdyn::Scene (<camdyn/scene.h>): loading checks as much as `camdyn
+// validate` does, and an error names the file and the dotted path; overrides
+// work as --set does; the resolved config reads back to the same scene.
+#include <camdyn/scene.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "common/errors.h"
+#include "dynamics/model.h"
+#include "io/config.h"
+#include "io/json_archive.h"
+#include "io/json_writer.h"
+
+namespace camdyn {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kStudies = std::string(CAMDYN_SOURCE_DIR) + "/studies";
+const std::string kQuickstart = kStudies + "/quickstart.json";
+const fs::path kCorpusDir = fs::path(CAMDYN_TEST_DATA_DIR) / "bad_configs";
+
+/// The InputError that `f` throws (fails the test when it throws none).
+template <class F>
+InputError input_error_of(F&& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e;
+  }
+  ADD_FAILURE() << "no InputError";
+  return InputError("", "", "");
+}
+
+TEST(Scene, LoadsWhatTheCliLoads) {
+  const Scene scene = Scene::load(kQuickstart);
+  const SceneConfig internal = load_scene(kQuickstart);
+  EXPECT_EQ(scene.name(), internal.name);
+  EXPECT_EQ(scene.rpm(), internal.mechanism.cam.rpm);
+  EXPECT_EQ(scene.resolved_json(), dump_json(to_json(internal)));
+  EXPECT_EQ(scene.jump_speed_rpm(), jump_speed_rpm(build_model(internal, kQuickstart)));
+}
+
+TEST(Scene, OverridesWorkAsSetDoes) {
+  const std::vector<std::string> overrides = {"cam.rpm=1000", "mechanism.follower.mass=0.25", "name=slower"};
+  const Scene scene = Scene::load(kQuickstart, overrides);
+  EXPECT_EQ(scene.rpm(), 1000.0);
+  EXPECT_EQ(scene.name(), "slower");
+  EXPECT_EQ(scene.resolved_json(), dump_json(to_json(load_scene(kQuickstart, overrides))));
+  // A lighter follower jumps at a higher speed (the same spring force on less inertia).
+  EXPECT_GT(scene.jump_speed_rpm(), Scene::load(kQuickstart).jump_speed_rpm());
+}
+
+TEST(Scene, FromJsonReadsTheResolvedConfigBack) {
+  const Scene scene = Scene::load(kQuickstart, {"cam.rpm=1100"});
+  const Scene again = Scene::from_json(scene.resolved_json(), kStudies);
+  EXPECT_EQ(again.resolved_json(), scene.resolved_json());
+  EXPECT_EQ(again.jump_speed_rpm(), scene.jump_speed_rpm());
+  EXPECT_EQ(Scene::from_json(scene.resolved_json(), kStudies, {"cam.rpm=900"}).rpm(), 900.0);
+}
+
+TEST(Scene, FromJsonResolvesRelativeFilesAgainstBaseDir) {
+  // quickstart.json's motion_law names "profiles/...", relative to the repository.
+  const std::string text = read_json_file(kQuickstart).dump();
+  EXPECT_EQ(Scene::from_json(text, CAMDYN_SOURCE_DIR).resolved_json(), Scene::load(kQuickstart).resolved_json());
+}
+
+TEST(Scene, BadConfigNamesFileAndDottedPath) {
+  const InputError e = input_error_of([] { (void)Scene::load(kQuickstart, {"cam.rpmm=3"}); });
+  EXPECT_EQ(e.file(), kQuickstart);
+  EXPECT_EQ(e.path(), "mechanism.cam.rpmm");
+  EXPECT_NE(std::string(e.what()).find("did you mean 'rpm'?"), std::string::npos) << e.what();
+
+  const InputError negative = input_error_of([] { (void)Scene::load(kQuickstart, {"follower.mass=-1"}); });
+  EXPECT_EQ(negative.path(), "mechanism.follower.mass");
+}
+
+TEST(Scene, BadJsonTextNamesThePath) {
+  const InputError e = input_error_of([] { (void)Scene::from_json(R"({"mechanism": {"cam": {"rpm": "fast"}}})"); });
+  EXPECT_EQ(e.file(), "");
+  EXPECT_EQ(e.path(), "mechanism.cam.rpm");
+  const InputError syntax = input_error_of([] { (void)Scene::from_json("{\"name\": }"); });
+  EXPECT_NE(syntax.path().find("line 1"), std::string::npos) << syntax.what();
+}
+
+// Every file of the bad-config corpus, config and geometry stage alike, is
+// rejected by Scene::load (which builds the cam, as `camdyn validate` does)
+// with an InputError naming the file and the expected dotted path.
+TEST(Scene, RejectsEveryBadConfigOfTheCorpus) {
+  const Json expected = read_json_file((kCorpusDir / "expected.json").string());
+  int checked = 0;
+  for (const auto& item : expected.at("files").items()) {
+    const std::string file = (kCorpusDir / item.key()).string();
+    const std::string path = item.value().at("path").get<std::string>();
+    const InputError e = input_error_of([&] { (void)Scene::load(file); });
+    EXPECT_NE(e.path().find(path), std::string::npos) << item.key() << ": " << e.what();
+    EXPECT_NE(std::string(e.what()).find(item.key()), std::string::npos) << item.key() << ": " << e.what();
+    ++checked;
+  }
+  EXPECT_GT(checked, 20);
+}
+
+}  // namespace
+}  // namespace camdyn
