@@ -12,10 +12,6 @@
 
 namespace camdyn {
 
-namespace {
-
-const std::vector<std::string> kStudyKeys = {"jump_map", "periodic"};
-
 template <class A>
 void visit(A& a, JumpMapConfig& c) {
   a.field("low_rpm", c.low_rpm, positive());
@@ -26,6 +22,10 @@ void visit(A& a, JumpMapConfig& c) {
   a.field("samples", c.samples, at_least(1));
   a.require(c.high_rpm > c.low_rpm, "high_rpm", "must be above low_rpm");
 }
+
+namespace {
+
+const std::vector<std::string> kStudyKeys = {"jump_map", "periodic"};
 
 // The section samples after the transient: `samples` revolutions from `from`,
 // the state sampled once per revolution, the metrics over every step.
@@ -96,26 +96,16 @@ JumpMapStudy read_jump_map_study(const Json& doc, const StudyContext& ctx) {
   JumpMapStudy study;
   Json part;
   study.scene = scene_from_study_json(doc, ctx.source, kStudyKeys, part);
-  const Json fields = part.value("jump_map", Json::object());  // the readers keep references
-  JsonReader reader(fields, "jump_map", ctx.source);
-  visit(reader, study.config);
-  reader.finish();
+  const Json fields = read_study_fields(part, "jump_map", ctx.source, study.config);
   study.periodic.options.lyapunov_revolutions = 100;  // per speed: a shorter default than the periodic study's
-  const Json periodic = part.value("periodic", Json::object());
-  JsonReader periodic_reader(periodic, "periodic", ctx.source);
-  visit(periodic_reader, study.periodic);
-  periodic_reader.finish();
+  const Json periodic = read_study_fields(part, "periodic", ctx.source, study.periodic);
   const Model model = build_model(study.scene, ctx.config_file);
   [[maybe_unused]] const PoincareMap map(study.scene, model, ctx.config_file);  // the drive sets the speed
   study.rigid_jump_speed_rpm = jump_speed_rpm(model);
   study.damped_rigid_jump_speed_rpm = damped_jump_speed_rpm(model);
   const JumpMapConfig& c = study.config;
   for (int i = 0; i < c.speeds; ++i) study.rpm.push_back(c.low_rpm + (c.high_rpm - c.low_rpm) * i / (c.speeds - 1));
-  JsonWriter writer, periodic_writer;
-  visit(writer, study.config);
-  visit(periodic_writer, study.periodic);
-  study.resolved = resolved_study_json(study.scene, "jump_map",
-                                       Json{{"jump_map", writer.json()}, {"periodic", periodic_writer.json()}});
+  study.resolved = resolved_study_json(study.scene, "jump_map", Json{{"jump_map", fields}, {"periodic", periodic}});
   return study;
 }
 

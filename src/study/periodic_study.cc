@@ -77,15 +77,10 @@ PeriodicStudy read_periodic_study(const Json& doc, const StudyContext& ctx) {
   PeriodicStudy study;
   Json part;
   study.scene = scene_from_study_json(doc, ctx.source, kStudyKeys, part);
-  const Json fields = part.value("periodic", Json::object());  // the reader keeps a reference
-  JsonReader reader(fields, "periodic", ctx.source);
-  visit(reader, study.config);
-  reader.finish();
+  const Json fields = read_study_fields(part, "periodic", ctx.source, study.config);
   const Model model = build_model(study.scene, ctx.config_file);  // the geometry and contact law are checked here
   [[maybe_unused]] const PoincareMap map(study.scene, model, ctx.config_file);  // and that the drive sets the speed
-  JsonWriter writer;
-  visit(writer, study.config);
-  study.resolved = resolved_study_json(study.scene, "periodic", Json{{"periodic", writer.json()}});
+  study.resolved = resolved_study_json(study.scene, "periodic", Json{{"periodic", fields}});
   return study;
 }
 

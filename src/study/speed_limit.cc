@@ -57,15 +57,10 @@ SpeedLimitStudy read_speed_limit_study(const Json& doc, const StudyContext& ctx)
   SpeedLimitStudy study;
   Json part;
   study.scene = scene_from_study_json(doc, ctx.source, kStudyKeys, part);
-  const Json fields = part.value("speed_limit", Json::object());  // the reader keeps a reference
-  JsonReader reader(fields, "speed_limit", ctx.source);
-  visit(reader, study.config);
-  reader.finish();
+  const Json fields = read_study_fields(part, "speed_limit", ctx.source, study.config);
   // The geometry and contact law are checked here, before any run.
   study.rigid_jump_speed_rpm = jump_speed_rpm(build_model(study.scene, ctx.config_file));
-  JsonWriter writer;
-  visit(writer, study.config);
-  study.resolved = resolved_study_json(study.scene, "speed_limit", Json{{"speed_limit", writer.json()}});
+  study.resolved = resolved_study_json(study.scene, "speed_limit", Json{{"speed_limit", fields}});
   return study;
 }
 

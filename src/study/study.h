@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "io/config.h"
+#include "io/json_archive.h"
 
 namespace camdyn {
 
@@ -28,6 +29,20 @@ struct StudyContext {
 /// scene, so unknown keys are errors there). Throws InputError.
 SceneConfig scene_from_study_json(const Json& doc, const ConfigSource& source,
                                   const std::vector<std::string>& study_keys, Json& study_part);
+
+/// Reads the object `part[key]` ({} when absent) into `fields` through their
+/// `visit`, so unknown keys and bad values are InputErrors naming `key.field`;
+/// returns the fields written back, every default filled in (the resolved config).
+template <class Fields>
+Json read_study_fields(const Json& part, const std::string& key, const ConfigSource& source, Fields& fields) {
+  const Json object = part.value(key, Json::object());  // the reader keeps a reference
+  JsonReader reader(object, key, source);
+  visit(reader, fields);
+  reader.finish();
+  JsonWriter writer;
+  visit(writer, fields);
+  return writer.json();
+}
 
 /// The resolved config of a study: the resolved scene, the study name and the
 /// study's own resolved fields.

@@ -10,6 +10,7 @@
 
 #include "common/errors.h"
 #include "dynamics/model.h"
+#include "input_error_of.h"
 #include "io/config.h"
 #include "io/json_archive.h"
 #include "io/json_writer.h"
@@ -22,18 +23,6 @@ namespace fs = std::filesystem;
 const std::string kStudies = std::string(CAMDYN_SOURCE_DIR) + "/studies";
 const std::string kQuickstart = kStudies + "/quickstart.json";
 const fs::path kCorpusDir = fs::path(CAMDYN_TEST_DATA_DIR) / "bad_configs";
-
-/// The InputError that `f` throws (fails the test when it throws none).
-template <class F>
-InputError input_error_of(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e;
-  }
-  ADD_FAILURE() << "no InputError";
-  return InputError("", "", "");
-}
 
 TEST(Scene, LoadsWhatTheCliLoads) {
   const Scene scene = Scene::load(kQuickstart);
@@ -69,20 +58,21 @@ TEST(Scene, FromJsonResolvesRelativeFilesAgainstBaseDir) {
 }
 
 TEST(Scene, BadConfigNamesFileAndDottedPath) {
-  const InputError e = input_error_of([] { (void)Scene::load(kQuickstart, {"cam.rpmm=3"}); });
+  const InputError e = test::input_error_of([] { (void)Scene::load(kQuickstart, {"cam.rpmm=3"}); });
   EXPECT_EQ(e.file(), kQuickstart);
   EXPECT_EQ(e.path(), "mechanism.cam.rpmm");
   EXPECT_NE(std::string(e.what()).find("did you mean 'rpm'?"), std::string::npos) << e.what();
 
-  const InputError negative = input_error_of([] { (void)Scene::load(kQuickstart, {"follower.mass=-1"}); });
+  const InputError negative = test::input_error_of([] { (void)Scene::load(kQuickstart, {"follower.mass=-1"}); });
   EXPECT_EQ(negative.path(), "mechanism.follower.mass");
 }
 
 TEST(Scene, BadJsonTextNamesThePath) {
-  const InputError e = input_error_of([] { (void)Scene::from_json(R"({"mechanism": {"cam": {"rpm": "fast"}}})"); });
+  const InputError e =
+      test::input_error_of([] { (void)Scene::from_json(R"({"mechanism": {"cam": {"rpm": "fast"}}})"); });
   EXPECT_EQ(e.file(), "");
   EXPECT_EQ(e.path(), "mechanism.cam.rpm");
-  const InputError syntax = input_error_of([] { (void)Scene::from_json("{\"name\": }"); });
+  const InputError syntax = test::input_error_of([] { (void)Scene::from_json("{\"name\": }"); });
   EXPECT_NE(syntax.path().find("line 1"), std::string::npos) << syntax.what();
 }
 
@@ -95,7 +85,7 @@ TEST(Scene, RejectsEveryBadConfigOfTheCorpus) {
   for (const auto& item : expected.at("files").items()) {
     const std::string file = (kCorpusDir / item.key()).string();
     const std::string path = item.value().at("path").get<std::string>();
-    const InputError e = input_error_of([&] { (void)Scene::load(file); });
+    const InputError e = test::input_error_of([&] { (void)Scene::load(file); });
     EXPECT_NE(e.path().find(path), std::string::npos) << item.key() << ": " << e.what();
     EXPECT_NE(std::string(e.what()).find(item.key()), std::string::npos) << item.key() << ": " << e.what();
     ++checked;

@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "dynamics/simulation.h"
+#include "restitution.h"
 #include "scenes.h"
 
 namespace camdyn {
@@ -56,18 +57,6 @@ TEST(DropTest, HertzMatchesClosedFormPeakForceAndDuration) {
   EXPECT_NEAR(impact.rebound / impact.approach, 1.0, kLossless);
 }
 
-// Exact rebound ratio of F = K δ^n (1 + χ δ̇ / v0): ln((1 − χ e*)/(1 + χ)) + χ (1 + e*) = 0.
-double exact_rebound_ratio(double chi) {
-  auto residual = [chi](double e) { return std::log((1 - chi * e) / (1 + chi)) + chi * (1 + e); };
-  double lo = 0.0, hi = std::min(1.0, (1.0 - 1e-15) / chi);
-  // residual(0) = χ − ln(1 + χ) > 0; residual decreases towards the upper end.
-  for (int i = 0; i < 200; ++i) {
-    const double mid = 0.5 * (lo + hi);
-    (residual(mid) > 0 ? lo : hi) = mid;
-  }
-  return 0.5 * (lo + hi);
-}
-
 struct HysteresisCase {
   ContactModel model;
   double restitution;
@@ -81,7 +70,7 @@ TEST_P(DropHysteresisTest, ReboundRatioMatchesExactSolution) {
   ForceLaw law;
   law.model = c.model;
   law.restitution = c.restitution;
-  const double expected = exact_rebound_ratio(law.chi());
+  const double expected = test::exact_rebound_ratio(law.chi());
   const Impact impact = run_drop(scene);
   EXPECT_NEAR(impact.rebound / impact.approach / expected, 1.0, kDropAcceptance)
       << to_string(c.model) << " e = " << c.restitution << ", exact e* = " << expected;

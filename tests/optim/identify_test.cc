@@ -20,6 +20,7 @@
 #include "cli_run.h"
 #include "common/errors.h"
 #include "dynamics/simulation.h"
+#include "input_error_of.h"
 #include "io/config.h"
 #include "io/csv_reader.h"
 #include "io/json_archive.h"
@@ -42,18 +43,6 @@ constexpr double kTrueRestitution = 0.7;
 IdentifyProblem load(const std::string& file, const std::vector<std::string>& overrides = {}) {
   const Json doc = load_config_json(file, overrides);
   return load_identify_problem(doc, config_source(file));
-}
-
-/// The InputError `f` throws (fails the test if it throws none).
-template <class F>
-InputError input_error(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e;
-  }
-  ADD_FAILURE() << "no InputError";
-  return InputError("", "", "");
 }
 
 const ParameterEstimate& estimate(const IdentifyResult& r, const std::string& name) {
@@ -97,32 +86,32 @@ void write_clean_record(const SceneConfig& truth, const fs::path& file) {
 // ---------------------------------------------------------------- config
 
 TEST(IdentifyConfig, UnknownSolverKeyIsSuggested) {
-  const InputError e = input_error([] { load(kData + "single.json", {"solver.max_iteration=5"}); });
+  const InputError e = test::input_error_of([] { load(kData + "single.json", {"solver.max_iteration=5"}); });
   EXPECT_EQ(e.path(), "solver.max_iteration");
   EXPECT_NE(e.reason().find("did you mean 'max_iterations'"), std::string::npos) << e.what();
 }
 
 TEST(IdentifyConfig, MisspeltStudyKeyIsSuggested) {
-  const InputError e = input_error([] { load(kData + "single.json", {"experiment=[]"}); });
+  const InputError e = test::input_error_of([] { load(kData + "single.json", {"experiment=[]"}); });
   EXPECT_EQ(e.path(), "experiment");
   EXPECT_NE(e.reason().find("did you mean 'experiments'"), std::string::npos) << e.what();
 }
 
 TEST(IdentifyConfig, ParameterMustBeANumericFieldOfTheScene) {
-  InputError e = input_error([] { load(kData + "single.json", {"parameters.contact.stifness.initial=1e9"}); });
+  InputError e = test::input_error_of([] { load(kData + "single.json", {"parameters.contact.stifness.initial=1e9"}); });
   EXPECT_EQ(e.path(), "parameters.contact.stifness");
   EXPECT_NE(e.reason().find("did you mean 'stiffness'"), std::string::npos) << e.what();
-  e = input_error([] { load(kData + "single.json", {"parameters.contact.model.initial=1"}); });
+  e = test::input_error_of([] { load(kData + "single.json", {"parameters.contact.model.initial=1"}); });
   EXPECT_NE(e.reason().find("not a numeric field"), std::string::npos) << e.what();
 }
 
 TEST(IdentifyConfig, BoundsAreChecked) {
-  InputError e = input_error([] { load(kData + "single.json", {"parameters.contact.stiffness.lower=-1"}); });
+  InputError e = test::input_error_of([] { load(kData + "single.json", {"parameters.contact.stiffness.lower=-1"}); });
   EXPECT_EQ(e.path(), "parameters.contact.stiffness.lower");  // log scale needs > 0
-  e = input_error([] { load(kData + "single.json", {"parameters.contact.stiffness.upper=1e6"}); });
+  e = test::input_error_of([] { load(kData + "single.json", {"parameters.contact.stiffness.upper=1e6"}); });
   EXPECT_EQ(e.path(), "parameters.contact.stiffness.upper");  // below lower
   // A bound the scene itself rejects is caught before the solver can step onto it.
-  e = input_error([] {
+  e = test::input_error_of([] {
     load(kData + "single.json",
          {"parameters.contact.restitution.initial=0.5", "parameters.contact.restitution.upper=1.5"});
   });
@@ -132,13 +121,13 @@ TEST(IdentifyConfig, BoundsAreChecked) {
 
 TEST(IdentifyConfig, ReferenceSignalsAreTimeseriesColumns) {
   const InputError e =
-      input_error([] { load(kData + "single.json", {"reference.signals={\"contact_forse\": \"force_N\"}"}); });
+      test::input_error_of([] { load(kData + "single.json", {"reference.signals={\"contact_forse\": \"force_N\"}"}); });
   EXPECT_EQ(e.path(), "reference.signals.contact_forse");
   EXPECT_NE(e.reason().find("did you mean 'contact_force'"), std::string::npos) << e.what();
 }
 
 TEST(IdentifyConfig, ReferenceAndExperimentsExcludeEachOther) {
-  const InputError e = input_error([] {
+  const InputError e = test::input_error_of([] {
     load(kData + "single.json",
          {"experiments=[{\"reference\": {\"file\": \"good.csv\", \"signals\": {\"contact_force\": \"force_N\"}}}]"});
   });
@@ -146,8 +135,8 @@ TEST(IdentifyConfig, ReferenceAndExperimentsExcludeEachOther) {
 }
 
 TEST(IdentifyConfig, ExperimentCannotSetASharedParameter) {
-  const InputError e =
-      input_error([] { load(kDropStudy + "identify_drop.json", {"experiments[0].set.contact.stiffness=1e9"}); });
+  const InputError e = test::input_error_of(
+      [] { load(kDropStudy + "identify_drop.json", {"experiments[0].set.contact.stiffness=1e9"}); });
   EXPECT_EQ(e.path(), "experiments[0].set.contact.stiffness");
 }
 
@@ -180,7 +169,7 @@ class IdentifyBadData : public ::testing::TestWithParam<BadRecord> {};
 
 TEST_P(IdentifyBadData, IsAnInputErrorNamingFileAndLine) {
   const BadRecord& bad = GetParam();
-  const InputError e = input_error([&] { load(kData + "single.json", {"reference.file=" + bad.file}); });
+  const InputError e = test::input_error_of([&] { load(kData + "single.json", {"reference.file=" + bad.file}); });
   EXPECT_NE(e.file().find(bad.file), std::string::npos) << e.what();
   EXPECT_EQ(e.path(), bad.where) << e.what();
   EXPECT_NE(e.reason().find(bad.reason), std::string::npos) << e.what();

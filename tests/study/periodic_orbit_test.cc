@@ -19,6 +19,7 @@
 #include "contact/force_law.h"
 #include "dynamics/model.h"
 #include "io/config.h"
+#include "restitution.h"
 #include "study/periodic_study.h"
 #include "study/steady_state.h"
 #include "tolerance.h"
@@ -44,20 +45,12 @@ PeriodicResult run_study(const PeriodicStudy& study) {
   return run_periodic(study, ctx);
 }
 
-// The exact rebound ratio of F = K δ^n (1 + χ δ̇ / v₀) with v₀ the approach
-// speed: ln((1 − χ e*)/(1 + χ)) + χ (1 + e*) = 0 (bisection to round-off).
+// The bouncing ball's effective restitution: the exact rebound ratio of its contact law.
 double exact_restitution(const ContactConfig& c) {
   ForceLaw law;
   law.model = c.model;
   law.restitution = c.restitution;
-  const double chi = law.chi();
-  auto residual = [chi](double e) { return std::log((1 - chi * e) / (1 + chi)) + chi * (1 + e); };
-  double lo = 0.0, hi = std::min(1.0, (1.0 - 1e-15) / chi);
-  for (int i = 0; i < 200; ++i) {
-    const double mid = 0.5 * (lo + hi);
-    (residual(mid) > 0 ? lo : hi) = mid;
-  }
-  return 0.5 * (lo + hi);
+  return test::exact_rebound_ratio(law.chi());
 }
 
 // The bouncing ball's period-1 orbit in closed form: lift s = A (1 − cos θ).
