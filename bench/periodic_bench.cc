@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <string>
 
 #include "dynamics/poincare_map.h"
@@ -40,13 +41,13 @@ struct Case {
   PoincareMap map;
 };
 
-Case& quickstart(bool damper) {
-  static Case with(true), without(false);
-  return damper ? with : without;
+Case& quickstart(long damping) {
+  static std::map<long, Case> cases;
+  return cases.try_emplace(damping, damping).first->second;
 }
 
 void BM_ShootingToThePeriodicOrbit(benchmark::State& state) {
-  Case& c = quickstart(state.range(0) != 0);
+  Case& c = quickstart(state.range(0));
   PeriodicOptions options;
   options.threads = 1;
   long revolutions = 0;
@@ -57,7 +58,7 @@ void BM_ShootingToThePeriodicOrbit(benchmark::State& state) {
   }
   state.counters["revolutions"] = static_cast<double>(revolutions);
 }
-BENCHMARK(BM_ShootingToThePeriodicOrbit)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_ShootingToThePeriodicOrbit)->Arg(20)->Arg(5)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // Revolutions of a plain run from the scene's start until its section state
 // is within `tolerance` (scaled) of the fixed point; 0 if not within `limit`.
@@ -79,7 +80,7 @@ long revolutions_to_settle(Case& c, const SectionPoint& fixed, double tolerance,
 }
 
 void BM_PlainRunUntilSettled(benchmark::State& state) {
-  Case& c = quickstart(state.range(0) != 0);
+  Case& c = quickstart(state.range(0));
   PeriodicOptions options;
   const PeriodicAnalysis a = analyse_steady_state(c.map, options);
   if (!a.orbit) {
@@ -93,7 +94,7 @@ void BM_PlainRunUntilSettled(benchmark::State& state) {
   state.counters["revolutions_ratio"] =
       a.revolutions > 0 ? static_cast<double>(revolutions) / static_cast<double>(a.revolutions) : 0.0;
 }
-BENCHMARK(BM_PlainRunUntilSettled)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+BENCHMARK(BM_PlainRunUntilSettled)->Arg(20)->Arg(5)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
 
 }  // namespace
 

@@ -91,8 +91,8 @@ class Shooter {
   std::string failure_;
 };
 
-// Newton on P^k(x) − x = 0 from `start`, with step halving when a full step
-// does not lower the residual; the converged orbit, or nullopt.
+// Newton on P^k(x) − x = 0 from `start`, damped by step halving and, where
+// no step helps, by following the motion; the converged orbit, or nullopt.
 std::optional<Orbit> shoot(Shooter& shooter, const SectionPoint& start, int k, const PeriodicOptions& options,
                            std::vector<NewtonStep>& trace) {
   SectionPoint x = start;
@@ -113,23 +113,29 @@ std::optional<Orbit> shoot(Shooter& shooter, const SectionPoint& start, int k, c
     if (it >= options.max_newton_iterations || !std::isfinite(norm)) return std::nullopt;
     const VectorXd step = (*J - MatrixXd::Identity(n, n)).fullPivLu().solve(-residual);
     if (!step.allFinite()) return std::nullopt;
-    // Halve the step until the residual falls (at most 5 times), keeping the
-    // trial's image for the next iteration.
+    // Halve the step until the residual falls (at most twice), keeping the
+    // trial's image for the next iteration. When no step lowers it (the
+    // Jacobian is poor, e.g. the number of impacts changes nearby), follow
+    // the motion k revolutions instead: x ← P^k(x), which a stable orbit
+    // attracts, and try Newton again from there.
     bool accepted = false;
-    for (double t = 1.0; t > 0.03 && !accepted; t *= 0.5) {
+    for (double t = 1.0; t > 0.2 && !accepted; t *= 0.5) {
       SectionPoint trial = x;
       for (int j = 0; j < n; ++j) trial.x[static_cast<std::size_t>(j)] += t * step[j];
       std::optional<SectionPoint> trial_image = shooter.apply(trial, k);
       if (!trial_image) continue;
       const double trial_norm = shooter.scaled_norm(to_vector(trial_image->x) - to_vector(trial.x));
-      if (trial_norm < norm || t < 0.05) {
+      if (trial_norm < norm) {
         x = trial;
         x.approach_speed = trial_image->approach_speed;  // the episode the orbit closes on
         image = trial_image;
         accepted = true;
       }
     }
-    if (!accepted) return std::nullopt;
+    if (!accepted) {
+      x = *image;
+      image = shooter.apply(x, k);
+    }
   }
   return std::nullopt;
 }
