@@ -134,6 +134,21 @@ TEST_F(ReportInBrowser, Optimize) {
                {"--set", "optimizer.max_evaluations=4", "--set", "simulation.cycles=2"}, 1);
 }
 
+TEST_F(ReportInBrowser, Periodic) {
+  // The phase plane, the contact force over a period, the multipliers, the Newton residuals.
+  check_report("periodic", kStudies + "periodic/bouncing_ball.json", {}, 4);
+}
+
+TEST_F(ReportInBrowser, JumpMap) {
+  // Impact speed, Poincaré section and impact angles against rpm.
+  check_report("jump_map", kStudies + "quickstart.json",
+               {"--set", "study=jump_map", "--set",
+                R"(jump_map={"low_rpm": 1000, "high_rpm": 1300, "speeds": 4, "ranges": 2, "transient_revolutions": 5,
+                   "samples": 5})",
+                "--set", R"(periodic={"max_period": 1, "lyapunov_revolutions": 10})"},
+               3);
+}
+
 TEST_F(ReportInBrowser, Identify) {
   check_report("identify", kStudies + "identify_drop/identify_drop.json", {"--set", "solver.max_iterations=2"}, 1);
 }
