@@ -36,13 +36,11 @@ SteadyStateOutcome search(const SceneConfig& scene, const Model& model, Simulati
                "): metrics over the evaluated window";
       return o;
     }
-    SceneConfig one = map.scene_for(a.orbit->period);
-    one.simulation.output_step_deg = 360.0;
     Workspace ws = make_workspace(model);
     SimulationOptions run;
     run.record_series = false;
     run.start = std::make_shared<const StartState>(map.start(a.orbit->fixed_point));
-    const SimulationResult orbit = simulate(one, model, ws, run);
+    const SimulationResult orbit = simulate(map.scene_for(a.orbit->period), model, ws, run);
     if (!orbit.solver.converged()) {
       o.note = "the run along the orbit failed (" + orbit.solver.message + "): metrics over the evaluated window";
       return o;
