@@ -218,6 +218,28 @@ void choose_optimized(const DesignSpace& space, const DesignEvaluator& evaluator
 }
 
 /// The chosen design's objective over a window twice as long (WindowCheck).
+SteadyStateCheck check_steady_state(const DesignEvaluator& evaluator, const OptimizeOutcome& out) {
+  SteadyStateCheck c;
+  SceneConfig scene = out.optimized_scene;
+  scene.simulation.steady_state = true;
+  const DesignEvaluation e = evaluator.evaluate(scene, {}, true);
+  if (!e.valid) {
+    c.reason = "the design could not be simulated for its steady state: " + e.error;
+    return c;
+  }
+  c.checked = true;
+  c.speeds = static_cast<int>(e.speeds.size());
+  for (const SpeedResult& speed : e.speeds) {
+    if (speed.result.metrics_over == "periodic_orbit") ++c.speeds_on_orbit;
+    c.notes.push_back(format_shortest(speed.rpm) + " rpm: " + speed.result.metrics_note);
+  }
+  c.objective = e.objective;
+  c.relative_change =
+      std::abs(e.objective - out.optimized.objective) / std::max(std::abs(out.optimized.objective), 1e-12);
+  c.agrees = c.relative_change <= WindowCheck::kTolerance;
+  return c;
+}
+
 WindowCheck check_window(const DesignEvaluator& evaluator, const OptimizeOutcome& out) {
   WindowCheck w;
   const SimulationConfig& sim = out.optimized_scene.simulation;
@@ -244,6 +266,10 @@ WindowCheck check_window(const DesignEvaluator& evaluator, const OptimizeOutcome
   w.feasible_doubled = e.feasible;
   w.relative_change = std::abs(e.objective - w.objective) / std::max(std::abs(w.objective), 1e-12);
   w.converged = w.relative_change <= WindowCheck::kTolerance && e.feasible == out.optimized.feasible;
+  if (out.optimized_scene.simulation.steady_state)
+    w.steady_state.reason = "the loop's evaluations were on the steady state (simulation.steady_state)";
+  else
+    w.steady_state = check_steady_state(evaluator, out);
   return w;
 }
 

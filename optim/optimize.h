@@ -42,9 +42,24 @@ struct OptimizeOptions {
   std::filesystem::path checkpoint_dir;
 };
 
+/// The objective on each speed's periodic steady state (study/steady_state.h)
+/// where one is found, against the loop's window: the two agree when the
+/// window already sat on the orbit.
+struct SteadyStateCheck {
+  bool checked = false;
+  std::string reason;              ///< why not checked
+  int speeds_on_orbit = 0;         ///< of the operating speeds, those with a stable orbit found
+  int speeds = 0;                  ///< operating speeds
+  double objective = 0.0;          ///< with the metrics over the orbits (the window's where none)
+  double relative_change = 0.0;    ///< against the window's objective
+  bool agrees = false;             ///< within WindowCheck::kTolerance
+  std::vector<std::string> notes;  ///< per speed: the orbit, or why the window's metrics stay
+};
+
 /// The optimised design evaluated again over an evaluated window twice as
 /// long: an objective that changes with the window is a transient's, not the
 /// design's. Converged when it changes by at most `kTolerance` relative.
+/// Beside it the steady-state check: the same objective on the periodic orbits.
 struct WindowCheck {
   static constexpr double kTolerance = 1e-3;
   bool checked = false;
@@ -56,6 +71,7 @@ struct WindowCheck {
   bool feasible_doubled = false;
   double relative_change = 0.0;
   bool converged = false;
+  SteadyStateCheck steady_state;
 };
 
 struct OptimizeOutcome {

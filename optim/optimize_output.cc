@@ -94,6 +94,18 @@ Json design_json(const DesignEvaluation& e, const OptimizeOutcome& outcome, cons
 
 /// The rigid-model stage: the certificate (jump-free speeds are null when
 /// unbounded) and the design the dynamic stage starts from.
+Json steady_state_check_json(const SteadyStateCheck& c) {
+  if (!c.checked) return Json{{"checked", false}, {"reason", c.reason}};
+  return Json{{"checked", true},
+              {"speeds_on_orbit", c.speeds_on_orbit},
+              {"speeds", c.speeds},
+              {"objective", c.objective},
+              {"relative_change", c.relative_change},
+              {"tolerance", WindowCheck::kTolerance},
+              {"agrees", c.agrees},
+              {"notes", c.notes}};
+}
+
 Json rigid_json(const RigidStageResult& r, bool enabled) {
   const Certificate& c = r.certificate;
   Json j = Json::object();
@@ -189,7 +201,8 @@ Json result_json(const OptimizeOutcome& o, const std::string& name, const std::s
                                        {"feasible_doubled", w.feasible_doubled},
                                        {"relative_change", w.relative_change},
                                        {"tolerance", WindowCheck::kTolerance},
-                                       {"converged", w.converged}}
+                                       {"converged", w.converged},
+                                       {"steady_state", steady_state_check_json(w.steady_state)}}
                                 : Json{{"checked", false}, {"reason", w.reason}};
   r["baseline"] = design_json(o.baseline, o, file);
   r["initial"] = Json{{"objective", o.initial.objective}, {"feasible", o.initial.feasible}, {"valid", o.initial.valid}};

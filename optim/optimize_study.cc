@@ -88,6 +88,13 @@ int run_optimize_study(const Json& doc, const StudyContext& ctx) {
         "  window check: objective %.6g over %g evaluated revolutions, %.6g over %g (change %.2g): %s\n", w.objective,
         w.evaluated_cycles, w.objective_doubled, 2.0 * w.evaluated_cycles, w.relative_change,
         w.converged ? "converged" : "NOT converged: the objective depends on the window; raise simulation.cycles");
+  const SteadyStateCheck& ss = w.steady_state;
+  if (ss.checked)
+    std::printf(
+        "  steady-state check: objective %.6g with the metrics over the periodic orbit (%d of %d speeds on "
+        "one; change %.2g): %s\n",
+        ss.objective, ss.speeds_on_orbit, ss.speeds, ss.relative_change,
+        ss.agrees ? "agrees" : "DIFFERS: the window is not the steady state; set simulation.steady_state");
   if (!b.speeds.empty() && !p.speeds.empty())
     std::printf("  rigid-model jump speed %.6g -> %.6g rpm\n", b.speeds.front().result.metrics.jump_speed_rpm,
                 p.speeds.front().result.metrics.jump_speed_rpm);

@@ -26,7 +26,7 @@ void SimulationPool::run_job(Worker& worker, std::size_t job) {
     worker.model = build_model(scene, file_);
     out.result = simulate(scene, worker.model, worker.ws, options_);
     throw_if_failed(out.result);
-    apply_steady_state(scene, worker.model, out.result);
+    apply_steady_state(scene, worker.model, out.result, SteadyStateSearch::evaluation);
     out.status = SimulationOutcome::Status::ok;
   } catch (const InputError& e) {
     out.status = SimulationOutcome::Status::input_error;

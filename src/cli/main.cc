@@ -77,7 +77,7 @@ int run_simulate(const camdyn::Json& doc, const camdyn::StudyContext& ctx) {
   camdyn::SimulationResult result = camdyn::simulate(scene, model, ws, options);
   camdyn::estimate_error(scene, model, result);
   camdyn::throw_if_failed(result);
-  camdyn::apply_steady_state(scene, model, result, ctx.threads());
+  camdyn::apply_steady_state(scene, model, result, camdyn::SteadyStateSearch::full, ctx.threads());
   const std::filesystem::path& out = ctx.out_dir;
   camdyn::write_simulation_outputs(out, scene, model, result);
 

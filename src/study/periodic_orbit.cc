@@ -240,7 +240,7 @@ LyapunovEstimate estimate_lyapunov(const PoincareMap& map, const SectionPoint& s
 
 PeriodicAnalysis analyse_from(const PoincareMap& map, const SectionPoint& start, const PeriodicOptions& options) {
   PeriodicAnalysis a = find_periodic_orbit(map, start, options);
-  if (a.orbit) return a;
+  if (a.orbit || options.lyapunov_revolutions <= 0) return a;
   if (options.log)
     options.log(format("no stable orbit up to period %d: estimating the Lyapunov exponent over %d revolutions",
                        options.max_period, options.lyapunov_revolutions));

@@ -32,7 +32,7 @@ struct PeriodicOptions {
   int transient_revolutions = 4;   ///< run before the first Newton start
   int max_newton_iterations = 15;  ///< per period
   double tolerance = 1e-7;         ///< max |R_j| / scale_j at a converged orbit [-]
-  int lyapunov_revolutions = 200;  ///< of the Lyapunov run when no stable orbit converged
+  int lyapunov_revolutions = 200;  ///< of the Lyapunov run when no stable orbit converged (0: none)
   double chaos_threshold = 0.01;   ///< λ per revolution above which the motion is called chaotic [-]
   int threads = 1;
   /// Told what the search is doing (period tried, Newton residual).

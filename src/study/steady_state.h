@@ -26,12 +26,20 @@ struct SteadyStateOutcome {
   long revolutions = 0;  ///< integrated for the search
 };
 
+/// How much one search may cost. `full` (simulate, compare runs) tries
+/// periods up to 8 and classifies a motion without a stable orbit by its
+/// Lyapunov exponent; `evaluation` (optimize, which searches hundreds of
+/// times) tries periods 1 and 2 and leaves an unresolved motion on the
+/// window's metrics without classifying it. Either is deterministic.
+enum class SteadyStateSearch { full, evaluation };
+
 /// With scene.simulation.steady_state and a converged `result`, replaces
 /// result.metrics by those over one period of the stable orbit when one is
-/// found; otherwise leaves them. Never throws for the search itself (a failed
+/// found; otherwise leaves them. A run that has already settled (one more
+/// revolution returns to its end within the tolerance) needs no search. Never throws for the search itself (a failed
 /// search leaves the window's metrics and says so); `threads` for the
 /// Jacobian columns.
 SteadyStateOutcome apply_steady_state(const SceneConfig& scene, const Model& model, SimulationResult& result,
-                                      int threads = 1);
+                                      SteadyStateSearch effort = SteadyStateSearch::full, int threads = 1);
 
 }  // namespace camdyn

@@ -355,6 +355,12 @@ TEST(OptimizeCli, SeparationObjectiveAloneGivesADesignThatStaysOnTheCam) {
   ASSERT_TRUE(window["checked"].get<bool>()) << window.dump();
   EXPECT_TRUE(window["converged"].get<bool>()) << window.dump();
   EXPECT_LE(window["relative_change"].get<double>(), window["tolerance"].get<double>());
+  // And it is the objective on the periodic steady state: at every speed the
+  // window's end is on a stable orbit, whose metrics give the same objective.
+  const Json& steady = window["steady_state"];
+  ASSERT_TRUE(steady["checked"].get<bool>()) << steady.dump();
+  EXPECT_EQ(steady["speeds_on_orbit"].get<int>(), 3) << steady.dump();
+  EXPECT_TRUE(steady["agrees"].get<bool>()) << steady.dump();
   // optimized.json carries the study's geometric constraints as cam limits,
   // and `camdyn validate` re-checks them; a limit the cam breaks is refused.
   const Outcome valid = run_cli("validate " + (dir / "optimized.json").string());

@@ -270,5 +270,52 @@ TEST(SteadyState, ChaoticRunKeepsTheWindowAndSaysWhy) {
   EXPECT_NE(r.metrics_note.find("evaluated window"), std::string::npos) << r.metrics_note;
 }
 
+// A run that has settled needs no search: one more revolution from its end
+// returns there, and that revolution's metrics are the orbit's. The bouncing
+// ball started on its orbit is such a run; the shooting from a start off the
+// orbit finds the same orbit, so the metrics agree to the search's tolerance.
+TEST(SteadyState, ASettledRunCostsOneRevolutionAndMatchesTheShooting) {
+  PeriodicStudy study = read_study(kBouncingBall);
+  study.scene.mechanism.cam.rpm = 570;
+  const BallOrbit expected = ball_orbit(study.scene);
+  study.scene.mechanism.follower.initial.position = expected.section_position;
+  study.scene.mechanism.follower.initial.velocity = expected.section_velocity;
+  study.scene.simulation.steady_state = true;
+  study.scene.simulation.cycles = 60;  // |mu|^60 = 1.6e-11: settled to the tolerance
+  const Model model = build_model(study.scene, "test");
+  Workspace ws = make_workspace(model);
+  SimulationResult settled = simulate(study.scene, model, ws);
+  ASSERT_TRUE(settled.solver.converged());
+  const SteadyStateOutcome o = apply_steady_state(study.scene, model, settled, SteadyStateSearch::evaluation);
+  ASSERT_TRUE(o.on_orbit) << o.note;
+  EXPECT_EQ(o.revolutions, 1);
+  EXPECT_NE(o.note.find("had settled"), std::string::npos) << o.note;
+
+  study.scene.simulation.cycles = 2;  // still in its transient: the shooting runs
+  SimulationResult early = simulate(study.scene, model, ws);
+  const SteadyStateOutcome shot = apply_steady_state(study.scene, model, early, SteadyStateSearch::evaluation);
+  ASSERT_TRUE(shot.on_orbit) << shot.note;
+  EXPECT_GT(shot.revolutions, 1);
+  EXPECT_EQ(early.metrics.impact_count, settled.metrics.impact_count);
+  EXPECT_NEAR(early.metrics.max_impact_velocity, settled.metrics.max_impact_velocity,
+              1e-4 * settled.metrics.max_impact_velocity);
+}
+
+// Optimize evaluations do not classify a motion without an orbit (no
+// Lyapunov run): the window's metrics stay and the motion is unresolved.
+TEST(SteadyState, AnEvaluationSearchDoesNotClassifyChaos) {
+  PeriodicStudy study = read_study(kChaotic);
+  study.scene.simulation.steady_state = true;
+  const Model model = build_model(study.scene, "test");
+  Workspace ws = make_workspace(model);
+  SimulationResult r = simulate(study.scene, model, ws);
+  ASSERT_TRUE(r.solver.converged());
+  const SteadyStateOutcome o = apply_steady_state(study.scene, model, r, SteadyStateSearch::evaluation);
+  EXPECT_FALSE(o.on_orbit);
+  EXPECT_EQ(o.motion, "unresolved");
+  EXPECT_EQ(r.metrics_over, "window");
+  EXPECT_LT(o.revolutions, 200);
+}
+
 }  // namespace
 }  // namespace camdyn
