@@ -326,6 +326,15 @@ std::vector<std::string> report_notes(const OptimizeOutcome& o) {
   notes.push_back("Spline fit of the baseline law: max lift error " + format_number(o.fit.max_lift_error, 3) +
                   " of the lift, max acceleration error " + format_number(o.fit.max_acceleration_error, 3) +
                   " of the peak.");
+  const WindowCheck& w = o.window_check;
+  if (w.checked)
+    notes.push_back("Window check: the objective over a window twice as long changes by " +
+                    format_number(w.relative_change, 2) + (w.converged ? " (converged)." : " (NOT converged)."));
+  if (w.steady_state.checked)
+    notes.push_back("Steady-state check: with the metrics over the periodic orbit (" +
+                    std::to_string(w.steady_state.speeds_on_orbit) + " of " + std::to_string(w.steady_state.speeds) +
+                    " speeds on one) the objective changes by " + format_number(w.steady_state.relative_change, 2) +
+                    (w.steady_state.agrees ? " (agrees)." : " (DIFFERS: set simulation.steady_state)."));
   if (!o.optimized.feasible) notes.push_back("WARNING: the optimised design does not satisfy every constraint.");
   return notes;
 }
