@@ -138,9 +138,11 @@ FitScene::FitScene(const FitExperiment& experiment, const std::vector<FitParamet
   options_.record_series = false;
   options_.sample_times = experiment.record.time;
   // The residuals read only the samples; the energy residual is the one
-  // sampled column that needs the balance followed over every step.
+  // sampled column that needs the balance followed over every step, and the
+  // only one that needs the quadratures.
   const std::vector<std::string>& signals = experiment.record.signals;
   options_.step_metrics = std::find(signals.begin(), signals.end(), "energy_residual") != signals.end();
+  options_.quadratures = options_.step_metrics;
   const std::vector<std::string> names = TimeSeries::column_names();
   for (const std::string& signal : experiment.record.signals) {
     const auto it = std::find(names.begin(), names.end(), signal);

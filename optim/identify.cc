@@ -169,9 +169,11 @@ double scaled_lower(const FitParameter& p) {
 double scaled_upper(const FitParameter& p) { return p.log_scale ? std::log(p.upper) : p.upper; }
 
 /// The weighted residual vector and its Jacobian in the scaled parameters,
-/// by central differences whose E·(2p+1) simulations all run in parallel.
-/// Steps near a bound turn one-sided so that no simulation runs outside the
-/// bounds (where the scene may be invalid). The last point is cached: Ceres
+/// by finite differences whose simulations all run in parallel: forward
+/// (E·(p+1) simulations) in the solver's iterations when solver.differences
+/// is "forward", central (E·(2p+1)) otherwise and always at the optimum,
+/// whose Jacobian gives the covariance. Steps near a bound turn one-sided so
+/// that no simulation runs outside the bounds (where the scene may be invalid). The last point is cached: Ceres
 /// asks for every residual block at the same point, evaluates the cost at a
 /// trial point and then, once it is accepted, the Jacobian there.
 class FitEvaluator {
@@ -186,12 +188,15 @@ class FitEvaluator {
 
   /// Residuals (and the Jacobian) at z; false if a simulation failed there.
   /// Exceptions are kept, not thrown: they must not cross Ceres.
-  bool evaluate(const double* z, bool jacobian) {
+  /// `central` asks for central differences whatever solver.differences says.
+  bool evaluate(const double* z, bool jacobian, bool central = false) {
     std::lock_guard<std::mutex> lock(mutex_);
+    central = central || !problem_.solver.forward_differences();
     const bool same = !z_.empty() && std::equal(z_.begin(), z_.end(), z);
-    if (same && (!ok_ || !jacobian || !j_.empty())) return ok_;
+    if (same && (!ok_ || !jacobian || (!j_.empty() && (j_central_ || !central)))) return ok_;
     try {
-      ok_ = compute(z, jacobian, same && ok_);
+      ok_ = compute(z, jacobian, same && ok_, central);
+      j_central_ = central;
     } catch (...) {
       if (!exception_) exception_ = std::current_exception();
       ok_ = false;
@@ -212,7 +217,7 @@ class FitEvaluator {
   std::size_t failures() const { return failures_; }
 
  private:
-  bool compute(const double* z, bool jacobian, bool have_residuals) {
+  bool compute(const double* z, bool jacobian, bool have_residuals, bool central) {
     std::vector<double> centre(p_);
     for (std::size_t i = 0; i < p_; ++i) centre[i] = to_value(problem_.parameters[i], z[i]);
 
@@ -227,8 +232,11 @@ class FitEvaluator {
         const double step = par.log_scale ? h : h * std::max(std::abs(centre[i]), par.scale);
         const double lo = scaled_lower(par), hi = scaled_upper(par);
         z_plus[i] = z[i] + step;
-        z_minus[i] = z[i] - step;
-        if (z_plus[i] > hi) z_plus[i] = z[i];    // backward difference at the upper bound
+        z_minus[i] = central ? z[i] - step : z[i];
+        if (z_plus[i] > hi) {  // backward difference at the upper bound
+          z_plus[i] = z[i];
+          z_minus[i] = z[i] - step;
+        }
         if (z_minus[i] < lo) z_minus[i] = z[i];  // forward difference at the lower bound
         if (z_plus[i] == z[i] && z_minus[i] == z[i]) {
           // Bounds closer than one step: use the whole interval.
@@ -289,6 +297,7 @@ class FitEvaluator {
   std::mutex mutex_;
   std::vector<double> z_, r_, j_;
   bool ok_ = false;
+  bool j_central_ = false;  // j_ is by central differences
   std::exception_ptr exception_, input_error_;
   std::string last_failure_;
   std::size_t failures_ = 0;
@@ -706,7 +715,7 @@ Optimum evaluate_optimum(const IdentifyProblem& problem, FitEvaluator& cost, con
                          IdentifyResult& result) {
   const std::size_t p = problem.parameters.size();
   const std::size_t n = problem.residual_count();
-  if (!cost.evaluate(z.data(), true))
+  if (!cost.evaluate(z.data(), true, true))
     throw NumericalError("identification: the Jacobian at the optimum could not be evaluated: " + cost.last_failure());
   Optimum o;
   o.r = cost.residuals();

@@ -5,8 +5,9 @@
 //
 // Residuals are weighted differences between simulated and measured signals,
 // the simulation sampled at the data's own times from the integrator's dense
-// output; derivatives are central finite differences of whole simulations in
-// the scaled parameter space (ln p for log-scale parameters); the standard
+// output; derivatives are finite differences of whole simulations in the
+// scaled parameter space (ln p for log-scale parameters): forward in the
+// iterations (solver.differences), central at the optimum; the standard
 // errors come from the covariance at the optimum, scaled by the residual
 // variance, and an identifiability check (rank of the Jacobian, relative
 // standard errors) names the parameters the data cannot determine.

@@ -15,6 +15,7 @@ namespace camdyn::optim {
 namespace {
 
 const std::vector<std::string> kLosses = {"none", "huber", "cauchy", "soft_l1"};
+const std::vector<std::string> kDifferences = {"forward", "central"};
 
 }  // namespace
 
@@ -73,6 +74,7 @@ void visit(A& a, SolverSpec& s) {
   a.field("gradient_tolerance", s.gradient_tolerance, positive());
   a.field("parameter_tolerance", s.parameter_tolerance, positive());
   a.field("fd_relative_step", s.fd_relative_step, open_closed(0.0, 0.1));
+  a.field("differences", s.differences, one_of(kDifferences));
   a.field("initial_trust_region_radius", s.initial_trust_region_radius, positive());
   a.field("smoothing", s.smoothing, positive());
   a.field("max_relative_std_error", s.max_relative_std_error, positive());
@@ -126,7 +128,8 @@ void read_reference_maps(const Json& raw, const std::string& path, const ConfigS
   if (const auto it = raw.find("weights"); it != raw.end() && it->is_object()) {
     for (const auto& [key, value] : it->items()) {
       const std::string at = path + ".weights." + key;
-      const bool known = std::any_of(r.signals.begin(), r.signals.end(), [&](const auto& s) { return s.first == key; });
+      const bool known =
+          std::any_of(r.signals.begin(), r.signals.end(), [&name = key](const auto& s) { return s.first == name; });
       if (!known) {
         std::vector<std::string> given;
         for (const auto& s : r.signals) given.push_back(s.first);
@@ -168,10 +171,10 @@ void flatten_parameters(const Json& raw, const std::string& prefix, Json& flat) 
   static const std::vector<std::string> leaf_keys = {"initial", "lower", "upper", "log_scale"};
   for (const auto& [key, value] : raw.items()) {
     const std::string name = prefix.empty() ? key : prefix + "." + key;
-    const bool nested =
-        value.is_object() && !value.empty() &&
-        std::none_of(leaf_keys.begin(), leaf_keys.end(), [&](const std::string& k) { return value.contains(k); }) &&
-        std::all_of(value.begin(), value.end(), [](const Json& v) { return v.is_object(); });
+    const bool nested = value.is_object() && !value.empty() &&
+                        std::none_of(leaf_keys.begin(), leaf_keys.end(),
+                                     [&entry = value](const std::string& k) { return entry.contains(k); }) &&
+                        std::all_of(value.begin(), value.end(), [](const Json& v) { return v.is_object(); });
     if (nested) {
       flatten_parameters(value, name, flat);
     } else if (flat.contains(name) && flat[name].is_object() && value.is_object()) {

@@ -251,5 +251,41 @@ TEST(CamScene, SamplesOnlyRunIsTheSameRunToTheBit) {
   }
 }
 
+// Without the quadratures (identification's fit runs) CVODE's error test
+// sees only the state, so the steps differ, but the motion is the same to
+// the integration tolerance; the figures the quadratures give are unknown
+// (NaN), not zero.
+TEST(CamScene, RunWithoutQuadraturesAgreesToTheToleranceAndLeavesTheEnergyUnknown) {
+  const double jump = Rigid(test::cycloidal_cam_scene(1000.0)).jump_rpm();
+  SceneConfig scene = test::cycloidal_cam_scene(1.15 * jump, ContactModel::lankarani_nikravesh);
+  scene.integrator.rtol = 1e-9;
+  scene.integrator.atol = 1e-13;
+  SimulationOptions options;
+  options.record_series = false;
+  options.step_metrics = false;
+  const SimulationResult grid = simulate_scene(scene, "test");
+  for (size_t i = 3; i < grid.series.time.size(); i += 7) options.sample_times.push_back(grid.series.time[i]);
+  const SimulationResult with = simulate_scene(scene, "test", options);
+  options.quadratures = false;
+  const SimulationResult without = simulate_scene(scene, "test", options);
+  ASSERT_TRUE(without.solver.converged());
+  ASSERT_GT(with.events.size(), 1u);  // it jumps and lands
+  ASSERT_EQ(without.events.size(), with.events.size());
+  // Event times and positions agree to the global error of the impact sequence:
+  // each landing's bounces amplify the local error, so 1e4 rtol of the scale.
+  const double rtol = scene.integrator.rtol;
+  const double period = 60.0 / scene.mechanism.cam.rpm;  // [s]
+  for (size_t k = 0; k < with.events.size(); ++k)
+    EXPECT_NEAR(without.events[k].time, with.events[k].time, 1e4 * rtol * period) << k;
+  const double lift = 0.02;  // [m], the scene's
+  ASSERT_EQ(without.samples.follower_position.size(), with.samples.follower_position.size());
+  for (size_t i = 0; i < with.samples.follower_position.size(); ++i)
+    EXPECT_NEAR(without.samples.follower_position[i], with.samples.follower_position[i], 1e4 * rtol * lift) << i;
+  EXPECT_TRUE(std::isnan(without.metrics.energy_residual));
+  EXPECT_TRUE(std::isnan(without.metrics.separation_integral));
+  EXPECT_TRUE(std::isnan(without.samples.energy_residual.front()));
+  EXPECT_FALSE(std::isnan(with.metrics.energy_residual));
+}
+
 }  // namespace
 }  // namespace camdyn

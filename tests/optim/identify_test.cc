@@ -243,6 +243,28 @@ TEST(IdentifyFit, NoiseFreeRecordIsRecoveredToTheSolverTolerance) {
   fs::remove_all(dir);
 }
 
+// solver.differences: the iterations' Jacobian by central differences (2p + 1
+// simulations a point) instead of forward (p + 1) lands on the same optimum
+// to the solver's tolerance, with fewer simulations forward.
+TEST(IdentifyFit, ForwardAndCentralDifferencesLandOnTheSameOptimum) {
+  const fs::path dir = temp_dir("differences");
+  SceneConfig truth = load_scene(kDropStudy + "rig.json");
+  truth.mechanism.contact.stiffness = 3e9;
+  write_clean_record(truth, dir / "clean.csv");
+  const std::string record = "reference.file=" + (dir / "clean.csv").string();
+  IdentifyOptions opt;
+  opt.threads = 2;
+  const IdentifyResult forward = identify(load(kData + "single.json", {record}), opt);
+  const IdentifyResult central = identify(load(kData + "single.json", {record, "solver.differences=central"}), opt);
+  EXPECT_NEAR(estimate(forward, "contact.stiffness").value / 3e9 - 1.0, 0.0, 1e-4);
+  EXPECT_NEAR(estimate(central, "contact.stiffness").value / 3e9 - 1.0, 0.0, 1e-4);
+  // The covariance is by central differences in both.
+  EXPECT_NEAR(*estimate(forward, "contact.stiffness").std_error / *estimate(central, "contact.stiffness").std_error,
+              1.0, 1e-2);
+  EXPECT_LT(forward.simulations, central.simulations);
+  fs::remove_all(dir);
+}
+
 // A continuation stage starts where the last one stopped, so its first
 // residuals and Jacobian (the centre and 2p difference points) were simulated
 // already; the optimum's covariance and final check are there too. Those runs
