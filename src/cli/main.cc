@@ -119,7 +119,8 @@ int run_command(int argc, char** argv) {
   RunArgs run_args;
   CLI::App* run = app.add_subcommand("run", "Run the study a config describes (simulate)");
   run->add_option("config", run_args.config, "Config file (JSON)")->required();
-  run->add_option("--out", run_args.out, "Output folder (default out/<name>)");
+  run->add_option("--out", run_args.out, "Output folder (default out/<name>)")
+      ->check([](const std::string& out) { return out.empty() ? std::string("the folder name is empty") : ""; }, "");
   run->add_option("--jobs", run_args.jobs, "Parallel jobs for studies with many runs (default: cores)")
       ->check(CLI::NonNegativeNumber);
   run->add_flag("--quiet", run_args.quiet, "No progress on stderr");

@@ -365,6 +365,21 @@ void visit(A& a, IntegratorConfig& i) {
   a.field("error_estimate", i.error_estimate);
 }
 
+/// Work a config may ask for, checked before anything runs: a run longer
+/// than this or a time series longer than this is almost surely a slip (a
+/// duration in ms, an output step of 1e-9 degrees) and would not finish or
+/// not fit in memory.
+constexpr double kMaxRevolutions = 1e5;
+constexpr double kMaxOutputRows = 1e7;
+
+template <class A>
+void require_output_rows(A& a, double rows, const std::string& field) {
+  a.require(rows <= kMaxOutputRows, field,
+            "would write " + (std::isfinite(rows) ? format_shortest(std::ceil(rows)) : std::string("over 1e308")) +
+                " time-series rows (at most " + format_shortest(kMaxOutputRows) +
+                "): give a larger output step or a shorter run");
+}
+
 /// Run length and output step depend on whether the cam turns.
 template <class A>
 void check_run_control(A& a, const SceneConfig& scene) {
@@ -378,6 +393,7 @@ void check_run_control(A& a, const SceneConfig& scene) {
     a.require(!s.output_step_deg, "simulation.output_step_deg",
               still + "use 'output_step' [s] instead of 'output_step_deg'");
     a.require(!s.steady_state, "simulation.steady_state", still + "a periodic steady state needs a turning cam");
+    if (s.duration && s.output_step) require_output_rows(a, *s.duration / *s.output_step, "simulation.output_step");
     return;
   }
   a.require(!(s.cycles && s.duration), "simulation.duration", "give either 'cycles' or 'duration', not both");
@@ -387,6 +403,13 @@ void check_run_control(A& a, const SceneConfig& scene) {
   a.require(cycles > s.discard_cycles, "simulation.discard_cycles",
             "must be less than the number of cycles simulated (" + format_shortest(cycles) + "), got " +
                 std::to_string(s.discard_cycles));
+  a.require(cycles <= kMaxRevolutions, s.duration ? "simulation.duration" : "simulation.cycles",
+            "asks for " + format_shortest(cycles) + " revolutions (at most " + format_shortest(kMaxRevolutions) +
+                "): was a duration given in ms, or cycles in degrees?");
+  const double period = 60.0 / std::abs(rpm);  // [s]
+  if (s.output_step) require_output_rows(a, cycles * period / *s.output_step, "simulation.output_step");
+  const double step_deg = s.output_step_deg.value_or(SimulationConfig::kDefaultOutputStepDeg);
+  if (!s.output_step) require_output_rows(a, cycles * 360.0 / step_deg, "simulation.output_step_deg");
 }
 
 template <class A>
@@ -494,7 +517,12 @@ void apply_assignment(Json& document, const std::string& assignment) {
   const std::string key = assignment.substr(0, equals);
   const std::string text = assignment.substr(equals + 1);
   // JSON if it parses (numbers, true, null, arrays, objects, "quoted"), else a bare string.
-  Json value = Json::parse(text, nullptr, /*allow_exceptions=*/false);
+  const auto depth_check = [&key](int depth, Json::parse_event_t /*event*/, Json& /*parsed*/) {
+    if (depth > static_cast<int>(kMaxJsonDepth))
+      throw InputError("--set", key, "nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
+    return true;
+  };
+  Json value = Json::parse(text, depth_check, /*allow_exceptions=*/false);
   if (value.is_discarded()) value = text;
   set_config_value(document, key, value);
 }

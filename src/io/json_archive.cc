@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <system_error>
 #include <utility>
@@ -126,7 +127,9 @@ std::string strip_nlohmann_prefix(std::string message) {
 }
 
 /// Rejects duplicate keys while parsing (nlohmann keeps the last one silently),
-/// reporting the dotted path of the second occurrence.
+/// reporting the dotted path of the second occurrence, and nesting deeper
+/// than kMaxJsonDepth (everything that walks a document recurses). Knows the
+/// dotted path being parsed, for errors the parser itself throws.
 class DuplicateKeyCheck {
  public:
   explicit DuplicateKeyCheck(std::string file) : file_(std::move(file)) {}
@@ -134,10 +137,10 @@ class DuplicateKeyCheck {
   bool operator()(int /*depth*/, Json::parse_event_t event, Json& parsed) {
     switch (event) {
       case Json::parse_event_t::object_start:
-        frames_.push_back({true, {}, {}, 0});
-        break;
       case Json::parse_event_t::array_start:
-        frames_.push_back({false, {}, {}, 0});
+        if (frames_.size() >= kMaxJsonDepth)
+          throw InputError(file_, path(), "nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
+        frames_.push_back({event == Json::parse_event_t::object_start, {}, {}, 0});
         break;
       case Json::parse_event_t::key: {
         Frame& frame = frames_.back();
@@ -171,6 +174,7 @@ class DuplicateKeyCheck {
     if (!frames_.empty() && !frames_.back().object) ++frames_.back().index;
   }
 
+ public:
   std::string path() const {
     std::string out;
     for (const Frame& frame : frames_) {
@@ -189,25 +193,42 @@ class DuplicateKeyCheck {
 
 }  // namespace
 
+/// "line L, column C" of the 1-based byte offset `end` in `text`.
+std::string line_and_column(const std::string& text, std::size_t end) {
+  end = std::min(end, text.size());
+  std::size_t line = 1, column = 0;
+  for (std::size_t i = 0; i < end; ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      column = 0;
+    } else {
+      ++column;
+    }
+  }
+  return "line " + std::to_string(line) + ", column " + std::to_string(column);
+}
+
 Json parse_json_text(const std::string& text, const std::string& file) {
+  DuplicateKeyCheck check(file);
   try {
-    return Json::parse(text, DuplicateKeyCheck(file));
+    return Json::parse(text, std::ref(check));
   } catch (const Json::parse_error& e) {
     // e.byte is the 1-based offset of the last character read.
-    const std::size_t end = std::min<std::size_t>(e.byte, text.size());
-    std::size_t line = 1, column = 0;
-    for (std::size_t i = 0; i < end; ++i) {
-      if (text[i] == '\n') {
-        ++line;
-        column = 0;
-      } else {
-        ++column;
-      }
-    }
-    throw InputError(file, "line " + std::to_string(line) + ", column " + std::to_string(column),
+    throw InputError(file, line_and_column(text, e.byte),
                      "JSON " + strip_nlohmann_prefix(e.what()));  // "JSON syntax error while ..."
-  } catch (const Json::exception& e) {                            // e.g. a number too large for a double
-    throw InputError(file, "", "invalid JSON: " + strip_nlohmann_prefix(e.what()));
+  } catch (const Json::out_of_range& e) {                         // a number too large for a double
+    // nlohmann names the number ("number overflow parsing '1e999'") but not
+    // where it is: the path being parsed, and the number's first occurrence.
+    std::string where = check.path();
+    const std::string what = e.what();
+    const auto open = what.find('\''), close = what.rfind('\'');
+    if (open != std::string::npos && close > open) {
+      const auto at = text.find(what.substr(open + 1, close - open - 1));
+      if (at != std::string::npos) where = (where.empty() ? "" : where + " at ") + line_and_column(text, at + 1);
+    }
+    throw InputError(file, where, "invalid JSON: " + strip_nlohmann_prefix(what));
+  } catch (const Json::exception& e) {
+    throw InputError(file, check.path(), "invalid JSON: " + strip_nlohmann_prefix(e.what()));
   }
 }
 

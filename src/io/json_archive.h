@@ -70,9 +70,13 @@ std::string describe_json(const Json& value);
 
 // ---------------------------------------------------------------- files
 
+/// How deep a config may nest objects and arrays (the studies need under ten).
+inline constexpr std::size_t kMaxJsonDepth = 64;
+
 /// Reads and parses a JSON file. Throws InputError(file, "", "cannot open ...")
 /// or InputError(file, "line L, column C", reason) for a syntax error, and
-/// rejects duplicate keys (InputError(file, dotted path, ...)).
+/// rejects duplicate keys and nesting deeper than kMaxJsonDepth
+/// (InputError(file, dotted path, ...)).
 Json read_json_file(const std::string& file);
 /// Parses JSON text that came from `file` (only used in messages).
 Json parse_json_text(const std::string& text, const std::string& file);

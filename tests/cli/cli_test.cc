@@ -41,6 +41,10 @@ TEST(Cli, UsageErrorIsExitTwo) {
   EXPECT_EQ(run_cli("").code, 2);
   EXPECT_EQ(run_cli("run").code, 2);
   EXPECT_EQ(run_cli("frobnicate x.json").code, 2);
+  // An empty --out used to write into the default folder silently.
+  const Outcome empty_out = camdyn::test::run_camdyn({"run", kQuickstart, "--out", ""}, scratch_dir("empty_out"));
+  EXPECT_EQ(empty_out.code, 2);
+  EXPECT_NE(empty_out.err.find("--out: the folder name is empty"), std::string::npos) << empty_out.err;
 }
 
 // Every bad config of the corpus: exit 2, the file and the field named.

@@ -622,8 +622,45 @@ TEST(Config, MissingOrUnreadableFileIsAnInputError) {
   EXPECT_NE(directory.reason().find("directory"), std::string::npos);
   const std::string array = dir.write("array.json", "[1, 2]");
   EXPECT_NE(expect_input_error([&] { load_scene(array); }).reason().find("JSON object"), std::string::npos);
-  const std::string huge = dir.write("huge.json", R"({ "gravity": 1e999 })");
-  EXPECT_EQ(expect_input_error([&] { load_scene(huge); }).file(), huge);
+  const std::string huge = dir.write("huge.json", "{\n  \"gravity\": 1e999\n}");
+  const InputError overflow = expect_input_error([&] { load_scene(huge); });
+  EXPECT_EQ(overflow.file(), huge);
+  // The field and where the number is, not only nlohmann's message.
+  EXPECT_EQ(overflow.path(), "gravity at line 2, column 14");
+  EXPECT_NE(overflow.reason().find("1e999"), std::string::npos) << overflow.reason();
+}
+
+// Everything that walks a document recurses, so nesting is limited when the
+// file is read (an identify `parameters` entry 20,000 levels deep crashed
+// validate with SIGSEGV), and for --set values too.
+TEST(Config, NestingDeeperThanTheLimitIsAnInputErrorNamingThePath) {
+  TempDir dir;
+  std::string deep = "{\"parameters\": ";
+  for (int i = 0; i < 20000; ++i) deep += "{\"a\": ";
+  deep += "1" + std::string(20001, '}');
+  const std::string file = dir.write("deep.json", deep);
+  const InputError e = expect_input_error([&] { load_config_json(file); });
+  EXPECT_EQ(e.file(), file);
+  EXPECT_TRUE(e.path().starts_with("parameters.a.a.a")) << e.path();
+  EXPECT_NE(e.reason().find("nested deeper than 64 levels"), std::string::npos) << e.reason();
+
+  std::string value;
+  for (int i = 0; i < 100; ++i) value += "[";
+  value += std::string(100, ']');
+  const InputError set = expect_input_error([&] { load_config_json(kGoodBase, {"mechanism.x=" + value}); });
+  EXPECT_EQ(set.file(), "--set");
+  EXPECT_EQ(set.path(), "mechanism.x");
+}
+
+// Work a config asks for is bounded before anything runs: revolutions and
+// time-series rows (a denormal output step made a run grow 250 MB/s).
+TEST(Config, RunsAndOutputsBeyondTheWorkLimitsAreRefusedNamingTheField) {
+  const auto error = [](const std::string& o) { return expect_input_error([&] { load_scene(kGoodBase, {o}); }); };
+  EXPECT_EQ(error("simulation.cycles=1e100").path(), "simulation.cycles");
+  const InputError denormal = error("simulation.output_step_deg=5e-324");
+  EXPECT_EQ(denormal.path(), "simulation.output_step_deg");
+  EXPECT_NE(denormal.reason().find("time-series rows"), std::string::npos) << denormal.reason();
+  EXPECT_NO_THROW(load_scene(kGoodBase, {"simulation.cycles=1000", "simulation.output_step_deg=1"}));
 }
 
 TEST(Config, DuplicateKeysAreRejectedWithTheirPath) {
