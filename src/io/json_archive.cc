@@ -96,7 +96,8 @@ Check one_of(std::vector<std::string> allowed, std::vector<std::string> later, s
   if (later_reason.empty()) later_reason = "'{}' is not supported yet (see the open issues)";
   Check check;
   check.expected = "one of " + quoted_list(allowed);
-  check.text = [allowed, later, later_reason](const std::string& s) -> std::string {
+  check.text = [allowed = std::move(allowed), later = std::move(later),
+                later_reason = std::move(later_reason)](const std::string& s) -> std::string {
     if (std::find(allowed.begin(), allowed.end(), s) != allowed.end()) return "";
     if (std::find(later.begin(), later.end(), s) != later.end()) {
       std::string reason = later_reason;
