@@ -3,11 +3,14 @@
 #include <camdyn/version.h>
 
 #include <cmath>
+#include <iostream>
 #include <vector>
 
+#include "common/errors.h"
 #include "dynamics/model.h"
 #include "io/csv_writer.h"
 #include "io/json_writer.h"
+#include "io/profile_export.h"
 #include "io/report.h"
 #include "optim/optimize_report.h"
 #include "study/simulation_output.h"
@@ -253,6 +256,13 @@ void write_optimize_outputs(const std::filesystem::path& dir, const OptimizeOutc
   write_json_atomic(dir / "optimized.json", optimized_config_json(o, config_file));
   write_history_csv(dir / "history.csv", o);
   write_report(dir / "report.html", optimize_report(o, name));
+  // outputs.profile: the optimised cam for manufacturing. A tool radius the
+  // new contour cannot take costs the profile, not the optimisation's results.
+  try {
+    write_profile_outputs(dir, o.optimized_scene, build_model(o.optimized_scene, config_file), config_file);
+  } catch (const InputError& e) {
+    std::cerr << "camdyn: warning: optimised cam profile not written: " << e.what() << "\n";
+  }
   write_json_atomic(dir / "result.json",
                     result_json(o, name, config_file));  // last: its presence means the run is complete
 }

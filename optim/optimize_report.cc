@@ -7,7 +7,9 @@
 #include <vector>
 
 #include "common/errors.h"
+#include "dynamics/model.h"
 #include "geometry/motion_law.h"
+#include "io/cam_plots.h"
 #include "optim/rigid_design.h"
 
 namespace camdyn::optim {
@@ -260,6 +262,30 @@ void add_kinematics_plots(const DesignEvaluation& b, const DesignEvaluation& p, 
                               {{"baseline", lb.angle, lb.j}, {"optimised", lp.angle, lp.j}}));
 }
 
+/// The optimised cam to scale with the baseline's contour, and the pressure
+/// angle and radius of curvature of both against the study's constraints.
+void add_cam_plots(const OptimizeOutcome& o, Report& r) {
+  std::vector<Model> models;
+  std::vector<std::string> labels;
+  auto add = [&](const SceneConfig& scene, const char* label) {
+    try {
+      models.push_back(build_model(scene, ""));
+      labels.emplace_back(label);
+    } catch (const InputError&) {  // a design that cannot be built has no cam to draw
+    }
+  };
+  add(o.optimized_scene, "optimised");
+  if (o.baseline.valid) add(o.baseline.scene, "baseline");
+  if (models.empty()) return;
+  std::vector<CamDesign> designs;
+  for (std::size_t i = 0; i < models.size(); ++i) designs.push_back({labels[i], &models[i]});
+  const ConstraintsConfig& c = o.config.constraints;
+  const double mark = models.front().geometry.max_pressure_angle_at_deg / kDegPerRad;
+  r.plots.push_back(cam_layout_plot(designs, mark));
+  r.plots.push_back(pressure_angle_plot(designs, c.max_pressure_angle_deg));
+  r.plots.push_back(curvature_plot(designs, c.min_radius_of_curvature));
+}
+
 /// Contact force and gap over the last simulated revolution at each operating speed.
 void add_dynamics_plots(const OptimizeOutcome& o, Report& r) {
   const std::string xlabel = kCamAngleLabel;
@@ -356,6 +382,7 @@ Report optimize_report(const OptimizeOutcome& o, const std::string& name) {
   r.tables.push_back(starts_table(o.search));
   r.tables.push_back(variables_table(o));
   add_margin_plots(o, r);
+  add_cam_plots(o, r);
   add_kinematics_plots(o.baseline, o.optimized, r);
   add_dynamics_plots(o, r);
   r.plots.push_back(convergence_plot(o.history));

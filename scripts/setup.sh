@@ -12,7 +12,7 @@ targets=("${@:2}")
 packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libsundials-dev libnlopt-cxx-dev libnlopt-dev libceres-dev
-  coinor-libclp-dev nlohmann-json3-dev libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev
+  coinor-libclp-dev libdxflib-dev nlohmann-json3-dev libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev
   gnuplot-nox python3 python3-numpy python3-scipy
   libopenmpi-dev openmpi-bin chromium
 )

@@ -1,7 +1,8 @@
 // camdyn command line (interface.md): `camdyn run CONFIG`, `camdyn validate
-// CONFIG`, `--version`. Exit codes: 0 success, 2 invalid input, 3 numerical
-// failure, 1 anything else. Progress goes to stderr on a terminal; results to
-// files; stdout gets a short summary.
+// CONFIG`, `camdyn export CONFIG` (the cam profile, docs/export.md),
+// `--version`. Exit codes: 0 success, 2 invalid input, 3 numerical failure, 1
+// anything else. Progress goes to stderr on a terminal; results to files;
+// stdout gets a short summary.
 #include <camdyn/version.h>
 #include <unistd.h>
 
@@ -10,6 +11,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,6 +20,7 @@
 #include "dynamics/simulation.h"
 #include "io/config.h"
 #include "io/json_writer.h"
+#include "io/profile_export.h"
 #include "optim/identify_study.h"
 #include "optim/optimize_study.h"
 #include "study/compare_study.h"
@@ -42,6 +45,17 @@ struct RunArgs {
   std::vector<std::string> overrides;
 };
 
+// `camdyn export`: lengths in millimetres, as in the files written.
+struct ExportArgs {
+  std::string config;
+  std::string out;
+  std::vector<std::string> formats;
+  std::vector<std::string> overrides;
+  int points = 0;  // 0: by chord tolerance
+  double chord_tolerance_mm = camdyn::ProfileOutputConfig::kDefaultChordToleranceMm;
+  double cutter_radius_mm = 0.0;  // 0: no tool path
+};
+
 // A progress line on stderr, redrawn in place, only on a terminal.
 class Progress {
  public:
@@ -63,6 +77,11 @@ int run_simulate(const camdyn::Json& doc, const camdyn::StudyContext& ctx) {
   // Building the model checks what the config layer cannot: the motion law,
   // the cam geometry (undercut, pressure angle) and the contact law.
   const camdyn::Model model = camdyn::build_model(scene, ctx.config_file);
+  // outputs.profile is sampled (and its tool radius checked) before the run, so validate sees its errors too.
+  std::optional<camdyn::CamProfile> profile;
+  if (scene.outputs.profile)
+    profile = camdyn::sample_cam_profile(model, camdyn::profile_options(*scene.outputs.profile),
+                                         camdyn::ProfileOptionNames{ctx.config_file});
   if (ctx.validate_only) {
     std::cout << camdyn::dump_json(camdyn::to_json(scene));
     std::cerr << "camdyn: " << ctx.config_file << " is valid (" << model.layout.size << " states: ";
@@ -80,6 +99,7 @@ int run_simulate(const camdyn::Json& doc, const camdyn::StudyContext& ctx) {
   camdyn::apply_steady_state(scene, model, result, camdyn::SteadyStateSearch::full, ctx.threads());
   const std::filesystem::path& out = ctx.out_dir;
   camdyn::write_simulation_outputs(out, scene, model, result);
+  if (profile) camdyn::write_profile_files(out, *profile, scene.name, scene.outputs.profile->formats);
 
   const camdyn::Metrics& m = result.metrics;
   std::printf("%s: %s, %.6g rpm (rigid-model jump speed %.6g rpm)\n", scene.name.c_str(),
@@ -106,7 +126,118 @@ int report_input_error(const camdyn::InputError& e, const std::string& config) {
   return kExitInput;
 }
 
-// The command line: parse, dispatch the study, map its errors to exit codes.
+// Maps what a command throws to the exit codes of interface.md.
+template <class Body>
+int with_exit_codes(const std::string& config, bool root, Body body) {
+  try {
+    return body();
+  } catch (const camdyn::InputError& e) {
+    if (!root) return kExitInput;  // every rank reads the same input: rank 0 says what is wrong
+    return report_input_error(e, config);
+  } catch (const camdyn::NumericalError& e) {
+    if (!root) return kExitNumerical;
+    std::cerr << "camdyn: numerical failure: " << config << ": " << e.what() << "\n";
+    return kExitNumerical;
+  } catch (const std::exception& e) {
+    std::cerr << "camdyn: error: " << e.what() << "\n";
+    return kExitOther;
+  }
+}
+
+std::filesystem::path out_dir(const camdyn::Json& doc, const std::string& out) {
+  const std::string name = doc.contains("name") && doc["name"].is_string() ? doc["name"].get<std::string>() : "camdyn";
+  return out.empty() ? std::filesystem::path("out") / name : std::filesystem::path(out);
+}
+
+// `camdyn run` and `camdyn validate`: dispatch the study the config names.
+int run_study(const RunArgs& args, bool validate_only, bool root) {
+  const camdyn::Json doc = camdyn::load_config_json(args.config, args.overrides);
+  camdyn::StudyContext ctx;
+  ctx.config_file = args.config;
+  ctx.source = camdyn::config_source(args.config);
+  ctx.out_dir = out_dir(doc, args.out);
+  ctx.jobs = args.jobs;
+  ctx.progress = !args.quiet && isatty(STDERR_FILENO) && root;
+  ctx.validate_only = validate_only;
+  const std::string study =
+      doc.contains("study") && doc["study"].is_string() ? doc["study"].get<std::string>() : "simulate";
+  if (study == "convergence") return camdyn::run_convergence_study(doc, ctx);
+  if (study == "compare") return camdyn::run_compare_study(doc, ctx);
+  if (study == "jump_map") return camdyn::run_jump_map_study(doc, ctx);
+  if (camdyn::mpi::size() > 1 && !ctx.validate_only) {
+    // Only compare studies are spread over ranks; the others run on rank 0.
+    if (!root) return kExitOk;
+    std::cerr << "camdyn: note: only compare studies use the MPI ranks; this " << study
+              << " study runs on rank 0 alone\n";
+  }
+  if (study == "optimize") return camdyn::optim::run_optimize_study(doc, ctx);
+  if (study == "identify") return camdyn::optim::run_identify_study(doc, ctx);
+  if (study == "speed_limit") return camdyn::run_speed_limit_study(doc, ctx);
+  if (study == "periodic") return camdyn::run_periodic_study(doc, ctx);
+  return run_simulate(doc, ctx);  // simulate; any other study name is reported by the config layer
+}
+
+// The scene of any config with a mechanism: a simulate config (optimized.json
+// is one) as it is; of another study, its mechanism and run settings (an
+// optimize config's baseline), read as a simulate scene.
+camdyn::SceneConfig export_scene(const camdyn::Json& doc, const std::string& config) {
+  const std::string study =
+      doc.contains("study") && doc["study"].is_string() ? doc["study"].get<std::string>() : "simulate";
+  if (study == "simulate") return camdyn::scene_from_json(doc, camdyn::config_source(config));
+  camdyn::Json scene = camdyn::Json::object();
+  for (const char* key : {"name", "description", "mechanism", "gravity", "simulation", "integrator", "outputs"})
+    if (doc.contains(key)) scene[key] = doc[key];
+  scene["study"] = "simulate";
+  return camdyn::scene_from_json(scene, camdyn::config_source(config));
+}
+
+// `camdyn export`: the cam profile as CSV and/or DXF (docs/export.md).
+int run_export(const ExportArgs& args) {
+  const camdyn::Json doc = camdyn::load_config_json(args.config, args.overrides);
+  const camdyn::SceneConfig scene = export_scene(doc, args.config);
+  const camdyn::Model model = camdyn::build_model(scene, args.config);
+  camdyn::ProfileOptions options;
+  if (args.points > 0) options.points = args.points;
+  options.chord_tolerance = args.chord_tolerance_mm * 1e-3;
+  if (args.cutter_radius_mm > 0.0) options.cutter_radius = args.cutter_radius_mm * 1e-3;
+  const camdyn::ProfileOptionNames names{"", "--cutter-radius", "--points", "--chord-tolerance"};
+  const camdyn::CamProfile profile = camdyn::sample_cam_profile(model, options, names);
+  std::vector<camdyn::ProfileFormat> formats;
+  for (const std::string& f : args.formats) formats.push_back(*camdyn::enum_from_name<camdyn::ProfileFormat>(f));
+  if (formats.empty()) formats = camdyn::ProfileOutputConfig{}.formats;
+  const auto written = camdyn::write_profile_files(out_dir(doc, args.out), profile, scene.name, formats);
+  std::printf("%s: cam profile, %zu points, largest chord deviation %.3g mm\n", scene.name.c_str(),
+              profile.points.size(), profile.max_chord_error * 1e3);
+  for (const auto& path : written)
+    std::printf("  wrote %s\n", std::filesystem::absolute(path).lexically_normal().c_str());
+  return kExitOk;
+}
+
+void add_export_command(CLI::App& app, ExportArgs& args) {
+  CLI::App* command = app.add_subcommand(
+      "export", "Write the cam contour, pitch curve and tool path for manufacturing (profile.csv, profile.dxf; mm)");
+  command->add_option("config", args.config, "Config file (JSON; a simulate config such as optimized.json)")
+      ->required();
+  command->add_option("--format", args.formats, "csv, dxf, or both (default: both; repeat or separate with ',')")
+      ->check(CLI::IsMember({"csv", "dxf"}))
+      ->delimiter(',');
+  CLI::Option* points =
+      command->add_option("--points", args.points, "Points at equal cam-angle steps")
+          ->check(CLI::Range(camdyn::ProfileOutputConfig::kMinPoints, camdyn::ProfileOutputConfig::kMaxPoints));
+  CLI::Option* tolerance = command
+                               ->add_option("--chord-tolerance", args.chord_tolerance_mm,
+                                            "Largest deviation of the chords from the curves [mm] (default 0.001)")
+                               ->check(CLI::Range(camdyn::ProfileOutputConfig::kMinChordToleranceMm, 1e3));
+  points->excludes(tolerance);
+  command
+      ->add_option("--cutter-radius", args.cutter_radius_mm,
+                   "Radius of the cutter or grinding wheel [mm]: also write its centre path")
+      ->check(CLI::PositiveNumber);
+  command->add_option("--out", args.out, "Output folder (default out/<name>)");
+  command->add_option("--set", args.overrides, "Override a field (repeatable)");
+}
+
+// The command line: parse, dispatch the command, map its errors to exit codes.
 int run_command(int argc, char** argv) {
   // Under mpirun (built with -DCAMDYN_WITH_MPI=ON) a compare study spreads its
   // runs over the ranks; rank 0 alone prints and writes outputs.
@@ -131,6 +262,9 @@ int run_command(int argc, char** argv) {
   validate->add_option("config", validate_args.config, "Config file (JSON)")->required();
   validate->add_option("--set", validate_args.overrides, "Override a field (repeatable)");
 
+  ExportArgs export_args;
+  add_export_command(app, export_args);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -138,45 +272,12 @@ int run_command(int argc, char** argv) {
     return code == 0 ? kExitOk : kExitInput;
   }
 
-  const RunArgs& args = run->parsed() ? run_args : validate_args;
-  try {
-    const camdyn::Json doc = camdyn::load_config_json(args.config, args.overrides);
-    camdyn::StudyContext ctx;
-    ctx.config_file = args.config;
-    ctx.source = camdyn::config_source(args.config);
-    const std::string name =
-        doc.contains("name") && doc["name"].is_string() ? doc["name"].get<std::string>() : "camdyn";
-    ctx.out_dir = args.out.empty() ? std::filesystem::path("out") / name : std::filesystem::path(args.out);
-    ctx.jobs = args.jobs;
-    ctx.progress = !args.quiet && isatty(STDERR_FILENO) && root;
-    ctx.validate_only = validate->parsed();
-    const std::string study =
-        doc.contains("study") && doc["study"].is_string() ? doc["study"].get<std::string>() : "simulate";
-    if (study == "convergence") return camdyn::run_convergence_study(doc, ctx);
-    if (study == "compare") return camdyn::run_compare_study(doc, ctx);
-    if (study == "jump_map") return camdyn::run_jump_map_study(doc, ctx);
-    if (camdyn::mpi::size() > 1 && !ctx.validate_only) {
-      // Only compare studies are spread over ranks; the others run on rank 0.
-      if (!root) return kExitOk;
-      std::cerr << "camdyn: note: only compare studies use the MPI ranks; this " << study
-                << " study runs on rank 0 alone\n";
-    }
-    if (study == "optimize") return camdyn::optim::run_optimize_study(doc, ctx);
-    if (study == "identify") return camdyn::optim::run_identify_study(doc, ctx);
-    if (study == "speed_limit") return camdyn::run_speed_limit_study(doc, ctx);
-    if (study == "periodic") return camdyn::run_periodic_study(doc, ctx);
-    return run_simulate(doc, ctx);  // simulate; any other study name is reported by the config layer
-  } catch (const camdyn::InputError& e) {
-    if (!root) return kExitInput;  // every rank reads the same input: rank 0 says what is wrong
-    return report_input_error(e, args.config);
-  } catch (const camdyn::NumericalError& e) {
-    if (!root) return kExitNumerical;
-    std::cerr << "camdyn: numerical failure: " << args.config << ": " << e.what() << "\n";
-    return kExitNumerical;
-  } catch (const std::exception& e) {
-    std::cerr << "camdyn: error: " << e.what() << "\n";
-    return kExitOther;
+  if (!run->parsed() && !validate->parsed()) {
+    if (!root) return kExitOk;
+    return with_exit_codes(export_args.config, root, [&] { return run_export(export_args); });
   }
+  const RunArgs& args = run->parsed() ? run_args : validate_args;
+  return with_exit_codes(args.config, root, [&] { return run_study(args, validate->parsed(), root); });
 }
 
 }  // namespace

@@ -413,6 +413,24 @@ void check_run_control(A& a, const SceneConfig& scene) {
 }
 
 template <class A>
+void visit(A& a, ProfileOutputConfig& p) {
+  a.field("formats", p.formats, non_empty());
+  a.field("points", p.points, at_least(ProfileOutputConfig::kMinPoints));
+  a.require(!p.points || *p.points <= ProfileOutputConfig::kMaxPoints, "points",
+            "must be <= " + std::to_string(ProfileOutputConfig::kMaxPoints) + ", got " +
+                std::to_string(p.points.value_or(0)));
+  a.field("chord_tolerance_mm", p.chord_tolerance_mm, at_least(ProfileOutputConfig::kMinChordToleranceMm));
+  a.field("cutter_radius_mm", p.cutter_radius_mm, positive());
+  a.require(!(p.points && p.chord_tolerance_mm), "chord_tolerance_mm",
+            "give either 'points' or 'chord_tolerance_mm', not both");
+}
+
+template <class A>
+void visit(A& a, OutputsConfig& o) {
+  a.field("profile", o.profile);
+}
+
+template <class A>
 void visit(A& a, SceneConfig& s) {
   a.field("name", s.name, plain_name());
   a.field(
@@ -428,6 +446,7 @@ void visit(A& a, SceneConfig& s) {
             "fold the arm's weight into the spring preload");
   a.field("simulation", s.simulation);
   a.field("integrator", s.integrator);
+  a.field("outputs", s.outputs);
   check_run_control(a, s);
 }
 
@@ -542,6 +561,8 @@ SceneConfig scene_from_json(const Json& json, const ConfigSource& source) {
     if (!s.cycles && !s.duration) s.cycles = SimulationConfig::kDefaultCycles;
     if (!s.output_step_deg && !s.output_step) s.output_step_deg = SimulationConfig::kDefaultOutputStepDeg;
   }
+  if (ProfileOutputConfig* p = scene.outputs.profile ? &*scene.outputs.profile : nullptr; p && !p->points)
+    p->chord_tolerance_mm = p->chord_tolerance_mm.value_or(ProfileOutputConfig::kDefaultChordToleranceMm);
   return scene;
 }
 

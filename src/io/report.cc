@@ -225,12 +225,21 @@ std::string gnuplot_script(const Plot& plot, const std::vector<std::filesystem::
     const bool usable = std::isfinite(lo) && std::isfinite(hi) && lo < hi && !(plot.logx && lo <= 0);
     if (usable) gp << "set xrange [" << gp_number(lo) << ":" << gp_number(hi) << "]\n";
   }
+  if (plot.yrange) {
+    const auto [lo, hi] = *plot.yrange;
+    const bool usable = std::isfinite(lo) && std::isfinite(hi) && lo < hi && !(plot.logy && lo <= 0);
+    if (usable) gp << "set yrange [" << gp_number(lo) << ":" << gp_number(hi) << "]\n";
+  }
+  // Equal units per pixel on both axes; the key goes to the right so that the
+  // square-ish drawing keeps the height of the figure.
+  if (plot.equal_axes) gp << "set size ratio -1\nset key outside right top vertical\n";
   gp << "plot ";
   for (std::size_t i = 0; i < series.size(); ++i) {
     const std::string& style = series[i]->style;
     const bool known = style == "lines" || style == "points" || style == "linespoints";
-    gp << (i > 0 ? ", \\\n     " : "") << gp_quote(data[i].string()) << " using 1:2 with "
-       << (known ? style : std::string("lines")) << " title " << gp_quote(series[i]->label) << " noenhanced";
+    const std::string with = style == "dashes" ? "lines dashtype 2" : known ? style : "lines";
+    gp << (i > 0 ? ", \\\n     " : "") << gp_quote(data[i].string()) << " using 1:2 with " << with << " title "
+       << gp_quote(series[i]->label) << " noenhanced";
   }
   gp << "\nunset output\n";
   return gp.str();

@@ -19,7 +19,7 @@ namespace camdyn {
 struct Series {
   std::string label;
   std::vector<double> x, y;
-  std::string style = "lines";  ///< "lines", "points" or "linespoints"
+  std::string style = "lines";  ///< "lines", "points", "linespoints" or "dashes" (a dashed line)
 };
 
 struct Plot {
@@ -27,6 +27,10 @@ struct Plot {
   std::vector<Series> series;
   bool logx = false, logy = false;
   std::optional<std::pair<double, double>> xrange = std::nullopt;  ///< [min, max]; autoscaled if unset
+  std::optional<std::pair<double, double>> yrange = std::nullopt;  ///< [min, max]; autoscaled if unset
+  /// Drawn to scale: one unit of x and one of y take the same length on the
+  /// page (gnuplot `set size ratio -1`), for shapes such as a cam.
+  bool equal_axes = false;
 };
 
 /// Cells are preformatted text (see format_number).

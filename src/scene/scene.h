@@ -378,6 +378,37 @@ struct IntegratorConfig {
   bool operator==(const IntegratorConfig&) const = default;
 };
 
+// ---------------------------------------------------------------- outputs
+
+/// A file format of the exported cam profile (docs/export.md).
+enum class ProfileFormat { csv, dxf };
+inline constexpr EnumName<ProfileFormat> kProfileFormatNames[] = {{ProfileFormat::csv, "csv"},
+                                                                  {ProfileFormat::dxf, "dxf"}};
+constexpr std::span<const EnumName<ProfileFormat>> enum_names(ProfileFormat) { return kProfileFormatNames; }
+
+/// `outputs.profile`: the cam written out for manufacturing (profile.csv,
+/// profile.dxf; io/profile_export.h). Lengths in millimetres, as in the files.
+struct ProfileOutputConfig {
+  std::vector<ProfileFormat> formats = {ProfileFormat::csv, ProfileFormat::dxf};
+  std::optional<int> points;                 ///< N points at equal cam-angle steps; null = by chord tolerance
+  std::optional<double> chord_tolerance_mm;  ///< largest sagitta between consecutive points [mm], > 0;
+                                             ///< filled in (kDefaultChordToleranceMm) when `points` is null
+  std::optional<double> cutter_radius_mm;    ///< R_t > 0 [mm]: also write the tool-centre path; null = none
+
+  static constexpr double kDefaultChordToleranceMm = 0.001;
+  static constexpr double kMinChordToleranceMm = 1e-6;  ///< 1 nm: finer only multiplies the points
+  static constexpr int kMinPoints = 8, kMaxPoints = 1'000'000;
+
+  bool operator==(const ProfileOutputConfig&) const = default;
+};
+
+/// `outputs`: optional files besides a study's own.
+struct OutputsConfig {
+  std::optional<ProfileOutputConfig> profile;  ///< null (default): no profile files
+
+  bool operator==(const OutputsConfig&) const = default;
+};
+
 /// A complete `simulate` scene.
 struct SceneConfig {
   std::string name = "camdyn";
@@ -386,6 +417,7 @@ struct SceneConfig {
   double gravity = 0.0;  ///< acceleration pulling the follower towards the cam (-y) [m/s^2]
   SimulationConfig simulation;
   IntegratorConfig integrator;
+  OutputsConfig outputs;
 
   bool operator==(const SceneConfig&) const = default;
 };

@@ -7,6 +7,7 @@
 #include <numbers>
 #include <type_traits>
 
+#include "io/cam_plots.h"
 #include "io/csv_writer.h"
 #include "io/json_writer.h"
 
@@ -266,6 +267,9 @@ Report simulation_report(const SceneConfig& scene, const Model& model, const Sim
                               "time [s]",
                               "(E − E₀) / scale [–]",
                               {{"energy residual", ts.time, ts.energy_residual}}});
+  // The cam itself: to scale, its pressure angle and curvature with the scene's limits, the law's SVAJ.
+  for (Plot& plot : cam_plots(model, scene.mechanism.cam.limits, scene.mechanism.cam.rpm))
+    report.plots.push_back(std::move(plot));
   if (model.contour) add_contour_fit(model, report);
   report.notes.push_back("Model: " + std::to_string(model.layout.size) + " states; elements assembled: " + [&] {
     std::string list;

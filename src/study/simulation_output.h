@@ -21,7 +21,8 @@ Json summary_json(const SceneConfig& scene, const Model& model, const Simulation
 
 /// The report a user looks at first: follower motion against the law, gap,
 /// contact force against cam angle (with the rigid-model force), energy
-/// residual, metrics and solver tables.
+/// residual, the cam plots (io/cam_plots.h: the cam to scale, pressure angle,
+/// radius of curvature, SVAJ), metrics and solver tables.
 Report simulation_report(const SceneConfig& scene, const Model& model, const SimulationResult& result);
 
 /// Writes summary.json, timeseries.csv, events.csv and report.html into `dir`

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "cli_run.h"
+#include "svg_scale.h"
 
 namespace {
 
@@ -84,7 +85,26 @@ class ReportInBrowser : public ::testing::Test {
       EXPECT_EQ(figure.find("no data to plot"), std::string::npos) << name << ": figure " << figures;
     }
     EXPECT_GE(figures, min_figures) << name;
+    last_dom_ = page.dom;
   }
+
+  // The report just checked has the cam drawn to scale: in the figure whose
+  // caption says so, the base circle (linetype 3, after the contour and the
+  // pitch curve of a roller) is as wide as it is high on the page, as the
+  // browser lays it out; and the SVAJ figures are there.
+  void expect_cam_to_scale(const std::string& name) {
+    const std::size_t caption = last_dom_.find("to scale at cam angle");
+    ASSERT_NE(caption, std::string::npos) << name << ": no cam drawn to scale";
+    const std::size_t figure = last_dom_.rfind("<figure", caption);
+    const std::string svg = last_dom_.substr(figure, caption - figure);
+    const auto base = camdyn::test::stroke_box(svg, camdyn::test::gnuplot_stroke("#009e73"));
+    ASSERT_TRUE(base.has_value()) << name << ": no base circle in the cam plot";
+    EXPECT_NEAR(base->width(), base->height(), 1.0) << name << ": the cam is not drawn to scale";
+    for (const char* what : {"Pressure angle against cam angle", "Radius of curvature of the cam contour"})
+      EXPECT_NE(last_dom_.find(what), std::string::npos) << name << ": " << what;
+  }
+
+  std::string last_dom_;
 
   std::string chromium_;
   fs::path dir_;
@@ -102,6 +122,10 @@ TEST_F(ReportInBrowser, HarnessSeesConsoleErrors) {
 
 TEST_F(ReportInBrowser, Simulate) {
   check_report("simulate", kStudies + "quickstart.json", {"--set", "simulation.cycles=2"}, 3);
+  expect_cam_to_scale("simulate");
+  for (const char* what : {"Lift of the follower", "Velocity of the follower", "Acceleration of the follower",
+                           "Jerk of the follower", "m/s³"})
+    EXPECT_NE(last_dom_.find(what), std::string::npos) << what;
 }
 
 TEST_F(ReportInBrowser, SimulateContourCam) {
@@ -132,6 +156,7 @@ TEST_F(ReportInBrowser, Compare) {
 TEST_F(ReportInBrowser, Optimize) {
   check_report("optimize", kStudies + "optimize_jump.json",
                {"--set", "optimizer.max_evaluations=4", "--set", "simulation.cycles=2"}, 1);
+  expect_cam_to_scale("optimize");
 }
 
 TEST_F(ReportInBrowser, Periodic) {

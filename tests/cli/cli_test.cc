@@ -142,4 +142,64 @@ TEST(Cli, UnknownOverrideKeyIsExitTwoWithSuggestion) {
   EXPECT_NE(o.err.find("rpm"), std::string::npos) << o.err;
 }
 
+// ---------------------------------------------------------------- export
+
+TEST(Cli, ExportWritesTheProfileAsCsvAndDxf) {
+  const fs::path out = scratch_dir("export");
+  const Outcome o =
+      run_cli("export " + kQuickstart + " --out " + out.string() + " --chord-tolerance 0.01 --cutter-radius 4");
+  ASSERT_EQ(o.code, 0) << o.err;
+  EXPECT_NE(o.out.find("profile.dxf"), std::string::npos) << o.out;
+  const std::string csv = read_text(out / "profile.csv");
+  EXPECT_NE(csv.find("# units: millimetres"), std::string::npos);
+  EXPECT_NE(csv.find("cam_angle_deg,lift_mm,contour_x_mm,contour_y_mm,pitch_x_mm,pitch_y_mm,cutter_x_mm,cutter_y_mm"),
+            std::string::npos);
+  EXPECT_EQ(csv.find("nan"), std::string::npos);
+  EXPECT_NE(read_text(out / "profile.dxf").find("LWPOLYLINE"), std::string::npos);
+  for (const auto& entry : fs::directory_iterator(out))
+    EXPECT_EQ(entry.path().string().find(".tmp."), std::string::npos) << "temporary file left: " << entry.path();
+}
+
+TEST(Cli, ExportBadFormatIsExitTwoNamingTheOption) {
+  const Outcome o = run_cli("export " + kQuickstart + " --format svg --out " + scratch_dir("format").string());
+  EXPECT_EQ(o.code, 2);
+  EXPECT_NE(o.err.find("--format"), std::string::npos) << o.err;
+}
+
+TEST(Cli, ExportPointsWithChordToleranceIsExitTwo) {
+  const Outcome o =
+      run_cli("export " + kQuickstart + " --points 100 --chord-tolerance 0.01 --out " + scratch_dir("both").string());
+  EXPECT_EQ(o.code, 2);
+  EXPECT_NE(o.err.find("--points"), std::string::npos) << o.err;
+}
+
+// A tool that cannot reach into the hollow flank of a steep cam: exit 2, the option named.
+TEST(Cli, ExportToolRadiusAboveTheConcaveRadiusIsExitTwoNamingTheOption) {
+  const fs::path dir = scratch_dir("concave");
+  const fs::path config = dir / "steep.json";
+  std::ofstream(config) << R"({"name": "steep", "mechanism": {
+      "cam": {"base_radius": 0.02, "rpm": 600, "motion_law": {"segments": [
+        {"type": "rise", "law": "cycloidal", "end_deg": 70, "lift": 0.02}, {"type": "dwell", "end_deg": 180},
+        {"type": "return", "law": "cycloidal", "end_deg": 250, "lift": 0.02}, {"type": "dwell", "end_deg": 360}]}},
+      "follower": {"shape": {"type": "roller", "radius": 0.005}, "mass": 0.3,
+                   "spring": {"stiffness": 5000, "preload": 40}},
+      "contact": {"stiffness": 1e10}}})";
+  const Outcome o = run_cli("export " + config.string() + " --cutter-radius 200 --out " + dir.string());
+  EXPECT_EQ(o.code, 2);
+  EXPECT_NE(o.err.find("--cutter-radius"), std::string::npos) << o.err;
+  EXPECT_NE(o.err.find("concave"), std::string::npos) << o.err;
+  EXPECT_FALSE(fs::exists(dir / "profile.csv"));
+}
+
+TEST(Cli, RunWritesTheProfileWhenTheConfigAsksForIt) {
+  const fs::path out = scratch_dir("run_profile");
+  const Outcome o = run_cli("run " + kQuickstart + " --quiet --out " + out.string() +
+                            " --set simulation.cycles=2 --set outputs.profile.formats=[\"csv\"]");
+  ASSERT_EQ(o.code, 0) << o.err;
+  EXPECT_TRUE(fs::exists(out / "profile.csv"));
+  EXPECT_FALSE(fs::exists(out / "profile.dxf"));
+  const auto summary = nlohmann::json::parse(read_text(out / "summary.json"));
+  EXPECT_EQ(summary["config"]["outputs"]["profile"]["chord_tolerance_mm"].get<double>(), 0.001);
+}
+
 }  // namespace

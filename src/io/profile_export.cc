@@ -1,0 +1,496 @@
+#include "io/profile_export.h"
+
+#include <camdyn/version.h>
+#include <dxflib/dl_dxf.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <memory>
+#include <numbers>
+#include <sstream>
+#include <stdexcept>
+#include <system_error>
+
+#include "common/errors.h"
+#include "io/atomic_file.h"
+#include "io/csv_writer.h"
+
+namespace camdyn {
+
+namespace {
+
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+constexpr double kRadToDeg = 180.0 / std::numbers::pi;
+constexpr double kMm = 1e3;               // metres to millimetres
+constexpr int kInitialSteps = 360;        // adaptive sampling starts from 1° steps
+constexpr int kMaxHalvings = 30;          // 1° / 2^30: far below any tolerance allowed
+constexpr int kConcaveScanSteps = 7200;   // cam-angle grid on which concave radii are searched
+constexpr double kToleranceMargin = 0.9;  // sagitta sampled at 3 points must stay below 0.9 × tolerance
+
+Eigen::Vector2d perp(const Eigen::Vector2d& v) { return {-v.y(), v.x()}; }
+double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
+Eigen::Vector2d rotate(const Eigen::Vector2d& v, double angle) {
+  const double c = std::cos(angle), s = std::sin(angle);
+  return {c * v.x() - s * v.y(), s * v.x() + c * v.y()};
+}
+
+std::string mm(double metres, int digits = 6) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.*g", digits, metres * kMm);
+  return buffer;
+}
+
+std::string deg(double radians) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.6g", radians * kRadToDeg);
+  return buffer;
+}
+
+/// The cam at one cam angle, from whichever description the model has: the
+/// synthesised centre curve (circle followers), the synthesised contour (flat
+/// face), or the fitted contour of a contour cam with its rigid lift.
+class ProfileSource {
+ public:
+  ProfileSource(const Model& model, std::optional<double> cutter) : model_(model), cutter_(cutter) {}
+
+  ProfilePoint at(double theta) const {
+    ProfilePoint p;
+    p.theta = theta;
+    if (model_.contour) {
+      from_contour(theta, p);
+    } else if (model_.follower.circle()) {
+      from_pitch(theta, p);
+    } else {
+      from_flat(theta, p);
+    }
+    p.cutter = cutter_ ? Eigen::Vector2d(p.contour + *cutter_ * p.normal) : p.contour;
+    return p;
+  }
+
+ private:
+  double law_lift(double theta) const { return model_.law->eval(std::fmod(theta, kTwoPi)).s; }
+
+  // Circle follower: the pitch curve P is the synthesised curve; the contour
+  // is its inner offset by ρ along the outward normal n = σ J P' / |P'|.
+  void from_pitch(double theta, ProfilePoint& p) const {
+    const CurvePoint c = model_.cam->at(theta);
+    const double sigma = model_.direction;
+    const double speed = c.dr.norm();
+    p.normal = sigma * perp(c.dr) / speed;
+    p.pitch = c.r;
+    p.contour = c.r - model_.follower.radius * p.normal;
+    const double kappa = -sigma * cross(c.dr, c.d2r) / (speed * speed * speed);  // pitch curvature, convex > 0
+    p.radius_of_curvature =
+        kappa == 0.0 ? std::numeric_limits<double>::infinity() : 1.0 / kappa - model_.follower.radius;
+    p.lift = law_lift(theta);
+  }
+
+  // Flat face: the synthesised curve is the contour; the contact normal comes
+  // from the rigid kinematics, turned from the world into the cam frame.
+  void from_flat(double theta, ProfilePoint& p) const {
+    const SynthesisedCam::Kinematics k = model_.cam->kinematics(theta);
+    p.contour = model_.cam->at(theta).r;
+    p.pitch = p.contour;
+    p.normal = rotate(k.normal, -model_.direction * theta);
+    p.radius_of_curvature = k.radius_of_curvature;
+    p.lift = law_lift(theta);
+  }
+
+  // Contour cam: the contact parameter u(θ) of the rigid follower on the fitted contour.
+  void from_contour(double theta, ProfilePoint& p) const {
+    const RigidLift lift = model_.contour_lift->at(theta);
+    const ContourCam& cam = *model_.contour;
+    p.contour = cam.at(lift.u).r;
+    p.normal = cam.outward_normal(lift.u);
+    const double kappa = cam.curvature(lift.u);
+    p.radius_of_curvature = kappa == 0.0 ? std::numeric_limits<double>::infinity() : 1.0 / kappa;
+    p.pitch = model_.follower.circle() ? Eigen::Vector2d(p.contour + model_.follower.radius * p.normal) : p.contour;
+    p.lift = lift.y - model_.contour_lift->lowest();
+  }
+
+  const Model& model_;
+  std::optional<double> cutter_;
+};
+
+/// Distance from q to the segment [a, b] [m].
+double segment_distance(const Eigen::Vector2d& q, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  const Eigen::Vector2d ab = b - a;
+  const double length2 = ab.squaredNorm();
+  const double t = length2 > 0.0 ? std::clamp((q - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
+  return (q - (a + t * ab)).norm();
+}
+
+/// Largest distance of the curves at `m` from their chords between `a` and `b` [m].
+double deviation(const ProfilePoint& a, const ProfilePoint& b, const ProfilePoint& m) {
+  return std::max({segment_distance(m.contour, a.contour, b.contour), segment_distance(m.pitch, a.pitch, b.pitch),
+                   segment_distance(m.cutter, a.cutter, b.cutter)});
+}
+
+/// The sagitta of every curve between `a` and `b`, sampled at 1/4, 1/2 and 3/4
+/// of the cam-angle step; `mid` receives the midpoint sample.
+double step_error(const ProfileSource& source, const ProfilePoint& a, const ProfilePoint& b, ProfilePoint& mid) {
+  const double h = b.theta - a.theta;
+  mid = source.at(a.theta + 0.5 * h);
+  return std::max({deviation(a, b, source.at(a.theta + 0.25 * h)), deviation(a, b, mid),
+                   deviation(a, b, source.at(a.theta + 0.75 * h))});
+}
+
+struct Sampler {
+  const ProfileSource& source;
+  double limit;                     // accepted sagitta [m]
+  std::size_t max_points;           // refuse a tolerance that needs more
+  const ProfileOptionNames& names;  // for the error
+  std::vector<ProfilePoint>& out;
+  double max_error = 0.0;
+
+  /// Appends the points strictly between a and b (a is already in `out`).
+  void refine(const ProfilePoint& a, const ProfilePoint& b, int depth) {
+    ProfilePoint mid;
+    const double error = step_error(source, a, b, mid);
+    if (error <= limit || depth >= kMaxHalvings) {
+      max_error = std::max(max_error, error);
+      return;
+    }
+    if (out.size() >= max_points)
+      throw InputError(
+          names.file, names.chord_tolerance,
+          "the chord tolerance needs more than " + std::to_string(max_points) + " points: give a larger tolerance");
+    refine(a, mid, depth + 1);
+    out.push_back(mid);
+    refine(mid, b, depth + 1);
+  }
+};
+
+/// Keeps the smallest |ρ| of the contour where it is concave, and where.
+void note_concave(const ProfilePoint& p, CamProfile& profile) {
+  if (p.radius_of_curvature < 0.0 && -p.radius_of_curvature < profile.min_concave_radius) {
+    profile.min_concave_radius = -p.radius_of_curvature;
+    profile.min_concave_radius_at = p.theta;
+  }
+}
+
+/// A tool must be smaller than the tightest hollow it cuts.
+void check_tool(const ProfileOptions& options, const CamProfile& profile, const ProfileOptionNames& names) {
+  if (!options.cutter_radius || *options.cutter_radius < profile.min_concave_radius) return;
+  throw InputError(names.file, names.cutter_radius,
+                   "the tool radius " + mm(*options.cutter_radius) +
+                       " mm is not smaller than the smallest concave radius of curvature of the cam contour, " +
+                       mm(profile.min_concave_radius) + " mm at cam angle " + deg(profile.min_concave_radius_at) +
+                       "°: the tool cannot reach into the hollow (use a tool radius below " +
+                       mm(profile.min_concave_radius) + " mm)");
+}
+
+void check_options(const ProfileOptions& options, const ProfileOptionNames& names) {
+  if (options.points &&
+      (*options.points < ProfileOutputConfig::kMinPoints || *options.points > ProfileOutputConfig::kMaxPoints))
+    throw InputError(names.file, names.points,
+                     "the number of points must be in [" + std::to_string(ProfileOutputConfig::kMinPoints) + ", " +
+                         std::to_string(ProfileOutputConfig::kMaxPoints) + "], got " + std::to_string(*options.points));
+  if (!options.points && !(options.chord_tolerance >= ProfileOutputConfig::kMinChordToleranceMm / kMm))
+    throw InputError(names.file, names.chord_tolerance,
+                     "the chord tolerance must be at least " + mm(ProfileOutputConfig::kMinChordToleranceMm / kMm) +
+                         " mm, got " + mm(options.chord_tolerance) + " mm");
+  if (options.cutter_radius && !(*options.cutter_radius > 0.0))
+    throw InputError(names.file, names.cutter_radius,
+                     "the tool radius must be > 0, got " + mm(*options.cutter_radius) + " mm");
+}
+
+CamProfile describe(const Model& model, const ProfileOptions& options) {
+  const FollowerGeometry& f = model.follower;
+  CamProfile profile;
+  profile.has_pitch = f.circle();
+  profile.oscillating = f.oscillating();
+  profile.direction = model.direction;
+  profile.follower = std::string(f.oscillating() ? "oscillating " : "translating ") + std::string(f.traits().label);
+  profile.base_radius = f.base_radius;
+  profile.follower_radius = f.circle() ? f.radius : 0.0;
+  profile.offset = f.offset;
+  profile.contour_cam = model.contour != nullptr;
+  profile.requested_points = options.points;
+  profile.chord_tolerance = options.points ? 0.0 : options.chord_tolerance;
+  profile.cutter_radius = options.cutter_radius;
+  return profile;
+}
+
+}  // namespace
+
+ProfileOptions profile_options(const ProfileOutputConfig& config) {
+  ProfileOptions options;
+  options.points = config.points;
+  options.chord_tolerance = config.chord_tolerance_mm.value_or(ProfileOutputConfig::kDefaultChordToleranceMm) / kMm;
+  if (config.cutter_radius_mm) options.cutter_radius = *config.cutter_radius_mm / kMm;
+  return options;
+}
+
+CamProfile sample_cam_profile(const Model& model, const ProfileOptions& options, const ProfileOptionNames& names) {
+  check_options(options, names);
+  CamProfile profile = describe(model, options);
+  const ProfileSource source(model, options.cutter_radius);
+  // The tool's fit first, on a fine grid: a tool too large makes the offset loop, and the sampling would chase it.
+  profile.min_concave_radius = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < kConcaveScanSteps; ++i) note_concave(source.at(kTwoPi * i / kConcaveScanSteps), profile);
+  check_tool(options, profile, names);
+
+  const int steps = options.points.value_or(kInitialSteps);
+  std::vector<ProfilePoint> grid;
+  for (int i = 0; i <= steps; ++i) grid.push_back(source.at(kTwoPi * i / steps));
+  Sampler sampler{source,
+                  options.points ? std::numeric_limits<double>::infinity() : kToleranceMargin * options.chord_tolerance,
+                  static_cast<std::size_t>(ProfileOutputConfig::kMaxPoints), names, profile.points};
+  for (int i = 0; i < steps; ++i) {
+    profile.points.push_back(grid[i]);
+    sampler.refine(grid[i], grid[i + 1], 0);
+  }
+  profile.max_chord_error = sampler.max_error;
+  // Again with the samples, which are densest where the curvature is.
+  for (const ProfilePoint& p : profile.points) note_concave(p, profile);
+  check_tool(options, profile, names);
+  for (const ProfilePoint& p : profile.points)
+    profile.max_radius = std::max({profile.max_radius, p.contour.norm(), p.pitch.norm(), p.cutter.norm()});
+  return profile;
+}
+
+std::vector<std::string> profile_header_lines(const CamProfile& profile, const std::string& name) {
+  std::vector<std::string> lines;
+  lines.push_back("camdyn cam profile of '" + name + "' (camdyn " CAMDYN_VERSION ")");
+  lines.push_back(std::string("units: millimetres (x, y") +
+                  (profile.oscillating ? "), degrees (cam angle, lift = arm angle)" : ", lift), degrees (cam angle)"));
+  lines.push_back(
+      "frame: the cam frame at cam angle 0; the cam's centre at (0, 0), +y along the follower axis away from the "
+      "cam, +x to the right");
+  lines.push_back(std::string("rotation: the cam turns ") +
+                  (profile.direction > 0 ? "counterclockwise (ccw)" : "clockwise (cw)") +
+                  " in this frame, seen from +z (x right, y up)");
+  lines.push_back(
+      "angle origin: cam angle 0 puts the start of the motion law under the follower; the point listed at cam "
+      "angle t touches the follower when the cam has turned by t from there");
+  std::string follower = "follower: " + profile.follower;
+  if (profile.has_pitch) follower += ", radius " + mm(profile.follower_radius) + " mm";
+  if (!profile.oscillating) follower += ", offset " + mm(profile.offset) + " mm";
+  lines.push_back(follower + "; base circle radius " + mm(profile.base_radius) + " mm");
+  std::string curves = "curves: contour = the cam contour (the surface to make)";
+  if (profile.has_pitch) curves += "; pitch = the follower centre's path (pitch curve)";
+  if (profile.cutter_radius)
+    curves += "; cutter = the centre path of a tool of radius " + mm(*profile.cutter_radius) +
+              " mm (the contour offset outwards)";
+  lines.push_back(curves);
+  const std::string error = mm(profile.max_chord_error, 3);
+  if (profile.requested_points)
+    lines.push_back("sampling: " + std::to_string(profile.points.size()) + " points at equal cam-angle steps (" +
+                    "largest chord deviation " + error + " mm)");
+  else
+    lines.push_back("sampling: " + std::to_string(profile.points.size()) + " points within a chord tolerance of " +
+                    mm(profile.chord_tolerance) + " mm (largest chord deviation " + error + " mm)");
+  if (std::isfinite(profile.min_concave_radius))
+    lines.push_back("smallest concave radius of curvature of the contour: " + mm(profile.min_concave_radius) +
+                    " mm at cam angle " + deg(profile.min_concave_radius_at) + " deg");
+  else
+    lines.push_back("the contour is convex everywhere");
+  if (profile.contour_cam) lines.push_back("the cam was given as contour points: the contour is their fitted spline");
+  return lines;
+}
+
+void write_profile_csv(const std::filesystem::path& path, const CamProfile& profile, const std::string& name) {
+  std::string text;
+  for (const std::string& line : profile_header_lines(profile, name)) text += "# " + line + "\n";
+  std::vector<std::string> columns = {"cam_angle_deg", profile.oscillating ? "lift_deg" : "lift_mm", "contour_x_mm",
+                                      "contour_y_mm"};
+  if (profile.has_pitch) columns.insert(columns.end(), {"pitch_x_mm", "pitch_y_mm"});
+  if (profile.cutter_radius) columns.insert(columns.end(), {"cutter_x_mm", "cutter_y_mm"});
+  for (std::size_t i = 0; i < columns.size(); ++i) text += (i > 0 ? "," : "") + columns[i];
+  text += '\n';
+  auto cell = [&](double v) {
+    if (!std::isfinite(v)) throw std::logic_error("profile " + path.string() + ": non-finite value");
+    text += ',';
+    text += format_double(v);
+  };
+  // The cam angle with 12 digits: 1.5, not the 1.5000000000000002 that degrees from radians give.
+  auto angle_cell = [&](double degrees) {
+    char buffer[32];
+    std::snprintf(buffer, sizeof buffer, "%.12g", degrees);
+    text += buffer;
+  };
+  for (const ProfilePoint& p : profile.points) {
+    angle_cell(p.theta * kRadToDeg);
+    cell(profile.oscillating ? p.lift * kRadToDeg : p.lift * kMm);
+    cell(p.contour.x() * kMm);
+    cell(p.contour.y() * kMm);
+    if (profile.has_pitch) {
+      cell(p.pitch.x() * kMm);
+      cell(p.pitch.y() * kMm);
+    }
+    if (profile.cutter_radius) {
+      cell(p.cutter.x() * kMm);
+      cell(p.cutter.y() * kMm);
+    }
+    text += '\n';
+  }
+  write_file_atomic(path, text);
+}
+
+namespace {
+
+constexpr const char* kContourLayer = "CAM_CONTOUR";
+constexpr const char* kPitchLayer = "PITCH_CURVE";
+constexpr const char* kCutterLayer = "CUTTER_PATH";
+constexpr const char* kNotesLayer = "NOTES";
+constexpr const char* kCentreLayer = "CAM_CENTRE";
+constexpr double kTextHeightMm = 2.5;
+
+DL_Attributes on_layer(const std::string& layer) { return DL_Attributes(layer, 256, -1, "BYLAYER", 1.0); }
+
+// The header section's variables beyond $ACADVER: drawing units and angle conventions.
+void write_header_variables(DL_WriterA& dw) {
+  dw.dxfString(9, "$INSUNITS");
+  dw.dxfInt(70, 4);  // millimetres
+  dw.dxfString(9, "$MEASUREMENT");
+  dw.dxfInt(70, 1);  // metric
+  dw.dxfString(9, "$LUNITS");
+  dw.dxfInt(70, 2);  // decimal
+  dw.dxfString(9, "$ANGBASE");
+  dw.dxfReal(50, 0.0);  // CAD angles from +x
+  dw.dxfString(9, "$ANGDIR");
+  dw.dxfInt(70, 0);  // CAD angles counterclockwise
+  dw.sectionEnd();
+}
+
+// The tables a DXF R2000 reader expects (viewport, line types, layers, text
+// style, view, UCS, application id, dimension style, block records), as the
+// dxflib programmer's guide writes them.
+void write_tables(DL_Dxf& dxf, DL_WriterA& dw) {
+  dw.sectionTables();
+  dxf.writeVPort(dw);
+  dw.tableLinetypes(3);
+  dxf.writeLinetype(dw, DL_LinetypeData("BYBLOCK", "", 0, 0, 0.0));
+  dxf.writeLinetype(dw, DL_LinetypeData("BYLAYER", "", 0, 0, 0.0));
+  dxf.writeLinetype(dw, DL_LinetypeData("CONTINUOUS", "Solid line", 0, 0, 0.0));
+  dw.tableEnd();
+  const std::pair<const char*, int> layers[] = {{"0", DL_Codes::black}, {kContourLayer, 7}, {kPitchLayer, 5},
+                                                {kCutterLayer, 1},      {kCentreLayer, 3},  {kNotesLayer, 8}};
+  dw.tableLayers(static_cast<int>(std::size(layers)));
+  for (const auto& [layer, colour] : layers)
+    dxf.writeLayer(dw, DL_LayerData(layer, 0), DL_Attributes(std::string(""), colour, 25, "CONTINUOUS", 1.0));
+  dw.tableEnd();
+  dw.tableStyle(1);
+  dxf.writeStyle(dw, DL_StyleData("standard", 0, 0.0, 1.0, 0.0, 0, kTextHeightMm, "txt", ""));
+  dw.tableEnd();
+  dxf.writeView(dw);
+  dxf.writeUcs(dw);
+  dw.tableAppid(1);
+  dxf.writeAppid(dw, "ACAD");
+  dw.tableEnd();
+  dxf.writeDimStyle(dw, 2.5, 0.625, 0.625, 0.625, kTextHeightMm);
+  dxf.writeBlockRecord(dw);
+  dw.tableEnd();
+  dw.sectionEnd();
+  dw.sectionBlocks();
+  for (const char* block : {"*Model_Space", "*Paper_Space", "*Paper_Space0"}) {
+    dxf.writeBlock(dw, DL_BlockData(block, 0, 0.0, 0.0, 0.0));
+    dxf.writeEndBlock(dw, block);
+  }
+  dw.sectionEnd();
+}
+
+template <class Get>
+void write_closed_polyline(DL_Dxf& dxf, DL_WriterA& dw, const CamProfile& profile, const char* layer, Get get) {
+  dxf.writePolyline(dw, DL_PolylineData(static_cast<int>(profile.points.size()), 0, 0, 1), on_layer(layer));
+  for (const ProfilePoint& p : profile.points) {
+    const Eigen::Vector2d v = get(p) * kMm;
+    if (!v.allFinite()) throw std::logic_error("profile DXF: non-finite vertex on layer " + std::string(layer));
+    dxf.writeVertex(dw, DL_VertexData(v.x(), v.y(), 0.0, 0.0));
+  }
+  dxf.writePolylineEnd(dw);
+}
+
+void write_entities(DL_Dxf& dxf, DL_WriterA& dw, const CamProfile& profile, const std::vector<std::string>& notes) {
+  dw.sectionEntities();
+  write_closed_polyline(dxf, dw, profile, kContourLayer, [](const ProfilePoint& p) { return p.contour; });
+  if (profile.has_pitch)
+    write_closed_polyline(dxf, dw, profile, kPitchLayer, [](const ProfilePoint& p) { return p.pitch; });
+  if (profile.cutter_radius)
+    write_closed_polyline(dxf, dw, profile, kCutterLayer, [](const ProfilePoint& p) { return p.cutter; });
+  dxf.writePoint(dw, DL_PointData(0.0, 0.0, 0.0), on_layer(kCentreLayer));
+  // The notes below the cam, one line each, left-aligned.
+  const double left = -profile.max_radius * kMm;
+  double y = -profile.max_radius * kMm - 4.0 * kTextHeightMm;
+  for (const std::string& line : notes) {
+    dxf.writeText(dw, DL_TextData(left, y, 0.0, left, y, 0.0, kTextHeightMm, 1.0, 0, 0, 0, line, "standard", 0.0),
+                  on_layer(kNotesLayer));
+    y -= 1.6 * kTextHeightMm;
+  }
+  dw.sectionEnd();
+}
+
+/// A scratch file for dxflib (which writes to a file name), removed on scope exit.
+class ScratchFile {
+ public:
+  explicit ScratchFile(std::filesystem::path path) : path_(std::move(path)) {}
+  ~ScratchFile() {
+    std::error_code ec;
+    std::filesystem::remove(path_, ec);
+  }
+  ScratchFile(const ScratchFile&) = delete;
+  ScratchFile& operator=(const ScratchFile&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+}  // namespace
+
+void write_profile_dxf(const std::filesystem::path& path, const CamProfile& profile, const std::string& name) {
+  if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
+  // dxflib writes to a file of its own; its content then goes to `path` atomically.
+  ScratchFile scratch(path.string() + ".dxflib." + std::to_string(::getpid()));
+  const std::vector<std::string> notes = profile_header_lines(profile, name);
+  {
+    DL_Dxf dxf;
+    const std::unique_ptr<DL_WriterA> dw(dxf.out(scratch.path().c_str(), DL_Codes::AC1015));
+    if (!dw) throw std::runtime_error("cannot create '" + scratch.path().string() + "'");
+    for (const std::string& line : notes) dxf.writeComment(*dw, line);
+    dxf.writeHeader(*dw);
+    write_header_variables(*dw);
+    write_tables(dxf, *dw);
+    write_entities(dxf, *dw, profile, notes);
+    dxf.writeObjects(*dw);
+    dxf.writeObjectsEnd(*dw);
+    dw->dxfEOF();
+    dw->close();
+  }
+  std::ifstream in(scratch.path(), std::ios::binary);
+  const std::string content((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (!in.good() && !in.eof()) throw std::runtime_error("cannot read back '" + scratch.path().string() + "'");
+  write_file_atomic(path, content);
+}
+
+std::vector<std::filesystem::path> write_profile_files(const std::filesystem::path& dir, const CamProfile& profile,
+                                                       const std::string& name,
+                                                       const std::vector<ProfileFormat>& formats) {
+  std::vector<std::filesystem::path> written;
+  auto wants = [&](ProfileFormat f) { return std::find(formats.begin(), formats.end(), f) != formats.end(); };
+  if (wants(ProfileFormat::csv)) {
+    written.push_back(dir / "profile.csv");
+    write_profile_csv(written.back(), profile, name);
+  }
+  if (wants(ProfileFormat::dxf)) {
+    written.push_back(dir / "profile.dxf");
+    write_profile_dxf(written.back(), profile, name);
+  }
+  return written;
+}
+
+std::vector<std::filesystem::path> write_profile_outputs(const std::filesystem::path& dir, const SceneConfig& scene,
+                                                         const Model& model, const std::string& file) {
+  if (!scene.outputs.profile) return {};
+  const ProfileOutputConfig& config = *scene.outputs.profile;
+  const CamProfile profile = sample_cam_profile(model, profile_options(config), ProfileOptionNames{file});
+  return write_profile_files(dir, profile, scene.name, config.formats);
+}
+
+}  // namespace camdyn
