@@ -62,8 +62,12 @@ struct SolverSpec {
   /// The Jacobian in the solver's iterations: "forward" differences (p + 1
   /// simulations per experiment) or "central" (2p + 1). Gauss–Newton steps need
   /// only the Jacobian's direction to about the step's accuracy, so forward
-  /// differences cost fewer simulations for the same optimum; the covariance
-  /// at the optimum always uses central differences.
+  /// differences cost fewer simulations for the same optimum (identify_drop
+  /// 192 against 292, identify_cam_rig 148 against 260). Where two parameters
+  /// trade off almost exactly, the forward Jacobian's error along the
+  /// trade-off gets step after step rejected and central is cheaper
+  /// (identify_single_drop: 41 against 120). The covariance at the optimum
+  /// always uses central differences.
   std::string differences = "forward";
   bool forward_differences() const { return differences == "forward"; }
   /// Initial Levenberg–Marquardt trust region radius (Ceres; the inverse of the
