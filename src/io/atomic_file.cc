@@ -1,6 +1,7 @@
 #include "io/atomic_file.h"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -28,6 +29,33 @@ void fsync_path(const std::filesystem::path& path) {
   if (rc != 0) fail("cannot fsync", path, err);
 }
 
+// A failed write without errno (the stream does not always set it): a full
+// file system is the usual cause, and is worth naming.
+int write_error(const std::filesystem::path& path) {
+  if (errno != 0) return errno;
+  std::error_code ec;
+  const std::filesystem::space_info space =
+      std::filesystem::space(path.parent_path().empty() ? "." : path.parent_path(), ec);
+  return !ec && space.available == 0 ? ENOSPC : EIO;
+}
+
+// Temporary files `<name>.tmp.<pid>` of a run that was killed before it
+// committed (its process is gone) are removed when the file is next written.
+void remove_stale_temporaries(const std::filesystem::path& path) {
+  const std::string prefix = path.filename().string() + ".tmp.";
+  const std::filesystem::path dir = path.parent_path().empty() ? "." : path.parent_path();
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (!name.starts_with(prefix)) continue;
+    const std::string digits = name.substr(prefix.size());
+    if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos || digits.size() > 9) continue;
+    const auto pid = static_cast<pid_t>(std::stol(digits));
+    if (pid == ::getpid() || ::kill(pid, 0) == 0 || errno != ESRCH) continue;  // alive, or not ours to judge
+    std::filesystem::remove(entry.path(), ec);
+  }
+}
+
 }  // namespace
 
 AtomicFile::AtomicFile(std::filesystem::path path) : path_(std::move(path)) {
@@ -41,6 +69,7 @@ AtomicFile::AtomicFile(std::filesystem::path path) : path_(std::move(path)) {
       throw std::runtime_error("cannot create directory '" + path_.parent_path().string() + "': " + ec.message());
     }
   }
+  remove_stale_temporaries(path_);
   // Same directory as the target, so rename() stays on one file system and is atomic.
   temp_ = path_;
   temp_ += ".tmp." + std::to_string(::getpid());
@@ -62,10 +91,10 @@ void AtomicFile::commit() {
   errno = 0;
   out_.flush();
   const bool ok = static_cast<bool>(out_);
-  const int err = errno != 0 ? errno : EIO;
+  const int err = ok ? 0 : write_error(temp_);
   out_.close();
   // On failure the destructor removes the temporary file (committed_ stays false).
-  if (!ok || out_.fail()) fail("cannot write", temp_, err);
+  if (!ok || out_.fail()) fail("cannot write", temp_, err != 0 ? err : write_error(temp_));
   fsync_path(temp_);
   if (std::rename(temp_.c_str(), path_.c_str()) != 0) {
     fail("cannot rename temporary file to", path_, errno);

@@ -1,6 +1,7 @@
 #include "io/atomic_file.h"
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -99,6 +100,29 @@ TEST_F(AtomicFileTest, UnwritableDirectoryThrowsWithPath) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find(blocker.string()), std::string::npos) << e.what();
   }
+}
+
+// kill -9 during a write leaves `<name>.tmp.<pid>`; the next write of that
+// file removes it once its process is gone, and leaves a live one alone.
+TEST_F(AtomicFileTest, StaleTemporaryOfAKilledRunIsRemovedOnTheNextWrite) {
+  fs::create_directories(dir_);
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) ::_exit(0);
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);  // reaped: the pid is gone
+  const fs::path path = dir_ / "timeseries.csv";
+  const fs::path stale = dir_ / ("timeseries.csv.tmp." + std::to_string(child));
+  const fs::path live = dir_ / ("timeseries.csv.tmp." + std::to_string(::getppid()));
+  const fs::path other = dir_ / ("summary.json.tmp." + std::to_string(child));
+  for (const fs::path& p : {stale, live, other}) std::ofstream(p) << "partial";
+  write_file_atomic(path, "t\n");
+  EXPECT_FALSE(fs::exists(stale));
+  EXPECT_TRUE(fs::exists(live));   // its process still runs
+  EXPECT_TRUE(fs::exists(other));  // another file's: removed when that file is written
+  write_file_atomic(dir_ / "summary.json", "{}");
+  EXPECT_FALSE(fs::exists(other));
+  EXPECT_EQ(read(path), "t\n");
 }
 
 }  // namespace
