@@ -132,8 +132,27 @@ Json identified_scene_json(const IdentifyProblem& problem, const IdentifyResult&
   return j;
 }
 
+/// The banner: each parameter with its standard error, or which ones the data cannot pin down.
+Verdict identify_verdict(const IdentifyResult& result) {
+  Verdict v;
+  v.tone = result.identifiable ? Verdict::Tone::good : Verdict::Tone::warning;
+  std::string values, unpinned;
+  for (const ParameterEstimate& p : result.parameters) {
+    values += (values.empty() ? "" : ", ") + p.name + " = " + format_number(p.value, 5) +
+              (p.std_error ? " ± " + format_number(*p.std_error, 2) : "");
+    if (!p.identifiable) unpinned += (unpinned.empty() ? "" : ", ") + p.name;
+  }
+  v.headline = result.identifiable
+                   ? "identified: " + values
+                   : "NOT identifiable" + (unpinned.empty() ? "" : " (" + unpinned + ")") + ": " + values;
+  v.details.push_back("termination " + result.termination + " after " + std::to_string(result.iterations) +
+                      " iterations; RMS residual (weighted) " + format_number(result.rms_residual, 4));
+  return v;
+}
+
 Report identify_report(const IdentifyProblem& problem, const IdentifyResult& result) {
   Report report;
+  report.verdict = identify_verdict(result);
   report.title = "camdyn: " + problem.scene.name;
   report.subtitle = "identify — " + std::to_string(result.parameters.size()) + " parameters fitted to " +
                     std::to_string(result.fits.size()) + " record" + (result.fits.size() == 1 ? "" : "s") +

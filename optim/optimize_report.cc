@@ -115,22 +115,34 @@ std::vector<std::pair<std::string, std::string>> summary_facts(const OptimizeOut
   const DesignEvaluation& p = o.optimized;
   std::string speeds;
   for (double rpm : o.config.operating_rpm) speeds += (speeds.empty() ? "" : ", ") + format_number(rpm);
-  std::vector<std::pair<std::string, std::string>> facts = answer_facts(o);
-  std::vector<std::pair<std::string, std::string>> run = {
-      {"algorithm", o.search.method},
-      {"stop reason", o.search.stop_reason},
-      {"evaluations", std::to_string(o.search.evaluations) + " (" + std::to_string(o.search.invalid_evaluations) +
-                          " invalid designs)"},
-      {"simulations", std::to_string(o.simulations)},
-      {"run time",
-       format_number(o.run_time_s, 4) + " s (search loop " + format_number(o.loop_time_s, 4) + " s, " +
-           format_number(o.loop_time_s > 0 ? static_cast<double>(o.search.evaluations) / o.loop_time_s : 0.0, 4) +
-           " evaluations/s)"},
-      {"operating speeds", speeds + " rpm (" + o.config.objective.aggregate + " case)"},
-      {"objective", format_number(b.objective) + " → " + format_number(p.objective)},
-      {"all constraints hold", "baseline: " + yes_no(b.feasible) + ", optimised: " + yes_no(p.feasible)}};
-  facts.insert(facts.end(), run.begin(), run.end());
-  return facts;
+  return {{"algorithm", o.search.method},
+          {"stop reason", o.search.stop_reason},
+          {"evaluations", std::to_string(o.search.evaluations) + " (" + std::to_string(o.search.invalid_evaluations) +
+                              " invalid designs)"},
+          {"simulations", std::to_string(o.simulations)},
+          {"run time",
+           format_number(o.run_time_s, 4) + " s (search loop " + format_number(o.loop_time_s, 4) + " s, " +
+               format_number(o.loop_time_s > 0 ? static_cast<double>(o.search.evaluations) / o.loop_time_s : 0.0, 4) +
+               " evaluations/s)"},
+          {"operating speeds", speeds + " rpm (" + o.config.objective.aggregate + " case)"},
+          {"objective", format_number(b.objective) + " → " + format_number(p.objective)},
+          {"all constraints hold", "baseline: " + yes_no(b.feasible) + ", optimised: " + yes_no(p.feasible)}};
+}
+
+/// The banner: the jump speed before → after, then the certificate and the speeds it covers.
+Verdict optimize_verdict(const OptimizeOutcome& o) {
+  Verdict v;
+  v.tone = o.optimized.feasible ? Verdict::Tone::good : Verdict::Tone::bad;
+  for (const auto& [key, value] : answer_facts(o)) {
+    if (v.headline.empty() && key == "rigid-model jump speed")
+      v.headline = "jump speed " + value + " (rigid model, baseline → optimised)";
+    else
+      v.details.push_back(key + ": " + value);
+  }
+  if (v.headline.empty())
+    v.headline = "objective " + format_number(o.baseline.objective) + " → " + format_number(o.optimized.objective);
+  if (!o.optimized.feasible) v.details.push_back("the optimised design does not satisfy every constraint");
+  return v;
 }
 
 /// Rigid-model margin P − P_min against cam angle, baseline and optimised, at each operating speed.
@@ -373,14 +385,15 @@ Report optimize_report(const OptimizeOutcome& o, const std::string& name) {
   r.subtitle =
       "Spline cam design: rigid-model linear programmes, then NLopt on simulations; baseline against the optimised "
       "design";
+  r.verdict = optimize_verdict(o);
   r.facts = summary_facts(o);
   const Table constraints = constraints_table(o);
   if (!constraints.rows.empty()) r.tables.push_back(constraints);
   r.tables.push_back(terms_table(o.baseline, o.optimized));
   r.tables.push_back(metrics_table(o));
   r.tables.push_back(segments_table(o.baseline, o.optimized));
-  r.tables.push_back(starts_table(o.search));
-  r.tables.push_back(variables_table(o));
+  r.appendix.push_back(starts_table(o.search));
+  r.appendix.push_back(variables_table(o));
   add_margin_plots(o, r);
   add_cam_plots(o, r);
   add_kinematics_plots(o.baseline, o.optimized, r);

@@ -117,9 +117,14 @@ int run_simulate(const camdyn::Json& doc, const camdyn::StudyContext& ctx) {
   return kExitOk;
 }
 
-int report_input_error(const camdyn::InputError& e, const std::string& config) {
+int report_input_error(const camdyn::InputError& e, const std::string& config,
+                       const std::vector<std::string>& overrides) {
+  // A value given with --set is not in the file: name the argument instead.
+  const std::optional<std::string> assignment =
+      e.file() == "--set" || e.path().empty() ? std::nullopt : camdyn::assignment_setting(overrides, e.path());
+  if (assignment) std::cerr << "camdyn: error: --set " << *assignment << ": " << e.path() << ": " << e.reason() << "\n";
   // Errors raised below the config layer may not know the file: name it here.
-  if (e.file().empty())
+  else if (e.file().empty())
     std::cerr << "camdyn: error: " << config << ": " << e.what() << "\n";
   else
     std::cerr << "camdyn: error: " << e.what() << "\n";
@@ -128,12 +133,12 @@ int report_input_error(const camdyn::InputError& e, const std::string& config) {
 
 // Maps what a command throws to the exit codes of interface.md.
 template <class Body>
-int with_exit_codes(const std::string& config, bool root, Body body) {
+int with_exit_codes(const std::string& config, const std::vector<std::string>& overrides, bool root, Body body) {
   try {
     return body();
   } catch (const camdyn::InputError& e) {
     if (!root) return kExitInput;  // every rank reads the same input: rank 0 says what is wrong
-    return report_input_error(e, config);
+    return report_input_error(e, config, overrides);
   } catch (const camdyn::NumericalError& e) {
     if (!root) return kExitNumerical;
     std::cerr << "camdyn: numerical failure: " << config << ": " << e.what() << "\n";
@@ -237,6 +242,33 @@ void add_export_command(CLI::App& app, ExportArgs& args) {
   command->add_option("--set", args.overrides, "Override a field (repeatable)");
 }
 
+// `camdyn run --help` ends with every study type, an example of each, and the exit codes.
+constexpr const char* kRunFooter = R"(
+Study types (the config's "study"; examples from the repository's studies/):
+  simulate     one run: metrics, time series, report
+                 camdyn run studies/quickstart.json --set mechanism.cam.rpm=1500
+  optimize     spline cam design against jump and contact force
+                 camdyn run studies/optimize_jump.json
+  identify     fit contact and follower parameters to measured records
+                 camdyn run studies/identify_drop/identify_drop.json
+  compare      cases over a grid of settings, one table and report
+                 camdyn run studies/compare_laws.json --jobs 2
+  convergence  error against run time of every integrator and tolerance
+                 camdyn run studies/work_precision.json
+  periodic     the steady motion by shooting on the Poincare map
+                 camdyn run studies/periodic/bouncing_ball.json
+  jump_map     the steady motion over a range of cam speeds
+                 camdyn run studies/periodic/bouncing_ball_jump_map.json
+  speed_limit  the highest cam speed that keeps the follower on the cam
+                 camdyn run studies/quickstart.json --set study=speed_limit
+
+Exit codes:
+  0  success
+  2  invalid input (config, data file, geometry that cannot be built; the
+     message names the file or the --set argument, the field and the reason)
+  3  numerical failure (an integrator or optimiser gave up)
+  1  anything else)";
+
 // The command line: parse, dispatch the command, map its errors to exit codes.
 int run_command(int argc, char** argv) {
   // Under mpirun (built with -DCAMDYN_WITH_MPI=ON) a compare study spreads its
@@ -248,7 +280,8 @@ int run_command(int argc, char** argv) {
   app.require_subcommand(1);
 
   RunArgs run_args;
-  CLI::App* run = app.add_subcommand("run", "Run the study a config describes (simulate)");
+  CLI::App* run = app.add_subcommand(
+      "run", "Run the study a config describes (simulate, optimize, identify, compare, convergence, ...)");
   run->add_option("config", run_args.config, "Config file (JSON)")->required();
   run->add_option("--out", run_args.out, "Output folder (default out/<name>)")
       ->check([](const std::string& out) { return out.empty() ? std::string("the folder name is empty") : ""; }, "");
@@ -256,6 +289,7 @@ int run_command(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   run->add_flag("--quiet", run_args.quiet, "No progress on stderr");
   run->add_option("--set", run_args.overrides, "Override a field: --set contact.stiffness=2e9 (repeatable)");
+  run->footer(kRunFooter);
 
   RunArgs validate_args;
   CLI::App* validate = app.add_subcommand("validate", "Check a config and print it fully resolved");
@@ -274,10 +308,10 @@ int run_command(int argc, char** argv) {
 
   if (!run->parsed() && !validate->parsed()) {
     if (!root) return kExitOk;
-    return with_exit_codes(export_args.config, root, [&] { return run_export(export_args); });
+    return with_exit_codes(export_args.config, export_args.overrides, root, [&] { return run_export(export_args); });
   }
   const RunArgs& args = run->parsed() ? run_args : validate_args;
-  return with_exit_codes(args.config, root, [&] { return run_study(args, validate->parsed(), root); });
+  return with_exit_codes(args.config, args.overrides, root, [&] { return run_study(args, validate->parsed(), root); });
 }
 
 }  // namespace

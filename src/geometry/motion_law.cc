@@ -228,6 +228,7 @@ std::shared_ptr<const NormalisedRise> spline_segment_shape(int p, const std::vec
 /// Units and totals of the rise / return lifts, gathered while reading the segments.
 struct LiftTotals {
   double rise = 0.0, ret = 0.0;  ///< sums of the rise and return lifts [m or rad]
+  double since_return = 0.0;     ///< rises since the last return [m or rad]: what a return without a lift takes
   int in_deg = -1;               ///< unit of the first rise/return: 0 metres, 1 degrees
 };
 
@@ -245,9 +246,20 @@ void read_segment_span(const SegmentConfig& sc, bool last, const std::string& fi
 }
 
 /// Checks the lift of a rise / return segment, sets seg.lift (signed [m or rad])
-/// and adds it to the totals.
+/// and adds it to the totals. A return without a lift goes back down by the
+/// rises since the last return, to the level the follower rose from.
 void read_segment_lift(const SegmentConfig& sc, const std::string& file, const std::string& at, LiftTotals& totals,
                        Segment& seg) {
+  if (sc.type == SegmentType::return_ && !sc.lift && !sc.lift_deg) {
+    if (totals.since_return <= 0.0)
+      throw InputError(file, at + ".lift",
+                       "missing: there is no rise since the last return to go back down from (give 'lift' [m] or "
+                       "'lift_deg')");
+    totals.ret += totals.since_return;
+    seg.lift = -totals.since_return;
+    totals.since_return = 0.0;
+    return;
+  }
   if (sc.lift.has_value() == sc.lift_deg.has_value())
     throw InputError(file, at,
                      "give exactly one of lift [m] (translating follower) or lift_deg "
@@ -262,6 +274,7 @@ void read_segment_lift(const SegmentConfig& sc, const std::string& file, const s
   const double lift = in_deg ? deg_to_rad(given) : given;
   const bool rise = sc.type == SegmentType::rise;
   (rise ? totals.rise : totals.ret) += lift;
+  totals.since_return = rise ? totals.since_return + lift : 0.0;
   seg.lift = rise ? lift : -lift;
 }
 

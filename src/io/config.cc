@@ -546,6 +546,16 @@ void apply_assignment(Json& document, const std::string& assignment) {
   set_config_value(document, key, value);
 }
 
+std::optional<std::string> assignment_setting(const std::vector<std::string>& overrides, const std::string& path) {
+  for (auto it = overrides.rbegin(); it != overrides.rend(); ++it) {
+    const std::size_t equals = it->find('=');
+    if (equals == std::string::npos || equals == 0) continue;
+    const std::string key = full_dotted_path(it->substr(0, equals));
+    if (path == key || (path.starts_with(key) && (path[key.size()] == '.' || path[key.size()] == '['))) return *it;
+  }
+  return std::nullopt;
+}
+
 SceneConfig scene_from_json(const Json& json, const ConfigSource& source) {
   if (!json.is_object()) {
     throw InputError(source.file, "", "expected a JSON object at the top level, got " + describe_json(json));

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -61,6 +62,12 @@ void set_config_value(Json& document, const std::string& dotted_path, const Json
 /// Applies one "dotted.path=VALUE" assignment (VALUE parsed as JSON if it
 /// parses, else taken as a string), as `--set` does.
 void apply_assignment(Json& document, const std::string& assignment);
+
+/// The last of `overrides` ("dotted.path=VALUE") that set the field at
+/// `path` (a full dotted path as an InputError names it) or an object or
+/// array above it; nullopt if the field came from the file. So an error in a
+/// value given on the command line can name that `--set` argument.
+std::optional<std::string> assignment_setting(const std::vector<std::string>& overrides, const std::string& path);
 
 /// The source of a config file: the file and the directory its relative paths resolve against.
 ConfigSource config_source(const std::string& file);

@@ -296,13 +296,21 @@ dl.facts { display: grid; grid-template-columns: repeat(auto-fill, minmax(220px,
 dl.facts dt { font-size: .78em; text-transform: uppercase; letter-spacing: .04em; color: var(--muted); }
 dl.facts dd { margin: 0; font-variant-numeric: tabular-nums; overflow-wrap: anywhere; }
 section { margin: 28px 0; }
-.table-wrap { overflow-x: auto; background: var(--panel); border: 1px solid var(--line); border-radius: 8px; }
+.verdict { margin: 0 0 16px; padding: 14px 18px; border-radius: 8px; border: 1px solid var(--line);
+  border-left: 6px solid #6b7280; background: var(--panel); }
+.verdict.good { border-left-color: #1a7f37; background: #eef8f1; }
+.verdict.warning { border-left-color: #b7791f; background: #fdf6e7; }
+.verdict.bad { border-left-color: #c2410c; background: #fdf0ea; }
+.verdict .headline { font-size: 1.2em; font-weight: 650; margin: 0; }
+.verdict ul { margin: 6px 0 0; padding-left: 20px; color: var(--muted); }
+.table-wrap { overflow: auto; max-height: 70vh; background: var(--panel); border: 1px solid var(--line); border-radius: 8px; }
 table { border-collapse: collapse; width: 100%; font-size: .92em; }
 th, td { padding: 6px 12px; border-bottom: 1px solid var(--line); text-align: left; white-space: nowrap; }
 td.num { text-align: right; font-variant-numeric: tabular-nums; }
 td.best { font-weight: 700; background: #e3f4e8; }
 td.best::after { content: " \2605"; color: #1a7f37; }
-thead th { background: #eef1f6; }
+table.wrap td { white-space: normal; overflow-wrap: anywhere; }
+thead th { background: #eef1f6; position: sticky; top: 0; }
 table.sortable th { cursor: pointer; user-select: none; }
 table.sortable th::after { content: " \2195"; color: #a8afbd; }
 table.sortable th[aria-sort="ascending"]::after { content: " \2191"; color: var(--fg); }
@@ -373,7 +381,11 @@ void render_table(std::ostringstream& html, const Table& table) {
   }
   html << "<section class=\"table\">\n";
   if (!table.title.empty()) html << "<h2>" << escape_html(table.title) << "</h2>\n";
-  html << "<div class=\"table-wrap\">\n<table" << (table.sortable ? " class=\"sortable\"" : "") << ">\n<thead><tr>";
+  html << "<div class=\"table-wrap\">\n<table";
+  if (table.sortable || table.wrap)
+    html << " class=\"" << (table.sortable ? "sortable" : "") << (table.sortable && table.wrap ? " " : "")
+         << (table.wrap ? "wrap" : "") << "\"";
+  html << ">\n<thead><tr>";
   for (const auto& column : table.columns) html << "<th scope=\"col\">" << escape_html(column) << "</th>";
   html << "</tr></thead>\n<tbody>\n";
   const std::set<std::pair<std::size_t, std::size_t>> marked(table.marked.begin(), table.marked.end());
@@ -391,6 +403,18 @@ void render_table(std::ostringstream& html, const Table& table) {
   html << "</tbody>\n</table>\n";
   if (table.rows.empty()) html << "<p class=\"empty\">No rows.</p>\n";
   html << "</div>\n</section>\n";
+}
+
+void render_verdict(std::ostringstream& html, const Verdict& verdict) {
+  static constexpr const char* kTone[] = {"good", "warning", "bad", "neutral"};
+  html << "<div class=\"verdict " << kTone[static_cast<int>(verdict.tone)]
+       << "\" id=\"verdict\">\n<p class=\"headline\">" << escape_html(verdict.headline) << "</p>\n";
+  if (!verdict.details.empty()) {
+    html << "<ul>\n";
+    for (const std::string& line : verdict.details) html << "<li>" << escape_html(line) << "</li>\n";
+    html << "</ul>\n";
+  }
+  html << "</div>\n";
 }
 
 }  // namespace
@@ -525,6 +549,8 @@ std::string render_html(const Report& report) {
   if (!report.subtitle.empty()) {
     html << "<p class=\"subtitle\">" << escape_html(report.subtitle) << "</p>\n";
   }
+  html << "</header>\n<main>\n";
+  if (report.verdict) render_verdict(html, *report.verdict);
   if (!report.facts.empty()) {
     html << "<dl class=\"facts\">\n";
     for (const auto& [key, value] : report.facts) {
@@ -532,7 +558,6 @@ std::string render_html(const Report& report) {
     }
     html << "</dl>\n";
   }
-  html << "</header>\n<main>\n";
   for (const auto& table : report.tables) render_table(html, table);
   if (!report.plots.empty()) html << "<section class=\"plots\">\n";
   // Each plot is its own gnuplot process: render them side by side (a compare
@@ -552,6 +577,7 @@ std::string render_html(const Report& report) {
          << escape_html(report.plots[i].title) << "</figcaption>\n</figure>\n";
   }
   if (!report.plots.empty()) html << "</section>\n";
+  for (const auto& table : report.appendix) render_table(html, table);
   if (!report.notes.empty()) {
     html << "<section class=\"notes\">\n<h2>Notes</h2>\n<ul>\n";
     for (const auto& note : report.notes) html << "<li>" << escape_html(note) << "</li>\n";

@@ -42,8 +42,20 @@ struct Table {
   /// Cells (row, column) to highlight, e.g. the best value of a metric: drawn
   /// bold on green with a ★ (added by CSS, so sorting still reads the number).
   std::vector<std::pair<std::size_t, std::size_t>> marked = {};
+  bool wrap = false;  ///< long text cells (failure reasons) wrap instead of running off to the right
 };
 
+/// The answer of a run in one sentence, shown first on the page in a banner
+/// (`<div class="verdict">`, the first element of `<main>`), coloured by tone.
+struct Verdict {
+  enum class Tone { good, warning, bad, neutral };
+  Tone tone = Tone::neutral;
+  std::string headline;              ///< the answer, e.g. "stays in contact, minimum contact force 12 N at 95°"
+  std::vector<std::string> details;  ///< a few supporting lines under it
+};
+
+/// Page order: title and subtitle, the verdict banner, the facts, `tables`,
+/// the plots, `appendix` (big tables, solver counters), the notes.
 struct Report {
   std::string title;
   std::string subtitle;
@@ -51,6 +63,8 @@ struct Report {
   std::vector<Table> tables;
   std::vector<Plot> plots;
   std::vector<std::string> notes;
+  std::optional<Verdict> verdict = std::nullopt;  ///< every study's report sets it
+  std::vector<Table> appendix = {};               ///< tables after the plots
 };
 
 /// Most points a series keeps in a plot; more only bloat the SVG.

@@ -46,6 +46,11 @@ std::optional<std::string> closest_match(std::string_view word, const std::vecto
       best = candidate;
     }
   }
+  if (best || w.size() < kMinPartialLength) return best;
+  // A partial name ("lankarani" for "lankarani_nikravesh"): the shortest
+  // candidate that starts with it (ties: the earlier one).
+  for (const std::string& candidate : candidates)
+    if (lower(candidate).starts_with(w) && (!best || candidate.size() < best->size())) best = candidate;
   return best;
 }
 

@@ -1,12 +1,17 @@
-// report.html of a compare study: the results table with the best case per
-// grid point marked, the best case per metric, a pass/fail map over the first
-// two numeric grid axes, each metric against the first grid axis, the overlays
-// (contact force and follower motion against cam angle) and the failed runs.
+// report.html of a compare study: the verdict (the best case, ranked with
+// separation first), the cases at a glance, the best case per metric, a
+// pass/fail map over the first two numeric grid axes, each metric against the
+// first grid axis, the overlays (contact force and follower motion against cam
+// angle), then the results table with the best case per grid point marked and
+// the failed runs.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <optional>
+#include <string_view>
 
+#include "dynamics/metrics.h"
 #include "io/report.h"
 #include "study/compare_output.h"
 
@@ -28,6 +33,81 @@ bool better_or_equal(const std::string& metric, double a, double b) {
 
 bool has_metric(const CompareResult& r, std::size_t i, std::size_t mi) {
   return r.outcomes[i].ok && std::isfinite(r.outcomes[i].metrics[mi]);
+}
+
+/// Separation fractions closer than this count as equal when ranking [–]
+/// (0.1 % of the evaluated time: a graze, not a jump).
+constexpr double kSeparationTie = 1e-3;
+
+/// A run's separation fraction [–]; +inf for a failed run or one without it.
+double separation(const CompareResult& r, std::size_t i) {
+  const std::size_t mi = metric_index("separation_fraction");
+  return has_metric(r, i, mi) ? r.outcomes[i].metrics[mi] : std::numeric_limits<double>::infinity();
+}
+
+/// Separation first: of `runs`, those that separate least (within
+/// kSeparationTie). A run airborne for much of the time is never best on a
+/// force or speed metric, however low its numbers are.
+std::vector<std::size_t> least_separated(const CompareResult& r, const std::vector<std::size_t>& runs) {
+  double least = std::numeric_limits<double>::infinity();
+  for (const std::size_t i : runs) least = std::min(least, separation(r, i));
+  std::vector<std::size_t> out;
+  for (const std::size_t i : runs)
+    if (!std::isfinite(least) || separation(r, i) <= least + kSeparationTie) out.push_back(i);
+  return out;
+}
+
+/// The unit of a metric as the metrics table prints it ("–": dimensionless).
+std::string metric_unit(const std::string& metric) {
+  std::string unit = "–";
+  const Metrics none;
+  for_each_metric(none, [&](const char* name, const auto&, const MetricInfo& info) {
+    if (metric == name) unit = info.unit;
+  });
+  return unit;
+}
+
+/// An axis label for a grid key (a dotted config path) with its unit in
+/// brackets: SI as the config takes it, from the field's name.
+std::string key_label(const std::string& key) {
+  const std::string leaf = key.substr(key.rfind('.') + 1);
+  const auto ends_with = [&](std::string_view tail) { return leaf.size() >= tail.size() && leaf.ends_with(tail); };
+  static const std::map<std::string, std::string> units = {{"rpm", "rpm"},
+                                                           {"mass", "kg"},
+                                                           {"preload", "N"},
+                                                           {"damping", "N s/m"},
+                                                           {"base_radius", "m"},
+                                                           {"radius", "m"},
+                                                           {"offset", "m"},
+                                                           {"lift", "m"},
+                                                           {"face_width", "m"},
+                                                           {"arm_length", "m"},
+                                                           {"width", "m"},
+                                                           {"inertia", "kg m²"},
+                                                           {"gravity", "m/s²"},
+                                                           {"reference_velocity", "m/s"},
+                                                           {"duration", "s"},
+                                                           {"output_step", "s"},
+                                                           {"restitution", "–"},
+                                                           {"exponent", "–"},
+                                                           {"mu", "–"},
+                                                           {"rtol", "–"},
+                                                           {"atol", "–"},
+                                                           {"cycles", "–"},
+                                                           {"discard_cycles", "–"},
+                                                           {"control_points", "–"}};
+  std::string unit;
+  if (ends_with("_deg"))
+    unit = "deg";
+  else if (ends_with("_rpm"))
+    unit = "rpm";
+  else if (leaf == "stiffness")
+    unit = key.find("contact") != std::string::npos ? "N/mⁿ" : "N/m (N m/rad for an arm)";
+  else if (const auto it = units.find(leaf); it != units.end())
+    unit = it->second;
+  else
+    unit = "SI, as in the config";
+  return key + " [" + unit + "]";
 }
 
 /// Every run with the chosen metrics, one row each.
@@ -62,11 +142,12 @@ std::pair<std::map<std::string, std::size_t>, std::size_t> mark_winners(
     for (const std::size_t i : runs)
       if (has_metric(r, i, mi)) valid.push_back(i);
     if (valid.size() < 2) continue;
-    double top = r.outcomes[valid.front()].metrics[mi];
-    for (const std::size_t i : valid)
+    const std::vector<std::size_t> contenders = least_separated(r, valid);
+    double top = r.outcomes[contenders.front()].metrics[mi];
+    for (const std::size_t i : contenders)
       if (better_or_equal(metric, r.outcomes[i].metrics[mi], top)) top = r.outcomes[i].metrics[mi];
     std::vector<std::size_t> winners;
-    for (const std::size_t i : valid)
+    for (const std::size_t i : contenders)
       if (better_or_equal(metric, r.outcomes[i].metrics[mi], top)) winners.push_back(i);
     if (winners.size() == valid.size()) continue;  // all tie: nothing to mark
     ++contested;
@@ -82,10 +163,13 @@ std::pair<std::map<std::string, std::size_t>, std::size_t> mark_winners(
 std::vector<std::string> best_row(const CompareResult& r, const std::string& metric,
                                   const std::map<std::string, std::size_t>& wins, std::size_t contested) {
   const std::size_t mi = metric_index(metric);
-  std::size_t overall = r.points.size();  // the overall best run for this metric
+  std::vector<std::size_t> all;
   for (std::size_t i = 0; i < r.points.size(); ++i)
-    if (has_metric(r, i, mi) && (overall == r.points.size() ||
-                                 !better_or_equal(metric, r.outcomes[overall].metrics[mi], r.outcomes[i].metrics[mi])))
+    if (has_metric(r, i, mi)) all.push_back(i);
+  std::size_t overall = r.points.size();  // the overall best run for this metric, separation first
+  for (const std::size_t i : least_separated(r, all))
+    if ((overall == r.points.size() ||
+         !better_or_equal(metric, r.outcomes[overall].metrics[mi], r.outcomes[i].metrics[mi])))
       overall = i;
   std::string most = "–";
   if (!wins.empty() && r.spec->cases.size() > 1) {
@@ -133,8 +217,8 @@ std::vector<Plot> metric_plots(const CompareResult& r) {
   for (const std::string& m : r.spec->metrics) {
     Plot plot;
     plot.title = m + " against " + grid.front().key;
-    plot.xlabel = grid.front().key;
-    plot.ylabel = m;
+    plot.xlabel = key_label(grid.front().key);
+    plot.ylabel = m + " [" + metric_unit(m) + "]";
     std::map<std::string, Series> lines;
     std::vector<std::string> order;
     for (std::size_t i = 0; i < r.points.size(); ++i) {
@@ -208,8 +292,8 @@ std::optional<Plot> pass_fail_map(const CompareResult& r) {
   };
   Plot map;
   map.title = "Pass/fail map: " + grid[0].key + " against " + grid[1].key;
-  map.xlabel = grid[0].key;
-  map.ylabel = grid[1].key;
+  map.xlabel = key_label(grid[0].key);
+  map.ylabel = key_label(grid[1].key);
   map.logx = positive(grid[0]);
   map.logy = positive(grid[1]);
   std::map<std::pair<double, double>, bool> any_failed;
@@ -230,6 +314,7 @@ std::optional<Plot> pass_fail_map(const CompareResult& r) {
 
 Table failures_table(const CompareResult& r) {
   Table failures{"Failed runs", {"case", "grid point", "reason"}, {}, false};
+  failures.wrap = true;  // a reason is read whole
   for (std::size_t i = 0; i < r.points.size(); ++i)
     if (!r.outcomes[i].ok) {
       std::string at;
@@ -238,6 +323,83 @@ Table failures_table(const CompareResult& r) {
       failures.rows.push_back({r.case_name(i), at, r.outcomes[i].error});
     }
   return failures;
+}
+
+/// One case over the whole grid, for the ranking at the top of the page.
+struct CaseStanding {
+  std::string name;
+  std::size_t ok = 0, failed = 0;
+  double worst_separation = 0.0;  ///< largest separation fraction over its runs [–]; +inf if none ran
+  std::size_t wins = 0;           ///< cells marked best in the results table
+  std::string first_error;
+};
+
+/// The cases ranked: fewest failed runs, then least separation (within
+/// kSeparationTie), then most metric comparisons won.
+std::vector<CaseStanding> rank_cases(const CompareResult& r, const Table& marked_results) {
+  std::vector<CaseStanding> cases(r.spec->cases.size());
+  for (std::size_t c = 0; c < cases.size(); ++c) cases[c].name = r.spec->cases[c].name;
+  for (std::size_t i = 0; i < r.points.size(); ++i) {
+    CaseStanding& s = cases[r.points[i].case_index];
+    if (!r.outcomes[i].ok) {
+      ++s.failed;
+      if (s.first_error.empty()) s.first_error = r.outcomes[i].error;
+      continue;
+    }
+    ++s.ok;
+    const double sep = separation(r, i);
+    if (std::isfinite(sep)) s.worst_separation = std::max(s.worst_separation, sep);
+  }
+  for (CaseStanding& s : cases)
+    if (s.ok == 0) s.worst_separation = std::numeric_limits<double>::infinity();
+  for (const auto& [row, column] : marked_results.marked) ++cases[r.points[row].case_index].wins;
+  std::stable_sort(cases.begin(), cases.end(), [](const CaseStanding& a, const CaseStanding& b) {
+    if (a.failed != b.failed) return a.failed < b.failed;
+    if (std::abs(a.worst_separation - b.worst_separation) > kSeparationTie || !std::isfinite(a.worst_separation) ||
+        !std::isfinite(b.worst_separation))
+      return a.worst_separation < b.worst_separation;
+    return a.wins > b.wins;
+  });
+  return cases;
+}
+
+Table standings_table(const std::vector<CaseStanding>& cases) {
+  Table t{"Cases at a glance (ranked: failed runs, then separation, then metrics won)",
+          {"rank", "case", "runs ok", "failed", "worst separation fraction [–]", "best values (★)", "first failure"},
+          {},
+          false};
+  t.wrap = true;
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    const CaseStanding& c = cases[k];
+    t.rows.push_back({std::to_string(k + 1), c.name, std::to_string(c.ok), std::to_string(c.failed),
+                      std::isfinite(c.worst_separation) ? format_number(c.worst_separation, 3) : "–",
+                      std::to_string(c.wins), c.first_error.empty() ? "–" : c.first_error});
+  }
+  return t;
+}
+
+/// The banner: the best case (separation first) and how many runs failed.
+Verdict compare_verdict(const CompareResult& r, const std::vector<CaseStanding>& cases) {
+  Verdict v;
+  const CaseStanding& best = cases.front();
+  const std::string runs = std::to_string(r.points.size() - r.failed) + " of " + std::to_string(r.points.size()) +
+                           " runs ok" + (r.failed ? ", " + std::to_string(r.failed) + " failed" : "");
+  if (best.ok == 0) {
+    v.tone = Verdict::Tone::bad;
+    v.headline = "every run failed: " + best.first_error;
+    return v;
+  }
+  const bool stays = best.worst_separation <= kSeparationTie;
+  const std::string who = cases.size() > 1 ? "best: " + best.name : best.name;
+  v.headline = stays ? who + " — stays in contact at every grid point"
+                     : (cases.size() > 1 ? "every case separates somewhere; least: " + best.name : best.name) +
+                           " — airborne up to " + format_number(100.0 * best.worst_separation, 3) + " % of the time";
+  if (cases.size() > 1) v.headline += ", " + std::to_string(best.wins) + " best values";
+  v.tone = r.failed > 0 || !stays ? Verdict::Tone::warning : Verdict::Tone::good;
+  v.details.push_back(runs);
+  if (cases.size() > 1)
+    v.details.push_back("ranked on the failed runs, then the separation, then the best values of the chosen metrics");
+  return v;
 }
 
 }  // namespace
@@ -255,17 +417,21 @@ void write_compare_report(const CompareResult& r, const std::filesystem::path& o
 
   Table table = results_table(r);
   Table best = best_table(r, table);
-  report.tables.push_back(std::move(table));
+  const std::vector<CaseStanding> cases = rank_cases(r, table);
+  report.verdict = compare_verdict(r, cases);
+  report.tables.push_back(standings_table(cases));
   report.tables.push_back(std::move(best));
   if (std::optional<Plot> map = pass_fail_map(r)) report.plots.push_back(std::move(*map));
   for (Plot& plot : metric_plots(r)) report.plots.push_back(std::move(plot));
   for (Plot& plot : overlay_plots(r)) report.plots.push_back(std::move(plot));
+  report.appendix.push_back(std::move(table));
   Table failures = failures_table(r);
-  if (!failures.rows.empty()) report.tables.push_back(std::move(failures));
+  if (!failures.rows.empty()) report.appendix.push_back(std::move(failures));
   report.notes.push_back(
       "★ marks the best case at each grid point for that metric (lower is better, except "
       "min_contact_force, min_radius_of_curvature and jump_speed_rpm; energy_residual by magnitude); "
-      "nothing is marked where all cases tie.");
+      "separation comes first: only the runs that separate least there (within 0.1 % of the time) compete, so a "
+      "run that is airborne is never best on a force or a speed. Nothing is marked where all cases tie.");
   if (r.resumed > 0)
     report.notes.push_back(std::to_string(r.resumed) + " of " + std::to_string(r.points.size()) +
                            " runs were done by an earlier, interrupted invocation and read from journal.jsonl.");

@@ -76,6 +76,30 @@ Table runs_table(const ConvergenceStudy& study, const std::vector<ConvergenceRun
   return table;
 }
 
+/// The banner: the most accurate run and the cheapest one, and how many failed.
+Verdict convergence_verdict(const std::vector<ConvergenceRun>& runs, long failed) {
+  const ConvergenceRun* accurate = nullptr;
+  const ConvergenceRun* fast = nullptr;
+  for (const ConvergenceRun& r : runs) {
+    if (!r.ok) continue;
+    if (!accurate || r.error_position < accurate->error_position) accurate = &r;
+    if (!fast || r.run_time_s < fast->run_time_s) fast = &r;
+  }
+  Verdict v;
+  v.tone = failed == 0 ? Verdict::Tone::good : accurate ? Verdict::Tone::warning : Verdict::Tone::bad;
+  const auto describe = [](const ConvergenceRun& r) {
+    return to_string(r.method) + " (" + to_string(r.tracking) + ", " +
+           (r.method == IntegrationMethod::rk4 ? "step " + format_number4(r.step) + " s"
+                                               : "rtol " + format_number4(r.rtol)) +
+           "): position error " + format_number4(r.error_position) + " in " + format_number4(r.run_time_s) + " s";
+  };
+  v.headline = accurate ? "most accurate: " + describe(*accurate) : "every run failed";
+  if (fast) v.details.push_back("fastest: " + describe(*fast));
+  v.details.push_back(std::to_string(runs.size() - static_cast<std::size_t>(failed)) + " of " +
+                      std::to_string(runs.size()) + " runs succeeded");
+  return v;
+}
+
 /// report.html: the reference, run counts and wall time [s], the
 /// work-precision plots of each scene and the table of runs.
 Report convergence_report(const ConvergenceStudy& study, const std::vector<ConvergenceRun>& runs, long failed,
@@ -85,6 +109,7 @@ Report convergence_report(const ConvergenceStudy& study, const std::vector<Conve
   report.subtitle = "convergence study: every method × tracking mode × tolerance against a reference run (" +
                     to_string(study.config.reference.method) + ", rtol " + format_number4(study.config.reference.rtol) +
                     ")";
+  report.verdict = convergence_verdict(runs, failed);
   report.facts.emplace_back("runs", std::to_string(runs.size()));
   report.facts.emplace_back("failed", std::to_string(failed));
   report.facts.emplace_back("wall time", format_number4(wall) + " s");
@@ -93,7 +118,9 @@ Report convergence_report(const ConvergenceStudy& study, const std::vector<Conve
     report.plots.push_back(std::move(time_plot));
     report.plots.push_back(std::move(rhs_plot));
   }
-  report.tables.push_back(runs_table(study, runs));
+  Table table = runs_table(study, runs);
+  table.wrap = true;  // the failure reasons in the status column
+  report.appendix.push_back(std::move(table));
   return report;
 }
 

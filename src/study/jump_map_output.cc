@@ -85,10 +85,14 @@ Report jump_map_report(const JumpMapStudy& study, const std::vector<JumpMapPoint
   const auto first = std::find_if(points.begin(), points.end(), [](const JumpMapPoint& p) {
     return p.ok && (!p.impact_speed.empty() || p.separation_fraction > 0);
   });
-  rep.subtitle = first == points.end() ? "the follower stays on the cam at every speed of the map"
-                                       : "the follower first leaves the cam at " + format_number(first->rpm, 5) +
-                                             " rpm (rigid-model jump speed " +
-                                             format_number(study.damped_rigid_jump_speed_rpm, 5) + " rpm)";
+  rep.subtitle = "jump map: the steady motion at each cam speed from " + format_number(study.config.low_rpm) + " to " +
+                 format_number(study.config.high_rpm) + " rpm";
+  rep.verdict = Verdict{first == points.end() ? Verdict::Tone::good : Verdict::Tone::warning,
+                        first == points.end() ? "the follower stays on the cam at every speed of the map"
+                                              : "the follower first leaves the cam at " + format_number(first->rpm, 5) +
+                                                    " rpm (rigid-model jump speed " +
+                                                    format_number(study.damped_rigid_jump_speed_rpm, 5) + " rpm)",
+                        {}};
   rep.facts = {
       {"speeds", std::to_string(points.size()) + " from " + format_number(study.config.low_rpm) + " to " +
                      format_number(study.config.high_rpm) + " rpm"},
@@ -118,7 +122,8 @@ Report jump_map_report(const JumpMapStudy& study, const std::vector<JumpMapPoint
     table.rows.push_back({format_number(p.rpm), p.ok ? motion_label(p) : "failed",
                           std::to_string(p.impact_speed.size()), format_number(p.separation_fraction),
                           format_number(p.max_gap), format_number(p.peak_contact_force), p.error});
-  rep.tables.push_back(table);
+  table.wrap = true;  // the error column
+  rep.appendix.push_back(table);
   rep.notes.push_back(
       "Each speed is followed past its transient (starting from its neighbour's motion), then "
       "sampled once per revolution; its orbit is found by shooting (the periodic study).");

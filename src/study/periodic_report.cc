@@ -94,7 +94,12 @@ Report periodic_report(const PeriodicStudy& study, const PeriodicResult& r, cons
   const PeriodicAnalysis& a = r.analysis;
   Report rep;
   rep.title = "camdyn periodic: " + study.scene.name;
-  rep.subtitle = periodic_verdict(r);
+  rep.subtitle =
+      "periodic study: the steady motion at " + format_number(r.rpm) + " rpm by shooting on the Poincaré map";
+  rep.verdict =
+      Verdict{a.orbit ? (r.impacts.empty() ? Verdict::Tone::good : Verdict::Tone::warning) : Verdict::Tone::bad,
+              periodic_verdict(r),
+              {}};
   rep.facts = {{"cam speed", format_number(r.rpm) + " rpm"},
                {"rigid-model jump speed", format_number(r.jump_speed_rpm, 5) + " rpm"},
                {"motion", to_string(a.motion)}};
@@ -120,7 +125,7 @@ Report periodic_report(const PeriodicStudy& study, const PeriodicResult& r, cons
   rep.plots.push_back(contact_force(r));
   if (a.orbit) rep.plots.push_back(multipliers(*a.orbit));
   if (!a.newton.empty()) rep.plots.push_back(newton_residuals(a));
-  rep.tables.push_back(orbit_table(r));
+  rep.appendix.push_back(orbit_table(r));
   rep.notes.push_back(
       "The orbit is found by shooting on the once-per-revolution Poincaré map; the metrics in periodic.json and "
       "orbit/summary.json are over one period of it (over the last revolution when no stable orbit converged). "

@@ -2,8 +2,10 @@
 
 #include <camdyn/version.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <numbers>
 #include <type_traits>
 
@@ -196,15 +198,278 @@ void add_contour_fit(const Model& model, Report& report) {
 
 }  // namespace
 
+namespace {
+
+/// `deg` in [0, 360) [deg].
+double wrap_deg(double deg) {
+  const double w = std::fmod(deg, 360.0);
+  return w < 0.0 ? w + 360.0 : w;
+}
+
+std::string angle_text(double deg) { return format_number(wrap_deg(deg), 4) + "°"; }
+
+std::string rpm_text(double rpm) {
+  return std::isfinite(rpm) ? format_number(rpm, 5) + " rpm" : "none (the law never decelerates)";
+}
+
+/// Index of the smallest contact force at or after `from` [s]; the series' size if there is none.
+std::size_t min_force_index(const TimeSeries& ts, double from) {
+  std::size_t best = ts.time.size();
+  for (std::size_t i = 0; i < ts.time.size(); ++i)
+    if (ts.time[i] >= from && std::isfinite(ts.contact_force[i]) &&
+        (best == ts.time.size() || ts.contact_force[i] < ts.contact_force[best]))
+      best = i;
+  return best;
+}
+
+/// A drop test (cam held still): where the follower lands, the peak force, the rebounds.
+Verdict drop_verdict(const SimulationResult& result) {
+  const Metrics& m = result.metrics;
+  Verdict v;
+  const auto landing =
+      std::find_if(result.events.begin(), result.events.end(), [](const ContactEvent& e) { return e.onset; });
+  const long rebounds = std::count_if(landing, result.events.end(), [](const ContactEvent& e) { return !e.onset; });
+  if (landing == result.events.end()) {
+    const bool touching = m.peak_contact_force > 0.0;
+    v.tone = touching ? Verdict::Tone::good : Verdict::Tone::warning;
+    v.headline =
+        touching ? "drop test: stays in contact, peak contact force " + format_number(m.peak_contact_force, 4) + " N"
+                 : "drop test: the follower does not reach the cam within " + format_number(result.end_time, 4) + " s";
+  } else {
+    v.tone = Verdict::Tone::neutral;
+    v.headline = "drop test: lands at t = " + format_number(landing->time, 4) + " s at " +
+                 format_number(landing->speed, 4) + " m/s, peak contact force " +
+                 format_number(m.peak_contact_force, 4) + " N";
+    const auto rebound = std::find_if(landing, result.events.end(), [](const ContactEvent& e) { return !e.onset; });
+    v.headline += rebound == result.events.end()
+                      ? "; comes to rest without a rebound"
+                      : "; rebounds " + std::to_string(rebounds) + " time" + (rebounds == 1 ? "" : "s") +
+                            " (first at " + format_number(rebound->speed, 4) + " m/s, highest gap " +
+                            format_number(m.max_separation_gap * 1e3, 4) + " mm)";
+  }
+  v.details.push_back("largest penetration " + format_number(m.max_penetration * 1e6, 4) + " µm over " +
+                      format_number(result.end_time, 4) + " s simulated");
+  return v;
+}
+
+}  // namespace
+
+Verdict simulation_verdict(const SceneConfig& scene, const Model& model, const SimulationResult& result) {
+  if (model.omega <= 0.0) return drop_verdict(result);
+  const Metrics& m = result.metrics;
+  const double rpm = scene.mechanism.cam.rpm;
+  const std::string jump =
+      "rigid-model jump speed " + rpm_text(m.jump_speed_rpm) + " (this run is at " + format_number(rpm, 5) + " rpm)";
+  Verdict v;
+  const auto in_window = [&](const ContactEvent& e) { return e.time >= result.evaluated_from; };
+  const auto lift_off = std::find_if(result.events.begin(), result.events.end(),
+                                     [&](const ContactEvent& e) { return in_window(e) && !e.onset; });
+  if (lift_off == result.events.end() && m.separation_fraction <= 0.0) {
+    v.tone = Verdict::Tone::good;
+    const std::size_t at = min_force_index(result.series, result.evaluated_from);
+    v.headline = "stays in contact, minimum contact force " + format_number(m.min_contact_force, 4) + " N" +
+                 (at < result.series.time.size() ? " at " + angle_text(result.series.cam_angle_deg[at]) : "");
+    v.details.push_back(jump);
+  } else {
+    v.tone = Verdict::Tone::bad;
+    if (lift_off != result.events.end()) {
+      const auto landing = std::find_if(lift_off, result.events.end(), [](const ContactEvent& e) { return e.onset; });
+      v.headline = "separates at " + angle_text(lift_off->cam_angle_deg) +
+                   (landing == result.events.end() ? ", still airborne when the run ends"
+                                                   : ", lands at " + angle_text(landing->cam_angle_deg) + " at " +
+                                                         format_number(landing->speed, 4) + " m/s");
+    } else {
+      v.headline = "separated for part of the evaluated window";
+    }
+    v.headline += "; " + jump;
+    v.details.push_back("airborne " + format_number(100.0 * m.separation_fraction, 3) + " % of the evaluated time, " +
+                        std::to_string(m.impact_count) + " impact" + (m.impact_count == 1 ? "" : "s") +
+                        ", highest impact speed " + format_number(m.max_impact_velocity, 4) +
+                        " m/s, peak contact force " + format_number(m.peak_contact_force, 4) + " N");
+  }
+  if (!result.solver.converged()) {
+    v.tone = Verdict::Tone::bad;
+    v.details.push_back("the run stopped early (" + to_string(result.solver.termination) +
+                        "): " + result.solver.message);
+  }
+  return v;
+}
+
+namespace {
+
+std::vector<double> scaled(const std::vector<double>& v, double k) {
+  std::vector<double> out(v.size());
+  for (std::size_t i = 0; i < v.size(); ++i) out[i] = v[i] * k;
+  return out;
+}
+
+/// The last revolution of a run on a 0–360° axis: the series' points from
+/// one revolution before its end, with a break where the angle wraps.
+struct LastRevolution {
+  std::vector<double> angle;         ///< [deg] in [0, 360], NaN at the wrap
+  std::vector<std::size_t> index;    ///< into the series; the series' size at the wrap
+  double begin_deg = 0.0, base = 0;  ///< first cam angle of the revolution, offset that maps it onto 0–360 [deg]
+
+  double map(double deg) const {
+    const double a = deg - base;
+    return a < 0.0 ? a + 360.0 : a;
+  }
+};
+
+LastRevolution last_revolution(const TimeSeries& ts) {
+  LastRevolution r;
+  const double last = ts.cam_angle_deg.back();
+  r.begin_deg = last - 360.0;
+  r.base = 360.0 * std::floor((last - 1e-9) / 360.0);
+  double previous = -1.0;
+  for (std::size_t i = 0; i < ts.time.size(); ++i) {
+    if (ts.cam_angle_deg[i] < r.begin_deg - 1e-9) continue;
+    const double a = r.map(ts.cam_angle_deg[i]);
+    if (a < previous) {
+      r.angle.push_back(std::numeric_limits<double>::quiet_NaN());
+      r.index.push_back(ts.time.size());
+    }
+    r.angle.push_back(a);
+    r.index.push_back(i);
+    previous = a;
+  }
+  return r;
+}
+
+/// `column` at the revolution's points, NaN at the wrap, times `k`.
+std::vector<double> pick(const LastRevolution& r, const std::vector<double>& column, double k = 1.0) {
+  std::vector<double> out(r.index.size());
+  for (std::size_t j = 0; j < out.size(); ++j)
+    out[j] = r.index[j] < column.size() ? column[r.index[j]] * k : std::numeric_limits<double>::quiet_NaN();
+  return out;
+}
+
+/// Lift-off and impact markers of the revolution's events, at height 0.
+std::vector<Series> event_markers(const LastRevolution& r, const std::vector<ContactEvent>& events) {
+  Series lift_off{"lift-off", {}, {}, "points"}, impact{"impact", {}, {}, "points"};
+  for (const ContactEvent& e : events) {
+    if (e.cam_angle_deg < r.begin_deg - 1e-9 || (e.onset && !e.impact)) continue;
+    Series& s = e.onset ? impact : lift_off;
+    s.x.push_back(r.map(e.cam_angle_deg));
+    s.y.push_back(0.0);
+  }
+  std::vector<Series> out;
+  for (Series* s : {&lift_off, &impact})
+    if (!s->x.empty()) out.push_back(std::move(*s));
+  return out;
+}
+
+/// What an engineer reads first: the last revolution on 0–360° (follower
+/// against the law, contact force against the rigid model with a panel zoomed
+/// to the rigid-model range when an impact spike would squash it, gap), with
+/// the lift-off and impact markers.
+void add_revolution_plots(const Model& model, const SimulationResult& result, Report& report) {
+  const TimeSeries& ts = result.series;
+  if (ts.time.empty()) return;
+  const LastRevolution rev = last_revolution(ts);
+  const std::vector<Series> markers = event_markers(rev, result.events);
+  const bool arm = model.follower.oscillating();  // follower columns in rad: plotted in degrees
+  const double motion_scale = arm ? kRadToDeg : 1e3;
+  const auto xrange = std::make_pair(0.0, 360.0);
+  report.plots.push_back(Plot{"Last revolution: follower against the motion law",
+                              "cam angle [deg]",
+                              arm ? "arm angle [deg]" : "displacement [mm]",
+                              {{"follower", rev.angle, pick(rev, ts.follower_position, motion_scale)},
+                               {"motion law", rev.angle, pick(rev, ts.kinematic_position, motion_scale), "dashes"}},
+                              false,
+                              false,
+                              xrange});
+  std::vector<double> rigid(rev.index.size(), std::numeric_limits<double>::quiet_NaN());
+  double rigid_lo = 0.0, rigid_hi = 0.0, peak = 0.0;
+  for (std::size_t j = 0; j < rigid.size(); ++j) {
+    if (rev.index[j] >= ts.time.size()) continue;
+    rigid[j] = rigid_contact_force(model, ts.cam_angle_deg[rev.index[j]] / kRadToDeg);
+    rigid_lo = std::min(rigid_lo, rigid[j]);
+    rigid_hi = std::max(rigid_hi, rigid[j]);
+    peak = std::max(peak, ts.contact_force[rev.index[j]]);
+  }
+  Plot force{"Last revolution: contact force and the rigid-model force",
+             "cam angle [deg]",
+             "force [N]",
+             {{"contact force", rev.angle, pick(rev, ts.contact_force)}, {"rigid model", rev.angle, rigid, "dashes"}},
+             false,
+             false,
+             xrange};
+  force.series.insert(force.series.end(), markers.begin(), markers.end());
+  const double pad = 0.25 * (rigid_hi - rigid_lo);
+  if (pad > 0.0 && peak > rigid_hi + pad) {  // one spike would flatten the rest: a zoomed copy
+    Plot zoom = force;
+    zoom.title = "Last revolution: contact force zoomed to the rigid-model range (impact spikes run off the top)";
+    zoom.yrange = std::make_pair(rigid_lo - pad, rigid_hi + pad);
+    report.plots.push_back(std::move(force));
+    report.plots.push_back(std::move(zoom));
+  } else {
+    report.plots.push_back(std::move(force));
+  }
+  Plot gap{"Last revolution: gap between follower and cam (> 0 separated, < 0 penetration)",
+           "cam angle [deg]",
+           "gap [µm]",
+           {{"gap", rev.angle, pick(rev, ts.gap, 1e6)}},
+           false,
+           false,
+           xrange};
+  gap.series.insert(gap.series.end(), markers.begin(), markers.end());
+  report.plots.push_back(std::move(gap));
+}
+
+/// The whole run against time: follower motion (the transient), and for a
+/// drop test the gap and the contact force; then the energy residual.
+void add_run_plots(const Model& model, const SimulationResult& result, Report& report) {
+  const TimeSeries& ts = result.series;
+  const bool arm = model.follower.oscillating();
+  const double motion_scale = arm ? kRadToDeg : 1e3;
+  report.plots.push_back(Plot{"Whole run: follower motion against the motion law",
+                              "time [s]",
+                              arm ? "arm angle [deg]" : "displacement [mm]",
+                              {{"follower", ts.time, scaled(ts.follower_position, motion_scale)},
+                               {"motion law", ts.time, scaled(ts.kinematic_position, motion_scale), "dashes"}}});
+  if (model.omega <= 0.0) {
+    report.plots.push_back(Plot{"Gap between follower and cam (> 0 separated, < 0 penetration)",
+                                "time [s]",
+                                "gap [µm]",
+                                {{"gap", ts.time, scaled(ts.gap, 1e6)}}});
+    Plot force{"Contact force", "time [s]", "force [N]", {{"contact force", ts.time, ts.contact_force}}};
+    if (model.contact_friction) force.series.push_back({"friction force", ts.time, ts.friction_force});
+    report.plots.push_back(std::move(force));
+  } else if (model.contact_friction) {
+    report.plots.push_back(
+        Plot{"Whole run: friction force", "time [s]", "force [N]", {{"friction force", ts.time, ts.friction_force}}});
+  }
+  report.plots.push_back(Plot{"Energy balance residual (physics.md §5)",
+                              "time [s]",
+                              "(E − E₀) / scale [–]",
+                              {{"energy residual", ts.time, ts.energy_residual}}});
+}
+
+Table solver_table(const SolverSummary& s) {
+  Table solver{"Solver", {"counter", "value"}, {}, false};
+  auto count = [&](const char* name, long v) { solver.rows.push_back({name, std::to_string(v)}); };
+  count("steps", s.counters.steps);
+  count("rhs_evaluations", s.counters.rhs_evaluations);
+  count("events", s.events);
+  count("restarts", s.counters.reinitialisations);
+  count("tracking_resets", s.tracking_resets);
+  count("tracking_projections", s.projections);
+  count("error_test_failures", s.counters.error_test_failures);
+  return solver;
+}
+
+}  // namespace
+
 Report simulation_report(const SceneConfig& scene, const Model& model, const SimulationResult& result) {
   const Metrics& m = result.metrics;
-  const TimeSeries& ts = result.series;
   Report report;
   report.title = "camdyn: " + scene.name;
   std::string follower = follower_name(model);
   for (char& c : follower)
     if (c == '_') c = ' ';
   report.subtitle = "simulate — " + follower + " follower, contact model " + to_string(scene.mechanism.contact.model);
+  report.verdict = simulation_verdict(scene, model, result);
   report.facts = {{"cam speed", format(scene.mechanism.cam.rpm, "rpm")},
                   {"rigid-model jump speed", format(m.jump_speed_rpm, "rpm")},
                   {"simulated", format(result.end_time, "s")},
@@ -223,54 +488,13 @@ Report simulation_report(const SceneConfig& scene, const Model& model, const Sim
   });
   report.tables.push_back(std::move(metrics));
 
-  const SolverSummary& s = result.solver;
-  Table solver{"Solver", {"counter", "value"}, {}, false};
-  auto count = [&](const char* name, long v) { solver.rows.push_back({name, std::to_string(v)}); };
-  count("steps", s.counters.steps);
-  count("rhs_evaluations", s.counters.rhs_evaluations);
-  count("events", s.events);
-  count("restarts", s.counters.reinitialisations);
-  count("tracking_resets", s.tracking_resets);
-  count("tracking_projections", s.projections);
-  count("error_test_failures", s.counters.error_test_failures);
-  report.tables.push_back(std::move(solver));
-
-  // Time-series plots against cam angle (or time when the cam stands still).
-  const bool by_angle = model.omega > 0.0;
-  const std::vector<double>& x = by_angle ? ts.cam_angle_deg : ts.time;
-  const std::string xlabel = by_angle ? "cam angle [deg]" : "time [s]";
-  auto scaled = [](const std::vector<double>& v, double k) {
-    std::vector<double> out(v.size());
-    for (size_t i = 0; i < v.size(); ++i) out[i] = v[i] * k;
-    return out;
-  };
-  const bool arm = model.follower.oscillating();  // follower columns in rad: plotted in degrees
-  const double motion_scale = arm ? kRadToDeg : 1e3;
-  report.plots.push_back(Plot{"Follower motion against the motion law",
-                              xlabel,
-                              arm ? "arm angle [deg]" : "displacement [mm]",
-                              {{"follower", x, scaled(ts.follower_position, motion_scale)},
-                               {"motion law", x, scaled(ts.kinematic_position, motion_scale)}}});
-  report.plots.push_back(Plot{"Gap between roller and cam (> 0 separated, < 0 penetration)",
-                              xlabel,
-                              "gap [µm]",
-                              {{"gap", x, scaled(ts.gap, 1e6)}}});
-  Plot force{"Contact force", xlabel, "force [N]", {{"contact force", x, ts.contact_force}}};
-  if (by_angle) {
-    std::vector<double> rigid(x.size());
-    for (size_t i = 0; i < x.size(); ++i) rigid[i] = rigid_contact_force(model, x[i] / kRadToDeg);
-    force.series.push_back({"rigid model", x, rigid});
-  }
-  if (model.contact_friction) force.series.push_back({"friction force", x, ts.friction_force});
-  report.plots.push_back(std::move(force));
-  report.plots.push_back(Plot{"Energy balance residual (physics.md §5)",
-                              "time [s]",
-                              "(E − E₀) / scale [–]",
-                              {{"energy residual", ts.time, ts.energy_residual}}});
+  if (model.omega > 0.0) add_revolution_plots(model, result, report);
+  add_run_plots(model, result, report);
   // The cam itself: to scale, its pressure angle and curvature with the scene's limits, the law's SVAJ.
   for (Plot& plot : cam_plots(model, scene.mechanism.cam.limits, scene.mechanism.cam.rpm))
     report.plots.push_back(std::move(plot));
   if (model.contour) add_contour_fit(model, report);
+  report.appendix.push_back(solver_table(result.solver));
   report.notes.push_back("Model: " + std::to_string(model.layout.size) + " states; elements assembled: " + [&] {
     std::string list;
     for (const auto& e : model.elements) list += (list.empty() ? "" : ", ") + e;

@@ -25,6 +25,12 @@ Json summary_json(const SceneConfig& scene, const Model& model, const Simulation
 /// radius of curvature, SVAJ), metrics and solver tables.
 Report simulation_report(const SceneConfig& scene, const Model& model, const SimulationResult& result);
 
+/// The report's banner: "stays in contact, minimum contact force X N at Y°",
+/// or "separates at X°, lands at Y° at Z m/s; rigid-model jump speed ..."
+/// (from the events of the evaluated window), or for a drop test (cam held
+/// still) where the follower lands, the peak force and its rebounds.
+Verdict simulation_verdict(const SceneConfig& scene, const Model& model, const SimulationResult& result);
+
 /// Writes summary.json, timeseries.csv, events.csv and report.html into `dir`
 /// (created if missing).
 void write_simulation_outputs(const std::filesystem::path& dir, const SceneConfig& scene, const Model& model,

@@ -148,13 +148,19 @@ Report speed_limit_report(const SpeedLimitStudy& study, const SpeedLimitResult& 
   Report rep;
   rep.title = "camdyn speed_limit: " + study.scene.name;
   rep.subtitle = "How fast can this go? The highest speed at which the follower stays on the cam";
+  rep.verdict =
+      Verdict{r.limited ? Verdict::Tone::warning : Verdict::Tone::good,
+              r.limited ? "stays on the cam up to " + format_number(r.speed_limit_rpm, 5) + " rpm, separates at " +
+                              format_number(r.first_failure_rpm, 5) + " rpm"
+                        : "stays on the cam at every speed up to " + format_number(r.speed_limit_rpm, 5) + " rpm",
+              {"rigid-model jump speed " + format_number(r.rigid_jump_speed_rpm, 5) + " rpm"}};
   rep.facts = {
       {"speed limit (simulated)", r.limited ? format_number(r.speed_limit_rpm, 5) + " rpm (fails at " +
                                                   format_number(r.first_failure_rpm, 5) + " rpm)"
                                             : "none found up to " + format_number(r.speed_limit_rpm, 5) + " rpm"},
       {"rigid-model jump speed", format_number(r.rigid_jump_speed_rpm, 5) + " rpm"},
       {"simulations", std::to_string(r.checks.size()) + " in " + format_number(r.run_time_s, 3) + " s"}};
-  rep.tables.push_back(table);
+  rep.appendix.push_back(table);
   rep.plots.push_back(Plot{"Separation against speed", "cam speed [rpm]", "separation fraction [-]", {sep}});
   rep.plots.push_back(Plot{"Smallest contact force against speed", "cam speed [rpm]", "force [N]", {force}});
   return rep;

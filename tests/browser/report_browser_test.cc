@@ -1,6 +1,7 @@
 // Every study type's report.html opened in headless Chromium: the page loads
-// with no console message (no script error, no failed resource), and every
-// figure holds a non-empty gnuplot SVG (not a placeholder). Skips only when
+// with no console message (no script error, no failed resource), the verdict
+// banner is the first element of the page's content, and every figure holds a
+// non-empty gnuplot SVG (not a placeholder). Skips only when
 // Chromium is not installed (scripts/setup.sh installs it).
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -85,7 +86,43 @@ class ReportInBrowser : public ::testing::Test {
       EXPECT_EQ(figure.find("no data to plot"), std::string::npos) << name << ": figure " << figures;
     }
     EXPECT_GE(figures, min_figures) << name;
+    expect_verdict_first(name, page.dom);
     last_dom_ = page.dom;
+  }
+
+  // The verdict banner is the first element of <main> (before the facts, the
+  // tables and the figures) and says something.
+  static void expect_verdict_first(const std::string& name, const std::string& dom) {
+    const std::size_t main = dom.find("<main>");
+    ASSERT_NE(main, std::string::npos) << name;
+    const std::size_t first = dom.find('<', main + 6);
+    EXPECT_EQ(dom.compare(first, 19, "<div class=\"verdict"), 0) << name << ": " << dom.substr(first, 80);
+    const std::size_t headline = dom.find("<p class=\"headline\">", first);
+    ASSERT_NE(headline, std::string::npos) << name;
+    EXPECT_NE(dom.compare(headline + 21, 4, "</p>"), 0) << name << ": empty verdict";
+  }
+
+  // Each figure of the report just checked whose caption reads "Y against X"
+  // (the compare study's metric plots) has both axis labels with a unit in
+  // brackets, as gnuplot wrote them into the SVG.
+  void expect_units_on_metric_axes(const std::string& name, std::size_t min_plots) {
+    std::size_t checked = 0;
+    for (std::size_t at = last_dom_.find("<figcaption>"); at != std::string::npos;
+         at = last_dom_.find("<figcaption>", at + 1)) {
+      const std::size_t end = last_dom_.find("</figcaption>", at);
+      const std::string caption = last_dom_.substr(at, end - at);
+      const std::size_t against = caption.find(" against ");
+      const std::size_t dot = caption.find(". ");
+      if (against == std::string::npos || dot == std::string::npos || caption.find(':') != std::string::npos) continue;
+      const std::string y = caption.substr(dot + 2, against - dot - 2), x = caption.substr(against + 9);
+      if (y.find(' ') != std::string::npos) continue;  // an overlay, not a metric
+      const std::size_t figure = last_dom_.rfind("<figure", at);
+      const std::string svg = last_dom_.substr(figure, at - figure);
+      for (const std::string& axis : {x, y})
+        EXPECT_NE(svg.find(axis + " ["), std::string::npos) << name << ": no unit on the axis " << axis;
+      ++checked;
+    }
+    EXPECT_GE(checked, min_plots) << name;
   }
 
   // The report just checked has the cam drawn to scale: in the figure whose
@@ -151,6 +188,9 @@ TEST_F(ReportInBrowser, Compare) {
     "grid": { "mechanism.cam.rpm": [1000, 1300], "mechanism.contact.restitution": [0.5, 0.8] },
     "overlays": [ { "mechanism.cam.rpm": 1300 } ] })";
   check_report("compare", (dir_ / "compare.json").string(), {}, 5);
+  expect_units_on_metric_axes("compare", 1);
+  // The big results table comes after the figures, in a box that scrolls.
+  EXPECT_LT(last_dom_.rfind("<figure"), last_dom_.find("<h2>Results")) << "compare";
 }
 
 TEST_F(ReportInBrowser, Optimize) {

@@ -142,6 +142,43 @@ TEST(Cli, UnknownOverrideKeyIsExitTwoWithSuggestion) {
   EXPECT_NE(o.err.find("rpm"), std::string::npos) << o.err;
 }
 
+// A bad value given with --set is not in the file: the message names the argument.
+TEST(Cli, BadOverrideValueNamesTheSetArgumentNotTheFile) {
+  const Outcome o = run_cli("validate " + kQuickstart + " --set mechanism.follower.mass=-1");
+  EXPECT_EQ(o.code, 2);
+  EXPECT_NE(o.err.find("--set mechanism.follower.mass=-1: mechanism.follower.mass: "), std::string::npos) << o.err;
+  EXPECT_EQ(o.err.find("quickstart.json"), std::string::npos) << o.err;
+  // A short path and a value inside an object set whole are traced back too.
+  const Outcome nested = camdyn::test::run_camdyn(
+      {"validate", kQuickstart, "--set", R"(follower.spring={"stiffness": -5, "preload": 40})"}, scratch_dir("nested"));
+  EXPECT_EQ(nested.code, 2);
+  EXPECT_NE(nested.err.find("--set follower.spring={"), std::string::npos) << nested.err;
+  EXPECT_NE(nested.err.find("mechanism.follower.spring.stiffness"), std::string::npos) << nested.err;
+  // A good override still passes.
+  EXPECT_EQ(run_cli("validate " + kQuickstart + " --set mechanism.follower.mass=0.4").code, 0);
+}
+
+// The spec's simulate example (interface.md, a return without a lift) runs as written.
+TEST(Cli, InterfaceSpecExampleRuns) {
+  const fs::path out = scratch_dir("interface_example") / "out";
+  const Outcome o = camdyn::test::run_camdyn({"run", kData + "/spec/interface_simulate.json", "--quiet", "--out",
+                                              out.string(), "--set", "simulation.cycles=2"},
+                                             scratch_dir("interface_example"));
+  EXPECT_EQ(o.code, 0) << o.err;
+  EXPECT_TRUE(fs::exists(out / "summary.json"));
+}
+
+TEST(Cli, RunHelpListsEveryStudyTypeWithAnExampleAndTheExitCodes) {
+  const Outcome o = run_cli("run --help");
+  EXPECT_EQ(o.code, 0);
+  for (const char* study :
+       {"simulate", "optimize", "identify", "compare", "convergence", "periodic", "jump_map", "speed_limit"})
+    EXPECT_NE(o.out.find(std::string("  ") + study + " "), std::string::npos) << study << "\n" << o.out;
+  EXPECT_NE(o.out.find("camdyn run studies/quickstart.json"), std::string::npos) << o.out;
+  for (const char* code : {"  0  success", "  2  invalid input", "  3  numerical failure", "  1  anything else"})
+    EXPECT_NE(o.out.find(code), std::string::npos) << code << "\n" << o.out;
+}
+
 // ---------------------------------------------------------------- export
 
 TEST(Cli, ExportWritesTheProfileAsCsvAndDxf) {

@@ -749,6 +749,23 @@ TEST(Suggest, ClosestMatchFindsPlausibleTyposOnly) {
   EXPECT_EQ(closest_match("ab", {"ax", "ay"}), "ax");  // ties: the first
 }
 
+TEST(Suggest, APartialNameSuggestsTheShortestNameItStarts) {
+  const std::vector<std::string> models = {"hertz", "kelvin_voigt", "hunt_crossley", "lankarani_nikravesh", "flores"};
+  EXPECT_EQ(closest_match("lankarani", models), "lankarani_nikravesh");
+  EXPECT_EQ(closest_match("Kelvin", models), "kelvin_voigt");
+  EXPECT_EQ(closest_match("polynomial", {"polynomial_4567", "polynomial_345"}), "polynomial_345");
+  EXPECT_FALSE(closest_match("la", models).has_value());         // too short to be a partial name
+  EXPECT_FALSE(closest_match("nikravesh", models).has_value());  // a prefix, not any part
+}
+
+TEST(Config, APartialContactModelNameGetsTheFullNameSuggested) {
+  Json doc = minimal_scene();
+  doc["mechanism"]["contact"]["model"] = "lankarani";
+  const InputError e = expect_input_error([&] { scene_from_json(doc, {"scene.json", "/"}); });
+  EXPECT_EQ(e.path(), "mechanism.contact.model");
+  EXPECT_NE(e.reason().find("(did you mean 'lankarani_nikravesh'?)"), std::string::npos) << e.reason();
+}
+
 TEST(Suggest, DidYouMeanFormatsTheHint) {
   EXPECT_EQ(did_you_mean("stifness", {"stiffness", "exponent"}), " (did you mean 'stiffness'?)");
   EXPECT_EQ(did_you_mean("qqqq", {"stiffness", "exponent"}), "");

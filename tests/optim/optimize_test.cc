@@ -268,7 +268,7 @@ TEST(OptimizeCli, ValidatePrintsTheResolvedStudyAndNamesBadFields) {
 
   const Outcome typo = run_cli("validate " + kJump + " --set design.control_point=4");
   EXPECT_EQ(typo.code, 2);
-  EXPECT_NE(typo.err.find("optimize_jump.json: design.control_point"), std::string::npos) << typo.err;
+  EXPECT_NE(typo.err.find("--set design.control_point=4: design.control_point"), std::string::npos) << typo.err;
   EXPECT_NE(typo.err.find("control_points"), std::string::npos) << typo.err;
   const Outcome range = run_cli("validate " + kJump + " --set optimizer.evaluation_cycles=1");
   EXPECT_EQ(range.code, 2);

@@ -1,15 +1,20 @@
 // summary.json of a simulate run: the metrics in the order Metrics' visit
 // lists them, and the solver block with its termination status and message
-// after the counters that were there before.
+// after the counters that were there before. The report's verdict banner:
+// in contact, separating, or a drop test.
 #include "study/simulation_output.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <numbers>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "../dynamics/scenes.h"
+#include "common/errors.h"
 #include "dynamics/simulation.h"
 
 namespace camdyn {
@@ -73,6 +78,134 @@ TEST(SimulationOutput, FailedRunNamesItsTerminationInTheSummary) {
   const Json solver = summary_json(run.scene, run.model, run.result)["solver"];
   EXPECT_EQ(solver["termination"], "step_budget");
   EXPECT_EQ(solver["message"], run.result.solver.message);
+}
+
+// ---------------------------------------------------------------- the spec's example
+
+const std::string kSpecExample = std::string(CAMDYN_TEST_DATA_DIR) + "/spec/interface_simulate.json";
+
+// interface.md's simulate example leaves out the lift of its return: the
+// follower goes back down by the rise before it. The same law with that lift
+// written out gives the same run to the bit.
+TEST(SpecExample, ReturnWithoutLiftEqualsTheExplicitOne) {
+  const std::vector<std::string> shorter = {"simulation.cycles=2"};
+  const SceneRun implicit(load_scene(kSpecExample, shorter));
+  ASSERT_FALSE(implicit.scene.mechanism.cam.motion_law.segments[2].lift.has_value());
+  std::vector<std::string> with_lift = shorter;
+  with_lift.push_back("mechanism.cam.motion_law.segments[2].lift=0.02");
+  const SceneRun explicit_lift(load_scene(kSpecExample, with_lift));
+  ASSERT_TRUE(implicit.result.solver.converged()) << implicit.result.solver.message;
+  EXPECT_EQ(metrics_json(implicit.result.metrics), metrics_json(explicit_lift.result.metrics));
+  EXPECT_EQ(implicit.result.series.kinematic_position, explicit_lift.result.series.kinematic_position);
+  EXPECT_EQ(implicit.result.series.contact_force, explicit_lift.result.series.contact_force);
+}
+
+TEST(SpecExample, UnequalExplicitReturnLiftIsAnInputError) {
+  const SceneConfig scene = load_scene(kSpecExample, {"mechanism.cam.motion_law.segments[2].lift=0.019"});
+  try {
+    build_model(scene, kSpecExample);
+    FAIL() << "a return of 19 mm after a rise of 20 mm was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("lift mismatch"), std::string::npos) << e.what();
+  }
+}
+
+TEST(SpecExample, ReturnWithoutLiftTakesTheRisesSinceTheLastReturn) {
+  // Two lobes: rise 10 mm, return, rise 5 mm, return: each return goes back by its own rise.
+  SceneConfig scene = load_scene(kSpecExample);
+  auto& segments = scene.mechanism.cam.motion_law.segments;
+  segments = {segments[0], segments[2], segments[0], segments[2]};
+  for (std::size_t i = 0; i < 4; ++i) segments[i].end_deg = 90.0 * static_cast<double>(i + 1);
+  segments[0].lift = 0.01;
+  segments[2].lift = 0.005;
+  const Model model = build_model(scene, "two lobes");
+  EXPECT_NEAR(model.law->eval(std::numbers::pi / 2).s, 0.01, 1e-15);
+  EXPECT_NEAR(model.law->eval(std::numbers::pi).s, 0.0, 1e-15);
+  EXPECT_NEAR(model.law->eval(1.5 * std::numbers::pi).s, 0.005, 1e-15);
+  // A return with nothing to go back down from names its lift.
+  segments[1].lift = 0.01;
+  segments[3].lift.reset();
+  segments[2].type = SegmentType::dwell;
+  segments[2].lift.reset();
+  segments[2].law = SegmentLaw::none;
+  try {
+    build_model(scene, "no rise");
+    FAIL() << "a return without a rise before it was accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.path(), "mechanism.cam.motion_law.segments[3].lift") << e.what();
+  }
+}
+
+bool starts_with(const std::string& text, const std::string& head) { return text.rfind(head, 0) == 0; }
+
+TEST(SimulationVerdict, BelowTheJumpSpeedStaysInContactWithItsMinimumForce) {
+  const SceneRun run(test::cycloidal_cam_scene(700.0));
+  ASSERT_EQ(run.result.metrics.separation_fraction, 0.0);
+  const Verdict v = simulation_verdict(run.scene, run.model, run.result);
+  EXPECT_EQ(v.tone, Verdict::Tone::good);
+  EXPECT_TRUE(starts_with(v.headline, "stays in contact, minimum contact force " +
+                                          format_number(run.result.metrics.min_contact_force, 4) + " N at "))
+      << v.headline;
+  ASSERT_FALSE(v.details.empty());
+  EXPECT_NE(v.details.front().find("(this run is at 700 rpm)"), std::string::npos) << v.details.front();
+}
+
+TEST(SimulationVerdict, AboveTheJumpSpeedNamesLiftOffLandingAndJumpSpeed) {
+  const SceneRun run(test::cycloidal_cam_scene(3000.0));
+  ASSERT_GT(run.result.metrics.separation_fraction, 0.0);
+  const Verdict v = simulation_verdict(run.scene, run.model, run.result);
+  EXPECT_EQ(v.tone, Verdict::Tone::bad);
+  // The first lift-off of the evaluated window and the landing after it.
+  const auto& events = run.result.events;
+  const auto lift_off = std::find_if(events.begin(), events.end(), [&](const ContactEvent& e) {
+    return !e.onset && e.time >= run.result.evaluated_from;
+  });
+  ASSERT_NE(lift_off, events.end());
+  const auto landing = std::find_if(lift_off, events.end(), [](const ContactEvent& e) { return e.onset; });
+  ASSERT_NE(landing, events.end());
+  const auto degrees = [](double a) { return format_number(std::fmod(a, 360.0), 4) + "°"; };
+  EXPECT_TRUE(starts_with(v.headline, "separates at " + degrees(lift_off->cam_angle_deg) + ", lands at " +
+                                          degrees(landing->cam_angle_deg) + " at " + format_number(landing->speed, 4) +
+                                          " m/s; rigid-model jump speed "))
+      << v.headline;
+  EXPECT_NE(v.headline.find("(this run is at 3000 rpm)"), std::string::npos) << v.headline;
+}
+
+TEST(SimulationVerdict, DropTestSaysWhereItLandsAndNoCamSpeed) {
+  const SceneRun run(test::drop_scene(ContactModel::hunt_crossley, 0.5));
+  const Verdict v = simulation_verdict(run.scene, run.model, run.result);
+  EXPECT_TRUE(starts_with(v.headline, "drop test: lands at t = ")) << v.headline;
+  EXPECT_NE(v.headline.find("peak contact force " + format_number(run.result.metrics.peak_contact_force, 4) + " N"),
+            std::string::npos)
+      << v.headline;
+  EXPECT_NE(v.headline.find("rebound"), std::string::npos) << v.headline;
+  EXPECT_EQ(v.headline.find("rpm"), std::string::npos) << v.headline;
+  for (const std::string& line : v.details) EXPECT_EQ(line.find("rpm"), std::string::npos) << line;
+}
+
+TEST(SimulationVerdict, ReportLeadsWithTheBannerAndEndsWithTheSolverTable) {
+  const SceneRun run(test::cycloidal_cam_scene(3000.0));
+  const Report report = simulation_report(run.scene, run.model, run.result);
+  ASSERT_TRUE(report.verdict.has_value());
+  ASSERT_FALSE(report.appendix.empty());
+  EXPECT_EQ(report.appendix.back().title, "Solver");
+  for (const Table& t : report.tables) EXPECT_NE(t.title, "Solver");
+  // The last revolution on 0–360° with the lift-off and impact markers and the rigid-model force.
+  ASSERT_FALSE(report.plots.empty());
+  const Plot& motion = report.plots.front();
+  ASSERT_TRUE(motion.xrange.has_value());
+  EXPECT_EQ(*motion.xrange, std::make_pair(0.0, 360.0));
+  const Plot& force = report.plots[1];
+  std::vector<std::string> labels;
+  for (const Series& s : force.series) labels.push_back(s.label);
+  for (const char* label : {"contact force", "rigid model", "lift-off", "impact"})
+    EXPECT_NE(std::find(labels.begin(), labels.end(), label), labels.end()) << label;
+  for (const Series& s : force.series)
+    for (double x : s.x)
+      if (std::isfinite(x)) {
+        EXPECT_GE(x, 0.0);
+        EXPECT_LE(x, 360.0);
+      }
 }
 
 }  // namespace
