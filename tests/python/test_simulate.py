@@ -1,6 +1,7 @@
 """Scene.simulate gives what `camdyn run` gives, with the documented columns and units."""
 import json
 import math
+import os
 import struct
 import subprocess
 
@@ -14,15 +15,20 @@ def same_bits(a, b):
     return struct.pack("<d", a) == struct.pack("<d", b)
 
 
-def cli_summary(binary, config, out):
-    subprocess.run([binary, "run", str(config), "--out", str(out), "--quiet"], check=True, capture_output=True)
+def cli_summary(binary, config, out, sets=()):
+    args = [binary, "run", str(config), "--out", str(out), "--quiet"]
+    for assignment in sets:
+        args += ["--set", assignment]
+    subprocess.run(args, check=True, capture_output=True)
     with open(out / "summary.json", encoding="utf-8") as f:
         return json.load(f)
 
 
-def test_quickstart_metrics_are_the_clis_to_the_last_bit(camdyn_binary, quickstart, tmp_path):
-    summary = cli_summary(camdyn_binary, quickstart, tmp_path)
-    result = camdyn.load(quickstart).simulate(as_frame=False)
+# The plain run, and the metrics over one period of the orbit the run settles on.
+@pytest.mark.parametrize("sets", [[], ["simulation.steady_state=true"]], ids=["window", "steady_state"])
+def test_quickstart_metrics_are_the_clis_to_the_last_bit(camdyn_binary, quickstart, tmp_path, sets):
+    summary = cli_summary(camdyn_binary, quickstart, tmp_path, sets)
+    result = camdyn.load(quickstart, set=sets).simulate(as_frame=False)
     assert set(result.metrics) == set(summary["metrics"])
     for name, value in summary["metrics"].items():
         expected = math.inf if value is None else float(value)  # summary.json writes an infinite jump speed as null
@@ -33,6 +39,7 @@ def test_quickstart_metrics_are_the_clis_to_the_last_bit(camdyn_binary, quicksta
     for name in ("method", "rtol", "atol", "termination", "message", "simulated_time_s", "evaluated_from_s"):
         assert result.solver[name] == summary["solver"][name], name
     assert result.metrics_over == summary["metrics_over"]
+    assert result.steady_state == summary.get("steady_state", "")
     for name in ("states", "elements", "cam", "follower", "contact_pair"):
         assert result.model[name] == summary["model"][name], name
 
@@ -139,6 +146,8 @@ def test_version_is_the_cmake_projects(camdyn_binary):
     cli = subprocess.run([camdyn_binary, "--version"], check=True, capture_output=True, text=True).stdout.split()[-1]
     assert camdyn.__version__ == cli
     assert len(camdyn.__version__.split(".")) == 3
+    if "CAMDYN_PROJECT_VERSION" in os.environ:  # set by CTest: project(camdyn VERSION ...)
+        assert camdyn.__version__ == os.environ["CAMDYN_PROJECT_VERSION"]
 
 
 def test_threads_get_the_single_thread_run(quickstart):
