@@ -8,7 +8,7 @@ if ! command -v clang-format >/dev/null 2>&1; then
   echo "check_format: clang-format not found (Debian package clang-format)" >&2
   exit 1
 fi
-mapfile -t files < <(git ls-files '*.h' '*.cc' '*.cpp' | grep -E '^(src|optim|tests|bench|include|examples)/')
+mapfile -t files < <(git ls-files '*.h' '*.cc' '*.cpp' | grep -E '^(src|optim|tests|bench|include|examples|python)/')
 if [[ "${1-}" == "--fix" ]]; then
   clang-format -i "${files[@]}"
   echo "check_format: formatted ${#files[@]} files"

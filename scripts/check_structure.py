@@ -2,15 +2,18 @@
 """Checks the two structural rules of camdyn's code (../shared/style.md, "Layers"):
 
 1. No folder includes a folder above it. The layers, bottom first:
-       common < scene < geometry < contact < integrate < dynamics < io < study < api < optim < cli
-   A file in src/<layer>/ (optim/ is the optim layer) may include headers of
-   its own layer and of the layers below it only, and never with "../".
+       common < scene < geometry < contact < integrate < dynamics < io < study < api < optim < cli < python
+   A file in src/<layer>/ (optim/ is the optim layer, python/ the python
+   layer) may include headers of its own layer and of the layers below it
+   only, and never with "../". The Python module (python/) stands on the
+   public API: of the private headers it includes only the study dispatch
+   "cli/run_study.h".
    The public headers (include/camdyn/) belong to the api layer, except
    <camdyn/errors.h> and <camdyn/version.h>, which every layer may include.
    A public header includes only public headers and standard ones: a
    "dynamics/..." (or any private or third-party) header there would leak
    into every caller's build.
-2. No function in src/ or optim/ runs over MAX_LINES lines (from the line that
+2. No function in src/, optim/ or python/ runs over MAX_LINES lines (from the line that
    opens its body to the line that closes it). Functions are found as the
    project's clang-format writes them: a definition whose body opens at the
    end of an unindented line and closes with an unindented "}".
@@ -25,7 +28,9 @@ import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-LAYERS = ["common", "scene", "geometry", "contact", "integrate", "dynamics", "io", "study", "api", "optim", "cli"]
+LAYERS = ["common", "scene", "geometry", "contact", "integrate", "dynamics", "io", "study", "api", "optim", "cli", "python"]
+# The private headers the python layer may include (it is built on the public API).
+PYTHON_PRIVATE = {"cli/run_study.h"}
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"')
 ANY_INCLUDE = re.compile(r'^\s*#\s*include\s+([<"])([^>"]+)[>"]')
 # Public headers any layer may include (they depend on nothing); the others are the api layer's.
@@ -37,15 +42,15 @@ NOT_FUNCTIONS = re.compile(r"^(namespace|struct|class|enum|union|extern)\b|=\s*\
 
 def layer_of(path):
     rel = path.relative_to(ROOT).parts
-    if rel[0] == "optim":
-        return "optim"
+    if rel[0] in ("optim", "python"):
+        return rel[0]
     if rel[0] == "src" and len(rel) > 2:
         return rel[1]
     return None
 
 
 def sources():
-    for top in ("src", "optim"):
+    for top in ("src", "optim", "python"):
         for path in sorted((ROOT / top).rglob("*")):
             if path.suffix in (".h", ".cc"):
                 yield path
@@ -74,6 +79,10 @@ def include_violations():
             head = Path(target).parts[0] if len(Path(target).parts) > 1 else own
             if head not in LAYERS:
                 continue  # a header beside this one, or a third-party header in quotes
+            if own == "python" and target not in PYTHON_PRIVATE:
+                found.append(f"{path.relative_to(ROOT)}:{number}: the python layer includes the private header "
+                             f"'{target}': it stands on <camdyn/...> (and {', '.join(sorted(PYTHON_PRIVATE))})")
+                continue
             if LAYERS.index(head) > LAYERS.index(own):
                 found.append(f"{path.relative_to(ROOT)}:{number}: layer '{own}' includes '{target}' "
                              f"from the layer above it, '{head}'")

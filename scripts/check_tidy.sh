@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# clang-tidy (.clang-tidy) on the C++ sources a change touches, with the ci
-# build's compile_commands.json; our own headers they include are checked too.
+# clang-tidy (.clang-tidy) on the C++ sources (src/, optim/, bench/, python/)
+# a change touches, with the ci build's compile_commands.json; our own
+# headers they include are checked too.
 # The tests are left out: GoogleTest's macros send the analyzer down paths no
 # test takes, and clang 14 cannot compile some C++20 they use (structured
 # bindings captured by lambdas).
@@ -24,7 +25,7 @@ if [[ ! -f build/ci/compile_commands.json ]]; then
 fi
 
 if [[ "${1-}" == "--all" ]]; then
-  mapfile -t files < <(git ls-files '*.cc' | grep -E '^(src|optim|bench)/')
+  mapfile -t files < <(git ls-files '*.cc' | grep -E '^(src|optim|bench|python)/')
   what="every source file"
 else
   base="${1-}"
@@ -41,7 +42,7 @@ else
   mapfile -t files < <({
     git diff --name-only --diff-filter=AM "$base" HEAD
     git diff --name-only --diff-filter=AM HEAD
-  } | grep -E '^(src|optim|bench)/.*\.cc$' | sort -u)
+  } | grep -E '^(src|optim|bench|python)/.*\.cc$' | sort -u)
   what="the sources changed since $(git rev-parse --short "$base" 2>/dev/null || echo "$base")"
 fi
 
@@ -57,7 +58,7 @@ for file in "${files[@]}"; do
     echo "check_tidy: $file is not in the ci build; skipped"
     continue
   fi
-  if ! "$tidy" -p build/ci --quiet --header-filter="^$root/(src|optim|bench|include)/" "$file" 2>/dev/null; then
+  if ! "$tidy" -p build/ci --quiet --header-filter="^$root/(src|optim|bench|include|python)/" "$file" 2>/dev/null; then
     failed+=("$file")
   fi
 done

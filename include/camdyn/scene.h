@@ -16,6 +16,31 @@ namespace camdyn {
 struct Result;
 struct SimulateOptions;
 
+/// What the scene's model is made of (summary.json `model`).
+struct ModelInfo {
+  std::vector<std::string> states;    ///< the state vector's entries, in order ("follower_position", ...)
+  std::vector<std::string> elements;  ///< the force elements assembled ("spring", "contact:lankarani_nikravesh", ...)
+  std::string cam;                    ///< the drive: "constant_speed", "stationary", "shaft:..._motor"
+  std::string follower;               ///< "translating_roller", "oscillating_flat", ...
+  std::string contact_pair;           ///< how the contact is tracked, in words
+};
+
+/// The cam's outline in the cam frame (the world frame at cam angle 0).
+struct CamProfile {
+  /// Profile parameter of each point [rad]: the cam angle at which the point
+  /// is the contact (a cam made from its law), or the fitted contour's parameter.
+  std::vector<double> u;
+  std::vector<double> contour_x, contour_y;  ///< the cam contour [m]
+  std::vector<double> pitch_x, pitch_y;      ///< the roller's (mushroom's) centre path [m]; empty for a flat face
+};
+
+/// The motion law s(θ) and its first three derivatives with respect to the
+/// cam angle θ: s [m], ds [m/rad], d2s [m/rad²], d3s [m/rad³] for a
+/// translating follower; the arm angle in rad instead of m for an oscillating one.
+struct LawValues {
+  std::vector<double> s, ds, d2s, d3s;
+};
+
 /// An immutable, checked scene. Copies share it; several threads may simulate
 /// one scene at once.
 class Scene {
@@ -44,6 +69,13 @@ class Scene {
   /// The rigid-model jump speed [rpm]: the lowest cam speed at which the
   /// follower leaves a rigid cam (physics.md); +inf if the law never decelerates.
   double jump_speed_rpm() const;
+  /// The states and force elements of the model (summary.json `model`).
+  ModelInfo model() const;
+  /// The cam's contour and pitch curve at `points` (≥ 3) parameters over one
+  /// turn, u = 2πk / points; throws std::invalid_argument for fewer.
+  CamProfile profile(int points = 360) const;
+  /// The motion law at the given cam angles [deg] (any real angle: the law is periodic).
+  LawValues law(const std::vector<double>& angles_deg) const;
 
  private:
   struct Impl;

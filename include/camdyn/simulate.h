@@ -23,6 +23,9 @@ struct SimulateOptions {
   std::vector<double> sample_times;
   /// Called now and then with the fraction of simulated time done, in [0, 1].
   std::function<void(double)> progress;
+  /// Threads for simulation.steady_state's orbit search (its Jacobian
+  /// columns); 0: one per core. The numbers do not depend on it.
+  int jobs = 1;
 };
 
 /// How a run ended (summary.json's `solver.termination`).
@@ -97,11 +100,19 @@ struct Result {
   Columns series;   ///< at the config's output step (empty without record_series)
   Columns samples;  ///< at SimulateOptions::sample_times
   std::vector<Event> events;
+  /// What `metrics` are over (summary.json `metrics_over`): "window" (the
+  /// evaluated cycles) or "periodic_orbit" (simulation.steady_state found a
+  /// stable orbit: one period of it).
+  std::string metrics_over = "window";
+  /// With simulation.steady_state: the orbit found, or why the window's
+  /// metrics stay (summary.json `steady_state`); empty without it.
+  std::string steady_state;
   double evaluated_from = 0.0;  ///< start of the evaluated window [s]
   double end_time = 0.0;        ///< [s]
 };
 
-/// Simulates the scene. A solver that gives up or a budget that runs out is
+/// Simulates the scene, as `camdyn run` does (with simulation.steady_state,
+/// the metrics over one period of the orbit the run settles on). A solver that gives up or a budget that runs out is
 /// not an exception: result.solver says how the run ended (call
 /// throw_if_failed to make it one). Throws InputError when the follower has
 /// no static equilibrium to start from.

@@ -2,13 +2,17 @@
 
 #include <filesystem>
 #include <memory>
+#include <numbers>
+#include <stdexcept>
 #include <utility>
 
 #include "api/scene_impl.h"
 #include "common/errors.h"
+#include "dynamics/cam_outline.h"
 #include "io/config.h"
 #include "io/json_archive.h"
 #include "io/json_writer.h"
+#include "study/simulation_output.h"
 
 namespace camdyn {
 
@@ -38,5 +42,29 @@ double Scene::rpm() const { return impl_->scene.mechanism.cam.rpm; }
 std::string Scene::resolved_json() const { return dump_json(to_json(impl_->scene)); }
 
 double Scene::jump_speed_rpm() const { return camdyn::jump_speed_rpm(impl_->model); }
+
+ModelInfo Scene::model() const {
+  const Model& m = impl_->model;
+  return {m.layout.names, m.elements, drive_name(m), follower_name(m), contact_pair_name(m)};
+}
+
+CamProfile Scene::profile(int points) const {
+  if (points < 3) throw std::invalid_argument("camdyn::Scene::profile: points must be at least 3");
+  CamOutline o = cam_outline(impl_->model, points);
+  return {std::move(o.u), std::move(o.contour_x), std::move(o.contour_y), std::move(o.pitch_x), std::move(o.pitch_y)};
+}
+
+LawValues Scene::law(const std::vector<double>& angles_deg) const {
+  LawValues v;
+  for (std::vector<double>* column : {&v.s, &v.ds, &v.d2s, &v.d3s}) column->reserve(angles_deg.size());
+  for (const double angle : angles_deg) {
+    const LawSample l = impl_->model.law->eval(angle * std::numbers::pi / 180.0);
+    v.s.push_back(l.s);
+    v.ds.push_back(l.ds);
+    v.d2s.push_back(l.d2s);
+    v.d3s.push_back(l.d3s);
+  }
+  return v;
+}
 
 }  // namespace camdyn

@@ -1,13 +1,16 @@
 #include <camdyn/simulate.h>
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <utility>
 
 #include "api/scene_impl.h"
 #include "common/errors.h"
 #include "dynamics/metrics.h"
 #include "dynamics/simulation.h"
+#include "study/steady_state.h"
 
 namespace camdyn {
 
@@ -82,6 +85,8 @@ Result public_result(SimulationResult&& run) {
   result.events.reserve(run.events.size());
   for (const ContactEvent& e : run.events)
     result.events.push_back({e.time, e.cam_angle_deg, e.onset, e.speed, e.impact});
+  result.metrics_over = run.metrics_over;
+  result.steady_state = run.metrics_note;
   result.evaluated_from = run.evaluated_from;
   result.end_time = run.end_time;
   return result;
@@ -119,7 +124,8 @@ const std::vector<double>& Columns::operator[](std::string_view name) const {
 }
 
 // What simulate_scene (dynamics/simulation.h) does, on the model the scene
-// built when it was loaded: the same run, to the bit.
+// built when it was loaded: the same run, to the bit; then, as `camdyn run`,
+// the steady state's metrics when the scene asks for them.
 Result simulate(const Scene& scene, const SimulateOptions& options) {
   const Scene::Impl& impl = *scene.impl_;
   SimulationOptions run_options;
@@ -130,6 +136,10 @@ Result simulate(const Scene& scene, const SimulateOptions& options) {
     Workspace ws;
     SimulationResult r = simulate(impl.scene, impl.model, ws, run_options);
     estimate_error(impl.scene, impl.model, r);
+    const int threads =
+        options.jobs > 0 ? options.jobs : static_cast<int>(std::max(1U, std::thread::hardware_concurrency()));
+    // only with simulation.steady_state and a converged run
+    apply_steady_state(impl.scene, impl.model, r, SteadyStateSearch::full, threads);
     return r;
   });
   return public_result(std::move(run));

@@ -15,23 +15,12 @@
 #include <string>
 #include <vector>
 
+#include "cli/run_study.h"
 #include "common/errors.h"
 #include "dynamics/model.h"
-#include "dynamics/simulation.h"
 #include "io/config.h"
-#include "io/json_writer.h"
 #include "io/profile_export.h"
-#include "optim/identify_study.h"
-#include "optim/optimize_study.h"
-#include "study/compare_study.h"
-#include "study/convergence_study.h"
-#include "study/jump_map.h"
 #include "study/mpi_runner.h"
-#include "study/periodic_study.h"
-#include "study/simulation_output.h"
-#include "study/speed_limit.h"
-#include "study/steady_state.h"
-#include "study/study.h"
 
 namespace {
 
@@ -55,67 +44,6 @@ struct ExportArgs {
   double chord_tolerance_mm = camdyn::ProfileOutputConfig::kDefaultChordToleranceMm;
   double cutter_radius_mm = 0.0;  // 0: no tool path
 };
-
-// A progress line on stderr, redrawn in place, only on a terminal.
-class Progress {
- public:
-  explicit Progress(bool enabled) : enabled_(enabled && isatty(STDERR_FILENO)) {}
-  void operator()(double fraction) const {
-    if (!enabled_) return;
-    std::fprintf(stderr, "\r  simulating %5.1f %%", 100.0 * fraction);
-    if (fraction >= 1.0) std::fprintf(stderr, "\n");
-    std::fflush(stderr);
-  }
-  bool enabled() const { return enabled_; }
-
- private:
-  bool enabled_;
-};
-
-int run_simulate(const camdyn::Json& doc, const camdyn::StudyContext& ctx) {
-  const camdyn::SceneConfig scene = camdyn::scene_from_json(doc, ctx.source);
-  // Building the model checks what the config layer cannot: the motion law,
-  // the cam geometry (undercut, pressure angle) and the contact law.
-  const camdyn::Model model = camdyn::build_model(scene, ctx.config_file);
-  // outputs.profile is sampled (and its tool radius checked) before the run, so validate sees its errors too.
-  std::optional<camdyn::CamProfile> profile;
-  if (scene.outputs.profile)
-    profile = camdyn::sample_cam_profile(model, camdyn::profile_options(*scene.outputs.profile),
-                                         camdyn::ProfileOptionNames{ctx.config_file});
-  if (ctx.validate_only) {
-    std::cout << camdyn::dump_json(camdyn::to_json(scene));
-    std::cerr << "camdyn: " << ctx.config_file << " is valid (" << model.layout.size << " states: ";
-    for (size_t i = 0; i < model.layout.names.size(); ++i) std::cerr << (i ? ", " : "") << model.layout.names[i];
-    std::cerr << ")\n";
-    return kExitOk;
-  }
-  camdyn::Workspace ws;
-  const Progress progress(ctx.progress);
-  camdyn::SimulationOptions options;
-  if (progress.enabled()) options.progress = [&](double f) { progress(f); };
-  camdyn::SimulationResult result = camdyn::simulate(scene, model, ws, options);
-  camdyn::estimate_error(scene, model, result);
-  camdyn::throw_if_failed(result);
-  camdyn::apply_steady_state(scene, model, result, camdyn::SteadyStateSearch::full, ctx.threads());
-  const std::filesystem::path& out = ctx.out_dir;
-  camdyn::write_simulation_outputs(out, scene, model, result);
-  if (profile) camdyn::write_profile_files(out, *profile, scene.name, scene.outputs.profile->formats);
-
-  const camdyn::Metrics& m = result.metrics;
-  std::printf("%s: %s, %.6g rpm (rigid-model jump speed %.6g rpm)\n", scene.name.c_str(),
-              m.separation_fraction > 0.0 ? "follower SEPARATES" : "follower stays in contact", scene.mechanism.cam.rpm,
-              m.jump_speed_rpm);
-  if (!result.metrics_note.empty()) std::printf("  steady state: %s\n", result.metrics_note.c_str());
-  std::printf("  separation_fraction %.4g, impacts %ld, peak_contact_force %.6g N, min_contact_force %.6g N\n",
-              m.separation_fraction, m.impact_count, m.peak_contact_force, m.min_contact_force);
-  std::printf("  energy_residual %.3g, %ld steps, %ld RHS evaluations, %.3g s\n", m.energy_residual,
-              result.solver.counters.steps, result.solver.counters.rhs_evaluations, result.solver.run_time_s);
-  if (result.error.richardson)
-    std::printf("  error estimate (run at 100x tighter tolerance): position %.3g m, peak force %.3g\n",
-                result.error.position, result.error.peak_contact_force);
-  std::printf("  report: %s\n", std::filesystem::absolute(out / "report.html").lexically_normal().c_str());
-  return kExitOk;
-}
 
 int report_input_error(const camdyn::InputError& e, const std::string& config,
                        const std::vector<std::string>& overrides) {
@@ -154,32 +82,17 @@ std::filesystem::path out_dir(const camdyn::Json& doc, const std::string& out) {
   return out.empty() ? std::filesystem::path("out") / name : std::filesystem::path(out);
 }
 
-// `camdyn run` and `camdyn validate`: dispatch the study the config names.
+// `camdyn run` and `camdyn validate`: the study the config names
+// (cli/run_study.h, shared with the Python module).
 int run_study(const RunArgs& args, bool validate_only, bool root) {
-  const camdyn::Json doc = camdyn::load_config_json(args.config, args.overrides);
-  camdyn::StudyContext ctx;
-  ctx.config_file = args.config;
-  ctx.source = camdyn::config_source(args.config);
-  ctx.out_dir = out_dir(doc, args.out);
-  ctx.jobs = args.jobs;
-  ctx.progress = !args.quiet && isatty(STDERR_FILENO) && root;
-  ctx.validate_only = validate_only;
-  const std::string study =
-      doc.contains("study") && doc["study"].is_string() ? doc["study"].get<std::string>() : "simulate";
-  if (study == "convergence") return camdyn::run_convergence_study(doc, ctx);
-  if (study == "compare") return camdyn::run_compare_study(doc, ctx);
-  if (study == "jump_map") return camdyn::run_jump_map_study(doc, ctx);
-  if (camdyn::mpi::size() > 1 && !ctx.validate_only) {
-    // Only compare studies are spread over ranks; the others run on rank 0.
-    if (!root) return kExitOk;
-    std::cerr << "camdyn: note: only compare studies use the MPI ranks; this " << study
-              << " study runs on rank 0 alone\n";
-  }
-  if (study == "optimize") return camdyn::optim::run_optimize_study(doc, ctx);
-  if (study == "identify") return camdyn::optim::run_identify_study(doc, ctx);
-  if (study == "speed_limit") return camdyn::run_speed_limit_study(doc, ctx);
-  if (study == "periodic") return camdyn::run_periodic_study(doc, ctx);
-  return run_simulate(doc, ctx);  // simulate; any other study name is reported by the config layer
+  camdyn::StudyRequest request;
+  request.config_file = args.config;
+  request.overrides = args.overrides;
+  request.out_dir = args.out;
+  request.jobs = args.jobs;
+  request.progress = !args.quiet && isatty(STDERR_FILENO) && root;
+  request.validate_only = validate_only;
+  return camdyn::run_study(request).exit_code;
 }
 
 // The scene of any config with a mechanism: a simulate config (optimized.json

@@ -56,8 +56,6 @@ Json metrics_json(const Metrics& m) {
 
 double rigid_contact_force(const Model& model, double theta) { return rigid_normal_force(model, theta); }
 
-namespace {
-
 std::string follower_name(const Model& model) {
   const FollowerGeometry& f = model.follower;
   return std::string(f.oscillating() ? "oscillating_" : "translating_") + to_string(f.shape);
@@ -79,6 +77,8 @@ std::string contact_pair_name(const Model& model) {
   return shape + ": circle centre against " + cam + (model.contour ? " offset by its radius" : "") +
          " (one-parameter reduction)";
 }
+
+namespace {
 
 /// Distance of each contour point from the fitted curve [m].
 std::vector<double> contour_residuals(const ContourCam& cam) {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
 
 #include "dynamics/model.h"
 #include "dynamics/simulation.h"
@@ -35,6 +36,14 @@ Verdict simulation_verdict(const SceneConfig& scene, const Model& model, const S
 /// (created if missing).
 void write_simulation_outputs(const std::filesystem::path& dir, const SceneConfig& scene, const Model& model,
                               const SimulationResult& result);
+
+/// summary.json `model`'s words for what drives the cam ("constant_speed",
+/// "stationary", "shaft:constant_speed_motor", "shaft:torque_speed_motor"),
+/// for the follower ("translating_roller", "oscillating_flat", ...) and for
+/// how the contact pair is tracked (a sentence).
+std::string drive_name(const Model& model);
+std::string follower_name(const Model& model);
+std::string contact_pair_name(const Model& model);
 
 /// Rigid-model normal contact force of a follower on the law (physics.md §6),
 /// P / cos φ with P = m ω² s'' + c ω s' + k (s + x₀) + m g [N] (negative: the

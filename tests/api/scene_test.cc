@@ -5,15 +5,19 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <numbers>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "common/errors.h"
+#include "dynamics/cam_outline.h"
 #include "dynamics/model.h"
 #include "input_error_of.h"
 #include "io/config.h"
 #include "io/json_archive.h"
 #include "io/json_writer.h"
+#include "study/simulation_output.h"
 
 namespace camdyn {
 namespace {
@@ -55,6 +59,51 @@ TEST(Scene, FromJsonResolvesRelativeFilesAgainstBaseDir) {
   // quickstart.json's motion_law names "profiles/...", relative to the repository.
   const std::string text = read_json_file(kQuickstart).dump();
   EXPECT_EQ(Scene::from_json(text, CAMDYN_SOURCE_DIR).resolved_json(), Scene::load(kQuickstart).resolved_json());
+}
+
+TEST(Scene, ModelIsSummaryJsonsModel) {
+  const Scene scene = Scene::load(kQuickstart);
+  const Model model = build_model(load_scene(kQuickstart), kQuickstart);
+  const ModelInfo info = scene.model();
+  EXPECT_EQ(info.states, model.layout.names);
+  EXPECT_EQ(info.elements, model.elements);
+  EXPECT_EQ(info.cam, drive_name(model));
+  EXPECT_EQ(info.follower, "translating_roller");
+  EXPECT_EQ(info.contact_pair, contact_pair_name(model));
+}
+
+TEST(Scene, ProfileIsTheModelsOutline) {
+  const Scene scene = Scene::load(kQuickstart);
+  const CamOutline outline = cam_outline(build_model(load_scene(kQuickstart), kQuickstart), 100);
+  const CamProfile profile = scene.profile(100);
+  EXPECT_EQ(profile.u, outline.u);
+  EXPECT_EQ(profile.contour_x, outline.contour_x);
+  EXPECT_EQ(profile.contour_y, outline.contour_y);
+  EXPECT_EQ(profile.pitch_x, outline.pitch_x);
+  EXPECT_EQ(profile.pitch_y, outline.pitch_y);
+  EXPECT_THROW(scene.profile(2), std::invalid_argument);
+}
+
+TEST(Scene, LawIsTheModelsLawAtAnglesInDegrees) {
+  const Scene scene = Scene::load(kQuickstart);
+  const Model model = build_model(load_scene(kQuickstart), kQuickstart);
+  const std::vector<double> angles = {0.0, 45.0, 60.0, 150.0, 250.0, 420.0, -30.0};
+  const LawValues v = scene.law(angles);
+  ASSERT_EQ(v.s.size(), angles.size());
+  for (std::size_t i = 0; i < angles.size(); ++i) {
+    const LawSample l = model.law->eval(angles[i] * std::numbers::pi / 180.0);
+    EXPECT_EQ(v.s[i], l.s);
+    EXPECT_EQ(v.ds[i], l.ds);
+    EXPECT_EQ(v.d2s[i], l.d2s);
+    EXPECT_EQ(v.d3s[i], l.d3s);
+  }
+  // The cycloidal rise of 20 mm over 120°: half the lift at 60°, all of it
+  // on the dwell to 180°, none on the dwell from 300°; periodic in 360°
+  // (to the rounding of the angle reduced modulo 2π).
+  EXPECT_NEAR(v.s[2], 0.01, 1e-15);
+  EXPECT_NEAR(v.s[3], 0.02, 1e-15);
+  EXPECT_NEAR(v.s[5], v.s[2], 1e-15);
+  EXPECT_NEAR(v.s[6], 0.0, 1e-15);
 }
 
 TEST(Scene, BadConfigNamesFileAndDottedPath) {

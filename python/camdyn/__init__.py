@@ -1,0 +1,296 @@
+"""camdyn: cam-follower mechanisms that do not jump and do not hammer.
+
+The Python face of the camdyn simulator (docs/python.md). It loads and checks
+a scene as ``camdyn run`` does, simulates it, and hands back the numbers as
+dicts and numpy arrays::
+
+    import camdyn
+    scene = camdyn.load("studies/quickstart.json", set={"cam.rpm": 1200})
+    result = scene.simulate()
+    print(result.metrics["peak_contact_force"], "N")
+
+Errors: ``camdyn.InputError`` (a bad config: ``file``, ``path``, ``reason``)
+and ``camdyn.SolverError`` (a solver gave up), both ``camdyn.Error``.
+The GIL is released while camdyn computes, so threads simulate in parallel.
+"""
+
+import csv
+import json
+import os
+import tempfile
+
+import numpy as np
+
+from . import _camdyn
+from ._camdyn import Error, InputError, SolverError, __version__
+
+__all__ = [
+    "Error", "InputError", "SolverError", "Result", "Scene", "__version__", "EVENT_UNITS", "TIMESERIES_UNITS",
+    "jump_speed", "law", "load", "profile", "run_study",
+]
+
+#: The time series' columns, in order, and their units (summary.json's
+#: timeseries.csv). For an oscillating follower the follower's coordinate is
+#: the arm angle: follower_position [rad], follower_velocity [rad/s],
+#: follower_acceleration [rad/s^2], kinematic_position [rad].
+TIMESERIES_UNITS = {
+    "time": "s",
+    "cam_angle_deg": "deg",
+    "follower_position": "m",
+    "follower_velocity": "m/s",
+    "follower_acceleration": "m/s^2",
+    "kinematic_position": "m",
+    "gap": "m",
+    "contact_force": "N",
+    "friction_force": "N",
+    "energy_residual": "-",
+    "contact_offset": "m",
+    "cam_speed_rpm": "rpm",
+}
+
+#: The events' columns and their units: contact onsets and separations.
+EVENT_UNITS = {
+    "time": "s",
+    "cam_angle_deg": "deg",
+    "onset": "bool (True: the gap closes, False: it opens)",
+    "speed": "m/s (approach speed at an onset, separation speed at a separation)",
+    "impact": "bool (an onset after a separation)",
+}
+
+
+def _plain(value):
+    """numpy scalars and arrays as the Python numbers and lists JSON takes."""
+    if isinstance(value, (np.generic, np.ndarray)):
+        return value.tolist()
+    raise TypeError(f"{type(value).__name__} is not a JSON value")
+
+
+def _json(value):
+    return json.dumps(value, allow_nan=False, default=_plain)
+
+
+def _overrides(values):
+    """--set assignments from a dict {"cam.rpm": 1200} (values as JSON) or strings "cam.rpm=1200"."""
+    if values is None:
+        return []
+    if isinstance(values, dict):
+        return [f"{key}={_json(value)}" for key, value in values.items()]
+    if isinstance(values, str):
+        return [values]
+    return [str(v) for v in values]
+
+
+def _table(columns, names, as_frame):
+    """Columns (name -> 1-d array) as a pandas DataFrame, or a numpy record array."""
+    if as_frame is None:
+        try:
+            import pandas  # noqa: F401  (optional)
+            as_frame = True
+        except ImportError:
+            as_frame = False
+    if as_frame:
+        import pandas
+        return pandas.DataFrame({name: columns[name] for name in names})
+    return np.rec.fromarrays([columns[name] for name in names], names=list(names))
+
+
+def _series_table(columns, names, as_frame):
+    """The time series (or samples) as a table; None when there are no rows.
+
+    The energy balance is closed when a run ends, so a run that stopped early
+    has no energy_residual column: it is NaN there.
+    """
+    rows = len(columns["time"])
+    if rows == 0:
+        return None
+    full = {name: columns[name] if len(columns[name]) == rows else np.full(rows, np.nan) for name in names}
+    return _table(full, names, as_frame)
+
+
+class Result:
+    """What ``Scene.simulate`` returns.
+
+    Attributes:
+        metrics: summary.json's metrics by name (SI units; ``impact_count`` as
+            a float; ``jump_speed_rpm`` is ``inf`` when the law never decelerates).
+        solver: how the run ended (``termination``, ``converged``, ``message``)
+            and what it cost (``steps``, ``rhs_evaluations``, ...), under
+            summary.json's ``solver`` names.
+        timeseries: the columns of ``TIMESERIES_UNITS`` at the config's output
+            step: a numpy record array (``r.timeseries["contact_force"]``, or
+            ``r.timeseries.contact_force``), or a pandas DataFrame.
+        events: contact onsets and separations (``EVENT_UNITS``), likewise.
+            None with ``series=False``.
+        samples: the state at ``sample_times`` (same columns as ``timeseries``), or None.
+        model: the model's ``states``, force ``elements``, ``cam``,
+            ``follower`` and ``contact_pair`` (summary.json ``model``).
+        metrics_over: ``"window"`` or ``"periodic_orbit"`` (simulation.steady_state).
+        steady_state: with simulation.steady_state, the orbit found or why not.
+    """
+
+    def __init__(self, raw, model, as_frame):
+        names = raw["timeseries_columns"]
+        self.metrics = dict(raw["metrics"])
+        self.solver = raw["solver"]
+        self.timeseries = _series_table(raw["timeseries"], names, as_frame)
+        self.samples = _series_table(raw["samples"], names, as_frame)
+        self.events = _table(raw["events"], list(EVENT_UNITS), as_frame)
+        self.model = model
+        self.metrics_over = raw["metrics_over"]
+        self.steady_state = raw["steady_state"]
+
+    @property
+    def converged(self):
+        return self.solver["converged"]
+
+    def __repr__(self):
+        return (f"<camdyn.Result {self.solver['termination']}: separation_fraction "
+                f"{self.metrics['separation_fraction']:.4g}, peak_contact_force "
+                f"{self.metrics['peak_contact_force']:.6g} N>")
+
+
+class Scene:
+    """An immutable, checked scene: a cam-follower mechanism and how to run it.
+
+    Make one with ``camdyn.load(path, set=...)``, ``Scene.from_dict(d)`` or
+    ``Scene.from_json(text)``. Loading checks everything ``camdyn validate``
+    checks and raises ``InputError`` naming the dotted path. Threads may
+    simulate one scene at once.
+    """
+
+    def __init__(self, impl):
+        self._impl = impl
+
+    @classmethod
+    def load(cls, path, set=None):
+        """Reads a config file as ``camdyn run PATH --set ...`` does (``extends`` resolved)."""
+        return cls(_camdyn._Scene.load(os.fspath(path), _overrides(set)))
+
+    @classmethod
+    def from_json(cls, text, base_dir=None, set=None):
+        """A scene from a config's JSON text; relative file names resolve against base_dir (default: cwd)."""
+        return cls(_camdyn._Scene.from_json(text, os.fspath(base_dir) if base_dir else "", _overrides(set)))
+
+    @classmethod
+    def from_dict(cls, config, base_dir=None, set=None):
+        """A scene from a config as a dict (as json.load gives it)."""
+        return cls.from_json(_json(config), base_dir, set)
+
+    @property
+    def name(self):
+        return self._impl.name
+
+    @property
+    def rpm(self):
+        """The cam speed the scene runs at [rpm]."""
+        return self._impl.rpm
+
+    @property
+    def resolved(self):
+        """The fully resolved config (every default filled in), as a dict."""
+        return json.loads(self._impl.resolved_json())
+
+    @property
+    def model(self):
+        """The model's states, force elements, drive, follower and contact pair (summary.json ``model``)."""
+        return self._impl.model()
+
+    def jump_speed(self):
+        """The rigid-model jump speed [rpm]; inf when the law never decelerates."""
+        return self._impl.jump_speed_rpm()
+
+    def profile(self, points=360):
+        """The cam's outline in the cam frame: ``u`` [rad], ``contour_x/y`` [m], ``pitch_x/y`` [m]."""
+        return self._impl.profile(int(points))
+
+    def law(self, angles_deg):
+        """The motion law at cam angles [deg]: ``s`` [m], ``ds`` [m/rad], ``d2s`` [m/rad^2], ``d3s`` [m/rad^3]."""
+        return self._impl.law(np.asarray(angles_deg, dtype=float).ravel())
+
+    def simulate(self, *, series=True, sample_times=None, jobs=1, check=True, as_frame=None):
+        """Simulates the scene as ``camdyn run`` does and returns a ``Result``.
+
+        series: record the time series at the config's output step.
+        sample_times: extra times [s] (ascending) at which the state is sampled (``Result.samples``).
+        jobs: threads for simulation.steady_state's orbit search (0: one per core).
+        check: raise ``SolverError`` (with ``termination`` and the partial
+            ``result``) when the run did not converge; with False, read
+            ``result.solver["termination"]`` instead.
+        as_frame: tables as pandas DataFrames (True), numpy record arrays
+            (False), or DataFrames when pandas can be imported (None).
+        """
+        times = [] if sample_times is None else [float(t) for t in np.asarray(sample_times, dtype=float).ravel()]
+        raw = self._impl.simulate(bool(series), times, int(jobs))
+        result = Result(raw, self.model, as_frame)
+        if check and not result.converged:
+            error = SolverError(result.solver["message"] or result.solver["termination"])
+            error.termination = result.solver["termination"]
+            error.result = result
+            raise error
+        return result
+
+    def __repr__(self):
+        return f"<camdyn.Scene {self.name!r} at {self.rpm:g} rpm>"
+
+
+def load(path, set=None):
+    """Loads and checks a config file: ``camdyn.load("studies/quickstart.json", set={"cam.rpm": 1200})``.
+
+    ``set`` overrides fields as ``--set`` does: a dict of dotted paths to
+    values, or strings ``"cam.rpm=1200"``. Raises ``InputError``.
+    """
+    return Scene.load(path, set)
+
+
+def jump_speed(scene):
+    """The scene's rigid-model jump speed [rpm] (inf when the law never decelerates)."""
+    return scene.jump_speed()
+
+
+def profile(scene, n=360):
+    """The cam's contour and pitch curve at n points (dict of arrays; see Scene.profile)."""
+    return scene.profile(n)
+
+
+def law(scene, angles):
+    """s, s', s'', s''' of the motion law at cam angles [deg] (dict of arrays; see Scene.law)."""
+    return scene.law(angles)
+
+
+def _read_main_output(path):
+    if path.endswith(".csv"):
+        with open(path, newline="", encoding="utf-8") as f:
+            rows = list(csv.reader(f))
+        header, body = rows[0], rows[1:]
+        return {name: [row[i] for row in body] for i, name in enumerate(header)}
+    with open(path, encoding="utf-8") as f:
+        return json.load(f)
+
+
+def run_study(config, out=None, jobs=0, set=None, base_dir=None):
+    """Runs a study config as ``camdyn run`` does and returns its main result as a dict.
+
+    config: a config file's path, or a config as a dict (its relative file
+        names resolve against base_dir, default the current directory).
+    out: the output folder; None runs in a temporary folder that is removed
+        afterwards (only the returned dict remains).
+    jobs: parallel jobs for the studies that run many simulations (0: one per core).
+    set: overrides, as for ``load``.
+
+    The dict is the study's main JSON output: result.json (optimize),
+    identified.json (identify), comparison.json (compare), periodic.json,
+    jump_map.json, speed_limit.json or summary.json (simulate); for a
+    convergence study, work_precision.csv's columns (as strings).
+    Raises InputError and SolverError as the CLI exits 2 and 3.
+    """
+    if isinstance(config, dict):
+        file, text = "", _json(config)
+        base = os.fspath(base_dir) if base_dir else ""
+    else:
+        file, text, base = os.fspath(config), "", ""
+    with tempfile.TemporaryDirectory(prefix="camdyn-") as scratch:
+        folder = os.fspath(out) if out is not None else scratch
+        outcome = _camdyn.run_study(file, text, base, _overrides(set), folder, int(jobs))
+        if outcome["exit_code"] != 0:
+            raise Error(f"the {outcome['study']} study stopped with exit code {outcome['exit_code']}")
+        return _read_main_output(outcome["main_output"])

@@ -1,0 +1,44 @@
+// Running one study config, as `camdyn run` and `camdyn validate` do: read
+// the config (a file with `extends` and `--set` overrides, or JSON text),
+// dispatch on its `study` to the study's runner, which writes its outputs.
+// The CLI and the Python module (python/) both call this, so a study gives
+// the same outputs from either. Plain standard types only, so the module
+// needs none of the private headers.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace camdyn {
+
+struct StudyRequest {
+  std::string config_file;             ///< the config file; empty when json_text is given
+  std::string json_text;               ///< a config's JSON text (no `extends`) instead of a file
+  std::string base_dir;                ///< where json_text's relative file names resolve (empty: the current directory)
+  std::vector<std::string> overrides;  ///< "dotted.path=VALUE", as --set takes them
+  std::string out_dir;                 ///< output folder; empty: out/<name>
+  int jobs = 0;                        ///< parallel jobs; 0 = one per core
+  bool progress = false;               ///< draw progress on stderr
+  bool validate_only = false;          ///< check, print the resolved config, do not run
+};
+
+struct StudyOutcome {
+  int exit_code = 0;  ///< 0, or the code a study stopped with before its runs (MPI)
+  std::string study;  ///< simulate, optimize, identify, compare, convergence, speed_limit, periodic, jump_map
+  std::filesystem::path out_dir;
+  /// The study's main result in out_dir: summary.json (simulate), result.json
+  /// (optimize), identified.json, comparison.json, work_precision.csv
+  /// (convergence), speed_limit.json, periodic.json or jump_map.json.
+  std::filesystem::path main_output;
+};
+
+/// The file name of a study's main result (StudyOutcome::main_output).
+std::string main_output_name(const std::string& study);
+
+/// Reads the config and runs its study. Throws InputError (naming the file
+/// when the error came from below the config layer and did not) and
+/// NumericalError, as the study runners do.
+StudyOutcome run_study(const StudyRequest& request);
+
+}  // namespace camdyn
