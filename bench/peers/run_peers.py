@@ -498,15 +498,17 @@ def hunt_crossley_restitution(scene):
 # ---------------------------------------------------------------- siconos
 
 
-def python_loop_overhead(n_steps, forcing, heights):
-    """Wall time [s] of run_siconos's Python step loop without the Siconos
-    calls: the part of its wall time that a C++ driver would not spend."""
-    f_ext, z, zdot, lam = np.zeros(1), np.zeros(1), np.zeros(1), np.zeros(1)
-    flying, impact_steps = False, []
-    start = time.perf_counter()
+def step_loop(n_steps, forcing, heights, state, compute, advance):
+    """The Moreau-Jean step loop: sets each step's forcing, steps (compute,
+    advance), records the height z in heights and returns the impacts as
+    (step, z before, z' before). state = (fExt, q, velocity, impulse) views."""
+    f_ext, z, zdot, lam = state
+    impact_steps = []
+    flying = False
     for i in range(n_steps):
         f_ext[0] = forcing[i]
         z_before, v_before = z[0], zdot[0]
+        compute()
         if lam[0] > 0.0:
             if flying:
                 impact_steps.append((i, z_before, v_before))
@@ -514,6 +516,19 @@ def python_loop_overhead(n_steps, forcing, heights):
         elif z[0] > FLIGHT_HEIGHT:
             flying = True
         heights[i + 1] = z[0]
+        advance()
+    return impact_steps
+
+
+def python_loop_overhead(n_steps, forcing):
+    """Wall time [s] of step_loop without the Siconos calls: the part of the
+    Siconos peer's wall time that a C++ driver would not spend."""
+    def nothing():
+        pass
+
+    state = (np.zeros(1), np.zeros(1), np.zeros(1), np.zeros(1))
+    start = time.perf_counter()
+    step_loop(n_steps, forcing, np.empty(n_steps + 1), state, nothing, nothing)
     return time.perf_counter() - start
 
 
@@ -550,27 +565,13 @@ def run_siconos(scene, revolutions, discard, dt, restitution):
     nsds.insertDynamicalSystem(ds)
     nsds.link(inter, ds)
     sim = sk.TimeStepping(nsds, sk.TimeDiscretisation(0.0, dt), sk.MoreauJeanOSI(0.5), sk.LCP())
-    f_ext, z, zdot = ds.fExt(), ds.q(), ds.velocity()
-    lam = inter.lambda_(1)
+    state = (ds.fExt(), ds.q(), ds.velocity(), inter.lambda_(1))
     heights = np.empty(n_steps + 1)
     heights[0] = 0.0
-    impact_steps = []  # (step, z before, z' before)
-    flying = False
     start = time.perf_counter()
-    for i in range(n_steps):
-        f_ext[0] = forcing[i]
-        z_before, v_before = z[0], zdot[0]
-        sim.computeOneStep()
-        if lam[0] > 0.0:
-            if flying:
-                impact_steps.append((i, z_before, v_before))
-            flying = False
-        elif z[0] > FLIGHT_HEIGHT:
-            flying = True
-        heights[i + 1] = z[0]
-        sim.nextStep()
+    impact_steps = step_loop(n_steps, forcing, heights, state, sim.computeOneStep, sim.nextStep)
     wall = time.perf_counter() - start
-    overhead = python_loop_overhead(n_steps, forcing, np.empty_like(heights))
+    overhead = python_loop_overhead(n_steps, forcing)
     impacts = []
     for i, z_before, v_before in impact_steps:
         # The impact inside step i, at z_before + z' tau = 0 (first order).
