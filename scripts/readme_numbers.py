@@ -395,7 +395,11 @@ def main() -> int:
         print(f"readme_numbers: {camdyn} is not an executable camdyn", file=sys.stderr)
         return 2
     checked = {n.key for n in NUMBERS if n.key in quoted_keys and (args.slow or n.source not in SLOW_RUNS)}
-    fresh = fresh_values(camdyn, [n for n in NUMBERS if n.key in checked], args.jobs)
+    try:
+        fresh = fresh_values(camdyn, [n for n in NUMBERS if n.key in checked], args.jobs)
+    except (RuntimeError, LookupError, ValueError, KeyError, OSError) as e:
+        print(f"readme_numbers: cannot remake the numbers: {e}", file=sys.stderr)
+        return 1
 
     drifted = []
     pieces, last = [], 0
@@ -423,7 +427,7 @@ def main() -> int:
     skipped = len({q["key"] for q in quotes} - checked - (quoted_keys - set(by_key)))
     print(f"readme_numbers: {len(quotes)} quoted numbers, {len(checked)} keys checked"
           f"{f' ({skipped} of the slow studies left out: --slow)' if skipped else ''}, {len(drifted)} {verb}, "
-          f"{len(problems)} marker problems")
+          f"{len(problems)} other problems")
     return 1 if problems or (drifted and args.check) else 0
 
 

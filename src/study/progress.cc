@@ -57,6 +57,9 @@ void ProgressMeter::finished(bool failed, double run_s) {
   if (std::isfinite(run_s) && run_s > 0.0) run_s_ += run_s;
   if (!enabled_) return;
   const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  // At most five redraws a second; the last run always shows.
+  if (done_ < total_ && drawn_s_ >= 0.0 && elapsed - drawn_s_ < 0.2) return;
+  drawn_s_ = elapsed;
   const double remaining = remaining_runs_s(run_s_, done_ - resumed_, total_ - done_, workers_);
   std::fprintf(stderr, "\r  %s   ", progress_line(what_, done_, total_, failed_, elapsed, remaining).c_str());
   if (done_ >= total_) std::fprintf(stderr, "\n");

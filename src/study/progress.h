@@ -44,14 +44,16 @@ class ProgressMeter {
   /// runs go at a time.
   ProgressMeter(std::string what, std::size_t total, std::size_t already_done, std::size_t already_failed,
                 std::size_t workers, bool enabled);
-  /// One more run finished (failed or not) after `run_s` seconds of wall time.
+  /// One more run finished (failed or not) after `run_s` seconds of wall
+  /// time; redraws the line at most five times a second, and always the last.
   void finished(bool failed, double run_s);
   std::size_t failed() const;
 
  private:
   std::string what_;
   std::size_t total_, done_, failed_, resumed_, workers_;
-  double run_s_ = 0.0;  ///< summed durations of this session's finished runs [s]
+  double run_s_ = 0.0;     ///< summed durations of this session's finished runs [s]
+  double drawn_s_ = -1.0;  ///< elapsed time of the last redraw [s], < 0 before the first
   bool enabled_;
   std::chrono::steady_clock::time_point start_;
   mutable std::mutex mutex_;
