@@ -332,14 +332,19 @@ class SampleCost final : public ceres::CostFunction {
 
 class ProgressCallback final : public ceres::IterationCallback {
  public:
-  explicit ProgressCallback(std::function<void(int, double)> progress) : progress_(std::move(progress)) {}
+  ProgressCallback(const std::function<void(const IdentifyProgress&)>& progress, IdentifyProgress where)
+      : progress_(progress), where_(where) {}
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& summary) override {
-    if (progress_) progress_(summary.iteration, summary.cost);
+    if (!progress_) return ceres::SOLVER_CONTINUE;
+    where_.iteration = summary.iteration;
+    where_.cost = summary.cost;
+    progress_(where_);
     return ceres::SOLVER_CONTINUE;
   }
 
  private:
-  std::function<void(int, double)> progress_;
+  const std::function<void(const IdentifyProgress&)>& progress_;
+  IdentifyProgress where_;
 };
 
 ceres::LossFunction* make_loss(const std::string& loss, double scale) {
@@ -373,7 +378,7 @@ struct Stage {
 
 std::unique_ptr<Stage> solve_stage(const IdentifyProblem& problem, Simulator& simulator, const SolverSpec& spec,
                                    double smoothing, double loss_scale, const IdentifyOptions& options,
-                                   std::vector<double>& z) {
+                                   const IdentifyProgress& where, std::vector<double>& z) {
   auto stage = std::make_unique<Stage>();
   stage->evaluator = std::make_unique<FitEvaluator>(problem, simulator, smoothing);
   // One loss object for all blocks; the problem must then not delete it per block.
@@ -409,7 +414,7 @@ std::unique_ptr<Stage> solve_stage(const IdentifyProblem& problem, Simulator& si
   solver_options.num_threads = 1;  // one residual block; the simulations run in parallel inside it
   solver_options.logging_type = ceres::SILENT;
   solver_options.minimizer_progress_to_stdout = false;
-  ProgressCallback callback(options.progress);
+  ProgressCallback callback(options.progress, where);
   solver_options.callbacks.push_back(&callback);
   std::string options_error;
   if (!solver_options.IsValid(&options_error)) throw std::logic_error("Ceres options: " + options_error);
@@ -677,8 +682,10 @@ std::unique_ptr<Stage> run_continuation(const IdentifyProblem& problem, Simulato
   std::sort(widths.begin(), widths.end(), std::greater<>());
   widths.push_back(0.0);
   std::unique_ptr<Stage> stage;
-  for (const double width : widths) {
-    stage = solve_stage(problem, simulator, problem.solver, width, result.loss_scale, options, z);
+  for (std::size_t k = 0; k < widths.size(); ++k) {
+    const double width = widths[k];
+    const IdentifyProgress where{static_cast<int>(k) + 1, static_cast<int>(widths.size()), width, 0, 0.0};
+    stage = solve_stage(problem, simulator, problem.solver, width, result.loss_scale, options, where, z);
     const ceres::Solver::Summary& summary = stage->summary;
     std::vector<double> stage_values(p);
     for (std::size_t i = 0; i < p; ++i) stage_values[i] = to_value(problem.parameters[i], z[i]);

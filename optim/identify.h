@@ -152,10 +152,19 @@ struct IdentifyResult {
   SceneConfig identified_scene;  ///< the study's scene with the identified values
 };
 
+/// Where the fit is, for a progress line: the continuation stage (1-based,
+/// of `stages`; the last one fits the raw signals) and the solver iteration in it.
+struct IdentifyProgress {
+  int stage = 1, stages = 1;
+  double smoothing = 0.0;  ///< the stage's smoothing window [s], 0 for the raw signals
+  int iteration = 0;       ///< Ceres iteration within the stage (0: the starting point)
+  double cost = 0.0;       ///< the stage's cost at that iteration
+};
+
 struct IdentifyOptions {
   int threads = 1;  ///< simulations run in parallel
-  /// Called after each solver iteration (iteration number, cost).
-  std::function<void(int, double)> progress;
+  /// Called after each solver iteration of each continuation stage.
+  std::function<void(const IdentifyProgress&)> progress;
 };
 
 /// Runs the fit. Throws NumericalError (exit 3) when the solver fails (no

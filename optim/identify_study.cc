@@ -1,7 +1,9 @@
 #include "optim/identify_study.h"
 
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 
 #include "io/json_writer.h"
@@ -9,6 +11,30 @@
 #include "optim/identify_output.h"
 
 namespace camdyn::optim {
+
+namespace {
+
+/// A progress printer for stderr: the continuation stage (and its smoothing
+/// window), the iteration of the stage and its cost; at most one line per
+/// 0.2 s, and always the first iteration of a stage.
+std::function<void(const IdentifyProgress&)> progress_printer(int max_iterations) {
+  using Clock = std::chrono::steady_clock;
+  return [max_iterations, last = Clock::time_point{}](const IdentifyProgress& p) mutable {
+    const Clock::time_point now = Clock::now();
+    if (p.iteration > 0 && now - last < std::chrono::milliseconds(200)) return;
+    last = now;
+    char stage[64];
+    if (p.smoothing > 0.0)
+      std::snprintf(stage, sizeof stage, "smoothed over %g ms", p.smoothing * 1e3);
+    else
+      std::snprintf(stage, sizeof stage, "raw signals");
+    std::fprintf(stderr, "\r  identify: stage %d/%d (%s), iteration %d of at most %d, cost %.6g    ", p.stage, p.stages,
+                 stage, p.iteration, max_iterations, p.cost);
+    std::fflush(stderr);
+  };
+}
+
+}  // namespace
 
 int run_identify_study(const Json& doc, const StudyContext& ctx) {
   Json resolved;
@@ -24,12 +50,7 @@ int run_identify_study(const Json& doc, const StudyContext& ctx) {
 
   IdentifyOptions options;
   options.threads = ctx.threads();
-  if (ctx.progress) {
-    options.progress = [](int iteration, double cost) {
-      std::fprintf(stderr, "\r  identify: iteration %3d, cost %.6g   ", iteration, cost);
-      std::fflush(stderr);
-    };
-  }
+  if (ctx.progress) options.progress = progress_printer(problem.solver.max_iterations);
   const IdentifyResult result = identify(problem, options);
   if (ctx.progress) std::fprintf(stderr, "\n");
   write_identify_outputs(ctx.out_dir, problem, result, resolved);

@@ -12,6 +12,7 @@
 #include "dynamics/model.h"
 #include "io/json_archive.h"
 #include "optim/optimize_checkpoint.h"
+#include "study/progress.h"
 #include "study/study.h"
 
 namespace camdyn::optim {
@@ -107,7 +108,9 @@ PointValue point_value(const DesignEvaluation& e) {
 }
 
 /// A search-progress printer for stderr (silent without options.progress):
-/// at most one line per 0.2 s, and always the last evaluation.
+/// evaluation i of max_evaluations, the best objective so far and the time
+/// left if the search uses its whole budget (it may stop earlier); at most
+/// one line per 0.2 s, and always the last evaluation.
 std::function<void(const SearchProgress&)> progress_printer(const OptimizeOptions& options,
                                                             const OptimizerConfig& optimizer,
                                                             Clock::time_point loop_t0) {
@@ -116,9 +119,13 @@ std::function<void(const SearchProgress&)> progress_printer(const OptimizeOption
     const double now = seconds_since(loop_t0);
     if (now - last_print < 0.2 && p.evaluations < optimizer.max_evaluations) return;
     last_print = now;
-    std::fprintf(stderr, "\r  optimize: start %d/%d, evaluation %ld (%.1f/s), best objective %.6g (%s)    ",
-                 p.start + 1, p.starts, p.evaluations, p.evaluations_per_second, p.best_objective,
-                 p.best_feasible ? "feasible" : "infeasible");
+    const long max = optimizer.max_evaluations;
+    const std::string eta =
+        p.evaluations >= max ? std::string("done")
+                             : "~" + format_duration(remaining_iterations_s(p.evaluations, max, now)) + " left at most";
+    std::fprintf(stderr, "\r  optimize: evaluation %ld of %ld, best objective %.6g (%s), start %d/%d, %.1f/s, %s    ",
+                 p.evaluations, max, p.best_objective, p.best_feasible ? "feasible" : "infeasible", p.start + 1,
+                 p.starts, p.evaluations_per_second, eta.c_str());
     std::fflush(stderr);
   };
 }

@@ -1,5 +1,6 @@
 #include "study/journaled_runs.h"
 
+#include <chrono>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -15,6 +16,9 @@
 namespace camdyn {
 
 namespace {
+
+/// The key under which a record carries its wall time to rank 0 [s].
+constexpr const char* kRunTimeKey = "_progress_run_s";
 
 /// The runs of this invocation: the journal (rank 0) with the records already
 /// done, and the runs still to do (every rank).
@@ -70,23 +74,36 @@ std::optional<int> open_journal(const std::string& study, const std::string& has
 void run_pending(const std::string& study, std::size_t count, const std::function<Json(std::size_t)>& run,
                  const StudyContext& ctx, RunState& state, JournaledRuns& out) {
   const bool distributed = mpi::size() > 1;
-  ProgressMeter progress(study, count, out.resumed, out.resumed_failed, ctx.progress && mpi::rank() == 0);
+  const std::size_t workers =
+      distributed ? static_cast<std::size_t>(mpi::size()) : static_cast<std::size_t>(ctx.threads());
+  ProgressMeter progress(study, count, out.resumed, out.resumed_failed, workers, ctx.progress && mpi::rank() == 0);
   std::mutex mutex;
+  // Each record brings its wall time [s] to rank 0 for the time estimate;
+  // it is taken out before the record is journalled.
+  auto timed_run = [&run](std::size_t i) {
+    const auto t0 = std::chrono::steady_clock::now();
+    Json record = run(i);
+    record[kRunTimeKey] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return record;
+  };
   auto finished = [&](Json record) {  // rank 0, serialised by the caller
     const std::size_t i = record["index"].get<std::size_t>();
     const bool failed = record["status"] != "ok";
+    const double run_s = record.value(kRunTimeKey, 0.0);
+    record.erase(kRunTimeKey);
     state.journal->append(record);
     out.records[i] = std::move(record);
-    progress.finished(failed);
+    progress.finished(failed, run_s);
   };
   try {
     if (distributed) {
       mpi::distribute_runs(
-          state.pending, [&](std::size_t i) { return run(i).dump(-1, ' ', false, Json::error_handler_t::replace); },
+          state.pending,
+          [&](std::size_t i) { return timed_run(i).dump(-1, ' ', false, Json::error_handler_t::replace); },
           [&](const std::string& text) { finished(Json::parse(text)); });
     } else {
       parallel_for(state.pending.size(), ctx.threads(), [&](std::size_t k) {
-        Json record = run(state.pending[k]);
+        Json record = timed_run(state.pending[k]);
         const std::lock_guard<std::mutex> lock(mutex);
         finished(std::move(record));
       });

@@ -25,4 +25,32 @@ TEST(Progress, Line) {
             "compare: 40/40 runs, 2 failed, 01:40 elapsed, done");
 }
 
+// Runs at 2 s each on 2 workers: 6 left take 3 rounds of 2 s.
+TEST(Progress, RemainingRunsIsMeanDurationTimesRemainingOverWorkers) {
+  EXPECT_DOUBLE_EQ(camdyn::remaining_runs_s(8.0, 4, 6, 2), 6.0);
+  EXPECT_DOUBLE_EQ(camdyn::remaining_runs_s(8.0, 4, 6, 1), 12.0);
+  // Fewer runs left than workers: they run side by side, one duration.
+  EXPECT_DOUBLE_EQ(camdyn::remaining_runs_s(8.0, 4, 1, 8), 2.0);
+  EXPECT_DOUBLE_EQ(camdyn::remaining_runs_s(8.0, 4, 0, 2), 0.0);
+  EXPECT_DOUBLE_EQ(camdyn::remaining_runs_s(0.0, 0, 6, 2), -1.0);  // nothing finished: unknown
+  EXPECT_DOUBLE_EQ(camdyn::remaining_runs_s(8.0, 4, 6, 0), 12.0);  // no worker count: one
+}
+
+// Ten runs of 1 s and one that ran into its 60 s wall-time budget: the
+// budget run counts at its 60 s, once, so 11 more such runs on one worker
+// are expected to take 11 × 70/11 s = 70 s, not the budget each.
+TEST(Progress, RemainingRunsCountsABudgetHitRunAtItsBudget) {
+  const double finished_s = 10 * 1.0 + 60.0;
+  EXPECT_DOUBLE_EQ(camdyn::remaining_runs_s(finished_s, 11, 11, 1), 70.0);
+  // A run that failed at once adds its (near-zero) time, not the elapsed time.
+  EXPECT_NEAR(camdyn::remaining_runs_s(finished_s + 1e-3, 12, 12, 1), 12 * 70.001 / 12, 1e-12);
+}
+
+TEST(Progress, RemainingIterationsIsTheRateTimesWhatIsLeft) {
+  EXPECT_DOUBLE_EQ(camdyn::remaining_iterations_s(25, 100, 5.0), 15.0);
+  EXPECT_DOUBLE_EQ(camdyn::remaining_iterations_s(100, 100, 20.0), 0.0);
+  EXPECT_DOUBLE_EQ(camdyn::remaining_iterations_s(120, 100, 20.0), 0.0);
+  EXPECT_DOUBLE_EQ(camdyn::remaining_iterations_s(0, 100, 1.0), -1.0);
+}
+
 }  // namespace
