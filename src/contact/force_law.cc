@@ -53,10 +53,12 @@ std::string law_words(ForceForm form) {
   return words;
 }
 
-double ForceLaw::elastic_force(double delta) const { return delta > 0.0 ? stiffness * std::pow(delta, exponent) : 0.0; }
+double ForceLaw::elastic_force(double delta) const {
+  return delta > 0.0 ? stiffness * contact_power(delta, exponent) : 0.0;
+}
 
 double ForceLaw::elastic_energy(double delta) const {
-  return delta > 0.0 ? stiffness * std::pow(delta, exponent + 1.0) / (exponent + 1.0) : 0.0;
+  return delta > 0.0 ? stiffness * delta * contact_power(delta, exponent) / (exponent + 1.0) : 0.0;
 }
 
 double ForceLaw::clamp_switch(double delta, double delta_rate, double v0) const {

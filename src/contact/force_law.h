@@ -31,6 +31,18 @@ ForceForm force_form(ContactModel model);
 /// ("'kelvin_voigt'"), for messages.
 std::string law_words(ForceForm form);
 
+/// δ^n [m^n] for δ > 0, with the exponents of practice (Hertz's 1.5, the
+/// linear 1) by a square root or nothing instead of pow: about ten times
+/// cheaper, the same to the last bit or one. For double or dual numbers.
+template <class S>
+S contact_power(const S& delta, double n) {
+  using std::pow;
+  using std::sqrt;
+  if (n == 1.5) return delta * sqrt(delta);
+  if (n == 1.0) return delta;
+  return pow(delta, n);
+}
+
 struct ForceLaw {
   ContactModel model = ContactModel::hertz;
   double stiffness = 0.0;            ///< K [N/m^n], > 0
@@ -50,9 +62,8 @@ struct ForceLaw {
   /// force() for any scalar type S (double or the dual numbers of dynamics/dual.h).
   template <class S>
   S force_t(const S& delta, const S& delta_rate, double v0) const {
-    using std::pow;
     if (!(value(delta) > 0.0)) return S(0.0);
-    S f = stiffness * pow(delta, exponent);
+    S f = stiffness * contact_power(delta, exponent);
     switch (force_form(model)) {
       case ForceForm::elastic:
         break;

@@ -8,10 +8,12 @@
 #include <cstdint>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
 #include "common/errors.h"
+#include "dynamics/free_flight.h"
 #include "integrate/integrator.h"
 
 namespace camdyn {
@@ -27,6 +29,44 @@ using State = std::array<double, kMaxState>;
 using Quadratures = std::array<double, Model::kQuadratures>;
 using Clock = std::chrono::steady_clock;
 
+// The quadratures a model integrates (physics.md §5; Quadratures holds all
+// of them, by index): the drive's work only where the cam turns or a motor
+// drives it, the damper's only with a damper, the contact hysteresis only
+// for a dissipative law, the friction work only with friction, the
+// separation integral always. The others stay zero, as the states a scene
+// does not need are left out. The integrator holds the selected ones only.
+class QuadratureSelection {
+ public:
+  QuadratureSelection(const Model& m, bool enabled) {
+    const bool needed[Model::kQuadratures] = {
+        m.omega != 0.0 || m.drive == Drive::shaft,
+        m.damping > 0.0 || (m.drive == Drive::shaft && m.shaft_damping > 0.0),
+        force_form(m.contact.model) != ForceForm::elastic,
+        m.contact_friction || m.has_guide_friction || m.has_pivot_friction,
+        true,
+    };
+    for (int i = 0; enabled && i < Model::kQuadratures; ++i)
+      if (needed[i]) index_[count_++] = i;
+  }
+  int count() const { return count_; }
+  bool integrated(int i) const {
+    return std::find(index_.begin(), index_.begin() + count_, i) != index_.begin() + count_;
+  }
+  // All quadratures → the integrator's.
+  void gather(const double* all, double* selected) const {
+    for (int k = 0; k < count_; ++k) selected[k] = all[index_[k]];
+  }
+  // The integrator's → all (the others zero).
+  void scatter(const double* selected, double* all) const {
+    std::fill(all, all + Model::kQuadratures, 0.0);
+    for (int k = 0; k < count_; ++k) all[index_[k]] = selected[k];
+  }
+
+ private:
+  std::array<int, Model::kQuadratures> index_{};
+  int count_ = 0;
+};
+
 // The scene as an OdeSystem: the model's evaluation behind SUNDIALS' callbacks.
 // After each step CVODE asks for the quadratures and the roots at the state it
 // accepted, and the loop evaluates there once more: evaluated() reuses the
@@ -35,10 +75,10 @@ using Clock = std::chrono::steady_clock;
 // alone: Newton tracking also depends on its warm start, so it always solves.
 class SceneOde final : public OdeSystem {
  public:
-  SceneOde(const Model& model, Workspace& ws, bool quadratures)
+  SceneOde(const Model& model, Workspace& ws, const QuadratureSelection& quadratures)
       : model_(model), ws_(ws), reuse_(model.tracking != Tracking::newton), quadratures_(quadratures) {}
   int size() const override { return model_.layout.size; }
-  int quadrature_size() const override { return quadratures_ ? Model::kQuadratures : 0; }
+  int quadrature_size() const override { return quadratures_.count(); }
   int root_count() const override { return model_.root_count(); }
   int rhs(double t, const double* y, double* y_dot) override {
     const Evaluation& ev = evaluated(t, y);
@@ -47,7 +87,9 @@ class SceneOde final : public OdeSystem {
     return 0;
   }
   int quadrature(double t, const double* y, double* q_dot) override {
-    quadrature_derivative(evaluated(t, y), q_dot);
+    std::array<double, Model::kQuadratures> all{};
+    quadrature_derivative(evaluated(t, y), all.data());
+    quadratures_.gather(all.data(), q_dot);
     return 0;
   }
   int roots(double t, const double* y, double* g) override {
@@ -84,7 +126,7 @@ class SceneOde final : public OdeSystem {
   const Model& model_;
   Workspace& ws_;
   const bool reuse_;
-  const bool quadratures_;  // integrated (SimulationOptions::quadratures)
+  const QuadratureSelection& quadratures_;
   Evaluation ev_;
   bool valid_ = false;
   double t_ = 0.0, v0_ = 0.0, motor_phase_ = 0.0;  // the point of ev_ [s], [m/s], [rad]
@@ -265,22 +307,79 @@ IntegratorOptions integrator_options(const IntegratorConfig& ic, const RunPlan& 
   return io;
 }
 
+// Where the observer reads the state and quadratures between the loop's
+// stops: the integrator's dense output over its last step, or the flight in
+// closed form.
+class StateSource {
+ public:
+  virtual ~StateSource() = default;
+  virtual void state(double t, double* y, double* q) = 0;
+};
+
+class IntegratorSource final : public StateSource {
+ public:
+  IntegratorSource(Integrator& integrator, const QuadratureSelection& quadratures)
+      : integrator_(integrator), quadratures_(quadratures) {}
+  void state(double t, double* y, double* q) override {
+    integrator_.dense(t, y);
+    quadratures_at(t, q);
+  }
+  // All quadratures at t, from the integrator's dense output.
+  void quadratures_at(double t, double* q) const {
+    std::array<double, Model::kQuadratures> selected{};
+    if (quadratures_.count() > 0) integrator_.dense_quadrature(t, selected.data());
+    quadratures_.scatter(selected.data(), q);
+  }
+  // Restarts the integrator at (t, y, all quadratures q).
+  void restart(double t, const double* y, const double* q) {
+    std::array<double, Model::kQuadratures> selected{};
+    quadratures_.gather(q, selected.data());
+    integrator_.reinit(t, y, selected.data());
+  }
+
+ private:
+  Integrator& integrator_;
+  const QuadratureSelection& quadratures_;
+};
+
+// The flight: q, q̇ in closed form, the pair by Newton, the quadratures that
+// change in flight (damper work, separation integral); everything else as it
+// was at take-off (`y`, `q`: the state and quadratures the loop holds).
+class FlightSource final : public StateSource {
+ public:
+  FlightSource(const Model& model, Workspace& ws, FlightTrack& track, const State& y, const Quadratures& q)
+      : model_(model), ws_(ws), track_(track), y_(y), q_(q) {}
+  void state(double t, double* y, double* q) override {
+    FlightPoint p;
+    ok_ = track_.at(ws_, t, p) && ok_;
+    std::copy(y_.begin(), y_.end(), y);
+    std::copy(q_.begin(), q_.end(), q);
+    y[0] = p.q;
+    y[1] = p.v;
+    if (model_.layout.u) y[*model_.layout.u] = p.u;
+    q[1] = p.damper_work;
+    q[4] = p.separation;
+  }
+  bool ok() const { return ok_; }
+
+ private:
+  const Model& model_;
+  Workspace& ws_;
+  FlightTrack& track_;
+  const State& y_;
+  const Quadratures& q_;
+  bool ok_ = true;
+};
+
 // The metrics over the evaluated window (physics.md §6) and the energy
 // balance over the whole run (§5), folded in from dense-output samples. Its
 // evaluation and dense-output buffers are the run's scratch: the loop and the
 // series recorder read the evaluation it leaves behind.
 class WindowObserver {
  public:
-  WindowObserver(const Model& model, Workspace& ws, const Integrator& integrator, const State& y0,
-                 const Quadratures& q0, double t_eval, bool every_step, Metrics& m)
-      : model_(model),
-        ws_(ws),
-        integrator_(integrator),
-        y0_(y0),
-        q0_(q0),
-        t_eval_(t_eval),
-        every_step_(every_step),
-        m_(m) {
+  WindowObserver(const Model& model, Workspace& ws, StateSource& source, const State& y0, const Quadratures& q0,
+                 double t_eval, bool every_step, Metrics& m)
+      : model_(model), ws_(ws), source_(&source), y0_(y0), q0_(q0), t_eval_(t_eval), every_step_(every_step), m_(m) {
     m_.min_contact_force = std::numeric_limits<double>::infinity();
   }
 
@@ -289,8 +388,7 @@ class WindowObserver {
   // step there is no dense output yet: the initial values are used.
   double observe(double t) {
     if (stepped_) {
-      integrator_.dense(t, ys_.data());
-      integrator_.dense_quadrature(t, qs_.data());
+      source_->state(t, ys_.data(), qs_.data());
     } else {
       ys_ = y0_;
       qs_ = q0_;
@@ -330,10 +428,26 @@ class WindowObserver {
       return;
     }
     const double t_mid = 0.5 * (t0 + t);
-    integrator_.dense(t_mid, ys_.data());
+    source_->state(t_mid, ys_.data(), qs_.data());
     evaluate(model_, ws_, t_mid, ys_.data(), ev_);
     if (ev_.gap > 0.0) separated_time_ += std::max(0.0, t - std::max(t0, t_eval_));
   }
+
+  // The flight interval [t0, t] (open throughout but at a landing that ends
+  // it): the metrics at its end; the largest gap inside it from the cubic
+  // through its ends (`largest_gap` [m]), the others (contact force,
+  // penetration) being zero in flight.
+  void observe_flight(double t0, double t, double largest_gap) {
+    stepped_ = true;
+    if (every_step_) {
+      observe(t);
+      if (t >= t_eval_) m_.max_separation_gap = std::max(m_.max_separation_gap, largest_gap);
+    }
+    separated_time_ += std::max(0.0, t - std::max(t0, t_eval_));
+  }
+
+  // Reads the state from `source` from now on.
+  void read_from(StateSource& source) { source_ = &source; }
 
   // The metrics that are not extremes, once the run reached `t_end` [s];
   // `separation_integral` is ∫ max(g, 0) dt over the evaluated window [m s].
@@ -357,7 +471,7 @@ class WindowObserver {
  private:
   const Model& model_;
   Workspace& ws_;
-  const Integrator& integrator_;
+  StateSource* source_;
   const State& y0_;
   const Quadratures& q0_;
   const double t_eval_;  // start of the evaluated window [s]
@@ -458,29 +572,50 @@ struct RunContext {
   SimulationResult& result;
 };
 
+// The loop's state besides the integrator: the state and quadratures at the
+// last stop, where the observer reads between stops, and the flight.
+struct LoopState {
+  State y{};
+  Quadratures q{};
+  double t = 0.0;  // time of the last stop [s]
+  bool separated = false;
+  double last_progress = 0.0;  // wall time of the last progress report [s]
+  IntegratorSource* integrator_source = nullptr;
+  FlightSource* flight_source = nullptr;
+  FlightTrack* flight = nullptr;        // null: flights are integrated
+  const Model* newton_model = nullptr;  // the model with Newton tracking, for the drift projection
+  bool last_flight_short = false;       // the last flight landed at once: integrate the next one
+  bool ended_in_flight = false;         // the run's end came in a flight
+};
+
+// A contact onset at t (physics.md §4): an impact when the follower was
+// separated; the episode's approach speed v₀ from the gap's closing rate.
+void record_onset(const RunContext& run, const Evaluation& ev, double t, bool& separated) {
+  SimulationResult& result = run.result;
+  const double approach = -ev.gap_rate;
+  run.ws.v0 = std::max(approach, run.model.contact.reference_velocity);
+  if (separated && t >= run.plan.t_eval) {
+    ++result.metrics.impact_count;
+    result.metrics.max_impact_velocity = std::max(result.metrics.max_impact_velocity, approach);
+  }
+  result.events.push_back({t, ev.theta * kRadToDeg, true, approach, separated, ev.v});
+  separated = false;
+}
+
 // A root the integrator stopped at (physics.md §4): records a contact onset
 // (an impact when the follower was separated) or a separation. Returns whether
 // the right-hand side changed, so that the integrator must restart.
 bool handle_root(const RunContext& run, const Integrator& integrator, const Evaluation& ev, double t,
                  std::array<int, 2>& root_dirs, bool& separated) {
   const Model& model = run.model;
-  SimulationResult& result = run.result;
   bool restart = false;
   integrator.root_info(root_dirs.data());
-  ++result.solver.events;
+  ++run.result.solver.events;
   if (root_dirs[0] < 0) {  // gap closing: contact onset
-    const double approach = -ev.gap_rate;
-    run.ws.v0 = std::max(approach, model.contact.reference_velocity);
-    ContactEvent event{t, ev.theta * kRadToDeg, true, approach, separated, ev.v};
-    if (separated && t >= run.plan.t_eval) {
-      ++result.metrics.impact_count;
-      result.metrics.max_impact_velocity = std::max(result.metrics.max_impact_velocity, approach);
-    }
-    result.events.push_back(event);
-    separated = false;
+    record_onset(run, ev, t, separated);
     restart = true;
   } else if (root_dirs[0] > 0) {  // gap opening: separation
-    result.events.push_back({t, ev.theta * kRadToDeg, false, ev.gap_rate, false, ev.v});
+    run.result.events.push_back({t, ev.theta * kRadToDeg, false, ev.gap_rate, false, ev.v});
     separated = true;
     restart = true;
   }
@@ -491,12 +626,13 @@ bool handle_root(const RunContext& run, const Integrator& integrator, const Eval
 // Differential tracking: projects u back onto the common-normal condition
 // f = 0 by warm-started Newton (global search if that fails) when it drifted
 // beyond `tolerance` [rad]; sets `restart` when it did.
-Failure project_pair(const RunContext& run, const Evaluation& ev, double t, double tolerance, State& y, bool& restart) {
+// `newton_model` is the model with Newton tracking (made once per run: a
+// Model copy allocates).
+Failure project_pair(const RunContext& run, const Model& newton_model, const Evaluation& ev, double t, double tolerance,
+                     State& y, bool& restart) {
   const Model& model = run.model;
   Workspace& ws = run.ws;
   if (!model.layout.u || !(ev.pair_drift > tolerance)) return {};
-  Model newton_model = model;
-  newton_model.tracking = Tracking::newton;
   Evaluation projected;
   ws.u_warm = y[*model.layout.u];
   if (model.layout.v) ws.v_warm = y[*model.layout.v];
@@ -548,11 +684,66 @@ Failure check_budgets(const RunContext& run, const Integrator& integrator, doubl
   return {};
 }
 
+// A flight in closed form from the loop's stop (the follower separated):
+// interval by interval to the landing or the run's end, the observer and the
+// recorder reading the flight. At a landing the contact onset is recorded
+// and the integrator restarts there.
+Failure fly(const RunContext& run, SceneOde& ode, Integrator& integrator, LoopState& loop, WindowObserver& observer,
+            SeriesRecorder& recorder) {
+  const Model& model = run.model;
+  FlightTrack& track = *loop.flight;
+  const Evaluation& ev = ode.evaluated(loop.t, loop.y.data());
+  const double t_start = loop.t;
+  FlightPoint start;
+  start.t = loop.t;
+  start.q = loop.y[0];
+  start.v = loop.y[1];
+  start.u = ev.pair.u;
+  start.gap = std::max(ev.gap, 0.0);
+  start.gap_rate = ev.gap_rate;
+  start.damper_work = loop.q[1];
+  start.separation = loop.q[4];
+  track.start(start);
+  observer.read_from(*loop.flight_source);
+  ++run.result.solver.flights;
+  bool landed = false;
+  while (!landed && track.now().t < run.plan.t_end) {
+    bool ok = true;
+    landed = track.advance(run.ws, run.plan.t_end, ok);
+    ++run.result.solver.flight_intervals;
+    if (ok) {
+      observer.observe_flight(track.before().t, track.now().t, track.largest_gap());
+      recorder.record_until(track.now().t);
+    }
+    if (!ok || !loop.flight_source->ok())
+      return {Termination::tracking_lost, "contact pair lost in flight " + where(model, track.now().t)};
+    if (Failure f = check_budgets(run, integrator, track.now().t, loop.last_progress)) return f;
+  }
+  const FlightPoint& end = track.now();
+  loop.t = end.t;
+  loop.y[0] = end.q;
+  loop.y[1] = end.v;
+  if (model.layout.u) loop.y[*model.layout.u] = end.u;
+  loop.q[1] = end.damper_work;
+  loop.q[4] = end.separation;
+  run.ws.u_warm = end.u;
+  observer.read_from(*loop.integrator_source);
+  loop.last_flight_short = landed && end.t - t_start < 1e-9 * (run.plan.max_step + end.t);
+  loop.ended_in_flight = !landed;
+  if (landed) {
+    ++run.result.solver.events;
+    record_onset(run, ode.evaluated(end.t, loop.y.data()), end.t, loop.separated);
+    loop.integrator_source->restart(end.t, loop.y.data(), loop.q.data());
+  }
+  return {};
+}
+
 // The integration loop (physics.md §4): one internal step at a time; metrics
 // and outputs from dense output over each step; contact events at roots and
 // drift projection, each followed by a restart; then the contact checks and
-// the budgets. `y`, `q` hold the state and quadratures at the last step.
-Failure integrate(const RunContext& run, SceneOde& ode, Integrator& integrator, State& y, Quadratures& q,
+// the budgets; the flights in closed form where the model allows. `loop`
+// holds the state and quadratures at the last stop, and at the end.
+Failure integrate(const RunContext& run, SceneOde& ode, Integrator& integrator, LoopState& loop,
                   WindowObserver& observer, SeriesRecorder& recorder) {
   const Model& model = run.model;
   Workspace& ws = run.ws;
@@ -560,12 +751,17 @@ Failure integrate(const RunContext& run, SceneOde& ode, Integrator& integrator, 
   Evaluation& ev = observer.ev();
   observer.observe(0.0);
   recorder.record_until(0.0);
-  bool separated = ev.gap > 0.0;
+  loop.separated = ev.gap > 0.0;
   std::array<int, 2> root_dirs{};
-  double last_progress = 0.0;  // wall time of the last progress report [s]
   const double projection_tolerance = std::max(1e-9, 10.0 * run.scene.integrator.rtol);  // [rad]
+  bool in_flight = loop.flight && loop.separated;  // a start off the cam flies first
 
-  while (integrator.time() < t_end) {
+  while (loop.t < t_end) {
+    if (in_flight) {
+      if (Failure f = fly(run, ode, integrator, loop, observer, recorder)) return f;
+      in_flight = false;
+      continue;
+    }
     Integrator::Result result_kind;
     try {
       result_kind = integrator.step(t_end);
@@ -573,29 +769,34 @@ Failure integrate(const RunContext& run, SceneOde& ode, Integrator& integrator, 
       return {Termination::integrator_failure,
               std::string(e.what()) + " (integrating " + where(model, integrator.time()) + ")"};
     }
-    const double t = integrator.time();
+    const double t = loop.t = integrator.time();
     observer.observe_step(integrator.last_step_start(), t);
     recorder.record_until(t);
 
     const double* state = integrator.state();
-    std::copy(state, state + model.layout.size, y.begin());
-    ev = ode.evaluated(t, y.data());
+    std::copy(state, state + model.layout.size, loop.y.begin());
+    ev = ode.evaluated(t, loop.y.data());
     if (model.tracking == Tracking::newton) {
       ws.u_warm = ev.pair.u;
       ws.v_warm = ev.pair_v;
     }
     bool restart = false;
-    if (result_kind == Integrator::Result::root) restart = handle_root(run, integrator, ev, t, root_dirs, separated);
-    if (Failure f = project_pair(run, ev, t, projection_tolerance, y, restart)) return f;
-    if (restart) {
-      integrator.dense_quadrature(t, q.data());
-      integrator.reinit(t, y.data(), q.data());
-    }
+    if (result_kind == Integrator::Result::root)
+      restart = handle_root(run, integrator, ev, t, root_dirs, loop.separated);
     if (Failure f = check_contact(model, ev, t)) return f;
-    if (Failure f = check_budgets(run, integrator, t, last_progress)) return f;
+    // A take-off: the flight in closed form, unless the last one landed at once.
+    in_flight = restart && loop.separated && loop.flight && !loop.last_flight_short;
+    if (restart && loop.separated) loop.last_flight_short = false;
+    if (!in_flight)
+      if (Failure f = project_pair(run, *loop.newton_model, ev, t, projection_tolerance, loop.y, restart)) return f;
+    if (in_flight || restart) loop.integrator_source->quadratures_at(t, loop.q.data());
+    if (restart && !in_flight) loop.integrator_source->restart(t, loop.y.data(), loop.q.data());
+    if (Failure f = check_budgets(run, integrator, t, loop.last_progress)) return f;
     if (result_kind == Integrator::Result::stop) break;
   }
   recorder.record_until(t_end);
+  // The quadratures at the end: the flight's own when the run ended in one.
+  if (!loop.ended_in_flight) loop.integrator_source->quadratures_at(integrator.time(), loop.q.data());
   return {};
 }
 
@@ -613,25 +814,37 @@ void forget_quadrature_figures(SimulationResult& result) {
 // run.result except the solver's configuration, run time and status.
 Failure run_scene(const RunContext& run) {
   const Model& model = run.model;
-  State y{};
-  if (Failure f = run.options.start ? given_state(model, run.ws, *run.options.start, y.data())
-                                    : initial_state(run.scene, model, run.ws, y.data()))
+  LoopState loop;
+  if (Failure f = run.options.start ? given_state(model, run.ws, *run.options.start, loop.y.data())
+                                    : initial_state(run.scene, model, run.ws, loop.y.data()))
     return f;
-  Quadratures q{};
 
-  SceneOde ode(model, run.ws, run.options.quadratures);
+  const QuadratureSelection quadratures(model, run.options.quadratures);
+  SceneOde ode(model, run.ws, quadratures);
   const std::unique_ptr<Integrator> integrator_ptr =
-      make_integrator(ode, integrator_options(run.scene.integrator, run.plan), 0.0, y.data(), q.data());
+      make_integrator(ode, integrator_options(run.scene.integrator, run.plan), 0.0, loop.y.data(), loop.q.data());
   Integrator& integrator = *integrator_ptr;
-  WindowObserver observer(model, run.ws, integrator, y, q, run.plan.t_eval, run.options.step_metrics,
+  IntegratorSource integrator_source(integrator, quadratures);
+  std::optional<FlightTrack> flight;
+  if (run.scene.integrator.flight == FlightMethod::closed_form && flight_has_closed_form(model)) flight.emplace(model);
+  std::optional<FlightSource> flight_source;
+  if (flight) flight_source.emplace(model, run.ws, *flight, loop.y, loop.q);
+  Model newton_model = model;
+  newton_model.tracking = Tracking::newton;
+  loop.newton_model = &newton_model;
+  loop.integrator_source = &integrator_source;
+  loop.flight = flight ? &*flight : nullptr;
+  loop.flight_source = flight_source ? &*flight_source : nullptr;
+  const State y0 = loop.y;
+  const Quadratures q0 = loop.q;
+  WindowObserver observer(model, run.ws, integrator_source, y0, q0, run.plan.t_eval, run.options.step_metrics,
                           run.result.metrics);
   SeriesRecorder recorder(model, run.plan, run.options, observer, run.result);
   Failure failure;
   try {
-    failure = integrate(run, ode, integrator, y, q, observer, recorder);
+    failure = integrate(run, ode, integrator, loop, observer, recorder);
     if (!failure) {
-      integrator.dense_quadrature(integrator.time(), q.data());
-      observer.finish(run.plan.t_end, q[4] - recorder.separation_integral_at_eval());
+      observer.finish(run.plan.t_end, loop.q[4] - recorder.separation_integral_at_eval());
       recorder.finish();
       if (!run.options.quadratures) forget_quadrature_figures(run.result);
       run.result.error.energy_residual = run.result.metrics.energy_residual;
@@ -640,13 +853,22 @@ Failure run_scene(const RunContext& run) {
     failure = {Termination::integrator_failure, e.what()};
   }
   run.result.solver.counters = integrator.counters();
-  run.result.final_state.assign(y.begin(), y.begin() + model.layout.size);
+  run.result.final_state.assign(loop.y.begin(), loop.y.begin() + model.layout.size);
   run.result.final_approach_speed = run.ws.v0;
   run.result.final_motor_phase = run.ws.motor_phase;
   return failure;
 }
 
 }  // namespace
+
+std::vector<std::string> integrated_quadratures(const Model& model) {
+  static constexpr const char* kNames[] = {"drive_work", "damper_work", "hysteresis_work", "friction_work"};
+  const QuadratureSelection selection(model, true);
+  std::vector<std::string> names;
+  for (int i = 0; i < 4; ++i)
+    if (selection.integrated(i)) names.emplace_back(kNames[i]);
+  return names;
+}
 
 void throw_if_failed(const SimulationResult& result) {
   if (!result.solver.converged()) throw NumericalError(result.solver.message);

@@ -64,9 +64,11 @@ struct SolverSummary {
   std::string method;
   double rtol = 0.0, atol = 0.0;
   SolverCounters counters;
-  long events = 0;           ///< roots located (onsets, separations, force clamp switches)
-  long tracking_resets = 0;  ///< global re-initialisations of the contact pair
-  long projections = 0;      ///< drift projections of the differential tracking
+  long events = 0;            ///< roots located (onsets, separations, force clamp switches)
+  long tracking_resets = 0;   ///< global re-initialisations of the contact pair
+  long projections = 0;       ///< drift projections of the differential tracking
+  long flights = 0;           ///< flights advanced in closed form (integrator.flight)
+  long flight_intervals = 0;  ///< intervals the closed-form flights were followed on
   double run_time_s = 0.0;
   Termination termination = Termination::converged;
   /// Empty when converged; otherwise what stopped the run, naming the time and
@@ -152,6 +154,14 @@ struct SimulationOptions {
 /// no static equilibrium to start from.
 SimulationResult simulate(const SceneConfig& scene, const Model& model, Workspace& ws,
                           const SimulationOptions& options = {});
+
+/// The work quadratures a run of the model integrates (summary.json
+/// `model.quadratures`; physics.md §5): of drive_work, damper_work,
+/// hysteresis_work and friction_work those the model has (the drive's work
+/// where the cam turns, the damper's with a damper, the hysteresis with a
+/// dissipative contact law, the friction work with friction). The others
+/// are zero and left out, as unneeded states are.
+std::vector<std::string> integrated_quadratures(const Model& model);
 
 /// The boundary between the status and the exit code: throws
 /// NumericalError(result.solver.message) (exit 3) unless the run converged.

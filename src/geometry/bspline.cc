@@ -143,7 +143,41 @@ std::optional<PeriodicBSpline> PeriodicBSpline::interpolate(int degree, const st
       m <= kDenseCollocation ? solve_dense(spline, sites, values) : solve_banded(spline, sites, values);
   if (!c) return std::nullopt;
   spline.coefficients_ = std::move(*c);
+  spline.build_pieces();
   return spline;
+}
+
+void PeriodicBSpline::build_pieces() {
+  const int p = degree_, w = p + 1;
+  if (p > kMaxPieceDegree) return;
+  pieces_.assign(static_cast<std::size_t>(m_) * static_cast<std::size_t>(w), 0.0);
+  auto derivative = [&](const BasisDerivatives& b, int span, int k) {
+    double sum = 0.0;
+    for (int j = 0; j <= p; ++j) sum += b.ders[k][j] * coefficients_[(span - p + j) % m_];
+    return sum;
+  };
+  for (int i = 0; i < m_; ++i) {
+    const int span = p + i;
+    const double x0 = knots_[span], x1 = knots_[span + 1];
+    const BasisDerivatives left = basis_derivatives(span, x0, p, knots_);
+    std::array<double, kMaxPieceDegree + 1> d{};
+    for (int k = 0; k <= std::min(p, 4); ++k) d[k] = derivative(left, span, k);
+    if (p == 5) {  // the fifth derivative is constant on the piece: the slope of the fourth
+      const BasisDerivatives right = basis_derivatives(span, x1, p, knots_);
+      d[5] = (derivative(right, span, 4) - d[4]) / (x1 - x0);
+    }
+    double factorial = 1.0;
+    for (int k = 0; k <= p; ++k) {
+      if (k > 0) factorial *= k;
+      pieces_[static_cast<std::size_t>(i) * static_cast<std::size_t>(w) + static_cast<std::size_t>(k)] =
+          d[k] / factorial;
+    }
+  }
+  const double spacing = period_ / m_;
+  uniform_ = true;
+  for (int i = 0; i <= m_ && uniform_; ++i)
+    uniform_ = std::abs(knots_[p + i] - (knots_[p] + i * spacing)) <= 1e-12 * period_;
+  inverse_spacing_ = 1.0 / spacing;
 }
 
 void PeriodicBSpline::collocation_row(double site, int& first, std::array<double, kMaxSplineDegree + 1>& row) const {
@@ -216,6 +250,29 @@ double PeriodicBSpline::reduce(double x) const {
 Derivatives4 PeriodicBSpline::eval4(double x) const {
   const int p = degree_;
   const double y = reduce(x);
+  if (!pieces_.empty()) {
+    int i = 0;
+    if (uniform_) {
+      i = std::clamp(static_cast<int>((y - knots_[p]) * inverse_spacing_), 0, m_ - 1);
+      if (y < knots_[p + i] && i > 0) --i;  // rounding of the index near a breakpoint
+      if (y >= knots_[p + i + 1] && i < m_ - 1) ++i;
+    } else {
+      i = find_span(m_ + p, p, y, knots_) - p;
+    }
+    // Taylor coefficients at y by repeated synthetic division (Horner).
+    std::array<double, kMaxPieceDegree + 1> a{};
+    const double* c = &pieces_[static_cast<std::size_t>(i) * static_cast<std::size_t>(p + 1)];
+    std::copy(c, c + p + 1, a.begin());
+    const double t = y - knots_[p + i];
+    Derivatives4 out{};
+    double factorial = 1.0;
+    for (int d = 0; d <= std::min(p, 4); ++d) {
+      for (int k = p - 1; k >= d; --k) a[k] += t * a[k + 1];
+      if (d > 0) factorial *= d;
+      out[d] = a[d] * factorial;
+    }
+    return out;
+  }
   const int span = find_span(m_ + p, p, y, knots_);
   const BasisDerivatives b = basis_derivatives(span, y, p, knots_);
   Derivatives4 out{};

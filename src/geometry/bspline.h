@@ -98,9 +98,19 @@ class PeriodicBSpline {
                                                          const std::vector<double>& sites,
                                                          const std::vector<double>& values);
 
+  /// The spline as polynomial pieces (degree ≤ kMaxPieceDegree): per piece,
+  /// the Taylor coefficients at its left breakpoint, so that evaluation is a
+  /// Horner scheme after a direct index (uniform breakpoints) or a binary
+  /// search, instead of the Cox–de Boor recursion.
+  void build_pieces();
+  static constexpr int kMaxPieceDegree = 5;
+
   int degree_ = 0;
   double period_ = 1.0;
   int m_ = 0;                         ///< basis functions (= breakpoints) per period
+  std::vector<double> pieces_;        ///< m × (p + 1) Taylor coefficients; empty above kMaxPieceDegree
+  bool uniform_ = false;              ///< breakpoints equally spaced
+  double inverse_spacing_ = 0.0;      ///< 1 / breakpoint spacing when uniform
   std::vector<double> knots_;         ///< unwrapped: m + 2p + 1 knots, domain [knots_[p], knots_[p + m]]
   std::vector<double> coefficients_;  ///< m coefficients; index i is used as i mod m
 };

@@ -363,6 +363,7 @@ void visit(A& a, IntegratorConfig& i) {
   a.field("max_wall_time_s", i.max_wall_time_s, positive());
   a.field("jacobian", i.jacobian);
   a.field("error_estimate", i.error_estimate);
+  a.field("flight", i.flight);
 }
 
 /// Work a config may ask for, checked before anything runs: a run longer

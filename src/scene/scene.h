@@ -123,6 +123,15 @@ inline constexpr EnumName<JacobianSource> kJacobianSourceNames[] = {
     {JacobianSource::analytic, "analytic"}, {JacobianSource::finite_difference, "finite_difference"}};
 constexpr std::span<const EnumName<JacobianSource>> enum_names(JacobianSource) { return kJacobianSourceNames; }
 
+/// How the follower's free flights are advanced: "closed_form" (the exact
+/// solution of the linear flight, the integrator only for the contact phases;
+/// where the flight is not linear — a shaft drive, the general pair form —
+/// the integrator takes it anyway) or "integrated" (the integrator throughout).
+enum class FlightMethod { closed_form, integrated };
+inline constexpr EnumName<FlightMethod> kFlightMethodNames[] = {{FlightMethod::closed_form, "closed_form"},
+                                                                {FlightMethod::integrated, "integrated"}};
+constexpr std::span<const EnumName<FlightMethod>> enum_names(FlightMethod) { return kFlightMethodNames; }
+
 /// "energy": the energy residual only; "richardson": also the difference to a
 /// run at a 100× tighter tolerance (costs that second run).
 enum class ErrorEstimateMethod { energy, richardson };
@@ -374,6 +383,7 @@ struct IntegratorConfig {
   double max_wall_time_s = 600.0;                           ///< wall-time budget for one run [s]
   JacobianSource jacobian = JacobianSource::analytic;       ///< implicit methods
   ErrorEstimateMethod error_estimate = ErrorEstimateMethod::energy;
+  FlightMethod flight = FlightMethod::closed_form;
 
   bool operator==(const IntegratorConfig&) const = default;
 };

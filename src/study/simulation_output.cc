@@ -139,6 +139,8 @@ Json summary_json(const SceneConfig& scene, const Model& model, const Simulation
                            {"jacobian_evaluations", s.counters.jacobian_evaluations},
                            {"restarts", s.counters.reinitialisations},
                            {"tracking_projections", s.projections},
+                           {"flights", s.flights},
+                           {"flight_intervals", s.flight_intervals},
                            {"tracking", model.tracking == Tracking::newton ? "newton" : "differential"},
                            {"simulated_time_s", result.end_time},
                            {"evaluated_from_s", result.evaluated_from},
@@ -147,7 +149,7 @@ Json summary_json(const SceneConfig& scene, const Model& model, const Simulation
   summary["model"] = Json{{"state_size", model.layout.size},
                           {"states", model.layout.names},
                           {"elements", model.elements},
-                          {"quadratures", {"drive_work", "damper_work", "hysteresis_work", "friction_work"}},
+                          {"quadratures", integrated_quadratures(model)},
                           {"cam", drive_name(model)},
                           {"follower", follower_name(model)},
                           {"contact_pair", contact_pair_name(model)}};
@@ -455,6 +457,7 @@ Table solver_table(const SolverSummary& s) {
   count("restarts", s.counters.reinitialisations);
   count("tracking_resets", s.tracking_resets);
   count("tracking_projections", s.projections);
+  count("flights", s.flights);
   count("error_test_failures", s.counters.error_test_failures);
   return solver;
 }

@@ -179,6 +179,7 @@ TEST_P(GeneralPairForm, SameMetricsAsTheReductionWithinIntegrationTolerance) {
   SceneConfig reduced = test::follower_scene(c.kind, 1000.0, ContactModel::lankarani_nikravesh);
   reduced.mechanism.cam.rpm = 0.95 * jump_speed_rpm(build_model(reduced, "test"));
   reduced.mechanism.contact.tracking = parse_enum<Tracking>(c.tracking);
+  reduced.integrator.flight = FlightMethod::integrated;  // as the general form's flights are: like for like
   SceneConfig general = reduced;
   general.mechanism.contact.pair_form = PairFormChoice::general;
   const Model model = build_model(general, "test");
@@ -193,7 +194,9 @@ TEST_P(GeneralPairForm, SameMetricsAsTheReductionWithinIntegrationTolerance) {
   // is the tighter comparison.
   const double scale = a.metrics.peak_contact_force;
   const double rtol = reduced.integrator.rtol;
-  EXPECT_NEAR(b.metrics.peak_contact_force, scale, test::integrator_tolerance(rtol, 1e3) * scale);
+  // The peak, as the minimum, is sampled at each run's own steps: the same
+  // factor as the penetration (the peak force is K times its 1.5th power).
+  EXPECT_NEAR(b.metrics.peak_contact_force, scale, test::integrator_tolerance(rtol, 1e4) * scale);
   EXPECT_NEAR(b.metrics.min_contact_force, a.metrics.min_contact_force, test::integrator_tolerance(rtol, 2e4) * scale);
   EXPECT_NEAR(b.metrics.max_penetration, a.metrics.max_penetration,
               test::integrator_tolerance(rtol, 1e4) * a.metrics.max_penetration);

@@ -180,6 +180,32 @@ TEST_P(ModelBlock, ListsExactlyTheStatesAndElementsTheSceneNeeds) {
 INSTANTIATE_TEST_SUITE_P(Scenes, ModelBlock, ::testing::ValuesIn(cases()),
                          [](const ::testing::TestParamInfo<ModelCase>& p) { return p.param.name; });
 
+// The work quadratures follow the scene as the states do: the drive's work
+// only where the cam turns, the damper's only with a damper, the hysteresis
+// only for a dissipative contact law, the friction work only with friction.
+TEST(ModelBlock, ListsOnlyTheWorkQuadraturesTheSceneHas) {
+  auto quadratures = [](const SceneConfig& scene) {
+    const Model model = build_model(scene, "test");
+    const Names listed = summary_json(scene, model, SimulationResult{}).at("model").at("quadratures").get<Names>();
+    EXPECT_EQ(listed, integrated_quadratures(model));
+    return listed;
+  };
+  SceneConfig scene = test::follower_scene("translating_roller", 500.0);
+  scene.mechanism.follower.damping = 0.0;
+  EXPECT_EQ(quadratures(scene), Names{"drive_work"});
+  scene.mechanism.follower.damping = 5.0;
+  scene.mechanism.contact.model = ContactModel::lankarani_nikravesh;
+  EXPECT_EQ(quadratures(scene), (Names{"drive_work", "damper_work", "hysteresis_work"}));
+  scene.mechanism.contact.friction.mu = 0.1;  // a roller without inertia rolls: no friction work
+  EXPECT_EQ(quadratures(scene), (Names{"drive_work", "damper_work", "hysteresis_work"}));
+  SceneConfig flat = test::follower_scene("translating_flat", 500.0);  // a flat face slides
+  flat.mechanism.follower.damping = 5.0;
+  flat.mechanism.contact.model = ContactModel::lankarani_nikravesh;
+  flat.mechanism.contact.friction.mu = 0.1;
+  EXPECT_EQ(quadratures(flat), (Names{"drive_work", "damper_work", "hysteresis_work", "friction_work"}));
+  EXPECT_EQ(quadratures(test::drop_scene(ContactModel::hertz, 1.0)), Names{});  // a still cam does no work
+}
+
 // Every named state has its slot at its position in the names; absent states have none.
 TEST(StateLayout, SlotsMatchTheNamesAndAbsentStatesHaveNone) {
   const std::vector<std::pair<std::string, StateSlot StateLayout::*>> slots = {
