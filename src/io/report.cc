@@ -27,6 +27,7 @@
 
 #include "common/parallel.h"
 #include "io/atomic_file.h"
+#include "io/curve_decimation.h"
 
 extern char** environ;  // NOLINT: POSIX, passed on to gnuplot
 
@@ -176,13 +177,13 @@ std::string placeholder_svg(const std::string& title, const std::string& message
   return svg;
 }
 
-std::string unavailable(const Plot& plot, const std::string& reason) {
+std::string unavailable(std::string_view title, const std::string& reason) {
   // One warning per process: a report with ten plots should not print ten.
   static std::atomic<bool> warned{false};
   if (!warned.exchange(true)) {
     std::cerr << "camdyn: warning: plot unavailable: " << reason << " (reports will show placeholders)\n";
   }
-  return placeholder_svg(plot.title, "plot unavailable: " + reason);
+  return placeholder_svg(std::string(title), "plot unavailable: " + reason);
 }
 
 // Data for gnuplot: one "x y" line per point, a blank line for a break.
@@ -201,7 +202,10 @@ void write_data(const std::filesystem::path& path, const Series& s) {
   if (!out) throw std::runtime_error("cannot write " + path.string());
 }
 
-std::string gnuplot_script(const Plot& plot, const std::vector<std::filesystem::path>& data,
+// The whole script for one plot, from the terminal to `unset output`. Scripts
+// of several plots run one after the other in one gnuplot each start with
+// `reset`, so that nothing one plot sets carries over to the next.
+std::string gnuplot_script(const Plot& plot, std::string_view title, const std::vector<std::filesystem::path>& data,
                            const std::vector<const Series*>& series, const std::filesystem::path& svg) {
   std::ostringstream gp;
   gp << "set encoding utf8\n"
@@ -215,7 +219,7 @@ std::string gnuplot_script(const Plot& plot, const std::vector<std::filesystem::
   }
   gp << "set linetype cycle 8\n";
   // noenhanced everywhere: a user's "cam_angle" must not turn into a subscript.
-  if (!plot.title.empty()) gp << "set title " << gp_quote(plot.title) << " noenhanced\n";
+  if (!title.empty()) gp << "set title " << gp_quote(title) << " noenhanced\n";
   gp << "set xlabel " << gp_quote(plot.xlabel) << " noenhanced\n";
   gp << "set ylabel " << gp_quote(plot.ylabel) << " noenhanced\n";
   if (plot.logx) gp << "set logscale x\n";
@@ -453,91 +457,161 @@ std::string format_number(double value, int significant) {
   return buf;
 }
 
-Series decimate_minmax(const Series& series, std::size_t max_points) {
-  const std::size_t n = std::min(series.x.size(), series.y.size());
-  if (n <= max_points || max_points < 4) return series;
-  Series out{series.label, {}, {}, series.style};
-  out.x.reserve(max_points + 4);
-  out.y.reserve(max_points + 4);
-  auto emit = [&](std::size_t i) {
-    const bool brk = is_break(series.x[i], series.y[i]);
-    if (brk && (out.x.empty() || is_break(out.x.back(), out.y.back()))) return;  // collapse breaks
-    out.x.push_back(brk ? kBreak : series.x[i]);
-    out.y.push_back(brk ? kBreak : series.y[i]);
-  };
-  const std::size_t buckets = (max_points - 2) / 2;
-  emit(0);
-  for (std::size_t b = 0; b < buckets; ++b) {
-    // Bucket b covers [begin, end) of the points strictly between the two ends.
-    const std::size_t begin = 1 + b * (n - 2) / buckets;
-    const std::size_t end = 1 + (b + 1) * (n - 2) / buckets;
-    std::size_t lo = end, hi = end, brk = end;
-    for (std::size_t i = begin; i < end; ++i) {
-      if (is_break(series.x[i], series.y[i])) {
-        if (brk == end) brk = i;
-        continue;
-      }
-      if (lo == end || series.y[i] < series.y[lo]) lo = i;
-      if (hi == end || series.y[i] > series.y[hi]) hi = i;
-    }
-    // Emit the bucket's extremes and its first break in their original order.
-    std::size_t picks[3] = {lo, hi, brk};
-    std::sort(std::begin(picks), std::end(picks));
-    for (std::size_t k = 0; k < 3; ++k) {
-      if (picks[k] != end && (k == 0 || picks[k] != picks[k - 1])) emit(picks[k]);
-    }
-  }
-  emit(n - 1);
-  return out;
-}
-
-std::string render_svg(const Plot& plot) {
-  std::vector<Series> prepared;
+std::vector<Series> plotted_series(const Plot& plot) {
+  std::vector<Series> drawable;
+  drawable.reserve(plot.series.size());
   for (const auto& s : plot.series) {
     if (s.x.size() != s.y.size()) {
       throw std::logic_error("plot '" + plot.title + "' series '" + s.label + "': " + std::to_string(s.x.size()) +
                              " x values for " + std::to_string(s.y.size()) + " y values");
     }
-    Series drawable = decimate_minmax(drawable_points(s, plot.logx, plot.logy));
-    if (!drawable.x.empty()) prepared.push_back(std::move(drawable));
+    Series d = drawable_points(s, plot.logx, plot.logy);
+    if (!d.x.empty()) drawable.push_back(std::move(d));
   }
-  // Nothing to draw is a property of the data, not a failure of gnuplot: no warning.
-  if (prepared.empty()) return placeholder_svg(plot.title, "no data to plot");
+  // One set of columns for the whole plot, over the x range all its series span.
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const Series& s : drawable) {
+    for (const double x : s.x) {
+      if (std::isnan(x)) continue;  // drawable points: NaN marks a break, all else is finite
+      lo = std::min(lo, x);
+      hi = std::max(hi, x);
+    }
+  }
+  const double span[] = {lo, hi};
+  const PlotColumns pixels = PlotColumns::spanning(span, kPlotColumns, plot.logx, plot.xrange);
+  const PlotColumns cap = PlotColumns::spanning(span, kMaxPlotPoints / 2 - 1, plot.logx, plot.xrange);
+  for (Series& s : drawable) {
+    // A line hides what lies between the lowest and highest point of its
+    // pixel column; a marker does not, so markers are only capped.
+    const bool markers = s.style == "points" || s.style == "linespoints";
+    Curve c = decimate_per_column(s.x, s.y, plot.full_resolution || markers ? cap : pixels);
+    s.x = std::move(c.x);
+    s.y = std::move(c.y);
+  }
+  return drawable;
+}
 
+namespace {
+
+// A plot ready for gnuplot: its settings, the title drawn on it (none in a
+// report, whose caption carries it) and its series as plotted_series gives them.
+struct PreparedPlot {
+  const Plot* plot = nullptr;
+  std::string_view title;
+  std::vector<Series> series;
+};
+
+// Renders `batch` with one gnuplot process (starting gnuplot costs more than
+// drawing a plot): the SVG element of each plot, in order. Returns an empty
+// vector and sets `error` if gnuplot failed; throws std::runtime_error if a
+// temporary file cannot be written.
+std::vector<std::string> run_batch(const std::vector<const PreparedPlot*>& batch, std::string& error) {
   const char* env = std::getenv("CAMDYN_GNUPLOT");
   const std::string program = env != nullptr && *env != '\0' ? env : "gnuplot";
-  try {
-    TempDir dir;
+  TempDir dir;
+  std::string script;
+  std::vector<std::filesystem::path> svg_paths;
+  for (std::size_t k = 0; k < batch.size(); ++k) {
+    const PreparedPlot& p = *batch[k];
+    const std::string stem = "plot" + std::to_string(k);
     std::vector<std::filesystem::path> data;
     std::vector<const Series*> series;
-    for (std::size_t i = 0; i < prepared.size(); ++i) {
-      data.push_back(dir.path() / ("series" + std::to_string(i) + ".dat"));
-      write_data(data.back(), prepared[i]);
-      series.push_back(&prepared[i]);
+    for (std::size_t i = 0; i < p.series.size(); ++i) {
+      data.push_back(dir.path() / (stem + "-series" + std::to_string(i) + ".dat"));
+      write_data(data.back(), p.series[i]);
+      series.push_back(&p.series[i]);
     }
-    const auto svg_path = dir.path() / "plot.svg";
-    const auto script_path = dir.path() / "plot.gp";
-    {
-      std::ofstream script(script_path);
-      script << gnuplot_script(plot, data, series, svg_path);
-      if (!script) throw std::runtime_error("cannot write " + script_path.string());
-    }
-    const std::string error = run_gnuplot(program, script_path, dir.path() / "gnuplot.log");
-    if (!error.empty()) return unavailable(plot, error);
-    const std::string svg = read_all(svg_path);
+    svg_paths.push_back(dir.path() / (stem + ".svg"));
+    if (k > 0) script += "reset\n";
+    script += gnuplot_script(*p.plot, p.title, data, series, svg_paths.back());
+  }
+  const auto script_path = dir.path() / "plots.gp";
+  {
+    std::ofstream out(script_path);
+    out << script;
+    if (!out) throw std::runtime_error("cannot write " + script_path.string());
+  }
+  error = run_gnuplot(program, script_path, dir.path() / "gnuplot.log");
+  if (!error.empty()) return {};
+  std::vector<std::string> svgs;
+  for (std::size_t k = 0; k < batch.size(); ++k) {
+    const std::string svg = read_all(svg_paths[k]);
     const std::size_t start = svg.find("<svg");
-    if (start == std::string::npos) return unavailable(plot, "gnuplot wrote no SVG");
+    if (start == std::string::npos) {
+      error = "gnuplot wrote no SVG";
+      return {};
+    }
     // Drop the XML prolog (not allowed inside HTML) and name the figure after the plot.
     std::string element = svg.substr(start);
     const std::string default_title = "<title>Gnuplot</title>";
     if (const auto t = element.find(default_title); t != std::string::npos) {
-      element.replace(t, default_title.size(), "<title>" + escape_html(plot.title) + "</title>");
+      element.replace(t, default_title.size(), "<title>" + escape_html(batch[k]->title) + "</title>");
     }
-    return element;
+    svgs.push_back(std::move(element));
+  }
+  return svgs;
+}
+
+// One plot in a gnuplot of its own; a placeholder (and the warning) if gnuplot fails.
+std::string render_prepared(const PreparedPlot& p) {
+  // Nothing to draw is a property of the data, not a failure of gnuplot: no warning.
+  if (p.series.empty()) return placeholder_svg(std::string(p.title), "no data to plot");
+  try {
+    std::string error;
+    std::vector<std::string> svgs = run_batch({&p}, error);
+    if (!error.empty()) return unavailable(p.title, error);
+    return std::move(svgs.front());
   } catch (const std::exception& e) {  // temp files: a report must not die for a plot
-    return unavailable(plot, e.what());
+    return unavailable(p.title, e.what());
   }
 }
+
+// The plots of a report, without their titles (the captions carry them):
+// the drawable ones dealt round-robin into one batch per thread, each batch
+// one gnuplot process, the batches side by side. A batch that fails is drawn
+// again plot by plot, so that one plot gnuplot cannot draw does not take the
+// others with it.
+std::vector<std::string> render_report_plots(const std::vector<Plot>& plots, int threads) {
+  std::vector<PreparedPlot> prepared;
+  prepared.reserve(plots.size());
+  for (const Plot& plot : plots) prepared.push_back({&plot, {}, plotted_series(plot)});
+  std::vector<std::string> svgs(plots.size());
+  std::vector<std::vector<const PreparedPlot*>> batches;
+  std::size_t drawable = 0;
+  for (const PreparedPlot& p : prepared) drawable += p.series.empty() ? 0 : 1;
+  batches.resize(std::min<std::size_t>(drawable, static_cast<std::size_t>(std::max(threads, 1))));
+  std::size_t next = 0;
+  for (std::size_t i = 0; i < prepared.size(); ++i) {
+    if (prepared[i].series.empty()) {
+      svgs[i] = render_prepared(prepared[i]);
+    } else {
+      batches[next++ % batches.size()].push_back(&prepared[i]);
+    }
+  }
+  const auto index = [&](const PreparedPlot* p) { return static_cast<std::size_t>(p - prepared.data()); };
+  parallel_for(batches.size(), threads, [&](std::size_t b) {
+    const std::vector<const PreparedPlot*>& batch = batches[b];
+    std::string error;
+    std::vector<std::string> out;
+    try {
+      out = run_batch(batch, error);
+    } catch (const std::exception& e) {
+      error = e.what();
+    }
+    if (error.empty()) {
+      for (std::size_t k = 0; k < batch.size(); ++k) svgs[index(batch[k])] = std::move(out[k]);
+    } else if (batch.size() == 1) {
+      svgs[index(batch.front())] = unavailable(batch.front()->title, error);
+    } else {
+      for (const PreparedPlot* p : batch) svgs[index(p)] = render_prepared(*p);
+    }
+  });
+  return svgs;
+}
+
+}  // namespace
+
+std::string render_svg(const Plot& plot) { return render_prepared({&plot, plot.title, plotted_series(plot)}); }
 
 std::string render_html(const Report& report) {
   std::ostringstream html;
@@ -560,16 +634,10 @@ std::string render_html(const Report& report) {
   }
   for (const auto& table : report.tables) render_table(html, table);
   if (!report.plots.empty()) html << "<section class=\"plots\">\n";
-  // Each plot is its own gnuplot process: render them side by side (a compare
-  // report has a dozen), then assemble the page in order.
-  std::vector<std::string> svgs(report.plots.size());
+  // The plots in one gnuplot process per thread, side by side (a compare
+  // report has a dozen), then the page assembled in order.
   const int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  parallel_for(report.plots.size(), threads, [&](std::size_t i) {
-    // The caption carries the title, so the picture does not repeat it.
-    Plot untitled = report.plots[i];
-    untitled.title.clear();
-    svgs[i] = render_svg(untitled);
-  });
+  const std::vector<std::string> svgs = render_report_plots(report.plots, threads);
   for (std::size_t i = 0; i < report.plots.size(); ++i) {
     const std::string number = std::to_string(i + 1);
     html << "<figure id=\"figure-" << number << "\">\n"

@@ -31,6 +31,10 @@ struct Plot {
   /// Drawn to scale: one unit of x and one of y take the same length on the
   /// page (gnuplot `set size ratio -1`), for shapes such as a cam.
   bool equal_axes = false;
+  /// Every point drawn, up to kMaxPlotPoints per series (e.g. the last
+  /// revolution), instead of each series reduced to its lowest and highest
+  /// point per pixel column (io/curve_decimation.h).
+  bool full_resolution = false;
 };
 
 /// Cells are preformatted text (see format_number).
@@ -67,7 +71,9 @@ struct Report {
   std::vector<Table> appendix = {};               ///< tables after the plots
 };
 
-/// Most points a series keeps in a plot; more only bloat the SVG.
+/// Most points a series of a full-resolution plot keeps (beyond that it is
+/// reduced per column as well, with kMaxPlotPoints / 2 columns); more only
+/// bloat the SVG. Other plots keep at most about 2 · kPlotColumns.
 inline constexpr std::size_t kMaxPlotPoints = 20000;
 
 /// Renders `plot` with gnuplot to an SVG element (`<svg ...>...</svg>`). If
@@ -78,17 +84,23 @@ inline constexpr std::size_t kMaxPlotPoints = 20000;
 std::string render_svg(const Plot& plot);
 
 /// The whole report as one self-contained HTML5 page; all text is escaped.
+/// The plots are drawn as render_svg draws them, without their titles (the
+/// captions carry them), several plots to a gnuplot process (one process
+/// per hardware thread, side by side), since starting gnuplot costs more
+/// than drawing a plot.
 std::string render_html(const Report& report);
 
 /// render_html written atomically to `path`.
 void write_report(const std::filesystem::path& path, const Report& report);
 
-/// Reduces a series to at most `max_points` points (plus its two ends) by
-/// keeping, in each of max_points/2 buckets of consecutive points, the
-/// minimum and the maximum of y, so peaks survive. A NaN in x or y marks a
-/// break in the line and is kept (collapsed) as such. Shorter series are
-/// returned unchanged.
-Series decimate_minmax(const Series& series, std::size_t max_points = kMaxPlotPoints);
+/// The series of `plot` as gnuplot gets them: non-finite points (and
+/// non-positive ones on a log axis) turned into breaks, then each line
+/// reduced to its lowest and highest point per pixel column
+/// (decimate_per_column with kPlotColumns columns over the x range the
+/// plot's series span, or its xrange); markers ("points", "linespoints")
+/// and the series of a full-resolution plot only to at most about
+/// kMaxPlotPoints. Series with nothing to draw are left out.
+std::vector<Series> plotted_series(const Plot& plot);
 
 /// `value` with `significant` digits for a table cell ("%.6g"); "n/a" if not finite.
 std::string format_number(double value, int significant = 6);

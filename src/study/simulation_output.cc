@@ -9,6 +9,8 @@
 #include <numbers>
 #include <type_traits>
 
+#include "common/parallel.h"
+#include "io/atomic_file.h"
 #include "io/cam_plots.h"
 #include "io/csv_writer.h"
 #include "io/json_writer.h"
@@ -368,6 +370,7 @@ std::vector<Series> event_markers(const LastRevolution& r, const std::vector<Con
 void add_revolution_plots(const Model& model, const SimulationResult& result, Report& report) {
   const TimeSeries& ts = result.series;
   if (ts.time.empty()) return;
+  const std::size_t first_plot = report.plots.size();
   const LastRevolution rev = last_revolution(ts);
   const std::vector<Series> markers = event_markers(rev, result.events);
   const bool arm = model.follower.oscillating();  // follower columns in rad: plotted in degrees
@@ -417,6 +420,9 @@ void add_revolution_plots(const Model& model, const SimulationResult& result, Re
            xrange};
   gap.series.insert(gap.series.end(), markers.begin(), markers.end());
   report.plots.push_back(std::move(gap));
+  // Every point of the revolution is drawn (the whole-run plots are reduced
+  // per pixel column): the shape of each impact is what these plots show.
+  for (std::size_t i = first_plot; i < report.plots.size(); ++i) report.plots[i].full_resolution = true;
 }
 
 /// The whole run against time: follower motion (the transient), and for a
@@ -506,28 +512,37 @@ Report simulation_report(const SceneConfig& scene, const Model& model, const Sim
   return report;
 }
 
+void write_timeseries_csv(const std::filesystem::path& path, const TimeSeries& series) {
+  CsvWriter csv(path, TimeSeries::column_names());
+  csv.rows_from_columns(series.columns());
+  csv.commit();
+}
+
+void write_events_csv(const std::filesystem::path& path, const std::vector<ContactEvent>& events) {
+  CsvWriter csv(path, {"time", "cam_angle_deg", "kind", "speed", "impact"});
+  for (const ContactEvent& e : events)
+    csv.row({CsvCell(e.time), CsvCell(e.cam_angle_deg), CsvCell(e.onset ? "onset" : "separation"), CsvCell(e.speed),
+             CsvCell(e.impact ? 1 : 0)});
+  csv.commit();
+}
+
 void write_simulation_outputs(const std::filesystem::path& dir, const SceneConfig& scene, const Model& model,
                               const SimulationResult& result) {
   std::filesystem::create_directories(dir);
-  {
-    CsvWriter csv(dir / "timeseries.csv", TimeSeries::column_names());
-    const auto columns = result.series.columns();
-    std::vector<double> row(columns.size());
-    for (size_t i = 0; i < result.series.time.size(); ++i) {
-      for (size_t c = 0; c < columns.size(); ++c) row[c] = (*columns[c])[i];
-      csv.row(std::span<const double>(row));
+  // timeseries.csv (number formatting, then the disk's fsync) is written on a
+  // thread of its own while the report waits for its gnuplot processes; the
+  // report is renamed into place last, once everything else is there.
+  std::string html;
+  parallel_for(2, 2, [&](std::size_t job) {
+    if (job == 0) {
+      write_timeseries_csv(dir / "timeseries.csv", result.series);
+    } else {
+      write_events_csv(dir / "events.csv", result.events);
+      write_json_atomic(dir / "summary.json", summary_json(scene, model, result));
+      html = render_html(simulation_report(scene, model, result));
     }
-    csv.commit();
-  }
-  {
-    CsvWriter csv(dir / "events.csv", {"time", "cam_angle_deg", "kind", "speed", "impact"});
-    for (const ContactEvent& e : result.events)
-      csv.row({CsvCell(e.time), CsvCell(e.cam_angle_deg), CsvCell(e.onset ? "onset" : "separation"), CsvCell(e.speed),
-               CsvCell(e.impact ? 1 : 0)});
-    csv.commit();
-  }
-  write_json_atomic(dir / "summary.json", summary_json(scene, model, result));
-  write_report(dir / "report.html", simulation_report(scene, model, result));
+  });
+  write_file_atomic(dir / "report.html", html);
 }
 
 }  // namespace camdyn

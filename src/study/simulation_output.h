@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "dynamics/model.h"
 #include "dynamics/simulation.h"
@@ -31,6 +32,13 @@ Report simulation_report(const SceneConfig& scene, const Model& model, const Sim
 /// (from the events of the evaluated window), or for a drop test (cam held
 /// still) where the follower lands, the peak force and its rebounds.
 Verdict simulation_verdict(const SceneConfig& scene, const Model& model, const SimulationResult& result);
+
+/// timeseries.csv: the header (TimeSeries::column_names) and one row per
+/// output step, every number in its shortest round-trip form.
+void write_timeseries_csv(const std::filesystem::path& path, const TimeSeries& series);
+
+/// events.csv: time, cam_angle_deg, kind (onset | separation), speed, impact (0/1).
+void write_events_csv(const std::filesystem::path& path, const std::vector<ContactEvent>& events);
 
 /// Writes summary.json, timeseries.csv, events.csv and report.html into `dir`
 /// (created if missing).

@@ -1,14 +1,19 @@
 #include "io/report.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "cli_run.h"
+#include "io/curve_decimation.h"
 
 namespace camdyn {
 namespace {
@@ -110,7 +115,8 @@ TEST(Report, MissingGnuplotGivesAPlaceholderNotAnException) {
   EXPECT_NE(svg.find("plot unavailable"), std::string::npos);
 }
 
-TEST(Report, DecimationKeepsThePeak) {
+TEST(Report, PlottedSeriesAreReducedPerPixelColumnAndKeepThePeak) {
+  Plot plot = make_plot("Contact force", "time [s]", "force [N]");
   Series s = make_series("force", {}, {});
   const std::size_t n = 200000;
   for (std::size_t i = 0; i < n; ++i) {
@@ -119,14 +125,41 @@ TEST(Report, DecimationKeepsThePeak) {
   }
   const std::size_t peak = 123457;  // a one-sample impact spike
   s.y[peak] = 1000.0;
-  const Series d = decimate_minmax(s);
-  EXPECT_LE(d.x.size(), kMaxPlotPoints + 2);
-  EXPECT_GT(d.x.size(), kMaxPlotPoints / 2);
+  plot.series.push_back(s);
+  plot.series.push_back(make_series("empty", {}, {}));  // nothing to draw: left out
+  const std::vector<Series> drawn = plotted_series(plot);
+  ASSERT_EQ(drawn.size(), 1u);
+  const Series& d = drawn.front();
+  EXPECT_LE(d.x.size(), 2 * kPlotColumns + 2);
+  EXPECT_GT(d.x.size(), kPlotColumns);
   ASSERT_EQ(d.x.size(), d.y.size());
   EXPECT_EQ(*std::max_element(d.y.begin(), d.y.end()), 1000.0);
   EXPECT_DOUBLE_EQ(d.x.front(), 0.0);
   EXPECT_DOUBLE_EQ(d.x.back(), static_cast<double>(n - 1));
   EXPECT_TRUE(std::is_sorted(d.x.begin(), d.x.end()));
+}
+
+TEST(Report, FullResolutionPlotsKeepEveryPointUpToTheCap) {
+  Plot plot = make_plot("Last revolution", "cam angle [deg]", "force [N]");
+  plot.full_resolution = true;
+  plot.xrange = std::make_pair(0.0, 360.0);
+  Series s = make_series("force", {}, {});
+  for (int i = 0; i <= 3600; ++i) {  // 0.1° steps
+    s.x.push_back(0.1 * i);
+    s.y.push_back(std::cos(0.1 * i));
+  }
+  plot.series.push_back(s);
+  EXPECT_EQ(plotted_series(plot).front().x, s.x);
+  plot.full_resolution = false;
+  EXPECT_LE(plotted_series(plot).front().x.size(), 2 * kPlotColumns + 2);
+  // Far beyond the cap even a full-resolution plot is reduced.
+  plot.full_resolution = true;
+  plot.xrange.reset();
+  for (int i = 3601; i <= 100000; ++i) {
+    plot.series[0].x.push_back(0.1 * i);
+    plot.series[0].y.push_back(std::cos(0.1 * i));
+  }
+  EXPECT_LE(plotted_series(plot).front().x.size(), kMaxPlotPoints);
 }
 
 TEST(Report, DecimatedPlotStillReachesThePeak) {
@@ -193,6 +226,91 @@ TEST(Report, HtmlSvgIdsAreUniqueAcrossPlots) {
   EXPECT_NE(html.find("id='fig2-gpPt0'"), std::string::npos);
   EXPECT_EQ(html.find("id='gpPt0'"), std::string::npos);
   EXPECT_EQ(html.find("href='#gpPt"), std::string::npos);
+}
+
+// `svg` without its empty groups (`<g ...>` directly followed by `</g>`):
+// gnuplot's SVG terminal opens one before drawing anything whose attributes
+// depend on what it drew last, and nothing in it is drawn.
+std::string without_empty_groups(std::string svg) {
+  for (std::size_t p = svg.find("<g "); p != std::string::npos; p = svg.find("<g ", p)) {
+    const std::size_t open_end = svg.find(">\n", p);
+    if (open_end != std::string::npos && svg.compare(open_end + 2, 5, "</g>\n") == 0) {
+      svg.erase(p, open_end + 7 - p);
+    } else {
+      ++p;
+    }
+  }
+  return svg;
+}
+
+// A report draws several plots in one gnuplot process; each picture must be
+// the one the plot gives on its own (nothing a log axis, a range or equal
+// axes set carries over to the next plot), and a plot gnuplot cannot draw
+// must not take the others of its process with it.
+TEST(Report, PlotsDrawnTogetherLookAsEachDrawnAlone) {
+  REQUIRE_GNUPLOT();
+  Report r;
+  Plot log = sine_plot();
+  log.title = "log";
+  log.logy = true;
+  log.yrange = std::make_pair(1e-6, 1.0);
+  Plot to_scale = sine_plot();
+  to_scale.title = "to scale";
+  to_scale.equal_axes = true;
+  to_scale.xrange = std::make_pair(-10.0, 400.0);
+  Plot plain = sine_plot();
+  plain.title = "plain";
+  Plot empty = make_plot("empty", "x", "y");
+  empty.series.push_back(make_series("nothing", {}, {}));
+  for (int k = 0; k < 3; ++k) {
+    r.plots.push_back(log);
+    r.plots.push_back(plain);
+    r.plots.push_back(to_scale);
+    r.plots.push_back(empty);
+    r.plots.push_back(plain);
+  }
+  const std::string html = render_html(r);
+  for (std::size_t i = 0; i < r.plots.size(); ++i) {
+    Plot untitled = r.plots[i];
+    untitled.title.clear();
+    // The page's copy, with its figure's id prefix taken out again.
+    const std::string prefix = "fig" + std::to_string(i + 1) + "-";
+    const std::size_t begin = html.find("<svg", html.find("<figure id=\"figure-" + std::to_string(i + 1) + "\">"));
+    const std::size_t end = html.find("</svg>", begin);
+    ASSERT_NE(end, std::string::npos);
+    std::string on_page = html.substr(begin, end - begin);
+    for (std::size_t p = on_page.find(prefix); p != std::string::npos; p = on_page.find(prefix, p))
+      on_page.erase(p, prefix.size());
+    const std::string alone = render_svg(untitled);
+    EXPECT_EQ(without_empty_groups(on_page), without_empty_groups(alone.substr(0, alone.find("</svg>"))))
+        << "figure " << i + 1 << " (" << r.plots[i].title << ")";
+  }
+}
+
+TEST(Report, APlotGnuplotRejectsLeavesTheOthersDrawn) {
+  REQUIRE_GNUPLOT();
+  // A fake gnuplot that fails whenever it is given more than one plot (its
+  // script then holds a `reset`): every plot is drawn again on its own.
+  const std::string fake =
+      (std::filesystem::temp_directory_path() / ("camdyn-fake-gnuplot-" + std::to_string(::getpid()) + ".sh")).string();
+  {
+    std::ofstream script(fake);
+    script << "#!/bin/sh\nif grep -q '^reset' \"$1\"; then echo 'batch refused' >&2; exit 1; fi\nexec gnuplot \"$1\"\n";
+  }
+  std::filesystem::permissions(fake, std::filesystem::perms::owner_all);
+  ::setenv("CAMDYN_GNUPLOT", fake.c_str(), 1);
+  Report r;
+  // More plots than threads: every process gets several.
+  for (unsigned k = 0; k < 2 * std::max(1u, std::thread::hardware_concurrency()) + 1; ++k)
+    r.plots.push_back(sine_plot());
+  const std::string html = render_html(r);
+  const std::size_t labels_per_plot = count(render_svg(sine_plot()), "follower_position");
+  ::unsetenv("CAMDYN_GNUPLOT");
+  std::filesystem::remove(fake);
+  EXPECT_EQ(count(html, "<svg"), r.plots.size());
+  EXPECT_EQ(count(html, "plot unavailable"), 0u);
+  EXPECT_GT(labels_per_plot, 0u);
+  EXPECT_EQ(count(html, "follower_position"), labels_per_plot * r.plots.size());
 }
 
 TEST(Report, RaggedTableRowIsAProgrammingError) {

@@ -5,9 +5,13 @@
 #include "study/simulation_output.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <numbers>
 #include <string>
 #include <utility>
@@ -16,6 +20,7 @@
 #include "../dynamics/scenes.h"
 #include "common/errors.h"
 #include "dynamics/simulation.h"
+#include "io/curve_decimation.h"
 
 namespace camdyn {
 namespace {
@@ -206,6 +211,67 @@ TEST(SimulationVerdict, ReportLeadsWithTheBannerAndEndsWithTheSolverTable) {
         EXPECT_GE(x, 0.0);
         EXPECT_LE(x, 360.0);
       }
+}
+
+// timeseries.csv holds the series exactly: every number reads back to the
+// same double, column by column in column_names' order.
+TEST(SimulationOutput, TimeSeriesCsvReadsBackToTheSameDoubles) {
+  const SceneRun run(test::cycloidal_cam_scene(3000.0));
+  const TimeSeries& ts = run.result.series;
+  ASSERT_GT(ts.time.size(), 100u);
+  const std::filesystem::path path =
+      std::filesystem::temp_directory_path() / ("camdyn-timeseries-" + std::to_string(::getpid()) + ".csv");
+  write_timeseries_csv(path, ts);
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  std::string header;
+  for (const std::string& name : TimeSeries::column_names()) header += (header.empty() ? "" : ",") + name;
+  EXPECT_EQ(line, header);
+  const auto columns = ts.columns();
+  std::size_t row = 0;
+  while (std::getline(in, line)) {
+    ASSERT_LT(row, ts.time.size());
+    const char* p = line.c_str();
+    for (std::size_t c = 0; c < columns.size(); ++c) {
+      char* end = nullptr;
+      const double v = std::strtod(p, &end);
+      ASSERT_EQ(v, (*columns[c])[row]) << "row " << row << ", column " << c << ": " << line;
+      ASSERT_EQ(*end, c + 1 < columns.size() ? ',' : '\0') << line;
+      p = end + 1;
+    }
+    ++row;
+  }
+  EXPECT_EQ(row, ts.time.size());
+  std::filesystem::remove(path);
+}
+
+// The whole-run plots are reduced per pixel column when drawn; the last
+// revolution is drawn from every point.
+TEST(SimulationOutput, LastRevolutionIsPlottedAtFullResolution) {
+  SceneConfig scene = test::cycloidal_cam_scene(3000.0);
+  scene.simulation.cycles = 12.0;
+  scene.simulation.output_step_deg = 0.25;  // 1,441 points a revolution, 17,281 in all
+  const SceneRun run(scene);
+  const Report report = simulation_report(run.scene, run.model, run.result);
+  int revolution = 0, whole = 0;
+  for (const Plot& plot : report.plots) {
+    if (starts_with(plot.title, "Last revolution")) {
+      ++revolution;
+      EXPECT_TRUE(plot.full_resolution) << plot.title;
+      const std::vector<Series> drawn = plotted_series(plot);
+      ASSERT_FALSE(drawn.empty());
+      EXPECT_GE(drawn.front().x.size(), 1441u) << plot.title;
+    } else if (starts_with(plot.title, "Whole run")) {
+      ++whole;
+      EXPECT_FALSE(plot.full_resolution) << plot.title;
+      ASSERT_FALSE(plot.series.empty());
+      EXPECT_EQ(plot.series.front().x.size(), run.result.series.time.size());
+      for (const Series& s : plotted_series(plot)) EXPECT_LE(s.x.size(), 2 * kPlotColumns + 2) << plot.title;
+    }
+  }
+  EXPECT_GE(revolution, 3);
+  EXPECT_GE(whole, 1);
 }
 
 }  // namespace
