@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <numbers>
 
 #include "common/errors.h"
@@ -31,15 +32,15 @@ constexpr double kAccelerationJumpFraction = 0.05;
 constexpr int kLawSamples = 7200;
 
 /// Result thresholds (docs/warnings.md).
-constexpr double kMaxEnergyResidual = 1e-2;         ///< [-], at any tolerance
-constexpr double kEnergyResidualPerRtol = 1e4;      ///< residual above this × rtol [-]
-constexpr double kMaxPenetrationOfLift = 0.02;      ///< penetration / lift [-]
-constexpr double kMaxPenetrationOfRadius = 0.1;     ///< penetration / circle radius [-]
-constexpr double kMaxImpactsPerRevolution = 50.0;   ///< above: chatter
-constexpr double kMaxImpactsStill = 1000.0;         ///< cam held still: above, chatter
-constexpr double kJumpSpeedMargin = 0.9;            ///< separation below this × jump speed: chatter
-constexpr double kMaxPositionErrorOfLift = 0.01;    ///< Richardson position error / lift [-]
-constexpr double kMaxPeakForceError = 0.05;         ///< Richardson relative peak-force error [-]
+constexpr double kMaxEnergyResidual = 1e-2;        ///< [-], at any tolerance
+constexpr double kEnergyResidualPerRtol = 1e4;     ///< residual above this × rtol [-]
+constexpr double kMaxPenetrationOfLift = 0.02;     ///< penetration / lift [-]
+constexpr double kMaxPenetrationOfRadius = 0.1;    ///< penetration / circle radius [-]
+constexpr double kMaxImpactsPerRevolution = 50.0;  ///< above: chatter
+constexpr double kMaxImpactsStill = 1000.0;        ///< cam held still: above, chatter
+constexpr double kJumpSpeedMargin = 0.9;           ///< separation below this × jump speed: chatter
+constexpr double kMaxPositionErrorOfLift = 0.01;   ///< Richardson position error / lift [-]
+constexpr double kMaxPeakForceError = 0.05;        ///< Richardson relative peak-force error [-]
 
 std::string num(double x) {
   char buffer[32];
@@ -122,8 +123,9 @@ void chatter_warnings(const SceneConfig& scene, const Model& model, const Simula
   const Metrics& m = result.metrics;
   if (m.impact_count == 0) return;
   const auto impacts = static_cast<double>(m.impact_count);
-  const std::string tighten = "; tighten integrator.rtol and integrator.atol (a run at 100x tighter tolerances tells "
-                              "physics from numerics)";
+  const std::string tighten =
+      "; tighten integrator.rtol and integrator.atol (a run at 100x tighter tolerances tells "
+      "physics from numerics)";
   const double window = result.end_time - result.evaluated_from;  // [s]
   const double revolutions = model.omega > 0.0 ? window * model.omega / kTwoPi : 0.0;
   if (revolutions > 0.0 && impacts > kMaxImpactsPerRevolution * revolutions)
@@ -141,11 +143,9 @@ void chatter_warnings(const SceneConfig& scene, const Model& model, const Simula
       out.push_back({"chatter", "integrator.rtol",
                      "the follower separates (" + std::to_string(m.impact_count) + " impacts) at " + rpm_text(rpm) +
                          ", below the rigid-model jump speed " + rpm_text(jump) +
-                         ": on the rigid model the cam holds it there, so the separations are numerical" +
-                         tighten});
+                         ": on the rigid model the cam holds it there, so the separations are numerical" + tighten});
   } else if (model.omega > 0.0 && !explicit_start(scene) && std::isfinite(m.jump_speed_rpm) &&
-             model.omega * 60.0 / kTwoPi < kJumpSpeedMargin * m.jump_speed_rpm &&
-             impacts > kMaxImpactsPerRevolution) {
+             model.omega * 60.0 / kTwoPi < kJumpSpeedMargin * m.jump_speed_rpm && impacts > kMaxImpactsPerRevolution) {
     // A shaft drive's speed varies, so separation below the jump speed may be
     // real: only a high count of impacts is suspicious then.
     out.push_back({"chatter", "integrator.rtol",
@@ -183,19 +183,21 @@ void penetration_warning(const Model& model, const SimulationResult& result, std
   const bool of_lift = lift > 0.0 && delta > kMaxPenetrationOfLift * lift;
   const bool of_radius = radius > 0.0 && delta > kMaxPenetrationOfRadius * radius;
   if (!of_lift && !of_radius) return;
-  const double allowed = std::min(lift > 0.0 ? kMaxPenetrationOfLift * lift : INFINITY,
-                                  radius > 0.0 ? kMaxPenetrationOfRadius * radius : INFINITY);  // [m]
+  const double allowed =
+      std::min(lift > 0.0 ? kMaxPenetrationOfLift * lift : std::numeric_limits<double>::infinity(),
+               radius > 0.0 ? kMaxPenetrationOfRadius * radius : std::numeric_limits<double>::infinity());  // [m]
   const ForceLaw& law = model.contact;
   // K needed for the peak force at the allowed penetration: F = K δ^n.
   const double needed = result.metrics.peak_contact_force / std::pow(allowed, law.exponent);
-  out.push_back({"penetration", "mechanism.contact.stiffness",
-                 "the contact penetrates up to " + num(delta) + " m, " +
-                     (of_lift ? num(100.0 * delta / lift) + " % of the lift" : "") + (of_lift && of_radius ? ", " : "") +
-                     (of_radius ? num(100.0 * delta / radius) + " % of the " + std::string(model.follower.traits().label) +
-                                      " radius"
-                                : "") +
-                     ": the contact is too soft for a rigid-body model to mean much; a stiffness of at least " +
-                     num(needed) + " " + stiffness_unit(law) + " keeps it below " + num(allowed) + " m"});
+  out.push_back(
+      {"penetration", "mechanism.contact.stiffness",
+       "the contact penetrates up to " + num(delta) + " m, " +
+           (of_lift ? num(100.0 * delta / lift) + " % of the lift" : "") + (of_lift && of_radius ? ", " : "") +
+           (of_radius
+                ? num(100.0 * delta / radius) + " % of the " + std::string(model.follower.traits().label) + " radius"
+                : "") +
+           ": the contact is too soft for a rigid-body model to mean much; a stiffness of at least " + num(needed) +
+           " " + stiffness_unit(law) + " keeps it below " + num(allowed) + " m"});
 }
 
 /// The peak penetration in the units of the follower coordinate q against
@@ -248,8 +250,7 @@ std::optional<PlausibilityWarning> unit_slip(const SceneConfig& scene) {
   const MotionLawConfig& law = mech.cam.motion_law;
   for (std::size_t i = 0; i < law.segments.size(); ++i)
     if (law.segments[i].lift && *law.segments[i].lift > kMaxPlausibleLength)
-      return slip("mechanism.cam.motion_law.segments[" + std::to_string(i) + "].lift", "lift",
-                  *law.segments[i].lift);
+      return slip("mechanism.cam.motion_law.segments[" + std::to_string(i) + "].lift", "lift", *law.segments[i].lift);
   if (law.spline)
     for (std::size_t i = 0; i < law.spline->lift.size(); ++i)
       if (std::abs(law.spline->lift[i]) > kMaxPlausibleLength)
@@ -295,21 +296,20 @@ void check_plausibility(const SceneConfig& scene, const Model& model, const std:
   const double static_delta = penetration_at(law, load.static_force);  // [m]
   if (static_delta > model.penetration_limit) {
     const FollowerGeometry& fg = model.follower;
-    const std::string what = "under the spring load alone (" + num(load.static_force) + " N, the rigid model at " +
-                             "low speed) the contact would penetrate " + num(static_delta) + " m, beyond the " +
-                             num(model.penetration_limit) + " m the contact model holds for (" +
-                             (fg.circle() ? "half the " + std::string(fg.traits().label) + " radius"
-                                          : "a tenth of the base radius") +
-                             ")";
+    const std::string what =
+        "under the spring load alone (" + num(load.static_force) + " N, the rigid model at " +
+        "low speed) the contact would penetrate " + num(static_delta) + " m, beyond the " +
+        num(model.penetration_limit) + " m the contact model holds for (" +
+        (fg.circle() ? "half the " + std::string(fg.traits().label) + " radius" : "a tenth of the base radius") + ")";
     if (fg.circle() && fg.radius < kSmallCircleRadius && law.stiffness >= kMinPlausibleStiffness)
       throw InputError(file, "mechanism.follower.shape.radius",
                        std::string(fg.traits().label) + " radius " + num(fg.radius) + " m: " + what +
                            "; was the radius given in the wrong unit (metres expected)?");
     const double needed = load.static_force / std::pow(model.penetration_limit, law.exponent);
     throw InputError(file, "mechanism.contact.stiffness",
-                     "stiffness " + num(law.stiffness) + " " + stiffness_unit(law) + " cannot carry the preload: " +
-                         what + "; it needs at least " + num(needed) + " " + stiffness_unit(law) +
-                         " (usual: 1e7 ... 1e13)");
+                     "stiffness " + num(law.stiffness) + " " + stiffness_unit(law) +
+                         " cannot carry the preload: " + what + "; it needs at least " + num(needed) + " " +
+                         stiffness_unit(law) + " (usual: 1e7 ... 1e13)");
   }
   // A stiffness beyond the usual range whose penetration the tolerances do
   // not resolve is the slip; with a usual stiffness the tolerances are too
@@ -317,8 +317,9 @@ void check_plausibility(const SceneConfig& scene, const Model& model, const std:
   const ContactResolution r = contact_resolution(scene, model, load);
   if (law.stiffness > kMaxPlausibleStiffness && r.unresolved())
     throw InputError(file, "mechanism.contact.stiffness",
-                     "stiffness " + num(law.stiffness) + " " + stiffness_unit(law) + ": even the peak rigid-model load " +
-                         num(load.peak_force) + " N penetrates only " + num(load.peak_penetration) + " m" + r.text() +
+                     "stiffness " + num(law.stiffness) + " " + stiffness_unit(law) +
+                         ": even the peak rigid-model load " + num(load.peak_force) + " N penetrates only " +
+                         num(load.peak_penetration) + " m" + r.text() +
                          ": the integrator could not follow the contact and would not finish; use a stiffness in "
                          "the usual 1e7 ... 1e13 (in N/m^n)");
 }
@@ -339,13 +340,12 @@ std::vector<PlausibilityWarning> input_warnings(const SceneConfig& scene, const 
   jerk_warning(model, out);
   const ContactConfig& contact = scene.mechanism.contact;
   if (force_form(contact.model) != ForceForm::hysteresis && contact.restitution != ContactConfig{}.restitution)
-    out.push_back({"ignored_field", "mechanism.contact.restitution",
-                   "model '" + to_string(contact.model) + "' ignores the restitution (" + num(contact.restitution) +
-                       "): " +
-                       (force_form(contact.model) == ForceForm::viscous
-                            ? "its dissipation is the damper 'damping' [N s/m]"
-                            : "it dissipates nothing") +
-                       "; for a restitution target use 'hunt_crossley', 'lankarani_nikravesh' or 'flores'"});
+    out.push_back(
+        {"ignored_field", "mechanism.contact.restitution",
+         "model '" + to_string(contact.model) + "' ignores the restitution (" + num(contact.restitution) + "): " +
+             (force_form(contact.model) == ForceForm::viscous ? "its dissipation is the damper 'damping' [N s/m]"
+                                                              : "it dissipates nothing") +
+             "; for a restitution target use 'hunt_crossley', 'lankarani_nikravesh' or 'flores'"});
   return out;
 }
 

@@ -26,11 +26,11 @@ struct PlausibilityWarning {
 /// The contact load a scene asks its contact to carry, from the rigid model
 /// (physics.md §6) sampled over a revolution.
 struct ContactLoad {
-  double static_force = 0.0;      ///< max rigid normal force with the cam turned slowly (ω = 0) [N]
-  double peak_force = 0.0;        ///< max rigid normal force at the scene's speed [N]
-  double effective_mass = 0.0;    ///< follower inertia seen at the contact, M / (∂g/∂q)² [kg]
-  double contact_frequency = 0.0; ///< linearised contact at peak_force, sqrt(k_c / m) / 2π [Hz]
-  double peak_penetration = 0.0;  ///< static penetration (F_peak / K)^(1/n) [m]
+  double static_force = 0.0;       ///< max rigid normal force with the cam turned slowly (ω = 0) [N]
+  double peak_force = 0.0;         ///< max rigid normal force at the scene's speed [N]
+  double effective_mass = 0.0;     ///< follower inertia seen at the contact, M / (∂g/∂q)² [kg]
+  double contact_frequency = 0.0;  ///< linearised contact at peak_force, sqrt(k_c / m) / 2π [Hz]
+  double peak_penetration = 0.0;   ///< static penetration (F_peak / K)^(1/n) [m]
 };
 ContactLoad contact_load(const Model& model);
 
@@ -50,8 +50,7 @@ std::optional<PlausibilityWarning> unit_slip(const SceneConfig& scene);
 /// Rethrows `error` (raised while building the model) as an InputError that
 /// names the unit slip when the scene has one, with the original reason
 /// appended; otherwise rethrows it unchanged.
-[[noreturn]] void rethrow_naming_unit_slip(const SceneConfig& scene, const std::string& file,
-                                           const InputError& error);
+[[noreturn]] void rethrow_naming_unit_slip(const SceneConfig& scene, const std::string& file, const InputError& error);
 
 /// Inputs that are legal but almost surely a slip: lengths above 1 m,
 /// pressure angle above 30°, a contact stiffness outside 1e7 ... 1e13 N/m^n,

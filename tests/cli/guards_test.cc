@@ -137,8 +137,8 @@ TEST(Guards, LooseToleranceChatterIsWarnedAndStrictExitsThree) {
 // Issue 19 item 11: the shaft drive at 1000 rpm, below its rigid-model jump
 // speed, reports separation at rtol = atol = 1e-3 where the default gives none.
 TEST(Guards, SeparationBelowTheJumpSpeedIsWarnedAsChatter) {
-  const RunWithWarnings r = run_study(
-      "shaft", {"--set", "integrator.rtol=1e-3", "--set", "integrator.atol=1e-3"}, "followers/shaft_drive.json");
+  const RunWithWarnings r = run_study("shaft", {"--set", "integrator.rtol=1e-3", "--set", "integrator.atol=1e-3"},
+                                      "followers/shaft_drive.json");
   ASSERT_EQ(r.outcome.code, 0) << r.outcome.err;
   ASSERT_GT(r.summary["metrics"]["impact_count"].get<long>(), 0);
   EXPECT_TRUE(has_warning(r.summary, "chatter", "integrator.rtol")) << r.summary["warnings"].dump(1);
