@@ -31,6 +31,7 @@ struct RunArgs {
   std::string out;
   int jobs = 0;
   bool quiet = false;
+  bool strict = false;
   std::vector<std::string> overrides;
 };
 
@@ -92,6 +93,7 @@ int run_study(const RunArgs& args, bool validate_only, bool root) {
   request.jobs = args.jobs;
   request.progress = !args.quiet && isatty(STDERR_FILENO) && root;
   request.validate_only = validate_only;
+  request.strict = args.strict;
   return camdyn::run_study(request).exit_code;
 }
 
@@ -179,7 +181,8 @@ Exit codes:
   0  success
   2  invalid input (config, data file, geometry that cannot be built; the
      message names the file or the --set argument, the field and the reason)
-  3  numerical failure (an integrator or optimiser gave up)
+  3  numerical failure (an integrator or optimiser gave up, a budget ran out,
+     or with --strict a run whose results carry warnings)
   1  anything else)";
 
 // The command line: parse, dispatch the command, map its errors to exit codes.
@@ -201,6 +204,8 @@ int run_command(int argc, char** argv) {
   run->add_option("--jobs", run_args.jobs, "Parallel jobs for studies with many runs (default: cores)")
       ->check(CLI::NonNegativeNumber);
   run->add_flag("--quiet", run_args.quiet, "No progress on stderr");
+  run->add_flag("--strict", run_args.strict,
+                "Exit 3 when the run's results carry plausibility warnings (docs/warnings.md)");
   run->add_option("--set", run_args.overrides, "Override a field: --set contact.stiffness=2e9 (repeatable)");
   run->footer(kRunFooter);
 

@@ -2,12 +2,14 @@
 
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <optional>
 
 #include "common/errors.h"
 #include "dynamics/model.h"
+#include "dynamics/plausibility.h"
 #include "dynamics/simulation.h"
 #include "io/config.h"
 #include "io/json_writer.h"
@@ -28,7 +30,7 @@ namespace camdyn {
 
 namespace {
 
-constexpr int kExitOk = 0;
+constexpr int kExitOk = 0, kExitNumerical = 3;
 
 // A progress line on stderr, redrawn in place, only on a terminal.
 class Progress {
@@ -46,6 +48,20 @@ class Progress {
   bool enabled_;
 };
 
+// `camdyn validate`'s design check on stderr: the rigid-model jump speed,
+// the largest pressure angle and the smallest radius of curvature.
+void print_design_check(const Model& model) {
+  const CamGeometryReport& g = model.geometry;
+  const double jump = jump_speed_rpm(model);  // [rpm]; +inf: the law never decelerates
+  char speed[48] = "none (the law never decelerates)";
+  if (std::isfinite(jump)) std::snprintf(speed, sizeof speed, "%.4g rpm", jump);
+  std::fprintf(stderr,
+               "  design check: rigid-model jump speed %s, max pressure angle %.3g deg at %.4g deg, "
+               "min radius of curvature %.3g m at %.4g deg\n",
+               speed, g.max_pressure_angle_deg, g.max_pressure_angle_at_deg, g.min_radius_of_curvature,
+               g.min_radius_of_curvature_at_deg);
+}
+
 int run_simulate(const Json& doc, const StudyContext& ctx) {
   const SceneConfig scene = scene_from_json(doc, ctx.source);
   // Building the model checks what the config layer cannot: the motion law,
@@ -60,6 +76,8 @@ int run_simulate(const Json& doc, const StudyContext& ctx) {
     std::cerr << "camdyn: " << ctx.config_file << " is valid (" << model.layout.size << " states: ";
     for (size_t i = 0; i < model.layout.names.size(); ++i) std::cerr << (i ? ", " : "") << model.layout.names[i];
     std::cerr << ")\n";
+    print_design_check(model);
+    for (const PlausibilityWarning& w : input_warnings(scene, model)) std::cerr << warning_line(w) << "\n";
     return kExitOk;
   }
   Workspace ws;
@@ -87,6 +105,14 @@ int run_simulate(const Json& doc, const StudyContext& ctx) {
     std::printf("  error estimate (run at 100x tighter tolerance): position %.3g m, peak force %.3g\n",
                 result.error.position, result.error.peak_contact_force);
   std::printf("  report: %s\n", std::filesystem::absolute(out / "report.html").lexically_normal().c_str());
+  const std::vector<PlausibilityWarning> warnings = run_warnings(scene, model, result);
+  for (const PlausibilityWarning& w : warnings) std::printf("%s\n", warning_line(w).c_str());
+  if (ctx.strict && !warnings.empty()) {
+    std::fflush(stdout);
+    std::cerr << "camdyn: --strict: " << ctx.config_file << ": " << warnings.size()
+              << " warning(s), the results should not be trusted (outputs written)\n";
+    return kExitNumerical;
+  }
   return kExitOk;
 }
 
@@ -143,6 +169,7 @@ StudyOutcome run_study(const StudyRequest& request) {
   ctx.jobs = request.jobs;
   ctx.progress = request.progress;
   ctx.validate_only = request.validate_only;
+  ctx.strict = request.strict;
   StudyOutcome outcome;
   outcome.study = doc.contains("study") && doc["study"].is_string() ? doc["study"].get<std::string>() : "simulate";
   outcome.out_dir = ctx.out_dir;

@@ -21,6 +21,7 @@ struct StudyRequest {
   int jobs = 0;                        ///< parallel jobs; 0 = one per core
   bool progress = false;               ///< draw progress on stderr
   bool validate_only = false;          ///< check, print the resolved config, do not run
+  bool strict = false;                 ///< a run with plausibility warnings exits 3 (docs/warnings.md)
 };
 
 struct StudyOutcome {

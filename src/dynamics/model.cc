@@ -10,6 +10,7 @@
 #include "contact/line_curve_tracking.h"
 #include "dynamics/contact_stress.h"
 #include "dynamics/dual.h"
+#include "dynamics/plausibility.h"
 #include "geometry/check_text.h"
 #include "geometry/follower_shape.h"
 
@@ -549,7 +550,9 @@ void assign_state_layout(Model& model) {
 
 }  // namespace
 
-Model build_model(const SceneConfig& scene, const std::string& file) {
+namespace {
+
+Model assemble_model(const SceneConfig& scene, const std::string& file) {
   const MechanismConfig& mech = scene.mechanism;
   const FollowerConfig& f = mech.follower;
   Model model;
@@ -595,7 +598,20 @@ Model build_model(const SceneConfig& scene, const std::string& file) {
   assign_state_layout(model);
 
   list_elements(model);
+  // Refuses what the solver could not run (docs/warnings.md), naming the field.
+  check_plausibility(scene, model, file);
   return model;
+}
+
+}  // namespace
+
+Model build_model(const SceneConfig& scene, const std::string& file) {
+  try {
+    return assemble_model(scene, file);
+  } catch (const InputError& e) {
+    // A cam that cannot be made from a length in millimetres: name the slip.
+    rethrow_naming_unit_slip(scene, file, e);
+  }
 }
 
 void list_elements(Model& model) {

@@ -14,6 +14,7 @@
 
 #include "common/errors.h"
 #include "dynamics/free_flight.h"
+#include "geometry/check_text.h"
 #include "integrate/integrator.h"
 
 namespace camdyn {
@@ -651,17 +652,17 @@ Failure check_contact(const Model& model, const Evaluation& ev, double t) {
   // A penetration beyond half the roller radius (a tenth of the base radius
   // for a flat face) means the contact is far too soft for its load.
   if (ev.delta > model.penetration_limit)
-    return {Termination::penetration_limit, "contact penetration " + std::to_string(ev.delta) + " m exceeds " +
-                                                std::to_string(model.penetration_limit) +
+    return {Termination::penetration_limit, "contact penetration " + check_text::num(ev.delta) + " m exceeds " +
+                                                check_text::num(model.penetration_limit) +
                                                 " m (the contact stiffness is far too low for the load) " +
                                                 where(model, t)};
   // A flat face whose contact point runs off its edge: the design check
   // (check_cam) passed on the law, so the dynamics drove it there.
   if (model.reduction == ContactReduction::line && ev.delta > 0.0 &&
       std::abs(ev.contact_offset) > 0.5 * model.follower.face_width)
-    return {Termination::left_flat_face, "the contact point left the flat face (" + std::to_string(ev.contact_offset) +
+    return {Termination::left_flat_face, "the contact point left the flat face (" + check_text::num(ev.contact_offset) +
                                              " m from its centre, face_width " +
-                                             std::to_string(model.follower.face_width) + " m) " + where(model, t)};
+                                             check_text::num(model.follower.face_width) + " m) " + where(model, t)};
   return {};
 }
 

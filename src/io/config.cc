@@ -41,6 +41,12 @@ Check plain_name() {
 
 }  // namespace
 
+/// The smallest contact exponent n a config may give [-], and the largest
+/// circle (roller, mushroom) radius as a multiple of the base radius [-]:
+/// beyond either the run does not finish (docs/warnings.md).
+constexpr double kMinContactExponent = 0.5;
+constexpr double kMaxCircleToBaseRadius = 1e3;
+
 // ---------------------------------------------------------------- motion law
 
 template <class A>
@@ -289,6 +295,12 @@ void visit(A& a, ContactConfig& c) {
   a.require(c.stiffness || c.from_materials, "stiffness",
             "missing (expected a number > 0 [N/m^n] or { \"from_materials\": {...} })");
   a.field("exponent", c.exponent, open_closed(0, 5));
+  // Below this K δ^n is a step from 0 to K at first touch: the integrator
+  // chatters on it without end (docs/warnings.md).
+  a.require(c.exponent >= kMinContactExponent, "exponent",
+            "must be >= " + format_shortest(kMinContactExponent) + ", got " + format_shortest(c.exponent) +
+                ": with so small an exponent the force K delta^n jumps from 0 to K at first touch and the run "
+                "never finishes (1 for line contact, 1.5 for Hertz point contact)");
   a.field("restitution", c.restitution, open_closed(0, 1));
   a.field("damping", c.damping, non_negative());
   if (force_form(c.model) == ForceForm::viscous) {
@@ -321,6 +333,15 @@ void visit(A& a, MechanismConfig& m) {
     a.require(std::abs(m.follower.offset) < reach, "follower.offset",
               "|offset| must be < base_radius + " + std::string(shape.label) + " radius = " + format_shortest(reach) +
                   " m, got " + format_shortest(m.follower.offset));
+  }
+  if (!contour && shape.circle()) {
+    const double limit = kMaxCircleToBaseRadius * m.cam.base_radius;  // [m]
+    a.require(m.follower.shape.radius <= limit, "follower.shape.radius",
+              "a " + std::string(shape.label) + " radius of " + format_shortest(m.follower.shape.radius) +
+                  " m on a base circle of " + format_shortest(m.cam.base_radius) + " m (more than " +
+                  format_shortest(kMaxCircleToBaseRadius) +
+                  " times it) is flat to within the contact's penetration, and the contact point is lost in "
+                  "rounding so the run never finishes: give the radius in metres, or use a 'flat' face");
   }
   const auto& segments = m.cam.motion_law.segments;
   for (std::size_t i = 0; i < segments.size(); ++i) {

@@ -10,6 +10,7 @@
 #include <type_traits>
 
 #include "common/parallel.h"
+#include "dynamics/plausibility.h"
 #include "io/atomic_file.h"
 #include "io/cam_plots.h"
 #include "io/csv_writer.h"
@@ -44,6 +45,13 @@ Json error_estimate_json(const ErrorEstimate& e) {
 }
 
 }  // namespace
+
+Json warnings_json(const std::vector<PlausibilityWarning>& warnings) {
+  Json list = Json::array();
+  for (const PlausibilityWarning& w : warnings)
+    list.push_back(Json{{"cause", w.cause}, {"field", w.field}, {"message", w.message}});
+  return list;
+}
 
 Json metrics_json(const Metrics& m) {
   Json j = Json::object();
@@ -156,6 +164,7 @@ Json summary_json(const SceneConfig& scene, const Model& model, const Simulation
                           {"follower", follower_name(model)},
                           {"contact_pair", contact_pair_name(model)}};
   if (model.contour) summary["contour_fit"] = contour_fit_json(model);
+  summary["warnings"] = warnings_json(run_warnings(scene, model, result));
   summary["config"] = to_json(scene);
   return summary;
 }

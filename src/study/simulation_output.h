@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "dynamics/model.h"
+#include "dynamics/plausibility.h"
 #include "dynamics/simulation.h"
 #include "io/config.h"
 #include "io/report.h"
@@ -16,8 +17,12 @@ namespace camdyn {
 /// The metrics as JSON, in their one order; an infinite jump speed is null.
 Json metrics_json(const Metrics& m);
 
+/// summary.json `warnings` (docs/warnings.md): one {cause, field, message} per warning.
+Json warnings_json(const std::vector<PlausibilityWarning>& warnings);
+
 /// summary.json: name, study, version, metrics, solver counters, the model
-/// that was assembled and the fully resolved config. No NaN/inf: an infinite
+/// that was assembled, the plausibility warnings (dynamics/plausibility.h)
+/// and the fully resolved config. No NaN/inf: an infinite
 /// jump speed (a law that never decelerates) is written as null.
 Json summary_json(const SceneConfig& scene, const Model& model, const SimulationResult& result);
 

@@ -19,6 +19,7 @@ struct StudyContext {
   int jobs = 0;                   ///< parallel jobs; 0 = one per core
   bool progress = false;          ///< draw progress on stderr
   bool validate_only = false;     ///< `camdyn validate`: check, print the resolved config, do not run
+  bool strict = false;            ///< `camdyn run --strict`: plausibility warnings exit 3 (docs/warnings.md)
 
   /// Number of worker threads to use: `jobs`, or the number of cores.
   int threads() const;

@@ -1,0 +1,74 @@
+// Plausibility of a scene and of a run's results (docs/warnings.md): the
+// values that are legal but almost surely a slip (a lift in millimetres, a
+// contact stiffness of 10 N/m^n), the ones the solver cannot run at all
+// (refused before the run, naming the field), and the results that should
+// not be trusted (an energy balance that does not close, numerical chatter).
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/errors.h"
+#include "dynamics/model.h"
+#include "dynamics/simulation.h"
+#include "scene/scene.h"
+
+namespace camdyn {
+
+/// One warning of summary.json `warnings` and of the `warning:` lines.
+struct PlausibilityWarning {
+  std::string cause;    ///< a short word: "unit_slip", "pressure_angle", "contact_stiffness", "chatter", ...
+  std::string field;    ///< the dotted config path to change ("" when it is the run as a whole)
+  std::string message;  ///< what is wrong and what to change
+};
+
+/// The contact load a scene asks its contact to carry, from the rigid model
+/// (physics.md §6) sampled over a revolution.
+struct ContactLoad {
+  double static_force = 0.0;       ///< max rigid normal force with the cam turned slowly (ω = 0) [N]
+  double peak_force = 0.0;         ///< max rigid normal force at the scene's speed [N]
+  double effective_mass = 0.0;     ///< follower inertia seen at the contact, M / (∂g/∂q)² [kg]
+  double contact_frequency = 0.0;  ///< linearised contact at peak_force, sqrt(k_c / m) / 2π [Hz]
+  double peak_penetration = 0.0;   ///< static penetration (F_peak / K)^(1/n) [m]
+};
+ContactLoad contact_load(const Model& model);
+
+/// What the solver cannot run, refused before it starts: throws InputError
+/// naming the field when the contact penetrates beyond Model::penetration_limit
+/// under the spring load alone (`mechanism.contact.stiffness`, or
+/// `mechanism.follower.shape.radius` for a circle below a millimetre), or
+/// when the penetration under the peak load is below what the integrator's
+/// tolerances resolve (`mechanism.contact.stiffness`).
+void check_plausibility(const SceneConfig& scene, const Model& model, const std::string& file);
+
+/// The first length of the scene above 1 m (base radius, a segment's or a
+/// spline's lift, a circle's radius, a face width): almost surely given in
+/// millimetres. None when there is none.
+std::optional<PlausibilityWarning> unit_slip(const SceneConfig& scene);
+
+/// Rethrows `error` (raised while building the model) as an InputError that
+/// names the unit slip when the scene has one, with the original reason
+/// appended; otherwise rethrows it unchanged.
+[[noreturn]] void rethrow_naming_unit_slip(const SceneConfig& scene, const std::string& file, const InputError& error);
+
+/// Inputs that are legal but almost surely a slip: lengths above 1 m,
+/// pressure angle above 30°, a contact stiffness outside 1e7 ... 1e13 N/m^n,
+/// an acceleration that jumps, a restitution the contact law ignores.
+std::vector<PlausibilityWarning> input_warnings(const SceneConfig& scene, const Model& model);
+
+/// Results that should not be trusted: an energy residual too large for the
+/// tolerance, penetration large against the lift or the circle's radius,
+/// chatter (a high impact count, separation below the rigid-model jump speed),
+/// a large Richardson error estimate.
+std::vector<PlausibilityWarning> result_warnings(const SceneConfig& scene, const Model& model,
+                                                 const SimulationResult& result);
+
+/// input_warnings then result_warnings: summary.json `warnings`.
+std::vector<PlausibilityWarning> run_warnings(const SceneConfig& scene, const Model& model,
+                                              const SimulationResult& result);
+
+/// "warning: FIELD: MESSAGE" (or without the field), as printed.
+std::string warning_line(const PlausibilityWarning& w);
+
+}  // namespace camdyn
