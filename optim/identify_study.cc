@@ -6,9 +6,24 @@
 
 #include "io/json_writer.h"
 #include "optim/identify.h"
+#include "optim/identify_journal.h"
 #include "optim/identify_output.h"
 
 namespace camdyn::optim {
+
+namespace {
+
+/// What the journal of a killed run holds, on stderr.
+void say_resumed(const IdentifyJournal& journal) {
+  const IdentifyJournal::Resumed& r = journal.resumed();
+  if (r.points == 0) return;
+  std::cerr << "camdyn: resuming from " << journal.path().string() << ": " << r.points << " simulated point"
+            << (r.points == 1 ? "" : "s");
+  if (r.stage) std::cerr << ", stage " << *r.stage + 1 << " reached iteration " << r.iteration << " (cost " << r.cost << ")";
+  std::cerr << "; the fit is replayed from the start with these simulations\n";
+}
+
+}  // namespace
 
 int run_identify_study(const Json& doc, const StudyContext& ctx) {
   Json resolved;
@@ -18,12 +33,16 @@ int run_identify_study(const Json& doc, const StudyContext& ctx) {
     std::cerr << "camdyn: " << ctx.config_file << " is valid (" << problem.parameters.size() << " parameter"
               << (problem.parameters.size() == 1 ? "" : "s") << ", " << problem.experiments.size() << " record"
               << (problem.experiments.size() == 1 ? "" : "s") << ", " << problem.residual_count()
-              << " measured values)\n";
+              << " measured values, estimated memory "
+              << static_cast<double>(estimated_memory_bytes(problem)) / 1e6 << " MB)\n";
     return 0;
   }
 
+  IdentifyJournal journal(ctx.out_dir, problem);
+  say_resumed(journal);
   IdentifyOptions options;
   options.threads = ctx.threads();
+  options.journal = &journal;
   if (ctx.progress) {
     options.progress = [](int iteration, double cost) {
       std::fprintf(stderr, "\r  identify: iteration %3d, cost %.6g   ", iteration, cost);
@@ -37,6 +56,9 @@ int run_identify_study(const Json& doc, const StudyContext& ctx) {
   std::printf("%s: %s after %d iterations (%s), %ld simulations (%ld points reused), %.3g s\n",
               problem.scene.name.c_str(), result.identifiable ? "identified" : "NOT IDENTIFIABLE", result.iterations,
               result.termination.c_str(), result.simulations, result.reused_points, result.run_time_s);
+  if (result.resumed_simulations > 0)
+    std::printf("  resumed: %ld of the simulations taken from %s\n", result.resumed_simulations,
+                journal.path().c_str());
   for (const ParameterEstimate& p : result.parameters) {
     if (p.std_error)
       std::printf("  %-28s %.8g ± %.3g (%.3g %%)\n", p.name.c_str(), p.value, *p.std_error,
