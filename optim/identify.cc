@@ -585,7 +585,7 @@ long check_record_size(const ReferenceSpec& reference, const SolverSpec& solver,
   why << reference.file << " has " << rows << " samples of " << reference.signals.size() << " signal"
       << (reference.signals.size() == 1 ? "" : "s") << ", which makes " << before + values
       << " measured values in all, more than solver.max_measured_values = " << solver.max_measured_values
-      << ": the fit would need about " << static_cast<double>(before + values) * kBytesPerMeasuredValue / 1e6
+      << ": the fit would need about " << std::llround(static_cast<double>(before + values) * kBytesPerMeasuredValue / 1e6)
       << " MB of memory. Decimate the records (keeping every k-th row with k = "
       << (before + values + solver.max_measured_values - 1) / solver.max_measured_values
       << " fits the limit; the fit needs the impacts resolved, not every sample) or raise "

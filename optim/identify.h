@@ -167,11 +167,11 @@ class IdentifyJournal;
 
 struct IdentifyOptions {
   int threads = 1;  ///< simulations run in parallel
+  /// Called after each solver iteration (iteration number, cost).
+  std::function<void(int, double)> progress;
   /// Where simulations, accepted iterates and stages are journaled, and the
   /// simulations of a killed run are taken from (null: no journal).
   IdentifyJournal* journal = nullptr;
-  /// Called after each solver iteration (iteration number, cost).
-  std::function<void(int, double)> progress;
 };
 
 /// Runs the fit. Throws NumericalError (exit 3) when the solver fails (no

@@ -1,5 +1,6 @@
 #include "optim/identify_study.h"
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -34,7 +35,7 @@ int run_identify_study(const Json& doc, const StudyContext& ctx) {
               << (problem.parameters.size() == 1 ? "" : "s") << ", " << problem.experiments.size() << " record"
               << (problem.experiments.size() == 1 ? "" : "s") << ", " << problem.residual_count()
               << " measured values, estimated memory "
-              << static_cast<double>(estimated_memory_bytes(problem)) / 1e6 << " MB)\n";
+              << std::llround(static_cast<double>(estimated_memory_bytes(problem)) / 1e6) << " MB)\n";
     return 0;
   }
 
