@@ -165,7 +165,7 @@ class Simulator {
 
   const IdentifyProblem& problem_;
   int threads_;
-  IdentifyJournal* journal_;  ///< null: none
+  IdentifyJournal* journal_;                                  ///< null: none
   std::size_t kept_;                                          ///< points whose runs are kept
   std::mutex run_mutex_;                                      ///< one run() at a time: it owns kept_runs_
   std::mutex mutex_;                                          ///< guards idle_
@@ -354,8 +354,8 @@ class SampleCost final : public ceres::CostFunction {
 /// update_state_every_iteration).
 class IterationCallback final : public ceres::IterationCallback {
  public:
-  IterationCallback(const IdentifyProblem& problem, const IdentifyOptions& options, std::size_t stage,
-                    double smoothing, const std::vector<double>& z)
+  IterationCallback(const IdentifyProblem& problem, const IdentifyOptions& options, std::size_t stage, double smoothing,
+                    const std::vector<double>& z)
       : problem_(problem), options_(options), stage_(stage), smoothing_(smoothing), z_(z) {}
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& summary) override {
     if (options_.progress) options_.progress(summary.iteration, summary.cost);
@@ -585,7 +585,8 @@ long check_record_size(const ReferenceSpec& reference, const SolverSpec& solver,
   why << reference.file << " has " << rows << " samples of " << reference.signals.size() << " signal"
       << (reference.signals.size() == 1 ? "" : "s") << ", which makes " << before + values
       << " measured values in all, more than solver.max_measured_values = " << solver.max_measured_values
-      << ": the fit would need about " << std::llround(static_cast<double>(before + values) * kBytesPerMeasuredValue / 1e6)
+      << ": the fit would need about "
+      << std::llround(static_cast<double>(before + values) * kBytesPerMeasuredValue / 1e6)
       << " MB of memory. Decimate the records (keeping every k-th row with k = "
       << (before + values + solver.max_measured_values - 1) / solver.max_measured_values
       << " fits the limit; the fit needs the impacts resolved, not every sample) or raise "

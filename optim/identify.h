@@ -147,8 +147,8 @@ struct IdentifyResult {
   std::string termination;  ///< Ceres termination type of the last stage (CONVERGENCE, NO_CONVERGENCE, ...)
   std::string message;      ///< Ceres' message
   double run_time_s = 0.0;
-  long simulations = 0;    ///< simulations the fit needed (run, or taken from the journal of a killed run)
-  long reused_points = 0;  ///< parameter points whose simulations were kept from an earlier evaluation
+  long simulations = 0;          ///< simulations the fit needed (run, or taken from the journal of a killed run)
+  long reused_points = 0;        ///< parameter points whose simulations were kept from an earlier evaluation
   long resumed_simulations = 0;  ///< of `simulations`, those taken from the journal (optim/identify_journal.h)
   std::string loss;
   double loss_scale = 0.0;  ///< robust loss scale used (0 without one)

@@ -105,8 +105,8 @@ void IdentifyJournal::read_records(const IdentifyProblem& problem) {
     const std::string kind = record.value("kind", std::string());
     if (kind == "point") {
       const Json& point = record["point"];
-      auto values = point.is_string() ? from_hex(point.get_ref<const std::string&>(), problem.parameters.size())
-                                      : std::nullopt;
+      auto values =
+          point.is_string() ? from_hex(point.get_ref<const std::string&>(), problem.parameters.size()) : std::nullopt;
       auto runs = runs_of(record, problem);
       if (!values || !runs) {
         std::cerr << "camdyn: warning: " << path().string() << ": record " << index

@@ -7,7 +7,8 @@
 //       each double as the 16 hex digits of its bits (exact, and quick to read);
 //   {"index", "kind": "iterate", "stage", "smoothing_s", "iteration", "cost", "values"}
 //       an accepted iterate of the least-squares solver;
-//   {"index", "kind": "stage", "stage", "smoothing_s", "iterations", "initial_cost", "final_cost", "termination", "values"}
+//   {"index", "kind": "stage", "stage", "smoothing_s", "iterations", "initial_cost", "final_cost", "termination",
+//   "values"}
 //       a finished continuation stage.
 // Resuming is a replay: the fit runs again from its start, and every
 // simulation found in the journal is taken from there instead of being run.
@@ -81,7 +82,7 @@ class IdentifyJournal {
 
   Journal journal_;
   std::map<Key, std::vector<FitRun>> points_;  ///< read from the journal when it was opened
-  std::set<Key> journaled_;                     ///< every point in the journal (read or added)
+  std::set<Key> journaled_;                    ///< every point in the journal (read or added)
   std::size_t next_index_ = 0;
   std::size_t bytes_ = 0;  ///< simulated signals journaled [bytes of doubles]
   Resumed resumed_;

@@ -20,7 +20,8 @@ void say_resumed(const IdentifyJournal& journal) {
   if (r.points == 0) return;
   std::cerr << "camdyn: resuming from " << journal.path().string() << ": " << r.points << " simulated point"
             << (r.points == 1 ? "" : "s");
-  if (r.stage) std::cerr << ", stage " << *r.stage + 1 << " reached iteration " << r.iteration << " (cost " << r.cost << ")";
+  if (r.stage)
+    std::cerr << ", stage " << *r.stage + 1 << " reached iteration " << r.iteration << " (cost " << r.cost << ")";
   std::cerr << "; the fit is replayed from the start with these simulations\n";
 }
 

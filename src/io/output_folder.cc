@@ -67,8 +67,7 @@ OutputLock::OutputLock(std::filesystem::path dir) : dir_(std::move(dir)), file_(
       throw InputError(dir_.string(), "",
                        "the output folder is in use by " +
                            (pid.empty() ? std::string("another camdyn process") : "camdyn process " + pid) +
-                           " (it holds " + file_.string() +
-                           "); wait for that run to finish or choose another --out");
+                           " (it holds " + file_.string() + "); wait for that run to finish or choose another --out");
     }
     if (same_file(fd, file_)) {
       fd_ = fd;
@@ -76,7 +75,8 @@ OutputLock::OutputLock(std::filesystem::path dir) : dir_(std::move(dir)), file_(
       ::close(fd);  // unlinked by its last holder: lock the new one
     }
   }
-  if (fd_ < 0) throw std::runtime_error("cannot lock the output folder '" + dir_.string() + "': the lock file keeps changing");
+  if (fd_ < 0)
+    throw std::runtime_error("cannot lock the output folder '" + dir_.string() + "': the lock file keeps changing");
   const std::string pid = std::to_string(::getpid()) + "\n";
   if (::ftruncate(fd_, 0) != 0 || ::pwrite(fd_, pid.data(), pid.size(), 0) != static_cast<ssize_t>(pid.size())) {
     const int err = errno;

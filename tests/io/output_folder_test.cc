@@ -16,8 +16,8 @@
 #include "common/errors.h"
 #include "input_error_of.h"
 #include "io/atomic_file.h"
-#include "io/json_archive.h"
 #include "io/config.h"
+#include "io/json_archive.h"
 
 namespace camdyn {
 namespace {
@@ -99,8 +99,8 @@ TEST(StaleTemporaries, ThoseOfDeadProcessesAreRemovedOthersKept) {
   EXPECT_FALSE(fs::exists(dir / ("timeseries.csv.tmp." + dead)));
   EXPECT_FALSE(fs::exists(dir / ("checkpoint.json.tmp." + dead)));
   EXPECT_FALSE(fs::exists(dir / "runs" / ("a.csv.tmp." + dead)));
-  EXPECT_TRUE(fs::exists(dir / ("report.html.tmp." + alive)));           // its process is running
-  EXPECT_TRUE(fs::exists(dir / "notes.tmp.txt"));                         // not a temporary of ours
+  EXPECT_TRUE(fs::exists(dir / ("report.html.tmp." + alive)));               // its process is running
+  EXPECT_TRUE(fs::exists(dir / "notes.tmp.txt"));                            // not a temporary of ours
   EXPECT_TRUE(fs::exists(dir / "runs" / "deeper" / ("b.csv.tmp." + dead)));  // deeper than one level
 }
 

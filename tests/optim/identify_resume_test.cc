@@ -3,8 +3,6 @@
 // cutting the journal of a finished run after some of its records, the last
 // one half-written; the resumed fit must be the uninterrupted fit to the bit.
 // The same through real kill -9 of the command: tests/cli/kill_loop.py.
-#include "optim/identify_journal.h"
-
 #include <gtest/gtest.h>
 
 #include <bit>
@@ -20,6 +18,7 @@
 #include "input_error_of.h"
 #include "io/config.h"
 #include "optim/identify.h"
+#include "optim/identify_journal.h"
 
 namespace camdyn::optim {
 namespace {
@@ -145,8 +144,8 @@ TEST_F(IdentifyResume, RunCutAnywhereResumesToTheUninterruptedFitToTheBit) {
 
 TEST_F(IdentifyResume, JournalOfAChangedStudyIsRefused) {
   fit(dir_ / "full");
-  const IdentifyProblem changed = load(kData + "single.json", {"reference.file=" + (dir_ / "clean.csv").string(),
-                                                               "solver.smoothing=[3e-5]"});
+  const IdentifyProblem changed =
+      load(kData + "single.json", {"reference.file=" + (dir_ / "clean.csv").string(), "solver.smoothing=[3e-5]"});
   const InputError e = test::input_error_of([&] { const IdentifyJournal journal(dir_ / "full", changed); });
   EXPECT_EQ(e.path(), "hash");
   EXPECT_NE(e.reason().find("different identify study"), std::string::npos) << e.reason();
@@ -184,7 +183,8 @@ TEST(IdentifyRecordSize, TenMillionSamplesAreRefusedBeforeTheyAreRead) {
     }();
     for (int i = 0; i < 100; ++i) out << rows;
   }
-  const InputError e = test::input_error_of([&] { load(kData + "single.json", {"reference.file=" + (dir / "big.csv").string()}); });
+  const InputError e =
+      test::input_error_of([&] { load(kData + "single.json", {"reference.file=" + (dir / "big.csv").string()}); });
   EXPECT_EQ(e.path(), "reference.file");
   EXPECT_NE(e.reason().find("10000000 samples"), std::string::npos) << e.reason();
   EXPECT_NE(e.reason().find("solver.max_measured_values = 500000"), std::string::npos) << e.reason();
@@ -194,8 +194,8 @@ TEST(IdentifyRecordSize, TenMillionSamplesAreRefusedBeforeTheyAreRead) {
 
 TEST(IdentifyRecordSize, LimitCountsEveryExperimentAndNamesTheOneOverIt) {
   // identify_drop: four records of 800 samples; the limit falls in the third.
-  const InputError e = test::input_error_of(
-      [] { load(kDropStudy + "identify_drop.json", {"solver.max_measured_values=2000"}); });
+  const InputError e =
+      test::input_error_of([] { load(kDropStudy + "identify_drop.json", {"solver.max_measured_values=2000"}); });
   EXPECT_EQ(e.path(), "experiments[2].reference.file");
   EXPECT_NE(e.reason().find("2400 measured values in all"), std::string::npos) << e.reason();
   EXPECT_NO_THROW(load(kDropStudy + "identify_drop.json", {"solver.max_measured_values=3201"}));
