@@ -50,7 +50,9 @@ OutputLock::OutputLock(std::filesystem::path dir) : dir_(std::move(dir)), file_(
   std::error_code ec;
   created_dir_ = !std::filesystem::exists(dir_, ec);
   std::filesystem::create_directories(dir_, ec);
-  if (ec) throw std::runtime_error("cannot create the output folder '" + dir_.string() + "': " + ec.message());
+  // A file in the way, no permission: the --out the user gave cannot be used (exit 2).
+  if (ec)
+    throw InputError(dir_.string(), "", "cannot create the output folder: " + ec.message() + "; choose another --out");
   for (int attempt = 0; attempt < 100 && fd_ < 0; ++attempt) {
     const int fd = ::open(file_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
     if (fd < 0) fail("cannot create the lock file", file_, errno);

@@ -20,8 +20,8 @@ inline constexpr const char* kCompleteFile = "complete.json";
 class OutputLock {
  public:
   /// Creates `dir` if it is missing and locks it. Throws InputError(dir, "",
-  /// ...) naming the process that holds the lock (exit 2), std::runtime_error
-  /// when the folder or the lock file cannot be created. Where the file
+  /// ...) naming the process that holds the lock, or when the folder cannot
+  /// be created (exit 2); std::runtime_error when the lock file cannot be. Where the file
   /// system has no flock (some network file systems) it warns and goes on unlocked.
   explicit OutputLock(std::filesystem::path dir);
   /// Removes the lock file, and the folder if this lock created it and

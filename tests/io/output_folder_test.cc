@@ -46,6 +46,14 @@ TEST(OutputLock, SecondLockOnTheFolderIsAnInputErrorNamingTheHolder) {
   EXPECT_NE(e.reason().find("--out"), std::string::npos) << e.reason();
 }
 
+TEST(OutputLock, FolderThatIsAFileIsAnInputError) {
+  const fs::path dir = test::scratch_dir("output_folder", "file");
+  touch(dir / "out");
+  const InputError e = test::input_error_of([&] { const OutputLock lock(dir / "out"); });
+  EXPECT_EQ(e.file(), (dir / "out").string());
+  EXPECT_NE(e.reason().find("cannot create the output folder"), std::string::npos) << e.reason();
+}
+
 TEST(OutputLock, ReleasedLockLeavesNoFileAndCanBeTakenAgain) {
   const fs::path dir = test::scratch_dir("output_folder", "again");
   { const OutputLock lock(dir); }
