@@ -10,7 +10,9 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <exception>
+#include <fstream>
 #include <memory>
 #include <mutex>
 #include <sstream>
@@ -26,6 +28,7 @@
 #include "io/suggest.h"
 #include "optim/fit_residuals.h"
 #include "optim/fit_scene.h"
+#include "optim/identify_journal.h"
 #include "optim/identify_statistics.h"
 #include "study/study.h"
 
@@ -60,42 +63,56 @@ std::string fmt(double x) { return format_shortest(x); }
 /// simulation is deterministic, so a kept run is the run.
 class Simulator {
  public:
-  Simulator(const IdentifyProblem& problem, int threads)
+  Simulator(const IdentifyProblem& problem, int threads, IdentifyJournal* journal)
       : problem_(problem),
         threads_(std::max(1, threads)),
+        journal_(journal),
         kept_(kept_points(problem)),
         idle_(problem.experiments.size()) {}
 
-  /// runs[j][k]: experiment k at parameter vector points[j].
+  /// runs[j][k]: experiment k at parameter vector points[j]. A point the
+  /// journal of a killed run holds is taken from there and counted as
+  /// simulated, so the counters of a resumed run are those of an uninterrupted one.
   std::vector<std::vector<FitRun>> run(const std::vector<std::vector<double>>& points) {
     const std::lock_guard<std::mutex> calls(run_mutex_);
     const std::size_t experiments = problem_.experiments.size();
     std::vector<std::vector<FitRun>> runs(points.size());
-    std::vector<std::size_t> missing;  // indices into points
+    std::vector<std::size_t> missing, simulate;  // indices into points: not kept; of those, not journaled
     for (std::size_t j = 0; j < points.size(); ++j) {
       const auto hit = std::find_if(kept_runs_.begin(), kept_runs_.end(),
                                     [&](const KeptRun& k) { return same_bits(k.point, points[j]); });
       if (hit != kept_runs_.end()) {
         runs[j] = hit->runs;
         ++reused_;
+        continue;
+      }
+      missing.push_back(j);
+      if (const std::vector<FitRun>* journaled = journal_ != nullptr ? journal_->find(points[j]) : nullptr) {
+        runs[j] = *journaled;
+        resumed_ += static_cast<long>(experiments);
       } else {
         runs[j].resize(experiments);
-        missing.push_back(j);
+        simulate.push_back(j);
       }
     }
-    const std::size_t tasks = missing.size() * experiments;
+    const std::size_t tasks = simulate.size() * experiments;
     parallel_for(tasks, threads_, [&](std::size_t task) {
-      const std::size_t j = missing[task / experiments], k = task % experiments;
+      const std::size_t j = simulate[task / experiments], k = task % experiments;
       std::unique_ptr<FitScene> scene = acquire(k);
       runs[j][k] = scene->run(points[j]);
       release(k, std::move(scene));
     });
-    simulations_ += static_cast<long>(tasks);
+    simulations_ += static_cast<long>(missing.size() * experiments);
+    if (journal_ != nullptr)
+      for (const std::size_t j : simulate) journal_->add_point(points[j], runs[j]);
     for (const std::size_t j : missing) keep(points[j], runs[j]);
     return runs;
   }
 
+  IdentifyJournal* journal() const { return journal_; }
   long simulations() const { return simulations_; }
+  /// Simulations taken from the journal of a killed run.
+  long resumed_simulations() const { return resumed_; }
   /// Points whose runs were kept from an earlier call.
   long reused_points() const { return reused_; }
 
@@ -148,6 +165,7 @@ class Simulator {
 
   const IdentifyProblem& problem_;
   int threads_;
+  IdentifyJournal* journal_;                                  ///< null: none
   std::size_t kept_;                                          ///< points whose runs are kept
   std::mutex run_mutex_;                                      ///< one run() at a time: it owns kept_runs_
   std::mutex mutex_;                                          ///< guards idle_
@@ -155,6 +173,7 @@ class Simulator {
   std::vector<KeptRun> kept_runs_;                            ///< oldest first
   long simulations_ = 0;
   long reused_ = 0;
+  long resumed_ = 0;
 };
 
 // ---------------------------------------------------------------- residuals and their derivatives
@@ -330,20 +349,34 @@ class SampleCost final : public ceres::CostFunction {
   std::size_t row_;
 };
 
-class ProgressCallback final : public ceres::IterationCallback {
+/// After each solver iteration: the progress callback, and the accepted
+/// iterates into the journal (Ceres has written them into z by then:
+/// update_state_every_iteration).
+class IterationCallback final : public ceres::IterationCallback {
  public:
-  ProgressCallback(const std::function<void(const IdentifyProgress&)>& progress, IdentifyProgress where)
-      : progress_(progress), where_(where) {}
+  IterationCallback(const IdentifyProblem& problem, const IdentifyOptions& options, std::size_t stage, double smoothing,
+                    const std::vector<double>& z, IdentifyProgress where)
+      : problem_(problem), options_(options), stage_(stage), smoothing_(smoothing), z_(z), where_(where) {}
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& summary) override {
-    if (!progress_) return ceres::SOLVER_CONTINUE;
-    where_.iteration = summary.iteration;
-    where_.cost = summary.cost;
-    progress_(where_);
+    if (options_.progress) {
+      where_.iteration = summary.iteration;
+      where_.cost = summary.cost;
+      options_.progress(where_);
+    }
+    if (options_.journal != nullptr && summary.step_is_successful) {
+      std::vector<double> values(z_.size());
+      for (std::size_t i = 0; i < z_.size(); ++i) values[i] = to_value(problem_.parameters[i], z_[i]);
+      options_.journal->add_iterate(stage_, smoothing_, summary.iteration, summary.cost, values);
+    }
     return ceres::SOLVER_CONTINUE;
   }
 
  private:
-  const std::function<void(const IdentifyProgress&)>& progress_;
+  const IdentifyProblem& problem_;
+  const IdentifyOptions& options_;
+  std::size_t stage_;
+  double smoothing_;
+  const std::vector<double>& z_;
   IdentifyProgress where_;
 };
 
@@ -377,8 +410,9 @@ struct Stage {
 };
 
 std::unique_ptr<Stage> solve_stage(const IdentifyProblem& problem, Simulator& simulator, const SolverSpec& spec,
-                                   double smoothing, double loss_scale, const IdentifyOptions& options,
-                                   const IdentifyProgress& where, std::vector<double>& z) {
+                                   std::size_t stage_index, double smoothing, double loss_scale,
+                                   const IdentifyOptions& options, const IdentifyProgress& where,
+                                   std::vector<double>& z) {
   auto stage = std::make_unique<Stage>();
   stage->evaluator = std::make_unique<FitEvaluator>(problem, simulator, smoothing);
   // One loss object for all blocks; the problem must then not delete it per block.
@@ -414,8 +448,9 @@ std::unique_ptr<Stage> solve_stage(const IdentifyProblem& problem, Simulator& si
   solver_options.num_threads = 1;  // one residual block; the simulations run in parallel inside it
   solver_options.logging_type = ceres::SILENT;
   solver_options.minimizer_progress_to_stdout = false;
-  ProgressCallback callback(options.progress, where);
+  IterationCallback callback(problem, options, stage_index, smoothing, z, where);
   solver_options.callbacks.push_back(&callback);
+  solver_options.update_state_every_iteration = true;  // z is the accepted iterate in the callback
   std::string options_error;
   if (!solver_options.IsValid(&options_error)) throw std::logic_error("Ceres options: " + options_error);
 
@@ -514,6 +549,63 @@ MeasuredRecord read_reference(const ReferenceSpec& reference, double t_end) {
 
 // ---------------------------------------------------------------- problem set-up
 
+namespace {
+
+/// Data rows of a CSV file (lines neither empty nor comments, less the
+/// header), counted without reading the values; 0 if it cannot be opened
+/// (read_csv says why).
+long count_data_rows(const std::string& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) return 0;
+  std::vector<char> buffer(std::size_t{1} << 20);
+  long lines = 0;
+  bool line_start = true;  // the next character starts a line
+  auto count = [&](char first) {
+    if (first != '\n' && first != '\r' && first != '#') ++lines;
+  };
+  while (in) {
+    in.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+    const char* p = buffer.data();
+    const char* const end = p + in.gcount();
+    if (p == end) break;
+    if (line_start) count(*p);
+    while (const void* nl = std::memchr(p, '\n', static_cast<std::size_t>(end - p))) {
+      p = static_cast<const char*>(nl) + 1;
+      if (p == end) break;
+      count(*p);
+    }
+    line_start = end[-1] == '\n';
+  }
+  return std::max(lines - 1, 0L);
+}
+
+/// The measured values (samples × signals) of a record, refused before it is
+/// read if the fit's total would exceed solver.max_measured_values.
+long check_record_size(const ReferenceSpec& reference, const SolverSpec& solver, long before, const std::string& file,
+                       const std::string& field) {
+  const long rows = count_data_rows(reference.file);
+  const long values = rows * static_cast<long>(reference.signals.size());
+  if (before + values <= solver.max_measured_values) return values;
+  std::ostringstream why;
+  why.precision(3);
+  why << reference.file << " has " << rows << " samples of " << reference.signals.size() << " signal"
+      << (reference.signals.size() == 1 ? "" : "s") << ", which makes " << before + values
+      << " measured values in all, more than solver.max_measured_values = " << solver.max_measured_values
+      << ": the fit would need about "
+      << std::llround(static_cast<double>(before + values) * kBytesPerMeasuredValue / 1e6)
+      << " MB of memory. Decimate the records (keeping every k-th row with k = "
+      << (before + values + solver.max_measured_values - 1) / solver.max_measured_values
+      << " fits the limit; the fit needs the impacts resolved, not every sample) or raise "
+         "solver.max_measured_values";
+  throw InputError(file, field, why.str());
+}
+
+}  // namespace
+
+std::size_t estimated_memory_bytes(const IdentifyProblem& problem) {
+  return static_cast<std::size_t>(static_cast<double>(problem.residual_count()) * kBytesPerMeasuredValue);
+}
+
 std::size_t IdentifyProblem::residual_count() const {
   std::size_t n = 0;
   for (const FitExperiment& e : experiments) n += e.record.time.size() * e.record.signals.size();
@@ -576,6 +668,7 @@ IdentifyProblem prepare_identify(const SceneConfig& scene, const IdentifySpec& s
   std::vector<double> initial;
   for (const FitParameter& p : problem.parameters) initial.push_back(p.initial);
 
+  long measured_values = 0;  // of the records before this one
   for (std::size_t k = 0; k < spec.experiments.size(); ++k) {
     const ExperimentSpec& es = spec.experiments[k];
     const std::string at = spec.single_reference ? "reference" : "experiments[" + std::to_string(k) + "]";
@@ -622,9 +715,12 @@ IdentifyProblem prepare_identify(const SceneConfig& scene, const IdentifySpec& s
         if (std::isfinite(values[i])) check(values, "parameters." + par.name + (upper ? ".upper" : ".lower"), false);
       }
     }
+    measured_values += check_record_size(e.reference, problem.solver, measured_values, source.file,
+                                         spec.single_reference ? "reference.file" : at + ".reference.file");
     e.record = read_reference(e.reference, run_end(e.scene));
     problem.experiments.push_back(std::move(e));
   }
+  problem.fingerprint = identify_fingerprint(scene, spec, problem.experiments);
   if (problem.residual_count() <= problem.parameters.size())
     throw InputError(source.file, "parameters",
                      std::to_string(problem.parameters.size()) + " parameters cannot be fitted to " +
@@ -682,10 +778,10 @@ std::unique_ptr<Stage> run_continuation(const IdentifyProblem& problem, Simulato
   std::sort(widths.begin(), widths.end(), std::greater<>());
   widths.push_back(0.0);
   std::unique_ptr<Stage> stage;
-  for (std::size_t k = 0; k < widths.size(); ++k) {
-    const double width = widths[k];
-    const IdentifyProgress where{static_cast<int>(k) + 1, static_cast<int>(widths.size()), width, 0, 0.0};
-    stage = solve_stage(problem, simulator, problem.solver, width, result.loss_scale, options, where, z);
+  for (std::size_t index = 0; index < widths.size(); ++index) {
+    const double width = widths[index];
+    const IdentifyProgress where{static_cast<int>(index) + 1, static_cast<int>(widths.size()), width, 0, 0.0};
+    stage = solve_stage(problem, simulator, problem.solver, index, width, result.loss_scale, options, where, z);
     const ceres::Solver::Summary& summary = stage->summary;
     std::vector<double> stage_values(p);
     for (std::size_t i = 0; i < p; ++i) stage_values[i] = to_value(problem.parameters[i], z[i]);
@@ -693,6 +789,7 @@ std::unique_ptr<Stage> run_continuation(const IdentifyProblem& problem, Simulato
                              summary.final_cost, ceres::TerminationTypeToString(summary.termination_type),
                              stage_values});
     result.iterations += result.stages.back().iterations;
+    if (options.journal != nullptr) options.journal->add_stage(index, result.stages.back());
     if (stage->evaluator->failures() > 0)
       result.warnings.push_back(
           std::to_string(stage->evaluator->failures()) +
@@ -968,7 +1065,7 @@ IdentifyResult identify(const IdentifyProblem& problem, const IdentifyOptions& o
   const auto wall_start = std::chrono::steady_clock::now();
   const std::size_t p = problem.parameters.size();
   const SolverSpec& spec = problem.solver;
-  Simulator simulator(problem, options.threads);
+  Simulator simulator(problem, options.threads, options.journal);
   IdentifyResult result;
   result.loss = spec.loss;
   result.loss_scale = loss_scale_of(problem);
@@ -1003,6 +1100,7 @@ IdentifyResult identify(const IdentifyProblem& problem, const IdentifyOptions& o
   result.identified_scene = scene_with(to_json(problem.scene), problem.parameters, optimum.values, problem.source);
   result.simulations = simulator.simulations();
   result.reused_points = simulator.reused_points();
+  result.resumed_simulations = simulator.resumed_simulations();
   result.run_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   return result;
 }

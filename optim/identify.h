@@ -77,8 +77,18 @@ struct IdentifyProblem {
   std::vector<FitParameter> parameters;
   std::vector<FitExperiment> experiments;
   SolverSpec solver;
+  std::string fingerprint;  ///< identify_fingerprint (optim/identify_journal.h): what a journal must match
   std::size_t residual_count() const;
 };
+
+/// Memory a fit holds per measured value (sample × signal) [bytes]: the
+/// Ceres residual block of the sample, the Jacobian rows, the simulated
+/// signals kept for reuse, fit.csv and the report (measured on
+/// identify_single_drop with 1e5 and 1e6 samples: 745 and 766 bytes).
+inline constexpr double kBytesPerMeasuredValue = 800.0;
+
+/// The memory the fit of `problem` is estimated to need [bytes].
+std::size_t estimated_memory_bytes(const IdentifyProblem& problem);
 
 /// Resolves a spec against the study's scene. Throws InputError (file, dotted path or CSV line).
 IdentifyProblem prepare_identify(const SceneConfig& scene, const IdentifySpec& spec, const ConfigSource& source);
@@ -137,8 +147,9 @@ struct IdentifyResult {
   std::string termination;  ///< Ceres termination type of the last stage (CONVERGENCE, NO_CONVERGENCE, ...)
   std::string message;      ///< Ceres' message
   double run_time_s = 0.0;
-  long simulations = 0;    ///< simulations run
-  long reused_points = 0;  ///< parameter points whose simulations were kept from an earlier evaluation
+  long simulations = 0;          ///< simulations the fit needed (run, or taken from the journal of a killed run)
+  long reused_points = 0;        ///< parameter points whose simulations were kept from an earlier evaluation
+  long resumed_simulations = 0;  ///< of `simulations`, those taken from the journal (optim/identify_journal.h)
   std::string loss;
   double loss_scale = 0.0;  ///< robust loss scale used (0 without one)
   bool identifiable = true;
@@ -161,10 +172,15 @@ struct IdentifyProgress {
   double cost = 0.0;       ///< the stage's cost at that iteration
 };
 
+class IdentifyJournal;
+
 struct IdentifyOptions {
   int threads = 1;  ///< simulations run in parallel
   /// Called after each solver iteration of each continuation stage.
   std::function<void(const IdentifyProgress&)> progress;
+  /// Where simulations, accepted iterates and stages are journaled, and the
+  /// simulations of a killed run are taken from (null: no journal).
+  IdentifyJournal* journal = nullptr;
 };
 
 /// Runs the fit. Throws NumericalError (exit 3) when the solver fails (no

@@ -78,6 +78,7 @@ void visit(A& a, SolverSpec& s) {
   a.field("initial_trust_region_radius", s.initial_trust_region_radius, positive());
   a.field("smoothing", s.smoothing, positive());
   a.field("max_relative_std_error", s.max_relative_std_error, positive());
+  a.field("max_measured_values", s.max_measured_values, at_least(1));
 }
 
 template <class A>

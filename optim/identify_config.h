@@ -83,6 +83,11 @@ struct SolverSpec {
   /// A parameter whose standard error exceeds this fraction of its value is
   /// reported as not identifiable from the data.
   double max_relative_std_error = 0.1;
+  /// Most measured values (samples × signals, all records together) a fit
+  /// takes: the fit holds about kBytesPerMeasuredValue (optim/identify.h) of
+  /// memory per value, so the default is about 400 MB; a larger record is
+  /// refused at validation (decimate it, or raise this).
+  long max_measured_values = 500000;
 };
 
 struct IdentifySpec {

@@ -76,6 +76,7 @@ Json identified_json(const IdentifyProblem& problem, const IdentifyResult& resul
   j["run_time_s"] = result.run_time_s;
   j["simulations"] = result.simulations;
   j["reused_points"] = result.reused_points;
+  j["resumed_simulations"] = result.resumed_simulations;
   Json stages = Json::array();
   for (const StageSummary& st : result.stages)
     stages.push_back(Json{{"smoothing_s", st.smoothing_s},

@@ -11,8 +11,10 @@
 #include "dynamics/model.h"
 #include "dynamics/plausibility.h"
 #include "dynamics/simulation.h"
+#include "io/atomic_file.h"
 #include "io/config.h"
 #include "io/json_writer.h"
+#include "io/output_folder.h"
 #include "io/profile_export.h"
 #include "optim/identify_study.h"
 #include "optim/optimize_study.h"
@@ -174,6 +176,14 @@ StudyOutcome run_study(const StudyRequest& request) {
   outcome.study = doc.contains("study") && doc["study"].is_string() ? doc["study"].get<std::string>() : "simulate";
   outcome.out_dir = ctx.out_dir;
   outcome.main_output = ctx.out_dir / main_output_name(outcome.study);
+  // One run at a time per output folder (rank 0 writes for all ranks); the
+  // completion marker goes first and comes back only once every output is written.
+  std::optional<OutputLock> lock;
+  if (!ctx.validate_only && mpi::rank() == 0) {
+    lock.emplace(ctx.out_dir);
+    remove_stale_temporary_files(ctx.out_dir);
+    remove_completion_marker(ctx.out_dir);
+  }
   try {
     outcome.exit_code = dispatch(outcome.study, doc, ctx);
   } catch (const InputError& e) {
@@ -181,6 +191,8 @@ StudyOutcome run_study(const StudyRequest& request) {
     if (!e.file().empty() || request.config_file.empty()) throw;
     throw InputError(request.config_file, e.path(), e.reason());
   }
+  if (lock && outcome.exit_code == kExitOk)
+    write_completion_marker(ctx.out_dir, outcome.study, main_output_name(outcome.study));
   return outcome;
 }
 

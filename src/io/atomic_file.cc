@@ -39,21 +39,23 @@ int write_error(const std::filesystem::path& path) {
   return !ec && space.available == 0 ? ENOSPC : EIO;
 }
 
+// `name` is `<prefix><pid>` (prefix ending in ".tmp.") of a process that is gone.
+bool is_stale_temporary(const std::string& name, const std::string& prefix) {
+  if (!name.starts_with(prefix)) return false;
+  const std::string digits = name.substr(prefix.size());
+  if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos || digits.size() > 9) return false;
+  const auto pid = static_cast<pid_t>(std::stol(digits));
+  return pid != ::getpid() && ::kill(pid, 0) != 0 && errno == ESRCH;  // alive, or not ours to judge: kept
+}
+
 // Temporary files `<name>.tmp.<pid>` of a run that was killed before it
 // committed (its process is gone) are removed when the file is next written.
 void remove_stale_temporaries(const std::filesystem::path& path) {
   const std::string prefix = path.filename().string() + ".tmp.";
   const std::filesystem::path dir = path.parent_path().empty() ? "." : path.parent_path();
   std::error_code ec;
-  for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
-    const std::string name = entry.path().filename().string();
-    if (!name.starts_with(prefix)) continue;
-    const std::string digits = name.substr(prefix.size());
-    if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos || digits.size() > 9) continue;
-    const auto pid = static_cast<pid_t>(std::stol(digits));
-    if (pid == ::getpid() || ::kill(pid, 0) == 0 || errno != ESRCH) continue;  // alive, or not ours to judge
-    std::filesystem::remove(entry.path(), ec);
-  }
+  for (const auto& entry : std::filesystem::directory_iterator(dir, ec))
+    if (is_stale_temporary(entry.path().filename().string(), prefix)) std::filesystem::remove(entry.path(), ec);
 }
 
 }  // namespace
@@ -100,6 +102,19 @@ void AtomicFile::commit() {
     fail("cannot rename temporary file to", path_, errno);
   }
   committed_ = true;
+}
+
+void remove_stale_temporary_files(const std::filesystem::path& dir) {
+  std::error_code ec;
+  auto it = std::filesystem::recursive_directory_iterator(dir, ec);
+  for (; !ec && it != std::filesystem::recursive_directory_iterator(); it.increment(ec)) {
+    if (it.depth() >= 1) it.disable_recursion_pending();  // the folder and its subfolders, no deeper
+    const std::string name = it->path().filename().string();
+    const std::size_t tmp = name.rfind(".tmp.");
+    std::error_code ignored;  // best effort, like the removal on the next write
+    if (tmp == std::string::npos || !it->is_regular_file(ignored)) continue;
+    if (is_stale_temporary(name, name.substr(0, tmp + 5))) std::filesystem::remove(it->path(), ignored);
+  }
 }
 
 void write_file_atomic(const std::filesystem::path& path, std::string_view content) {

@@ -14,6 +14,12 @@ namespace camdyn {
 /// Throws std::runtime_error naming the path and the OS error.
 void write_file_atomic(const std::filesystem::path& path, std::string_view content);
 
+/// Removes the temporary files `<name>.tmp.<pid>` that killed runs left in
+/// `dir` and its subfolders (one level): those whose process is gone. A run
+/// that holds the folder's lock (io/output_folder.h) calls it at its start,
+/// so a file the new run never writes again leaves no temporary behind either.
+void remove_stale_temporary_files(const std::filesystem::path& dir);
+
 /// A streaming atomic file. Writes go to `<path>.tmp.<pid>`; commit() flushes,
 /// checks the stream, fsyncs and renames it over `path`. Destroying an
 /// uncommitted AtomicFile removes the temporary file, leaving `path` untouched.
