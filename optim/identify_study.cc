@@ -16,8 +16,35 @@ namespace camdyn::optim {
 
 namespace {
 
-#include <chrono>
-#include <cmath>
+/// What the journal of a killed run holds, on stderr.
+void say_resumed(const IdentifyJournal& journal) {
+  const IdentifyJournal::Resumed& r = journal.resumed();
+  if (r.points == 0) return;
+  std::cerr << "camdyn: resuming from " << journal.path().string() << ": " << r.points << " simulated point"
+            << (r.points == 1 ? "" : "s");
+  if (r.stage)
+    std::cerr << ", stage " << *r.stage + 1 << " reached iteration " << r.iteration << " (cost " << r.cost << ")";
+  std::cerr << "; the fit is replayed from the start with these simulations\n";
+}
+
+/// A progress printer for stderr: the continuation stage (and its smoothing
+/// window), the iteration of the stage and its cost; at most one line per
+/// 0.2 s, and always the first iteration of a stage.
+std::function<void(const IdentifyProgress&)> progress_printer(int max_iterations) {
+  using Clock = std::chrono::steady_clock;
+  return [max_iterations, last = Clock::time_point{}](const IdentifyProgress& p) mutable {
+    const Clock::time_point now = Clock::now();
+    if (p.iteration > 0 && now - last < std::chrono::milliseconds(200)) return;
+    last = now;
+    char stage[64];
+    if (p.smoothing > 0.0)
+      std::snprintf(stage, sizeof stage, "smoothed over %g ms", p.smoothing * 1e3);
+    else
+      std::snprintf(stage, sizeof stage, "raw signals");
+    std::fprintf(stderr, "\r  identify: stage %d/%d (%s), iteration %d of at most %d, cost %.6g    ", p.stage, p.stages,
+                 stage, p.iteration, max_iterations, p.cost);
+    std::fflush(stderr);
+  };
 }
 
 }  // namespace
