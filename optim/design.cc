@@ -169,7 +169,8 @@ void DesignSpace::read_end_ranges(const std::vector<SegmentConfig>& segs) {
     if (!*range) continue;
     const std::string at = "design.end_deg_range." + to_string(type);
     if (!is_designed(config_, type)) throw InputError(file_, at, "'" + to_string(type) + "' is not in design.segments");
-    const long count = std::count_if(segs.begin(), segs.end(), [&](const SegmentConfig& s) { return s.type == type; });
+    const long count =
+        std::count_if(segs.begin(), segs.end(), [&wanted = type](const SegmentConfig& s) { return s.type == wanted; });
     if (count != 1)
       throw InputError(file_, at,
                        "the baseline has " + std::to_string(count) + " '" + to_string(type) +

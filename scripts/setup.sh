@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Prepares a fresh Debian 12 machine for camdyn and builds one CMake preset:
-#   scripts/setup.sh [PRESET [TARGET...]]   PRESET: release (default), ci, debug, asan
+#   scripts/setup.sh [PRESET [TARGET...]]   PRESET: release (default), ci, debug, asan, fuzz
 # With TARGETs only those are built (the quickstart builds just `camdyn`).
 # Only the packages that are missing are installed, so a second run neither
 # needs root nor touches the network.
@@ -19,6 +19,8 @@ packages=(
 )
 # The test presets also check formatting and run clang-tidy (scripts/check_format.sh, check_tidy.sh).
 [[ "$preset" == release ]] || packages+=(clang-format clang-tidy)
+# The fuzz preset builds the libFuzzer targets with clang 14 (docs/fuzzing.md).
+[[ "$preset" != fuzz ]] || packages+=(clang-14 libfuzzer-14-dev libclang-rt-14-dev)
 
 if ! command -v dpkg-query >/dev/null 2>&1; then
   echo "setup: dpkg-query not found; this script supports Debian 12 only." >&2

@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # The CI test run: builds and tests the ci preset (optimised, assertions on,
-# warnings are errors), then the asan preset (AddressSanitizer + UBSan).
+# warnings are errors), then the asan preset (AddressSanitizer + UBSan), then
+# the fuzz preset (clang: only the libFuzzer targets, each fuzzed for about
+# 50 s; docs/fuzzing.md).
 # Every phase runs even if an earlier one failed, so one report shows all
 # failures; the exit status is non-zero if any phase failed.
 set -euo pipefail
@@ -24,8 +26,13 @@ phase() {
   echo "==> $name: $outcome after ${elapsed}s"
 }
 
-for preset in ci asan; do
-  phase "build $preset" bash scripts/setup.sh "$preset"
+for preset in ci asan fuzz; do
+  if [[ "$preset" == fuzz ]]; then
+    # Only what the fuzz targets link (the library, no tests or tools).
+    phase "build fuzz" bash scripts/setup.sh fuzz config_fuzzer csv_fuzzer scene_fuzzer
+  else
+    phase "build $preset" bash scripts/setup.sh "$preset"
+  fi
   if [[ "$preset" == ci ]]; then
     # Once setup has installed clang-format and clang-tidy: the layer order of
     # the include graph and the function-length limit, and the formatting

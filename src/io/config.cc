@@ -557,6 +557,15 @@ void apply_assignment(Json& document, const std::string& assignment) {
   }
   const std::string key = assignment.substr(0, equals);
   const std::string text = assignment.substr(equals + 1);
+  // A config file is UTF-8 (the JSON parser checks it); a command-line
+  // argument may be any bytes, and a key or bare string that is not UTF-8
+  // would make every later dump of the document throw.
+  try {
+    (void)Json(assignment).dump();
+  } catch (const Json::type_error&) {
+    const std::string shown = Json(key).dump(-1, ' ', false, Json::error_handler_t::replace);
+    throw InputError("--set", shown.substr(1, shown.size() - 2), "is not valid UTF-8 text");
+  }
   // JSON if it parses (numbers, true, null, arrays, objects, "quoted"), else a bare string.
   const auto depth_check = [&key](int depth, Json::parse_event_t /*event*/, Json& /*parsed*/) {
     if (depth > static_cast<int>(kMaxJsonDepth))

@@ -29,7 +29,8 @@ std::string describe_json(const Json& value) {
     case Json::value_t::boolean:
       return "boolean " + value.dump();
     case Json::value_t::string: {
-      std::string text = value.dump();
+      // Bytes that are not UTF-8 are shown as U+FFFD rather than thrown on.
+      std::string text = value.dump(-1, ' ', false, Json::error_handler_t::replace);
       if (text.size() > 60) text = text.substr(0, 56) + "...\"";
       return "string " + text;
     }

@@ -307,8 +307,10 @@ void JsonReader::read(const Json& j, const std::string& path, T& value, std::spa
                                                     std::trunc(j.template get<double>()) == j.template get<double>());
     if (!integral) fail_at(path, "expected an integer, got " + describe_json(j));
     const double x = j.template get<double>();
+    // The upper bound is max + 1 (2^31, 2^63: exact as doubles); comparing
+    // with max itself would let 2^63 through, as max rounds up to it.
     if (x < static_cast<double>(std::numeric_limits<T>::min()) ||
-        x > static_cast<double>(std::numeric_limits<T>::max())) {
+        x >= static_cast<double>(std::numeric_limits<T>::max()) + 1.0) {
       fail_at(path, "integer out of range, got " + describe_json(j));
     }
     run_checks(path, x, checks);

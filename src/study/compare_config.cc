@@ -108,7 +108,8 @@ std::vector<OverlaySelection> read_overlays(const Json& part, const CompareSpec&
       const std::size_t axis = static_cast<std::size_t>(k - keys.begin());
       const std::vector<Json>& values = spec.axis_values(axis);
       if (std::find(values.begin(), values.end(), value) == values.end())
-        throw InputError(ctx.config_file, where + "." + key, value.dump() + " is not one of its values");
+        throw InputError(ctx.config_file, where + "." + key,
+                         value.dump(-1, ' ', false, Json::error_handler_t::replace) + " is not one of its values");
       selection.emplace_back(axis, value);
     }
     overlays.push_back(std::move(selection));

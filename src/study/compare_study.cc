@@ -94,6 +94,13 @@ std::vector<ComparePoint> expand_points(const CompareSpec& spec) {
   return points;
 }
 
+/// The study's `name`, or `fallback` when it has none or it is not a string
+/// (each case's scene reports the wrong type, naming the field).
+std::string study_name(const Json& doc, const std::string& fallback) {
+  const auto it = doc.find("name");
+  return it != doc.end() && it->is_string() ? it->get<std::string>() : fallback;
+}
+
 /// Reads the study: its own fields, the scene of each case, every run.
 ComparePlan plan_study(const Json& doc, const StudyContext& ctx) {
   Json part;
@@ -105,7 +112,7 @@ ComparePlan plan_study(const Json& doc, const StudyContext& ctx) {
     }
   scene_doc["study"] = "simulate";
   ComparePlan plan;
-  plan.spec = compare_spec_from_json(part, doc.value("name", std::string("scene")), ctx);
+  plan.spec = compare_spec_from_json(part, study_name(doc, "scene"), ctx);
   plan.keys = plan.spec.keys();
   plan.bases = resolve_cases(plan.spec, scene_doc, ctx);
   plan.points = expand_points(plan.spec);
@@ -239,7 +246,7 @@ int run_compare_study(const Json& doc, const StudyContext& ctx) {
   // writes exactly what an uninterrupted one does.
   CompareResult result;
   result.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-  result.name = doc.value("name", std::string("compare"));
+  result.name = study_name(doc, "compare");
   result.spec = &plan.spec;
   result.keys = plan.keys;
   result.points = plan.points;

@@ -414,6 +414,29 @@ TEST(Config, SetRejectsMalformedOverrides) {
   EXPECT_NE(error("mechanism.cam[0]=1").reason().find("not an array"), std::string::npos);
 }
 
+// A command-line argument may be any bytes; one that is not UTF-8 became a
+// bare string in the document and made the next dump of it throw a JSON
+// type error, exit 1 (found by config_fuzzer, docs/fuzzing.md).
+TEST(Config, SetRejectsTextThatIsNotUtf8) {
+  const auto error = [](const std::string& o) { return expect_input_error([&] { load_config_json(kGoodBase, {o}); }); };
+  const InputError value = error(
+      "mechanism.cam.rpm=\xC5\xC5"
+      "1500");
+  EXPECT_EQ(value.file(), "--set");
+  EXPECT_EQ(value.path(), "mechanism.cam.rpm");
+  EXPECT_EQ(value.reason(), "is not valid UTF-8 text");
+  const InputError key = error("name\xFF=x");
+  EXPECT_EQ(key.path(), "name\xEF\xBF\xBD");  // U+FFFD for the stray byte
+  EXPECT_EQ(load_config_json(kGoodBase, {"name=r\xC3\xA9sum\xC3\xA9"})["name"],
+            "r\xC3\xA9sum\xC3\xA9");  // UTF-8 is fine
+}
+
+// describe_json, which every type error quotes, shows a string that is not
+// UTF-8 (from a caller's Json, not a parsed file) instead of throwing.
+TEST(Config, DescribeJsonShowsBytesThatAreNotUtf8) {
+  EXPECT_EQ(describe_json(Json("a\xC5")), "string \"a\xEF\xBF\xBD\"");
+}
+
 TEST(Config, SetUnknownKeyIsCaughtBySceneFromJson) {
   const InputError e = expect_input_error([] { load_scene(kGoodBase, {"mechanism.follower.mas=1"}); });
   EXPECT_EQ(e.path(), "mechanism.follower.mas");
@@ -596,6 +619,23 @@ TEST(Config, NumbersAndIntegersAreTypeChecked) {
   doc = minimal_scene();
   doc["integrator"]["max_steps"] = 1e30;
   EXPECT_EQ(expect_input_error([&] { scene_from_json(doc, {"s.json", "/"}); }).path(), "integrator.max_steps");
+}
+
+// 2^63 is one past the largest long; as a double it equals
+// double(LONG_MAX), so a bound of max alone let it through to an undefined
+// conversion (a 9223372036854775808.0), or, written as an unsigned JSON
+// integer, to a negative step budget (found by scene_fuzzer, docs/fuzzing.md).
+TEST(Config, IntegerJustPastTheRangeOfItsFieldIsRejected) {
+  for (const char* text : {"9223372036854775808", "9223372036854775808.0", "18446744073709551615", "-9.3e18"}) {
+    Json doc = minimal_scene();
+    doc["integrator"]["max_steps"] = Json::parse(text);
+    const InputError e = expect_input_error([&] { scene_from_json(doc, {"s.json", "/"}); });
+    EXPECT_EQ(e.path(), "integrator.max_steps") << text;
+    EXPECT_NE(e.reason().find("integer out of range"), std::string::npos) << text << ": " << e.reason();
+  }
+  Json doc = minimal_scene();
+  doc["integrator"]["max_steps"] = Json::parse("9223372036854774784.0");  // the largest double below 2^63
+  EXPECT_EQ(scene_from_json(doc, {"s.json", "/"}).integrator.max_steps, 9223372036854774784L);
 }
 
 TEST(Config, SyntaxErrorGivesLineAndColumnOfTheOffendingToken) {

@@ -223,6 +223,17 @@ TEST_F(CompareCli, InlineCaseOverlaysAndBestMarks) {
   EXPECT_EQ(overlays, 2u);  // both cases at 1300 rpm
 }
 
+// A `name` that is not a string threw a JSON type error out of the study
+// (exit 1) before any case's scene could report it (found by scene_fuzzer,
+// docs/fuzzing.md).
+TEST_F(CompareCli, NameThatIsNotAStringIsAnInputError) {
+  const fs::path study = write_study();
+  EXPECT_EQ(run_camdyn({"validate", study.string(), "--set", "name=[1]"}, dir_, "validate").code, 2);
+  const std::string err = read_text(dir_ / "validate.err");
+  EXPECT_NE(err.find("name"), std::string::npos) << err;
+  EXPECT_EQ(err.find("type_error"), std::string::npos) << err;
+}
+
 TEST_F(CompareCli, BadOverlayKeyIsAnInputError) {
   const fs::path study = write_study(R"(,
       "overlays": [ { "mechanism.cam.rpm": 1234 } ])");
