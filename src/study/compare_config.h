@@ -28,9 +28,9 @@ const std::vector<std::string>& compare_metric_names();
 bool higher_is_better(const std::string& metric);
 
 /// One `cases[]` entry.
-struct CompareCase {
-  std::string name;              ///< unique among the cases
-  std::string config;            ///< a scene file, made absolute; empty: inline or the study's own scene
+struct CompareCase {   // NOLINT(bugprone-exception-escape): its implicit moves are Json moves, which do not throw
+  std::string name;    ///< unique among the cases
+  std::string config;  ///< a scene file, made absolute; empty: inline or the study's own scene
   std::vector<std::string> set;  ///< "dotted.path=VALUE" overrides
   Json inline_config;            ///< `config` given as an object (merged over the study's scene); else null
 };

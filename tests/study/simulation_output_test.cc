@@ -66,6 +66,8 @@ TEST(SimulationOutput, SolverBlockEndsWithTerminationAndMessage) {
                                              "jacobian_evaluations",
                                              "restarts",
                                              "tracking_projections",
+                                             "flights",
+                                             "flight_intervals",
                                              "tracking",
                                              "simulated_time_s",
                                              "evaluated_from_s",
