@@ -129,6 +129,12 @@ def bench(file: str, name: str, field: str) -> float:
     raise LookupError(f"bench/results/{file}: no benchmark {name}")
 
 
+def peer(name: str, field: str) -> float:
+    """A field of one peer in bench/results/peers.json (bench/peers/run_peers.py)."""
+    data = json.loads((ROOT / "bench" / "results" / "peers.json").read_text())
+    return float(data["peers"][name][field])
+
+
 def law_row(run: Run, law: str) -> list[dict]:
     return [r for r in run.rows("comparison.csv") if r["case"] == law]
 
@@ -290,6 +296,24 @@ NUMBERS = [
       for what, column, fmt, tol in [("error_m", "error_position", "e1", "5%"), ("rhs", "rhs_evaluations", "comma",
                                                                                  "1%")]],
     # Benchmarks (bench/results/*.json, release build, 2 cores): read, not rerun.
+    Num("bench.long_flight.closed_form_s", "bench",
+        lambda _: 1e-3 * bench("simulation.json", "BM_LongFlight/0/min_time:2.000", "real_time"), ".2f", "0.005"),
+    Num("bench.long_flight.integrated_s", "bench",
+        lambda _: 1e-3 * bench("simulation.json", "BM_LongFlight/1/iterations:1", "real_time"), ".1f", "0.05"),
+    Num("bench.long_flight.restarts_per_impact", "bench",
+        lambda _: bench("simulation.json", "BM_LongFlight/0/min_time:2.000", "restarts_and_projections_per_impact"),
+        ".1f", "0.05"),
+    Num("bench.long_flight.integrated_restarts_per_impact", "bench",
+        lambda _: bench("simulation.json", "BM_LongFlight/1/iterations:1", "restarts_and_projections_per_impact"),
+        ",.0f", "0.5"),
+    Num("bench.table.build_36k_ms", "bench",
+        lambda _: bench("table.json", "BM_TableLawBuild/36000", "real_time"), ".0f", "0.5"),
+    Num("bench.table.build_360k_ms", "bench",
+        lambda _: bench("table.json", "BM_TableLawBuild/360000", "real_time"), ".0f", "0.5"),
+    Num("peers.camdyn_wall_s", "bench", lambda _: peer("camdyn", "wall_s"), ".2f", "0.005"),
+    Num("peers.camdyn_run_time_s", "bench", lambda _: peer("camdyn", "run_time_s"), ".2f", "0.005"),
+    Num("peers.scipy_wall_s", "bench", lambda _: peer("scipy", "wall_s"), ".1f", "0.05"),
+    Num("peers.siconos_wall_s", "bench", lambda _: peer("siconos", "wall_s"), ".1f", "0.05"),
     Num("bench.quickstart_run_s", "bench", lambda _: 1e-3 * bench("simulation.json", "BM_QuickstartCycle/0",
                                                                   "real_time"), ".2f", "0.005"),
     Num("bench.tracking.differential_ms", "bench",

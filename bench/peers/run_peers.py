@@ -686,7 +686,7 @@ def main():
                          "Hunt-Crossley law's actual rebound ratio) or a number")
     ap.add_argument("--check", type=int, default=0, metavar="K",
                     help=f"compare camdyn's first K impacts with scipy's (angle within {ANGLE_TOL_DEG} deg, "
-                         f"speed within {SPEED_TOL_REL:.1%}); exit 1 if not")
+                         f"speed within {100 * SPEED_TOL_REL:.1f} %%); exit 1 if not")
     ap.add_argument("--json", help="write the numbers here")
     args = ap.parse_args()
     if args.revolutions < 2:
