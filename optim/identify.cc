@@ -20,6 +20,7 @@
 
 #include "common/errors.h"
 #include "common/parallel.h"
+#include "common/study_budget.h"
 #include "dynamics/model.h"
 #include "dynamics/simulation.h"
 #include "io/csv_reader.h"
@@ -358,6 +359,7 @@ class IterationCallback final : public ceres::IterationCallback {
                     const std::vector<double>& z, IdentifyProgress where)
       : problem_(problem), options_(options), stage_(stage), smoothing_(smoothing), z_(z), where_(where) {}
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& summary) override {
+    if (study_budget_exhausted()) return ceres::SOLVER_ABORT;  // solve_stage says why
     if (options_.progress) {
       where_.iteration = summary.iteration;
       where_.cost = summary.cost;
@@ -457,6 +459,13 @@ std::unique_ptr<Stage> solve_stage(const IdentifyProblem& problem, Simulator& si
   ceres::Solve(solver_options, stage->problem.get(), &stage->summary);
   const FitEvaluator& cost = *stage->evaluator;
   if (cost.input_error()) std::rethrow_exception(cost.input_error());
+  if (study_budget_exhausted())
+    throw NumericalError(study_budget_text() + " in continuation stage " + std::to_string(stage_index + 1) +
+                         (options.journal == nullptr
+                              ? std::string()
+                              : "; the simulations so far are kept in " + options.journal->path().string() +
+                                    ": run the study again into the same --out (with a larger --max-study-time) to "
+                                    "continue it"));
   if (!stage->summary.IsSolutionUsable()) {
     std::string why = stage->summary.message;
     if (!cost.last_failure().empty()) why += "; last failed simulation: " + cost.last_failure();

@@ -2,12 +2,12 @@
 
 #include <camdyn/version.h>
 
-#include <bit>
 #include <cstdio>
 #include <iostream>
 #include <string_view>
 #include <utility>
 
+#include "io/hex_doubles.h"
 #include "optim/identify_config.h"
 
 namespace camdyn::optim {
@@ -17,35 +17,6 @@ namespace {
 constexpr const char* kJournalFile = "journal.jsonl";
 /// The journal's record count bound (study/journal.h checks indices against it).
 constexpr std::size_t kMaxRecords = std::size_t{1} << 40;
-
-constexpr char kHexDigits[] = "0123456789abcdef";
-
-/// Doubles as 16 hex digits each (the bits, most significant first).
-std::string to_hex(const std::vector<double>& values) {
-  std::string text(16 * values.size(), '0');
-  for (std::size_t i = 0; i < values.size(); ++i) {
-    std::uint64_t bits = std::bit_cast<std::uint64_t>(values[i]);
-    for (int d = 15; d >= 0; --d, bits >>= 4) text[16 * i + static_cast<std::size_t>(d)] = kHexDigits[bits & 0xf];
-  }
-  return text;
-}
-
-/// The inverse of to_hex; nothing when `text` is not `count` doubles of hex.
-std::optional<std::vector<double>> from_hex(std::string_view text, std::size_t count) {
-  if (text.size() != 16 * count) return std::nullopt;
-  std::vector<double> values(count);
-  for (std::size_t i = 0; i < count; ++i) {
-    std::uint64_t bits = 0;
-    for (std::size_t d = 0; d < 16; ++d) {
-      const char c = text[16 * i + d];
-      const int v = c >= '0' && c <= '9' ? c - '0' : c >= 'a' && c <= 'f' ? c - 'a' + 10 : -1;
-      if (v < 0) return std::nullopt;
-      bits = (bits << 4) | static_cast<std::uint64_t>(v);
-    }
-    values[i] = std::bit_cast<double>(bits);
-  }
-  return values;
-}
 
 std::string bytes_of(const std::vector<double>& values) {
   return {reinterpret_cast<const char*>(values.data()), values.size() * sizeof(double)};
@@ -62,7 +33,7 @@ std::optional<std::vector<FitRun>> runs_of(const Json& record, const IdentifyPro
     out[k].ok = true;
     for (const Json& signal : runs[k]) {
       if (!signal.is_string()) return std::nullopt;
-      auto values = from_hex(signal.get_ref<const std::string&>(), rec.time.size());
+      auto values = doubles_from_hex(signal.get_ref<const std::string&>(), rec.time.size());
       if (!values) return std::nullopt;
       out[k].signals.push_back(std::move(*values));
     }
@@ -105,8 +76,8 @@ void IdentifyJournal::read_records(const IdentifyProblem& problem) {
     const std::string kind = record.value("kind", std::string());
     if (kind == "point") {
       const Json& point = record["point"];
-      auto values =
-          point.is_string() ? from_hex(point.get_ref<const std::string&>(), problem.parameters.size()) : std::nullopt;
+      auto values = point.is_string() ? doubles_from_hex(point.get_ref<const std::string&>(), problem.parameters.size())
+                                      : std::nullopt;
       auto runs = runs_of(record, problem);
       if (!values || !runs) {
         std::cerr << "camdyn: warning: " << path().string() << ": record " << index
@@ -127,11 +98,7 @@ void IdentifyJournal::read_records(const IdentifyProblem& problem) {
   }
 }
 
-IdentifyJournal::Key IdentifyJournal::key_of(const std::vector<double>& point) {
-  Key key(point.size());
-  for (std::size_t i = 0; i < point.size(); ++i) key[i] = std::bit_cast<std::uint64_t>(point[i]);
-  return key;
-}
+IdentifyJournal::Key IdentifyJournal::key_of(const std::vector<double>& point) { return double_bits(point); }
 
 const std::vector<FitRun>* IdentifyJournal::find(const std::vector<double>& point) const {
   const auto hit = points_.find(key_of(point));
@@ -148,11 +115,11 @@ void IdentifyJournal::add_point(const std::vector<double>& point, const std::vec
   if (bytes_ + bytes > kBudgetBytes || journaled_.contains(key)) return;
   Json record = Json::object();
   record["kind"] = "point";
-  record["point"] = to_hex(point);
+  record["point"] = doubles_to_hex(point);
   Json all = Json::array();
   for (const FitRun& run : runs) {
     Json signals = Json::array();
-    for (const auto& signal : run.signals) signals.push_back(to_hex(signal));
+    for (const auto& signal : run.signals) signals.push_back(doubles_to_hex(signal));
     all.push_back(std::move(signals));
   }
   record["runs"] = std::move(all);

@@ -4,10 +4,12 @@
 #include <chrono>
 #include <cstdio>
 #include <functional>
+#include <nlopt.hpp>
 #include <optional>
 #include <utility>
 
 #include "common/errors.h"
+#include "common/study_budget.h"
 #include "dynamics/contact_stress.h"
 #include "dynamics/model.h"
 #include "io/json_archive.h"
@@ -134,7 +136,7 @@ std::function<void(const SearchProgress&)> progress_printer(const OptimizeOption
 /// out.initial, out.history, out.search, out.loop_time_s and
 /// out.loop_simulations. Throws NumericalError when no design was valid.
 void search_designs(const DesignSpace& space, const DesignEvaluator& evaluator, const SimulationPool& pool,
-                    const OptimizeStudyConfig& config, const OptimizeOptions& options, CheckpointWriter& checkpoint,
+                    const OptimizeStudyConfig& config, const OptimizeOptions& options, LoopRecorder& recorder,
                     OptimizeOutcome& out) {
   const EvaluationSettings loop = loop_settings(config.optimizer);
   out.initial = evaluator.evaluate(space.scene(out.x_initial), loop, out.loop_simulated);
@@ -146,23 +148,40 @@ void search_designs(const DesignSpace& space, const DesignEvaluator& evaluator, 
   problem.x0 = out.x_initial;
   problem.constraint_count = static_cast<int>(out.constraints.size());
   problem.evaluate = [&](const std::vector<double>& x, int start, PointKind kind) {
+    // The outputs cannot be kept, or the study's time is up: stop every start.
+    if (recorder.failed() || study_budget_exhausted()) throw nlopt::forced_stop();
     DesignEvaluation e;
-    try {
-      e = evaluator.evaluate(space.scene(x), loop, out.loop_simulated);
-    } catch (const InputError& err) {  // a spline the geometry code refuses
-      e.valid = false;
-      e.error = err.what();
-      evaluator.score(e);
+    if (!recorder.replay(x, e)) {
+      const long sims = pool.simulations();
+      try {
+        e = evaluator.evaluate(space.scene(x), loop, out.loop_simulated);
+      } catch (const InputError& err) {  // a spline the geometry code refuses
+        e.valid = false;
+        e.error = err.what();
+        evaluator.score(e);
+      }
+      recorder.journal(x, e, pool.simulations() - sims);
     }
     const bool improved = best.update(e);
     out.history.push_back(history_record(e, static_cast<long>(out.history.size()) + 1, start, kind, best));
-    checkpoint.evaluated(out, space, x, e, improved);
+    recorder.evaluated(out, space, x, improved);
+    if (recorder.failed()) throw nlopt::forced_stop();
     return point_value(e);
   };
   const auto loop_t0 = Clock::now();
   out.search = run_search(problem, config.optimizer, progress_printer(options, config.optimizer, loop_t0));
+  recorder.rethrow();
+  if (study_budget_exhausted())
+    throw NumericalError(study_budget_text() + " after " + std::to_string(out.history.size()) +
+                         " evaluations of the search" +
+                         (recorder.journal_path().empty()
+                              ? std::string()
+                              : "; they are kept in " + recorder.journal_path().string() +
+                                    ": run the study again into the same --out (with a larger --max-study-time) to "
+                                    "continue it"));
   out.loop_time_s = seconds_since(loop_t0);
-  out.loop_simulations = pool.simulations() - sims_before;
+  out.resumed_simulations = recorder.replayed_simulations();
+  out.loop_simulations = pool.simulations() - sims_before + out.resumed_simulations;
   if (options.progress) std::fprintf(stderr, "\n");
   if (out.search.candidates.empty())
     throw NumericalError("the optimiser found no valid design in " + std::to_string(out.search.evaluations) +
@@ -321,18 +340,16 @@ OptimizeOutcome run_optimize(const SceneConfig& baseline, const OptimizeStudyCon
     out.rigid = run_rigid_stage(baseline, config, space, file);
     if (out.rigid.design.have) out.x_initial = out.rigid.design.x;  // the dynamic stage starts from it
   }
-  if (const auto x = read_checkpoint(options.checkpoint_dir, config, space.dimension())) {
-    say(options, "resuming from the best design of an earlier run (checkpoint.json)");
-    out.x_initial = *x;
-    out.resumed = true;
-  }
-  CheckpointWriter checkpoint(options.checkpoint_dir, config, baseline.name, top_speed(config), file);
-
   const int threads = std::clamp(options.threads, 1, static_cast<int>(config.operating_rpm.size()));
   SimulationPool pool(threads, file);
   DesignEvaluator evaluator(config, file, pool);
   out.constraints = evaluator.constraints();
   out.loop_simulated = evaluator.needs_simulation();
+  LoopRecorder recorder(options.checkpoint_dir, baseline, config, space, out.constraints.size(), file);
+  out.resumed_evaluations = recorder.resumed_evaluations();
+  if (out.resumed_evaluations > 0 && options.progress)
+    std::fprintf(stderr, "  optimize: resuming: %zu evaluations of an earlier run replayed from %s\n",
+                 out.resumed_evaluations, recorder.journal_path().c_str());
 
   // Baseline with the scene's settings: what the user has now, and the scales.
   say(options, "evaluating the baseline");
@@ -345,13 +362,13 @@ OptimizeOutcome run_optimize(const SceneConfig& baseline, const OptimizeStudyCon
   evaluator.score(out.baseline);
 
   say(options, "searching");
-  search_designs(space, evaluator, pool, config, options, checkpoint, out);
+  search_designs(space, evaluator, pool, config, options, recorder, out);
 
   say(options, "re-evaluating the best designs with the scene's settings");
   choose_optimized(space, evaluator, full, baseline.name + "-optimized", top_speed(config), file, out);
   say(options, "checking that the objective does not depend on the window");
   out.window_check = check_window(evaluator, out);
-  out.simulations = pool.simulations();
+  out.simulations = pool.simulations() + out.resumed_simulations;
   out.run_time_s = seconds_since(t0);
   return out;
 }

@@ -7,6 +7,7 @@
 // reproduces the reported metrics.
 #pragma once
 
+#include <cstddef>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -37,8 +38,8 @@ struct HistoryRecord {
 struct OptimizeOptions {
   int threads = 1;        ///< simulation threads (one per operating speed is enough)
   bool progress = false;  ///< progress lines on stderr
-  /// Where history.csv, best_design.json and checkpoint.json are kept while
-  /// the search runs, and a killed run's checkpoint is looked for (empty: none).
+  /// Where history.csv, best_design.json and the journal are kept while
+  /// the search runs, and a killed run's journal is replayed from (empty: none).
   std::filesystem::path checkpoint_dir;
 };
 
@@ -87,10 +88,11 @@ struct OptimizeOutcome {
   RigidStageResult rigid;      ///< the rigid-model stage and its certificate (rigid.enabled)
   DesignEvaluation initial;    ///< the first start of the search (the rigid design, else the spline fit), loop settings
   DesignEvaluation optimized;  ///< the chosen design, scene settings, time series kept
-  SceneConfig optimized_scene;  ///< the `simulate` config written to optimized.json
-  WindowCheck window_check;     ///< the optimised objective over a doubled window (dynamic objectives only)
-  int candidates_tried = 0;     ///< designs re-evaluated at the scene settings to find a feasible one
-  bool resumed = false;         ///< the search started from the checkpoint of an earlier, killed run
+  SceneConfig optimized_scene;          ///< the `simulate` config written to optimized.json
+  WindowCheck window_check;             ///< the optimised objective over a doubled window (dynamic objectives only)
+  int candidates_tried = 0;             ///< designs re-evaluated at the scene settings to find a feasible one
+  std::size_t resumed_evaluations = 0;  ///< search evaluations replayed from the journal of an earlier, killed run
+  long resumed_simulations = 0;         ///< their simulations (counted in `simulations`, not run again)
 
   SearchResult search;
   std::vector<HistoryRecord> history;

@@ -194,7 +194,8 @@ Json result_json(const OptimizeOutcome& o, const std::string& name, const std::s
       {"candidates_tried", o.candidates_tried},
       {"variables", vars}};
   r["rigid_stage"] = rigid_json(o.rigid, o.config.rigid.enabled);
-  r["resumed_from_checkpoint"] = o.resumed;
+  r["resumed_evaluations"] = o.resumed_evaluations;
+  r["resumed_simulations"] = o.resumed_simulations;
   const WindowCheck& w = o.window_check;
   r["window_check"] = w.checked ? Json{{"checked", true},
                                        {"evaluated_cycles", w.evaluated_cycles},

@@ -63,7 +63,9 @@ int run_optimize_study(const Json& doc, const StudyContext& ctx) {
   const OptimizeOutcome o = run_optimize(baseline, config, ctx.config_file, options);
   write_optimize_outputs(ctx.out_dir, o, baseline.name, ctx.config_file);
   remove_checkpoint(ctx.out_dir);
-  if (o.resumed) std::printf("  resumed from the best design of an earlier run (checkpoint.json)\n");
+  if (o.resumed_evaluations > 0)
+    std::printf("  resumed: %zu evaluations (%ld simulations) replayed from the journal of an earlier run\n",
+                o.resumed_evaluations, o.resumed_simulations);
 
   print_certificate(o);
   const auto& b = o.baseline;

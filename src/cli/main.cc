@@ -17,6 +17,7 @@
 
 #include "cli/run_study.h"
 #include "common/errors.h"
+#include "common/study_budget.h"
 #include "dynamics/model.h"
 #include "io/config.h"
 #include "io/profile_export.h"
@@ -32,6 +33,7 @@ struct RunArgs {
   int jobs = 0;
   bool quiet = false;
   bool strict = false;
+  double max_study_time_s = camdyn::kDefaultStudyWallTimeS;
   std::vector<std::string> overrides;
 };
 
@@ -94,6 +96,7 @@ int run_study(const RunArgs& args, bool validate_only, bool root) {
   request.progress = !args.quiet && isatty(STDERR_FILENO) && root;
   request.validate_only = validate_only;
   request.strict = args.strict;
+  request.max_study_time_s = args.max_study_time_s;
   return camdyn::run_study(request).exit_code;
 }
 
@@ -207,6 +210,10 @@ int run_command(int argc, char** argv) {
   run->add_flag("--strict", run_args.strict,
                 "Exit 3 when the run's results carry plausibility warnings (docs/warnings.md)");
   run->add_option("--set", run_args.overrides, "Override a field: --set contact.stiffness=2e9 (repeatable)");
+  run->add_option("--max-study-time", run_args.max_study_time_s,
+                  "Wall-time budget of the whole study [s] (default 86400; each run also has "
+                  "integrator.max_wall_time_s): past it the study stops, keeps what finished and exits 3")
+      ->check(CLI::PositiveNumber);
   run->footer(kRunFooter);
 
   RunArgs validate_args;

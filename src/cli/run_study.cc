@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "common/errors.h"
+#include "common/study_budget.h"
 #include "dynamics/model.h"
 #include "dynamics/plausibility.h"
 #include "dynamics/simulation.h"
@@ -185,6 +186,7 @@ StudyOutcome run_study(const StudyRequest& request) {
     remove_completion_marker(ctx.out_dir);
   }
   try {
+    const StudyBudgetScope budget(request.max_study_time_s);
     outcome.exit_code = dispatch(outcome.study, doc, ctx);
   } catch (const InputError& e) {
     // Errors raised below the config layer may not know the file: name it here.

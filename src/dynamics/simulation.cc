@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "common/errors.h"
+#include "common/study_budget.h"
 #include "dynamics/free_flight.h"
 #include "geometry/check_text.h"
 #include "integrate/integrator.h"
@@ -678,6 +679,7 @@ Failure check_budgets(const RunContext& run, const Integrator& integrator, doubl
   if (wall > ic.max_wall_time_s)
     return {Termination::wall_time_budget, "wall-time budget of " + std::to_string(ic.max_wall_time_s) +
                                                " s (integrator.max_wall_time_s) exceeded " + where(run.model, t)};
+  if (study_budget_exhausted()) return {Termination::wall_time_budget, study_budget_text() + " " + where(run.model, t)};
   if (run.options.progress && wall - last_progress > 0.25) {
     last_progress = wall;
     run.options.progress(t / run.plan.t_end);

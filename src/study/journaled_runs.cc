@@ -9,6 +9,7 @@
 
 #include "common/errors.h"
 #include "common/parallel.h"
+#include "common/study_budget.h"
 #include "study/journal.h"
 #include "study/mpi_runner.h"
 #include "study/progress.h"
@@ -19,12 +20,15 @@ namespace {
 
 /// The key under which a record carries its wall time to rank 0 [s].
 constexpr const char* kRunTimeKey = "_progress_run_s";
+/// The status of a run not started because the study's budget was used up.
+constexpr const char* kNotStarted = "not_started";
 
 /// The runs of this invocation: the journal (rank 0) with the records already
 /// done, and the runs still to do (every rank).
 struct RunState {
   std::unique_ptr<Journal> journal;
   std::vector<std::size_t> pending;
+  std::size_t stopped = 0;  ///< runs not done because the study's budget was used up (not journaled)
 };
 
 /// Rank 0 opens the journal and reads the runs already done; the runs still to
@@ -81,6 +85,7 @@ void run_pending(const std::string& study, std::size_t count, const std::functio
   // Each record brings its wall time [s] to rank 0 for the time estimate;
   // it is taken out before the record is journalled.
   auto timed_run = [&run](std::size_t i) {
+    if (study_budget_exhausted()) return Json{{"index", i}, {"status", kNotStarted}};
     const auto t0 = std::chrono::steady_clock::now();
     Json record = run(i);
     record[kRunTimeKey] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -89,6 +94,12 @@ void run_pending(const std::string& study, std::size_t count, const std::functio
   auto finished = [&](Json record) {  // rank 0, serialised by the caller
     const std::size_t i = record["index"].get<std::size_t>();
     const bool failed = record["status"] != "ok";
+    // A run the budget stopped (or never started) is not a result: left out
+    // of the journal, so that a re-run does it.
+    if (failed && (record["status"] == kNotStarted || study_budget_exhausted())) {
+      ++state.stopped;
+      return;
+    }
     const double run_s = record.value(kRunTimeKey, 0.0);
     record.erase(kRunTimeKey);
     state.journal->append(record);
@@ -124,7 +135,13 @@ std::optional<int> run_journaled(const std::string& study, const std::string& ha
   RunState state;
   if (const std::optional<int> code = open_journal(study, hash, count, ctx, state, out)) return code;
   run_pending(study, count, run, ctx, state, out);
-  return std::nullopt;
+  if (state.stopped == 0) return std::nullopt;
+  if (mpi::rank() == 0)
+    std::cerr << "camdyn: error: " << study_budget_text() << " after " << count - state.stopped << " of " << count
+              << " runs of the " << study << " study; the finished runs are kept in "
+              << (ctx.out_dir / "journal.jsonl").string()
+              << ": run the study again into the same --out (with a larger --max-study-time) to finish it\n";
+  return 3;  // the exit code of a budget that stopped the study
 }
 
 }  // namespace camdyn

@@ -403,9 +403,11 @@ TEST(OptimizeCli, TargetAboveTheBoundIsReportedInfeasibleAndTheBestDesignWritten
   EXPECT_TRUE(result["rigid_stage"]["design"]["made"].get<bool>());
 }
 
-// Kill -9 part-way: history.csv and the best design so far are on disk and
-// parse, and a re-run of the same study into the same folder resumes from it.
-TEST(OptimizeCli, AKilledRunLeavesItsHistoryAndBestDesignAndARerunResumes) {
+// Kill -9 part-way: history.csv, the best design so far and the journal are
+// on disk and parse, and a re-run of the same study into the same folder
+// replays the journal: the same search (tests/cli/kill_loop.py checks that
+// the outputs equal an uninterrupted run's).
+TEST(OptimizeCli, AKilledRunLeavesItsHistoryAndBestDesignAndARerunReplaysIt) {
   const fs::path dir = scratch("killed");
   const std::vector<std::string> argv = {CAMDYN_BINARY, "run", kJump,     "--out", (dir / "out").string(),
                                          "--jobs",      "2",   "--quiet", "--set", "optimizer.max_evaluations=60"};
@@ -413,7 +415,8 @@ TEST(OptimizeCli, AKilledRunLeavesItsHistoryAndBestDesignAndARerunResumes) {
   ASSERT_GT(pid, 0);
   bool seen = false;
   for (int i = 0; i < 1200 && !seen; ++i) {  // up to 60 s for the first evaluations
-    seen = fs::exists(dir / "out" / "checkpoint.json") && fs::exists(dir / "out" / "history.csv");
+    seen = fs::exists(dir / "out" / "best_design.json") && fs::exists(dir / "out" / "history.csv") &&
+           read_text(dir / "out" / "journal.jsonl").find("\"kind\":\"evaluation\"") != std::string::npos;
     if (!seen) ::usleep(50000);
   }
   ::kill(pid, SIGKILL);
@@ -432,16 +435,19 @@ TEST(OptimizeCli, AKilledRunLeavesItsHistoryAndBestDesignAndARerunResumes) {
   EXPECT_GE(rows, 1);
   const Json best = Json::parse(read_text(dir / "out" / "best_design.json"));
   EXPECT_EQ(best["study"], "simulate");
-  const Json checkpoint = Json::parse(read_text(dir / "out" / "checkpoint.json"));
-  EXPECT_TRUE(checkpoint["x"].is_array());
+  const std::string journal = read_text(dir / "out" / "journal.jsonl");
+  const std::string killed_history = read_text(dir / "out" / "history.csv");
 
-  // The same study again: it starts from the checkpoint and completes.
+  // The same study again: it replays the journal and completes; the history
+  // of the killed run is the start of the re-run's (the same search).
   const Outcome again = test::run_camdyn(std::vector<std::string>(argv.begin() + 1, argv.end()), dir);
   ASSERT_EQ(again.code, 0) << again.err;
-  EXPECT_NE(again.out.find("resumed from the best design of an earlier run"), std::string::npos) << again.out;
+  EXPECT_NE(again.out.find("replayed from the journal of an earlier run"), std::string::npos) << again.out;
   const Json result = Json::parse(read_text(dir / "out" / "result.json"));
-  EXPECT_TRUE(result["resumed_from_checkpoint"].get<bool>());
-  EXPECT_FALSE(fs::exists(dir / "out" / "checkpoint.json"));
+  EXPECT_GE(result["resumed_evaluations"].get<long>(), 1);
+  EXPECT_FALSE(fs::exists(dir / "out" / "best_design.json"));
+  EXPECT_EQ(read_text(dir / "out" / "journal.jsonl").rfind(journal, 0), 0u) << "journal lines rewritten";
+  EXPECT_EQ(read_text(dir / "out" / "history.csv").rfind(killed_history, 0), 0u) << "not the same search";
 }
 
 }  // namespace

@@ -1,0 +1,53 @@
+#include "common/study_budget.h"
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace camdyn {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+constexpr long long kNoDeadline = std::numeric_limits<long long>::max();
+
+/// The deadline as steady_clock nanoseconds since its epoch (kNoDeadline: none).
+std::atomic<long long> g_deadline_ns{kNoDeadline};
+std::atomic<double> g_seconds{std::numeric_limits<double>::infinity()};
+
+long long now_ns() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch()).count();
+}
+
+}  // namespace
+
+StudyBudgetScope::StudyBudgetScope(double seconds)
+    : previous_deadline_ns_(g_deadline_ns.load()), previous_seconds_(g_seconds.load()) {
+  const double max_s = 1e9;  // ~30 years: beyond, no deadline (and no overflow)
+  g_seconds = seconds;
+  g_deadline_ns =
+      std::isfinite(seconds) && seconds < max_s ? now_ns() + static_cast<long long>(seconds * 1e9) : kNoDeadline;
+}
+
+StudyBudgetScope::~StudyBudgetScope() {
+  g_deadline_ns = previous_deadline_ns_;
+  g_seconds = previous_seconds_;
+}
+
+bool study_budget_exhausted() {
+  const long long deadline = g_deadline_ns.load(std::memory_order_relaxed);
+  return deadline != kNoDeadline && now_ns() > deadline;
+}
+
+double study_budget_s() { return g_seconds.load(); }
+
+std::string study_budget_text() {
+  std::ostringstream text;
+  text << "the study's wall-time budget of " << study_budget_s() << " s (camdyn run --max-study-time) is used up";
+  return text.str();
+}
+
+}  // namespace camdyn

@@ -1,0 +1,113 @@
+// The whole study's wall-time budget (`camdyn run --max-study-time`,
+// common/study_budget.h): past it a study stops within a moment, exits 3
+// naming the budget and where it stopped, keeps what finished in its journal
+// (never a run the budget cut short, journaled as failed), and a re-run into
+// the same folder finishes the study.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli_run.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+using camdyn::test::Outcome;
+using camdyn::test::read_text;
+
+const std::string kStudies = std::string(CAMDYN_SOURCE_DIR) + "/studies/";
+
+/// What a stop on the budget may take beyond the budget [s] (a run checks it every step).
+constexpr double kStopWithin = 5.0;
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+/// The records of a journal (its lines after the header).
+std::vector<nlohmann::json> journal_records(const fs::path& path) {
+  std::istringstream lines(read_text(path));
+  std::vector<nlohmann::json> records;
+  std::string line;
+  for (bool header = true; std::getline(lines, line); header = false)
+    if (!header) records.push_back(nlohmann::json::parse(line));
+  return records;
+}
+
+/// Runs `args` (after `run CONFIG`) with a budget of `budget_s` and checks the stop.
+Outcome run_over_budget(const std::string& config, std::vector<std::string> args, const fs::path& dir,
+                        double budget_s) {
+  args.insert(args.begin(), {"run", config, "--quiet", "--out", (dir / "out").string(), "--max-study-time",
+                             std::to_string(budget_s)});
+  const auto start = std::chrono::steady_clock::now();
+  const Outcome o = camdyn::test::run_camdyn(args, dir);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_EQ(o.code, 3) << o.err;
+  EXPECT_LT(seconds, budget_s + kStopWithin);
+  EXPECT_TRUE(contains(o.err, "wall-time budget of")) << o.err;
+  EXPECT_TRUE(contains(o.err, "--max-study-time")) << o.err;
+  EXPECT_FALSE(fs::exists(dir / "out" / "complete.json"));
+  return o;
+}
+
+TEST(StudyBudget, ASimulateRunStopsNamingTheBudgetAndTheCamAngle) {
+  const fs::path dir = camdyn::test::scratch_dir("study_budget", "simulate");
+  const Outcome o = run_over_budget(kStudies + "quickstart.json", {"--set", "simulation.cycles=5000"}, dir, 0.3);
+  EXPECT_TRUE(contains(o.err, "cam angle")) << o.err;
+}
+
+TEST(StudyBudget, ACompareKeepsItsFinishedRunsAndARerunFinishesIt) {
+  const fs::path dir = camdyn::test::scratch_dir("study_budget", "compare");
+  const Outcome o = run_over_budget(kStudies + "compare_laws.json", {"--jobs", "1"}, dir, 0.3);
+  EXPECT_TRUE(contains(o.err, " runs of the compare study")) << o.err;
+  const auto records = journal_records(dir / "out" / "journal.jsonl");
+  EXPECT_LT(records.size(), 60u);
+  for (const auto& r : records) EXPECT_EQ(r["status"], "ok") << r.dump();  // nothing cut short is journaled
+
+  const Outcome again = camdyn::test::run_camdyn(
+      {"run", kStudies + "compare_laws.json", "--quiet", "--out", (dir / "out").string()}, dir);
+  ASSERT_EQ(again.code, 0) << again.err;
+  EXPECT_TRUE(contains(again.out, "0 failed")) << again.out;
+  EXPECT_TRUE(fs::exists(dir / "out" / "complete.json"));
+}
+
+TEST(StudyBudget, AnOptimizeKeepsItsEvaluationsAndARerunReplaysThem) {
+  const fs::path dir = camdyn::test::scratch_dir("study_budget", "optimize");
+  const std::vector<std::string> sets = {"--set", "optimizer.max_evaluations=40", "--set", "simulation.cycles=3",
+                                         "--set", "operating_rpm=[1000]",         "--set", "rigid.enabled=false"};
+  const Outcome o = run_over_budget(kStudies + "optimize_force.json", sets, dir, 0.5);
+  EXPECT_TRUE(contains(o.err, "evaluations of the search")) << o.err;
+  const auto records = journal_records(dir / "out" / "journal.jsonl");
+  for (const auto& r : records) EXPECT_TRUE(r["valid"].get<bool>()) << r.dump();  // nothing cut short
+
+  std::vector<std::string> args = {"run", kStudies + "optimize_force.json", "--quiet", "--out", (dir / "out").string()};
+  args.insert(args.end(), sets.begin(), sets.end());
+  const Outcome again = camdyn::test::run_camdyn(args, dir);
+  ASSERT_EQ(again.code, 0) << again.err;
+  if (!records.empty()) {
+    EXPECT_TRUE(contains(again.out, "replayed from the journal")) << again.out;
+  }
+}
+
+TEST(StudyBudget, AnIdentifyStopsInItsStageAndARerunResumes) {
+  const fs::path dir = camdyn::test::scratch_dir("study_budget", "identify");
+  const std::string config = kStudies + "identify_drop/identify_drop.json";
+  run_over_budget(config, {}, dir, 0.15);
+  const Outcome again = camdyn::test::run_camdyn({"run", config, "--quiet", "--out", (dir / "out").string()}, dir);
+  ASSERT_EQ(again.code, 0) << again.err;
+  EXPECT_TRUE(fs::exists(dir / "out" / "complete.json"));
+}
+
+TEST(StudyBudget, ABudgetMustBePositive) {
+  const fs::path dir = camdyn::test::scratch_dir("study_budget", "positive");
+  const Outcome o = camdyn::test::run_camdyn(
+      {"run", kStudies + "quickstart.json", "--out", (dir / "out").string(), "--max-study-time", "0"}, dir);
+  EXPECT_EQ(o.code, 2) << o.err;
+  EXPECT_TRUE(contains(o.err, "--max-study-time")) << o.err;
+}
+
+}  // namespace
