@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "io/cam_plots.h"
 #include "io/csv_writer.h"
 #include "io/json_writer.h"
 
@@ -42,6 +43,17 @@ const char* unit_of(const std::string& signal) {
   if (signal == "cam_angle_deg") return "deg";
   if (signal == "energy_residual") return "–";
   return "m";
+}
+
+/// The identified scene's cam to scale with its SVAJ: at the speed of the
+/// records when they share one, else per radian of cam angle.
+void add_cam(const IdentifyProblem& problem, const IdentifyResult& result, Report& report) {
+  const SceneConfig& scene = result.identified_scene;
+  const double rpm = scene.mechanism.cam.rpm;
+  const bool one_speed = std::all_of(problem.experiments.begin(), problem.experiments.end(),
+                                     [rpm](const FitExperiment& e) { return e.scene.mechanism.cam.rpm == rpm; });
+  for (Plot& plot : scene_cam_plots(scene, problem.config_file, one_speed ? rpm : 0.0, "the identified scene"))
+    report.plots.push_back(std::move(plot));
 }
 
 }  // namespace
@@ -231,6 +243,7 @@ Report identify_report(const IdentifyProblem& problem, const IdentifyResult& res
       report.plots.push_back(std::move(residual));
     }
   }
+  add_cam(problem, result, report);
 
   report.notes = result.warnings;
   report.notes.push_back(

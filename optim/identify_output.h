@@ -20,7 +20,8 @@ Json identified_json(const IdentifyProblem& problem, const IdentifyResult& resul
 /// identified_scene.json: the study's scene with the identified values, as a simulate config.
 Json identified_scene_json(const IdentifyProblem& problem, const IdentifyResult& result);
 
-/// The report page: parameter table with uncertainties, measured against fitted signals, residuals.
+/// The report page: parameter table with uncertainties, measured against
+/// fitted signals, residuals, the identified scene's cam (io/cam_plots.h).
 Report identify_report(const IdentifyProblem& problem, const IdentifyResult& result);
 
 /// Writes the four files into `out_dir` (created if missing).

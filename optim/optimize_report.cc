@@ -8,7 +8,6 @@
 
 #include "common/errors.h"
 #include "dynamics/model.h"
-#include "geometry/motion_law.h"
 #include "io/cam_plots.h"
 #include "optim/rigid_design.h"
 
@@ -29,26 +28,6 @@ Plot make_plot(std::string title, std::string xlabel, std::string ylabel, std::v
   plot.series = std::move(series);
   plot.xrange = std::pair{0.0, 360.0};
   return plot;
-}
-
-/// s, s', s'', s''' of a scene's law at every kLawStepDeg, scaled to mm.
-struct LawCurves {
-  std::vector<double> angle, s, v, a, j;
-};
-LawCurves law_curves(const SceneConfig& scene) {
-  LawCurves c;
-  const MotionLaw law = build_motion_law(scene.mechanism.cam.motion_law, "");
-  const int n = static_cast<int>(360.0 / kLawStepDeg);
-  for (int i = 0; i <= n; ++i) {
-    const double deg = i * kLawStepDeg;
-    const LawSample x = law.eval(std::min(deg, 360.0 - 1e-9) / kDegPerRad);
-    c.angle.push_back(deg);
-    c.s.push_back(1e3 * x.s);
-    c.v.push_back(1e3 * x.ds);
-    c.a.push_back(1e3 * x.d2s);
-    c.j.push_back(1e3 * x.d3s);
-  }
-  return c;
 }
 
 /// One column of the last simulated revolution against cam angle in [0, 360).
@@ -261,21 +240,10 @@ Table variables_table(const OptimizeOutcome& o) {
   return vars;
 }
 
-/// Lift, velocity, acceleration and jerk against cam angle, baseline against optimised.
-void add_kinematics_plots(const DesignEvaluation& b, const DesignEvaluation& p, Report& r) {
-  const LawCurves lb = law_curves(b.scene), lp = law_curves(p.scene);
-  const std::string xlabel = kCamAngleLabel;
-  r.plots.push_back(make_plot("Lift", xlabel, "s [mm]", {{"baseline", lb.angle, lb.s}, {"optimised", lp.angle, lp.s}}));
-  r.plots.push_back(make_plot("Velocity per unit cam speed", xlabel, "ds/dθ [mm/rad]",
-                              {{"baseline", lb.angle, lb.v}, {"optimised", lp.angle, lp.v}}));
-  r.plots.push_back(make_plot("Acceleration per unit cam speed squared", xlabel, "d²s/dθ² [mm/rad²]",
-                              {{"baseline", lb.angle, lb.a}, {"optimised", lp.angle, lp.a}}));
-  r.plots.push_back(make_plot("Jerk per unit cam speed cubed", xlabel, "d³s/dθ³ [mm/rad³]",
-                              {{"baseline", lb.angle, lb.j}, {"optimised", lp.angle, lp.j}}));
-}
-
-/// The optimised cam to scale with the baseline's contour, and the pressure
-/// angle and radius of curvature of both against the study's constraints.
+/// The optimised cam to scale with the baseline's contour, the pressure
+/// angle and radius of curvature of both against the study's constraints,
+/// and the SVAJ of both laws per radian of cam angle (the study runs at
+/// several speeds).
 void add_cam_plots(const OptimizeOutcome& o, Report& r) {
   std::vector<Model> models;
   std::vector<std::string> labels;
@@ -296,6 +264,7 @@ void add_cam_plots(const OptimizeOutcome& o, Report& r) {
   r.plots.push_back(cam_layout_plot(designs, mark));
   r.plots.push_back(pressure_angle_plot(designs, c.max_pressure_angle_deg));
   r.plots.push_back(curvature_plot(designs, c.min_radius_of_curvature));
+  for (Plot& p : svaj_plots(designs, 0.0)) r.plots.push_back(std::move(p));
 }
 
 /// Contact force and gap over the last simulated revolution at each operating speed.
@@ -332,7 +301,7 @@ Plot convergence_plot(const std::vector<HistoryRecord>& history) {
   for (const Series* se : {&all, &feasible, &best})
     for (double y : se->y) positive = positive && y > 0.0;
   Plot convergence =
-      make_plot("Convergence (search loop settings)", "evaluation", "objective [–]", {all, feasible, best});
+      make_plot("Convergence (search loop settings)", "evaluation [-]", "objective [–]", {all, feasible, best});
   convergence.xrange.reset();
   convergence.logy = positive && !best.y.empty();
   return convergence;
@@ -396,7 +365,6 @@ Report optimize_report(const OptimizeOutcome& o, const std::string& name) {
   r.appendix.push_back(variables_table(o));
   add_margin_plots(o, r);
   add_cam_plots(o, r);
-  add_kinematics_plots(o.baseline, o.optimized, r);
   add_dynamics_plots(o, r);
   r.plots.push_back(convergence_plot(o.history));
   r.notes = report_notes(o);

@@ -192,8 +192,10 @@ Plot curvature_plot(const std::vector<CamDesign>& designs, std::optional<double>
   return plot;
 }
 
-std::vector<Plot> svaj_plots(const Model& model, double rpm) {
-  const bool arm = model.follower.oscillating();
+std::vector<Plot> svaj_plots(const std::vector<CamDesign>& designs, double rpm) {
+  std::vector<Plot> plots;
+  if (designs.empty()) return plots;
+  const bool arm = designs.front().model->follower.oscillating();
   const double omega = rpm * kTwoPi / 60.0;
   const bool timed = omega > 0.0;
   // The n-th derivative: with the cam turning, times ωⁿ [m/sⁿ, arm rad/sⁿ];
@@ -202,7 +204,6 @@ std::vector<Plot> svaj_plots(const Model& model, double rpm) {
   const char* power[] = {"", "", "²", "³"};
   const char* names[] = {"Lift", "Velocity", "Acceleration", "Jerk"};
   const std::string at = timed ? " at " + format_number(rpm, 6) + " rpm" : " per radian of cam angle";
-  std::vector<Plot> plots;
   for (int n = 0; n <= 3; ++n) {
     std::string ylabel;
     if (n == 0) {
@@ -213,25 +214,41 @@ std::vector<Plot> svaj_plots(const Model& model, double rpm) {
       ylabel = std::string("d") + power[n] + "s/dθ" + power[n] + " [" + (arm ? "deg" : "mm") + "/rad" + power[n] + "]";
     }
     const double scale = n == 0 ? length : timed ? std::pow(omega, n) : length;
-    Series curve = against_angle(names[n], [&, n](double t) {
-      const LawSample l = model.law->eval(t);
-      const double d[] = {l.s, l.ds, l.d2s, l.d3s};
-      return d[n] * scale;
-    });
+    std::vector<Series> curves;
+    for (const CamDesign& d : designs) {
+      const Model& model = *d.model;
+      curves.push_back(against_angle(designs.size() > 1 ? d.label : names[n], [&model, scale, n](double t) {
+        const LawSample l = model.law->eval(t);
+        const double derivative[] = {l.s, l.ds, l.d2s, l.d3s};
+        return derivative[n] * scale;
+      }));
+    }
     plots.push_back(against_angle_plot(std::string(names[n]) + " of the follower (motion law)" + (n > 0 ? at : ""),
-                                       ylabel, {std::move(curve)}));
+                                       ylabel, std::move(curves)));
   }
   return plots;
 }
 
-std::vector<Plot> cam_plots(const Model& model, const CamLimitsConfig& limits, double rpm) {
+std::vector<Plot> cam_plots(const Model& model, const CamLimitsConfig& limits, double rpm, const std::string& caption) {
   const std::vector<CamDesign> designs = {{"cam", &model}};
-  const double mark = model.geometry.max_pressure_angle_at_deg / kRadToDeg;
+  // A cam held still (a drop test) is drawn as it stands; a turning one where it pushes hardest sideways.
+  double mark = model.geometry.max_pressure_angle_at_deg / kRadToDeg;
+  if (model.omega == 0.0) {
+    mark = std::fmod(model.theta0, kTwoPi);
+    if (mark < 0.0) mark += kTwoPi;
+  }
   std::vector<Plot> plots = {cam_layout_plot(designs, mark),
                              pressure_angle_plot(designs, limits.max_pressure_angle_deg),
                              curvature_plot(designs, limits.min_radius_of_curvature)};
-  for (Plot& p : svaj_plots(model, rpm)) plots.push_back(std::move(p));
+  for (Plot& p : svaj_plots(designs, rpm)) plots.push_back(std::move(p));
+  if (!caption.empty())
+    for (Plot& p : plots) p.title += " — " + caption;
   return plots;
+}
+
+std::vector<Plot> scene_cam_plots(const SceneConfig& scene, const std::string& file, double rpm,
+                                  const std::string& caption) {
+  return cam_plots(build_model(scene, file), scene.mechanism.cam.limits, rpm, caption);
 }
 
 }  // namespace camdyn

@@ -1,5 +1,6 @@
-// The plots of the cam itself that every report with a cam shows (simulate,
-// optimize): the cam and its follower drawn to scale (equal units per pixel on
+// The plots of the cam itself that every report shows (every study's scene
+// has a cam: simulate, optimize, periodic, jump_map, speed_limit, compare,
+// convergence, identify): the cam and its follower drawn to scale (equal units per pixel on
 // both axes), the pressure angle and the contour's radius of curvature
 // against cam angle with the scene's limits, and the law's lift, velocity,
 // acceleration and jerk (SVAJ) against cam angle, with units.
@@ -39,14 +40,23 @@ Plot pressure_angle_plot(const std::vector<CamDesign>& designs, std::optional<do
 /// radii, since ρ runs off to infinity where the contour turns from convex to concave.
 Plot curvature_plot(const std::vector<CamDesign>& designs, std::optional<double> limit);
 
-/// Lift, velocity, acceleration and jerk of the law against cam angle: at
-/// `rpm` in mm, m/s, m/s², m/s³ (oscillating: deg, rad/s, rad/s², rad/s³),
-/// or per radian of cam angle when rpm = 0.
-std::vector<Plot> svaj_plots(const Model& model, double rpm);
+/// Lift, velocity, acceleration and jerk of each design's law against cam
+/// angle (one curve per design, labelled when there are several): at `rpm`
+/// in mm, m/s, m/s², m/s³ (oscillating: deg, rad/s, rad/s², rad/s³), or per
+/// radian of cam angle when rpm = 0 (a report over several speeds).
+std::vector<Plot> svaj_plots(const std::vector<CamDesign>& designs, double rpm);
 
-/// The cam plots of one scene (simulate's report): the layout at the angle of
-/// the largest pressure angle, the pressure angle and radius of curvature
-/// with `mechanism.cam.limits`, and the SVAJ at the scene's speed.
-std::vector<Plot> cam_plots(const Model& model, const CamLimitsConfig& limits, double rpm);
+/// The cam plots of one scene: the layout at the angle of the largest
+/// pressure angle (a cam held still: at its initial angle), the pressure
+/// angle and radius of curvature with `mechanism.cam.limits`, and the SVAJ
+/// at `rpm` (0: per radian of cam angle). A non-empty `caption` (e.g. "base design: case 'a'") is added to
+/// every title, for a report whose runs have more than one cam.
+std::vector<Plot> cam_plots(const Model& model, const CamLimitsConfig& limits, double rpm,
+                            const std::string& caption = "");
+
+/// cam_plots of `scene`, its model built here (`file` names it in messages),
+/// for the reports that keep the scene rather than its model.
+std::vector<Plot> scene_cam_plots(const SceneConfig& scene, const std::string& file, double rpm,
+                                  const std::string& caption = "");
 
 }  // namespace camdyn

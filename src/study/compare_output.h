@@ -1,11 +1,12 @@
 // What a compare study found, and the files it writes from it: comparison.csv
 // and comparison.json (one row per run, in (case, grid point) order, so a
 // resumed study writes exactly what an uninterrupted one does), report.html
-// (compare_report.cc) and the one-line summary on stdout.
+// (compare_report.cc, with the cam of the first case) and the one-line summary on stdout.
 #pragma once
 
 #include <cstddef>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,9 @@ struct CompareResult {
   std::size_t resumed = 0;               ///< runs read from the journal of an earlier invocation
   double wall_time_s = 0.0;              ///< this invocation's wall time [s]
   int mpi_ranks = 1;                     ///< > 1 when the runs were spread over MPI ranks
+  /// The first case's scene before the grid's values: the cam the report draws.
+  std::optional<SceneConfig> design = std::nullopt;
+  std::string config_file;  ///< the study's config, for messages
 
   const std::string& case_name(std::size_t point) const { return spec->cases[points[point].case_index].name; }
 };

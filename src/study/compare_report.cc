@@ -2,8 +2,8 @@
 // separation first), the cases at a glance, the best case per metric, a
 // pass/fail map over the first two numeric grid axes, each metric against the
 // first grid axis, the overlays (contact force and follower motion against cam
-// angle), then the results table with the best case per grid point marked and
-// the failed runs.
+// angle), the cam of the first case to scale with its SVAJ, then the results
+// table with the best case per grid point marked and the failed runs.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -11,7 +11,9 @@
 #include <optional>
 #include <string_view>
 
+#include "common/errors.h"
 #include "dynamics/metrics.h"
+#include "io/cam_plots.h"
 #include "io/report.h"
 #include "study/compare_output.h"
 
@@ -312,6 +314,28 @@ std::optional<Plot> pass_fail_map(const CompareResult& r) {
   return map;
 }
 
+/// The cam of the first case, as its scene gives it before the grid's values
+/// (captioned so when the study has more than one run), with its SVAJ at its
+/// speed, or per radian of cam angle when the speed may differ between runs.
+void add_design_plots(const CompareResult& r, Report& report) {
+  if (!r.design) return;
+  const CompareCase& first = r.spec->cases.front();
+  bool one_speed = std::none_of(r.keys.begin(), r.keys.end(), [](const std::string& k) { return k.ends_with("rpm"); });
+  for (const CompareCase& c : r.spec->cases) {
+    one_speed = one_speed && c.config.empty() && c.inline_config.is_null();
+    for (const std::string& assignment : c.set) one_speed = one_speed && assignment.find("rpm") == std::string::npos;
+  }
+  const std::string caption = r.points.size() > 1 ? "base design: case '" + first.name + "'" +
+                                                        (r.keys.empty() ? "" : " before the grid's values")
+                                                  : "";
+  try {
+    for (Plot& plot : scene_cam_plots(*r.design, r.config_file, one_speed ? r.design->mechanism.cam.rpm : 0.0, caption))
+      report.plots.push_back(std::move(plot));
+  } catch (const InputError& e) {  // a case whose scene builds only with the grid's values
+    report.notes.push_back("The cam of case '" + first.name + "' cannot be drawn: " + e.what());
+  }
+}
+
 Table failures_table(const CompareResult& r) {
   Table failures{"Failed runs", {"case", "grid point", "reason"}, {}, false};
   failures.wrap = true;  // a reason is read whole
@@ -424,6 +448,7 @@ void write_compare_report(const CompareResult& r, const std::filesystem::path& o
   if (std::optional<Plot> map = pass_fail_map(r)) report.plots.push_back(std::move(*map));
   for (Plot& plot : metric_plots(r)) report.plots.push_back(std::move(plot));
   for (Plot& plot : overlay_plots(r)) report.plots.push_back(std::move(plot));
+  add_design_plots(r, report);
   report.appendix.push_back(std::move(table));
   Table failures = failures_table(r);
   if (!failures.rows.empty()) report.appendix.push_back(std::move(failures));

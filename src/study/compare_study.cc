@@ -256,6 +256,8 @@ int run_compare_study(const Json& doc, const StudyContext& ctx) {
   }
   result.resumed = state.resumed;
   result.mpi_ranks = mpi::size();
+  result.design = scene_from_json(plan.bases.front().config, plan.bases.front().source);
+  result.config_file = ctx.config_file;
   write_comparison(result, ctx.out_dir);
   write_compare_report(result, ctx.out_dir);
   print_compare_summary(result, ctx.out_dir);

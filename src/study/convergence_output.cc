@@ -3,6 +3,7 @@
 #include <chrono>
 #include <utility>
 
+#include "io/cam_plots.h"
 #include "io/csv_writer.h"
 #include "io/json_writer.h"
 #include "io/report.h"
@@ -41,7 +42,7 @@ std::pair<Plot, Plot> work_precision_plots(const ConvergenceStudy& study, const 
   time_plot.logx = time_plot.logy = true;
   rhs_plot = time_plot;
   rhs_plot.title = "Scene '" + config.scenes[k].name + "': position error against RHS evaluations";
-  rhs_plot.xlabel = "right-hand-side evaluations";
+  rhs_plot.xlabel = "right-hand-side evaluations [-]";
   for (const IntegrationMethod method : config.methods)
     for (const Tracking tracking : config.tracking) {
       Series by_time{to_string(method) + " / " + to_string(tracking), {}, {}, "linespoints"};
@@ -101,9 +102,10 @@ Verdict convergence_verdict(const std::vector<ConvergenceRun>& runs, long failed
 }
 
 /// report.html: the reference, run counts and wall time [s], the
-/// work-precision plots of each scene and the table of runs.
+/// work-precision plots of each scene, the cam of the first scene and the
+/// table of runs.
 Report convergence_report(const ConvergenceStudy& study, const std::vector<ConvergenceRun>& runs, long failed,
-                          double wall) {
+                          double wall, const std::string& file) {
   Report report;
   report.title = "camdyn: " + study.base.name + " — error against run time";
   report.subtitle = "convergence study: every method × tracking mode × tolerance against a reference run (" +
@@ -118,6 +120,10 @@ Report convergence_report(const ConvergenceStudy& study, const std::vector<Conve
     report.plots.push_back(std::move(time_plot));
     report.plots.push_back(std::move(rhs_plot));
   }
+  const SceneConfig& first = study.scenes.front();
+  for (Plot& plot : scene_cam_plots(first, file, first.mechanism.cam.rpm,
+                                    study.scenes.size() > 1 ? "scene '" + study.config.scenes.front().name + "'" : ""))
+    report.plots.push_back(std::move(plot));
   Table table = runs_table(study, runs);
   table.wrap = true;  // the failure reasons in the status column
   report.appendix.push_back(std::move(table));
@@ -127,13 +133,13 @@ Report convergence_report(const ConvergenceStudy& study, const std::vector<Conve
 }  // namespace
 
 double write_convergence_outputs(const std::filesystem::path& out_dir, const ConvergenceStudy& study,
-                                 const ConvergenceResult& result) {
+                                 const ConvergenceResult& result, const std::string& config_file) {
   const std::vector<ConvergenceRun>& runs = result.runs;
   std::filesystem::create_directories(out_dir);
   write_work_precision_csv(out_dir / "work_precision.csv", study, runs);
   const long failed = result.failed();
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - result.started).count();
-  write_report(out_dir / "report.html", convergence_report(study, runs, failed, wall));
+  write_report(out_dir / "report.html", convergence_report(study, runs, failed, wall, config_file));
   write_json_atomic(out_dir / "config.json", study.resolved);
   return wall;
 }

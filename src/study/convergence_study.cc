@@ -18,7 +18,7 @@ int run_convergence_study(const Json& doc, const StudyContext& ctx) {
     return 0;
   }
   const ConvergenceResult result = run_convergence(study, ctx);
-  const double wall = write_convergence_outputs(ctx.out_dir, study, result);
+  const double wall = write_convergence_outputs(ctx.out_dir, study, result, ctx.config_file);
   const long failed = result.failed();
   std::printf("%s: %zu runs (%ld failed) in %.3g s\n  work_precision.csv and report: %s\n", study.base.name.c_str(),
               result.runs.size(), failed, wall,

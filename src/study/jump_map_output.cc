@@ -1,6 +1,6 @@
 // The jump map's run (ranges journalled on threads or MPI ranks) and its
 // outputs: jump_map.json, jump_map.csv (one row per speed), impacts.csv (one
-// row per impact) and report.html with the diagram.
+// row per impact) and report.html with the diagram and the cam.
 #include <camdyn/version.h>
 
 #include <chrono>
@@ -11,6 +11,7 @@
 #include <map>
 #include <set>
 
+#include "io/cam_plots.h"
 #include "io/csv_writer.h"
 #include "io/json_writer.h"
 #include "io/report.h"
@@ -79,7 +80,7 @@ Plot diagram(const std::vector<JumpMapPoint>& points, double jump_rpm, Plot plot
 }
 
 Report jump_map_report(const JumpMapStudy& study, const std::vector<JumpMapPoint>& points,
-                       const std::vector<JumpMapTransition>& transitions, double run_time) {
+                       const std::vector<JumpMapTransition>& transitions, double run_time, const std::string& file) {
   Report rep;
   rep.title = "camdyn jump_map: " + study.scene.name;
   const auto first = std::find_if(points.begin(), points.end(), [](const JumpMapPoint& p) {
@@ -116,6 +117,8 @@ Report jump_map_report(const JumpMapStudy& study, const std::vector<JumpMapPoint
                               [](const JumpMapPoint& p) { return p.section_position; }));
   rep.plots.push_back(diagram(points, jump, Plot{"Impact angles", "cam speed [rpm]", "cam angle at impact [deg]", {}},
                               [](const JumpMapPoint& p) { return p.impact_angle_deg; }));
+  // The cam, its SVAJ per radian of cam angle: the map runs at many speeds.
+  for (Plot& p : scene_cam_plots(study.scene, file, 0.0)) rep.plots.push_back(std::move(p));
   Table table{
       "Speeds", {"rpm", "motion", "impacts", "separation fraction", "max gap [m]", "peak force [N]", "error"}, {}};
   for (const JumpMapPoint& p : points)
@@ -171,7 +174,7 @@ int run_jump_map_study(const Json& doc, const StudyContext& ctx) {
                          {"resumed_ranges", runs.resumed},
                          {"run_time_s", run_time}});
   write_csvs(ctx.out_dir, points);
-  write_report(ctx.out_dir / "report.html", jump_map_report(study, points, transitions, run_time));
+  write_report(ctx.out_dir / "report.html", jump_map_report(study, points, transitions, run_time, ctx.config_file));
   long failed = 0;
   for (const JumpMapPoint& p : points) failed += p.ok ? 0 : 1;
   std::printf("%s: %zu speeds (%ld failed), %zu transitions, %.3g s\n", study.scene.name.c_str(), points.size(), failed,

@@ -4,6 +4,8 @@
 #include <numbers>
 #include <string>
 
+#include "io/cam_plots.h"
+
 namespace camdyn {
 
 namespace {
@@ -60,11 +62,11 @@ Plot multipliers(const Orbit& o) {
     mu.x.push_back(m.real());
     mu.y.push_back(m.imag());
   }
-  return Plot{"Floquet multipliers (stable inside the unit circle)", "Re μ", "Im μ", {circle, mu}};
+  return Plot{"Floquet multipliers (stable inside the unit circle)", "Re μ [-]", "Im μ [-]", {circle, mu}};
 }
 
 Plot newton_residuals(const PeriodicAnalysis& a) {
-  Plot p{"Shooting: Newton residual per iteration", "iteration", "max |P^k(x) − x| / scale [-]", {}};
+  Plot p{"Shooting: Newton residual per iteration", "iteration [-]", "max |P^k(x) − x| / scale [-]", {}};
   p.logy = true;
   for (const NewtonStep& s : a.newton) {
     if (p.series.empty() || p.series.back().label != "period " + std::to_string(s.period))
@@ -123,6 +125,7 @@ Report periodic_report(const PeriodicStudy& study, const PeriodicResult& r, cons
   rep.facts.push_back({"run time", format_number(r.run_time_s, 3) + " s"});
   rep.plots.push_back(phase_plane(r, map));
   rep.plots.push_back(contact_force(r));
+  for (Plot& p : cam_plots(map.model(), study.scene.mechanism.cam.limits, r.rpm)) rep.plots.push_back(std::move(p));
   if (a.orbit) rep.plots.push_back(multipliers(*a.orbit));
   if (!a.newton.empty()) rep.plots.push_back(newton_residuals(a));
   rep.appendix.push_back(orbit_table(r));

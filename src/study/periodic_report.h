@@ -1,7 +1,7 @@
 // report.html of the `periodic` study: the verdict first, then the orbit in
 // the phase plane with its Poincaré points, the contact force over one
-// period, the Floquet multipliers against the unit circle and the Newton
-// residuals of the search.
+// period, the cam (io/cam_plots.h), the Floquet multipliers against the unit
+// circle and the Newton residuals of the search.
 #pragma once
 
 #include "dynamics/poincare_map.h"

@@ -206,7 +206,8 @@ void add_contour_fit(const Model& model, Report& report) {
                               "x [mm]",
                               "y [mm]",
                               {std::move(curve), std::move(points)}});
-  report.plots.push_back(Plot{"Contour fit residual per point", "point index", "residual [µm]", {std::move(residual)}});
+  report.plots.push_back(
+      Plot{"Contour fit residual per point", "point index [-]", "residual [µm]", {std::move(residual)}});
 }
 
 }  // namespace

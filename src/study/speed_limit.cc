@@ -13,6 +13,7 @@
 #include "common/parallel.h"
 #include "dynamics/model.h"
 #include "dynamics/simulation.h"
+#include "io/cam_plots.h"
 #include "io/json_archive.h"
 #include "io/json_writer.h"
 #include "io/report.h"
@@ -129,8 +130,9 @@ Json speed_limit_json(const SpeedLimitStudy& study, const SpeedLimitResult& r) {
 
 namespace {
 
-/// report.html: separation fraction and smallest contact force against speed.
-Report speed_limit_report(const SpeedLimitStudy& study, const SpeedLimitResult& r) {
+/// report.html: separation fraction and smallest contact force against
+/// speed, then the cam with its SVAJ per radian of cam angle (many speeds).
+Report speed_limit_report(const SpeedLimitStudy& study, const SpeedLimitResult& r, const std::string& file) {
   std::vector<SpeedCheck> sorted = r.checks;
   std::sort(sorted.begin(), sorted.end(), [](const SpeedCheck& a, const SpeedCheck& b) { return a.rpm < b.rpm; });
   Series sep{"separation fraction", {}, {}, "linespoints"}, force{"smallest contact force", {}, {}, "linespoints"};
@@ -163,6 +165,7 @@ Report speed_limit_report(const SpeedLimitStudy& study, const SpeedLimitResult& 
   rep.appendix.push_back(table);
   rep.plots.push_back(Plot{"Separation against speed", "cam speed [rpm]", "separation fraction [-]", {sep}});
   rep.plots.push_back(Plot{"Smallest contact force against speed", "cam speed [rpm]", "force [N]", {force}});
+  for (Plot& p : scene_cam_plots(study.scene, file, 0.0)) rep.plots.push_back(std::move(p));
   return rep;
 }
 
@@ -177,7 +180,7 @@ int run_speed_limit_study(const Json& doc, const StudyContext& ctx) {
   const SpeedLimitResult r = run_speed_limit(study, ctx);
   std::filesystem::create_directories(ctx.out_dir);
   write_json_atomic(ctx.out_dir / "speed_limit.json", speed_limit_json(study, r));
-  write_report(ctx.out_dir / "report.html", speed_limit_report(study, r));
+  write_report(ctx.out_dir / "report.html", speed_limit_report(study, r, ctx.config_file));
   if (r.limited && r.speed_limit_rpm == 0.0)
     std::printf("%s: the follower leaves the cam already at %.6g rpm (the lowest speed checked)\n",
                 study.scene.name.c_str(), r.first_failure_rpm);

@@ -1,14 +1,17 @@
 // Every study type's report.html opened in headless Chromium: the page loads
 // with no console message (no script error, no failed resource), the verdict
-// banner is the first element of the page's content, and every figure holds a
-// non-empty gnuplot SVG (not a placeholder). Skips only when
-// Chromium is not installed (scripts/setup.sh installs it).
+// banner is the first element of the page's content, every figure holds a
+// non-empty gnuplot SVG (not a placeholder) whose x and y axes both carry a
+// unit, and the cam is drawn to scale (measured on the page) with its
+// pressure angle, radius of curvature and SVAJ. Skips only when Chromium is
+// not installed (scripts/setup.sh installs it).
 #include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -84,10 +87,40 @@ class ReportInBrowser : public ::testing::Test {
       EXPECT_NE(figure.find("<path", svg), std::string::npos) << name << ": figure " << figures << " is empty";
       EXPECT_EQ(figure.find("plot unavailable"), std::string::npos) << name << ": figure " << figures;
       EXPECT_EQ(figure.find("no data to plot"), std::string::npos) << name << ": figure " << figures;
+      expect_units_on_axes(name + ": figure " + std::to_string(figures), figure);
     }
     EXPECT_GE(figures, min_figures) << name;
     expect_verdict_first(name, page.dom);
     last_dom_ = page.dom;
+    expect_cam_to_scale(name);
+    expect_svaj(name);
+  }
+
+  // One x and one y axis label, each with its unit in brackets.
+  static void expect_units_on_axes(const std::string& where, const std::string& figure) {
+    const camdyn::test::AxisLabels labels = camdyn::test::axis_labels(figure.substr(0, figure.find("<figcaption")));
+    EXPECT_EQ(labels.x.size(), 1u) << where << ": x axis labels";
+    EXPECT_EQ(labels.y.size(), 1u) << where << ": y axis labels";
+    for (const auto* axis : {&labels.x, &labels.y})
+      for (const std::string& label : *axis)
+        EXPECT_TRUE(camdyn::test::has_unit(label)) << where << ": no unit on the axis '" << label << "'";
+  }
+
+  // The figure of the report just checked whose caption starts with `title`
+  // ("Figure N. " left out): its SVG and its caption.
+  struct Figure {
+    std::string svg, caption;
+  };
+  std::optional<Figure> figure_titled(const std::string& title) const {
+    for (std::size_t at = last_dom_.find("<figcaption>"); at != std::string::npos;
+         at = last_dom_.find("<figcaption>", at + 1)) {
+      const std::size_t text = last_dom_.find(". ", at) + 2;
+      if (last_dom_.compare(text, title.size(), title) != 0) continue;
+      const std::size_t figure = last_dom_.rfind("<figure", at);
+      return Figure{last_dom_.substr(figure, at - figure),
+                    last_dom_.substr(text, last_dom_.find("</figcaption>", at) - text)};
+    }
+    return std::nullopt;
   }
 
   // The verdict banner is the first element of <main> (before the facts, the
@@ -102,43 +135,45 @@ class ReportInBrowser : public ::testing::Test {
     EXPECT_NE(dom.compare(headline + 21, 4, "</p>"), 0) << name << ": empty verdict";
   }
 
-  // Each figure of the report just checked whose caption reads "Y against X"
-  // (the compare study's metric plots) has both axis labels with a unit in
-  // brackets, as gnuplot wrote them into the SVG.
-  void expect_units_on_metric_axes(const std::string& name, std::size_t min_plots) {
-    std::size_t checked = 0;
-    for (std::size_t at = last_dom_.find("<figcaption>"); at != std::string::npos;
-         at = last_dom_.find("<figcaption>", at + 1)) {
-      const std::size_t end = last_dom_.find("</figcaption>", at);
-      const std::string caption = last_dom_.substr(at, end - at);
-      const std::size_t against = caption.find(" against ");
-      const std::size_t dot = caption.find(". ");
-      if (against == std::string::npos || dot == std::string::npos || caption.find(':') != std::string::npos) continue;
-      const std::string y = caption.substr(dot + 2, against - dot - 2), x = caption.substr(against + 9);
-      if (y.find(' ') != std::string::npos) continue;  // an overlay, not a metric
-      const std::size_t figure = last_dom_.rfind("<figure", at);
-      const std::string svg = last_dom_.substr(figure, at - figure);
-      for (const std::string& axis : {x, y})
-        EXPECT_NE(svg.find(axis + " ["), std::string::npos) << name << ": no unit on the axis " << axis;
-      ++checked;
-    }
-    EXPECT_GE(checked, min_plots) << name;
-  }
-
   // The report just checked has the cam drawn to scale: in the figure whose
-  // caption says so, the base circle (linetype 3, after the contour and the
-  // pitch curve of a roller) is as wide as it is high on the page, as the
-  // browser lays it out; and the SVAJ figures are there.
-  void expect_cam_to_scale(const std::string& name) {
-    const std::size_t caption = last_dom_.find("to scale at cam angle");
-    ASSERT_NE(caption, std::string::npos) << name << ": no cam drawn to scale";
-    const std::size_t figure = last_dom_.rfind("<figure", caption);
-    const std::string svg = last_dom_.substr(figure, caption - figure);
-    const auto base = camdyn::test::stroke_box(svg, camdyn::test::gnuplot_stroke("#009e73"));
+  // caption says so, the base circle is as wide as it is high on the page,
+  // as the browser lays it out; its pressure angle and radius of curvature
+  // are plotted.
+  void expect_cam_to_scale(const std::string& name) const {
+    const std::optional<Figure> cam = figure_titled("Cam and follower to scale at cam angle");
+    ASSERT_TRUE(cam.has_value()) << name << ": no cam drawn to scale";
+    const auto base = camdyn::test::series_box(cam->svg, "base circle");
     ASSERT_TRUE(base.has_value()) << name << ": no base circle in the cam plot";
+    EXPECT_GT(base->width(), 20.0) << name << ": the base circle is a dot";
     EXPECT_NEAR(base->width(), base->height(), 1.0) << name << ": the cam is not drawn to scale";
     for (const char* what : {"Pressure angle against cam angle", "Radius of curvature of the cam contour"})
-      EXPECT_NE(last_dom_.find(what), std::string::npos) << name << ": " << what;
+      EXPECT_TRUE(figure_titled(what).has_value()) << name << ": " << what;
+  }
+
+  // The law's lift, velocity, acceleration and jerk, each against cam angle
+  // in degrees and in a unit of its own kind: a length or an angle, then per
+  // second (at a speed) or per radian of cam angle, squared, cubed.
+  void expect_svaj(const std::string& name) const {
+    const char* titles[] = {"Lift of the follower", "Velocity of the follower", "Acceleration of the follower",
+                            "Jerk of the follower"};
+    const char* powers[] = {"", "", "²", "³"};
+    for (int n = 0; n < 4; ++n) {
+      const std::optional<Figure> f = figure_titled(titles[n]);
+      ASSERT_TRUE(f.has_value()) << name << ": no " << titles[n];
+      const camdyn::test::AxisLabels labels = camdyn::test::axis_labels(f->svg);
+      ASSERT_EQ(labels.x.size(), 1u) << name << ": " << titles[n];
+      ASSERT_EQ(labels.y.size(), 1u) << name << ": " << titles[n];
+      EXPECT_EQ(labels.x[0], "cam angle [deg]") << name << ": " << titles[n];
+      const std::string& y = labels.y[0];
+      const std::string unit = y.substr(y.rfind(" [") + 2, y.size() - y.rfind(" [") - 3);
+      if (n == 0) {
+        EXPECT_TRUE(unit == "mm" || unit == "deg") << name << ": lift in " << y;
+      } else {
+        const bool timed = f->caption.find(" rpm") != std::string::npos;
+        const std::string per = std::string(timed ? "/s" : "/rad") + powers[n];
+        EXPECT_TRUE(unit.ends_with(per)) << name << ": " << titles[n] << " in " << y << " (" << f->caption << ")";
+      }
+    }
   }
 
   std::string last_dom_;
@@ -159,10 +194,7 @@ TEST_F(ReportInBrowser, HarnessSeesConsoleErrors) {
 
 TEST_F(ReportInBrowser, Simulate) {
   check_report("simulate", kStudies + "quickstart.json", {"--set", "simulation.cycles=2"}, 3);
-  expect_cam_to_scale("simulate");
-  for (const char* what : {"Lift of the follower", "Velocity of the follower", "Acceleration of the follower",
-                           "Jerk of the follower", "m/s³"})
-    EXPECT_NE(last_dom_.find(what), std::string::npos) << what;
+  EXPECT_NE(last_dom_.find("m/s³"), std::string::npos) << "the SVAJ at the scene's speed";
 }
 
 TEST_F(ReportInBrowser, SimulateContourCam) {
@@ -188,7 +220,6 @@ TEST_F(ReportInBrowser, Compare) {
     "grid": { "mechanism.cam.rpm": [1000, 1300], "mechanism.contact.restitution": [0.5, 0.8] },
     "overlays": [ { "mechanism.cam.rpm": 1300 } ] })";
   check_report("compare", (dir_ / "compare.json").string(), {}, 5);
-  expect_units_on_metric_axes("compare", 1);
   // The big results table comes after the figures, in a box that scrolls.
   EXPECT_LT(last_dom_.rfind("<figure"), last_dom_.find("<h2>Results")) << "compare";
 }
@@ -196,7 +227,6 @@ TEST_F(ReportInBrowser, Compare) {
 TEST_F(ReportInBrowser, Optimize) {
   check_report("optimize", kStudies + "optimize_jump.json",
                {"--set", "optimizer.max_evaluations=4", "--set", "simulation.cycles=2"}, 1);
-  expect_cam_to_scale("optimize");
 }
 
 TEST_F(ReportInBrowser, Periodic) {
@@ -212,6 +242,15 @@ TEST_F(ReportInBrowser, JumpMap) {
                    "samples": 5})",
                 "--set", R"(periodic={"max_period": 1, "lyapunov_revolutions": 10})"},
                3);
+}
+
+TEST_F(ReportInBrowser, SpeedLimit) {
+  // Separation and the smallest contact force against speed.
+  check_report("speed_limit", kStudies + "quickstart.json",
+               {"--set", "study=speed_limit", "--set",
+                R"(speed_limit={"low_rpm": 1000, "high_rpm": 1300, "scan": 3, "tolerance_rpm": 50})", "--set",
+                "simulation.cycles=2"},
+               2);
 }
 
 TEST_F(ReportInBrowser, Identify) {

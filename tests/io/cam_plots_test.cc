@@ -28,15 +28,17 @@ bool gnuplot_available() {
 #define REQUIRE_GNUPLOT() \
   if (!gnuplot_available()) GTEST_SKIP() << "gnuplot is not installed"
 
-Model roller_cam(const std::string& limits = "{}") {
+Model roller_cam(const std::string& limits = "{}", const std::string& speed = R"("rpm": 1200)",
+                 const std::string& simulation = "{}") {
   const Json doc = Json::parse(R"({"name": "plots", "mechanism": {
-      "cam": {"base_radius": 0.04, "rpm": 1200, "limits": )" +
-                               limits + R"(, "motion_law": {"segments": [
+      "cam": {"base_radius": 0.04, )" +
+                               speed + R"(, "limits": )" + limits + R"(, "motion_law": {"segments": [
         {"type": "rise", "law": "cycloidal", "end_deg": 120, "lift": 0.02}, {"type": "dwell", "end_deg": 180},
         {"type": "return", "law": "cycloidal", "end_deg": 300, "lift": 0.02}, {"type": "dwell", "end_deg": 360}]}},
       "follower": {"shape": {"type": "roller", "radius": 0.01}, "mass": 0.3,
                    "spring": {"stiffness": 5000, "preload": 40}},
-      "contact": {"stiffness": 1e10}}})");
+      "contact": {"stiffness": 1e10}}, "simulation": )" +
+                               simulation + "}");
   return build_model(scene_from_json(doc, ConfigSource{"test.json", "."}), "test.json");
 }
 
@@ -105,7 +107,7 @@ TEST(CamPlots, PressureAngleAndCurvatureCarryTheLimits) {
 
 TEST(CamPlots, SvajHasUnitsAndScalesWithTheCamSpeed) {
   const Model model = roller_cam();
-  const std::vector<Plot> timed = svaj_plots(model, 1200.0);
+  const std::vector<Plot> timed = svaj_plots({{"cam", &model}}, 1200.0);
   ASSERT_EQ(timed.size(), 4u);
   EXPECT_EQ(timed[0].ylabel, "lift [mm]");
   EXPECT_EQ(timed[1].ylabel, "Velocity [m/s]");
@@ -119,9 +121,40 @@ TEST(CamPlots, SvajHasUnitsAndScalesWithTheCamSpeed) {
   EXPECT_DOUBLE_EQ(timed[1].series[0].y[i], l.ds * omega);
   EXPECT_DOUBLE_EQ(timed[2].series[0].y[i], l.d2s * omega * omega);
   EXPECT_DOUBLE_EQ(timed[3].series[0].y[i], l.d3s * omega * omega * omega);
-  const std::vector<Plot> still = svaj_plots(model, 0.0);
+  const std::vector<Plot> still = svaj_plots({{"cam", &model}}, 0.0);
   EXPECT_EQ(still[2].ylabel, "d²s/dθ² [mm/rad²]");
   EXPECT_DOUBLE_EQ(still[2].series[0].y[i], l.d2s * 1e3);
+}
+
+// Two designs (optimise's baseline and optimised): one labelled curve each, in order.
+TEST(CamPlots, SvajOverlaysSeveralDesigns) {
+  const Model a = roller_cam(), b = roller_cam();
+  const std::vector<Plot> plots = svaj_plots({{"baseline", &a}, {"optimised", &b}}, 0.0);
+  ASSERT_EQ(plots.size(), 4u);
+  for (const Plot& p : plots) {
+    ASSERT_EQ(p.series.size(), 2u) << p.title;
+    EXPECT_EQ(p.series[0].label, "baseline");
+    EXPECT_EQ(p.series[1].label, "optimised");
+    EXPECT_EQ(p.series[0].y, p.series[1].y);
+  }
+}
+
+// A cam held still (a drop test) is drawn as it stands, not where it would push hardest.
+TEST(CamPlots, StillCamIsDrawnAtItsInitialAngle) {
+  const Model turning = roller_cam();
+  EXPECT_NE(cam_plots(turning, CamLimitsConfig{}, 0.0)[0].title.find(
+                "at cam angle " + format_number(turning.geometry.max_pressure_angle_at_deg, 4) + "°"),
+            std::string::npos);
+  const Model still =
+      roller_cam("{}", R"("rpm": 0, "initial_angle_deg": 330)", R"({"duration": 1e-3, "output_step": 1e-5})");
+  EXPECT_NE(cam_plots(still, CamLimitsConfig{}, 0.0)[0].title.find("at cam angle 330°"), std::string::npos);
+}
+
+// A report over several cams says which one it draws, in every title.
+TEST(CamPlots, CaptionNamesTheDesignInEveryTitle) {
+  const Model model = roller_cam();
+  for (const Plot& p : cam_plots(model, CamLimitsConfig{}, 0.0, "base design"))
+    EXPECT_TRUE(p.title.ends_with(" — base design")) << p.title;
 }
 
 }  // namespace

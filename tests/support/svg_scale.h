@@ -1,14 +1,17 @@
 // Measuring a gnuplot SVG (io/report.h render_svg) in pixels: the bounding
-// box of the curves drawn in one colour, for tests that check a plot is to
-// scale (a circle in the data must come out as round on the page). Works on
-// gnuplot's own SVG and on the same SVG as a browser's DOM dump prints it.
+// box of the curves drawn in one colour or of one titled series, for tests
+// that check a plot is to scale (a circle in the data must come out as round
+// on the page); and reading its axis labels back. Works on gnuplot's own SVG
+// and on the same SVG as a browser's DOM dump prints it.
 #pragma once
 
 #include <algorithm>
+#include <cctype>
 #include <cstdlib>
 #include <limits>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace camdyn::test {
 
@@ -83,6 +86,50 @@ inline std::optional<PixelBox> stroke_box(const std::string& svg, const std::str
   }
   if (box.points == 0) return std::nullopt;
   return box;
+}
+
+/// The bounding box of the series gnuplot titled `title` in the key (its
+/// group `<g id="...gnuplot_plot_N"><title>TITLE</title>`), in the colour
+/// of its first stroked path, leaving out the key's sample line. Empty when
+/// there is no such series.
+inline std::optional<PixelBox> series_box(const std::string& svg, const std::string& title) {
+  const std::size_t at = svg.find("<title>" + title + "</title>");
+  if (at == std::string::npos) return std::nullopt;
+  const std::string group = svg.substr(at, svg.find("gnuplot_plot_", at) - at);
+  for (std::size_t path = group.find("<path"); path != std::string::npos; path = group.find("<path", path + 1)) {
+    const std::string stroke = svg_detail::attribute(group.substr(path, group.find('>', path) - path), "stroke");
+    if (!stroke.empty() && stroke != "currentColor") return stroke_box(group, svg_detail::without_spaces(stroke));
+  }
+  return std::nullopt;
+}
+
+/// The axis labels of a gnuplot SVG: the centred texts of one piece (tick
+/// labels are enhanced text, in a <tspan>; the key's entries are aligned
+/// right; the report draws no title), the rotated one on the y axis.
+struct AxisLabels {
+  std::vector<std::string> x, y;
+};
+inline AxisLabels axis_labels(const std::string& svg) {
+  AxisLabels labels;
+  for (std::size_t at = svg.find("<g "); at != std::string::npos; at = svg.find("<g ", at + 1)) {
+    const std::size_t close = svg.find('>', at);
+    const std::string tag = svg.substr(at, close - at);
+    if (svg_detail::attribute(tag, "text-anchor") != "middle") continue;
+    std::size_t text = close + 1;
+    while (text < svg.size() && std::isspace(static_cast<unsigned char>(svg[text]))) ++text;
+    if (svg.compare(text, 6, "<text>") != 0) continue;
+    const std::size_t end = svg.find("</text>", text);
+    const std::string content = svg.substr(text + 6, end - text - 6);
+    if (content.find('<') != std::string::npos) continue;  // a tick label
+    (tag.find("rotate(") != std::string::npos ? labels.y : labels.x).push_back(content);
+  }
+  return labels;
+}
+
+/// Whether an axis label ends with its unit in brackets: "force [N]", "iteration [-]".
+inline bool has_unit(const std::string& label) {
+  const std::size_t open = label.rfind(" [");
+  return open != std::string::npos && !label.empty() && label.back() == ']' && label.size() > open + 3;
 }
 
 }  // namespace camdyn::test
