@@ -34,6 +34,7 @@ struct RunArgs {
   bool quiet = false;
   bool strict = false;
   double max_study_time_s = camdyn::kDefaultStudyWallTimeS;
+  double max_memory_mb = camdyn::kDefaultMemoryBudgetMb;
   std::vector<std::string> overrides;
 };
 
@@ -87,6 +88,15 @@ std::filesystem::path out_dir(const camdyn::Json& doc, const std::string& out) {
 
 // `camdyn run` and `camdyn validate`: the study the config names
 // (cli/run_study.h, shared with the Python module).
+// --max-memory: `validate` refuses what `run` would refuse, so both take it.
+void add_memory_option(CLI::App& command, RunArgs& args) {
+  command
+      .add_option("--max-memory", args.max_memory_mb,
+                  "Memory budget [MB] (default 2048): a time series or data file that would need more is refused "
+                  "(exit 2)")
+      ->check(CLI::PositiveNumber);
+}
+
 int run_study(const RunArgs& args, bool validate_only, bool root) {
   camdyn::StudyRequest request;
   request.config_file = args.config;
@@ -97,6 +107,7 @@ int run_study(const RunArgs& args, bool validate_only, bool root) {
   request.validate_only = validate_only;
   request.strict = args.strict;
   request.max_study_time_s = args.max_study_time_s;
+  request.max_memory_mb = args.max_memory_mb;
   return camdyn::run_study(request).exit_code;
 }
 
@@ -214,12 +225,14 @@ int run_command(int argc, char** argv) {
                   "Wall-time budget of the whole study [s] (default 86400; each run also has "
                   "integrator.max_wall_time_s): past it the study stops, keeps what finished and exits 3")
       ->check(CLI::PositiveNumber);
+  add_memory_option(*run, run_args);
   run->footer(kRunFooter);
 
   RunArgs validate_args;
   CLI::App* validate = app.add_subcommand("validate", "Check a config and print it fully resolved");
   validate->add_option("config", validate_args.config, "Config file (JSON)")->required();
   validate->add_option("--set", validate_args.overrides, "Override a field (repeatable)");
+  add_memory_option(*validate, validate_args);
 
   ExportArgs export_args;
   add_export_command(app, export_args);

@@ -186,7 +186,7 @@ StudyOutcome run_study(const StudyRequest& request) {
     remove_completion_marker(ctx.out_dir);
   }
   try {
-    const StudyBudgetScope budget(request.max_study_time_s);
+    const StudyBudgetScope budget(request.max_study_time_s, request.max_memory_mb);
     outcome.exit_code = dispatch(outcome.study, doc, ctx);
   } catch (const InputError& e) {
     // Errors raised below the config layer may not know the file: name it here.

@@ -23,6 +23,7 @@ struct StudyRequest {
   bool validate_only = false;          ///< check, print the resolved config, do not run
   bool strict = false;                 ///< a run with plausibility warnings exits 3 (docs/warnings.md)
   double max_study_time_s = 86400.0;   ///< the whole study's wall-time budget [s] (common/study_budget.h)
+  double max_memory_mb = 2048.0;       ///< the memory budget [MB] (common/study_budget.h)
 };
 
 struct StudyOutcome {

@@ -17,6 +17,7 @@ constexpr long long kNoDeadline = std::numeric_limits<long long>::max();
 /// The deadline as steady_clock nanoseconds since its epoch (kNoDeadline: none).
 std::atomic<long long> g_deadline_ns{kNoDeadline};
 std::atomic<double> g_seconds{std::numeric_limits<double>::infinity()};
+std::atomic<double> g_memory_mb{kDefaultMemoryBudgetMb};
 
 long long now_ns() {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch()).count();
@@ -24,8 +25,11 @@ long long now_ns() {
 
 }  // namespace
 
-StudyBudgetScope::StudyBudgetScope(double seconds)
-    : previous_deadline_ns_(g_deadline_ns.load()), previous_seconds_(g_seconds.load()) {
+StudyBudgetScope::StudyBudgetScope(double seconds, double memory_mb)
+    : previous_deadline_ns_(g_deadline_ns.load()),
+      previous_seconds_(g_seconds.load()),
+      previous_memory_mb_(g_memory_mb.load()) {
+  g_memory_mb = memory_mb;
   const double max_s = 1e9;  // ~30 years: beyond, no deadline (and no overflow)
   g_seconds = seconds;
   g_deadline_ns =
@@ -35,6 +39,7 @@ StudyBudgetScope::StudyBudgetScope(double seconds)
 StudyBudgetScope::~StudyBudgetScope() {
   g_deadline_ns = previous_deadline_ns_;
   g_seconds = previous_seconds_;
+  g_memory_mb = previous_memory_mb_;
 }
 
 bool study_budget_exhausted() {
@@ -47,6 +52,14 @@ double study_budget_s() { return g_seconds.load(); }
 std::string study_budget_text() {
   std::ostringstream text;
   text << "the study's wall-time budget of " << study_budget_s() << " s (camdyn run --max-study-time) is used up";
+  return text.str();
+}
+
+double memory_budget_bytes() { return g_memory_mb.load() * 1024.0 * 1024.0; }
+
+std::string memory_budget_text() {
+  std::ostringstream text;
+  text << "more than the memory budget of " << g_memory_mb.load() << " MB (--max-memory)";
   return text.str();
 }
 

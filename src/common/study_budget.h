@@ -1,11 +1,16 @@
-// The wall-time budget of a whole study (`camdyn run --max-study-time`,
-// default 24 h): every run of a study has its own budget
-// (integrator.max_wall_time_s), and this one caps them all together, so a
-// compare of a thousand runs or an optimise of many evaluations cannot run
-// without end either. It is process-wide, like a signal: the simulation
-// loop stops a run when it is used up (Termination::wall_time_budget, saying
-// it was the study's budget), and the studies stop starting work, keep
-// what finished (journals) and exit 3 saying where they stopped.
+// The budgets of a whole study, process-wide like a signal:
+//
+// * wall time (`camdyn run --max-study-time`, default 24 h): every run of a
+//   study has its own budget (integrator.max_wall_time_s), and this one caps
+//   them all together, so a compare of a thousand runs or an optimise of
+//   many evaluations cannot run without end either. The simulation loop
+//   stops a run when it is used up (Termination::wall_time_budget, saying it
+//   was the study's budget), and the studies stop starting work, keep what
+//   finished (journals) and exit 3 saying where they stopped;
+// * memory (`camdyn run|validate --max-memory`, default 2048 MB): what the
+//   inputs ask to be held in memory (the time series a run would record,
+//   the rows of a data file) is checked against it before it is allocated,
+//   and refused with exit 2 naming the field or file.
 #pragma once
 
 #include <string>
@@ -14,20 +19,22 @@ namespace camdyn {
 
 /// The study budget's default [s]: a day.
 inline constexpr double kDefaultStudyWallTimeS = 86400.0;
+/// The memory budget's default [MB].
+inline constexpr double kDefaultMemoryBudgetMb = 2048.0;
 
 /// Sets the study's budget for its lifetime (`seconds` from now; +inf: none)
 /// and restores the one before when it ends. Not for concurrent studies in
 /// one process (one runs at a time).
 class StudyBudgetScope {
  public:
-  explicit StudyBudgetScope(double seconds);
+  explicit StudyBudgetScope(double seconds, double memory_mb = kDefaultMemoryBudgetMb);
   ~StudyBudgetScope();
   StudyBudgetScope(const StudyBudgetScope&) = delete;
   StudyBudgetScope& operator=(const StudyBudgetScope&) = delete;
 
  private:
   long long previous_deadline_ns_;
-  double previous_seconds_;
+  double previous_seconds_, previous_memory_mb_;
 };
 
 /// Whether the study's budget is used up (false without one). Cheap: one
@@ -39,5 +46,11 @@ double study_budget_s();
 
 /// "the study's wall-time budget of N s (camdyn run --max-study-time) is used up".
 std::string study_budget_text();
+
+/// The memory budget [bytes] (kDefaultMemoryBudgetMb outside a scope).
+double memory_budget_bytes();
+
+/// "more than the memory budget of N MB (--max-memory)".
+std::string memory_budget_text();
 
 }  // namespace camdyn

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "common/errors.h"
+#include "common/study_budget.h"
 #include "contact/force_law.h"
 #include "geometry/follower_shape.h"
 #include "io/csv_reader.h"
@@ -388,18 +389,23 @@ void visit(A& a, IntegratorConfig& i) {
 }
 
 /// Work a config may ask for, checked before anything runs: a run longer
-/// than this or a time series longer than this is almost surely a slip (a
-/// duration in ms, an output step of 1e-9 degrees) and would not finish or
-/// not fit in memory.
+/// than this is almost surely a slip (a duration in ms, cycles in degrees)
+/// and would not finish; a time series must fit in the memory budget
+/// (common/study_budget.h), or the output step was a slip (1e-9 degrees).
 constexpr double kMaxRevolutions = 1e5;
-constexpr double kMaxOutputRows = 1e7;
+/// Memory of one time-series row while a run records it [bytes]: the
+/// TimeSeries columns (12 doubles), twice for the vectors' growth.
+constexpr double kSeriesBytesPerRow = 2.0 * 12.0 * sizeof(double);
 
 template <class A>
 void require_output_rows(A& a, double rows, const std::string& field) {
-  a.require(rows <= kMaxOutputRows, field,
+  const double bytes = rows * kSeriesBytesPerRow;
+  a.require(bytes <= memory_budget_bytes(), field,
             "would write " + (std::isfinite(rows) ? format_shortest(std::ceil(rows)) : std::string("over 1e308")) +
-                " time-series rows (at most " + format_shortest(kMaxOutputRows) +
-                "): give a larger output step or a shorter run");
+                " time-series rows, about " +
+                (std::isfinite(bytes) ? format_shortest(std::ceil(bytes / 1048576.0)) : std::string("over 1e300")) +
+                " MB in memory: " + memory_budget_text() +
+                ": give a larger output step or a shorter run, or raise --max-memory");
 }
 
 /// Run length and output step depend on whether the cam turns.

@@ -7,6 +7,7 @@
 #include <string_view>
 
 #include "common/errors.h"
+#include "common/study_budget.h"
 
 namespace camdyn {
 
@@ -44,6 +45,18 @@ bool parse_double(std::string_view field, double& value) {
   return ec == std::errc() && ptr == end;
 }
 
+/// Memory of what is built from one data row (a table's spline piece, a record's residual) [bytes].
+constexpr double kBuiltBytesPerRow = 128.0;
+
+/// The error for a file with more data rows than the memory budget holds.
+InputError too_many_rows(const std::string& file, const std::string& where, std::size_t rows, double row_bytes) {
+  const double mb = static_cast<double>(rows) * row_bytes / 1048576.0;
+  return InputError(file, where,
+                    "the file has more than " + std::to_string(rows) + " data rows, which would need about " +
+                        std::to_string(static_cast<long long>(std::ceil(mb))) + " MB: " + memory_budget_text() +
+                        ": decimate the data (keep every k-th row) or raise --max-memory");
+}
+
 std::string join(const std::vector<std::string_view>& names) {
   std::string out;
   for (const auto& n : names) out += (out.empty() ? "" : ", ") + std::string(n);
@@ -69,6 +82,11 @@ CsvColumns read_csv(const std::string& file, const std::vector<std::string>& col
   std::vector<std::size_t> index(columns.size());  // field index of each requested column
   std::size_t header_fields = 0;
   bool have_header = false;
+
+  // What each data row will hold in memory [bytes]: its values and line
+  // number (twice, for the vectors' growth), and what is built from it.
+  const double row_bytes = 2.0 * static_cast<double>(columns.size() * sizeof(double) + sizeof(int)) + kBuiltBytesPerRow;
+  const double max_rows = memory_budget_bytes() / row_bytes;
 
   std::string raw;
   int line_no = 0;
@@ -102,6 +120,7 @@ CsvColumns read_csv(const std::string& file, const std::vector<std::string>& col
     }
 
     const std::string where = "line " + std::to_string(line_no);
+    if (static_cast<double>(out.rows()) >= max_rows) throw too_many_rows(file, where, out.rows(), row_bytes);
     if (fields.size() != header_fields)
       throw InputError(
           file, where,

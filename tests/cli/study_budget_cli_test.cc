@@ -1,8 +1,9 @@
-// The whole study's wall-time budget (`camdyn run --max-study-time`,
-// common/study_budget.h): past it a study stops within a moment, exits 3
-// naming the budget and where it stopped, keeps what finished in its journal
-// (never a run the budget cut short, journaled as failed), and a re-run into
-// the same folder finishes the study.
+// The whole study's budgets (common/study_budget.h). Wall time (`camdyn run
+// --max-study-time`): past it a study stops within a moment, exits 3 naming
+// the budget and where it stopped, keeps what finished in its journal (never
+// a run the budget cut short, journaled as failed), and a re-run into the
+// same folder finishes the study. Memory (`--max-memory`): what an input asks
+// to hold is refused before it is allocated, by validate and run alike.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -100,6 +101,27 @@ TEST(StudyBudget, AnIdentifyStopsInItsStageAndARerunResumes) {
   const Outcome again = camdyn::test::run_camdyn({"run", config, "--quiet", "--out", (dir / "out").string()}, dir);
   ASSERT_EQ(again.code, 0) << again.err;
   EXPECT_TRUE(fs::exists(dir / "out" / "complete.json"));
+}
+
+// `validate` refuses what `run` would: a time series beyond --max-memory is
+// exit 2 naming the field, and a larger budget takes it.
+TEST(StudyBudget, ValidateAndRunRefuseATimeSeriesBeyondTheMemoryBudget) {
+  const fs::path dir = camdyn::test::scratch_dir("study_budget", "memory");
+  const std::vector<std::string> config = {kStudies + "quickstart.json", "--set", "simulation.output_step_deg=0.001"};
+  for (const char* command : {"validate", "run"}) {
+    std::vector<std::string> args = {command};
+    args.insert(args.end(), config.begin(), config.end());
+    args.insert(args.end(), {"--max-memory", "100"});
+    if (std::string(command) == "run") args.insert(args.end(), {"--quiet", "--out", (dir / "out").string()});
+    const Outcome o = camdyn::test::run_camdyn(args, dir);
+    EXPECT_EQ(o.code, 2) << command << ": " << o.err;
+    EXPECT_TRUE(contains(o.err, "simulation.output_step_deg")) << o.err;
+    EXPECT_TRUE(contains(o.err, "more than the memory budget of 100 MB (--max-memory)")) << o.err;
+  }
+  std::vector<std::string> args = {"validate"};
+  args.insert(args.end(), config.begin(), config.end());
+  args.insert(args.end(), {"--max-memory", "1000"});
+  EXPECT_EQ(camdyn::test::run_camdyn(args, dir).code, 0);
 }
 
 TEST(StudyBudget, ABudgetMustBePositive) {

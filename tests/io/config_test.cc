@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "common/errors.h"
+#include "common/study_budget.h"
 #include "io/json_archive.h"
 #include "io/suggest.h"
 
@@ -701,6 +702,21 @@ TEST(Config, RunsAndOutputsBeyondTheWorkLimitsAreRefusedNamingTheField) {
   EXPECT_EQ(denormal.path(), "simulation.output_step_deg");
   EXPECT_NE(denormal.reason().find("time-series rows"), std::string::npos) << denormal.reason();
   EXPECT_NO_THROW(load_scene(kGoodBase, {"simulation.cycles=1000", "simulation.output_step_deg=1"}));
+}
+
+// The time series a run would record must fit the memory budget (192 bytes
+// a row): 360,000 rows are 66 MB, refused under 50 MB and taken under 100 MB.
+TEST(Config, ATimeSeriesBeyondTheMemoryBudgetIsRefusedNamingTheOutputStep) {
+  const std::vector<std::string> rows = {"simulation.cycles=1000", "simulation.output_step_deg=1"};
+  {
+    const StudyBudgetScope budget(1e9, 50.0);
+    const InputError e = expect_input_error([&] { load_scene(kGoodBase, rows); });
+    EXPECT_EQ(e.path(), "simulation.output_step_deg");
+    EXPECT_NE(e.reason().find("360000 time-series rows, about 66 MB"), std::string::npos) << e.reason();
+    EXPECT_NE(e.reason().find("--max-memory"), std::string::npos) << e.reason();
+  }
+  const StudyBudgetScope budget(1e9, 100.0);
+  EXPECT_NO_THROW(load_scene(kGoodBase, rows));
 }
 
 TEST(Config, DuplicateKeysAreRejectedWithTheirPath) {

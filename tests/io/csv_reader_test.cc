@@ -8,6 +8,7 @@
 #include <string>
 
 #include "common/errors.h"
+#include "common/study_budget.h"
 
 namespace camdyn {
 namespace {
@@ -51,6 +52,20 @@ TEST_F(CsvReader, ReadsRequestedColumnsSkippingCommentsAndOtherColumns) {
   EXPECT_EQ(csv.lines, (std::vector<int>{3, 6, 7}));
   EXPECT_EQ(csv.names, (std::vector<std::string>{"force_N", "time"}));
   EXPECT_THROW(csv["note"], std::out_of_range);
+}
+
+// The rows a file may bring are bounded by the memory budget while it is
+// read (common/study_budget.h): refused naming the first line past it.
+TEST_F(CsvReader, AFileBeyondTheMemoryBudgetIsRefusedWhileItIsRead) {
+  std::string text = "angle,lift\n";
+  for (int i = 0; i < 20000; ++i) text += std::to_string(i) + ",0.5\n";
+  const std::string f = write("big.csv", text);
+  {
+    // A row costs 2 (2 × 8 + 4) + 128 = 168 bytes: 1 MB holds 6241 of them.
+    const StudyBudgetScope budget(1e9, 1.0);
+    expect_error(f, {"angle", "lift"}, "line 6244", "more than the memory budget of 1 MB (--max-memory)");
+  }
+  EXPECT_EQ(read_csv(f, {"angle", "lift"}).rows(), 20000u);  // the default budget holds them
 }
 
 TEST_F(CsvReader, ReadsTheGeometryTestTable) {
