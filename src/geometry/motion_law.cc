@@ -234,12 +234,21 @@ struct LiftTotals {
 
 /// Checks the end angle of segment `sc` (at `at`) and sets seg.start / seg.end [rad];
 /// prev_end_deg [deg] moves on to this segment's end.
+/// The shortest segment [deg].
+constexpr double kMinSegmentSpanDeg = 1e-6;
+
 void read_segment_span(const SegmentConfig& sc, bool last, const std::string& file, const std::string& at,
                        double& prev_end_deg, Segment& seg) {
   if (!std::isfinite(sc.end_deg) || sc.end_deg <= prev_end_deg)
     throw InputError(file, at + ".end_deg",
                      num(sc.end_deg) + " must be greater than where the segment starts (" + num(prev_end_deg) + "°)");
   if (sc.end_deg > 360.0) throw InputError(file, at + ".end_deg", num(sc.end_deg) + " is beyond 360°");
+  // A span too short to turn through: its law's derivatives (1/span^k) overflow,
+  // and a denormal span vanishes in radians.
+  if (sc.end_deg - prev_end_deg < kMinSegmentSpanDeg)
+    throw InputError(file, at + ".end_deg",
+                     "the segment spans " + num(sc.end_deg - prev_end_deg) + "° (from " + num(prev_end_deg) + "° to " +
+                         num(sc.end_deg) + "°): at least " + num(kMinSegmentSpanDeg) + "° is needed");
   seg.start = deg_to_rad(prev_end_deg);
   seg.end = last ? kTwoPi : deg_to_rad(sc.end_deg);
   prev_end_deg = sc.end_deg;

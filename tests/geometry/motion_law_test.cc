@@ -135,6 +135,16 @@ TEST(SegmentLawErrors, EndBeyond360) {
   test::expect_input_error(c, kSegs + "[2].end_deg", "360");
 }
 
+// A denormal end angle (found by the scene fuzzer) vanished in radians and
+// made a segment of zero span; any span under 1e-6° is refused.
+TEST(SegmentLawErrors, ASpanTooShortToTurnThroughNamesTheEndAngle) {
+  auto c = rise_dwell_return("cycloidal");
+  c.segments[0].end_deg = 5e-324;
+  test::expect_input_error(c, kSegs + "[0].end_deg", "at least 1e-06");
+  c.segments[0].end_deg = 1e-7;
+  test::expect_input_error(c, kSegs + "[0].end_deg", "at least 1e-06");
+}
+
 TEST(SegmentLawErrors, LiftMismatch) {
   auto c = rise_dwell_return("cycloidal");
   c.segments[2].lift = 0.019;
