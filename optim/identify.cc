@@ -463,9 +463,8 @@ std::unique_ptr<Stage> solve_stage(const IdentifyProblem& problem, Simulator& si
     throw NumericalError(study_budget_text() + " in continuation stage " + std::to_string(stage_index + 1) +
                          (options.journal == nullptr
                               ? std::string()
-                              : "; the simulations so far are kept in " + options.journal->path().string() +
-                                    ": run the study again into the same --out (with a larger --max-study-time) to "
-                                    "continue it"));
+                              : "; the simulations so far are kept in " + options.journal->path().string() + ": " +
+                                    study_rerun_advice()));
   if (!stage->summary.IsSolutionUsable()) {
     std::string why = stage->summary.message;
     if (!cost.last_failure().empty()) why += "; last failed simulation: " + cost.last_failure();

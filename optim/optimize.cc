@@ -172,13 +172,11 @@ void search_designs(const DesignSpace& space, const DesignEvaluator& evaluator, 
   out.search = run_search(problem, config.optimizer, progress_printer(options, config.optimizer, loop_t0));
   recorder.rethrow();
   if (study_budget_exhausted())
-    throw NumericalError(study_budget_text() + " after " + std::to_string(out.history.size()) +
-                         " evaluations of the search" +
-                         (recorder.journal_path().empty()
-                              ? std::string()
-                              : "; they are kept in " + recorder.journal_path().string() +
-                                    ": run the study again into the same --out (with a larger --max-study-time) to "
-                                    "continue it"));
+    throw NumericalError(
+        study_budget_text() + " after " + std::to_string(out.history.size()) + " evaluations of the search" +
+        (recorder.journal_path().empty()
+             ? std::string()
+             : "; they are kept in " + recorder.journal_path().string() + ": " + study_rerun_advice()));
   out.loop_time_s = seconds_since(loop_t0);
   out.resumed_simulations = recorder.replayed_simulations();
   out.loop_simulations = pool.simulations() - sims_before + out.resumed_simulations;

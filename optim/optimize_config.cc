@@ -45,6 +45,12 @@ template <class A>
 void visit(A& a, DesignConfig& d) {
   a.field("segments", d.segments, non_empty(), one_of({"rise", "return"}));
   a.field("control_points", d.control_points, at_least(1));
+  // Each is a design variable of the search and its rigid-stage LP: beyond
+  // a few dozen the law gains nothing a cam can be cut to, and 2e9 of them
+  // exhausted the memory before the search began.
+  a.require(d.control_points <= kMaxDesignControlPoints, "control_points",
+            "must be at most " + std::to_string(kMaxDesignControlPoints) + " per segment, got " +
+                std::to_string(d.control_points));
   a.field("degree", d.degree, at_least(3));
   a.require(d.degree <= 9, "degree", "must be at most 9, got " + std::to_string(d.degree));
   a.require(d.control_points + 6 >= d.degree + 1, "control_points",

@@ -23,6 +23,9 @@ struct EndAngleRanges {
 };
 
 /// `design`: the segments replaced by spline segments and their parametrisation.
+/// The most free control points `design.control_points` takes per segment.
+inline constexpr int kMaxDesignControlPoints = 100;
+
 struct DesignConfig {
   std::vector<SegmentType> segments = {SegmentType::rise, SegmentType::return_};  ///< segment types designed
   int control_points = 6;  ///< free interior control points per designed segment (6 boundary ones are added)

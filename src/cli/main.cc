@@ -11,7 +11,10 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <new>
+#include <nlohmann/json.hpp>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -63,6 +66,14 @@ int report_input_error(const camdyn::InputError& e, const std::string& config,
   return kExitInput;
 }
 
+/// What an internal error adds to its message.
+constexpr const char* kBug = "this is a bug in camdyn; please report it with the config and the command line";
+/// What running out of memory adds: validation checks what an input asks to
+/// hold against --max-memory, so an allocation failing is an estimate missed.
+constexpr const char* kMissedEstimate =
+    "the input asked for more memory than the machine has, past the checks against --max-memory; please report "
+    "it with the config, and meanwhile ask for less work (fewer speeds, points or rows)";
+
 // Maps what a command throws to the exit codes of interface.md.
 template <class Body>
 int with_exit_codes(const std::string& config, const std::vector<std::string>& overrides, bool root, Body body) {
@@ -75,7 +86,19 @@ int with_exit_codes(const std::string& config, const std::vector<std::string>& o
     if (!root) return kExitNumerical;
     std::cerr << "camdyn: numerical failure: " << config << ": " << e.what() << "\n";
     return kExitNumerical;
-  } catch (const std::exception& e) {
+  } catch (const std::bad_alloc& e) {
+    std::cerr << "camdyn: out of memory: " << config << ": " << e.what() << ": " << kMissedEstimate << "\n";
+    return kExitNumerical;                // a budget (the machine's memory) ran out
+  } catch (const std::length_error& e) {  // a container asked for more than it can hold: the same
+    std::cerr << "camdyn: out of memory: " << config << ": " << e.what() << ": " << kMissedEstimate << "\n";
+    return kExitNumerical;
+  } catch (const std::logic_error& e) {  // a broken precondition (out_of_range, invalid_argument, ...)
+    std::cerr << "camdyn: internal error: " << e.what() << ": " << kBug << "\n";
+    return kExitOther;
+  } catch (const nlohmann::detail::exception& e) {  // a JSON value read as the wrong type
+    std::cerr << "camdyn: internal error: " << e.what() << ": " << kBug << "\n";
+    return kExitOther;
+  } catch (const std::exception& e) {  // the environment: a file that cannot be written, MPI
     std::cerr << "camdyn: error: " << e.what() << "\n";
     return kExitOther;
   }
@@ -259,10 +282,13 @@ int main(int argc, char** argv) {
   // or a handler's output failing) is reported without iostreams.
   try {
     return run_command(argc, argv);
+  } catch (const std::bad_alloc& e) {
+    std::fprintf(stderr, "camdyn: out of memory: %s: %s\n", e.what(), kMissedEstimate);
+    return kExitNumerical;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "camdyn: internal error: %s\n", e.what());
   } catch (...) {
-    std::fprintf(stderr, "camdyn: internal error\n");
+    std::fprintf(stderr, "camdyn: internal error: %s\n", kBug);
   }
   return kExitOther;
 }

@@ -42,9 +42,12 @@ StudyBudgetScope::~StudyBudgetScope() {
   g_memory_mb = previous_memory_mb_;
 }
 
-bool study_budget_exhausted() {
+bool study_budget_exhausted() { return study_budget_exhausted(Clock::now()); }
+
+bool study_budget_exhausted(Clock::time_point now) {
   const long long deadline = g_deadline_ns.load(std::memory_order_relaxed);
-  return deadline != kNoDeadline && now_ns() > deadline;
+  return deadline != kNoDeadline &&
+         std::chrono::duration_cast<std::chrono::nanoseconds>(now.time_since_epoch()).count() > deadline;
 }
 
 double study_budget_s() { return g_seconds.load(); }
@@ -55,7 +58,11 @@ std::string study_budget_text() {
   return text.str();
 }
 
-double memory_budget_bytes() { return g_memory_mb.load() * 1024.0 * 1024.0; }
+std::string study_rerun_advice() {
+  return "run the study again into the same --out (with a larger --max-study-time) to finish it";
+}
+
+double memory_budget_bytes() { return g_memory_mb.load() * kBytesPerMb; }
 
 std::string memory_budget_text() {
   std::ostringstream text;

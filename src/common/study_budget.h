@@ -13,6 +13,7 @@
 //   and refused with exit 2 naming the field or file.
 #pragma once
 
+#include <chrono>
 #include <string>
 
 namespace camdyn {
@@ -21,6 +22,12 @@ namespace camdyn {
 inline constexpr double kDefaultStudyWallTimeS = 86400.0;
 /// The memory budget's default [MB].
 inline constexpr double kDefaultMemoryBudgetMb = 2048.0;
+/// The most revolutions one run may ask for (simulation.cycles, a jump
+/// map's transient and samples, a periodic study's runs): more is almost
+/// surely a slip (a duration in ms, cycles in degrees) and would not finish.
+inline constexpr double kMaxRevolutionsPerRun = 1e5;
+/// Bytes in the MB of the memory budget (and of every size it prints).
+inline constexpr double kBytesPerMb = 1024.0 * 1024.0;
 
 /// Sets the study's budget for its lifetime (`seconds` from now; +inf: none)
 /// and restores the one before when it ends. Not for concurrent studies in
@@ -40,12 +47,18 @@ class StudyBudgetScope {
 /// Whether the study's budget is used up (false without one). Cheap: one
 /// clock read; thread-safe.
 bool study_budget_exhausted();
+/// The same at `now` (for a loop that has read the clock already).
+bool study_budget_exhausted(std::chrono::steady_clock::time_point now);
 
 /// The budget [s] (+inf without one).
 double study_budget_s();
 
 /// "the study's wall-time budget of N s (camdyn run --max-study-time) is used up".
 std::string study_budget_text();
+
+/// "run the study again into the same --out (with a larger --max-study-time)
+/// to finish it": what to do after a study stopped on its budget.
+std::string study_rerun_advice();
 
 /// The memory budget [bytes] (kDefaultMemoryBudgetMb outside a scope).
 double memory_budget_bytes();

@@ -675,11 +675,13 @@ Failure check_budgets(const RunContext& run, const Integrator& integrator, doubl
   if (c.steps > ic.max_steps)
     return {Termination::step_budget, "step budget of " + std::to_string(ic.max_steps) +
                                           " steps (integrator.max_steps) exceeded " + where(run.model, t)};
-  const double wall = std::chrono::duration<double>(Clock::now() - run.wall_start).count();  // [s]
+  const Clock::time_point now = Clock::now();
+  const double wall = std::chrono::duration<double>(now - run.wall_start).count();  // [s]
   if (wall > ic.max_wall_time_s)
     return {Termination::wall_time_budget, "wall-time budget of " + std::to_string(ic.max_wall_time_s) +
                                                " s (integrator.max_wall_time_s) exceeded " + where(run.model, t)};
-  if (study_budget_exhausted()) return {Termination::wall_time_budget, study_budget_text() + " " + where(run.model, t)};
+  if (study_budget_exhausted(now))
+    return {Termination::wall_time_budget, study_budget_text() + " " + where(run.model, t)};
   if (run.options.progress && wall - last_progress > 0.25) {
     last_progress = wall;
     run.options.progress(t / run.plan.t_end);

@@ -388,11 +388,10 @@ void visit(A& a, IntegratorConfig& i) {
   a.field("flight", i.flight);
 }
 
-/// Work a config may ask for, checked before anything runs: a run longer
-/// than this is almost surely a slip (a duration in ms, cycles in degrees)
-/// and would not finish; a time series must fit in the memory budget
-/// (common/study_budget.h), or the output step was a slip (1e-9 degrees).
-constexpr double kMaxRevolutions = 1e5;
+// Work a config may ask for, checked before anything runs: a run no longer
+// than kMaxRevolutionsPerRun, a time series within the memory budget (both
+// common/study_budget.h; else the output step was a slip, 1e-9 degrees).
+
 /// Memory of one time-series row while a run records it [bytes]: the
 /// TimeSeries columns (12 doubles), twice for the vectors' growth.
 constexpr double kSeriesBytesPerRow = 2.0 * 12.0 * sizeof(double);
@@ -403,7 +402,7 @@ void require_output_rows(A& a, double rows, const std::string& field) {
   a.require(bytes <= memory_budget_bytes(), field,
             "would write " + (std::isfinite(rows) ? format_shortest(std::ceil(rows)) : std::string("over 1e308")) +
                 " time-series rows, about " +
-                (std::isfinite(bytes) ? format_shortest(std::ceil(bytes / 1048576.0)) : std::string("over 1e300")) +
+                (std::isfinite(bytes) ? format_shortest(std::ceil(bytes / kBytesPerMb)) : std::string("over 1e300")) +
                 " MB in memory: " + memory_budget_text() +
                 ": give a larger output step or a shorter run, or raise --max-memory");
 }
@@ -431,8 +430,8 @@ void check_run_control(A& a, const SceneConfig& scene) {
   a.require(cycles > s.discard_cycles, "simulation.discard_cycles",
             "must be less than the number of cycles simulated (" + format_shortest(cycles) + "), got " +
                 std::to_string(s.discard_cycles));
-  a.require(cycles <= kMaxRevolutions, s.duration ? "simulation.duration" : "simulation.cycles",
-            "asks for " + format_shortest(cycles) + " revolutions (at most " + format_shortest(kMaxRevolutions) +
+  a.require(cycles <= kMaxRevolutionsPerRun, s.duration ? "simulation.duration" : "simulation.cycles",
+            "asks for " + format_shortest(cycles) + " revolutions (at most " + format_shortest(kMaxRevolutionsPerRun) +
                 "): was a duration given in ms, or cycles in degrees?");
   const double period = 60.0 / std::abs(rpm);  // [s]
   if (s.output_step) require_output_rows(a, cycles * period / *s.output_step, "simulation.output_step");

@@ -50,7 +50,7 @@ constexpr double kBuiltBytesPerRow = 128.0;
 
 /// The error for a file with more data rows than the memory budget holds.
 InputError too_many_rows(const std::string& file, const std::string& where, std::size_t rows, double row_bytes) {
-  const double mb = static_cast<double>(rows) * row_bytes / 1048576.0;
+  const double mb = static_cast<double>(rows) * row_bytes / kBytesPerMb;
   return InputError(file, where,
                     "the file has more than " + std::to_string(rows) + " data rows, which would need about " +
                         std::to_string(static_cast<long long>(std::ceil(mb))) + " MB: " + memory_budget_text() +

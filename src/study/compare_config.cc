@@ -4,9 +4,11 @@
 #include "study/compare_config.h"
 
 #include <algorithm>
+#include <cmath>
 #include <set>
 
 #include "common/errors.h"
+#include "common/study_budget.h"
 #include "dynamics/metrics.h"
 #include "io/json_archive.h"
 
@@ -117,6 +119,25 @@ std::vector<OverlaySelection> read_overlays(const Json& part, const CompareSpec&
   return overlays;
 }
 
+/// What one run of a compare study holds until the study ends: its grid
+/// point, its outcome (metrics, message) and its row of the table [bytes].
+constexpr double kBytesPerCompareRun = 1024.0;
+
+/// Refuses a study whose runs (cases × grid points × zip rows) would not fit
+/// the memory budget, before any is listed: two axes of 1e5 values each ask
+/// for 1e10 runs, which would exhaust the machine's memory, not end.
+void require_runs_in_memory_budget(const CompareSpec& spec, const StudyContext& ctx) {
+  double runs = static_cast<double>(spec.cases.size());  // as a double: the product may overflow an integer
+  for (const CompareAxis& a : spec.grid) runs *= static_cast<double>(a.values.size());
+  if (!spec.zip.empty()) runs *= static_cast<double>(spec.zip.front().values.size());
+  const double bytes = runs * kBytesPerCompareRun;
+  if (bytes > memory_budget_bytes())
+    throw InputError(ctx.config_file, spec.grid.empty() ? "zip" : "grid",
+                     "the study asks for " + format_shortest(runs) + " runs (cases x grid points x zip rows), about " +
+                         format_shortest(std::ceil(bytes / kBytesPerMb)) + " MB to hold them: " + memory_budget_text() +
+                         ": use fewer values, or split the study");
+}
+
 }  // namespace
 
 CompareSpec compare_spec_from_json(const Json& study_part, const std::string& default_case, const StudyContext& ctx) {
@@ -136,6 +157,7 @@ CompareSpec compare_spec_from_json(const Json& study_part, const std::string& de
   for (const CompareAxis& a : spec.zip)
     if (a.values.size() != spec.zip.front().values.size())
       throw InputError(ctx.config_file, "zip." + a.key, "every zip list must have the same length");
+  require_runs_in_memory_budget(spec, ctx);
   spec.overlays = read_overlays(study_part, spec, ctx);
   return spec;
 }

@@ -139,8 +139,7 @@ std::optional<int> run_journaled(const std::string& study, const std::string& ha
   if (mpi::rank() == 0)
     std::cerr << "camdyn: error: " << study_budget_text() << " after " << count - state.stopped << " of " << count
               << " runs of the " << study << " study; the finished runs are kept in "
-              << (ctx.out_dir / "journal.jsonl").string()
-              << ": run the study again into the same --out (with a larger --max-study-time) to finish it\n";
+              << (ctx.out_dir / "journal.jsonl").string() << ": " << study_rerun_advice() << '\n';
   return 3;  // the exit code of a budget that stopped the study
 }
 

@@ -6,11 +6,17 @@
 #include <optional>
 
 #include "common/errors.h"
+#include "common/study_budget.h"
 #include "dynamics/model.h"
 #include "dynamics/poincare_map.h"
 #include "io/json_writer.h"
 
 namespace camdyn {
+
+/// What a speed of the map holds to the end of the study: its analysis and
+/// journal record [bytes], and each of its samples (section point, impacts).
+constexpr double kBytesPerSpeed = 4096.0;
+constexpr double kBytesPerSample = 256.0;
 
 template <class A>
 void visit(A& a, JumpMapConfig& c) {
@@ -21,6 +27,15 @@ void visit(A& a, JumpMapConfig& c) {
   a.field("transient_revolutions", c.transient_revolutions, at_least(1));
   a.field("samples", c.samples, at_least(1));
   a.require(c.high_rpm > c.low_rpm, "high_rpm", "must be above low_rpm");
+  // Work bounds: each speed's run, and the samples of every speed held to the end.
+  a.require(static_cast<double>(c.transient_revolutions) + c.samples <= kMaxRevolutionsPerRun, "samples",
+            "transient_revolutions + samples asks for " +
+                format_shortest(static_cast<double>(c.transient_revolutions) + c.samples) +
+                " revolutions at each speed (at most " + format_shortest(kMaxRevolutionsPerRun) + ")");
+  const double bytes = static_cast<double>(c.speeds) * (kBytesPerSpeed + kBytesPerSample * c.samples);
+  a.require(bytes <= memory_budget_bytes(), "speeds",
+            std::to_string(c.speeds) + " speeds of " + std::to_string(c.samples) + " samples need about " +
+                format_shortest(std::ceil(bytes / kBytesPerMb)) + " MB: " + memory_budget_text());
 }
 
 namespace {

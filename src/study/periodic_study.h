@@ -9,8 +9,10 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "common/study_budget.h"
 #include "dynamics/simulation.h"
 #include "io/config.h"
 #include "io/json_archive.h"
@@ -18,6 +20,11 @@
 #include "study/study.h"
 
 namespace camdyn {
+
+/// The longest period the shooting may try [revolutions].
+inline constexpr int kMaxPeriodTried = 64;
+/// The most Newton iterations per period.
+inline constexpr int kMaxNewtonIterations = 100;
 
 /// The study's own fields (`periodic` in the config).
 struct PeriodicConfig {
@@ -34,6 +41,18 @@ void visit(A& a, PeriodicConfig& c) {
   a.field("max_newton_iterations", o.max_newton_iterations, at_least(1));
   a.field("lyapunov_revolutions", o.lyapunov_revolutions, at_least(10));
   a.field("chaos_threshold", o.chaos_threshold, positive());
+  // Work bounds (the shooting on period k integrates k revolutions per map
+  // and per Jacobian column): beyond them the study could not finish.
+  a.require(o.max_period <= kMaxPeriodTried, "max_period",
+            "must be at most " + std::to_string(kMaxPeriodTried) + ", got " + std::to_string(o.max_period));
+  a.require(
+      o.max_newton_iterations <= kMaxNewtonIterations, "max_newton_iterations",
+      "must be at most " + std::to_string(kMaxNewtonIterations) + ", got " + std::to_string(o.max_newton_iterations));
+  for (const auto& [key, revolutions] :
+       {std::pair{"transient_revolutions", o.transient_revolutions}, {"lyapunov_revolutions", o.lyapunov_revolutions}})
+    a.require(revolutions <= kMaxRevolutionsPerRun, key,
+              "asks for " + std::to_string(revolutions) + " revolutions (at most " +
+                  format_shortest(kMaxRevolutionsPerRun) + ")");
 }
 
 struct PeriodicStudy {

@@ -44,11 +44,17 @@ SpeedCheck check_speed(const SceneConfig& base, double rpm, double min_force, co
 
 }  // namespace
 
+/// The most speeds the coarse scan may simulate.
+constexpr int kMaxScanSpeeds = 10000;
+
 template <class A>
 void visit(A& a, SpeedLimitConfig& c) {
   a.field("low_rpm", c.low_rpm, positive());
   a.field("high_rpm", c.high_rpm, positive());
   a.field("scan", c.scan, at_least(2));
+  // Each is a simulation: 2e9 of them asked for 16 GB before the first ran.
+  a.require(c.scan <= kMaxScanSpeeds, "scan",
+            "must be at most " + std::to_string(kMaxScanSpeeds) + " speeds, got " + std::to_string(c.scan));
   a.field("tolerance_rpm", c.tolerance_rpm, positive());
   a.field("min_contact_force", c.min_contact_force, non_negative());
   a.require(!c.high_rpm || *c.high_rpm > c.low_rpm, "high_rpm", "must be above low_rpm");

@@ -273,6 +273,10 @@ TEST(OptimizeCli, ValidatePrintsTheResolvedStudyAndNamesBadFields) {
   const Outcome range = run_cli("validate " + kJump + " --set optimizer.evaluation_cycles=1");
   EXPECT_EQ(range.code, 2);
   EXPECT_NE(range.err.find("optimizer.evaluation_cycles"), std::string::npos) << range.err;
+  // 2e9 control points filled 4 GB before validate ended.
+  const Outcome many = run_cli("validate " + kJump + " --set design.control_points=2000000000");
+  EXPECT_EQ(many.code, 2);
+  EXPECT_NE(many.err.find("design.control_points: must be at most 100 per segment"), std::string::npos) << many.err;
 }
 
 // Acceptance (reduced budget): the outputs exist, and `camdyn run

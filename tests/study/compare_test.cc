@@ -110,7 +110,7 @@ class CompareCli : public ::testing::Test {
   }
   // 2 cases × 6 speeds of the quickstart cam, two cycles each (about 0.1 s a run).
   fs::path write_study(const std::string& extra = "") {
-    const fs::path file = dir_ / "study.json";
+    fs::path file = dir_ / "study.json";
     std::ofstream(file) << R"({
       "extends": ")" << CAMDYN_SOURCE_DIR
                         << R"(/studies/quickstart.json",
@@ -232,6 +232,31 @@ TEST_F(CompareCli, NameThatIsNotAStringIsAnInputError) {
   const std::string err = read_text(dir_ / "validate.err");
   EXPECT_NE(err.find("name"), std::string::npos) << err;
   EXPECT_EQ(err.find("type_error"), std::string::npos) << err;
+}
+
+// Two axes of 1e5 values ask for 2e10 runs: listing them exhausted the
+// machine's memory (validate ran out of 10 GB instead of ending). The run
+// count is checked against --max-memory before any run is listed.
+TEST_F(CompareCli, GridBeyondTheMemoryBudgetIsRefusedBeforeItIsListed) {
+  std::string speeds, dampings;
+  for (int i = 0; i < 100000; ++i) {
+    speeds += (i ? "," : "") + std::to_string(600 + i);
+    dampings += (i ? "," : "") + std::to_string(i);
+  }
+  const fs::path study = dir_ / "huge.json";
+  std::ofstream(study) << R"({ "extends": ")" << CAMDYN_SOURCE_DIR << R"(/studies/quickstart.json",
+      "study": "compare", "grid": { "mechanism.cam.rpm": [)"
+                       << speeds << R"(], "mechanism.follower.damping": [)" << dampings << "] } }";
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_EQ(run_camdyn({"validate", study.string()}, dir_, "huge").code, 2);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 10.0);
+  const std::string err = read_text(dir_ / "huge.err");
+  EXPECT_NE(err.find("grid: the study asks for 1e+10 runs"), std::string::npos) << err;
+  EXPECT_NE(err.find("more than the memory budget of 2048 MB (--max-memory)"), std::string::npos) << err;
+  // 2 cases x 6 speeds = 12 runs of about 1 KB: over a budget of 0.01 MB, within the default one.
+  EXPECT_EQ(run_camdyn({"validate", write_study().string(), "--max-memory", "0.01"}, dir_, "small").code, 2);
+  EXPECT_EQ(run_camdyn({"validate", write_study().string()}, dir_, "default").code, 0)
+      << read_text(dir_ / "default.err");
 }
 
 TEST_F(CompareCli, BadOverlayKeyIsAnInputError) {

@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
 
 #include "cli_run.h"
 #include "io/config.h"
@@ -102,6 +103,23 @@ TEST(JumpMap, BadRangeIsNamed) {
       dir);
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("jump_map.high_rpm"), std::string::npos) << r.err;
+}
+
+// 2e9 speeds filled 8 GB before validate ended; 2e9 samples per speed
+// validated and would not finish. Both are refused up front, naming the field.
+TEST(JumpMap, WorkBeyondTheBudgetsIsRefusedByValidate) {
+  const fs::path dir = test::scratch_dir("jump_map_test", "work");
+  const std::string base = R"(jump_map={"low_rpm": 800, "high_rpm": 900, )";
+  for (const auto& [fields, expected] :
+       {std::pair<std::string, std::string>{R"("speeds": 2000000000})",
+                                            "jump_map.speeds: 2000000000 speeds of 30 samples need about"},
+        {R"("samples": 2000000000})", "jump_map.samples: transient_revolutions + samples asks for"},
+        {R"("transient_revolutions": 100000})", "at each speed (at most 1e+05)"}}) {
+    const test::Outcome r =
+        test::run_camdyn({"validate", kQuickstart, "--set", "study=jump_map", "--set", base + fields}, dir);
+    EXPECT_EQ(r.code, 2) << fields;
+    EXPECT_NE(r.err.find(expected), std::string::npos) << r.err;
+  }
 }
 
 }  // namespace

@@ -56,6 +56,20 @@ TEST(PeriodicStudy, BadFieldsAreNamed) {
   EXPECT_NE(typo.err.find("max_period"), std::string::npos) << typo.err;
 }
 
+// Each of these validated and asked for more work than the study could
+// finish (2e9 periods tried, 2e9 revolutions): refused, naming the field.
+TEST(PeriodicStudy, WorkBeyondTheBoundsIsRefusedByValidate) {
+  const fs::path dir = test::scratch_dir("periodic_study_test", "work");
+  for (const char* set : {"periodic.max_period=65", "periodic.max_newton_iterations=2000000000",
+                          "periodic.transient_revolutions=2000000000", "periodic.lyapunov_revolutions=100001"}) {
+    const test::Outcome r = test::run_camdyn({"validate", kBouncingBall, "--set", set}, dir);
+    EXPECT_EQ(r.code, 2) << set;
+    const std::string field = std::string(set).substr(0, std::string(set).find('='));
+    EXPECT_NE(r.err.find(field + ": "), std::string::npos) << r.err;
+  }
+  EXPECT_EQ(test::run_camdyn({"validate", kBouncingBall, "--set", "periodic.max_period=64"}, dir).code, 0);
+}
+
 TEST(PeriodicStudy, SimulateWithSteadyStateSaysWhatItsMetricsAreOver) {
   const fs::path dir = test::scratch_dir("periodic_study_test", "steady_state");
   const std::string quickstart = std::string(CAMDYN_SOURCE_DIR) + "/studies/quickstart.json";
@@ -74,10 +88,10 @@ TEST(PeriodicStudy, SimulateWithSteadyStateSaysWhatItsMetricsAreOver) {
 TEST(PeriodicStudy, SteadyStateOfAStillCamIsAnInputError) {
   const fs::path dir = test::scratch_dir("periodic_study_test", "still");
   const std::string quickstart = std::string(CAMDYN_SOURCE_DIR) + "/studies/quickstart.json";
-  const test::Outcome r = test::run_camdyn({"validate", quickstart, "--set", "mechanism.cam.rpm=0", "--set",
-                                            "simulation={\"duration\": 0.1, \"output_step\": 0.001, "
-                                            "\"steady_state\": true}"},
-                                           dir);
+  const test::Outcome r =
+      test::run_camdyn({"validate", quickstart, "--set", "mechanism.cam.rpm=0", "--set",
+                        R"(simulation={"duration": 0.1, "output_step": 0.001, "steady_state": true})"},
+                       dir);
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("simulation.steady_state"), std::string::npos) << r.err;
 }

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <numbers>
 #include <string>
+#include <vector>
 
 #include "cli_run.h"
 #include "dynamics/model.h"
@@ -34,8 +35,7 @@ Json run_limit(const std::string& name, const std::vector<std::string>& extra) {
                                    "--set",
                                    "study=speed_limit",
                                    "--set",
-                                   "speed_limit={\"low_rpm\": 600, \"high_rpm\": 1600, \"scan\": 6, "
-                                   "\"tolerance_rpm\": 2}"};
+                                   R"(speed_limit={"low_rpm": 600, "high_rpm": 1600, "scan": 6, "tolerance_rpm": 2})"};
   args.insert(args.end(), extra.begin(), extra.end());
   const test::Outcome r = test::run_camdyn(args, dir);
   EXPECT_EQ(r.code, 0) << r.err;
@@ -84,6 +84,21 @@ TEST(SpeedLimit, BadFieldsAreNamed) {
                                            dir);
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("speed_limit.high_rpm"), std::string::npos) << r.err;
+}
+
+// A scan of 2e9 speeds validated, and run died of std::bad_alloc (exit 1):
+// now validate and run refuse it, naming the field.
+TEST(SpeedLimit, ScanBeyondItsBoundIsRefused) {
+  const fs::path dir = test::scratch_dir("speed_limit_test", "scan");
+  for (const bool run : {false, true}) {
+    std::vector<std::string> args = {
+        run ? "run" : "validate", kQuickstart, "--set",
+        "study=speed_limit",      "--set",     R"(speed_limit={"low_rpm": 800, "high_rpm": 1400, "scan": 2000000000})"};
+    if (run) args.insert(args.end(), {"--quiet", "--out", (dir / "out").string()});
+    const test::Outcome r = test::run_camdyn(args, dir);
+    EXPECT_EQ(r.code, 2) << args[0];
+    EXPECT_NE(r.err.find("speed_limit.scan: must be at most 10000 speeds"), std::string::npos) << r.err;
+  }
 }
 
 }  // namespace
