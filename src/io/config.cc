@@ -47,6 +47,10 @@ Check plain_name() {
 /// beyond either the run does not finish (docs/warnings.md).
 constexpr double kMinContactExponent = 0.5;
 constexpr double kMaxCircleToBaseRadius = 1e3;
+/// The largest base radius [m]: no cam is larger, and the cost of a run
+/// grows with it (the contact point sweeps the contour at R ω: 1e4 m takes
+/// 12x the time of 1 m, 1e5 m does not finish).
+constexpr double kMaxBaseRadius = 100.0;
 
 // ---------------------------------------------------------------- motion law
 
@@ -174,7 +178,12 @@ void visit(A& a, CamConfig& c) {
     a.require(false, "base_radius", "missing (expected a number > 0 [m])");
   } else {
     a.require(c.base_radius > 0.0, "base_radius", "must be > 0, got " + format_shortest(c.base_radius));
+    a.require(c.base_radius <= kMaxBaseRadius, "base_radius",
+              "must be at most " + format_shortest(kMaxBaseRadius) + " m, got " + format_shortest(c.base_radius) +
+                  " m: lengths are in metres (was it given in millimetres?)");
   }
+  a.require(std::abs(c.initial_angle_deg) <= 360.0, "initial_angle_deg",
+            "must be within one revolution (-360 to 360), got " + format_shortest(c.initial_angle_deg));
 }
 
 /// The fields follow from the shape's description (geometry/follower_shape.h):
@@ -434,6 +443,10 @@ void check_run_control(A& a, const SceneConfig& scene) {
             "asks for " + format_shortest(cycles) + " revolutions (at most " + format_shortest(kMaxRevolutionsPerRun) +
                 "): was a duration given in ms, or cycles in degrees?");
   const double period = 60.0 / std::abs(rpm);  // [s]
+  a.require(std::isfinite(cycles * period), "mechanism.cam.rpm",
+            "at " + format_shortest(rpm) +
+                " rpm a revolution takes longer than the run's clock can count, so it "
+                "would never end: give a speed a revolution can be simulated at, or 0 for a still cam with 'duration'");
   if (s.output_step) require_output_rows(a, cycles * period / *s.output_step, "simulation.output_step");
   const double step_deg = s.output_step_deg.value_or(SimulationConfig::kDefaultOutputStepDeg);
   if (!s.output_step) require_output_rows(a, cycles * 360.0 / step_deg, "simulation.output_step_deg");
