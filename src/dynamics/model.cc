@@ -562,7 +562,16 @@ Model assemble_model(const SceneConfig& scene, const std::string& file) {
     build_contour_cam(*mech.cam.motion_law.contour, f, model.direction, file, model);
     const double lowest = model.contour_lift->lowest();
     // The base circle is the one the follower touches at its lowest position.
-    base_radius = follower_shape_traits(f.shape.type).circle() ? std::hypot(lowest, f.offset) - f.shape.radius : lowest;
+    const FollowerShapeTraits shape = follower_shape_traits(f.shape.type);
+    base_radius = shape.circle() ? std::hypot(lowest, f.offset) - f.shape.radius : lowest;
+    // As for a law's cam (io/config.cc), known here once the contour is fitted.
+    if (shape.circle() && f.shape.radius > kMaxCircleToBaseRadius * base_radius)
+      throw InputError(file, "mechanism.follower.shape.radius",
+                       "a " + std::string(shape.label) + " radius of " + check_text::num(f.shape.radius) +
+                           " m on a contour whose base circle is " + check_text::num(base_radius) + " m (more than " +
+                           check_text::num(kMaxCircleToBaseRadius) +
+                           " times it) is flat to within the contact's penetration, and the contact point is lost "
+                           "in rounding so the run never finishes: give the radius in metres, or use a 'flat' face");
   } else {
     model.law = std::make_shared<const MotionLaw>(build_motion_law(mech.cam.motion_law, file));
   }

@@ -26,6 +26,12 @@ namespace camdyn {
 ///    infinite radius of curvature.
 enum class FollowerContact { circle, line };
 
+/// The largest circle (roller, mushroom) radius as a multiple of the cam's
+/// base radius [-]: beyond it the circle is flat to within the contact's
+/// penetration, the contact point is lost in rounding and a run does not
+/// finish (docs/warnings.md).
+inline constexpr double kMaxCircleToBaseRadius = 1e3;
+
 /// The description of one follower shape.
 struct FollowerShapeTraits {
   FollowerContact contact = FollowerContact::circle;

@@ -42,11 +42,10 @@ Check plain_name() {
 
 }  // namespace
 
-/// The smallest contact exponent n a config may give [-], and the largest
-/// circle (roller, mushroom) radius as a multiple of the base radius [-]:
-/// beyond either the run does not finish (docs/warnings.md).
+/// The smallest contact exponent n a config may give [-]: below it the run
+/// does not finish (docs/warnings.md). The largest circle radius is
+/// kMaxCircleToBaseRadius (geometry/follower_shape.h).
 constexpr double kMinContactExponent = 0.5;
-constexpr double kMaxCircleToBaseRadius = 1e3;
 /// The largest base radius [m]: no cam is larger, and the cost of a run
 /// grows with it (the contact point sweeps the contour at R ω: 1e4 m takes
 /// 12x the time of 1 m, 1e5 m does not finish).
