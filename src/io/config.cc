@@ -46,6 +46,8 @@ Check plain_name() {
 /// does not finish (docs/warnings.md). The largest circle radius is
 /// kMaxCircleToBaseRadius (geometry/follower_shape.h).
 constexpr double kMinContactExponent = 0.5;
+/// The fastest start a follower may be given [m/s, or rad/s for an arm].
+constexpr double kMaxInitialSpeed = 1e3;
 /// The largest base radius [m]: no cam is larger, and the cost of a run
 /// grows with it (the contact point sweeps the contour at R ω: 1e4 m takes
 /// 12x the time of 1 m, 1e5 m does not finish).
@@ -213,6 +215,11 @@ template <class A>
 void visit(A& a, InitialConfig& i) {
   a.field("position", i.position, non_negative());
   a.field("velocity", i.velocity);
+  // 1e300 m/s made the energy balance inf − inf = NaN, which the time-series
+  // writer refused (exit 1); no follower is thrown at 1 km/s.
+  a.require(std::abs(i.velocity) <= kMaxInitialSpeed, "velocity",
+            "|velocity| must be at most " + format_shortest(kMaxInitialSpeed) + " (m/s, or rad/s for an arm), got " +
+                format_shortest(i.velocity));
 }
 
 template <class A>
