@@ -61,8 +61,6 @@ struct Case {
 // The quickstart with a damper of `damping` [N s/m] (its own: 20).
 Case& quickstart(long damping) {
   static std::map<long, Case> cases;
-  const auto found = cases.find(damping);
-  if (found != cases.end()) return found->second;
   return cases
       .try_emplace(
           damping, kQuickstart,

@@ -64,6 +64,44 @@ void BM_QuickstartCycle(benchmark::State& state) {
 }
 BENCHMARK(BM_QuickstartCycle)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
+// The step-cost scene of issue 15: the quickstart mechanism at 100 rpm, in
+// steady contact on a Hertz contact, rtol 1e-10; one revolution. Arg 0 folds
+// the metrics and the energy balance in at every step (as every run does),
+// arg 1 only integrates (SimulationOptions::step_metrics off), arg 2 also
+// leaves out the quadratures (the steps then differ within the tolerance).
+// The goal is ≤ 2 µs a step with the metrics.
+void BM_SteadyContactStep(benchmark::State& state) {
+  camdyn::SceneConfig scene = quickstart();
+  scene.mechanism.cam.rpm = 100.0;
+  scene.mechanism.contact.model = camdyn::ContactModel::hertz;
+  scene.integrator.rtol = 1e-10;
+  scene.simulation.cycles = 1.0;
+  scene.simulation.discard_cycles = 0;
+  const camdyn::Model model = camdyn::build_model(scene, "steady contact");
+  camdyn::Workspace ws;
+  camdyn::SimulationOptions options;
+  options.record_series = false;
+  options.step_metrics = state.range(0) == 0;
+  options.quadratures = state.range(0) != 2;
+  long steps = 0, rhs = 0, impacts = 0;
+  for (auto _ : state) {
+    const camdyn::SimulationResult r = camdyn::simulate(scene, model, ws, options);
+    camdyn::throw_if_failed(r);
+    steps = r.solver.counters.steps;
+    rhs = r.solver.counters.rhs_evaluations;
+    impacts = r.metrics.impact_count;
+    benchmark::DoNotOptimize(r.metrics.peak_contact_force);
+  }
+  static constexpr const char* kLabels[] = {"with step metrics", "integration only", "integration without quadratures"};
+  state.SetLabel(kLabels[state.range(0)]);
+  state.counters["steps"] = static_cast<double>(steps);
+  state.counters["rhs_per_step"] = static_cast<double>(rhs) / static_cast<double>(std::max(1L, steps));
+  state.counters["impacts"] = static_cast<double>(impacts);
+  state.counters["s_per_step"] = benchmark::Counter(
+      static_cast<double>(steps), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_SteadyContactStep)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
+
 void BM_RightHandSide(benchmark::State& state) {
   camdyn::SceneConfig scene = quickstart();
   scene.mechanism.contact.tracking = state.range(0) == 0 ? camdyn::Tracking::differential : camdyn::Tracking::newton;

@@ -74,6 +74,16 @@ constexpr const char* kMissedEstimate =
     "the input asked for more memory than the machine has, past the checks against --max-memory; please report "
     "it with the config, and meanwhile ask for less work (fewer speeds, points or rows)";
 
+int report_out_of_memory(const std::string& config, const char* what) {
+  std::cerr << "camdyn: out of memory: " << config << ": " << what << ": " << kMissedEstimate << "\n";
+  return kExitNumerical;  // a budget (the machine's memory) ran out
+}
+
+int report_bug(const char* what) {
+  std::cerr << "camdyn: internal error: " << what << ": " << kBug << "\n";
+  return kExitOther;
+}
+
 // Maps what a command throws to the exit codes of interface.md.
 template <class Body>
 int with_exit_codes(const std::string& config, const std::vector<std::string>& overrides, bool root, Body body) {
@@ -87,17 +97,13 @@ int with_exit_codes(const std::string& config, const std::vector<std::string>& o
     std::cerr << "camdyn: numerical failure: " << config << ": " << e.what() << "\n";
     return kExitNumerical;
   } catch (const std::bad_alloc& e) {
-    std::cerr << "camdyn: out of memory: " << config << ": " << e.what() << ": " << kMissedEstimate << "\n";
-    return kExitNumerical;                // a budget (the machine's memory) ran out
+    return report_out_of_memory(config, e.what());
   } catch (const std::length_error& e) {  // a container asked for more than it can hold: the same
-    std::cerr << "camdyn: out of memory: " << config << ": " << e.what() << ": " << kMissedEstimate << "\n";
-    return kExitNumerical;
+    return report_out_of_memory(config, e.what());
   } catch (const std::logic_error& e) {  // a broken precondition (out_of_range, invalid_argument, ...)
-    std::cerr << "camdyn: internal error: " << e.what() << ": " << kBug << "\n";
-    return kExitOther;
+    return report_bug(e.what());
   } catch (const nlohmann::detail::exception& e) {  // a JSON value read as the wrong type
-    std::cerr << "camdyn: internal error: " << e.what() << ": " << kBug << "\n";
-    return kExitOther;
+    return report_bug(e.what());
   } catch (const std::exception& e) {  // the environment: a file that cannot be written, MPI
     std::cerr << "camdyn: error: " << e.what() << "\n";
     return kExitOther;

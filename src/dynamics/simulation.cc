@@ -315,7 +315,10 @@ IntegratorOptions integrator_options(const IntegratorConfig& ic, const RunPlan& 
 class StateSource {
  public:
   virtual ~StateSource() = default;
+  // The state at t into y and, unless q is null, all quadratures into q.
   virtual void state(double t, double* y, double* q) = 0;
+  // All quadratures at t into q.
+  virtual void quadratures(double t, double* q) = 0;
 };
 
 class IntegratorSource final : public StateSource {
@@ -324,8 +327,9 @@ class IntegratorSource final : public StateSource {
       : integrator_(integrator), quadratures_(quadratures) {}
   void state(double t, double* y, double* q) override {
     integrator_.dense(t, y);
-    quadratures_at(t, q);
+    if (q) quadratures_at(t, q);
   }
+  void quadratures(double t, double* q) override { quadratures_at(t, q); }
   // All quadratures at t, from the integrator's dense output.
   void quadratures_at(double t, double* q) const {
     std::array<double, Model::kQuadratures> selected{};
@@ -355,12 +359,17 @@ class FlightSource final : public StateSource {
     FlightPoint p;
     ok_ = track_.at(ws_, t, p) && ok_;
     std::copy(y_.begin(), y_.end(), y);
-    std::copy(q_.begin(), q_.end(), q);
     y[0] = p.q;
     y[1] = p.v;
     if (model_.layout.u) y[*model_.layout.u] = p.u;
+    if (!q) return;
+    std::copy(q_.begin(), q_.end(), q);
     q[1] = p.damper_work;
     q[4] = p.separation;
+  }
+  void quadratures(double t, double* q) override {
+    State y{};
+    state(t, y.data(), q);
   }
   bool ok() const { return ok_; }
 
@@ -398,41 +407,47 @@ class WindowObserver {
     double u_keep = ws_.u_warm;
     evaluate(model_, ws_, t, ys_.data(), ev_);
     ws_.u_warm = u_keep;
-    const EnergyTerms e = energy_terms(model_, ev_);
-    const double energy = e.kinetic + e.spring + e.gravity + e.contact - qs_[0] + qs_[1] + qs_[2] + qs_[3];
-    if (!energy_initialised_) {
-      energy0_ = energy;
-      energy_initialised_ = true;
-    }
-    energy_scale_ = std::max(energy_scale_, e.kinetic + e.spring + std::abs(qs_[0]));
-    energy_max_dev_ = std::max(energy_max_dev_, std::abs(energy - energy0_));
-    if (t >= t_eval_) {
-      m_.max_separation_gap = std::max(m_.max_separation_gap, ev_.gap);
-      m_.peak_contact_force = std::max(m_.peak_contact_force, ev_.normal_force);
-      m_.min_contact_force = std::min(m_.min_contact_force, ev_.normal_force);
-      m_.max_penetration = std::max(m_.max_penetration, ev_.delta);
-      m_.max_kinematic_error = std::max(m_.max_kinematic_error, std::abs(ev_.y - model_.law->eval(ev_.theta).s));
-    }
-    return energy - energy0_;
+    fold_extremes(t, ev_);
+    return fold_energy(ev_);
   }
 
-  // The step [t0, t] the integrator just took: metrics from dense samples over
-  // it; the gap keeps its sign inside a step (its zeros are located as roots),
-  // so the midpoint decides separation. Without `every_step` only the dense
-  // output becomes available; Newton tracking still solves at the midpoint,
-  // whose pair warm-starts the evaluation after the step, so that the run
-  // stays the same to the last bit.
+  // The step [t0, t] the integrator just took, but for its end (observe_step_end):
+  // metrics from dense samples inside it, positions only (the energy balance
+  // is folded in at the step ends, where the quadratures are the
+  // integrator's own). The gap keeps its sign inside a step (its zeros are
+  // located as roots), so the midpoint decides separation. Without
+  // `every_step` only the dense output becomes available; Newton tracking
+  // still solves at the midpoint, whose pair warm-starts the evaluation after
+  // the step, so that the run stays the same to the last bit: the midpoint is
+  // the one sample that keeps its pair as the warm start.
   void observe_step(double t0, double t) {
     stepped_ = true;
-    if (every_step_) {
-      for (int j = 1; j <= kSamplesPerStep; ++j) observe(t0 + (t - t0) * j / kSamplesPerStep);
-    } else if (model_.tracking != Tracking::newton) {
-      return;
+    if (!every_step_ && model_.tracking != Tracking::newton) return;
+    const double t_mid = t0 + (t - t0) * 0.5;
+    double gap_mid = 0.0;  // [m]
+    for (int j = 1; j < kSamplesPerStep; ++j) {
+      const bool mid = 2 * j == kSamplesPerStep;
+      if (!every_step_ && !mid) continue;
+      const double t_j = mid ? t_mid : t0 + (t - t0) * j / kSamplesPerStep;
+      source_->state(t_j, ys_.data(), nullptr);
+      const double u_keep = ws_.u_warm;
+      evaluate(model_, ws_, t_j, ys_.data(), ev_);
+      if (mid)
+        gap_mid = ev_.gap;
+      else
+        ws_.u_warm = u_keep;
+      if (every_step_) fold_extremes(t_j, ev_);
     }
-    const double t_mid = 0.5 * (t0 + t);
-    source_->state(t_mid, ys_.data(), qs_.data());
-    evaluate(model_, ws_, t_mid, ys_.data(), ev_);
-    if (ev_.gap > 0.0) separated_time_ += std::max(0.0, t - std::max(t0, t_eval_));
+    if (gap_mid > 0.0) separated_time_ += std::max(0.0, t - std::max(t0, t_eval_));
+  }
+
+  // The end t of the step just taken, evaluated there by the loop (`at_end`):
+  // its metrics and energy, with the integrator's quadratures at t.
+  void observe_step_end(double t, const Evaluation& at_end) {
+    if (!every_step_) return;
+    source_->quadratures(t, qs_.data());
+    fold_extremes(t, at_end);
+    fold_energy(at_end);
   }
 
   // The flight interval [t0, t] (open throughout but at a landing that ends
@@ -479,6 +494,31 @@ class WindowObserver {
   const double t_eval_;  // start of the evaluated window [s]
   const bool every_step_;
   Metrics& m_;
+  // Folds the evaluation `e` at t [s] into the window's extremes.
+  void fold_extremes(double t, const Evaluation& e) {
+    if (t < t_eval_) return;
+    m_.max_separation_gap = std::max(m_.max_separation_gap, e.gap);
+    m_.peak_contact_force = std::max(m_.peak_contact_force, e.normal_force);
+    m_.min_contact_force = std::min(m_.min_contact_force, e.normal_force);
+    m_.max_penetration = std::max(m_.max_penetration, e.delta);
+    m_.max_kinematic_error = std::max(m_.max_kinematic_error, std::abs(e.y - model_.law->eval(e.theta).s));
+  }
+
+  // Folds the energy of `e` with the quadratures qs_ into the balance;
+  // returns the deviation E(t) − E(0) [J].
+  double fold_energy(const Evaluation& e) {
+    const EnergyTerms terms = energy_terms(model_, e);
+    const double energy =
+        terms.kinetic + terms.spring + terms.gravity + terms.contact - qs_[0] + qs_[1] + qs_[2] + qs_[3];
+    if (!energy_initialised_) {
+      energy0_ = energy;
+      energy_initialised_ = true;
+    }
+    energy_scale_ = std::max(energy_scale_, terms.kinetic + terms.spring + std::abs(qs_[0]));
+    energy_max_dev_ = std::max(energy_max_dev_, std::abs(energy - energy0_));
+    return energy - energy0_;
+  }
+
   bool stepped_ = false;
   Evaluation ev_;
   State ys_{};
@@ -781,6 +821,7 @@ Failure integrate(const RunContext& run, SceneOde& ode, Integrator& integrator, 
     const double* state = integrator.state();
     std::copy(state, state + model.layout.size, loop.y.begin());
     ev = ode.evaluated(t, loop.y.data());
+    observer.observe_step_end(t, ev);
     if (model.tracking == Tracking::newton) {
       ws.u_warm = ev.pair.u;
       ws.v_warm = ev.pair_v;
