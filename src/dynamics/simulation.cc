@@ -315,10 +315,8 @@ IntegratorOptions integrator_options(const IntegratorConfig& ic, const RunPlan& 
 class StateSource {
  public:
   virtual ~StateSource() = default;
-  // The state at t into y and, unless q is null, all quadratures into q.
+  // The state at t into y and all quadratures into q; either may be null.
   virtual void state(double t, double* y, double* q) = 0;
-  // All quadratures at t into q.
-  virtual void quadratures(double t, double* q) = 0;
 };
 
 class IntegratorSource final : public StateSource {
@@ -326,10 +324,9 @@ class IntegratorSource final : public StateSource {
   IntegratorSource(Integrator& integrator, const QuadratureSelection& quadratures)
       : integrator_(integrator), quadratures_(quadratures) {}
   void state(double t, double* y, double* q) override {
-    integrator_.dense(t, y);
+    if (y) integrator_.dense(t, y);
     if (q) quadratures_at(t, q);
   }
-  void quadratures(double t, double* q) override { quadratures_at(t, q); }
   // All quadratures at t, from the integrator's dense output.
   void quadratures_at(double t, double* q) const {
     std::array<double, Model::kQuadratures> selected{};
@@ -358,18 +355,17 @@ class FlightSource final : public StateSource {
   void state(double t, double* y, double* q) override {
     FlightPoint p;
     ok_ = track_.at(ws_, t, p) && ok_;
-    std::copy(y_.begin(), y_.end(), y);
-    y[0] = p.q;
-    y[1] = p.v;
-    if (model_.layout.u) y[*model_.layout.u] = p.u;
-    if (!q) return;
-    std::copy(q_.begin(), q_.end(), q);
-    q[1] = p.damper_work;
-    q[4] = p.separation;
-  }
-  void quadratures(double t, double* q) override {
-    State y{};
-    state(t, y.data(), q);
+    if (y) {
+      std::copy(y_.begin(), y_.end(), y);
+      y[0] = p.q;
+      y[1] = p.v;
+      if (model_.layout.u) y[*model_.layout.u] = p.u;
+    }
+    if (q) {
+      std::copy(q_.begin(), q_.end(), q);
+      q[1] = p.damper_work;
+      q[4] = p.separation;
+    }
   }
   bool ok() const { return ok_; }
 
@@ -423,12 +419,11 @@ class WindowObserver {
   void observe_step(double t0, double t) {
     stepped_ = true;
     if (!every_step_ && model_.tracking != Tracking::newton) return;
-    const double t_mid = t0 + (t - t0) * 0.5;
     double gap_mid = 0.0;  // [m]
     for (int j = 1; j < kSamplesPerStep; ++j) {
       const bool mid = 2 * j == kSamplesPerStep;
       if (!every_step_ && !mid) continue;
-      const double t_j = mid ? t_mid : t0 + (t - t0) * j / kSamplesPerStep;
+      const double t_j = t0 + (t - t0) * j / kSamplesPerStep;
       source_->state(t_j, ys_.data(), nullptr);
       const double u_keep = ws_.u_warm;
       evaluate(model_, ws_, t_j, ys_.data(), ev_);
@@ -445,7 +440,7 @@ class WindowObserver {
   // its metrics and energy, with the integrator's quadratures at t.
   void observe_step_end(double t, const Evaluation& at_end) {
     if (!every_step_) return;
-    source_->quadratures(t, qs_.data());
+    source_->state(t, nullptr, qs_.data());
     fold_extremes(t, at_end);
     fold_energy(at_end);
   }
@@ -486,14 +481,6 @@ class WindowObserver {
   double residual(double deviation) const { return energy_scale_ > 0.0 ? deviation / energy_scale_ : 0.0; }
 
  private:
-  const Model& model_;
-  Workspace& ws_;
-  StateSource* source_;
-  const State& y0_;
-  const Quadratures& q0_;
-  const double t_eval_;  // start of the evaluated window [s]
-  const bool every_step_;
-  Metrics& m_;
   // Folds the evaluation `e` at t [s] into the window's extremes.
   void fold_extremes(double t, const Evaluation& e) {
     if (t < t_eval_) return;
@@ -519,6 +506,14 @@ class WindowObserver {
     return energy - energy0_;
   }
 
+  const Model& model_;
+  Workspace& ws_;
+  StateSource* source_;
+  const State& y0_;
+  const Quadratures& q0_;
+  const double t_eval_;  // start of the evaluated window [s]
+  const bool every_step_;
+  Metrics& m_;
   bool stepped_ = false;
   Evaluation ev_;
   State ys_{};

@@ -123,8 +123,9 @@ struct SimulationOptions {
   /// Whether the metrics and the energy balance follow every internal step
   /// (three dense samples inside each step and its end; the energy at its end).
   /// A caller that reads only `samples` (identification) turns this off: the
-  /// integration is the same to the last bit, each step costs about 0.7, and
-  /// the metrics and energy residual then see only output and sample times.
+  /// integration is the same to the last bit, a step costs about 0.7 of one
+  /// with them, and the metrics and energy residual see only the output and
+  /// sample times.
   bool step_metrics = true;
   /// Whether the quadratures (damper, friction and motor work, the separation
   /// integral) are integrated. They take part in CVODE's error test, so
