@@ -103,6 +103,7 @@ long revolutions_to_settle(Case& c, const SectionPoint& fixed, double tolerance,
   SimulationOptions options;
   options.record_series = false;
   options.step_metrics = false;
+  options.quadratures = false;  // as the map's own runs
   const SimulationResult first = simulate(c.map.scene_for(1), c.model, ws, options);
   SectionPoint p = c.map.point(first);
   for (long n = 1; n <= limit; ++n) {

@@ -104,6 +104,7 @@ MapResult PoincareMap::apply(const SectionPoint& p, int k, Workspace& ws) const 
   SimulationOptions options;
   options.record_series = false;
   options.step_metrics = false;
+  options.quadratures = false;  // the map reads the state and the events
   options.start = std::make_shared<const StartState>(start(p));
   const SimulationResult r = simulate(scene_for(k), model_, ws, options);
   MapResult m;

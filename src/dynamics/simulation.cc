@@ -15,6 +15,8 @@
 #include "common/errors.h"
 #include "common/study_budget.h"
 #include "dynamics/free_flight.h"
+#include "dynamics/step_extremes.h"
+#include "dynamics/step_quadrature.h"
 #include "geometry/check_text.h"
 #include "integrate/integrator.h"
 
@@ -25,73 +27,53 @@ namespace {
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 constexpr int kMaxState = StateLayout::kMax;
-constexpr int kSamplesPerStep = 4;  // dense samples per internal step for the metrics
 
 using State = std::array<double, kMaxState>;
 using Quadratures = std::array<double, Model::kQuadratures>;
 using Clock = std::chrono::steady_clock;
 
-// The quadratures a model integrates (physics.md §5; Quadratures holds all
-// of them, by index): the drive's work only where the cam turns or a motor
-// drives it, the damper's only with a damper, the contact hysteresis only
-// for a dissipative law, the friction work only with friction, the
-// separation integral always. The others stay zero, as the states a scene
-// does not need are left out. The integrator holds the selected ones only.
-class QuadratureSelection {
- public:
-  QuadratureSelection(const Model& m, bool enabled) {
-    const bool needed[Model::kQuadratures] = {
-        m.omega != 0.0 || m.drive == Drive::shaft,
-        m.damping > 0.0 || (m.drive == Drive::shaft && m.shaft_damping > 0.0),
-        force_form(m.contact.model) != ForceForm::elastic,
-        m.contact_friction || m.has_guide_friction || m.has_pivot_friction,
-        true,
-    };
-    for (int i = 0; enabled && i < Model::kQuadratures; ++i)
-      if (needed[i]) index_[count_++] = i;
+// The quadratures a model reports (physics.md §5; Quadratures holds all of
+// them, by index): the drive's work only where the cam turns or a motor
+// drives it, the damper's only with a damper, the contact hysteresis only for
+// a dissipative law, the friction work only with friction, the separation
+// integral always. The others have a zero integrand.
+bool quadrature_reported(const Model& m, int i) {
+  switch (i) {
+    case 0:
+      return m.omega != 0.0 || m.drive == Drive::shaft;
+    case 1:
+      return m.damping > 0.0 || (m.drive == Drive::shaft && m.shaft_damping > 0.0);
+    case 2:
+      return force_form(m.contact.model) != ForceForm::elastic;
+    case 3:
+      return m.contact_friction || m.has_guide_friction || m.has_pivot_friction;
+    default:
+      return true;
   }
-  int count() const { return count_; }
-  bool integrated(int i) const {
-    return std::find(index_.begin(), index_.begin() + count_, i) != index_.begin() + count_;
-  }
-  // All quadratures → the integrator's.
-  void gather(const double* all, double* selected) const {
-    for (int k = 0; k < count_; ++k) selected[k] = all[index_[k]];
-  }
-  // The integrator's → all (the others zero).
-  void scatter(const double* selected, double* all) const {
-    std::fill(all, all + Model::kQuadratures, 0.0);
-    for (int k = 0; k < count_; ++k) all[index_[k]] = selected[k];
-  }
+}
 
- private:
-  std::array<int, Model::kQuadratures> index_{};
-  int count_ = 0;
-};
+// The quadratures' integrand at an evaluation.
+Quadratures integrand(const Evaluation& ev) {
+  Quadratures f;
+  quadrature_derivative(ev, f.data());
+  return f;
+}
 
 // The scene as an OdeSystem: the model's evaluation behind SUNDIALS' callbacks.
-// After each step CVODE asks for the quadratures and the roots at the state it
-// accepted, and the loop evaluates there once more: evaluated() reuses the
+// After each step CVODE asks for the roots at the state it accepted, and the
+// loop evaluates there once more: evaluated() reuses the
 // last evaluation when its point is the same to the bit. Only where an
 // evaluation is a function of (t, y) and the contact episode's approach speed
 // alone: Newton tracking also depends on its warm start, so it always solves.
 class SceneOde final : public OdeSystem {
  public:
-  SceneOde(const Model& model, Workspace& ws, const QuadratureSelection& quadratures)
-      : model_(model), ws_(ws), reuse_(model.tracking != Tracking::newton), quadratures_(quadratures) {}
+  SceneOde(const Model& model, Workspace& ws) : model_(model), ws_(ws), reuse_(model.tracking != Tracking::newton) {}
   int size() const override { return model_.layout.size; }
-  int quadrature_size() const override { return quadratures_.count(); }
   int root_count() const override { return model_.root_count(); }
   int rhs(double t, const double* y, double* y_dot) override {
     const Evaluation& ev = evaluated(t, y);
     if (!ev.tracking_ok) return 1;  // recoverable: the integrator retries a smaller step
     state_derivative(model_, ev, y_dot);
-    return 0;
-  }
-  int quadrature(double t, const double* y, double* q_dot) override {
-    std::array<double, Model::kQuadratures> all{};
-    quadrature_derivative(evaluated(t, y), all.data());
-    quadratures_.gather(all.data(), q_dot);
     return 0;
   }
   int roots(double t, const double* y, double* g) override {
@@ -128,7 +110,6 @@ class SceneOde final : public OdeSystem {
   const Model& model_;
   Workspace& ws_;
   const bool reuse_;
-  const QuadratureSelection& quadratures_;
   Evaluation ev_;
   bool valid_ = false;
   double t_ = 0.0, v0_ = 0.0, motor_phase_ = 0.0;  // the point of ev_ [s], [m/s], [rad]
@@ -302,7 +283,6 @@ IntegratorOptions integrator_options(const IntegratorConfig& ic, const RunPlan& 
   io.method = ic.method;
   io.rtol = ic.rtol;
   io.atol = ic.atol;
-  io.quadrature_atol = ic.atol;
   io.max_step = p.max_step;
   io.fixed_step = ic.step.value_or(0.0);
   io.analytic_jacobian = ic.jacobian == JacobianSource::analytic;
@@ -321,28 +301,34 @@ class StateSource {
 
 class IntegratorSource final : public StateSource {
  public:
-  IntegratorSource(Integrator& integrator, const QuadratureSelection& quadratures)
-      : integrator_(integrator), quadratures_(quadratures) {}
+  // `quadrature` null: the run integrates no quadratures.
+  IntegratorSource(Integrator& integrator, SceneOde& ode, StepQuadrature* quadrature)
+      : integrator_(integrator), ode_(ode), quadrature_(quadrature) {}
   void state(double t, double* y, double* q) override {
     if (y) integrator_.dense(t, y);
     if (q) quadratures_at(t, q);
   }
-  // All quadratures at t, from the integrator's dense output.
+  // All quadratures at t, within the last step.
   void quadratures_at(double t, double* q) const {
-    std::array<double, Model::kQuadratures> selected{};
-    if (quadratures_.count() > 0) integrator_.dense_quadrature(t, selected.data());
-    quadratures_.scatter(selected.data(), q);
+    if (quadrature_)
+      quadrature_->at(t, q);
+    else
+      std::fill(q, q + Model::kQuadratures, 0.0);
   }
-  // Restarts the integrator at (t, y, all quadratures q).
-  void restart(double t, const double* y, const double* q) {
-    std::array<double, Model::kQuadratures> selected{};
-    quadratures_.gather(q, selected.data());
-    integrator_.reinit(t, y, selected.data());
+  // Starts the quadratures at (t, y) with the values q.
+  void start_quadratures(double t, const double* y, const Quadratures& q) {
+    if (quadrature_) quadrature_->start(t, q, integrand(ode_.evaluated(t, y)));
+  }
+  // Restarts the integrator and the quadratures at (t, y, all quadratures q).
+  void restart(double t, const double* y, const Quadratures& q) {
+    integrator_.reinit(t, y);
+    start_quadratures(t, y, q);
   }
 
  private:
   Integrator& integrator_;
-  const QuadratureSelection& quadratures_;
+  SceneOde& ode_;
+  StepQuadrature* quadrature_;
 };
 
 // The flight: q, q̇ in closed form, the pair by Newton, the quadratures that
@@ -386,9 +372,7 @@ class WindowObserver {
  public:
   WindowObserver(const Model& model, Workspace& ws, StateSource& source, const State& y0, const Quadratures& q0,
                  double t_eval, bool every_step, Metrics& m)
-      : model_(model), ws_(ws), source_(&source), y0_(y0), q0_(q0), t_eval_(t_eval), every_step_(every_step), m_(m) {
-    m_.min_contact_force = std::numeric_limits<double>::infinity();
-  }
+      : model_(model), ws_(ws), source_(&source), y0_(y0), q0_(q0), t_eval_(t_eval), every_step_(every_step), m_(m) {}
 
   // Evaluates the model at a dense-output time into ev() and folds it into the
   // metrics; returns the energy deviation E(t) − E(0) [J]. Before the first
@@ -403,45 +387,50 @@ class WindowObserver {
     double u_keep = ws_.u_warm;
     evaluate(model_, ws_, t, ys_.data(), ev_);
     ws_.u_warm = u_keep;
-    fold_extremes(t, ev_);
+    if (!stepped_) start_ = extreme_values(ev_);
+    fold_extremes(t, extreme_values(ev_));
     return fold_energy(ev_);
   }
 
-  // The step [t0, t] the integrator just took, but for its end (observe_step_end):
-  // metrics from dense samples inside it, positions only (the energy balance
-  // is folded in at the step ends, where the quadratures are the
-  // integrator's own). The gap keeps its sign inside a step (its zeros are
-  // located as roots), so the midpoint decides separation. Without
-  // `every_step` only the dense output becomes available; Newton tracking
-  // still solves at the midpoint, whose pair warm-starts the evaluation after
-  // the step, so that the run stays the same to the last bit: the midpoint is
-  // the one sample that keeps its pair as the warm start.
-  void observe_step(double t0, double t) {
+  // The step [t0, t] the integrator just took, but for its end
+  // (observe_step_end): the model at its midpoint. The gap keeps its sign
+  // inside a step (its zeros are located as roots), so the midpoint decides
+  // separation; the quadratures' integrand there goes to `f_mid` unless it is
+  // null. Without `every_step` the midpoint is evaluated only when the
+  // quadratures or Newton tracking need it. Newton tracking solves there and
+  // keeps the pair as the warm start of the evaluation after the step, with
+  // and without `every_step`, so that the run is the same to the last bit.
+  void observe_step(double t0, double t, Quadratures* f_mid) {
     stepped_ = true;
-    if (!every_step_ && model_.tracking != Tracking::newton) return;
-    double gap_mid = 0.0;  // [m]
-    for (int j = 1; j < kSamplesPerStep; ++j) {
-      const bool mid = 2 * j == kSamplesPerStep;
-      if (!every_step_ && !mid) continue;
-      const double t_j = t0 + (t - t0) * j / kSamplesPerStep;
-      source_->state(t_j, ys_.data(), nullptr);
-      const double u_keep = ws_.u_warm;
-      evaluate(model_, ws_, t_j, ys_.data(), ev_);
-      if (mid)
-        gap_mid = ev_.gap;
-      else
-        ws_.u_warm = u_keep;
-      if (every_step_) fold_extremes(t_j, ev_);
+    step_start_ = t0;
+    if (!every_step_ && !f_mid && model_.tracking != Tracking::newton) return;
+    const double t_mid = t0 + (t - t0) * 0.5;
+    source_->state(t_mid, ys_.data(), nullptr);
+    evaluate(model_, ws_, t_mid, ys_.data(), ev_);
+    if (f_mid) quadrature_derivative(ev_, f_mid->data());
+    if (every_step_) {
+      mid_ = extreme_values(ev_);
+      fold_extremes(t_mid, mid_);
     }
-    if (gap_mid > 0.0) separated_time_ += std::max(0.0, t - std::max(t0, t_eval_));
+    if (ev_.gap > 0.0) separated_time_ += std::max(0.0, t - std::max(t0, t_eval_));
   }
 
   // The end t of the step just taken, evaluated there by the loop (`at_end`):
-  // its metrics and energy, with the integrator's quadratures at t.
+  // its metrics and energy, with the quadratures at t; where the extremes'
+  // parabola through the step's start, middle and end promises a record
+  // inside the step, the model evaluated there too (state only).
   void observe_step_end(double t, const Evaluation& at_end) {
     if (!every_step_) return;
     source_->state(t, nullptr, qs_.data());
-    fold_extremes(t, at_end);
+    const StepExtremes::Values end = extreme_values(at_end);
+    fold_extremes(t, end);
+    StepExtremes::Values s{};
+    const std::size_t probes = extremes_.probes(start_, mid_, end, s);
+    for (std::size_t i = 0; i < probes; ++i) {
+      const double t_probe = step_start_ + (t - step_start_) * s[i];
+      fold_extremes(t_probe, extreme_values(probe(t_probe)));
+    }
+    start_ = end;
     fold_energy(at_end);
   }
 
@@ -453,7 +442,8 @@ class WindowObserver {
     stepped_ = true;
     if (every_step_) {
       observe(t);
-      if (t >= t_eval_) m_.max_separation_gap = std::max(m_.max_separation_gap, largest_gap);
+      start_ = extreme_values(ev_);
+      if (t >= t_eval_) flight_gap_ = std::max(flight_gap_, largest_gap);
     }
     separated_time_ += std::max(0.0, t - std::max(t0, t_eval_));
   }
@@ -461,17 +451,27 @@ class WindowObserver {
   // Reads the state from `source` from now on.
   void read_from(StateSource& source) { source_ = &source; }
 
-  // The metrics that are not extremes, once the run reached `t_end` [s];
-  // `separation_integral` is ∫ max(g, 0) dt over the evaluated window [m s].
+  // The metrics that are not extremes (publish_extremes), once the run
+  // reached `t_end` [s]; `separation_integral` is ∫ max(g, 0) dt over the
+  // evaluated window [m s].
   void finish(double t_end, double separation_integral) {
     const double evaluated = t_end - t_eval_;
     m_.separation_fraction = evaluated > 0.0 ? separated_time_ / evaluated : 0.0;
-    if (!std::isfinite(m_.min_contact_force)) m_.min_contact_force = 0.0;
     m_.energy_residual = energy_scale_ > 0.0 ? energy_max_dev_ / energy_scale_ : 0.0;
     m_.max_pressure_angle_deg = model_.geometry.max_pressure_angle_deg;
     m_.min_radius_of_curvature = model_.geometry.min_radius_of_curvature;
     m_.jump_speed_rpm = jump_speed_rpm(model_);
     m_.separation_integral = separation_integral;
+  }
+
+  // The extremes so far into the metrics (a failed run's too).
+  void publish_extremes() {
+    const StepExtremes::Values& best = extremes_.best();
+    m_.max_separation_gap = std::max({0.0, best[0], flight_gap_});
+    m_.peak_contact_force = std::max(0.0, best[1]);
+    m_.min_contact_force = std::isfinite(best[2]) ? -best[2] : 0.0;
+    m_.max_penetration = std::max(0.0, best[3]);
+    m_.max_kinematic_error = std::max(0.0, best[4]);
   }
 
   Evaluation& ev() { return ev_; }
@@ -481,14 +481,24 @@ class WindowObserver {
   double residual(double deviation) const { return energy_scale_ > 0.0 ? deviation / energy_scale_ : 0.0; }
 
  private:
-  // Folds the evaluation `e` at t [s] into the window's extremes.
-  void fold_extremes(double t, const Evaluation& e) {
-    if (t < t_eval_) return;
-    m_.max_separation_gap = std::max(m_.max_separation_gap, e.gap);
-    m_.peak_contact_force = std::max(m_.peak_contact_force, e.normal_force);
-    m_.min_contact_force = std::min(m_.min_contact_force, e.normal_force);
-    m_.max_penetration = std::max(m_.max_penetration, e.delta);
-    m_.max_kinematic_error = std::max(m_.max_kinematic_error, std::abs(e.y - model_.law->eval(e.theta).s));
+  // The model at t inside the step just taken (state only), the Newton warm
+  // start kept as it was.
+  const Evaluation& probe(double t) {
+    source_->state(t, ys_.data(), nullptr);
+    const double u_keep = ws_.u_warm;
+    evaluate(model_, ws_, t, ys_.data(), probe_);
+    ws_.u_warm = u_keep;
+    return probe_;
+  }
+
+  // What the window's extremes follow, at the evaluation `e`.
+  StepExtremes::Values extreme_values(const Evaluation& e) const {
+    return {e.gap, e.normal_force, -e.normal_force, e.delta, std::abs(e.y - model_.law->eval(e.theta).s)};
+  }
+
+  // Folds the extremes' values `x` at t [s] into the window's records.
+  void fold_extremes(double t, const StepExtremes::Values& x) {
+    if (t >= t_eval_) extremes_.fold(x);
   }
 
   // Folds the energy of `e` with the quadratures qs_ into the balance;
@@ -515,7 +525,11 @@ class WindowObserver {
   const bool every_step_;
   Metrics& m_;
   bool stepped_ = false;
-  Evaluation ev_;
+  Evaluation ev_, probe_;
+  StepExtremes extremes_;
+  StepExtremes::Values start_{}, mid_{};  // the extremes' values at the step's start and middle
+  double step_start_ = 0.0;               // [s]
+  double flight_gap_ = 0.0;               // the largest gap inside the flights in the window [m]
   State ys_{};
   Quadratures qs_{};
   double energy0_ = 0.0, energy_scale_ = 0.0, energy_max_dev_ = 0.0;  // [J]
@@ -619,10 +633,11 @@ struct LoopState {
   double last_progress = 0.0;  // wall time of the last progress report [s]
   IntegratorSource* integrator_source = nullptr;
   FlightSource* flight_source = nullptr;
-  FlightTrack* flight = nullptr;        // null: flights are integrated
-  const Model* newton_model = nullptr;  // the model with Newton tracking, for the drift projection
-  bool last_flight_short = false;       // the last flight landed at once: integrate the next one
-  bool ended_in_flight = false;         // the run's end came in a flight
+  FlightTrack* flight = nullptr;         // null: flights are integrated
+  StepQuadrature* quadrature = nullptr;  // null: no quadratures
+  const Model* newton_model = nullptr;   // the model with Newton tracking, for the drift projection
+  bool last_flight_short = false;        // the last flight landed at once: integrate the next one
+  bool ended_in_flight = false;          // the run's end came in a flight
 };
 
 // A contact onset at t (physics.md §4): an impact when the follower was
@@ -773,7 +788,7 @@ Failure fly(const RunContext& run, SceneOde& ode, Integrator& integrator, LoopSt
   if (landed) {
     ++run.result.solver.events;
     record_onset(run, ode.evaluated(end.t, loop.y.data()), end.t, loop.separated);
-    loop.integrator_source->restart(end.t, loop.y.data(), loop.q.data());
+    loop.integrator_source->restart(end.t, loop.y.data(), loop.q);
   }
   return {};
 }
@@ -791,6 +806,7 @@ Failure integrate(const RunContext& run, SceneOde& ode, Integrator& integrator, 
   Evaluation& ev = observer.ev();
   observer.observe(0.0);
   recorder.record_until(0.0);
+  loop.integrator_source->start_quadratures(0.0, loop.y.data(), loop.q);
   loop.separated = ev.gap > 0.0;
   std::array<int, 2> root_dirs{};
   const double projection_tolerance = std::max(1e-9, 10.0 * run.scene.integrator.rtol);  // [rad]
@@ -810,12 +826,15 @@ Failure integrate(const RunContext& run, SceneOde& ode, Integrator& integrator, 
               std::string(e.what()) + " (integrating " + where(model, integrator.time()) + ")"};
     }
     const double t = loop.t = integrator.time();
-    observer.observe_step(integrator.last_step_start(), t);
-    recorder.record_until(t);
-
+    Quadratures f_mid{};
+    observer.observe_step(integrator.last_step_start(), t, loop.quadrature ? &f_mid : nullptr);
     const double* state = integrator.state();
     std::copy(state, state + model.layout.size, loop.y.begin());
-    ev = ode.evaluated(t, loop.y.data());
+    // The step's end; the recorder's evaluations do not touch the ode's.
+    const Evaluation& at_end = ode.evaluated(t, loop.y.data());
+    if (loop.quadrature) loop.quadrature->step(t, f_mid, integrand(at_end));
+    recorder.record_until(t);
+    ev = at_end;
     observer.observe_step_end(t, ev);
     if (model.tracking == Tracking::newton) {
       ws.u_warm = ev.pair.u;
@@ -831,7 +850,7 @@ Failure integrate(const RunContext& run, SceneOde& ode, Integrator& integrator, 
     if (!in_flight)
       if (Failure f = project_pair(run, *loop.newton_model, ev, t, projection_tolerance, loop.y, restart)) return f;
     if (in_flight || restart) loop.integrator_source->quadratures_at(t, loop.q.data());
-    if (restart && !in_flight) loop.integrator_source->restart(t, loop.y.data(), loop.q.data());
+    if (restart && !in_flight) loop.integrator_source->restart(t, loop.y.data(), loop.q);
     if (Failure f = check_budgets(run, integrator, t, loop.last_progress)) return f;
     if (result_kind == Integrator::Result::stop) break;
   }
@@ -860,12 +879,13 @@ Failure run_scene(const RunContext& run) {
                                     : initial_state(run.scene, model, run.ws, loop.y.data()))
     return f;
 
-  const QuadratureSelection quadratures(model, run.options.quadratures);
-  SceneOde ode(model, run.ws, quadratures);
+  SceneOde ode(model, run.ws);
   const std::unique_ptr<Integrator> integrator_ptr =
-      make_integrator(ode, integrator_options(run.scene.integrator, run.plan), 0.0, loop.y.data(), loop.q.data());
+      make_integrator(ode, integrator_options(run.scene.integrator, run.plan), 0.0, loop.y.data());
   Integrator& integrator = *integrator_ptr;
-  IntegratorSource integrator_source(integrator, quadratures);
+  StepQuadrature quadrature;
+  if (run.options.quadratures) loop.quadrature = &quadrature;
+  IntegratorSource integrator_source(integrator, ode, loop.quadrature);
   std::optional<FlightTrack> flight;
   if (run.scene.integrator.flight == FlightMethod::closed_form && flight_has_closed_form(model)) flight.emplace(model);
   std::optional<FlightSource> flight_source;
@@ -884,6 +904,7 @@ Failure run_scene(const RunContext& run) {
   Failure failure;
   try {
     failure = integrate(run, ode, integrator, loop, observer, recorder);
+    observer.publish_extremes();
     if (!failure) {
       observer.finish(run.plan.t_end, loop.q[4] - recorder.separation_integral_at_eval());
       recorder.finish();
@@ -904,10 +925,9 @@ Failure run_scene(const RunContext& run) {
 
 std::vector<std::string> integrated_quadratures(const Model& model) {
   static constexpr const char* kNames[] = {"drive_work", "damper_work", "hysteresis_work", "friction_work"};
-  const QuadratureSelection selection(model, true);
   std::vector<std::string> names;
   for (int i = 0; i < 4; ++i)
-    if (selection.integrated(i)) names.emplace_back(kNames[i]);
+    if (quadrature_reported(model, i)) names.emplace_back(kNames[i]);
   return names;
 }
 

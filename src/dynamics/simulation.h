@@ -121,18 +121,19 @@ struct StartState {
 struct SimulationOptions {
   bool record_series = true;
   /// Whether the metrics and the energy balance follow every internal step
-  /// (three dense samples inside each step and its end; the energy at its end).
-  /// A caller that reads only `samples` (identification) turns this off: the
-  /// integration is the same to the last bit, a step costs about 0.7 of one
-  /// with them, and the metrics and energy residual see only the output and
+  /// (the model at each step's midpoint and end, and where a peak between
+  /// them is due; the energy at its end). A caller that reads only `samples`
+  /// (identification) turns this off: the integration is the same to the
+  /// last bit, and the metrics and energy residual see only the output and
   /// sample times.
   bool step_metrics = true;
   /// Whether the quadratures (damper, friction and motor work, the separation
-  /// integral) are integrated. They take part in CVODE's error test, so
-  /// without them the steps differ (within the tolerance) and each costs
-  /// less: about 1.6× on the identification rig. The energy residual and the
-  /// separation integral are then NaN. Only a caller that reads neither
-  /// (identification's fit runs) turns them off.
+  /// integral) are integrated: by Simpson's rule over each step, from the
+  /// model at its start, midpoint and end. They never change the steps, so
+  /// without them the run is the same to the last bit and spares the
+  /// midpoint's evaluation where nothing else needs it; the energy residual
+  /// and the separation integral are then NaN. Only a caller that reads
+  /// neither (identification's fit runs) turns them off.
   bool quadratures = true;
   /// Extra times [s] (ascending, within the run) at which the state is sampled
   /// from the integrator's dense output into SimulationResult::samples (for

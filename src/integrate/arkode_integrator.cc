@@ -10,18 +10,17 @@
 #include <string>
 
 #include "common/errors.h"
-#include "integrate/augmented_system.h"
 #include "integrate/sundials_flag_name.h"
 
 namespace camdyn {
 
 struct ArkodeIntegrator::Impl {
-  explicit Impl(OdeSystem& inner) : system(inner) {}
-  AugmentedSystem system;
+  explicit Impl(OdeSystem& ode) : system(ode) {}
+  OdeSystem& system;
   bool implicit = false;
   SUNContext context = nullptr;
   void* mem = nullptr;
-  N_Vector y = nullptr, scratch = nullptr, abstol = nullptr;
+  N_Vector y = nullptr, scratch = nullptr;
   SUNMatrix matrix = nullptr;
   SUNLinearSolver linear_solver = nullptr;
   std::string last_message;
@@ -75,37 +74,30 @@ struct ArkodeIntegrator::Impl {
     if (mem) ARKStepFree(&mem);
     if (linear_solver) SUNLinSolFree(linear_solver);
     if (matrix) SUNMatDestroy(matrix);
-    for (N_Vector v : {y, scratch, abstol})
+    for (N_Vector v : {y, scratch})
       if (v) N_VDestroy(v);
     if (context) SUNContext_Free(&context);
   }
 };
 
-ArkodeIntegrator::ArkodeIntegrator(OdeSystem& system, const IntegratorOptions& options, double t0, const double* y0,
-                                   const double* q0)
+ArkodeIntegrator::ArkodeIntegrator(OdeSystem& system, const IntegratorOptions& options, double t0, const double* y0)
     : impl_(std::make_unique<Impl>(system)), t_(t0), t_prev_(t0) {
   Impl& m = *impl_;
   m.implicit = options.method == IntegrationMethod::arkode_dirk;
   m.t = t0;
-  const int n = m.system.inner_size();
   const sunindextype size = m.system.size();
   if (SUNContext_Create(nullptr, &m.context) != 0) throw NumericalError("SUNDIALS could not create a context");
   m.y = N_VNew_Serial(size, m.context);
   m.check_created(m.y, "the state vector");
   m.scratch = N_VNew_Serial(size, m.context);
   m.check_created(m.scratch, "a work vector");
-  m.abstol = N_VNew_Serial(size, m.context);
-  m.check_created(m.abstol, "the tolerance vector");
-  for (sunindextype i = 0; i < size; ++i) {
-    NV_Ith_S(m.y, i) = i < n ? y0[i] : q0[i - n];
-    NV_Ith_S(m.abstol, i) = i < n ? options.atol : options.quadrature_atol;
-  }
+  for (sunindextype i = 0; i < size; ++i) NV_Ith_S(m.y, i) = y0[i];
   m.mem = m.implicit ? ARKStepCreate(nullptr, &Impl::rhs, t0, m.y, m.context)
                      : ARKStepCreate(&Impl::rhs, nullptr, t0, m.y, m.context);
   m.check_created(m.mem, "the ARKStep solver");
   m.check(ARKStepSetErrHandlerFn(m.mem, &Impl::error_handler, &m), "ARKStepSetErrHandlerFn");
   m.check(ARKStepSetUserData(m.mem, &m), "ARKStepSetUserData");
-  m.check(ARKStepSVtolerances(m.mem, options.rtol, m.abstol), "ARKStepSVtolerances");
+  m.check(ARKStepSStolerances(m.mem, options.rtol, options.atol), "ARKStepSStolerances");
   m.check(ARKStepSetMaxNumSteps(m.mem, options.max_steps_per_call), "ARKStepSetMaxNumSteps");
   if (options.max_step > 0.0) m.check(ARKStepSetMaxStep(m.mem, options.max_step), "ARKStepSetMaxStep");
   if (m.implicit) {
@@ -154,26 +146,18 @@ void ArkodeIntegrator::dense(double t, double* out) const {
   Impl& m = *impl_;
   m.check(ARKStepGetDky(m.mem, t, 0, m.scratch), "ARKStepGetDky");
   const double* p = N_VGetArrayPointer(m.scratch);
-  std::copy(p, p + m.system.inner_size(), out);
-}
-
-void ArkodeIntegrator::dense_quadrature(double t, double* out) const {
-  Impl& m = *impl_;
-  m.check(ARKStepGetDky(m.mem, t, 0, m.scratch), "ARKStepGetDky");
-  const double* p = N_VGetArrayPointer(m.scratch);
-  std::copy(p + m.system.inner_size(), p + m.system.size(), out);
+  std::copy(p, p + m.system.size(), out);
 }
 
 void ArkodeIntegrator::root_info(int* directions) const {
   impl_->check(ARKStepGetRootInfo(impl_->mem, directions), "ARKStepGetRootInfo");
 }
 
-void ArkodeIntegrator::reinit(double t, const double* y, const double* q) {
+void ArkodeIntegrator::reinit(double t, const double* y) {
   Impl& m = *impl_;
   m.before_reinit += m.current();
   ++m.before_reinit.reinitialisations;
-  const int n = m.system.inner_size();
-  for (int i = 0; i < m.system.size(); ++i) NV_Ith_S(m.y, i) = i < n ? y[i] : q[i - n];
+  for (int i = 0; i < m.system.size(); ++i) NV_Ith_S(m.y, i) = y[i];
   m.t = t;
   m.check(m.implicit ? ARKStepReInit(m.mem, nullptr, &Impl::rhs, t, m.y)
                      : ARKStepReInit(m.mem, &Impl::rhs, nullptr, t, m.y),

@@ -1,8 +1,7 @@
 // ARKODE's ARKStep as an explicit adaptive Runge–Kutta method ("arkode_erk",
 // the default order-4 embedded pair) or a diagonally implicit one
 // ("arkode_dirk", default order-4 SDIRK, dense direct linear solver with the
-// analytic Jacobian when the system has one). Quadratures ride along as
-// extra states (AugmentedSystem).
+// analytic Jacobian when the system has one).
 #pragma once
 
 #include <memory>
@@ -13,7 +12,7 @@ namespace camdyn {
 
 class ArkodeIntegrator final : public Integrator {
  public:
-  ArkodeIntegrator(OdeSystem& system, const IntegratorOptions& options, double t0, const double* y0, const double* q0);
+  ArkodeIntegrator(OdeSystem& system, const IntegratorOptions& options, double t0, const double* y0);
   ~ArkodeIntegrator() override;
   ArkodeIntegrator(const ArkodeIntegrator&) = delete;
   ArkodeIntegrator& operator=(const ArkodeIntegrator&) = delete;
@@ -23,9 +22,8 @@ class ArkodeIntegrator final : public Integrator {
   double last_step_start() const override { return t_prev_; }
   const double* state() const override;
   void dense(double t, double* out) const override;
-  void dense_quadrature(double t, double* out) const override;
   void root_info(int* directions) const override;
-  void reinit(double t, const double* y, const double* q) override;
+  void reinit(double t, const double* y) override;
   SolverCounters counters() const override;
 
  private:

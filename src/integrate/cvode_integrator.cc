@@ -18,7 +18,7 @@ struct CvodeIntegrator::Impl {
   OdeSystem* system = nullptr;
   SUNContext context = nullptr;
   void* mem = nullptr;
-  N_Vector y = nullptr, q = nullptr, scratch = nullptr, scratch_q = nullptr;
+  N_Vector y = nullptr, scratch = nullptr;
   SUNMatrix matrix = nullptr;
   SUNLinearSolver linear_solver = nullptr;
   std::string last_message;
@@ -37,9 +37,6 @@ struct CvodeIntegrator::Impl {
 
   static int rhs(realtype t, N_Vector y, N_Vector y_dot, void* data) {
     return static_cast<Impl*>(data)->system->rhs(t, N_VGetArrayPointer(y), N_VGetArrayPointer(y_dot));
-  }
-  static int quad(realtype t, N_Vector y, N_Vector q_dot, void* data) {
-    return static_cast<Impl*>(data)->system->quadrature(t, N_VGetArrayPointer(y), N_VGetArrayPointer(q_dot));
   }
   static int roots(realtype t, N_Vector y, realtype* g, void* data) {
     return static_cast<Impl*>(data)->system->roots(t, N_VGetArrayPointer(y), g);
@@ -73,20 +70,18 @@ struct CvodeIntegrator::Impl {
     if (mem) CVodeFree(&mem);
     if (linear_solver) SUNLinSolFree(linear_solver);
     if (matrix) SUNMatDestroy(matrix);
-    for (N_Vector v : {y, q, scratch, scratch_q})
+    for (N_Vector v : {y, scratch})
       if (v) N_VDestroy(v);
     if (context) SUNContext_Free(&context);
   }
 };
 
-CvodeIntegrator::CvodeIntegrator(OdeSystem& system, const IntegratorOptions& options, double t0, const double* y0,
-                                 const double* q0)
+CvodeIntegrator::CvodeIntegrator(OdeSystem& system, const IntegratorOptions& options, double t0, const double* y0)
     : impl_(std::make_unique<Impl>()), t_(t0), t_prev_(t0) {
   Impl& m = *impl_;
   m.system = &system;
   m.t = t0;
   const sunindextype n = system.size();
-  const sunindextype nq = system.quadrature_size();
   if (SUNContext_Create(nullptr, &m.context) != 0) throw NumericalError("SUNDIALS could not create a context");
   m.y = N_VNew_Serial(n, m.context);
   m.check_created(m.y, "the state vector");
@@ -113,16 +108,6 @@ CvodeIntegrator::CvodeIntegrator(OdeSystem& system, const IntegratorOptions& opt
   m.check(CVodeSetLinearSolver(m.mem, m.linear_solver, m.matrix), "CVodeSetLinearSolver");
   if (options.analytic_jacobian && system.has_jacobian())
     m.check(CVodeSetJacFn(m.mem, &Impl::jacobian), "CVodeSetJacFn");
-  if (nq > 0) {
-    m.q = N_VNew_Serial(nq, m.context);
-    m.check_created(m.q, "the quadrature vector");
-    m.scratch_q = N_VNew_Serial(nq, m.context);
-    m.check_created(m.scratch_q, "a quadrature work vector");
-    for (sunindextype i = 0; i < nq; ++i) NV_Ith_S(m.q, i) = q0[i];
-    m.check(CVodeQuadInit(m.mem, &Impl::quad, m.q), "CVodeQuadInit");
-    m.check(CVodeQuadSStolerances(m.mem, options.rtol, options.quadrature_atol), "CVodeQuadSStolerances");
-    m.check(CVodeSetQuadErrCon(m.mem, SUNTRUE), "CVodeSetQuadErrCon");
-  }
   if (system.root_count() > 0) {
     m.check(CVodeRootInit(m.mem, system.root_count(), &Impl::roots), "CVodeRootInit");
     m.check(CVodeSetNoInactiveRootWarn(m.mem), "CVodeSetNoInactiveRootWarn");
@@ -160,29 +145,17 @@ void CvodeIntegrator::dense(double t, double* out) const {
   for (int i = 0; i < m.system->size(); ++i) out[i] = p[i];
 }
 
-void CvodeIntegrator::dense_quadrature(double t, double* out) const {
-  Impl& m = *impl_;
-  if (!m.q) return;
-  m.check(CVodeGetQuadDky(m.mem, t, 0, m.scratch_q), "CVodeGetQuadDky");
-  const double* p = N_VGetArrayPointer(m.scratch_q);
-  for (int i = 0; i < m.system->quadrature_size(); ++i) out[i] = p[i];
-}
-
 void CvodeIntegrator::root_info(int* directions) const {
   impl_->check(CVodeGetRootInfo(impl_->mem, directions), "CVodeGetRootInfo");
 }
 
-void CvodeIntegrator::reinit(double t, const double* y, const double* q) {
+void CvodeIntegrator::reinit(double t, const double* y) {
   Impl& m = *impl_;
   m.before_reinit += m.current();
   ++m.before_reinit.reinitialisations;
   for (int i = 0; i < m.system->size(); ++i) NV_Ith_S(m.y, i) = y[i];
   m.t = t;
   m.check(CVodeReInit(m.mem, t, m.y), "CVodeReInit");
-  if (m.q) {
-    for (int i = 0; i < m.system->quadrature_size(); ++i) NV_Ith_S(m.q, i) = q[i];
-    m.check(CVodeQuadReInit(m.mem, m.q), "CVodeQuadReInit");
-  }
   t_ = t_prev_ = t;
 }
 

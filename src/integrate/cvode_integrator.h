@@ -1,5 +1,5 @@
 // SUNDIALS CVODES (6.4, SUNContext API) driven one internal step at a time,
-// with root finding, quadratures and dense output. Every SUNDIALS return code
+// with root finding and dense output. Every SUNDIALS return code
 // is checked; a failure throws NumericalError with the solver's flag name,
 // its message and the time reached.
 #pragma once
@@ -16,7 +16,7 @@ namespace camdyn {
 /// Newton iteration as well, the CVODES default).
 class CvodeIntegrator final : public Integrator {
  public:
-  CvodeIntegrator(OdeSystem& system, const IntegratorOptions& options, double t0, const double* y0, const double* q0);
+  CvodeIntegrator(OdeSystem& system, const IntegratorOptions& options, double t0, const double* y0);
   ~CvodeIntegrator() override;
   CvodeIntegrator(const CvodeIntegrator&) = delete;
   CvodeIntegrator& operator=(const CvodeIntegrator&) = delete;
@@ -26,9 +26,8 @@ class CvodeIntegrator final : public Integrator {
   double last_step_start() const override { return t_prev_; }
   const double* state() const override;
   void dense(double t, double* out) const override;
-  void dense_quadrature(double t, double* out) const override;
   void root_info(int* directions) const override;
-  void reinit(double t, const double* y, const double* q) override;
+  void reinit(double t, const double* y) override;
   SolverCounters counters() const override;
 
  private:

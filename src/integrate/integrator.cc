@@ -10,16 +10,16 @@
 namespace camdyn {
 
 std::unique_ptr<Integrator> make_integrator(OdeSystem& system, const IntegratorOptions& options, double t0,
-                                            const double* y0, const double* q0) {
+                                            const double* y0) {
   switch (options.method) {
     case IntegrationMethod::cvode_bdf:
     case IntegrationMethod::cvode_adams:
-      return std::make_unique<CvodeIntegrator>(system, options, t0, y0, q0);
+      return std::make_unique<CvodeIntegrator>(system, options, t0, y0);
     case IntegrationMethod::arkode_erk:
     case IntegrationMethod::arkode_dirk:
-      return std::make_unique<ArkodeIntegrator>(system, options, t0, y0, q0);
+      return std::make_unique<ArkodeIntegrator>(system, options, t0, y0);
     case IntegrationMethod::rk4:
-      return std::make_unique<Rk4Integrator>(system, options, t0, y0, q0);
+      return std::make_unique<Rk4Integrator>(system, options, t0, y0);
   }
   throw std::invalid_argument("unknown integration method " + std::to_string(static_cast<int>(options.method)));
 }

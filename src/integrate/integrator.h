@@ -18,11 +18,10 @@ namespace camdyn {
 struct IntegratorOptions {
   IntegrationMethod method = IntegrationMethod::cvode_bdf;
   double rtol = 1e-8;
-  double atol = 1e-12;             ///< state absolute tolerance
-  double quadrature_atol = 1e-12;  ///< quadrature absolute tolerance
-  double max_step = 0.0;           ///< [s], 0: unlimited
-  double fixed_step = 0.0;         ///< rk4 step [s]
-  bool analytic_jacobian = true;   ///< implicit methods: use OdeSystem::jacobian when available
+  double atol = 1e-12;            ///< state absolute tolerance
+  double max_step = 0.0;          ///< [s], 0: unlimited
+  double fixed_step = 0.0;        ///< rk4 step [s]
+  bool analytic_jacobian = true;  ///< implicit methods: use OdeSystem::jacobian when available
   long max_steps_per_call = 100000;
 };
 
@@ -40,19 +39,18 @@ class Integrator {
   virtual double last_step_start() const = 0;
   /// State at time().
   virtual const double* state() const = 0;
-  /// Dense output of the state / quadratures at t in [last_step_start(), time()].
+  /// Dense output of the state at t in [last_step_start(), time()].
   virtual void dense(double t, double* out) const = 0;
-  virtual void dense_quadrature(double t, double* out) const = 0;
   /// Which roots fired at the last `root` result: +1 rising, −1 falling, 0 none.
   virtual void root_info(int* directions) const = 0;
-  /// Restarts at (t, y, q), e.g. after an event changed the right-hand side.
-  virtual void reinit(double t, const double* y, const double* q) = 0;
+  /// Restarts at (t, y), e.g. after an event changed the right-hand side.
+  virtual void reinit(double t, const double* y) = 0;
   virtual SolverCounters counters() const = 0;
 };
 
 /// Creates the integrator for options.method. Throws NumericalError when
 /// SUNDIALS cannot be set up.
 std::unique_ptr<Integrator> make_integrator(OdeSystem& system, const IntegratorOptions& options, double t0,
-                                            const double* y0, const double* q0);
+                                            const double* y0);
 
 }  // namespace camdyn

@@ -1,6 +1,5 @@
-// The interface an integrator sees: an ODE y' = f(t, y) with quadratures
-// q' = h(t, y) (integrated beside the state, not part of it) and root
-// functions g(t, y) whose sign changes are located as events.
+// The interface an integrator sees: an ODE y' = f(t, y) and root functions
+// g(t, y) whose sign changes are located as events.
 #pragma once
 
 namespace camdyn {
@@ -9,12 +8,10 @@ class OdeSystem {
  public:
   virtual ~OdeSystem() = default;
   virtual int size() const = 0;
-  virtual int quadrature_size() const = 0;
   virtual int root_count() const = 0;
   /// Return 0 on success, > 0 for a recoverable failure (the step is retried
   /// smaller), < 0 for an unrecoverable one.
   virtual int rhs(double t, const double* y, double* y_dot) = 0;
-  virtual int quadrature(double t, const double* y, double* q_dot) = 0;
   virtual int roots(double t, const double* y, double* g) = 0;
   /// Analytic Jacobian ∂f/∂y, column-major (J[i + n j] = ∂f_i/∂y_j); return
   /// -1 when the system has none (a finite-difference one is used instead).

@@ -7,18 +7,13 @@
 
 namespace camdyn {
 
-Rk4Integrator::Rk4Integrator(OdeSystem& system, const IntegratorOptions& options, double t0, const double* y0,
-                             const double* q0)
-    : system_(system),
-      size_(system_.size()),
-      inner_(system_.inner_size()),
-      roots_(system_.root_count()),
-      h_(options.fixed_step) {
+Rk4Integrator::Rk4Integrator(OdeSystem& system, const IntegratorOptions& options, double t0, const double* y0)
+    : system_(system), size_(system_.size()), roots_(system_.root_count()), h_(options.fixed_step) {
   if (!(h_ > 0.0)) throw NumericalError("rk4 needs a fixed step > 0 (integrator.step)");
   for (auto* v : {&y_, &f_, &y0_, &f0_, &y1_, &f1_, &k_, &stage_, &scratch_}) v->assign(size_, 0.0);
   for (auto* v : {&g_start_, &g_end_, &g_probe_}) v->assign(roots_, 0.0);
   root_directions_.assign(roots_, 0);
-  reinit(t0, y0, q0);
+  reinit(t0, y0);
   counters_.reinitialisations = 0;
 }
 
@@ -37,8 +32,8 @@ void Rk4Integrator::roots_at(double t, std::vector<double>& g) {
   }
 }
 
-void Rk4Integrator::reinit(double t, const double* y, const double* q) {
-  for (int i = 0; i < size_; ++i) y_[i] = i < inner_ ? y[i] : q[i - inner_];
+void Rk4Integrator::reinit(double t, const double* y) {
+  std::copy(y, y + size_, y_.begin());
   t_ = t0_ = t1_ = t;
   evaluate_rhs(t, y_, f_);
   y0_ = y1_ = y_;
@@ -120,12 +115,7 @@ Integrator::Result Rk4Integrator::step(double t_stop) {
 
 void Rk4Integrator::dense(double t, double* out) const {
   hermite(t, scratch_);
-  std::copy(scratch_.begin(), scratch_.begin() + inner_, out);
-}
-
-void Rk4Integrator::dense_quadrature(double t, double* out) const {
-  hermite(t, scratch_);
-  std::copy(scratch_.begin() + inner_, scratch_.end(), out);
+  std::copy(scratch_.begin(), scratch_.end(), out);
 }
 
 void Rk4Integrator::root_info(int* directions) const {

@@ -1,28 +1,26 @@
 // The classical fixed-step fourth-order Runge–Kutta method: the baseline a
 // hand-written script would use. Dense output is the cubic Hermite
 // interpolant of the step ends (fourth-order accurate, like the method);
-// events are located by bisection on it. Quadratures ride along as states.
+// events are located by bisection on it.
 #pragma once
 
 #include <vector>
 
-#include "integrate/augmented_system.h"
 #include "integrate/integrator.h"
 
 namespace camdyn {
 
 class Rk4Integrator final : public Integrator {
  public:
-  Rk4Integrator(OdeSystem& system, const IntegratorOptions& options, double t0, const double* y0, const double* q0);
+  Rk4Integrator(OdeSystem& system, const IntegratorOptions& options, double t0, const double* y0);
 
   Result step(double t_stop) override;
   double time() const override { return t_; }
   double last_step_start() const override { return t0_; }
   const double* state() const override { return y_.data(); }
   void dense(double t, double* out) const override;
-  void dense_quadrature(double t, double* out) const override;
   void root_info(int* directions) const override;
-  void reinit(double t, const double* y, const double* q) override;
+  void reinit(double t, const double* y) override;
   SolverCounters counters() const override { return counters_; }
 
  private:
@@ -30,8 +28,8 @@ class Rk4Integrator final : public Integrator {
   void hermite(double t, std::vector<double>& out) const;
   void roots_at(double t, std::vector<double>& g);
 
-  AugmentedSystem system_;
-  int size_, inner_, roots_;
+  OdeSystem& system_;
+  int size_, roots_;
   double h_;
   double t_ = 0.0;              // current time (step end or root)
   double t0_ = 0.0, t1_ = 0.0;  // last step, over which the Hermite interpolant is valid

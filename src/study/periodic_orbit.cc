@@ -257,6 +257,7 @@ PeriodicAnalysis analyse_steady_state(const PoincareMap& map, const PeriodicOpti
   SimulationOptions run;
   run.record_series = false;
   run.step_metrics = false;
+  run.quadratures = false;  // the transient's end state is all it gives
   const SimulationResult transient = simulate(map.scene_for(options.transient_revolutions), map.model(), ws, run);
   throw_if_failed(transient);
   if (options.log) options.log(format("transient: %d revolutions", options.transient_revolutions));

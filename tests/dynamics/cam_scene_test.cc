@@ -5,6 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "dynamics/simulation.h"
 #include "geometry/motion_law.h"
@@ -218,83 +221,66 @@ TEST(CamScene, SamplesAtRequestedTimesMatchTheOutputGrid) {
   }
 }
 
-// Identification asks for the samples alone (step_metrics off): the run must
-// be the same run to the last bit, steps, events and sampled values, with the
-// follower jumping (events) and with either tracking.
-TEST(CamScene, SamplesOnlyRunIsTheSameRunToTheBit) {
-  for (const Tracking tracking : {Tracking::differential, Tracking::newton}) {
-    SCOPED_TRACE(tracking == Tracking::newton ? "newton" : "differential");
-    const double jump = Rigid(test::cycloidal_cam_scene(1000.0)).jump_rpm();
-    SceneConfig scene = test::cycloidal_cam_scene(1.15 * jump, ContactModel::lankarani_nikravesh);
-    scene.mechanism.contact.tracking = tracking;
-    SimulationOptions options;
-    options.record_series = false;
-    const SimulationResult grid = simulate_scene(scene, "test");
-    for (size_t i = 3; i < grid.series.time.size(); i += 7) options.sample_times.push_back(grid.series.time[i]);
-    const SimulationResult every_step = simulate_scene(scene, "test", options);
-    options.step_metrics = false;
-    const SimulationResult samples_only = simulate_scene(scene, "test", options);
+// The jumping scene (1.15 × the jump speed: events) with `tracking`, sampled
+// at every 7th output time, run with `options` and again after `change`.
+std::pair<SimulationResult, SimulationResult> run_twice(Tracking tracking, SimulationOptions options,
+                                                        void (*change)(SimulationOptions&)) {
+  const double jump = Rigid(test::cycloidal_cam_scene(1000.0)).jump_rpm();
+  SceneConfig scene = test::cycloidal_cam_scene(1.15 * jump, ContactModel::lankarani_nikravesh);
+  scene.mechanism.contact.tracking = tracking;
+  options.record_series = false;
+  const SimulationResult grid = simulate_scene(scene, "test");
+  for (size_t i = 3; i < grid.series.time.size(); i += 7) options.sample_times.push_back(grid.series.time[i]);
+  SimulationResult first = simulate_scene(scene, "test", options);
+  change(options);
+  return {std::move(first), simulate_scene(scene, "test", options)};
+}
 
-    ASSERT_GT(every_step.events.size(), 1u);  // it jumps and lands
-    EXPECT_EQ(samples_only.solver.counters.steps, every_step.solver.counters.steps);
-    EXPECT_EQ(samples_only.solver.counters.rhs_evaluations, every_step.solver.counters.rhs_evaluations);
-    ASSERT_EQ(samples_only.events.size(), every_step.events.size());
-    for (size_t k = 0; k < every_step.events.size(); ++k)
-      EXPECT_EQ(samples_only.events[k].time, every_step.events[k].time);
-    const std::vector<const std::vector<double>*> a = every_step.samples.columns(), b = samples_only.samples.columns();
-    const std::vector<std::string> names = TimeSeries::column_names();
-    for (size_t c = 0; c < names.size(); ++c) {
-      if (names[c] == "energy_residual") continue;  // scaled by the energy followed over every step
-      ASSERT_EQ(b[c]->size(), a[c]->size()) << names[c];
-      for (size_t i = 0; i < a[c]->size(); ++i) ASSERT_EQ((*b[c])[i], (*a[c])[i]) << names[c] << " sample " << i;
-    }
+// The same run to the last bit: steps, right-hand sides, events and every
+// sampled column but the energy residual.
+void expect_same_run(const SimulationResult& a, const SimulationResult& b) {
+  ASSERT_TRUE(b.solver.converged());
+  ASSERT_GT(a.events.size(), 1u);  // it jumps and lands
+  EXPECT_EQ(b.solver.counters.steps, a.solver.counters.steps);
+  EXPECT_EQ(b.solver.counters.rhs_evaluations, a.solver.counters.rhs_evaluations);
+  ASSERT_EQ(b.events.size(), a.events.size());
+  for (size_t k = 0; k < a.events.size(); ++k) EXPECT_EQ(b.events[k].time, a.events[k].time) << k;
+  const std::vector<const std::vector<double>*> ca = a.samples.columns(), cb = b.samples.columns();
+  const std::vector<std::string> names = TimeSeries::column_names();
+  for (size_t c = 0; c < names.size(); ++c) {
+    if (names[c] == "energy_residual") continue;  // scaled by the energy followed over every step
+    ASSERT_EQ(cb[c]->size(), ca[c]->size()) << names[c];
+    for (size_t i = 0; i < ca[c]->size(); ++i) ASSERT_EQ((*cb[c])[i], (*ca[c])[i]) << names[c] << " sample " << i;
   }
 }
 
-// Without the quadratures (identification's fit runs) CVODE's error test
-// sees only the state, so the steps differ, but the motion is the same to
-// the integration tolerance; the figures the quadratures give are unknown
-// (NaN), not zero.
-TEST(CamScene, RunWithoutQuadraturesAgreesToTheToleranceAndLeavesTheEnergyUnknown) {
-  const double jump = Rigid(test::cycloidal_cam_scene(1000.0)).jump_rpm();
-  SceneConfig scene = test::cycloidal_cam_scene(1.15 * jump, ContactModel::lankarani_nikravesh);
-  scene.integrator.rtol = 1e-9;
-  scene.integrator.atol = 1e-13;
-  SimulationOptions options;
-  options.record_series = false;
-  options.step_metrics = false;
-  const SimulationResult grid = simulate_scene(scene, "test");
-  for (size_t i = 3; i < grid.series.time.size(); i += 7) options.sample_times.push_back(grid.series.time[i]);
-  const SimulationResult with = simulate_scene(scene, "test", options);
-  options.quadratures = false;
-  const SimulationResult without = simulate_scene(scene, "test", options);
-  ASSERT_TRUE(without.solver.converged());
-  ASSERT_GT(with.events.size(), 1u);  // it jumps and lands
-  ASSERT_EQ(without.events.size(), with.events.size());
-  // Event times agree with a tight reference to the global error of the
-  // impact sequence, with and without the quadratures. A landing here
-  // chatters: bounces of decreasing height, each amplifying the error of the
-  // one before by about 1/e, so the last events of a chatter carry about
-  // 5e4 rtol of the period (measured against the reference): 1e5 rtol.
-  SceneConfig tight = scene;
-  tight.integrator.rtol = 1e-12;
-  tight.integrator.atol = 1e-16;
-  const SimulationResult reference = simulate_scene(tight, "test", options);
-  ASSERT_EQ(reference.events.size(), with.events.size());
-  const double rtol = scene.integrator.rtol;
-  const double period = 60.0 / scene.mechanism.cam.rpm;  // [s]
-  for (size_t k = 0; k < with.events.size(); ++k) {
-    EXPECT_NEAR(with.events[k].time, reference.events[k].time, 1e5 * rtol * period) << k;
-    EXPECT_NEAR(without.events[k].time, reference.events[k].time, 1e5 * rtol * period) << k;
+// Identification asks for the samples alone (step_metrics off): the run must
+// be the same run to the last bit, with either tracking.
+TEST(CamScene, SamplesOnlyRunIsTheSameRunToTheBit) {
+  for (const Tracking tracking : {Tracking::differential, Tracking::newton}) {
+    SCOPED_TRACE(tracking == Tracking::newton ? "newton" : "differential");
+    const auto [every_step, samples_only] =
+        run_twice(tracking, SimulationOptions{}, [](SimulationOptions& o) { o.step_metrics = false; });
+    expect_same_run(every_step, samples_only);
   }
-  const double lift = 0.02;  // [m], the scene's
-  ASSERT_EQ(without.samples.follower_position.size(), with.samples.follower_position.size());
-  for (size_t i = 0; i < with.samples.follower_position.size(); ++i)
-    EXPECT_NEAR(without.samples.follower_position[i], with.samples.follower_position[i], 1e4 * rtol * lift) << i;
-  EXPECT_TRUE(std::isnan(without.metrics.energy_residual));
-  EXPECT_TRUE(std::isnan(without.metrics.separation_integral));
-  EXPECT_TRUE(std::isnan(without.samples.energy_residual.front()));
-  EXPECT_FALSE(std::isnan(with.metrics.energy_residual));
+}
+
+// Without the quadratures (identification's fit runs) the run is the same
+// run to the last bit: the quadratures are integrated beside the state, not
+// by the integrator, so they cannot change its steps. The figures they give
+// are unknown (NaN), not zero.
+TEST(CamScene, RunWithoutQuadraturesIsTheSameRunAndLeavesTheEnergyUnknown) {
+  for (const Tracking tracking : {Tracking::differential, Tracking::newton}) {
+    SCOPED_TRACE(tracking == Tracking::newton ? "newton" : "differential");
+    SimulationOptions options;
+    options.step_metrics = false;
+    const auto [with, without] = run_twice(tracking, options, [](SimulationOptions& o) { o.quadratures = false; });
+    expect_same_run(with, without);
+    EXPECT_TRUE(std::isnan(without.metrics.energy_residual));
+    EXPECT_TRUE(std::isnan(without.metrics.separation_integral));
+    EXPECT_TRUE(std::isnan(without.samples.energy_residual.front()));
+    EXPECT_FALSE(std::isnan(with.metrics.energy_residual));
+  }
 }
 
 }  // namespace

