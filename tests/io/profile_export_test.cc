@@ -6,7 +6,6 @@
 #include <dxflib/dl_creationadapter.h>
 #include <dxflib/dl_dxf.h>
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -19,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "cli_run.h"
 #include "common/errors.h"
 #include "dynamics/model.h"
 #include "io/config.h"
@@ -34,12 +34,7 @@ constexpr double kExactGeometry = 1e-9;  // [m], the acceptance level of the iss
 // A number written by the CSV writer reads back exactly; dxflib prints 16 decimals of a millimetre.
 constexpr double kDxfDigits = 1e-12;  // [mm]
 
-fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("camdyn_profile_test_" + std::to_string(::getpid())) / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path scratch(const std::string& name) { return test::scratch_dir("profile_test", name); }
 
 /// A scene from the mechanism JSON given (the rest defaulted).
 Model model_of(const std::string& mechanism, SceneConfig* scene_out = nullptr) {

@@ -6,16 +6,19 @@
 #pragma once
 
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <sstream>
 #include <string>
+#include <system_error>
 #include <vector>
 
 extern char** environ;  // NOLINT: POSIX
@@ -30,9 +33,32 @@ inline std::string read_text(const fs::path& file) {
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
+/// This process's scratch root `<tmp>/camdyn_<suite>_<pid>`. It is removed
+/// when the process ends with every test passed, and kept to look at when a
+/// test failed.
+inline fs::path scratch_root(const std::string& suite) {
+  struct Roots {
+    std::vector<fs::path> paths;
+    Roots() = default;
+    Roots(const Roots&) = delete;
+    Roots& operator=(const Roots&) = delete;
+    ~Roots() {
+      if (!::testing::UnitTest::GetInstance()->Passed()) return;
+      for (const fs::path& p : paths) {
+        std::error_code ignored;  // a root another process still uses is left
+        fs::remove_all(p, ignored);
+      }
+    }
+  };
+  static Roots roots;  // made after gtest's UnitTest, so destroyed before it
+  fs::path root = fs::temp_directory_path() / ("camdyn_" + suite + "_" + std::to_string(::getpid()));
+  if (std::find(roots.paths.begin(), roots.paths.end(), root) == roots.paths.end()) roots.paths.push_back(root);
+  return root;
+}
+
 /// An empty directory `<tmp>/camdyn_<suite>_<pid>/<name>`, made afresh.
 inline fs::path scratch_dir(const std::string& suite, const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("camdyn_" + suite + "_" + std::to_string(::getpid())) / name;
+  const fs::path dir = scratch_root(suite) / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
