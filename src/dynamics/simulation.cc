@@ -384,9 +384,7 @@ class WindowObserver {
       ys_ = y0_;
       qs_ = q0_;
     }
-    double u_keep = ws_.u_warm;
-    evaluate(model_, ws_, t, ys_.data(), ev_);
-    ws_.u_warm = u_keep;
+    evaluate_keeping_warm_start(t, ev_);
     if (!stepped_) start_ = extreme_values(ev_);
     fold_extremes(t, extreme_values(ev_));
     return fold_energy(ev_);
@@ -407,7 +405,7 @@ class WindowObserver {
     const double t_mid = t0 + (t - t0) * 0.5;
     source_->state(t_mid, ys_.data(), nullptr);
     evaluate(model_, ws_, t_mid, ys_.data(), ev_);
-    if (f_mid) quadrature_derivative(ev_, f_mid->data());
+    if (f_mid) *f_mid = integrand(ev_);
     if (every_step_) {
       mid_ = extreme_values(ev_);
       fold_extremes(t_mid, mid_);
@@ -481,13 +479,18 @@ class WindowObserver {
   double residual(double deviation) const { return energy_scale_ > 0.0 ? deviation / energy_scale_ : 0.0; }
 
  private:
-  // The model at t inside the step just taken (state only), the Newton warm
+  // The model at t [s] from the state in ys_ into `out`, the Newton warm
   // start kept as it was.
+  void evaluate_keeping_warm_start(double t, Evaluation& out) {
+    const double u_keep = ws_.u_warm;
+    evaluate(model_, ws_, t, ys_.data(), out);
+    ws_.u_warm = u_keep;
+  }
+
+  // The model at t inside the step just taken (state only).
   const Evaluation& probe(double t) {
     source_->state(t, ys_.data(), nullptr);
-    const double u_keep = ws_.u_warm;
-    evaluate(model_, ws_, t, ys_.data(), probe_);
-    ws_.u_warm = u_keep;
+    evaluate_keeping_warm_start(t, probe_);
     return probe_;
   }
 

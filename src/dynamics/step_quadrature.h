@@ -56,9 +56,6 @@ class StepQuadrature {
     integral_to(h > 0.0 ? (t - t0_) / h : 0.0, q);
   }
 
-  /// The integrals at the end of the last step.
-  const Values& end() const { return q1_; }
-
  private:
   // q0 + ∫ of the parabola through (0, f0), (½, fm), (1, f1) from 0 to s,
   // s the fraction of the step; at s = 1 Simpson's h (f0 + 4 fm + f1) / 6.
