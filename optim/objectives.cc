@@ -88,28 +88,34 @@ DesignEvaluation DesignEvaluator::evaluate(const SceneConfig& scene, const Evalu
   DesignEvaluation e;
   const double top = *std::max_element(config_.operating_rpm.begin(), config_.operating_rpm.end());
   e.scene = at_speed(scene, top, settings);
-  // The workers simulate while this thread checks the law and the cam; an
-  // invalid cam fails in the workers' build_model too, with the same error.
+  // The design's geometry is built once, on this thread, and every operating
+  // speed assembles its model on it (a cam that cannot be made, or breaks the
+  // scene's limits, makes the design invalid before anything is simulated).
+  std::shared_ptr<const CamGeometry> geometry;
+  try {
+    geometry = build_cam_geometry(e.scene, file_);
+    e.kinematics = law_kinematics(*geometry->law, scene.mechanism.cam.motion_law.segments);
+    e.geometry = geometry->geometry;
+    e.valid = true;
+  } catch (const InputError& err) {
+    e.error = err.what();
+  }
+  simulate = simulate && e.valid;
   if (simulate) {
     std::vector<SceneConfig> scenes;
     for (double rpm : config_.operating_rpm) scenes.push_back(at_speed(scene, rpm, settings));
     SimulationOptions options;
     options.record_series = settings.record_series;
-    pool_.submit(std::move(scenes), std::move(options));
+    pool_.submit(geometry, std::move(scenes), std::move(options));
   }
-  try {
-    const MotionLaw law = build_motion_law(scene.mechanism.cam.motion_law, file_);
-    e.kinematics = law_kinematics(law, scene.mechanism.cam.motion_law.segments);
-    // The cam for the scene's follower (roller, flat, mushroom; translating or
-    // oscillating), checked as build_model checks it.
-    const SynthesisedCam cam(std::make_shared<const MotionLaw>(law),
-                             make_follower_geometry(scene.mechanism.follower, scene.mechanism.cam.base_radius, file_),
-                             scene.mechanism.cam.direction == RotationDirection::cw ? -1 : +1);
-    e.geometry = check_cam(cam, file_);
-    if (config_.constraints.max_contact_stress) peak_contact_stress(e);
-    e.valid = true;
-  } catch (const InputError& err) {
-    e.error = err.what();
+  // The workers simulate while this thread computes the contact stress.
+  if (e.valid && config_.constraints.max_contact_stress) {
+    try {
+      peak_contact_stress(*geometry, e);
+    } catch (const InputError& err) {
+      e.valid = false;
+      e.error = err.what();
+    }
   }
   if (simulate) {
     std::vector<SimulationOutcome> outcomes = pool_.collect();
@@ -131,8 +137,8 @@ DesignEvaluation DesignEvaluator::evaluate(const SceneConfig& scene, const Evalu
   return e;
 }
 
-void DesignEvaluator::peak_contact_stress(DesignEvaluation& e) const {
-  const Model model = build_model(e.scene, file_);
+void DesignEvaluator::peak_contact_stress(const CamGeometry& geometry, DesignEvaluation& e) const {
+  const Model model = build_model(geometry, e.scene, file_);
   const LineContact contact = *line_contact(e.scene.mechanism.contact);  // check_optimize made sure
   e.peak_contact_stress = 0.0;
   for (const double rpm : config_.operating_rpm) {

@@ -129,7 +129,7 @@ class DesignEvaluator {
  private:
   double aggregate(const std::vector<double>& v, bool worst_is_max) const;
   /// e.peak_contact_stress over the operating speeds, from the model of e.scene.
-  void peak_contact_stress(DesignEvaluation& e) const;
+  void peak_contact_stress(const CamGeometry& geometry, DesignEvaluation& e) const;
 
   OptimizeStudyConfig config_;
   std::string file_;

@@ -23,7 +23,7 @@ void SimulationPool::run_job(Worker& worker, std::size_t job) {
   SimulationOutcome& out = outcomes_[job];
   const SceneConfig& scene = scenes_[job];
   try {
-    worker.model = build_model(scene, file_);
+    worker.model = build_model(geometry_, scene, file_);
     out.result = simulate(scene, worker.model, worker.ws, options_);
     throw_if_failed(out.result);
     apply_steady_state(scene, worker.model, out.result, SteadyStateSearch::evaluation);
@@ -51,8 +51,14 @@ void SimulationPool::run_batch() {
 }
 
 void SimulationPool::submit(std::vector<SceneConfig> scenes, SimulationOptions options) {
+  submit(nullptr, std::move(scenes), std::move(options));
+}
+
+void SimulationPool::submit(std::shared_ptr<const CamGeometry> geometry, std::vector<SceneConfig> scenes,
+                            SimulationOptions options) {
   if (pending_) throw std::logic_error("SimulationPool: a batch is already pending");
   pending_ = true;
+  geometry_ = std::move(geometry);
   scenes_ = std::move(scenes);
   options_ = std::move(options);
   outcomes_.assign(scenes_.size(), SimulationOutcome{});

@@ -45,6 +45,9 @@ class SimulationPool {
   /// only stores it) and collect() waits for it (with one thread: runs it on
   /// the calling thread).
   void submit(std::vector<SceneConfig> scenes, SimulationOptions options);
+  /// The same for scenes that share one geometry (the operating speeds of
+  /// one design): each job assembles its model on it instead of building it.
+  void submit(std::shared_ptr<const CamGeometry> geometry, std::vector<SceneConfig> scenes, SimulationOptions options);
   std::vector<SimulationOutcome> collect();
 
   int threads() const { return threads_; }
@@ -63,7 +66,8 @@ class SimulationPool {
   long simulations_ = 0;
   std::vector<std::unique_ptr<Worker>> workers_;  ///< one per worker number of parallel_for_workers
 
-  std::vector<SceneConfig> scenes_;  ///< the current batch
+  std::vector<SceneConfig> scenes_;              ///< the current batch
+  std::shared_ptr<const CamGeometry> geometry_;  ///< of every scene of the batch; null: built per job
   SimulationOptions options_;
   std::vector<SimulationOutcome> outcomes_;
   bool pending_ = false;        ///< a batch was submitted and not collected

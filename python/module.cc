@@ -231,6 +231,20 @@ void add_scene(py::module_& m) {
             return Scene::from_json(text, base_dir, overrides);
           },
           py::arg("text"), py::arg("base_dir"), py::arg("overrides"))
+      .def(
+          "set",
+          [](Scene& scene, const std::string& path, double value) {
+            const py::gil_scoped_release release;
+            scene.set(path, value);
+          },
+          py::arg("path"), py::arg("value"))
+      .def(
+          "set_text",
+          [](Scene& scene, const std::string& path, const std::string& value) {
+            const py::gil_scoped_release release;
+            scene.set(path, value);
+          },
+          py::arg("path"), py::arg("value"))
       .def_property_readonly("name", &Scene::name)
       .def_property_readonly("rpm", &Scene::rpm)
       .def("resolved_json", &Scene::resolved_json)

@@ -7,8 +7,9 @@ A refactoring that must not change behaviour (issue 13) is checked with it:
     python3 scripts/compare_studies.py --old OLD/camdyn --new build/release/camdyn
 
 Compared: every number of summary.json, result.json, identified.json,
-comparison.json and the CSV outputs (timeseries, history, fit, comparison,
-work_precision). Left out, because they differ between any two runs: run and
+comparison.json, speed_limit.json, periodic.json (and its orbit/ run),
+jump_map.json and the CSV outputs (timeseries, history, fit, comparison,
+work_precision, jump_map). Left out, because they differ between any two runs: run and
 wall times, the version string, and file paths. Numbers are compared as parsed
 doubles (the writers print round-trip text), so equal means bit-identical.
 Keys that only the new binary writes are additions (the interface allows
@@ -28,8 +29,10 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-OUTPUT_FILES = ["summary.json", "result.json", "identified.json", "comparison.json",
-                "timeseries.csv", "history.csv", "fit.csv", "comparison.csv", "work_precision.csv"]
+OUTPUT_FILES = ["summary.json", "result.json", "identified.json", "comparison.json", "speed_limit.json",
+                "periodic.json", "jump_map.json", "orbit/summary.json",
+                "timeseries.csv", "history.csv", "fit.csv", "comparison.csv", "work_precision.csv", "jump_map.csv",
+                "orbit/timeseries.csv"]
 
 
 def volatile(key):

@@ -41,8 +41,8 @@ struct LawValues {
   std::vector<double> s, ds, d2s, d3s;
 };
 
-/// An immutable, checked scene. Copies share it; several threads may simulate
-/// one scene at once.
+/// A checked scene. Copies share it; several threads may simulate one scene
+/// at once. set() changes one scene (not its copies) in place.
 class Scene {
  public:
   /// Reads a config file as `camdyn run FILE --set KEY=VALUE ...` does:
@@ -58,6 +58,18 @@ class Scene {
   /// Throws InputError; its file() is empty, its path() the dotted path.
   static Scene from_json(const std::string& json_text, const std::string& base_dir = {},
                          const std::vector<std::string>& overrides = {});
+
+  /// Sets one field by its dotted path, as `--set PATH=VALUE` does
+  /// ("cam.rpm", "mechanism.contact.stiffness", "follower.mass"), checked by
+  /// the config loader's own rules (InputError naming the path and the
+  /// reason; the scene is then unchanged). The model is changed without
+  /// reading the config file again (a lift table's CSV is read again): a change that leaves the
+  /// cam's geometry as it is (the speed, masses, springs, contact law, run
+  /// settings) keeps the geometry, and the scene then runs to the bit as one
+  /// loaded with that override. Copies made before keep the old values.
+  void set(const std::string& path, double value);
+  /// The same with VALUE as `--set` takes it: JSON text, else a word ("hertz").
+  void set(const std::string& path, const std::string& value);
 
   /// The config's `name`.
   const std::string& name() const;

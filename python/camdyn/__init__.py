@@ -150,12 +150,12 @@ class Result:
 
 
 class Scene:
-    """An immutable, checked scene: a cam-follower mechanism and how to run it.
+    """A checked scene: a cam-follower mechanism and how to run it.
 
     Make one with ``camdyn.load(path, set=...)``, ``Scene.from_dict(d)`` or
     ``Scene.from_json(text)``. Loading checks everything ``camdyn validate``
     checks and raises ``InputError`` naming the dotted path. Threads may
-    simulate one scene at once.
+    simulate one scene at once; ``set`` changes one field in place.
     """
 
     def __init__(self, impl):
@@ -175,6 +175,19 @@ class Scene:
     def from_dict(cls, config, base_dir=None, set=None):
         """A scene from a config as a dict (as json.load gives it)."""
         return cls.from_json(_json(config), base_dir, set)
+
+    def set(self, path, value):
+        """Sets one field by its dotted path ("cam.rpm", "contact.stiffness"),
+        checked as the config loader checks it (InputError naming the path),
+        without loading the config file again. A change that leaves the cam's
+        geometry as it is (speed, masses, springs, contact) keeps the geometry
+        and runs to the bit as a scene loaded with that override. Returns the
+        scene, so calls chain."""
+        if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
+            self._impl.set_text(str(path), value if isinstance(value, str) else _json(value))
+        else:
+            self._impl.set(str(path), float(value))
+        return self
 
     @property
     def name(self):

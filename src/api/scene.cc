@@ -10,14 +10,49 @@
 #include "common/errors.h"
 #include "dynamics/cam_outline.h"
 #include "io/config.h"
+#include "io/dotted_path.h"
 #include "io/json_archive.h"
 #include "io/json_writer.h"
 #include "study/simulation_output.h"
 
 namespace camdyn {
 
-Scene::Impl::Impl(const Json& document, const ConfigSource& source)
-    : scene(scene_from_json(document, source)), file(source.file), model(build_model(scene, file)) {}
+Scene::Impl::Impl(const Json& document, const ConfigSource& from)
+    : scene(scene_from_json(document, from)), source(from), file(from.file), model(build_model(scene, file)) {}
+
+namespace {
+
+/// The model of `scene` on the geometry of `before` (`previous`'s model) where the two scenes share it.
+Model model_after_change(const SceneConfig& scene, const SceneConfig& before, const Model& previous,
+                         const std::string& file) {
+  if (CamGeometryKey(scene) == CamGeometryKey(before))
+    return build_model(static_cast<const CamGeometry&>(previous), scene, file);
+  return build_model(scene, file);
+}
+
+}  // namespace
+
+Scene::Impl::Impl(const Json& document, const Impl& previous)
+    : scene(scene_from_json(document, previous.source)),
+      source(previous.source),
+      file(previous.file),
+      model(model_after_change(scene, previous.scene, previous.model, file)) {}
+
+void Scene::set(const std::string& path, double value) {
+  naming_file(impl_->file, [&] {
+    Json document = to_json(impl_->scene);
+    set_dotted_field(document, path, Json(value));
+    impl_ = std::make_shared<const Impl>(document, *impl_);
+  });
+}
+
+void Scene::set(const std::string& path, const std::string& value) {
+  naming_file(impl_->file, [&] {
+    Json document = to_json(impl_->scene);
+    apply_assignment(document, path + "=" + value);
+    impl_ = std::make_shared<const Impl>(document, *impl_);
+  });
+}
 
 Scene::Scene(std::shared_ptr<const Impl> impl) : impl_(std::move(impl)) {}
 

@@ -18,10 +18,15 @@ struct Scene::Impl {
   /// The typed scene and its model (which checks what the config layer
   /// cannot: the motion law, the cam geometry and the contact law), as
   /// `camdyn run` and `camdyn validate` build them. Throws InputError.
-  Impl(const Json& document, const ConfigSource& source);
+  Impl(const Json& document, const ConfigSource& from);
+  /// The scene of `document` (the resolved config of `previous` with one
+  /// field changed), its model assembled on previous's geometry when the
+  /// change leaves the geometry as it is (dynamics/cam_geometry.h).
+  Impl(const Json& document, const Impl& previous);
 
   SceneConfig scene;
-  std::string file;  ///< the config file, for messages; empty for Scene::from_json
+  ConfigSource source;  ///< where the config came from, and its relative paths resolve
+  std::string file;     ///< the config file, for messages; empty for Scene::from_json
   Model model;
 };
 

@@ -357,63 +357,6 @@ void core(const Model& m, const Workspace& ws, double t, const S* x, const PairS
   drive_dynamics(m, ws, t, x, o);
 }
 
-/// Fits the contour, checks that the follower can follow it, and derives the
-/// kinematic law: the rigid follower's lift interpolated by a periodic quintic
-/// spline through kLawKnots cam angles (its error is measured between them).
-void build_contour_cam(const ContourConfig& config, const FollowerConfig& f, int direction, const std::string& file,
-                       Model& model) {
-  const std::string path = "mechanism.cam.motion_law.contour";
-  std::vector<Eigen::Vector2d> points;
-  points.reserve(config.points.size());
-  for (const std::vector<double>& p : config.points) points.emplace_back(p[0], p[1]);
-  ContourFitOptions options;
-  options.degree = config.degree;
-  options.control_points = config.control_points;
-  options.smoothing = config.smoothing;
-  options.parameter_corrections = config.parameter_corrections;
-  model.contour = std::make_shared<const ContourCam>(ContourCam::fit(points, options, file, path));
-  const FollowerContact kind = follower_shape_traits(f.shape.type).contact;
-  check_contour_for_follower(*model.contour, kind, f.shape.radius, file, path);
-  model.contour_lift =
-      std::make_shared<const RigidFollowerLift>(*model.contour, kind, f.shape.radius, f.offset, direction, 2048, file);
-
-  constexpr int kLawKnots = 720;
-  PeriodicSplineConfig spline;
-  spline.degree = 5;
-  for (int i = 0; i < kLawKnots; ++i) {
-    spline.knots_deg.push_back(360.0 * i / kLawKnots);
-    spline.lift.push_back(model.contour_lift->displacement(kTwoPi * i / kLawKnots));
-  }
-  MotionLawConfig law;
-  law.spline = std::move(spline);
-  model.law = std::make_shared<const MotionLaw>(build_motion_law(law, file, path));
-  double error = 0.0;
-  for (int i = 0; i < kLawKnots; ++i) {
-    const double theta = kTwoPi * (i + 0.5) / kLawKnots;
-    error = std::max(error, std::abs(model.law->eval(theta).s - model.contour_lift->displacement(theta)));
-  }
-  model.law_interpolation_error = error;
-}
-
-/// The general pair form: the cam's contour (a roller cam's from its pitch
-/// curve) and the follower's circle or face segment in its body frame.
-void build_general_pair(Model& model) {
-  const FollowerGeometry& fg = model.follower;
-  model.pair_form = PairForm::general;
-  model.pair_cam_base = std::make_shared<const ClosedCurveProfile>(model.profile());
-  model.pair_cam = model.profile_offset == 0.0 && fg.circle()
-                       ? std::make_shared<const InwardOffsetProfile>(*model.pair_cam_base, fg.radius)
-                       : model.pair_cam_base;
-  const Eigen::Vector2d centre = fg.oscillating() ? Eigen::Vector2d(fg.arm_length, 0.0) : Eigen::Vector2d::Zero();
-  if (fg.circle()) {
-    model.pair_follower = std::make_shared<const CircleProfile>(fg.radius, centre);
-  } else {
-    // The face line's normal towards the cam, in the body frame (follower_geometry.h face()).
-    const Eigen::Vector2d normal = fg.oscillating() ? Eigen::Vector2d(0.0, fg.face_side) : Eigen::Vector2d(0.0, -1.0);
-    model.pair_follower = std::make_shared<const SegmentProfile>(centre, normal, 0.5 * fg.face_width);
-  }
-}
-
 /// ẋ in the model's state layout from the rates of a Core (double or dual
 /// numbers) or an Evaluation, which name them alike except the cam speed.
 template <class S, class Rates>
@@ -436,29 +379,6 @@ void scatter_state_rates(const Model& m, const Rates& r, const S& cam_speed, S* 
 }  // namespace
 
 namespace {
-
-/// Throws InputError naming `mechanism.cam.limits.<key>` when the cam breaks a limit.
-void check_cam_limits(const CamLimitsConfig& limits, const CamGeometryReport& g, const MotionLaw& law,
-                      const std::string& file) {
-  const std::string at = "mechanism.cam.limits.";
-  if (limits.max_pressure_angle_deg && g.max_pressure_angle_deg > *limits.max_pressure_angle_deg)
-    throw InputError(file, at + "max_pressure_angle_deg",
-                     "the cam's pressure angle reaches " + check_text::num(g.max_pressure_angle_deg) +
-                         " deg at cam angle " + check_text::num(g.max_pressure_angle_at_deg) +
-                         " deg, above the limit " + check_text::num(*limits.max_pressure_angle_deg) + " deg");
-  if (limits.min_radius_of_curvature && g.min_radius_of_curvature < *limits.min_radius_of_curvature)
-    throw InputError(file, at + "min_radius_of_curvature",
-                     "the cam contour's radius of curvature falls to " + check_text::num(g.min_radius_of_curvature) +
-                         " m at cam angle " + check_text::num(g.min_radius_of_curvature_at_deg) +
-                         " deg, below the limit " + check_text::num(*limits.min_radius_of_curvature) + " m");
-  if (limits.max_peak_jerk) {
-    const double jerk = law_peaks(law).jerk;
-    if (jerk > *limits.max_peak_jerk)
-      throw InputError(file, at + "max_peak_jerk",
-                       "the law's peak jerk |d³s/dθ³| is " + check_text::num(jerk) + ", above the limit " +
-                           check_text::num(*limits.max_peak_jerk));
-  }
-}
 
 /// Throws InputError naming `mechanism.cam.limits.max_contact_stress` when
 /// the rigid-model Hertz pressure at the scene's speed exceeds it, or when the
@@ -552,55 +472,24 @@ void assign_state_layout(Model& model) {
 
 namespace {
 
-Model assemble_model(const SceneConfig& scene, const std::string& file) {
-  const MechanismConfig& mech = scene.mechanism;
-  const FollowerConfig& f = mech.follower;
-  Model model;
-  model.direction = mech.cam.direction == RotationDirection::cw ? -1 : +1;
-  double base_radius = mech.cam.base_radius;
-  if (mech.cam.motion_law.contour) {
-    build_contour_cam(*mech.cam.motion_law.contour, f, model.direction, file, model);
-    const double lowest = model.contour_lift->lowest();
-    // The base circle is the one the follower touches at its lowest position.
-    const FollowerShapeTraits shape = follower_shape_traits(f.shape.type);
-    base_radius = shape.circle() ? std::hypot(lowest, f.offset) - f.shape.radius : lowest;
-    // As for a law's cam (io/config.cc), known here once the contour is fitted.
-    if (shape.circle() && f.shape.radius > kMaxCircleToBaseRadius * base_radius)
-      throw InputError(file, "mechanism.follower.shape.radius",
-                       "a " + std::string(shape.label) + " radius of " + check_text::num(f.shape.radius) +
-                           " m on a contour whose base circle is " + check_text::num(base_radius) + " m (more than " +
-                           check_text::num(kMaxCircleToBaseRadius) +
-                           " times it) is flat to within the contact's penetration, and the contact point is lost "
-                           "in rounding so the run never finishes: give the radius in metres, or use a 'flat' face");
-  } else {
-    model.law = std::make_shared<const MotionLaw>(build_motion_law(mech.cam.motion_law, file));
-  }
-  model.follower = make_follower_geometry(f, base_radius, file);
-  const FollowerGeometry& fg = model.follower;
-  model.cam = std::make_shared<const SynthesisedCam>(model.law, fg, model.direction);
-  model.reduction = fg.circle() ? ContactReduction::circle : ContactReduction::line;
-  if (model.contour) {
-    // The contact works on the contour itself: a circle's centre at distance ρ from it.
-    model.profile_curve = model.contour;
-    model.profile_offset = fg.circle() ? fg.radius : 0.0;
-  } else {
-    model.profile_curve = model.cam;
-    model.profile_offset = 0.0;  // the synthesised centre curve already carries the circle's radius
-  }
-  model.omega = mech.cam.rpm * kTwoPi / 60.0;
-  model.theta0 = mech.cam.initial_angle_deg * std::numbers::pi / 180.0;
-  // For a contour cam this checks the cam the interpolated law synthesises, a
-  // copy of the contour within law_interpolation_error: pressure angle, and the
-  // contact's travel across a flat face against its width.
-  model.geometry = check_cam(*model.cam, file);
-  check_cam_limits(mech.cam.limits, model.geometry, *model.law, file);
-  if (mech.contact.pair_form == PairFormChoice::general) build_general_pair(model);
-
-  assemble_elements(scene, file, model);
-  check_contact_stress_limit(mech, model, file);
-  model.tracking = mech.contact.tracking;
+/// The speed-dependent parts of the model: the nominal speed, the tracking
+/// gain, and the checks that depend on the speed.
+void assign_cam_speed(const SceneConfig& scene, const std::string& file, Model& model) {
+  model.omega = scene.mechanism.cam.rpm * kTwoPi / 60.0;
+  check_contact_stress_limit(scene.mechanism, model, file);
   // Drift of f decays with time constant 1/α, well below a cam degree.
   model.tracking_gain = 1000.0 + 100.0 * model.omega;
+}
+
+Model assemble_model(const CamGeometry& geometry, const SceneConfig& scene, const std::string& file) {
+  const MechanismConfig& mech = scene.mechanism;
+  Model model;
+  static_cast<CamGeometry&>(model) = geometry;
+  const FollowerGeometry& fg = model.follower;
+  model.theta0 = mech.cam.initial_angle_deg * std::numbers::pi / 180.0;
+  assemble_elements(scene, file, model);
+  model.tracking = mech.contact.tracking;
+  assign_cam_speed(scene, file, model);
   // Beyond this the compliant-contact model no longer describes the contact.
   model.penetration_limit = fg.circle() ? 0.5 * fg.radius : 0.1 * fg.base_radius;
 
@@ -615,10 +504,28 @@ Model assemble_model(const SceneConfig& scene, const std::string& file) {
 }  // namespace
 
 Model build_model(const SceneConfig& scene, const std::string& file) {
+  return build_model(*build_cam_geometry(scene, file), scene, file);
+}
+
+Model build_model(const CamGeometry& geometry, const SceneConfig& scene, const std::string& file) {
   try {
-    return assemble_model(scene, file);
+    return assemble_model(geometry, scene, file);
   } catch (const InputError& e) {
-    // A cam that cannot be made from a length in millimetres: name the slip.
+    // A contact or a spring that cannot be assembled for a length in millimetres: name the slip.
+    rethrow_naming_unit_slip(scene, file, e);
+  }
+}
+
+Model build_model(const std::shared_ptr<const CamGeometry>& geometry, const SceneConfig& scene,
+                  const std::string& file) {
+  return geometry ? build_model(*geometry, scene, file) : build_model(scene, file);
+}
+
+void set_cam_speed(Model& model, const SceneConfig& scene, const std::string& file) {
+  try {
+    assign_cam_speed(scene, file, model);
+    check_plausibility(scene, model, file);
+  } catch (const InputError& e) {
     rethrow_naming_unit_slip(scene, file, e);
   }
 }

@@ -29,51 +29,18 @@
 #include "contact/force_law.h"
 #include "contact/friction.h"
 #include "contact/point_curve_tracking.h"
-#include "contact/profile_pair_tracking.h"
+#include "dynamics/cam_geometry.h"
 #include "dynamics/state_layout.h"
-#include "geometry/cam_roller.h"
-#include "geometry/cam_synthesis.h"
-#include "geometry/contour_cam.h"
-#include "geometry/follower_geometry.h"
-#include "geometry/motion_law.h"
-#include "geometry/planar_curve.h"
 #include "scene/scene.h"
 
 namespace camdyn {
 
-enum class ContactReduction { circle, line };
-/// The pair form a model uses (PairFormChoice::automatic resolves to `reduced`).
-enum class PairForm { reduced, general };
-
-struct Model {
-  std::shared_ptr<const MotionLaw> law;
-  FollowerGeometry follower;
-  /// The cam synthesised from the law for this follower (centre curve or contour, checks, rigid kinematics).
-  std::shared_ptr<const SynthesisedCam> cam;
-  /// The cam-frame profile the contact is tracked against: `cam` for a cam
-  /// synthesised from the law; any PeriodicCurve (e.g. a fitted contour, with
-  /// profile_offset = the circle's radius) plugs in here unchanged.
-  std::shared_ptr<const PeriodicCurve> profile_curve;
-  const PeriodicCurve& profile() const { return *profile_curve; }
-  ContactReduction reduction = ContactReduction::circle;
-  double profile_offset = 0.0;  ///< ρ of the circle reduction: 0 against a centre curve [m]
-  /// A cam given as a contour (`motion_law.contour`): the fitted curve, the
-  /// rigid follower's lift on it (from which `law` is interpolated) and how
-  /// closely the law reproduces that lift. Null for a cam synthesised from a law.
-  std::shared_ptr<const ContourCam> contour;
-  std::shared_ptr<const RigidFollowerLift> contour_lift;
-  double law_interpolation_error = 0.0;  ///< max |s_law − s_lift| between the interpolation knots [m]
-
-  /// General pair form: the cam contour and the follower's face as pair
-  /// profiles (cam frame; follower body frame, see follower_motion()).
-  PairForm pair_form = PairForm::reduced;
-  std::shared_ptr<const PairProfile> pair_cam_base;  ///< the profile pair_cam may be an offset of
-  std::shared_ptr<const PairProfile> pair_cam;
-  std::shared_ptr<const PairProfile> pair_follower;
-  CamGeometryReport geometry;  ///< pressure angle and curvature, checked when the model is built
-  double omega = 0.0;          ///< nominal cam speed |θ̇| [rad/s] (0: cam held still); motor speed with a shaft
-  int direction = +1;          ///< σ: the cam frame is at angle σθ in the world
-  double theta0 = 0.0;         ///< cam angle at t = 0 [rad]
+/// The mechanism: its design's geometry (dynamics/cam_geometry.h, built once
+/// and shared; a Model copies its pointers) and the bodies and force elements
+/// assembled for one cam speed.
+struct Model : CamGeometry {
+  double omega = 0.0;   ///< nominal cam speed |θ̇| [rad/s] (0: cam held still); motor speed with a shaft
+  double theta0 = 0.0;  ///< cam angle at t = 0 [rad]
 
   double mass = 0.0;            ///< generalised inertia M: follower mass [kg] or arm inertia [kg m²]
   double spring_stiffness = 0;  ///< k [N/m | N m/rad]
@@ -120,15 +87,28 @@ struct Model {
   /// Whether state_jacobian() is available (the reduced pair forms; the general
   /// one leaves the Jacobian to the integrator's difference quotients).
   bool exact_jacobian() const { return pair_form == PairForm::reduced; }
-  /// The cam-profile parameter at which the follower touches the cam at cam
-  /// angle θ on the rigid law: θ itself for a synthesised cam (u is the contact's
-  /// cam angle), the contour parameter from the rigid lift for a contour cam.
-  double pair_guess(double theta) const { return contour_lift ? contour_lift->at(theta).u : theta; }
 };
 
 /// Assembles the model of a scene. Throws InputError for a cam that cannot be
 /// made or a contact law that cannot be built; `file` names the config.
+/// Builds the scene's geometry (build_cam_geometry) first.
 Model build_model(const SceneConfig& scene, const std::string& file);
+
+/// The same on a geometry already built from a scene with the same motion
+/// law, cam, follower geometry and limits as `scene` (the cam speed and the
+/// mechanism's masses, springs, contact and drive may differ): to the bit the
+/// model build_model(scene, file) makes, without building the geometry again.
+Model build_model(const CamGeometry& geometry, const SceneConfig& scene, const std::string& file);
+
+/// build_model(*geometry, scene, file) where a geometry is given, else build_model(scene, file).
+Model build_model(const std::shared_ptr<const CamGeometry>& geometry, const SceneConfig& scene,
+                  const std::string& file);
+
+/// Sets the cam speed in place to `scene.mechanism.cam.rpm` (the rest of
+/// `scene` as the model was built from), with the checks that depend on it
+/// (the contact stress limit, what the solver cannot run): the model is then
+/// the one build_model(scene, file) makes, to the bit.
+void set_cam_speed(Model& model, const SceneConfig& scene, const std::string& file);
 
 /// Mutable per-run data, reused between runs.
 struct Workspace {

@@ -1008,7 +1008,12 @@ void estimate_error(const SceneConfig& scene, const Model& model, SimulationResu
 }
 
 SimulationResult simulate_scene(const SceneConfig& scene, const std::string& file, const SimulationOptions& options) {
-  const Model model = build_model(scene, file);
+  return simulate_scene(*build_cam_geometry(scene, file), scene, file, options);
+}
+
+SimulationResult simulate_scene(const CamGeometry& geometry, const SceneConfig& scene, const std::string& file,
+                                const SimulationOptions& options) {
+  const Model model = build_model(geometry, scene, file);
   Workspace ws;
   SimulationResult result = simulate(scene, model, ws, options);
   estimate_error(scene, model, result);

@@ -180,5 +180,8 @@ void estimate_error(const SceneConfig& scene, const Model& model, SimulationResu
 /// estimates its error; the status is in result.solver as for simulate().
 SimulationResult simulate_scene(const SceneConfig& scene, const std::string& file,
                                 const SimulationOptions& options = {});
+/// The same on the scene's geometry, already built (dynamics/cam_geometry.h).
+SimulationResult simulate_scene(const CamGeometry& geometry, const SceneConfig& scene, const std::string& file,
+                                const SimulationOptions& options = {});
 
 }  // namespace camdyn

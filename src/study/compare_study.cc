@@ -166,7 +166,7 @@ Json last_revolution(const SceneConfig& scene, const SimulationResult& r) {
 
 /// Run `i` of the plan, as its journal record. A failed run is a record with
 /// status "failed" and the error, never an exception.
-Json run_record(const ComparePlan& plan, std::size_t i, const StudyContext& ctx) {
+Json run_record(const ComparePlan& plan, std::size_t i, const StudyContext& ctx, CamGeometryCache& geometries) {
   const std::vector<std::string>& metric_names = compare_metric_names();
   const ComparePoint& p = plan.points[i];
   Json record = Json::object();
@@ -185,9 +185,12 @@ Json run_record(const ComparePlan& plan, std::size_t i, const StudyContext& ctx)
     const SceneConfig scene = scene_from_json(run, plan.bases[p.case_index].source);
     SimulationOptions options;
     options.record_series = p.overlay && scene.mechanism.cam.rpm > 0;
-    SimulationResult r = simulate_scene(scene, ctx.config_file, options);
+    const Model model = build_model(*geometries.get(scene, ctx.config_file), scene, ctx.config_file);
+    Workspace ws;
+    SimulationResult r = simulate(scene, model, ws, options);
+    estimate_error(scene, model, r);
     throw_if_failed(r);
-    if (scene.simulation.steady_state) apply_steady_state(scene, build_model(scene, ctx.config_file), r);
+    if (scene.simulation.steady_state) apply_steady_state(scene, model, r);
     values = metric_values(r.metrics);
     run_time = r.solver.run_time_s;
     for (std::size_t m = 0; m + 1 < values.size() && error.empty(); ++m)  // jump_speed_rpm may be +inf: empty
@@ -236,9 +239,10 @@ int run_compare_study(const Json& doc, const StudyContext& ctx) {
   }
   const auto wall_start = std::chrono::steady_clock::now();
   JournaledRuns state;
+  CamGeometryCache geometries;  // a grid over speeds or the mechanism's numbers builds each cam once
   if (const std::optional<int> code = run_journaled(
           "compare", study_fingerprint(plan), plan.points.size(),
-          [&](std::size_t i) { return run_record(plan, i, ctx); }, ctx, state))
+          [&](std::size_t i) { return run_record(plan, i, ctx, geometries); }, ctx, state))
     return *code;
   if (mpi::rank() != 0) return 0;  // rank 0 writes the outputs
 

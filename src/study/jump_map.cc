@@ -62,7 +62,7 @@ JumpMapPoint run_speed(const JumpMapStudy& study, double rpm, const std::string&
                        std::optional<SectionPoint>& carry) {
   SceneConfig scene = study.scene;
   scene.mechanism.cam.rpm = rpm;
-  const Model model = build_model(scene, file);
+  const Model model = build_model(study.geometry, scene, file);
   const PoincareMap map(scene, model, file);
   Workspace ws = make_workspace(model);
   const int transient = study.config.transient_revolutions;
@@ -115,7 +115,8 @@ JumpMapStudy read_jump_map_study(const Json& doc, const StudyContext& ctx) {
   const Json fields = read_study_fields(part, "jump_map", ctx.source, study.config);
   study.periodic.options.lyapunov_revolutions = 100;  // per speed: a shorter default than the periodic study's
   const Json periodic = read_study_fields(part, "periodic", ctx.source, study.periodic);
-  const Model model = build_model(study.scene, ctx.config_file);
+  study.geometry = build_cam_geometry(study.scene, ctx.config_file);
+  const Model model = build_model(*study.geometry, study.scene, ctx.config_file);
   [[maybe_unused]] const PoincareMap map(study.scene, model, ctx.config_file);  // the drive sets the speed
   study.rigid_jump_speed_rpm = jump_speed_rpm(model);
   study.damped_rigid_jump_speed_rpm = damped_jump_speed_rpm(model);

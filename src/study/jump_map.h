@@ -9,9 +9,11 @@
 // leaves the cam, period doublings, other period changes and chaotic bands.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "dynamics/cam_geometry.h"
 #include "io/config.h"
 #include "study/periodic_study.h"
 #include "study/study.h"
@@ -30,6 +32,9 @@ struct JumpMapConfig {
 
 struct JumpMapStudy {
   SceneConfig scene;
+  /// The scene's geometry, built once when the config is read and shared by
+  /// every speed (null: each speed builds its own).
+  std::shared_ptr<const CamGeometry> geometry;
   JumpMapConfig config;
   PeriodicConfig periodic;  ///< `periodic` fields: the analysis at each speed
   Json resolved;

@@ -118,7 +118,8 @@ Report jump_map_report(const JumpMapStudy& study, const std::vector<JumpMapPoint
   rep.plots.push_back(diagram(points, jump, Plot{"Impact angles", "cam speed [rpm]", "cam angle at impact [deg]", {}},
                               [](const JumpMapPoint& p) { return p.impact_angle_deg; }));
   // The cam, its SVAJ per radian of cam angle: the map runs at many speeds.
-  for (Plot& p : scene_cam_plots(study.scene, file, 0.0)) rep.plots.push_back(std::move(p));
+  const Model model = build_model(study.geometry, study.scene, file);
+  for (Plot& p : cam_plots(model, study.scene.mechanism.cam.limits, 0.0)) rep.plots.push_back(std::move(p));
   Table table{
       "Speeds", {"rpm", "motion", "impacts", "separation fraction", "max gap [m]", "peak force [N]", "error"}, {}};
   for (const JumpMapPoint& p : points)

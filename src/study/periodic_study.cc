@@ -78,8 +78,9 @@ PeriodicStudy read_periodic_study(const Json& doc, const StudyContext& ctx) {
   Json part;
   study.scene = scene_from_study_json(doc, ctx.source, kStudyKeys, part);
   const Json fields = read_study_fields(part, "periodic", ctx.source, study.config);
-  const Model model = build_model(study.scene, ctx.config_file);  // the geometry and contact law are checked here
-  [[maybe_unused]] const PoincareMap map(study.scene, model, ctx.config_file);  // and that the drive sets the speed
+  study.geometry = build_cam_geometry(study.scene, ctx.config_file);
+  const Model model = build_model(study.geometry, study.scene, ctx.config_file);  // the contact law is checked here
+  [[maybe_unused]] const PoincareMap map(study.scene, model, ctx.config_file);    // and that the drive sets the speed
   study.resolved = resolved_study_json(study.scene, "periodic", Json{{"periodic", fields}});
   return study;
 }
@@ -87,7 +88,7 @@ PeriodicStudy read_periodic_study(const Json& doc, const StudyContext& ctx) {
 PeriodicResult run_periodic(const PeriodicStudy& study, const StudyContext& ctx,
                             const std::function<void(const std::string&)>& log) {
   const auto t0 = std::chrono::steady_clock::now();
-  const Model model = build_model(study.scene, ctx.config_file);
+  const Model model = build_model(study.geometry, study.scene, ctx.config_file);
   const PoincareMap map(study.scene, model, ctx.config_file);
   PeriodicOptions options = study.config.options;
   options.threads = ctx.threads();
@@ -184,7 +185,7 @@ int run_periodic_study(const Json& doc, const StudyContext& ctx) {
   const std::string& name = study.scene.name;
   const PeriodicResult r =
       run_periodic(study, ctx, [&](const std::string& line) { std::printf("%s: %s\n", name.c_str(), line.c_str()); });
-  const Model model = build_model(study.scene, ctx.config_file);
+  const Model model = build_model(study.geometry, study.scene, ctx.config_file);
   const PoincareMap map(study.scene, model, ctx.config_file);
   std::filesystem::create_directories(ctx.out_dir);
   write_json_atomic(ctx.out_dir / "periodic.json", periodic_json(study, r, map.coordinate_names()));

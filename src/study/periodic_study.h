@@ -8,6 +8,7 @@
 // and report.html.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -57,6 +58,8 @@ void visit(A& a, PeriodicConfig& c) {
 
 struct PeriodicStudy {
   SceneConfig scene;
+  /// The scene's geometry, built when the config is read (null: built where needed).
+  std::shared_ptr<const CamGeometry> geometry;
   PeriodicConfig config;
   Json resolved;  ///< the resolved study config (`camdyn validate` prints it)
 };

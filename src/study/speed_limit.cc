@@ -25,12 +25,13 @@ namespace {
 const std::vector<std::string> kStudyKeys = {"speed_limit"};
 
 /// The scene's metrics at `rpm`.
-SpeedCheck check_speed(const SceneConfig& base, double rpm, double min_force, const std::string& file) {
-  SceneConfig s = base;
+SpeedCheck check_speed(const SpeedLimitStudy& study, double rpm, double min_force, const std::string& file) {
+  SceneConfig s = study.scene;
   s.mechanism.cam.rpm = rpm;
   SimulationOptions options;
   options.record_series = false;
-  const SimulationResult r = simulate_scene(s, file, options);
+  const SimulationResult r =
+      study.geometry ? simulate_scene(*study.geometry, s, file, options) : simulate_scene(s, file, options);
   SpeedCheck c;
   c.rpm = rpm;
   c.converged = r.solver.termination == Termination::converged;
@@ -66,7 +67,8 @@ SpeedLimitStudy read_speed_limit_study(const Json& doc, const StudyContext& ctx)
   study.scene = scene_from_study_json(doc, ctx.source, kStudyKeys, part);
   const Json fields = read_study_fields(part, "speed_limit", ctx.source, study.config);
   // The geometry and contact law are checked here, before any run.
-  study.rigid_jump_speed_rpm = jump_speed_rpm(build_model(study.scene, ctx.config_file));
+  study.geometry = build_cam_geometry(study.scene, ctx.config_file);
+  study.rigid_jump_speed_rpm = jump_speed_rpm(build_model(*study.geometry, study.scene, ctx.config_file));
   study.resolved = resolved_study_json(study.scene, "speed_limit", Json{{"speed_limit", fields}});
   return study;
 }
@@ -84,7 +86,7 @@ SpeedLimitResult run_speed_limit(const SpeedLimitStudy& study, const StudyContex
   std::vector<SpeedCheck> scan(static_cast<std::size_t>(c.scan));
   parallel_for(scan.size(), ctx.threads(), [&](std::size_t i) {
     const double rpm = c.low_rpm + (hi - c.low_rpm) * static_cast<double>(i) / (c.scan - 1);
-    scan[i] = check_speed(study.scene, rpm, c.min_contact_force, ctx.config_file);
+    scan[i] = check_speed(study, rpm, c.min_contact_force, ctx.config_file);
   });
   r.checks = scan;
   const auto failed = std::find_if(scan.begin(), scan.end(), [](const SpeedCheck& s) { return !s.ok; });
@@ -98,7 +100,7 @@ SpeedLimitResult run_speed_limit(const SpeedLimitStudy& study, const StudyContex
     double lo = (failed - 1)->rpm, up = failed->rpm;
     while (up - lo > c.tolerance_rpm) {
       const double mid = 0.5 * (lo + up);
-      r.checks.push_back(check_speed(study.scene, mid, c.min_contact_force, ctx.config_file));
+      r.checks.push_back(check_speed(study, mid, c.min_contact_force, ctx.config_file));
       (r.checks.back().ok ? lo : up) = mid;
     }
     r.limited = true;
@@ -171,7 +173,8 @@ Report speed_limit_report(const SpeedLimitStudy& study, const SpeedLimitResult& 
   rep.appendix.push_back(table);
   rep.plots.push_back(Plot{"Separation against speed", "cam speed [rpm]", "separation fraction [-]", {sep}});
   rep.plots.push_back(Plot{"Smallest contact force against speed", "cam speed [rpm]", "force [N]", {force}});
-  for (Plot& p : scene_cam_plots(study.scene, file, 0.0)) rep.plots.push_back(std::move(p));
+  const Model model = build_model(study.geometry, study.scene, file);
+  for (Plot& p : cam_plots(model, study.scene.mechanism.cam.limits, 0.0)) rep.plots.push_back(std::move(p));
   return rep;
 }
 

@@ -11,10 +11,12 @@
 // just above the limit does not", which is what a designer can rely on.
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "dynamics/cam_geometry.h"
 #include "io/config.h"
 #include "study/study.h"
 
@@ -33,6 +35,9 @@ struct SpeedLimitConfig {
 
 struct SpeedLimitStudy {
   SceneConfig scene;
+  /// The scene's geometry, built once when the config is read and shared by
+  /// every speed (null: each speed builds its own).
+  std::shared_ptr<const CamGeometry> geometry;
   SpeedLimitConfig config;
   Json resolved;                      ///< the resolved study config (`camdyn validate` prints it)
   double rigid_jump_speed_rpm = 0.0;  ///< of the scene's model, built when the config is read

@@ -2,6 +2,7 @@
 // validate` does, and an error names the file and the dotted path; overrides
 // work as --set does; the resolved config reads back to the same scene.
 #include <camdyn/scene.h>
+#include <camdyn/simulate.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "common/errors.h"
+#include "dynamics/cam_geometry.h"
 #include "dynamics/cam_outline.h"
 #include "dynamics/model.h"
 #include "input_error_of.h"
@@ -45,6 +47,56 @@ TEST(Scene, OverridesWorkAsSetDoes) {
   EXPECT_EQ(scene.resolved_json(), dump_json(to_json(load_scene(kQuickstart, overrides))));
   // A lighter follower jumps at a higher speed (the same spring force on less inertia).
   EXPECT_GT(scene.jump_speed_rpm(), Scene::load(kQuickstart).jump_speed_rpm());
+}
+
+// Scene::set changes the model in place: a speed sweep builds no geometry and
+// runs to the bit as scenes loaded with the override; a change of geometry
+// (the base radius) builds it again; copies keep the old values.
+TEST(Scene, SetRunsAsAReloadToTheBitAndKeepsTheGeometryWhenItCan) {
+  Scene scene = Scene::load(kQuickstart, {"simulation.cycles=2"});
+  const Scene before = scene;
+  SimulateOptions options;
+  options.record_series = false;
+  const long builds = cam_geometry_builds();
+  for (const double rpm : {800.0, 1500.0}) {
+    scene.set("cam.rpm", rpm);
+    const Result swept = simulate(scene, options);
+    const long after_sweep = cam_geometry_builds();
+    const Result loaded =
+        simulate(Scene::load(kQuickstart, {"simulation.cycles=2", "cam.rpm=" + std::to_string(rpm)}), options);
+    EXPECT_EQ(after_sweep, cam_geometry_builds() - 1) << "only the reload builds a geometry";
+    EXPECT_EQ(swept.metrics.at("peak_contact_force"), loaded.metrics.at("peak_contact_force"));
+    EXPECT_EQ(swept.metrics.at("min_contact_force"), loaded.metrics.at("min_contact_force"));
+    EXPECT_EQ(swept.metrics.at("energy_residual"), loaded.metrics.at("energy_residual"));
+    EXPECT_EQ(swept.solver.steps, loaded.solver.steps);
+  }
+  EXPECT_EQ(cam_geometry_builds() - builds, 2);
+  EXPECT_EQ(before.rpm(), 1300.0);
+  scene.set("mechanism.contact.stiffness", 2e9);
+  scene.set("follower.mass", 0.25);
+  EXPECT_EQ(scene.resolved_json(), Scene::load(kQuickstart, {"simulation.cycles=2", "cam.rpm=1500",
+                                                             "mechanism.contact.stiffness=2e9", "follower.mass=0.25"})
+                                       .resolved_json());
+  const long geometry_before = cam_geometry_builds();
+  scene.set("cam.base_radius", 0.045);
+  EXPECT_EQ(cam_geometry_builds() - geometry_before, 1);
+  EXPECT_GT(scene.jump_speed_rpm(), 0.0);
+}
+
+TEST(Scene, SetRefusesWhatTheLoaderRefusesAndLeavesTheSceneAsItWas) {
+  Scene scene = Scene::load(kQuickstart);
+  const std::string resolved = scene.resolved_json();
+  try {
+    scene.set("follower.mass", -1.0);
+    ADD_FAILURE() << "a negative mass was accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.path(), "mechanism.follower.mass");
+    EXPECT_NE(std::string(e.what()).find("must be > 0"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(scene.set("cam.rpmm", 1000.0), InputError);
+  EXPECT_EQ(scene.resolved_json(), resolved);
+  scene.set("contact.model", std::string("hertz"));
+  EXPECT_NE(scene.resolved_json().find("\"hertz\""), std::string::npos);
 }
 
 TEST(Scene, FromJsonReadsTheResolvedConfigBack) {

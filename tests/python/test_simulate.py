@@ -158,3 +158,33 @@ def test_threads_get_the_single_thread_run(quickstart):
         runs = list(pool.map(lambda _: scene.simulate(series=False), range(2)))
     for run in runs:
         assert run.metrics == alone.metrics
+
+
+# Scene.set: an rpm sweep on one scene, without loading the config again, runs
+# to the bit as scenes loaded with the override (the file is gone by then).
+def test_set_sweeps_the_speed_in_place_to_the_bit(quickstart, tmp_path):
+    config = tmp_path / "quickstart.json"
+    with open(quickstart, encoding="utf-8") as f:
+        document = json.load(f)
+    document["mechanism"]["cam"]["motion_law"] = str(quickstart.parent.parent / document["mechanism"]["cam"]["motion_law"])
+    config.write_text(json.dumps(document), encoding="utf-8")
+    scene = camdyn.load(config, set=["simulation.cycles=2"])
+    config.unlink()
+    for rpm in (900.0, 1300.0):
+        swept = scene.set("cam.rpm", rpm).simulate(series=False, as_frame=False)
+        loaded = camdyn.load(quickstart, set=["simulation.cycles=2", f"cam.rpm={rpm}"]).simulate(
+            series=False, as_frame=False)
+        assert scene.rpm == rpm
+        for name, value in loaded.metrics.items():
+            assert same_bits(swept.metrics[name], value), (rpm, name)
+        assert swept.solver["steps"] == loaded.solver["steps"]
+
+
+def test_set_refuses_what_the_loader_refuses_and_keeps_the_scene(quickstart):
+    scene = camdyn.load(quickstart)
+    with pytest.raises(camdyn.InputError, match=r"mechanism\.follower\.mass.*must be > 0"):
+        scene.set("follower.mass", -1.0)
+    with pytest.raises(camdyn.InputError, match="did you mean 'rpm'"):
+        scene.set("cam.rpmm", 1000)
+    assert scene.rpm == 1300
+    assert scene.set("contact.model", "hertz").resolved["mechanism"]["contact"]["model"] == "hertz"
