@@ -35,7 +35,7 @@ double position_error(const camdyn::SceneConfig& scene, const camdyn::Simulation
   return worst;
 }
 
-// The two tracking modes of physics.md §2 on the quickstart scene: run time
+// The two tracking modes of docs/model.md §2 on the quickstart scene: run time
 // per cycle and error against a tight reference, at the default tolerance.
 void BM_QuickstartCycle(benchmark::State& state) {
   camdyn::SceneConfig scene = quickstart();

@@ -1,6 +1,6 @@
 // The design vector of an optimize study: the free interior control points of
 // the spline segments that replace the baseline's designed rise / return
-// segments (interface.md `motion_law` spline segments: the boundary control
+// segments (docs/config.md `motion_law` spline segments: the boundary control
 // points that keep s, s', s'' continuous with the neighbours are added by the
 // geometry code), plus optional segment end angles. Every variable has finite
 // bounds, so NLopt's global algorithms can use them as they are.

@@ -1,4 +1,4 @@
-// Contact identification (interface.md `identify`): fits numeric scene
+// Contact identification (docs/config.md `identify`): fits numeric scene
 // parameters (contact stiffness, exponent, restitution, damping, friction,
 // follower damping, ... any numeric config field by dotted path) to measured
 // records by nonlinear least squares (Ceres, kept out of this header).

@@ -1,4 +1,4 @@
-// The study fields of an `identify` config (interface.md, section `identify`):
+// The study fields of an `identify` config (docs/config.md, section `identify`):
 // which scene parameters to fit (any numeric field by dotted path, with
 // bounds, log scale and initial value), the measured records to fit them to
 // (one `reference`, or several `experiments` with shared parameters and their

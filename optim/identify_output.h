@@ -1,4 +1,4 @@
-// Output files of the `identify` study (interface.md): identified.json (the
+// Output files of the `identify` study (docs/config.md, "identify"): identified.json (the
 // estimates with standard errors, correlation, identifiability verdict and
 // solver summary), fit.csv (measured and fitted signals at the record's times),
 // identified_scene.json (a `simulate` config with the identified values, which

@@ -1,4 +1,4 @@
-// The `identify` study (interface.md): Ceres fits contact parameters to
+// The `identify` study (docs/config.md, "identify"): Ceres fits contact parameters to
 // measured records.
 #pragma once
 

@@ -1,5 +1,5 @@
 // The rigid-model contact condition of a follower as linear
-// constraints (physics.md §6), and the highest jump-free speed that ANY law
+// constraints (docs/model.md §9), and the highest jump-free speed that ANY law
 // with a segment's lift and duration can reach: the first half of an
 // optimize study's certificate.
 //

@@ -5,7 +5,7 @@
 // objective and the constraint values.
 //
 // Normalisation (so that weights mean something): forces by the baseline's
-// peak rigid-model contact force at the top operating speed (physics.md §6;
+// peak rigid-model contact force at the top operating speed (docs/model.md §9;
 // smooth and never zero, unlike the simulated peak of a baseline that
 // hammers), the separation measure by the baseline's, kinematic peaks by the
 // baseline's. The baseline's normalised objective is then about the sum of

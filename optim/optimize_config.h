@@ -1,4 +1,4 @@
-// The study-specific part of an `optimize` config (interface.md, section
+// The study-specific part of an `optimize` config (docs/config.md, section
 // `optimize`): what is designed, at which speeds, what is minimised, which
 // constraints must hold and how NLopt searches. Defaults live in the member
 // initialisers; optimize_config.cc maps each struct to and from JSON in one

@@ -1,4 +1,4 @@
-// The files an optimize study writes (interface.md, section `optimize`):
+// The files an optimize study writes (docs/config.md, section `optimize`):
 // result.json, history.csv, optimized.json and report.html, each atomically
 // and without NaN.
 #pragma once

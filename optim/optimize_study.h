@@ -1,4 +1,4 @@
-// The `optimize` study (interface.md): NLopt shapes the spline cam so that
+// The `optimize` study (docs/optimize.md): NLopt shapes the spline cam so that
 // the follower neither jumps nor hammers over its operating speeds.
 #pragma once
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Checks the two structural rules of camdyn's code (../shared/style.md, "Layers"):
+"""Checks the three structural rules of camdyn's code (docs/architecture.md, "Layers"):
 
 1. No folder includes a folder above it. The layers, bottom first:
        common < scene < geometry < contact < integrate < dynamics < io < study < api < optim < cli < python
@@ -17,12 +17,22 @@
    opens its body to the line that closes it). Functions are found as the
    project's clang-format writes them: a definition whose body opens at the
    end of an unindented line and closes with an unindented "}".
+3. Every doc a source or script file cites (in src/, optim/, python/,
+   include/, tests/, bench/, scripts/) is in the repository: a path such as
+   docs/NAME.md (a bare NAME.md: at the top, in docs/ or beside the file)
+   exists; a section "docs/model.md §N" (or §N.M) matches a numbered heading
+   "## N." of that file; a heading cited by its title, in quotes or
+   backticks right after the path (docs/architecture.md, "Adding a contact
+   law"; docs/config.md `motion_law`), matches a heading of that file. Any
+   mention of physics.md, interface.md or ../shared cites a file outside the
+   repository and is a violation.
 
-Prints every violation as file:line and exits 1 if there is any.
+Prints every violation as file:line: reason and exits 1 if there is any.
 
     python3 scripts/check_structure.py [--max-lines 120]
 """
 import argparse
+import functools
 import re
 import sys
 from pathlib import Path
@@ -38,6 +48,25 @@ PUBLIC_BASE = {"camdyn/errors.h", "camdyn/version.h"}
 # A standard library header: <name>, no folder and no extension.
 STANDARD = re.compile(r"^[a-z_0-9]+$")
 NOT_FUNCTIONS = re.compile(r"^(namespace|struct|class|enum|union|extern)\b|=\s*\{$|^(static\s+)?(const|constexpr)\b.*=")
+
+# Doc references (check 3): the folders whose text files are searched, and the files read as text there.
+DOC_CITING = ("src", "optim", "python", "include", "tests", "bench", "scripts")
+# This check and its test name the outside files on purpose.
+DOC_CHECK_EXEMPT = {"scripts/check_structure.py", "tests/scripts/check_structure_test.py"}
+TEXT_SUFFIXES = {".h", ".cc", ".in", ".py", ".sh", ".cmake", ".txt", ".json", ".dict", ".md"}
+# Docs that live outside the repository: a reader of the code has none of them.
+OUTSIDE = re.compile(r"physics\.md|interface\.md|\.\./shared\b")
+# A doc path: NAME.md, with folders or not, not part of a longer path or word.
+DOC_PATH = re.compile(r"(?<![\w./-])((?:[\w.-]+/)*[\w-][\w.-]*\.md)\b")
+# What may follow a doc path: its sections (§7; §1 and §4; §2, §3) or a heading's title.
+SECTIONS = re.compile(r"\s*§\s*\d+(?:\.\d+)*(?:(?:\s*,\s*|\s+and\s+)§\s*\d+(?:\.\d+)*)*")
+SECTION_NUMBER = re.compile(r"§\s*(\d+(?:\.\d+)*)")
+# docs/a.md, "Title" or docs/a.md ("Title"); docs/config.md `motion_law` or docs/config.md, section `compare`.
+QUOTED_TITLE = re.compile(r'(?:,\s*(?:section\s+)?|\s*\(|\s+section\s+)"([^"]+)"')
+BACKTICK_TITLE = re.compile(r"(?:,\s*section)?\s+`([^`]+)`")
+HEADING = re.compile(r"^#+\s+(.*?)\s*$")
+HEADING_NUMBER = re.compile(r"^(\d+(?:\.\d+)*)\.?\s")
+COMMENT_LEADER = re.compile(r"^\s*(?:///?|#|\*|/\*)?\s*")
 
 
 def layer_of(path):
@@ -140,15 +169,100 @@ def long_functions(max_lines):
     return found
 
 
+def citing_files(root):
+    for top in DOC_CITING:
+        for path in sorted((root / top).rglob("*")):
+            exempt = path.relative_to(root).as_posix() in DOC_CHECK_EXEMPT
+            if path.is_file() and path.suffix in TEXT_SUFFIXES and not exempt:
+                yield path
+
+
+@functools.lru_cache(maxsize=None)
+def headings(doc):
+    """The headings of a markdown file, outside code blocks: (normalised titles, section numbers)."""
+    titles, numbers, fenced = set(), set(), False
+    for line in doc.read_text(encoding="utf-8").splitlines():
+        if line.startswith("```"):
+            fenced = not fenced
+        match = None if fenced else HEADING.match(line)
+        if match:
+            titles.add(normalised(match.group(1)))
+            number = HEADING_NUMBER.match(match.group(1))
+            if number:
+                numbers.add(number.group(1))
+    return titles, numbers
+
+
+def normalised(title):
+    return " ".join(title.replace("`", "").lower().split())
+
+
+def resolve_doc(root, path, cited):
+    """The file a doc path names: from the top of the repository, beside the citing file, or (a bare name) in docs/."""
+    candidates = [root / cited, path.parent / cited] + ([root / "docs" / cited] if "/" not in cited else [])
+    return next((c for c in candidates if c.is_file()), None)
+
+
+def title_matches(titles, title):
+    wanted = normalised(title)
+    return any(t == wanted or t.startswith(wanted + " (") for t in titles)
+
+
+def reference_problems(doc, cited, rest):
+    """What is wrong with a citation of an existing doc, given the text that follows its path."""
+    titles, numbers = headings(doc)
+    sections = SECTIONS.match(rest)
+    if sections:
+        return [f"cites '{cited} §{n}', but {cited} has no heading '## {n}.'"
+                for n in SECTION_NUMBER.findall(sections.group()) if n not in numbers]
+    title = QUOTED_TITLE.match(rest) or BACKTICK_TITLE.match(rest)
+    if title and not title_matches(titles, title.group(1)):
+        return [f"cites '{cited}, \"{title.group(1)}\"', but {cited} has no such heading"]
+    return []
+
+
+def line_problems(root, path, line, following):
+    """The doc-reference violations of one line; `following` is the next line, where a citation may go on."""
+    if OUTSIDE.search(line):
+        return [f"cites a file outside the repository ('{OUTSIDE.search(line).group()}'): cite docs/ instead"]
+    text = line + " " + COMMENT_LEADER.sub("", following, count=1)
+    found = []
+    for match in DOC_PATH.finditer(text):
+        if match.start() >= len(line):
+            break
+        cited = match.group(1)
+        doc = resolve_doc(root, path, cited)
+        if doc is None:
+            found.append(f"cites '{cited}', which is not in the repository")
+        else:
+            found.extend(reference_problems(doc, cited, text[match.end():]))
+    return found
+
+
+def doc_reference_violations(root=None):
+    """Every doc a source or script file cites exists in the repository, with the section or heading cited."""
+    root = root or ROOT
+    found = []
+    for path in citing_files(root):
+        lines = path.read_text(encoding="utf-8", errors="replace").splitlines()
+        for number, line in enumerate(lines, start=1):
+            following = lines[number] if number < len(lines) else ""
+            found.extend(f"{path.relative_to(root)}:{number}: {problem}"
+                         for problem in line_problems(root, path, line, following))
+    return found
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--max-lines", type=int, default=120)
     args = parser.parse_args()
-    problems = include_violations() + public_include_violations() + long_functions(args.max_lines)
+    problems = (include_violations() + public_include_violations() + long_functions(args.max_lines)
+                + doc_reference_violations())
     for problem in problems:
         print(problem)
-    print(f"check_structure: {len(problems)} problem(s) in {sum(1 for _ in sources())} files "
-          f"and {len(public_headers())} public headers "
+    print(f"check_structure: {len(problems)} problem(s) in {sum(1 for _ in sources())} files, "
+          f"{len(public_headers())} public headers and the doc references of "
+          f"{sum(1 for _ in citing_files(ROOT))} files "
           f"(layers {' < '.join(LAYERS)}; functions <= {args.max_lines} lines)")
     return 1 if problems else 0
 

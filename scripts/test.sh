@@ -35,7 +35,8 @@ for preset in ci asan fuzz; do
   fi
   if [[ "$preset" == ci ]]; then
     # Once setup has installed clang-format and clang-tidy: the layer order of
-    # the include graph and the function-length limit, and the formatting
+    # the include graph, the function-length limit and the docs the code
+    # cites, and the formatting
     # (seconds each); clang-tidy on the sources (not tests) the last change touched
     # (about 15 s a file).
     phase "structure" python3 scripts/check_structure.py

@@ -1,7 +1,7 @@
 // The exceptions camdyn throws, part of its public API (<camdyn/camdyn.h>):
 // the library throws these very types, so a caller catches what it throws.
-// Three kinds of failure are distinguished (see ../shared/style.md): bad input
-// (InputError, the CLI's exit 2), a numerical method that gave up
+// Three kinds of failure are distinguished (docs/architecture.md, "Three kinds
+// of failure"): bad input (InputError, the CLI's exit 2), a numerical method that gave up
 // (NumericalError, exit 3), and internal invariants (assert). Input errors
 // name the file, the dotted config path (or CSV line) and the reason, so a
 // user can fix the input without reading code.

@@ -1,5 +1,5 @@
 // A scene: a cam-follower mechanism and how to run it, loaded from a config
-// (../shared/spec/interface.md) and checked completely: the config's fields,
+// (docs/config.md) and checked completely: the config's fields,
 // the motion law, the cam geometry (undercut, pressure angle) and the contact
 // law, as `camdyn validate` checks them. Part of the public API.
 //
@@ -79,7 +79,7 @@ class Scene {
   /// text, as `camdyn validate` prints it; Scene::from_json reads it back.
   std::string resolved_json() const;
   /// The rigid-model jump speed [rpm]: the lowest cam speed at which the
-  /// follower leaves a rigid cam (physics.md); +inf if the law never decelerates.
+  /// follower leaves a rigid cam (docs/model.md §9); +inf if the law never decelerates.
   double jump_speed_rpm() const;
   /// The states and force elements of the model (summary.json `model`).
   ModelInfo model() const;

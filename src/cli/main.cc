@@ -1,4 +1,4 @@
-// camdyn command line (interface.md): `camdyn run CONFIG`, `camdyn validate
+// camdyn command line (docs/config.md, "Commands"): `camdyn run CONFIG`, `camdyn validate
 // CONFIG`, `camdyn export CONFIG` (the cam profile, docs/export.md),
 // `--version`. Exit codes: 0 success, 2 invalid input, 3 numerical failure, 1
 // anything else. Progress goes to stderr on a terminal; results to files;
@@ -84,7 +84,7 @@ int report_bug(const char* what) {
   return kExitOther;
 }
 
-// Maps what a command throws to the exit codes of interface.md.
+// Maps what a command throws to the exit codes of docs/config.md, "Exit codes".
 template <class Body>
 int with_exit_codes(const std::string& config, const std::vector<std::string>& overrides, bool root, Body body) {
   try {

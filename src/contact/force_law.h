@@ -1,4 +1,4 @@
-// Normal contact force laws of physics.md §3: F_n = K δ^n + D(δ) δ̇, never
+// Normal contact force laws of docs/model.md §3: F_n = K δ^n + D(δ) δ̇, never
 // adhesive (clamped at zero), with the hysteresis damping of
 //   Hunt & Crossley 1975:          D = 3 K (1 − e)  / (2 v₀)   δ^n
 //   Lankarani & Nikravesh 1990:    D = 3 K (1 − e²) / (4 v₀)   δ^n
@@ -17,7 +17,7 @@
 
 namespace camdyn {
 
-/// The form of a law's normal force F_n (physics.md §3).
+/// The form of a law's normal force F_n (docs/model.md §3).
 enum class ForceForm {
   elastic,     ///< K δ^n: no damping, no clamp switch (hertz)
   viscous,     ///< K δ^n + c δ̇ with the config's 'damping' c [N s/m] (kelvin_voigt)

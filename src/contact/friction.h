@@ -1,4 +1,4 @@
-// Regularised Coulomb friction (physics.md §3): |F_t| ≤ μ F_n, opposing the
+// Regularised Coulomb friction (docs/model.md §4): |F_t| ≤ μ F_n, opposing the
 // slip velocity, smoothed near zero slip so that the ODE stays smooth.
 #pragma once
 

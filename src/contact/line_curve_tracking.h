@@ -1,4 +1,4 @@
-// Interference tracking of physics.md §2 for a flat face: a straight line
+// Interference tracking of docs/model.md §2 for a flat face: a straight line
 // (point p on it, unit normal m pointing from the face towards the cam, both
 // in the profile's frame) against a smooth cam-frame profile r(u) (any type
 // with `at(u)`). A line has no curvature, so the pair reduces to the one

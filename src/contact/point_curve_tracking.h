@@ -1,4 +1,4 @@
-// Interference tracking of physics.md §2 in its one-parameter form for a
+// Interference tracking of docs/model.md §2 in its one-parameter form for a
 // circle follower (roller, mushroom): the circle's centre c against a smooth
 // cam-frame profile P(u) (any PeriodicCurve-like type with `at(u)`), whose
 // distance to c minus an offset radius ρ is the gap. For a cam synthesised

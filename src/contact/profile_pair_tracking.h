@@ -1,4 +1,4 @@
-// Interference tracking of physics.md §2 in its general two-parameter form:
+// Interference tracking of docs/model.md §2 in its general two-parameter form:
 // any smooth profile A (the cam, rotating) against any smooth profile B (the
 // follower, moving), each a curve in its own body frame. The tracked pair
 // (u, v) solves the common-normal equations

@@ -1,4 +1,4 @@
-// The metrics of one run over its evaluated cycles (physics.md §6) and the one
+// The metrics of one run over its evaluated cycles (docs/model.md §8) and the one
 // list of their names and units (`visit`) that every writer iterates:
 // summary.json, the report's metrics table, the compare study's columns.
 #pragma once

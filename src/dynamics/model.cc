@@ -417,7 +417,7 @@ void assemble_elements(const SceneConfig& scene, const std::string& file, Model&
   const bool roller = fg.rolls();
   model.roller_inertia = roller ? f.shape.inertia : 0.0;
   // A roller without inertia rolls freely: friction can do no work, so neither
-  // the spin state nor the friction force is assembled (physics.md §3). A flat
+  // the spin state nor the friction force is assembled (docs/model.md §4). A flat
   // face or a mushroom slides: friction acts whenever μ > 0.
   model.has_spin = roller && model.roller_inertia > 0.0 && fc.mu > 0.0;
   model.contact_friction = fc.mu > 0.0 && (!roller || model.has_spin);
@@ -645,7 +645,7 @@ void evaluate(const Model& model, Workspace& ws, double t, const double* state, 
   ev.cam_acceleration = o.cam_acceleration;
   ev.motor_acceleration = o.motor_acceleration;
 
-  // Powers (physics.md §5): what the drive delivers, what dampers, contact
+  // Powers (docs/model.md §7): what the drive delivers, what dampers, contact
   // hysteresis and friction dissipate.
   if (model.drive == Drive::constant_speed) {
     ev.power_drive = -o.cam_torque * o.omega_c;

@@ -1,4 +1,4 @@
-// The cam-follower mechanism as an ODE (physics.md §4): an immutable Model
+// The cam-follower mechanism as an ODE (docs/model.md §5): an immutable Model
 // assembled from the scene with only what the scene needs, a mutable
 // Workspace reused across runs, and free functions that evaluate it
 // (Pinocchio style). The state is, in this order and only where needed:
@@ -18,7 +18,7 @@
 // contour against the follower's circle or face segment, for verification of
 // the reductions (no follower shape needs it).
 // Energy flows (drive work, damper, contact hysteresis, friction) are
-// quadratures (physics.md §5), integrated beside the state.
+// quadratures (docs/model.md §7), integrated beside the state.
 #pragma once
 
 #include <Eigen/Core>
@@ -203,7 +203,7 @@ struct EnergyTerms {
 };
 EnergyTerms energy_terms(const Model& model, const Evaluation& ev);
 
-/// The rigid-model critical (jump) speed of physics.md §6 [rpm], in the
+/// The rigid-model critical (jump) speed of docs/model.md §9 [rpm], in the
 /// generalised coordinate of any follower (the cam must push with
 /// Q = M ω² s'' + k (s + x₀) + m g ≥ 0, and ∂g/∂q > 0 turns Q into a normal
 /// force): min over θ with s'' < 0 of sqrt((k (s + x₀) + m g) / (−M s'')).
@@ -218,7 +218,7 @@ double damped_jump_speed_rpm(const Model& model);
 
 /// Rigid-model normal contact force at cam angle θ and constant speed [N]:
 /// Q / (∂g/∂q) with Q = M ω² s'' + c ω s' + k (s + x₀) + m g (translating
-/// roller: P / cos φ of physics.md §6). Negative: the follower would need pulling.
+/// roller: P / cos φ of docs/model.md §9). Negative: the follower would need pulling.
 double rigid_normal_force(const Model& model, double theta);
 /// The same at cam speed `omega` [rad/s] instead of the model's.
 double rigid_normal_force(const Model& model, double theta, double omega);

@@ -24,7 +24,7 @@ struct PlausibilityWarning {
 };
 
 /// The contact load a scene asks its contact to carry, from the rigid model
-/// (physics.md §6) sampled over a revolution.
+/// (docs/model.md §9) sampled over a revolution.
 struct ContactLoad {
   double static_force = 0.0;       ///< max rigid normal force with the cam turned slowly (ω = 0) [N]
   double peak_force = 0.0;         ///< max rigid normal force at the scene's speed [N]

@@ -1,5 +1,5 @@
 // The once-per-revolution Poincaré map of a scene whose cam is driven at a
-// set speed (physics.md §4 run from a given state): the state at t = k T
+// set speed (docs/model.md §5 run from a given state): the state at t = k T
 // (cam angle θ₀ + 2πk, T = 2π/ω) as a function of the state at t = 0. Its
 // coordinates are the states that carry the motion: the follower coordinate
 // and rate, the roller spin, a shaft-driven cam's angle (less the 2π per

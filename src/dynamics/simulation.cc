@@ -32,7 +32,7 @@ using State = std::array<double, kMaxState>;
 using Quadratures = std::array<double, Model::kQuadratures>;
 using Clock = std::chrono::steady_clock;
 
-// The quadratures a model reports (physics.md §5; Quadratures holds all of
+// The quadratures a model reports (docs/model.md §7; Quadratures holds all of
 // them, by index): the drive's work only where the cam turns or a motor
 // drives it, the damper's only with a damper, the contact hysteresis only for
 // a dissipative law, the friction work only with friction, the separation
@@ -364,8 +364,8 @@ class FlightSource final : public StateSource {
   bool ok_ = true;
 };
 
-// The metrics over the evaluated window (physics.md §6) and the energy
-// balance over the whole run (§5), folded in from dense-output samples. Its
+// The metrics over the evaluated window (docs/model.md §8) and the energy
+// balance over the whole run (§7), folded in from dense-output samples. Its
 // evaluation and dense-output buffers are the run's scratch: the loop and the
 // series recorder read the evaluation it leaves behind.
 class WindowObserver {
@@ -643,7 +643,7 @@ struct LoopState {
   bool ended_in_flight = false;          // the run's end came in a flight
 };
 
-// A contact onset at t (physics.md §4): an impact when the follower was
+// A contact onset at t (docs/model.md §6): an impact when the follower was
 // separated; the episode's approach speed v₀ from the gap's closing rate.
 void record_onset(const RunContext& run, const Evaluation& ev, double t, bool& separated) {
   SimulationResult& result = run.result;
@@ -657,7 +657,7 @@ void record_onset(const RunContext& run, const Evaluation& ev, double t, bool& s
   separated = false;
 }
 
-// A root the integrator stopped at (physics.md §4): records a contact onset
+// A root the integrator stopped at (docs/model.md §6): records a contact onset
 // (an impact when the follower was separated) or a separation. Returns whether
 // the right-hand side changed, so that the integrator must restart.
 bool handle_root(const RunContext& run, const Integrator& integrator, const Evaluation& ev, double t,
@@ -796,7 +796,7 @@ Failure fly(const RunContext& run, SceneOde& ode, Integrator& integrator, LoopSt
   return {};
 }
 
-// The integration loop (physics.md §4): one internal step at a time; metrics
+// The integration loop (docs/model.md §6): one internal step at a time; metrics
 // and outputs from dense output over each step; contact events at roots and
 // drift projection, each followed by a restart; then the contact checks and
 // the budgets; the flights in closed form where the model allows. `loop`

@@ -1,6 +1,6 @@
 // One simulation run of a scene: initial conditions, integration with event
-// location at contact onset / separation (physics.md §4), the energy balance
-// (§5), the metrics over the evaluated cycles (§6) and the time series.
+// location at contact onset / separation (docs/model.md §6), the energy balance
+// (§7), the metrics over the evaluated cycles (§8) and the time series.
 #pragma once
 
 #include <functional>
@@ -16,7 +16,7 @@
 
 namespace camdyn {
 
-/// Columns of timeseries.csv (interface.md), one entry per output step.
+/// Columns of timeseries.csv (docs/config.md, "Outputs of simulate"), one entry per output step.
 struct TimeSeries {
   std::vector<double> time, cam_angle_deg, follower_position, follower_velocity, follower_acceleration,
       kinematic_position, gap, contact_force, friction_force, energy_residual,
@@ -79,7 +79,7 @@ struct SolverSummary {
 
 /// How accurate a run is (summary.json `solver.error_estimate`).
 struct ErrorEstimate {
-  double energy_residual = 0.0;     ///< physics.md §5, always available
+  double energy_residual = 0.0;     ///< docs/model.md §7, always available
   bool richardson = false;          ///< the fields below were computed
   double position = 0.0;            ///< max |y − y_tight| over the evaluated cycles [m]
   double peak_contact_force = 0.0;  ///< |F_peak / F_peak,tight − 1| [-]
@@ -158,7 +158,7 @@ SimulationResult simulate(const SceneConfig& scene, const Model& model, Workspac
                           const SimulationOptions& options = {});
 
 /// The work quadratures a run of the model integrates (summary.json
-/// `model.quadratures`; physics.md §5): of drive_work, damper_work,
+/// `model.quadratures`; docs/model.md §7): of drive_work, damper_work,
 /// hysteresis_work and friction_work those the model has (the drive's work
 /// where the cam turns, the damper's with a damper, the hysteresis with a
 /// dissipative contact law, the friction work with friction). The others

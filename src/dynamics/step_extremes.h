@@ -1,4 +1,4 @@
-// The window's extremes (physics.md §6: the largest gap, the peak and the
+// The window's extremes (docs/model.md §8: the largest gap, the peak and the
 // least contact force, the deepest penetration, the largest kinematic error),
 // followed over the integrator's steps from the model evaluated at each
 // step's start, middle and end. Between those three a quantity is taken as

@@ -1,4 +1,4 @@
-// The work quadratures of physics.md §5 (drive, damper, hysteresis and
+// The work quadratures of docs/model.md §7 (drive, damper, hysteresis and
 // friction work, the separation integral), integrated beside the state one
 // integrator step at a time by Simpson's rule: the integrand at the step's
 // start, middle and end, each from an evaluation the run makes anyway. Inside

@@ -1,8 +1,8 @@
 // Cam synthesis for a translating roller follower with offset, and the
-// manufacturability checks of physics.md §1 (pressure angle, radius of
+// manufacturability checks of docs/model.md §1 (pressure angle, radius of
 // curvature, undercut / cusp).
 //
-// Frame (interface.md): the cam turns about the origin; the follower moves
+// Frame (docs/model.md §1): the cam turns about the origin; the follower moves
 // along +y on the line x = e. With direction σ = +1 (ccw) a cam-fixed point p
 // is at R(σθ)·p in the world frame. The roller centre at follower
 // displacement s is C = (e, y₀ + s) with y₀ = sqrt((r_b + r_r)² − e²); the
@@ -10,7 +10,7 @@
 // P(u) = R(−σu)·(e, y₀ + s(u)). The cam contour is the inner offset of the
 // pitch curve by r_r, so the distance from any roller centre to the contour
 // is its distance to the pitch curve minus r_r: contact detection against the
-// roller reduces to a point against the pitch curve (physics.md §2).
+// roller reduces to a point against the pitch curve (docs/model.md §2).
 #pragma once
 
 #include <Eigen/Core>

@@ -1,4 +1,4 @@
-// Cam synthesis by envelope theory for every follower (physics.md §1):
+// Cam synthesis by envelope theory for every follower (docs/model.md §1):
 // translating or oscillating, roller, mushroom or flat face
 // (geometry/follower_geometry.h), and the manufacturability checks for each.
 //

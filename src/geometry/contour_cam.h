@@ -139,7 +139,7 @@ struct RigidLift {
 
 /// Rigid (no compliance, always in contact) follower on a closed curve: the
 /// follower moves along +y on the line x = offset, the cam turns about the
-/// origin, a cam-fixed point p is at R(σθ)·p (interface.md frame). For a
+/// origin, a cam-fixed point p is at R(σθ)·p (docs/model.md §1 frame). For a
 /// roller or mushroom (radius ρ, centre on the axis) the centre height is
 /// y(θ) = max over u of [q_y + sqrt(ρ² − (q_x − e)²)], q = R(σθ)·r(u), over the
 /// points within ρ of the axis; for a flat face (perpendicular to the axis)

@@ -1,4 +1,4 @@
-// Follower kinematics (physics.md §4, interface.md `mechanism.follower`): one
+// Follower kinematics (docs/model.md §5, docs/config.md `mechanism.follower`): one
 // generalised coordinate q and the world pose of the follower's contact
 // element as a function of q.
 //

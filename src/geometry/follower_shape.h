@@ -1,4 +1,4 @@
-// What each follower shape is, in one place (physics.md §1 and §3): the one
+// What each follower shape is, in one place (docs/model.md §1 and §4): the one
 // switch over FollowerShape. Every other file asks this description (or
 // FollowerGeometry::circle() / rolls(), which ask it) and never compares
 // FollowerShape values, so a new shape that touches the cam with a circle or a

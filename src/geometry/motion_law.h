@@ -2,8 +2,8 @@
 // position as a function of cam angle, periodic in 2π, with derivatives to
 // third order (velocity, acceleration and jerk per unit cam speed). Built from
 // piecewise segments (rise / dwell / return with the classic laws or a spline
-// segment), a whole-cycle periodic spline, or a lift table (physics.md §1,
-// interface.md `mechanism.cam.motion_law`).
+// segment), a whole-cycle periodic spline, or a lift table (docs/model.md §1,
+// docs/config.md `motion_law`).
 #pragma once
 
 #include <memory>

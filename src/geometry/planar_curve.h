@@ -1,5 +1,5 @@
 // A smooth planar curve r(u) in its body's frame, with u-derivatives to third
-// order (physics.md §1): the one interface through which contact tracking sees
+// order (docs/model.md §1): the one interface through which contact tracking sees
 // a cam profile, whether synthesised from a motion law (a pitch curve or a
 // contour) or fitted to measured contour points.
 #pragma once

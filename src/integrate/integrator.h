@@ -1,4 +1,4 @@
-// One interface over every integration method camdyn offers (physics.md §4):
+// One interface over every integration method camdyn offers (docs/model.md §6):
 // CVODES BDF and Adams, ARKODE explicit (adaptive embedded ERK) and implicit
 // (DIRK) Runge–Kutta, and a fixed-step classical RK4 baseline. All take one
 // step at a time, stop at roots of the system's root functions (event

@@ -1,7 +1,7 @@
 // Atomic output files: everything camdyn writes goes to a temporary name in the
 // same directory and is renamed over the final name only once complete, so a
 // killed run never leaves a truncated file that looks finished
-// (../shared/spec/interface.md, "Outputs are written to a temporary name").
+// (docs/outputs-and-resume.md).
 #pragma once
 
 #include <filesystem>

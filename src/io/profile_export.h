@@ -4,7 +4,7 @@
 // angle and written as CSV (profile.csv) and as DXF (profile.dxf, through
 // dxflib), each atomically.
 //
-// Frame: the cam frame at cam angle 0 (interface.md): the cam's centre at the
+// Frame: the cam frame at cam angle 0 (docs/model.md §1): the cam's centre at the
 // origin, +y along the follower axis away from the cam, +x to the right. The
 // point listed at cam angle θ is the one that touches the follower when the
 // cam has turned by θ from angle 0, where the start of the motion law is under

@@ -1,5 +1,5 @@
 // The scene: the plain typed description of a cam-follower mechanism and how
-// to run it, one struct per JSON object of ../shared/spec/interface.md. It is
+// to run it, one struct per JSON object of docs/config.md. It is
 // the bottom layer that geometry, contact and dynamics take their inputs from;
 // io/config.{h,cc} reads it from JSON (and prints it back), turning every word
 // a config chooses by name into one of the enums below, once, at load.
@@ -17,7 +17,7 @@ namespace camdyn {
 
 // ---------------------------------------------------------------- vocabulary
 // Every choice a config makes by name is one of these enums; the words of
-// interface.md are in each table (enum_names.h), read once at load.
+// docs/config.md are in each table (enum_names.h), read once at load.
 
 /// `unset` only before a config has named it (the field is required).
 enum class SegmentType { unset, rise, dwell, return_ };
@@ -84,7 +84,7 @@ constexpr std::span<const EnumName<FrictionRegularization>> enum_names(FrictionR
   return kFrictionRegularizationNames;
 }
 
-/// Normal contact force laws of physics.md §3 (contact/force_law.h).
+/// Normal contact force laws of docs/model.md §3 (contact/force_law.h).
 enum class ContactModel { hertz, kelvin_voigt, hunt_crossley, lankarani_nikravesh, flores };
 inline constexpr EnumName<ContactModel> kContactModelNames[] = {
     {ContactModel::hertz, "hertz"},
@@ -94,7 +94,7 @@ inline constexpr EnumName<ContactModel> kContactModelNames[] = {
     {ContactModel::flores, "flores"}};
 constexpr std::span<const EnumName<ContactModel>> enum_names(ContactModel) { return kContactModelNames; }
 
-/// How the contact pair parameter follows the motion (physics.md §2).
+/// How the contact pair parameter follows the motion (docs/model.md §2).
 enum class Tracking { differential, newton };
 inline constexpr EnumName<Tracking> kTrackingNames[] = {{Tracking::differential, "differential"},
                                                         {Tracking::newton, "newton"}};
@@ -102,7 +102,7 @@ constexpr std::span<const EnumName<Tracking>> enum_names(Tracking) { return kTra
 
 /// `contact.pair_form`: "auto" = the one-parameter reduction for a circle or
 /// line follower; "general" = the two-parameter common-normal tracker of
-/// physics.md §2 (verification).
+/// docs/model.md §2 (verification).
 enum class PairFormChoice { automatic, general };
 inline constexpr EnumName<PairFormChoice> kPairFormChoiceNames[] = {{PairFormChoice::automatic, "auto"},
                                                                     {PairFormChoice::general, "general"}};

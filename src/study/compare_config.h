@@ -1,4 +1,4 @@
-// The compare study's own config fields (interface.md, section `compare`):
+// The compare study's own config fields (docs/config.md, section `compare`):
 // the cases (a scene file, an inline config or the study's own scene, with
 // `set` overrides), the `grid` axes (cartesian product) and `zip` axes (paired
 // lists), the metrics the report shows and the `overlays` (grid points whose

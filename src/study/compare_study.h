@@ -1,4 +1,4 @@
-// The `compare` study (interface.md): every case at every grid point
+// The `compare` study (docs/config.md, "compare"): every case at every grid point
 // (cartesian product of `grid`, paired lists of `zip`), each a simulate run;
 // a failed run is recorded with its status and error and never stops the
 // others. Outputs comparison.csv, comparison.json and report.html.

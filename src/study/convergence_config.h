@@ -1,4 +1,4 @@
-// The study-specific part of a `convergence` config (interface.md): the
+// The study-specific part of a `convergence` config (docs/config.md, "convergence"): the
 // methods, tracking modes and tolerances to run, the reference run and the
 // scene variants. Defaults live in the member initialisers; one `visit` per
 // struct reads and writes them, so unknown keys are rejected and `camdyn

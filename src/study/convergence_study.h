@@ -1,4 +1,4 @@
-// The `convergence` study (interface.md): error against run time for each
+// The `convergence` study (docs/config.md, "convergence"): error against run time for each
 // integration method, tracking mode and tolerance, against a tight reference.
 #pragma once
 

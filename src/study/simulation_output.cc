@@ -458,7 +458,7 @@ void add_run_plots(const Model& model, const SimulationResult& result, Report& r
     report.plots.push_back(
         Plot{"Whole run: friction force", "time [s]", "force [N]", {{"friction force", ts.time, ts.friction_force}}});
   }
-  report.plots.push_back(Plot{"Energy balance residual (physics.md §5)",
+  report.plots.push_back(Plot{"Energy balance residual (docs/model.md §7)",
                               "time [s]",
                               "(E − E₀) / scale [–]",
                               {{"energy residual", ts.time, ts.energy_residual}}});

@@ -1,4 +1,4 @@
-// The outputs of a `simulate` run (interface.md): summary.json,
+// The outputs of a `simulate` run (docs/config.md, "Outputs of simulate"): summary.json,
 // timeseries.csv, events.csv and report.html, each written atomically.
 #pragma once
 
@@ -58,7 +58,7 @@ std::string drive_name(const Model& model);
 std::string follower_name(const Model& model);
 std::string contact_pair_name(const Model& model);
 
-/// Rigid-model normal contact force of a follower on the law (physics.md §6),
+/// Rigid-model normal contact force of a follower on the law (docs/model.md §9),
 /// P / cos φ with P = m ω² s'' + c ω s' + k (s + x₀) + m g [N] (negative: the
 /// follower would need to be pulled).
 double rigid_contact_force(const Model& model, double theta);

@@ -1,6 +1,6 @@
 // What every study type (simulate, optimize, identify, compare, convergence)
 // gets from the command line, and the split of a study config into the scene
-// it is built on (the common part of interface.md) and its own fields.
+// it is built on (the common part of docs/config.md) and its own fields.
 #pragma once
 
 #include <filesystem>

@@ -1,5 +1,5 @@
 // The camdyn command line end to end: exit codes, messages naming file and
-// field, outputs written (interface.md).
+// field, outputs written (docs/config.md).
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -158,7 +158,7 @@ TEST(Cli, BadOverrideValueNamesTheSetArgumentNotTheFile) {
   EXPECT_EQ(run_cli("validate " + kQuickstart + " --set mechanism.follower.mass=0.4").code, 0);
 }
 
-// The spec's simulate example (interface.md, a return without a lift) runs as written.
+// The full simulate example (docs/config.md, "Top level (every study)": a return without a lift) runs as written.
 TEST(Cli, InterfaceSpecExampleRuns) {
   const fs::path out = scratch_dir("interface_example") / "out";
   const Outcome o = camdyn::test::run_camdyn({"run", kData + "/spec/interface_simulate.json", "--quiet", "--out",

@@ -1,4 +1,4 @@
-// The general two-parameter common-normal tracker (physics.md §2) against
+// The general two-parameter common-normal tracker (docs/model.md §2) against
 // analytic distances (ellipse–circle by Eberly's robust root, symmetric
 // ellipse pairs, a flat face on a turned ellipse, a concave flank), against
 // finite differences (Jacobian, time derivatives), through first contact,
@@ -630,7 +630,7 @@ TEST(ProfilePairVsCircleReduction, SamePairAndGapOnARollerCamOverATurn) {
 /// roller cam, integrated with RK4; the contact gap and normal come either from
 /// the general tracker (cam contour against the roller circle, warm-started
 /// Newton at every right-hand side) or from the circle reduction (roller centre
-/// against the pitch curve). Returns the metrics of physics.md §6 it can.
+/// against the pitch curve). Returns the metrics of docs/model.md §8 it can.
 struct FollowerRun {
   double peak_force = 0, min_force = INFINITY, max_kinematic_error = 0, max_penetration = 0;
   long global_searches = 0;

@@ -1,5 +1,5 @@
 // A translating roller follower on a running cam, against the rigid model of
-// physics.md §6 computed here independently of the library.
+// docs/model.md §9 computed here independently of the library.
 #include <gtest/gtest.h>
 
 #include <algorithm>

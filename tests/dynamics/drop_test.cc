@@ -1,4 +1,4 @@
-// Drop tests against closed forms (physics.md §7): a mass hits a still cam.
+// Drop tests against closed forms (docs/model.md §10): a mass hits a still cam.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -38,7 +38,7 @@ Impact run_drop(const SceneConfig& scene) {
   return impact;
 }
 
-// Closed-form power-law impact (physics.md §7).
+// Closed-form power-law impact (docs/model.md §10).
 TEST(DropTest, HertzMatchesClosedFormPeakForceAndDuration) {
   const double v0 = 1.0, m = 0.1, K = 1e9, n = 1.5;
   const Impact impact = run_drop(test::drop_scene(ContactModel::hertz, 1.0, v0));
@@ -52,7 +52,7 @@ TEST(DropTest, HertzMatchesClosedFormPeakForceAndDuration) {
   EXPECT_NEAR(impact.max_penetration / delta_max, 1.0, kDropAcceptance);
   EXPECT_NEAR(impact.duration / t_c, 1.0, kDropAcceptance);
   constexpr double kQuotedDigit = 1e-4;                       // 2.9432 is quoted to four decimals
-  EXPECT_NEAR(t_c / (delta_max / v0), 2.9432, kQuotedDigit);  // the figure quoted in physics.md
+  EXPECT_NEAR(t_c / (delta_max / v0), 2.9432, kQuotedDigit);  // the figure quoted in docs/model.md §10
   constexpr double kLossless = 1e-3;  // Hertz dissipates nothing: the rebound speed within 0.1 %
   EXPECT_NEAR(impact.rebound / impact.approach, 1.0, kLossless);
 }

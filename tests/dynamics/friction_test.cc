@@ -1,4 +1,4 @@
-// Friction where it acts (physics.md §3, §4): sliding at a flat face or a
+// Friction where it acts (docs/model.md §4): sliding at a flat face or a
 // mushroom, guide friction of a translating follower, pivot friction of an
 // oscillating one; each against a rigid-model or kinematic result computed
 // here, and each closing the energy balance with its work.

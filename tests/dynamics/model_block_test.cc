@@ -1,4 +1,4 @@
-// summary.json's `model` block (interface.md): the bare scene has only the
+// summary.json's `model` block (docs/config.md, "Outputs of simulate"): the bare scene has only the
 // follower coordinate and its rate (plus the tracking parameter with
 // differential tracking), and each feature adds exactly its own states and
 // force elements.

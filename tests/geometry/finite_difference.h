@@ -1,5 +1,5 @@
 // Central finite differences with an error bound, for checking hand-written
-// derivatives (style.md: Ceres gradient_checker, Pinocchio finite-differences).
+// derivatives (docs/architecture.md, "Checking derivatives").
 #pragma once
 
 #include <algorithm>

@@ -1,6 +1,6 @@
 // The follower shapes' description (geometry/follower_shape.h): every shape a
 // config can name is described, with a label and the contact element, rolling
-// and config fields of physics.md §1 and §3; its word round-trips; and
+// and config fields of docs/model.md §1 and §4; its word round-trips; and
 // FollowerGeometry answers from the same description.
 #include "geometry/follower_shape.h"
 

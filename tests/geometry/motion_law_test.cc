@@ -172,7 +172,7 @@ TEST(SegmentLawErrors, BothOrNeitherOfLiftAndLiftDeg) {
   c.segments[2].lift_deg = 3.0;
   test::expect_input_error(c, kSegs + "[2]", "exactly one");
   c.segments[2].lift_deg.reset();
-  c.segments[2].lift.reset();  // a return without a lift goes back down by the rise (interface.md)
+  c.segments[2].lift.reset();  // a return without a lift goes back down by the rise (docs/config.md `motion_law`)
   EXPECT_NO_THROW(test::build(c));
   c.segments[0].lift.reset();  // a rise needs one
   test::expect_input_error(c, kSegs + "[0]", "exactly one");

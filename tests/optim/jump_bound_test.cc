@@ -26,7 +26,7 @@ constexpr int kGrid = 600;
 // differences smear it over one interval: the bound's relative error is
 // O(1/grid). Two intervals' worth covers it.
 constexpr double kGridTolerance = 2.0 / kGrid;
-// Speeds quoted to the rpm (physics.md, the closed forms' comments).
+// Speeds quoted to the rpm (README.md, the closed forms' comments).
 constexpr double kQuotedRpm = 1.0;
 
 /// 20 mm rise over 0–120°, dwell to 180°, return over 180–300°, dwell to 360°.
@@ -152,7 +152,7 @@ TEST(AnyLawJumpBound, TheLawsOwnWorstMarginVanishesAtItsJumpSpeed) {
   const RigidFollower f = quickstart_follower();
   const SampledLaw sampled(law);
   const double w = highest_feasible_speed([&](double om) { return sampled.worst_margin(f, om) >= 0.0; }, 100.0, 1e4);
-  EXPECT_NEAR(rpm(w), 1174.0, 2 * kQuotedRpm);  // physics.md §6 for the quickstart: ≈ 1174 rpm, and the sampling
+  EXPECT_NEAR(rpm(w), 1174.0, 2 * kQuotedRpm);  // docs/model.md §9 for the quickstart: ≈ 1174 rpm, and the sampling
   EXPECT_GT(sampled.worst_margin(f, 0.99 * w), 0.0);
   EXPECT_LT(sampled.worst_margin(f, 1.01 * w), 0.0);
 }

@@ -1,6 +1,6 @@
 // studies/compare_laws.json, the jump-speed map: for every law, the first
 // grid speed with separation is the first grid speed above the law's
-// rigid-model jump speed (physics.md §6: no damper, so the rigid model gives
+// rigid-model jump speed (docs/model.md §9: no damper, so the rigid model gives
 // the exact onset; the grid keeps >= 2.5 % away from every jump speed).
 #include <gtest/gtest.h>
 #include <unistd.h>

@@ -91,7 +91,7 @@ TEST(SimulationOutput, FailedRunNamesItsTerminationInTheSummary) {
 
 const std::string kSpecExample = std::string(CAMDYN_TEST_DATA_DIR) + "/spec/interface_simulate.json";
 
-// interface.md's simulate example leaves out the lift of its return: the
+// The simulate example of docs/config.md, "Top level (every study)", leaves out the lift of its return: the
 // follower goes back down by the rise before it. The same law with that lift
 // written out gives the same run to the bit.
 TEST(SpecExample, ReturnWithoutLiftEqualsTheExplicitOne) {

@@ -1,6 +1,6 @@
 // The speed_limit study ("how fast can this go?") on the quickstart
 // mechanism: the simulated limit against the rigid model's jump speed
-// (physics.md §6: below it the follower stays on the cam, above it it
+// (docs/model.md §9: below it the follower stays on the cam, above it it
 // leaves), with and without the damper, whose c ω s' term lowers the bound on
 // the return; and the config's errors.
 #include <gtest/gtest.h>

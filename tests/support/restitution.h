@@ -1,4 +1,4 @@
-// The exact rebound ratio of a hysteresis contact law (physics.md §7), the
+// The exact rebound ratio of a hysteresis contact law (docs/model.md §10), the
 // closed form the drop tests and the bouncing-ball orbit test check against.
 #pragma once
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Writes the contour-cam point files used by tests/geometry/contour_cam_test.cc.
 
-Each file is a `motion_law` object of interface.md, `{ "contour": { "points": [[x, y], ...] } }`,
+Each file is a `motion_law` object of docs/config.md, `{ "contour": { "points": [[x, y], ...] } }`,
 in metres, cam frame at cam angle 0:
 
 * roller_cam_cycloidal.json: the contour of a translating roller cam (base radius 40 mm,
