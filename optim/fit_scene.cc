@@ -6,8 +6,8 @@
 
 #include "common/errors.h"
 #include "dynamics/model_parameters.h"
-#include "geometry/follower_shape.h"
 #include "io/json_archive.h"
+#include "scene/follower_shape.h"
 
 namespace camdyn::optim {
 

@@ -12,12 +12,12 @@
 
 #include "common/errors.h"
 #include "common/study_budget.h"
-#include "contact/force_law.h"
-#include "geometry/follower_shape.h"
 #include "io/csv_reader.h"
 #include "io/dotted_path.h"
 #include "io/json_archive.h"
 #include "io/json_merge.h"
+#include "scene/contact_law_form.h"
+#include "scene/follower_shape.h"
 
 namespace camdyn {
 
@@ -44,7 +44,7 @@ Check plain_name() {
 
 /// The smallest contact exponent n a config may give [-]: below it the run
 /// does not finish (docs/warnings.md). The largest circle radius is
-/// kMaxCircleToBaseRadius (geometry/follower_shape.h).
+/// kMaxCircleToBaseRadius (scene/follower_shape.h).
 constexpr double kMinContactExponent = 0.5;
 /// The fastest start a follower may be given [m/s, or rad/s for an arm].
 constexpr double kMaxInitialSpeed = 1e3;
@@ -187,7 +187,7 @@ void visit(A& a, CamConfig& c) {
             "must be within one revolution (-360 to 360), got " + format_shortest(c.initial_angle_deg));
 }
 
-/// The fields follow from the shape's description (geometry/follower_shape.h):
+/// The fields follow from the shape's description (scene/follower_shape.h):
 /// a circle's 'radius', a line's 'face_width', a rolling shape's 'inertia'.
 template <class A>
 void visit(A& a, ShapeConfig& s) {
