@@ -22,7 +22,7 @@
 #include "dynamics/simulation.h"
 #include "io/config.h"
 #include "io/json_writer.h"
-#include "io/report.h"
+#include "output/report.h"
 #include "study/simulation_output.h"
 
 namespace {

@@ -1,78 +1,50 @@
 #include "optim/fit_scene.h"
 
 #include <algorithm>
+#include <iterator>
 #include <stdexcept>
+#include <string_view>
 #include <utility>
 
 #include "common/errors.h"
 #include "dynamics/model_parameters.h"
-#include "geometry/follower_shape.h"
 #include "io/json_archive.h"
+#include "io/typed_archive.h"
 
 namespace camdyn::optim {
 
 namespace {
 
-using Field = double& (*)(SceneConfig&);
-
-struct NamedField {
-  const char* path;
-  Field field;
+// The parameter block's fields (dynamics/model_parameters.h), by config
+// path: set in place. Each is found in the scene through the loader's visit
+// (io/typed_archive.h), so only a field the scene may give is bound (an
+// optional block the scene lacks, or a field its choices leave out, is not).
+constexpr std::string_view kParameterPaths[] = {
+    "mechanism.follower.mass",
+    "mechanism.follower.inertia",
+    "mechanism.follower.spring.stiffness",
+    "mechanism.follower.spring.preload",
+    "mechanism.follower.damping",
+    "gravity",
+    "mechanism.contact.stiffness",
+    "mechanism.contact.restitution",
+    "mechanism.contact.damping",
+    "mechanism.contact.reference_velocity",
+    "mechanism.contact.friction.mu",
+    "mechanism.contact.friction.regularization_velocity",
+    "mechanism.follower.shape.inertia",
+    "mechanism.follower.guide_friction.mu",
+    "mechanism.follower.guide_friction.regularization_velocity",
+    "mechanism.follower.pivot_friction.mu",
+    "mechanism.follower.pivot_friction.pin_radius",
+    "mechanism.follower.pivot_friction.regularization_velocity",
+    "mechanism.cam.drive.inertia",
+    "mechanism.cam.drive.torsional_stiffness",
+    "mechanism.cam.drive.torsional_damping",
+    "mechanism.cam.drive.motor.stall_torque",
+    "mechanism.cam.drive.motor.no_load_rpm",
+    "mechanism.cam.drive.motor.inertia",
 };
-
-// The parameter block's fields (dynamics/model_parameters.h), by config path.
-// Optional blocks (guide and pivot friction) are bound only when the scene has them.
-const NamedField kParameterFields[] = {
-    {"mechanism.follower.mass", [](SceneConfig& s) -> double& { return s.mechanism.follower.mass; }},
-    {"mechanism.follower.inertia", [](SceneConfig& s) -> double& { return s.mechanism.follower.inertia; }},
-    {"mechanism.follower.spring.stiffness",
-     [](SceneConfig& s) -> double& { return s.mechanism.follower.spring.stiffness; }},
-    {"mechanism.follower.spring.preload",
-     [](SceneConfig& s) -> double& { return s.mechanism.follower.spring.preload; }},
-    {"mechanism.follower.damping", [](SceneConfig& s) -> double& { return s.mechanism.follower.damping; }},
-    {"gravity", [](SceneConfig& s) -> double& { return s.gravity; }},
-    {"mechanism.contact.restitution", [](SceneConfig& s) -> double& { return s.mechanism.contact.restitution; }},
-    {"mechanism.contact.reference_velocity",
-     [](SceneConfig& s) -> double& { return s.mechanism.contact.reference_velocity; }},
-    {"mechanism.contact.friction.mu", [](SceneConfig& s) -> double& { return s.mechanism.contact.friction.mu; }},
-    {"mechanism.contact.friction.regularization_velocity",
-     [](SceneConfig& s) -> double& { return s.mechanism.contact.friction.regularization_velocity; }},
-    {"mechanism.follower.shape.inertia", [](SceneConfig& s) -> double& { return s.mechanism.follower.shape.inertia; }},
-    {"mechanism.cam.drive.inertia", [](SceneConfig& s) -> double& { return s.mechanism.cam.drive.inertia; }},
-    {"mechanism.cam.drive.torsional_stiffness",
-     [](SceneConfig& s) -> double& { return s.mechanism.cam.drive.torsional_stiffness; }},
-    {"mechanism.cam.drive.torsional_damping",
-     [](SceneConfig& s) -> double& { return s.mechanism.cam.drive.torsional_damping; }},
-    {"mechanism.cam.drive.motor.stall_torque",
-     [](SceneConfig& s) -> double& { return s.mechanism.cam.drive.motor.stall_torque; }},
-    {"mechanism.cam.drive.motor.no_load_rpm",
-     [](SceneConfig& s) -> double& { return s.mechanism.cam.drive.motor.no_load_rpm; }},
-    {"mechanism.cam.drive.motor.inertia",
-     [](SceneConfig& s) -> double& { return s.mechanism.cam.drive.motor.inertia; }},
-};
-
-const NamedField kGuideFields[] = {
-    {"mechanism.follower.guide_friction.mu",
-     [](SceneConfig& s) -> double& { return s.mechanism.follower.guide_friction->mu; }},
-    {"mechanism.follower.guide_friction.regularization_velocity",
-     [](SceneConfig& s) -> double& { return s.mechanism.follower.guide_friction->regularization_velocity; }},
-};
-
-const NamedField kPivotFields[] = {
-    {"mechanism.follower.pivot_friction.mu",
-     [](SceneConfig& s) -> double& { return s.mechanism.follower.pivot_friction->mu; }},
-    {"mechanism.follower.pivot_friction.pin_radius",
-     [](SceneConfig& s) -> double& { return s.mechanism.follower.pivot_friction->pin_radius; }},
-    {"mechanism.follower.pivot_friction.regularization_velocity",
-     [](SceneConfig& s) -> double& { return s.mechanism.follower.pivot_friction->regularization_velocity; }},
-};
-
-template <std::size_t N>
-Field find(const NamedField (&table)[N], const std::string& path) {
-  for (const NamedField& f : table)
-    if (path == f.path) return f.field;
-  return nullptr;
-}
 
 std::string values_text(const std::vector<FitParameter>& parameters, const std::vector<double>& values) {
   std::string at;
@@ -83,43 +55,23 @@ std::string values_text(const std::vector<FitParameter>& parameters, const std::
 
 }  // namespace
 
-std::optional<FieldBinding> bind_field(const std::string& path, const SceneConfig& scene) {
-  const ContactConfig& contact = scene.mechanism.contact;
-  const FollowerConfig& follower = scene.mechanism.follower;
+std::optional<FieldBinding> bind_field(const std::string& path, SceneConfig& scene) {
   FieldBinding b;
-  if ((b.field = find(kParameterFields, path))) return b;
-  if (follower.guide_friction && (b.field = find(kGuideFields, path))) return b;
-  if (follower.pivot_friction && (b.field = find(kPivotFields, path))) return b;
-  if (path == "mechanism.contact.stiffness" && contact.stiffness) {
-    b.field = [](SceneConfig& s) -> double& { return *s.mechanism.contact.stiffness; };
-    return b;
-  }
-  if (path == "mechanism.contact.damping" && contact.damping) {
-    b.field = [](SceneConfig& s) -> double& { return *s.mechanism.contact.damping; };
-    return b;
-  }
   if (path == "mechanism.contact.exponent") {
     // Stiffness from materials fixes the exponent: build_model checks it.
-    b.kind = contact.from_materials ? FieldKind::geometry : FieldKind::parameter;
-    b.field = [](SceneConfig& s) -> double& { return s.mechanism.contact.exponent; };
-    return b;
+    b.kind = scene.mechanism.contact.from_materials ? FieldKind::geometry : FieldKind::parameter;
+  } else if (path == "mechanism.follower.initial.velocity") {
+    b.kind = FieldKind::scene;
+  } else if (path == "mechanism.cam.base_radius" || path == "mechanism.follower.shape.radius") {
+    b.kind = FieldKind::geometry;
+    b.positive = true;
+  } else if (std::find(std::begin(kParameterPaths), std::end(kParameterPaths), path) == std::end(kParameterPaths)) {
+    return std::nullopt;
   }
-  b.kind = FieldKind::scene;
-  if (path == "mechanism.follower.initial.velocity") {
-    b.field = [](SceneConfig& s) -> double& { return s.mechanism.follower.initial.velocity; };
-    return b;
-  }
-  b.kind = FieldKind::geometry;
-  b.positive = true;
-  if (path == "mechanism.cam.base_radius" && !scene.mechanism.cam.motion_law.contour) {
-    b.field = [](SceneConfig& s) -> double& { return s.mechanism.cam.base_radius; };
-    return b;
-  }
-  if (path == "mechanism.follower.shape.radius" && follower_shape_traits(follower.shape.type).takes_radius()) {
-    b.field = [](SceneConfig& s) -> double& { return s.mechanism.follower.shape.radius; };
-    return b;
-  }
-  return std::nullopt;
+  const std::optional<SceneField> field = try_find_scene_field(scene, path);
+  if (!field) return std::nullopt;
+  b.field = field->value;
+  return b;
 }
 
 FitScene::FitScene(const FitExperiment& experiment, const std::vector<FitParameter>& parameters,
@@ -128,12 +80,12 @@ FitScene::FitScene(const FitExperiment& experiment, const std::vector<FitParamet
       parameters_(parameters),
       source_(source),
       json_fallback_(from_json),
-      scene_(experiment.scene) {
+      scene_(std::make_unique<SceneConfig>(experiment.scene)) {
   for (const FitParameter& p : parameters) {
-    bindings_.push_back(bind_field(p.path, scene_));
+    bindings_.push_back(bind_field(p.path, *scene_));
     json_fallback_ = json_fallback_ || !bindings_.back();
   }
-  model_ = build_model(scene_, source_.file);
+  model_ = build_model(*scene_, source_.file);
   ws_ = make_workspace(model_);
   options_.record_series = false;
   options_.sample_times = experiment.record.time;
@@ -153,7 +105,7 @@ FitScene::FitScene(const FitExperiment& experiment, const std::vector<FitParamet
 
 void FitScene::rebuild() {
   model_current_ = false;
-  model_ = build_model(scene_, source_.file);
+  model_ = build_model(*scene_, source_.file);
   ++model_builds_;
   model_current_ = true;
 }
@@ -161,7 +113,7 @@ void FitScene::rebuild() {
 void FitScene::set(const std::vector<double>& values) {
   if (json_fallback_) {
     // The old route, for paths without a typed field: the whole scene read again.
-    scene_ = scene_with(experiment_.scene_json, parameters_, values, source_);
+    *scene_ = scene_with(experiment_.scene_json, parameters_, values, source_);
     ++json_reads_;
     rebuild();
     return;
@@ -169,7 +121,7 @@ void FitScene::set(const std::vector<double>& values) {
   bool geometry_changed = !model_current_;
   for (std::size_t i = 0; i < values.size(); ++i) {
     const FieldBinding& b = *bindings_[i];
-    double& field = b.field(scene_);
+    double& field = *b.field;
     if (b.kind != FieldKind::geometry) {
       field = values[i];
       continue;
@@ -180,7 +132,7 @@ void FitScene::set(const std::vector<double>& values) {
     field = values[i];
   }
   if (!geometry_changed) {
-    const ModelParameters p = model_parameters(scene_, model_);
+    const ModelParameters p = model_parameters(*scene_, model_);
     if (same_structure(model_, p)) {
       set_parameters(model_, p, source_.file);
       return;
@@ -189,7 +141,7 @@ void FitScene::set(const std::vector<double>& values) {
   rebuild();
 }
 
-SimulationResult FitScene::simulate() { return camdyn::simulate(scene_, model_, ws_, options_); }
+SimulationResult FitScene::simulate() { return camdyn::simulate(*scene_, model_, ws_, options_); }
 
 FitRun FitScene::run(const std::vector<double>& values) {
   FitRun run;

@@ -14,6 +14,7 @@
 
 #include <cstddef>
 #include <exception>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -30,13 +31,15 @@ enum class FieldKind { parameter, scene, geometry };
 /// A fitted dotted path bound to the typed scene field it names.
 struct FieldBinding {
   FieldKind kind = FieldKind::parameter;
-  double& (*field)(SceneConfig&) = nullptr;
-  bool positive = false;  ///< geometry: the config requires > 0
+  double* field = nullptr;  ///< in the scene it was bound in
+  bool positive = false;    ///< geometry: the config requires > 0
 };
 
-/// The typed field `path` (full dotted path) names in `scene`, or nothing
-/// when it has none (an array element, a field of an absent optional block).
-std::optional<FieldBinding> bind_field(const std::string& path, const SceneConfig& scene);
+/// The typed field `path` (full dotted path) names in `scene`, found through
+/// the config loader's visit (io/typed_archive.h), or nothing when it has
+/// none (an array element, a field of an absent optional block, one the
+/// scene's choices leave out).
+std::optional<FieldBinding> bind_field(const std::string& path, SceneConfig& scene);
 
 /// The simulated signals of one experiment at one parameter vector.
 struct FitRun {
@@ -64,7 +67,7 @@ class FitScene {
   /// set() and simulate(), failures caught and described (with the values).
   FitRun run(const std::vector<double>& values);
 
-  const SceneConfig& scene() const { return scene_; }
+  const SceneConfig& scene() const { return *scene_; }
   const Model& model() const { return model_; }
   long model_builds() const { return model_builds_; }  ///< build_model() calls after construction
   long json_reads() const { return json_reads_; }      ///< scenes read from JSON after construction
@@ -76,8 +79,8 @@ class FitScene {
   const std::vector<FitParameter>& parameters_;
   ConfigSource source_;
   std::vector<std::optional<FieldBinding>> bindings_;  ///< per parameter
-  bool json_fallback_ = false;  ///< the old route: some parameter has no typed field (or from_json)
-  SceneConfig scene_;
+  bool json_fallback_ = false;          ///< the old route: some parameter has no typed field (or from_json)
+  std::unique_ptr<SceneConfig> scene_;  ///< on the heap: the bindings point into it, and a FitScene may move
   Model model_;
   bool model_current_ = true;  ///< model_ is built from scene_ (false after a failed rebuild)
   Workspace ws_;

@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "io/cam_plots.h"
 #include "io/csv_writer.h"
 #include "io/json_writer.h"
+#include "output/cam_plots.h"
 
 namespace camdyn::optim {
 

@@ -9,8 +9,8 @@
 #include <filesystem>
 
 #include "io/config.h"
-#include "io/report.h"
 #include "optim/identify.h"
+#include "output/report.h"
 
 namespace camdyn::optim {
 
@@ -21,7 +21,7 @@ Json identified_json(const IdentifyProblem& problem, const IdentifyResult& resul
 Json identified_scene_json(const IdentifyProblem& problem, const IdentifyResult& result);
 
 /// The report page: parameter table with uncertainties, measured against
-/// fitted signals, residuals, the identified scene's cam (io/cam_plots.h).
+/// fitted signals, residuals, the identified scene's cam (output/cam_plots.h).
 Report identify_report(const IdentifyProblem& problem, const IdentifyResult& result);
 
 /// Writes the four files into `out_dir` (created if missing).

@@ -12,7 +12,7 @@
 #include "dynamics/model.h"
 #include "geometry/cam_synthesis.h"
 #include "geometry/motion_law.h"
-#include "io/report.h"
+#include "output/report.h"
 #include "study/simulation_output.h"
 
 namespace camdyn::optim {

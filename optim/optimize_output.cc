@@ -10,9 +10,9 @@
 #include "dynamics/model.h"
 #include "io/csv_writer.h"
 #include "io/json_writer.h"
-#include "io/profile_export.h"
-#include "io/report.h"
 #include "optim/optimize_report.h"
+#include "output/profile_export.h"
+#include "output/report.h"
 #include "study/simulation_output.h"
 
 namespace camdyn::optim {

@@ -8,8 +8,8 @@
 
 #include "common/errors.h"
 #include "dynamics/model.h"
-#include "io/cam_plots.h"
 #include "optim/rigid_design.h"
+#include "output/cam_plots.h"
 
 namespace camdyn::optim {
 

@@ -7,11 +7,11 @@
 
 #include "common/errors.h"
 #include "io/json_writer.h"
-#include "io/report.h"
 #include "optim/optimize.h"
 #include "optim/optimize_checkpoint.h"
 #include "optim/optimize_config.h"
 #include "optim/optimize_output.h"
+#include "output/report.h"
 
 namespace camdyn::optim {
 

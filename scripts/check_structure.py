@@ -2,7 +2,7 @@
 """Checks the three structural rules of camdyn's code (docs/architecture.md, "Layers"):
 
 1. No folder includes a folder above it. The layers, bottom first:
-       common < scene < geometry < contact < integrate < dynamics < io < study < api < optim < cli < python
+       common < scene < io < geometry < contact < integrate < dynamics < output < study < api < optim < cli < python
    A file in src/<layer>/ (optim/ is the optim layer, python/ the python
    layer) may include headers of its own layer and of the layers below it
    only, and never with "../". The Python module (python/) stands on the
@@ -38,7 +38,7 @@ import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-LAYERS = ["common", "scene", "geometry", "contact", "integrate", "dynamics", "io", "study", "api", "optim", "cli", "python"]
+LAYERS = ["common", "scene", "io", "geometry", "contact", "integrate", "dynamics", "output", "study", "api", "optim", "cli", "python"]
 # The private headers the python layer may include (it is built on the public API).
 PYTHON_PRIVATE = {"cli/run_study.h"}
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"')

@@ -23,7 +23,7 @@
 #include "common/study_budget.h"
 #include "dynamics/model.h"
 #include "io/config.h"
-#include "io/profile_export.h"
+#include "output/profile_export.h"
 #include "study/mpi_runner.h"
 
 namespace {

@@ -10,21 +10,8 @@
 namespace camdyn {
 
 // ---------------------------------------------------------------- the laws
-// A new law: its word in scene/scene.h, a case in both switches below.
-
-ForceForm force_form(ContactModel model) {
-  switch (model) {
-    case ContactModel::hertz:
-      return ForceForm::elastic;
-    case ContactModel::kelvin_voigt:
-      return ForceForm::viscous;
-    case ContactModel::hunt_crossley:
-    case ContactModel::lankarani_nikravesh:
-    case ContactModel::flores:
-      return ForceForm::hysteresis;
-  }
-  throw std::invalid_argument("not a ContactModel value");
-}
+// A new law: its word in scene/scene.h, a case in force_form()
+// (scene/contact_law_form.cc) and in chi() below.
 
 double ForceLaw::chi() const {
   const double e = restitution;
@@ -40,17 +27,6 @@ double ForceLaw::chi() const {
       return 1.6 * (1.0 - e) / e;
   }
   throw std::invalid_argument("not a ContactModel value");
-}
-
-// ---------------------------------------------------------------- from the form
-
-std::string law_words(ForceForm form) {
-  std::string words;
-  for (const EnumName<ContactModel>& law : enum_names(ContactModel{})) {
-    if (force_form(law.value) != form) continue;
-    words += (words.empty() ? "'" : " or '") + std::string(law.name) + "'";
-  }
-  return words;
 }
 
 double ForceLaw::elastic_force(double delta) const {

@@ -4,32 +4,19 @@
 //   Lankarani & Nikravesh 1990:    D = 3 K (1 − e²) / (4 v₀)   δ^n
 //   Flores et al. 2011:            D = 8 K (1 − e)  / (5 e v₀) δ^n
 // The last three share the form F = K δ^n (1 + χ δ̇ / v₀) with a model factor χ.
-// What each law is (its form, its χ) is in force_law.cc, in the two switches
-// over ContactModel (force_form() and ForceLaw::chi()); everything else asks
-// them (docs/architecture.md, "Adding a contact law").
+// What each law is (its form, its χ) is in the two switches over ContactModel,
+// force_form() (scene/contact_law_form.cc) and ForceLaw::chi() (force_law.cc);
+// everything else asks them (docs/architecture.md, "Adding a contact law").
 #pragma once
 
 #include <cmath>
 #include <string>
 
-#include "geometry/vec2.h"  // value()
-#include "scene/scene.h"    // ContactModel
+#include "geometry/vec2.h"           // value()
+#include "scene/contact_law_form.h"  // ForceForm, force_form()
+#include "scene/scene.h"             // ContactModel
 
 namespace camdyn {
-
-/// The form of a law's normal force F_n (docs/model.md §3).
-enum class ForceForm {
-  elastic,     ///< K δ^n: no damping, no clamp switch (hertz)
-  viscous,     ///< K δ^n + c δ̇ with the config's 'damping' c [N s/m] (kelvin_voigt)
-  hysteresis,  ///< K δ^n (1 + χ δ̇ / v₀), χ from the restitution e (ForceLaw::chi())
-};
-
-/// The form of `model`'s force. A law missing here is a compiler error (-Wswitch).
-ForceForm force_form(ContactModel model);
-
-/// The config words of the laws of `form`, each quoted and joined by " or "
-/// ("'kelvin_voigt'"), for messages.
-std::string law_words(ForceForm form);
 
 /// δ^n [m^n] for δ > 0, with the exponents of practice (Hertz's 1.5, the
 /// linear 1) by a square root or nothing instead of pow: about ten times

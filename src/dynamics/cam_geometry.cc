@@ -8,7 +8,7 @@
 #include "common/errors.h"
 #include "dynamics/plausibility.h"
 #include "geometry/check_text.h"
-#include "geometry/follower_shape.h"
+#include "scene/follower_shape.h"
 
 namespace camdyn {
 
@@ -97,7 +97,6 @@ void check_cam_limits(const CamLimitsConfig& limits, const CamGeometryReport& g,
                            check_text::num(*limits.max_peak_jerk));
   }
 }
-
 
 /// The base radius of a contour cam: of the circle the follower touches at
 /// its lowest position [m]. Refuses a circle too large for it, as the loader

@@ -12,7 +12,7 @@
 #include "dynamics/dual.h"
 #include "dynamics/plausibility.h"
 #include "geometry/check_text.h"
-#include "geometry/follower_shape.h"
+#include "scene/follower_shape.h"
 
 namespace camdyn {
 

@@ -1,12 +1,15 @@
 #include "dynamics/model_parameters.h"
 
 #include <cassert>
-#include <charconv>
-#include <cmath>
+#include <deque>
 #include <numbers>
+#include <optional>
+#include <utility>
+#include <vector>
 
 #include "common/errors.h"
-#include "contact/force_law.h"
+#include "io/typed_archive.h"
+#include "scene/contact_law_form.h"
 
 namespace camdyn {
 
@@ -14,74 +17,108 @@ namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
-/// Shortest round-trip text, as the config loader prints numbers.
-std::string shortest(double x) {
-  char buffer[64];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, x);
-  return std::string(buffer, result.ptr);
-}
-
-/// Checks one value with the config loader's rules and messages.
-class Checker {
- public:
-  explicit Checker(const std::string& file) : file_(file) {}
-  void positive(const char* path, double x) const { check(path, x, x > 0.0, "must be > 0"); }
-  void non_negative(const char* path, double x) const { check(path, x, x >= 0.0, "must be >= 0"); }
-  void up_to(const char* path, double x, double high, const char* range) const {
-    check(path, x, x > 0.0 && x <= high, range);
-  }
-  void finite(const char* path, double x) const { check(path, x, true, ""); }
-
- private:
-  void check(const char* path, double x, bool ok, const char* requirement) const {
-    if (!std::isfinite(x)) throw InputError(file_, path, "expected a finite number, got " + shortest(x));
-    if (!ok) throw InputError(file_, path, std::string(requirement) + ", got " + shortest(x));
-  }
-  const std::string& file_;
+/// A field of the parameter block: its path in a config (docs/config.md)
+/// and its member.
+struct ParameterField {
+  const char* path;
+  double ModelParameters::*value;
 };
 
+constexpr ParameterField kParameterFields[] = {
+    {"mechanism.follower.mass", &ModelParameters::mass},
+    {"mechanism.follower.inertia", &ModelParameters::mass},
+    {"mechanism.follower.spring.stiffness", &ModelParameters::spring_stiffness},
+    {"mechanism.follower.spring.preload", &ModelParameters::spring_preload},
+    {"mechanism.follower.damping", &ModelParameters::damping},
+    {"gravity", &ModelParameters::gravity},
+    {"mechanism.contact.stiffness", &ModelParameters::contact_stiffness},
+    {"mechanism.contact.exponent", &ModelParameters::contact_exponent},
+    {"mechanism.contact.restitution", &ModelParameters::restitution},
+    {"mechanism.contact.damping", &ModelParameters::contact_damping},
+    {"mechanism.contact.reference_velocity", &ModelParameters::reference_velocity},
+    {"mechanism.contact.friction.mu", &ModelParameters::friction_mu},
+    {"mechanism.contact.friction.regularization_velocity", &ModelParameters::friction_regularization_velocity},
+    {"mechanism.follower.shape.inertia", &ModelParameters::roller_inertia},
+    {"mechanism.follower.guide_friction.mu", &ModelParameters::guide_mu},
+    {"mechanism.follower.guide_friction.regularization_velocity", &ModelParameters::guide_regularization_velocity},
+    {"mechanism.follower.pivot_friction.mu", &ModelParameters::pivot_mu},
+    {"mechanism.follower.pivot_friction.pin_radius", &ModelParameters::pin_radius},
+    {"mechanism.follower.pivot_friction.regularization_velocity", &ModelParameters::pivot_regularization_velocity},
+    {"mechanism.cam.drive.inertia", &ModelParameters::cam_inertia},
+    {"mechanism.cam.drive.torsional_stiffness", &ModelParameters::shaft_stiffness},
+    {"mechanism.cam.drive.torsional_damping", &ModelParameters::shaft_damping},
+    {"mechanism.cam.drive.motor.stall_torque", &ModelParameters::stall_torque},
+    {"mechanism.cam.drive.motor.no_load_rpm", &ModelParameters::no_load_rpm},
+    {"mechanism.cam.drive.motor.inertia", &ModelParameters::motor_inertia},
+};
+
+/// The choices of a model that decide which of these fields its scene has
+/// and which checks the loader gives them.
+struct Structure {
+  FollowerMotion motion;
+  FollowerShape shape;
+  ContactModel law;
+  Drive drive;
+  Motor motor;
+  bool guide_friction, pivot_friction;
+  bool operator==(const Structure&) const = default;
+};
+
+Structure structure_of(const Model& m) {
+  return {m.follower.motion, m.follower.shape,     m.contact.model,     m.drive,
+          m.motor,           m.has_guide_friction, m.has_pivot_friction};
+}
+
+/// The loader's checks of the parameter block of the models of one structure.
+struct ParameterChecks {
+  Structure structure;
+  std::vector<std::pair<double ModelParameters::*, SceneField>> fields;  ///< the fields their scene has
+};
+
+/// Found through the loader's visit (io/typed_archive.h) on a scene with
+/// `s`'s choices and every optional parameter given.
+ParameterChecks find_parameter_checks(const Structure& s) {
+  SceneConfig scene;
+  FollowerConfig& f = scene.mechanism.follower;
+  f.motion = s.motion;
+  f.shape.type = s.shape;
+  if (s.guide_friction) f.guide_friction.emplace();
+  if (s.pivot_friction) f.pivot_friction.emplace();
+  ContactConfig& c = scene.mechanism.contact;
+  c.model = s.law;
+  c.stiffness = 1.0;
+  c.damping = 0.0;  // given, so that a law without damping shows how it refuses one
+  scene.mechanism.cam.drive.type = s.drive;
+  scene.mechanism.cam.drive.motor.type = s.motor;
+  ParameterChecks checks{s, {}};
+  for (const ParameterField& p : kParameterFields) {
+    std::optional<SceneField> field = try_find_scene_field(scene, p.path);
+    if (!field) continue;
+    field->value = nullptr;  // it points into `scene`
+    checks.fields.emplace_back(p.value, std::move(*field));
+  }
+  return checks;
+}
+
+/// Those of `model`'s structure: found once per structure and thread, so
+/// that setting parameters on a model allocates nothing after the first time.
+const ParameterChecks& parameter_checks(const Model& model) {
+  thread_local std::deque<ParameterChecks> found;  // a deque keeps the references it returned
+  const Structure s = structure_of(model);
+  for (const ParameterChecks& c : found)
+    if (c.structure == s) return c;
+  return found.emplace_back(find_parameter_checks(s));
+}
+
+/// Checks every value with the config loader's checks (io/config.cc), so
+/// that set_parameters() accepts what a config may give and nothing else.
 void check_parameters(const Model& model, const ModelParameters& p, const std::string& file) {
-  const Checker c(file);
-  const bool oscillating = model.follower.oscillating();
-  c.positive(oscillating ? "mechanism.follower.inertia" : "mechanism.follower.mass", p.mass);
-  c.non_negative("mechanism.follower.spring.stiffness", p.spring_stiffness);
-  c.non_negative("mechanism.follower.spring.preload", p.spring_preload);
-  c.non_negative("mechanism.follower.damping", p.damping);
-  c.finite("gravity", p.gravity);
-  if (oscillating && p.gravity != 0.0)
-    throw InputError(file, "gravity",
-                     "gravity on an oscillating arm is not modelled (its centre of mass is not known): set it to 0 and "
-                     "fold the arm's weight into the spring preload");
-  c.positive("mechanism.contact.stiffness", p.contact_stiffness);
-  c.up_to("mechanism.contact.exponent", p.contact_exponent, 5.0, "must be in (0, 5]");
-  c.up_to("mechanism.contact.restitution", p.restitution, 1.0, "must be in (0, 1]");
-  c.non_negative("mechanism.contact.damping", p.contact_damping);
-  if (force_form(model.contact.model) != ForceForm::viscous && p.contact_damping != 0.0)
-    throw InputError(file, "mechanism.contact.damping",
-                     "only model " + law_words(ForceForm::viscous) + " uses 'damping' (model '" +
-                         to_string(model.contact.model) + "' derives it from 'restitution'); set it to null");
-  c.positive("mechanism.contact.reference_velocity", p.reference_velocity);
-  c.non_negative("mechanism.contact.friction.mu", p.friction_mu);
-  c.positive("mechanism.contact.friction.regularization_velocity", p.friction_regularization_velocity);
-  c.non_negative("mechanism.follower.shape.inertia", p.roller_inertia);
-  if (model.has_guide_friction) {
-    c.non_negative("mechanism.follower.guide_friction.mu", p.guide_mu);
-    c.positive("mechanism.follower.guide_friction.regularization_velocity", p.guide_regularization_velocity);
-  }
-  if (model.has_pivot_friction) {
-    c.non_negative("mechanism.follower.pivot_friction.mu", p.pivot_mu);
-    c.positive("mechanism.follower.pivot_friction.pin_radius", p.pin_radius);
-    c.positive("mechanism.follower.pivot_friction.regularization_velocity", p.pivot_regularization_velocity);
-  }
-  if (model.drive == Drive::shaft) {
-    c.positive("mechanism.cam.drive.inertia", p.cam_inertia);
-    c.positive("mechanism.cam.drive.torsional_stiffness", p.shaft_stiffness);
-    c.non_negative("mechanism.cam.drive.torsional_damping", p.shaft_damping);
-    if (model.motor == Motor::torque_speed) {
-      c.positive("mechanism.cam.drive.motor.stall_torque", p.stall_torque);
-      c.positive("mechanism.cam.drive.motor.no_load_rpm", p.no_load_rpm);
-      c.positive("mechanism.cam.drive.motor.inertia", p.motor_inertia);
-    }
+  const bool viscous = force_form(model.contact.model) == ForceForm::viscous;
+  for (const auto& [member, field] : parameter_checks(model).fields) {
+    const double x = p.*member;
+    // Another law's damping is 0 when the scene gives none (model_parameters()): only a value is refused.
+    if (member == &ModelParameters::contact_damping && !viscous && x == 0.0) continue;
+    if (std::string reason = field.reason(x); !reason.empty()) throw InputError(file, field.path, std::move(reason));
   }
 }
 

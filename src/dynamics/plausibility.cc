@@ -8,7 +8,7 @@
 
 #include "common/errors.h"
 #include "contact/force_law.h"
-#include "geometry/follower_shape.h"
+#include "scene/follower_shape.h"
 
 namespace camdyn {
 

@@ -22,8 +22,8 @@
 #include <string>
 #include <vector>
 
-#include "geometry/follower_shape.h"
 #include "geometry/planar_curve.h"
+#include "scene/follower_shape.h"
 
 namespace camdyn {
 

@@ -23,8 +23,8 @@
 #include <cmath>
 #include <string>
 
-#include "geometry/follower_shape.h"
 #include "geometry/vec2.h"
+#include "scene/follower_shape.h"
 #include "scene/scene.h"
 
 namespace camdyn {

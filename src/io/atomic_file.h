@@ -16,7 +16,7 @@ void write_file_atomic(const std::filesystem::path& path, std::string_view conte
 
 /// Removes the temporary files `<name>.tmp.<pid>` that killed runs left in
 /// `dir` and its subfolders (one level): those whose process is gone. A run
-/// that holds the folder's lock (io/output_folder.h) calls it at its start,
+/// that holds the folder's lock (output/output_folder.h) calls it at its start,
 /// so a file the new run never writes again leaves no temporary behind either.
 void remove_stale_temporary_files(const std::filesystem::path& dir);
 

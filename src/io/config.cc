@@ -12,12 +12,13 @@
 
 #include "common/errors.h"
 #include "common/study_budget.h"
-#include "contact/force_law.h"
-#include "geometry/follower_shape.h"
 #include "io/csv_reader.h"
 #include "io/dotted_path.h"
 #include "io/json_archive.h"
 #include "io/json_merge.h"
+#include "io/typed_archive.h"
+#include "scene/contact_law_form.h"
+#include "scene/follower_shape.h"
 
 namespace camdyn {
 
@@ -44,7 +45,7 @@ Check plain_name() {
 
 /// The smallest contact exponent n a config may give [-]: below it the run
 /// does not finish (docs/warnings.md). The largest circle radius is
-/// kMaxCircleToBaseRadius (geometry/follower_shape.h).
+/// kMaxCircleToBaseRadius (scene/follower_shape.h).
 constexpr double kMinContactExponent = 0.5;
 /// The fastest start a follower may be given [m/s, or rad/s for an arm].
 constexpr double kMaxInitialSpeed = 1e3;
@@ -52,6 +53,51 @@ constexpr double kMaxInitialSpeed = 1e3;
 /// grows with it (the contact point sweeps the contour at R ω: 1e4 m takes
 /// 12x the time of 1 m, 1e5 m does not finish).
 constexpr double kMaxBaseRadius = 100.0;
+
+// Conditions on one value that depend on the scene's choices are checks of
+// that field (not `require`s), so that whatever checks a value without JSON
+// (io/typed_archive.h: set_parameters, identification) gets them too.
+namespace {
+
+/// Below kMinContactExponent, K δ^n is a step from 0 to K at first touch:
+/// the integrator chatters on it without end (docs/warnings.md).
+Check contact_exponent_floor() {
+  Check check;
+  check.expected = "a number >= " + format_shortest(kMinContactExponent);
+  check.number = [](double n) -> std::string {
+    if (n >= kMinContactExponent) return "";
+    return "must be >= " + format_shortest(kMinContactExponent) + ", got " + format_shortest(n) +
+           ": with so small an exponent the force K delta^n jumps from 0 to K at first touch and the run "
+           "never finishes (1 for line contact, 1.5 for Hertz point contact)";
+  };
+  return check;
+}
+
+/// A law of another form than the viscous one derives its damping from the
+/// restitution: any 'damping' given to it is refused (docs/config.md).
+Check damping_unused_by(ContactModel model) {
+  Check check;
+  check.expected = "null";
+  check.number = [model](double /*c*/) -> std::string {
+    return "only model " + law_words(ForceForm::viscous) + " uses 'damping' (model '" + to_string(model) +
+           "' derives it from 'restitution'); set it to null";
+  };
+  return check;
+}
+
+/// An oscillating arm's centre of mass is not known: its gravity must be 0.
+Check no_gravity_on_an_arm() {
+  Check check;
+  check.expected = "0";
+  check.number = [](double g) -> std::string {
+    if (g == 0.0) return "";
+    return "gravity on an oscillating arm is not modelled (its centre of mass is not known): set it to 0 and "
+           "fold the arm's weight into the spring preload";
+  };
+  return check;
+}
+
+}  // namespace
 
 // ---------------------------------------------------------------- motion law
 
@@ -187,7 +233,7 @@ void visit(A& a, CamConfig& c) {
             "must be within one revolution (-360 to 360), got " + format_shortest(c.initial_angle_deg));
 }
 
-/// The fields follow from the shape's description (geometry/follower_shape.h):
+/// The fields follow from the shape's description (scene/follower_shape.h):
 /// a circle's 'radius', a line's 'face_width', a rolling shape's 'inertia'.
 template <class A>
 void visit(A& a, ShapeConfig& s) {
@@ -286,9 +332,10 @@ void visit(A& a, FrictionConfig& f) {
 }
 
 namespace {
-/// The JSON shape `"stiffness": { "from_materials": {...} }`.
+/// The JSON shape `"stiffness": { "from_materials": {...} }`, over the
+/// contact's own block (so that a field found in it is the scene's).
 struct StiffnessFromMaterials {
-  MaterialsConfig from_materials;
+  MaterialsConfig& from_materials;
 };
 template <class A>
 void visit(A& a, StiffnessFromMaterials& s) {
@@ -300,9 +347,9 @@ template <class A>
 void visit(A& a, ContactConfig& c) {
   a.field("model", c.model);
   if (a.given_object("stiffness", c.from_materials.has_value())) {
-    StiffnessFromMaterials wrapper{c.from_materials.value_or(MaterialsConfig{})};
+    if (!c.from_materials) c.from_materials.emplace();
+    StiffnessFromMaterials wrapper{*c.from_materials};
     a.field("stiffness", wrapper);
-    c.from_materials = wrapper.from_materials;
     c.stiffness.reset();
   } else {
     a.field("stiffness", c.stiffness, positive());
@@ -310,22 +357,13 @@ void visit(A& a, ContactConfig& c) {
   }
   a.require(c.stiffness || c.from_materials, "stiffness",
             "missing (expected a number > 0 [N/m^n] or { \"from_materials\": {...} })");
-  a.field("exponent", c.exponent, open_closed(0, 5));
-  // Below this K δ^n is a step from 0 to K at first touch: the integrator
-  // chatters on it without end (docs/warnings.md).
-  a.require(c.exponent >= kMinContactExponent, "exponent",
-            "must be >= " + format_shortest(kMinContactExponent) + ", got " + format_shortest(c.exponent) +
-                ": with so small an exponent the force K delta^n jumps from 0 to K at first touch and the run "
-                "never finishes (1 for line contact, 1.5 for Hertz point contact)");
+  a.field("exponent", c.exponent, open_closed(0, 5), contact_exponent_floor());
   a.field("restitution", c.restitution, open_closed(0, 1));
-  a.field("damping", c.damping, non_negative());
-  if (force_form(c.model) == ForceForm::viscous) {
+  const bool viscous = force_form(c.model) == ForceForm::viscous;
+  a.field("damping", c.damping, non_negative(), viscous ? Check{} : damping_unused_by(c.model));
+  if (viscous) {
     a.require(c.damping.has_value(), "damping",
               "missing: model '" + to_string(c.model) + "' needs 'damping' [N s/m] >= 0");
-  } else {
-    a.require(!c.damping, "damping",
-              "only model " + law_words(ForceForm::viscous) + " uses 'damping' (model '" + to_string(c.model) +
-                  "' derives it from 'restitution'); set it to null");
   }
   a.field("reference_velocity", c.reference_velocity, positive());
   a.field("friction", c.friction);
@@ -486,10 +524,8 @@ void visit(A& a, SceneConfig& s) {
   a.allow("description", Json::value_t::string);
   a.forbid({"extends"}, "'extends' is resolved when the file is loaded (load_config_json)");
   a.field("mechanism", s.mechanism);
-  a.field("gravity", s.gravity);
-  a.require(s.gravity == 0.0 || s.mechanism.follower.motion == FollowerMotion::translating, "gravity",
-            "gravity on an oscillating arm is not modelled (its centre of mass is not known): set it to 0 and "
-            "fold the arm's weight into the spring preload");
+  a.field("gravity", s.gravity,
+          s.mechanism.follower.motion == FollowerMotion::translating ? Check{} : no_gravity_on_an_arm());
   a.field("simulation", s.simulation);
   a.field("integrator", s.integrator);
   a.field("outputs", s.outputs);
@@ -644,6 +680,30 @@ Json to_json(const SceneConfig& scene) {
   JsonWriter writer;
   visit(writer, copy);
   return writer.json();
+}
+
+// ---------------------------------------------------------------- typed scenes (io/typed_archive.h)
+
+void check_scene(const SceneConfig& scene, const std::string& file) { check_scene_fields(scene, {}, file); }
+
+void check_scene_fields(const SceneConfig& scene, std::span<const std::string_view> paths, const std::string& file) {
+  SceneConfig copy = scene;  // visit takes a mutable reference (it is shared with the reader)
+  TypedChecker checker(file, paths);
+  visit(checker, copy);
+  checker.finish();
+}
+
+std::optional<SceneField> try_find_scene_field(SceneConfig& scene, const std::string& path) {
+  FieldLocator locator(full_dotted_path(path));
+  visit(locator, scene);
+  return locator.result();
+}
+
+SceneField find_scene_field(SceneConfig& scene, const std::string& path, const std::string& file) {
+  FieldLocator locator(full_dotted_path(path));
+  visit(locator, scene);
+  if (std::optional<SceneField> field = locator.result()) return *std::move(field);
+  throw InputError(file, locator.error_path(), locator.error());
 }
 
 ConfigSource config_source(const std::string& file) { return ConfigSource{file, directory_of(file)}; }

@@ -65,7 +65,7 @@ inline constexpr EnumName<RotationDirection> kRotationDirectionNames[] = {{Rotat
 constexpr std::span<const EnumName<RotationDirection>> enum_names(RotationDirection) { return kRotationDirectionNames; }
 
 /// What each shape is (contact element, rolling, label, its config fields):
-/// geometry/follower_shape.h, the one switch over this enum.
+/// scene/follower_shape.h, the one switch over this enum.
 enum class FollowerShape { roller, flat, mushroom };
 inline constexpr EnumName<FollowerShape> kFollowerShapeNames[] = {
     {FollowerShape::roller, "roller"}, {FollowerShape::flat, "flat"}, {FollowerShape::mushroom, "mushroom"}};
@@ -397,7 +397,7 @@ inline constexpr EnumName<ProfileFormat> kProfileFormatNames[] = {{ProfileFormat
 constexpr std::span<const EnumName<ProfileFormat>> enum_names(ProfileFormat) { return kProfileFormatNames; }
 
 /// `outputs.profile`: the cam written out for manufacturing (profile.csv,
-/// profile.dxf; io/profile_export.h). Lengths in millimetres, as in the files.
+/// profile.dxf; output/profile_export.h). Lengths in millimetres, as in the files.
 struct ProfileOutputConfig {
   std::vector<ProfileFormat> formats = {ProfileFormat::csv, ProfileFormat::dxf};
   std::optional<int> points;                 ///< N points at equal cam-angle steps; null = by chord tolerance

@@ -13,8 +13,8 @@
 
 #include "common/errors.h"
 #include "dynamics/metrics.h"
-#include "io/cam_plots.h"
-#include "io/report.h"
+#include "output/cam_plots.h"
+#include "output/report.h"
 #include "study/compare_output.h"
 
 namespace camdyn {

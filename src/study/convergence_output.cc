@@ -3,10 +3,10 @@
 #include <chrono>
 #include <utility>
 
-#include "io/cam_plots.h"
 #include "io/csv_writer.h"
 #include "io/json_writer.h"
-#include "io/report.h"
+#include "output/cam_plots.h"
+#include "output/report.h"
 
 namespace camdyn {
 

@@ -11,10 +11,10 @@
 #include <map>
 #include <set>
 
-#include "io/cam_plots.h"
 #include "io/csv_writer.h"
 #include "io/json_writer.h"
-#include "io/report.h"
+#include "output/cam_plots.h"
+#include "output/report.h"
 #include "study/journal.h"
 #include "study/journaled_runs.h"
 #include "study/jump_map.h"

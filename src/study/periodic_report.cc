@@ -4,7 +4,7 @@
 #include <numbers>
 #include <string>
 
-#include "io/cam_plots.h"
+#include "output/cam_plots.h"
 
 namespace camdyn {
 

@@ -12,9 +12,9 @@
 #include "common/parallel.h"
 #include "dynamics/plausibility.h"
 #include "io/atomic_file.h"
-#include "io/cam_plots.h"
 #include "io/csv_writer.h"
 #include "io/json_writer.h"
+#include "output/cam_plots.h"
 
 namespace camdyn {
 

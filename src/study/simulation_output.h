@@ -10,7 +10,7 @@
 #include "dynamics/plausibility.h"
 #include "dynamics/simulation.h"
 #include "io/config.h"
-#include "io/report.h"
+#include "output/report.h"
 
 namespace camdyn {
 
@@ -28,7 +28,7 @@ Json summary_json(const SceneConfig& scene, const Model& model, const Simulation
 
 /// The report a user looks at first: follower motion against the law, gap,
 /// contact force against cam angle (with the rigid-model force), energy
-/// residual, the cam plots (io/cam_plots.h: the cam to scale, pressure angle,
+/// residual, the cam plots (output/cam_plots.h: the cam to scale, pressure angle,
 /// radius of curvature, SVAJ), metrics and solver tables.
 Report simulation_report(const SceneConfig& scene, const Model& model, const SimulationResult& result);
 

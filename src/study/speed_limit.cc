@@ -13,10 +13,10 @@
 #include "common/parallel.h"
 #include "dynamics/model.h"
 #include "dynamics/simulation.h"
-#include "io/cam_plots.h"
 #include "io/json_archive.h"
 #include "io/json_writer.h"
-#include "io/report.h"
+#include "output/cam_plots.h"
+#include "output/report.h"
 
 namespace camdyn {
 

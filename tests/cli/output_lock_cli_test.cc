@@ -9,7 +9,7 @@
 #include <string>
 
 #include "cli_run.h"
-#include "io/output_folder.h"
+#include "output/output_folder.h"
 
 namespace camdyn {
 namespace {

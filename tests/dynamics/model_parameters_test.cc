@@ -151,6 +151,9 @@ TEST(ModelParameters, ABadValueIsAnInputErrorWithTheConfigLoadersReason) {
   const Case cases[] = {
       {"mechanism.contact.restitution", &ModelParameters::restitution, 1.5, "1.5"},
       {"mechanism.contact.exponent", &ModelParameters::contact_exponent, 0.0, "0"},
+      // In the range (0, 5] but below the loader's minimum (a condition of its visit, not a range).
+      {"mechanism.contact.exponent", &ModelParameters::contact_exponent, 0.4, "0.4"},
+      {"mechanism.contact.friction.mu", &ModelParameters::friction_mu, -0.1, "-0.1"},
       {"mechanism.contact.stiffness", &ModelParameters::contact_stiffness, -1.0, "-1"},
       {"mechanism.contact.reference_velocity", &ModelParameters::reference_velocity, 0.0, "0"},
       {"mechanism.follower.mass", &ModelParameters::mass, 0.0, "0"},

@@ -1,8 +1,8 @@
-// The follower shapes' description (geometry/follower_shape.h): every shape a
+// The follower shapes' description (scene/follower_shape.h): every shape a
 // config can name is described, with a label and the contact element, rolling
 // and config fields of docs/model.md §1 and §4; its word round-trips; and
 // FollowerGeometry answers from the same description.
-#include "geometry/follower_shape.h"
+#include "scene/follower_shape.h"
 
 #include <gtest/gtest.h>
 

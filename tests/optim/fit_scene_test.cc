@@ -64,7 +64,7 @@ TEST(FitScene, ValuesSetInPlaceGiveTheRunsOfTheRebuiltSceneBitForBit) {
 }
 
 TEST(FitScene, ParameterBlockPathsAreBoundToTypedFieldsOthersFallBack) {
-  const SceneConfig scene = load(kCamRig).experiments[0].scene;
+  SceneConfig scene = load(kCamRig).experiments[0].scene;
   for (const char* path : {"mechanism.contact.stiffness", "mechanism.contact.restitution", "mechanism.contact.exponent",
                            "mechanism.follower.damping", "mechanism.follower.spring.stiffness",
                            "mechanism.follower.mass", "mechanism.contact.friction.mu"}) {

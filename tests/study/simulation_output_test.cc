@@ -20,7 +20,7 @@
 #include "../dynamics/scenes.h"
 #include "common/errors.h"
 #include "dynamics/simulation.h"
-#include "io/curve_decimation.h"
+#include "output/curve_decimation.h"
 
 namespace camdyn {
 namespace {

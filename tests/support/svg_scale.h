@@ -1,4 +1,4 @@
-// Measuring a gnuplot SVG (io/report.h render_svg) in pixels: the bounding
+// Measuring a gnuplot SVG (output/report.h render_svg) in pixels: the bounding
 // box of the curves drawn in one colour or of one titled series, for tests
 // that check a plot is to scale (a circle in the data must come out as round
 // on the page); and reading its axis labels back. Works on gnuplot's own SVG

@@ -1,4 +1,4 @@
-#include "io/profile_export.h"
+#include "output/profile_export.h"
 
 #include <camdyn/version.h>
 #include <dxflib/dl_dxf.h>

@@ -1,4 +1,4 @@
-#include "io/output_folder.h"
+#include "output/output_folder.h"
 
 #include <camdyn/version.h>
 #include <fcntl.h>

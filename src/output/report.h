@@ -33,7 +33,7 @@ struct Plot {
   bool equal_axes = false;
   /// Every point drawn, up to kMaxPlotPoints per series (e.g. the last
   /// revolution), instead of each series reduced to its lowest and highest
-  /// point per pixel column (io/curve_decimation.h).
+  /// point per pixel column (output/curve_decimation.h).
   bool full_resolution = false;
 };
 

@@ -1,4 +1,4 @@
-#include "io/cam_plots.h"
+#include "output/cam_plots.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include <numbers>
 #include <utility>
 
-#include "io/profile_export.h"
+#include "output/profile_export.h"
 
 namespace camdyn {
 

@@ -1,6 +1,6 @@
-// The cam plots of the reports (io/cam_plots.h): the cam drawn to scale
+// The cam plots of the reports (output/cam_plots.h): the cam drawn to scale
 // (measured on the SVG gnuplot draws), the limit lines, the SVAJ's units.
-#include "io/cam_plots.h"
+#include "output/cam_plots.h"
 
 #include <gtest/gtest.h>
 
@@ -42,7 +42,7 @@ Model roller_cam(const std::string& limits = "{}", const std::string& speed = R"
   return build_model(scene_from_json(doc, ConfigSource{"test.json", "."}), "test.json");
 }
 
-// The palette of io/report.cc, in linetype order.
+// The palette of output/report.cc, in linetype order.
 const char* const kPalette[] = {"#0072b2", "#d55e00", "#009e73", "#cc79a7", "#e69f00", "#56b4e9"};
 
 // The measurement itself: a circle is round on the page only when asked for.

@@ -1,4 +1,4 @@
-#include "io/report.h"
+#include "output/report.h"
 
 #include <camdyn/version.h>
 #include <fcntl.h>
@@ -27,7 +27,7 @@
 
 #include "common/parallel.h"
 #include "io/atomic_file.h"
-#include "io/curve_decimation.h"
+#include "output/curve_decimation.h"
 
 extern char** environ;  // NOLINT: POSIX, passed on to gnuplot
 

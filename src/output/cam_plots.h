@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "dynamics/model.h"
-#include "io/report.h"
+#include "output/report.h"
 #include "scene/scene.h"
 
 namespace camdyn {

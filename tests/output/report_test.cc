@@ -1,4 +1,4 @@
-#include "io/report.h"
+#include "output/report.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "cli_run.h"
-#include "io/curve_decimation.h"
+#include "output/curve_decimation.h"
 
 namespace camdyn {
 namespace {

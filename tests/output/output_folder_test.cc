@@ -1,8 +1,8 @@
 // The output folder's lock, completion marker and the sweep of temporaries
-// left by killed runs (io/output_folder.h, io/atomic_file.h). The lock
+// left by killed runs (output/output_folder.h, io/atomic_file.h). The lock
 // across processes (a second `camdyn run` into a locked folder exits 2) is
 // in tests/cli/output_lock_cli_test.cc; the kill -9 loop in tests/cli/kill_loop.py.
-#include "io/output_folder.h"
+#include "output/output_folder.h"
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>

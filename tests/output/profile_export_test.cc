@@ -1,7 +1,7 @@
-// The cam profile for manufacturing (io/profile_export.h): exact geometry on
+// The cam profile for manufacturing (output/profile_export.h): exact geometry on
 // a cam whose contour is known in closed form, the DXF read back with
 // dxflib, the tool path's distance from the contour, the chord tolerance.
-#include "io/profile_export.h"
+#include "output/profile_export.h"
 
 #include <dxflib/dl_creationadapter.h>
 #include <dxflib/dl_dxf.h>

@@ -1,4 +1,4 @@
-#include "io/curve_decimation.h"
+#include "output/curve_decimation.h"
 
 #include <gtest/gtest.h>
 
