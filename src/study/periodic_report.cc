@@ -4,6 +4,7 @@
 #include <numbers>
 #include <string>
 
+#include "dynamics/coordinate_units.h"
 #include "io/cam_plots.h"
 
 namespace camdyn {
@@ -13,11 +14,11 @@ namespace {
 // The orbit (or the last revolution) in the phase plane, and its section points.
 Plot phase_plane(const PeriodicResult& r, const PoincareMap& map) {
   const TimeSeries& s = r.orbit_run.series;
-  Plot p{"Phase plane: follower position against velocity", "follower velocity [m/s]", "follower position [m]", {}};
-  if (map.model().follower.oscillating()) {
-    p.xlabel = "arm angular velocity [rad/s]";
-    p.ylabel = "arm angle [rad]";
-  }
+  const CoordinateUnits u = coordinate_units(map.model());
+  Plot p{"Phase plane: follower position against velocity",
+         CoordinateUnits::axis(u.velocity_name, u.velocity),
+         CoordinateUnits::axis(u.position_name, u.position),
+         {}};
   p.series.push_back({r.analysis.orbit ? "orbit" : "last revolution", s.follower_velocity, s.follower_position});
   Series section{"Poincaré points (once per revolution)", {}, {}, "points"};
   if (r.analysis.orbit) {
