@@ -78,9 +78,9 @@ Plot newton_residuals(const PeriodicAnalysis& a) {
   return p;
 }
 
-Table orbit_table(const PeriodicResult& r) {
+Table orbit_table(const PeriodicResult& r, const CoordinateUnits& u) {
   Table t{"Impacts and take-offs on the orbit",
-          {"event", "cam angle [deg]", "normal speed [m/s]", "follower velocity"},
+          {"event", "cam angle [deg]", "normal speed [m/s]", CoordinateUnits::axis(u.velocity_name, u.velocity)},
           {}};
   for (const OrbitEvent& e : r.impacts)
     t.rows.push_back(
@@ -129,7 +129,7 @@ Report periodic_report(const PeriodicStudy& study, const PeriodicResult& r, cons
   for (Plot& p : cam_plots(map.model(), study.scene.mechanism.cam.limits, r.rpm)) rep.plots.push_back(std::move(p));
   if (a.orbit) rep.plots.push_back(multipliers(*a.orbit));
   if (!a.newton.empty()) rep.plots.push_back(newton_residuals(a));
-  rep.appendix.push_back(orbit_table(r));
+  rep.appendix.push_back(orbit_table(r, coordinate_units(map.model())));
   rep.notes.push_back(
       "The orbit is found by shooting on the once-per-revolution Poincaré map; the metrics in periodic.json and "
       "orbit/summary.json are over one period of it (over the last revolution when no stable orbit converged). "

@@ -25,7 +25,9 @@ struct OneRunPerScene {
     study.config.tracking = {Tracking::differential};
     study.config.scenes.clear();
     for (std::size_t k = 0; k < kinds.size(); ++k) {
-      study.config.scenes.push_back(ConvergenceScene{kinds[k]});
+      ConvergenceScene variant;
+      variant.name = kinds[k];
+      study.config.scenes.push_back(variant);
       study.scenes.push_back(test::follower_scene(kinds[k], 1000.0));
       ConvergenceRun r;
       r.scene = k;
@@ -49,17 +51,19 @@ const Table& runs_table(const Report& report) {
 TEST(ConvergenceReport, ArmsPositionErrorIsInRad) {
   const Report report = OneRunPerScene({"oscillating_roller"}).report();
   ASSERT_FALSE(report.plots.empty());
+  ASSERT_TRUE(report.verdict);
   EXPECT_EQ(report.plots[0].ylabel, "max |y − y_ref| [rad]");  // error against run time
   EXPECT_EQ(report.plots[1].ylabel, "max |y − y_ref| [rad]");  // against RHS evaluations
   EXPECT_EQ(runs_table(report).columns[4], "error_position [rad]");
-  EXPECT_NE(report.verdict.headline.find("position error 1e-05 rad"), std::string::npos) << report.verdict.headline;
+  EXPECT_NE(report.verdict->headline.find("position error 1e-05 rad"), std::string::npos) << report.verdict->headline;
 }
 
 TEST(ConvergenceReport, TranslatingFollowersPositionErrorIsInMetres) {
   const Report report = OneRunPerScene({"translating_roller"}).report();
+  ASSERT_TRUE(report.verdict);
   EXPECT_EQ(report.plots[0].ylabel, "max |y − y_ref| [m]");
   EXPECT_EQ(runs_table(report).columns[4], "error_position [m]");
-  EXPECT_NE(report.verdict.headline.find("position error 1e-05 m"), std::string::npos) << report.verdict.headline;
+  EXPECT_NE(report.verdict->headline.find("position error 1e-05 m"), std::string::npos) << report.verdict->headline;
 }
 
 // Scenes of both kinds: each plot in its scene's unit, each table cell with its own.
