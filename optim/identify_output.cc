@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "dynamics/coordinate_units.h"
 #include "io/csv_writer.h"
 #include "io/json_writer.h"
 #include "output/cam_plots.h"
@@ -35,14 +36,25 @@ std::vector<std::string> all_signals(const IdentifyResult& result) {
 
 std::string cell(const std::optional<double>& v, int digits = 6) { return v ? format_number(*v, digits) : "–"; }
 
-/// Plot units: signals in SI, time in ms (impacts last fractions of a millisecond).
-const char* unit_of(const std::string& signal) {
+/// Plot units: signals in SI, time in ms (impacts last fractions of a
+/// millisecond). The follower columns are in the unit of q: an arm's in rad
+/// (coordinate_units.h); gap and contact offset are lengths at the contact.
+const char* unit_of(const std::string& signal, const CoordinateUnits& units) {
   if (signal == "contact_force" || signal == "friction_force") return "N";
-  if (signal == "follower_acceleration") return "m/s²";
-  if (signal == "follower_velocity") return "m/s";
+  if (signal == "follower_position" || signal == "kinematic_position") return units.position;
+  if (signal == "follower_velocity") return units.velocity;
+  if (signal == "follower_acceleration") return units.acceleration;
   if (signal == "cam_angle_deg") return "deg";
+  if (signal == "cam_speed_rpm") return "rpm";
   if (signal == "energy_residual") return "–";
   return "m";
+}
+
+/// A parameter's name, with its unit when that depends on the follower
+/// (the spring, the damper, ...: N m/rad for an arm).
+std::string parameter_label(const ParameterEstimate& p, const CoordinateUnits& units) {
+  const std::string unit = coordinate_field_unit(p.path, units);
+  return unit.empty() ? p.name : p.name + " [" + unit + "]";
 }
 
 /// The identified scene's cam to scale with its SVAJ: at the speed of the
@@ -191,7 +203,8 @@ Report identify_report(const IdentifyProblem& problem, const IdentifyResult& res
     std::string note = p.identifiable ? "" : "not identifiable";
     if (p.at_bound) note += std::string(note.empty() ? "" : "; ") + "on a bound";
     if (p.log_scale) note += std::string(note.empty() ? "" : "; ") + "log scale";
-    params.rows.push_back({p.name, format_number(p.initial), format_number(p.value, 8), cell(p.std_error, 3),
+    params.rows.push_back({parameter_label(p, coordinate_units(problem.scene)), format_number(p.initial),
+                           format_number(p.value, 8), cell(p.std_error, 3),
                            rel ? format_number(100.0 * *rel, 3) + " %" : "–", cell(p.lower), cell(p.upper), note});
   }
   report.tables.push_back(std::move(params));
@@ -211,8 +224,9 @@ Report identify_report(const IdentifyProblem& problem, const IdentifyResult& res
       "Records", {"experiment", "file", "samples", "signal", "weight", "RMS misfit", "noise estimate"}, {}, true};
   for (std::size_t k = 0; k < result.fits.size(); ++k) {
     const ExperimentFit& fit = result.fits[k];
+    const CoordinateUnits units = coordinate_units(problem.experiments[k].scene);
     for (std::size_t s = 0; s < fit.signals.size(); ++s) {
-      const std::string unit = unit_of(fit.signals[s]);
+      const std::string unit = unit_of(fit.signals[s], units);
       const std::string per_unit = unit.find('/') == std::string::npos ? "1/" + unit : "1/(" + unit + ")";
       records.rows.push_back({fit.name, problem.experiments[k].reference.file, std::to_string(fit.time.size()),
                               fit.signals[s], format_number(fit.weights[s], 4) + " " + per_unit,
@@ -222,11 +236,13 @@ Report identify_report(const IdentifyProblem& problem, const IdentifyResult& res
   }
   report.tables.push_back(std::move(records));
 
-  for (const ExperimentFit& fit : result.fits) {
+  for (std::size_t k = 0; k < result.fits.size(); ++k) {
+    const ExperimentFit& fit = result.fits[k];
+    const CoordinateUnits units = coordinate_units(problem.experiments[k].scene);
     std::vector<double> t_ms(fit.time.size());
     for (std::size_t i = 0; i < t_ms.size(); ++i) t_ms[i] = 1e3 * fit.time[i];
     for (std::size_t s = 0; s < fit.signals.size(); ++s) {
-      const std::string ylabel = fit.signals[s] + " [" + unit_of(fit.signals[s]) + "]";
+      const std::string ylabel = CoordinateUnits::axis(fit.signals[s], unit_of(fit.signals[s], units));
       Plot plot;
       plot.title = fit.name + ": " + fit.signals[s] + ", measured and fitted";
       plot.xlabel = "time [ms]";

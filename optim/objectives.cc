@@ -9,6 +9,7 @@
 
 #include "common/errors.h"
 #include "dynamics/contact_stress.h"
+#include "dynamics/coordinate_units.h"
 #include "dynamics/model.h"
 #include "geometry/cam_synthesis.h"
 #include "geometry/motion_law.h"
@@ -181,7 +182,7 @@ void DesignEvaluator::score(DesignEvaluation& e) const {
   }
 
   const ObjectiveConfig& o = config_.objective;
-  auto term = [&](const char* name, double weight, double value, double normalised, const char* unit) {
+  auto term = [&](const char* name, double weight, double value, double normalised, const std::string& unit) {
     if (weight <= 0.0) return;
     e.terms.push_back({name, weight, value, normalised, unit});
     e.objective += weight * normalised;
@@ -192,9 +193,12 @@ void DesignEvaluator::score(DesignEvaluation& e) const {
     term("peak_contact_force", o.peak_contact_force, f, f / norm_.force, "N");
     term("contact_force_margin", o.contact_force_margin, mg, -mg / norm_.force, "N");
   }
+  // The law's derivatives are in q per radian of cam angle: an arm's in rad/rad^n.
+  const CoordinateUnits units = coordinate_units(e.scene);
   term("peak_acceleration", o.peak_acceleration, e.kinematics.peak_acceleration,
-       e.kinematics.peak_acceleration / norm_.acceleration, "m/rad^2");
-  term("peak_jerk", o.peak_jerk, e.kinematics.peak_jerk, e.kinematics.peak_jerk / norm_.jerk, "m/rad^3");
+       e.kinematics.peak_acceleration / norm_.acceleration, units.per_cam_radian(2, true));
+  term("peak_jerk", o.peak_jerk, e.kinematics.peak_jerk, e.kinematics.peak_jerk / norm_.jerk,
+       units.per_cam_radian(3, true));
 
   e.feasible = true;
   for (std::size_t i = 0; i < constraints_.size(); ++i) {

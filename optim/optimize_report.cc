@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "common/errors.h"
+#include "dynamics/coordinate_units.h"
 #include "dynamics/model.h"
 #include "optim/rigid_design.h"
 #include "output/cam_plots.h"
@@ -152,7 +153,10 @@ Table constraints_table(const OptimizeOutcome& o) {
     const std::string limit = spec.sense == ConstraintSpec::Sense::at_most    ? "≤ " + format_number(spec.limit)
                               : spec.sense == ConstraintSpec::Sense::at_least ? "≥ " + format_number(spec.limit)
                                                                               : "= 0";
-    constraints.rows.push_back({spec.name, limit, spec.unit, format_number(o.baseline.constraints[i].value),
+    // A jerk limit is on d³s/dθ³, in q per rad³: an arm's rad/rad^3.
+    const std::string unit =
+        spec.name == "max_peak_jerk" ? coordinate_units(o.optimized_scene).per_cam_radian(3, true) : spec.unit;
+    constraints.rows.push_back({spec.name, limit, unit, format_number(o.baseline.constraints[i].value),
                                 format_number(o.optimized.constraints[i].value),
                                 format_number(o.optimized.constraints[i].margin),
                                 yes_no(o.optimized.constraints[i].holds)});
@@ -312,10 +316,12 @@ Plot convergence_plot(const std::vector<HistoryRecord>& history) {
 std::vector<std::string> report_notes(const OptimizeOutcome& o) {
   std::vector<std::string> notes;
   const Normalisation& nm = o.normalisation;
+  const CoordinateUnits units = coordinate_units(o.optimized_scene);  // the law's derivatives are in q per rad^n
   notes.push_back("Normalisation: forces by " + format_number(nm.force) +
                   " N (baseline peak rigid-model contact force at the top speed), separation by a mean gap of " +
-                  format_number(nm.mean_gap) + " m, peak acceleration by " + format_number(nm.acceleration) +
-                  " m/rad², peak jerk by " + format_number(nm.jerk) + " m/rad³ (baseline values).");
+                  format_number(nm.mean_gap) + " m, peak acceleration by " + format_number(nm.acceleration) + " " +
+                  units.per_cam_radian(2) + ", peak jerk by " + format_number(nm.jerk) + " " + units.per_cam_radian(3) +
+                  " (baseline values).");
   const OptimizerConfig& oc = o.config.optimizer;
   notes.push_back(
       std::string("The search loop ") +

@@ -9,6 +9,7 @@
 
 #include "common/errors.h"
 #include "dynamics/contact_stress.h"
+#include "dynamics/coordinate_units.h"
 #include "dynamics/model.h"
 #include "geometry/bspline.h"
 #include "geometry/motion_law.h"
@@ -593,7 +594,7 @@ RigidStageResult run_rigid_stage(const SceneConfig& baseline, const OptimizeStud
   cert.min_contact_force = rigid_min_contact_force(config);
   const Model model = build_model(baseline, file);
   const RigidFollower f = rigid_follower(model, cert.min_contact_force);
-  cert.margin_unit = model.follower.oscillating() ? "N m" : "N";
+  cert.margin_unit = coordinate_units(model).force;  // a torque about the pivot for an arm
   SplineFamily family(space, config.design, f, model.follower, config.constraints, config.rigid.samples, file);
   if (const std::optional<LineContact> contact = line_contact(baseline.mechanism.contact);
       contact && config.constraints.max_contact_stress)

@@ -62,7 +62,8 @@ struct RunSummary {
   long projections = 0;      ///< drift projections of the differential tracking
   double run_time_s = 0.0;   ///< wall time of the run [s]
   /// Richardson estimate (integrator.error_estimate = "richardson"): max
-  /// position difference [m] and relative peak force difference [-] to a run
+  /// position difference [m; rad for an oscillating follower, whose
+  /// position is its arm angle] and relative peak force difference [-] to a run
   /// at a 100x tighter tolerance; both 0 without it.
   bool error_estimated = false;
   double error_position = 0.0;

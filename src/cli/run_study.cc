@@ -9,6 +9,7 @@
 
 #include "common/errors.h"
 #include "common/study_budget.h"
+#include "dynamics/coordinate_units.h"
 #include "dynamics/model.h"
 #include "dynamics/plausibility.h"
 #include "dynamics/simulation.h"
@@ -105,8 +106,8 @@ int run_simulate(const Json& doc, const StudyContext& ctx) {
   std::printf("  energy_residual %.3g, %ld steps, %ld RHS evaluations, %.3g s\n", m.energy_residual,
               result.solver.counters.steps, result.solver.counters.rhs_evaluations, result.solver.run_time_s);
   if (result.error.richardson)
-    std::printf("  error estimate (run at 100x tighter tolerance): position %.3g m, peak force %.3g\n",
-                result.error.position, result.error.peak_contact_force);
+    std::printf("  error estimate (run at 100x tighter tolerance): position %.3g %s, peak force %.3g\n",
+                result.error.position, coordinate_units(model).position, result.error.peak_contact_force);
   std::printf("  report: %s\n", std::filesystem::absolute(out / "report.html").lexically_normal().c_str());
   const std::vector<PlausibilityWarning> warnings = run_warnings(scene, model, result);
   for (const PlausibilityWarning& w : warnings) std::printf("%s\n", warning_line(w).c_str());

@@ -17,7 +17,7 @@ struct Metrics {
   double peak_contact_force = 0.0;   ///< [N]
   double min_contact_force = 0.0;    ///< [N]
   double max_penetration = 0.0;      ///< [m]
-  double max_kinematic_error = 0.0;  ///< [m]
+  double max_kinematic_error = 0.0;  ///< [m | rad]: in q
   double separation_integral = 0.0;  ///< ∫ max(g, 0) dt over the evaluated window [m s]: a smooth measure of jump
   double energy_residual = 0.0;      ///< [-]
   double max_pressure_angle_deg = 0.0;
@@ -29,6 +29,9 @@ struct Metrics {
 struct MetricInfo {
   const char* unit;               ///< as the report's table prints it ("–": dimensionless)
   bool infinite_is_null = false;  ///< +inf is a meaningful value, written to JSON as null
+  /// Measured in the follower coordinate q: `unit` is a translating
+  /// follower's, an arm's is rad (coordinate_units.h).
+  bool in_coordinate = false;
 };
 
 /// Every metric once, in output order, as `a.field(name, value, info)` (the
@@ -44,7 +47,7 @@ void visit(A& a, M& m) {
   a.field("peak_contact_force", m.peak_contact_force, MetricInfo{"N"});
   a.field("min_contact_force", m.min_contact_force, MetricInfo{"N"});
   a.field("max_penetration", m.max_penetration, MetricInfo{"m"});
-  a.field("max_kinematic_error", m.max_kinematic_error, MetricInfo{"m"});
+  a.field("max_kinematic_error", m.max_kinematic_error, MetricInfo{"m", false, true});
   a.field("separation_integral", m.separation_integral, MetricInfo{"m s"});
   a.field("energy_residual", m.energy_residual, MetricInfo{"–"});
   a.field("max_pressure_angle_deg", m.max_pressure_angle_deg, MetricInfo{"deg"});

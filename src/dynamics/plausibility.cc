@@ -8,6 +8,7 @@
 
 #include "common/errors.h"
 #include "contact/force_law.h"
+#include "dynamics/coordinate_units.h"
 #include "scene/follower_shape.h"
 
 namespace camdyn {
@@ -61,7 +62,9 @@ double penetration_at(const ForceLaw& law, double force) {
 
 std::string stiffness_unit(const ForceLaw& law) { return "N/m^" + num(law.exponent); }
 
-/// The follower's lift in metres: an oscillating arm's angle times its length.
+/// The follower's lift in metres, the scale of a penetration at the contact:
+/// an oscillating arm's angle times its length. (A position error is in the
+/// unit of q and is judged against coordinate_lift instead.)
 double lift_m(const Model& model) {
   const double lift = model.law->lift();
   return model.follower.oscillating() ? lift * model.follower.arm_length : lift;
@@ -164,12 +167,17 @@ void accuracy_warnings(const SceneConfig& scene, const Model& model, const Simul
                    "the energy balance does not close: residual " + num(residual) + " (at rtol " + num(rtol) +
                        " expect below " + num(std::min(kMaxEnergyResidual, kEnergyResidualPerRtol * rtol)) +
                        "); the results are not accurate: tighten integrator.rtol and integrator.atol"});
+  // The error is in q (docs/model.md §5), so is the lift it is judged against:
+  // an arm's rad against its lift in rad.
   const ErrorEstimate& e = result.error;
-  const double lift = lift_m(model);
+  const double lift = coordinate_lift(model);
+  const CoordinateUnits units = coordinate_units(model);
   if (e.richardson && lift > 0.0 && e.position > kMaxPositionErrorOfLift * lift)
     out.push_back({"error_estimate", "integrator.rtol",
-                   "the error estimate (a run at 100x tighter tolerance) differs by " + num(e.position) +
-                       " in position, " + num(100.0 * e.position / lift) + " % of the lift: tighten integrator.rtol"});
+                   "the error estimate (a run at 100x tighter tolerance) differs by " +
+                       CoordinateUnits::with_unit(e.position, units.position) + " in position, " +
+                       num(100.0 * e.position / lift) + " % of the lift (" +
+                       CoordinateUnits::with_unit(lift, units.position) + "): tighten integrator.rtol"});
   if (e.richardson && e.peak_contact_force > kMaxPeakForceError)
     out.push_back({"error_estimate", "integrator.rtol",
                    "the error estimate puts the peak contact force " + num(100.0 * e.peak_contact_force) +
@@ -204,12 +212,11 @@ void penetration_warning(const Model& model, const SimulationResult& result, std
 /// what the integrator's error test resolves in q: atol + rtol |q|.
 struct ContactResolution {
   double delta_q = 0.0, resolution = 0.0;
-  bool oscillating = false;
+  CoordinateUnits units;
   bool unresolved() const { return resolution > 0.0 && delta_q > 0.0 && delta_q < resolution; }
   std::string text() const {
-    const char* unit = oscillating ? " rad" : " m";
-    return (oscillating ? " (" + num(delta_q) + " rad of arm rotation)" : std::string()) +
-           ", below what integrator.rtol and atol resolve (" + num(resolution) + unit + ")";
+    return (units.oscillating ? " (" + num(delta_q) + " " + units.position + " of arm rotation)" : std::string()) +
+           ", below what integrator.rtol and atol resolve (" + num(resolution) + " " + units.position + ")";
   }
 };
 
@@ -221,7 +228,7 @@ ContactResolution contact_resolution(const SceneConfig& scene, const Model& mode
   const double q_scale = std::max(std::abs(model.law->min_s()), std::abs(model.law->max_s()));
   r.resolution = ic.atol + ic.rtol * q_scale;
   r.delta_q = g_q > 0.0 ? load.peak_penetration / g_q : load.peak_penetration;
-  r.oscillating = model.follower.oscillating();
+  r.units = coordinate_units(model);
   return r;
 }
 

@@ -81,7 +81,7 @@ struct SolverSummary {
 struct ErrorEstimate {
   double energy_residual = 0.0;     ///< docs/model.md §7, always available
   bool richardson = false;          ///< the fields below were computed
-  double position = 0.0;            ///< max |y − y_tight| over the evaluated cycles [m]
+  double position = 0.0;            ///< max |q − q_tight| over the evaluated cycles [m | rad] (coordinate_units.h)
   double peak_contact_force = 0.0;  ///< |F_peak / F_peak,tight − 1| [-]
   double tight_run_time_s = 0.0;    ///< cost of the tighter run [s]
 };

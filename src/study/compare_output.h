@@ -27,9 +27,10 @@ struct ComparePoint {
 struct CompareOutcome {  // NOLINT(bugprone-exception-escape)
   bool ok = false;
   std::string error;
-  std::vector<double> metrics;  ///< one per compare_metric_names(); NaN where not available
-  double run_time_s = 0.0;      ///< [s]
-  Json overlay;                 ///< the last revolution (cam_angle_deg, follower_position, contact_force) or null
+  std::vector<double> metrics;        ///< one per compare_metric_names(); NaN where not available
+  double run_time_s = 0.0;            ///< [s]
+  Json overlay;                       ///< the last revolution (cam_angle_deg, follower_position, contact_force) or null
+  std::string coordinate_unit = "m";  ///< of its follower coordinate: "m", or "rad" for an arm (coordinate_units.h)
 };
 
 /// Everything the outputs are written from.

@@ -12,7 +12,9 @@
 #include <string_view>
 
 #include "common/errors.h"
+#include "dynamics/coordinate_units.h"
 #include "dynamics/metrics.h"
+#include "io/dotted_path.h"
 #include "output/cam_plots.h"
 #include "output/report.h"
 #include "study/compare_output.h"
@@ -59,19 +61,45 @@ std::vector<std::size_t> least_separated(const CompareResult& r, const std::vect
   return out;
 }
 
-/// The unit of a metric as the metrics table prints it ("–": dimensionless).
-std::string metric_unit(const std::string& metric) {
+/// The unit of the follower coordinate the successful runs `points` share,
+/// or "m or rad" when they mix translating and oscillating followers.
+std::string coordinate_unit(const CompareResult& r, const std::vector<std::size_t>& points) {
+  std::string unit;
+  for (const std::size_t i : points) {
+    if (!r.outcomes[i].ok) continue;
+    if (!unit.empty() && unit != r.outcomes[i].coordinate_unit) return "m or rad";
+    unit = r.outcomes[i].coordinate_unit;
+  }
+  return unit.empty() ? "m" : unit;
+}
+
+std::vector<std::size_t> all_points(const CompareResult& r) {
+  std::vector<std::size_t> points(r.points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) points[i] = i;
+  return points;
+}
+
+/// The unit of a metric as the metrics table prints it ("–": dimensionless);
+/// one measured in the follower coordinate takes the runs' unit.
+std::string metric_unit(const CompareResult& r, const std::string& metric) {
   std::string unit = "–";
   const Metrics none;
   for_each_metric(none, [&](const char* name, const auto&, const MetricInfo& info) {
-    if (metric == name) unit = info.unit;
+    if (metric == name) unit = info.in_coordinate ? coordinate_unit(r, all_points(r)) : info.unit;
   });
   return unit;
 }
 
 /// An axis label for a grid key (a dotted config path) with its unit in
-/// brackets: SI as the config takes it, from the field's name.
-std::string key_label(const std::string& key) {
+/// brackets: SI as the config takes it, from the field's name; a follower
+/// field measured along q (the spring, the damper) in an arm's units when
+/// every run is an arm's.
+std::string key_label(const CompareResult& r, const std::string& key) {
+  if (coordinate_unit(r, all_points(r)) == "rad") {
+    const std::string unit =
+        coordinate_field_unit(full_dotted_path(key), coordinate_units(FollowerMotion::oscillating));
+    if (!unit.empty()) return key + " [" + unit + "]";
+  }
   const std::string leaf = key.substr(key.rfind('.') + 1);
   const auto ends_with = [&](std::string_view tail) { return leaf.size() >= tail.size() && leaf.ends_with(tail); };
   static const std::map<std::string, std::string> units = {{"rpm", "rpm"},
@@ -219,8 +247,8 @@ std::vector<Plot> metric_plots(const CompareResult& r) {
   for (const std::string& m : r.spec->metrics) {
     Plot plot;
     plot.title = m + " against " + grid.front().key;
-    plot.xlabel = key_label(grid.front().key);
-    plot.ylabel = m + " [" + metric_unit(m) + "]";
+    plot.xlabel = key_label(r, grid.front().key);
+    plot.ylabel = m + " [" + metric_unit(r, m) + "]";
     std::map<std::string, Series> lines;
     std::vector<std::string> order;
     for (std::size_t i = 0; i < r.points.size(); ++i) {
@@ -255,9 +283,15 @@ std::vector<Plot> overlay_plots(const CompareResult& r) {
                false,
                false,
                std::make_pair(0.0, 360.0)};
+    std::vector<std::size_t> shown;  // the runs this overlay draws
+    for (std::size_t i = 0; i < r.points.size(); ++i)
+      if (r.outcomes[i].overlay.is_object() && std::all_of(selection.begin(), selection.end(), [&](const auto& s) {
+            return r.points[i].values[s.first] == s.second;
+          }))
+        shown.push_back(i);
     Plot motion{"Follower displacement against cam angle (last revolution), " + at,
                 "cam angle [deg]",
-                "follower displacement [m]",
+                CoordinateUnits::axis("follower displacement", coordinate_unit(r, shown)),
                 {},
                 false,
                 false,
@@ -294,8 +328,8 @@ std::optional<Plot> pass_fail_map(const CompareResult& r) {
   };
   Plot map;
   map.title = "Pass/fail map: " + grid[0].key + " against " + grid[1].key;
-  map.xlabel = key_label(grid[0].key);
-  map.ylabel = key_label(grid[1].key);
+  map.xlabel = key_label(r, grid[0].key);
+  map.ylabel = key_label(r, grid[1].key);
   map.logx = positive(grid[0]);
   map.logy = positive(grid[1]);
   std::map<std::pair<double, double>, bool> any_failed;

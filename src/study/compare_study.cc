@@ -13,6 +13,7 @@
 #include <optional>
 
 #include "common/errors.h"
+#include "dynamics/coordinate_units.h"
 #include "dynamics/simulation.h"
 #include "io/json_archive.h"
 #include "io/json_merge.h"
@@ -179,10 +180,12 @@ Json run_record(const ComparePlan& plan, std::size_t i, const StudyContext& ctx,
   std::string error;
   double run_time = 0.0;  // [s]
   Json overlay;
+  std::string coordinate_unit;
   try {
     Json run = plan.bases[p.case_index].config;
     for (std::size_t k = 0; k < plan.keys.size(); ++k) set_config_value(run, plan.keys[k], p.values[k]);
     const SceneConfig scene = scene_from_json(run, plan.bases[p.case_index].source);
+    coordinate_unit = coordinate_units(scene).position;
     SimulationOptions options;
     options.record_series = p.overlay && scene.mechanism.cam.rpm > 0;
     const Model model = build_model(*geometries.get(scene, ctx.config_file), scene, ctx.config_file);
@@ -209,6 +212,7 @@ Json run_record(const ComparePlan& plan, std::size_t i, const StudyContext& ctx,
   record["metrics"] = metrics_json;
   record["run_time_s"] = run_time;
   if (ok && !overlay.is_null()) record["overlay"] = overlay;
+  if (ok) record["coordinate_unit"] = coordinate_unit;
   return record;
 }
 
@@ -225,6 +229,7 @@ CompareOutcome outcome_of(const Json& record) {
   const Json metrics = record.value("metrics", Json::object());
   for (const std::string& m : compare_metric_names()) o.metrics.push_back(number_or_nan(metrics.value(m, Json())));
   if (auto it = record.find("overlay"); it != record.end() && it->is_object()) o.overlay = *it;
+  o.coordinate_unit = record.value("coordinate_unit", std::string("m"));  // a journal from before: translating
   return o;
 }
 

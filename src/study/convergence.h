@@ -24,7 +24,7 @@ struct ConvergenceRun {
   // results
   bool ok = false;
   std::string error;
-  double error_position = 0.0;    ///< max |y − y_ref| over the evaluated time [m]
+  double error_position = 0.0;    ///< max |q − q_ref| over the evaluated time [m | rad] (coordinate_units.h)
   double error_peak_force = 0.0;  ///< |F_peak / F_peak,ref − 1| [-]
   double energy_residual = 0.0, run_time_s = 0.0;
   long steps = 0, rhs_evaluations = 0;

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <utility>
 
+#include "dynamics/coordinate_units.h"
 #include "io/csv_writer.h"
 #include "io/json_writer.h"
 #include "output/cam_plots.h"
@@ -13,6 +14,21 @@ namespace camdyn {
 namespace {
 
 std::string format_number4(double v) { return format_number(v, 4); }
+
+/// The unit of a run's position error: its scene's follower coordinate (an
+/// arm's in rad, coordinate_units.h).
+const char* position_unit(const ConvergenceStudy& study, const ConvergenceRun& r) {
+  return coordinate_units(study.scenes[r.scene]).position;
+}
+
+/// The unit the runs' position errors share, or "" when the scenes mix
+/// translating and oscillating followers (each value then carries its own).
+std::string shared_position_unit(const ConvergenceStudy& study) {
+  const std::string first = coordinate_units(study.scenes.front()).position;
+  for (const SceneConfig& scene : study.scenes)
+    if (coordinate_units(scene).position != first) return "";
+  return first;
+}
 
 /// work_precision.csv: one row per run; errors empty for a failed run.
 void write_work_precision_csv(const std::filesystem::path& path, const ConvergenceStudy& study,
@@ -38,7 +54,7 @@ std::pair<Plot, Plot> work_precision_plots(const ConvergenceStudy& study, const 
   Plot time_plot, rhs_plot;
   time_plot.title = "Work-precision, scene '" + config.scenes[k].name + "': position error against run time";
   time_plot.xlabel = "run time [s]";
-  time_plot.ylabel = "max |y − y_ref| [m]";
+  time_plot.ylabel = CoordinateUnits::axis("max |y − y_ref|", coordinate_units(study.scenes[k]).position);
   time_plot.logx = time_plot.logy = true;
   rhs_plot = time_plot;
   rhs_plot.title = "Scene '" + config.scenes[k].name + "': position error against RHS evaluations";
@@ -62,23 +78,29 @@ std::pair<Plot, Plot> work_precision_plots(const ConvergenceStudy& study, const 
 
 /// The table of every run.
 Table runs_table(const ConvergenceStudy& study, const std::vector<ConvergenceRun>& runs) {
+  const std::string unit = shared_position_unit(study);
   Table table{"Runs",
-              {"scene", "method", "tracking", "rtol / step", "error_position [m]", "error_peak_force",
+              {"scene", "method", "tracking", "rtol / step",
+               CoordinateUnits::axis("error_position", unit.empty() ? "m or rad" : unit), "error_peak_force",
                "energy_residual", "run_time_s", "steps", "rhs_evaluations", "status"},
               {},
               true};
+  const auto error_text = [&](const ConvergenceRun& r) {
+    if (!r.ok) return std::string("–");
+    return unit.empty() ? format_number4(r.error_position) + " " + position_unit(study, r)
+                        : format_number4(r.error_position);
+  };
   for (const ConvergenceRun& r : runs)
     table.rows.push_back({study.config.scenes[r.scene].name, to_string(r.method), to_string(r.tracking),
                           r.method == IntegrationMethod::rk4 ? format_number4(r.step) + " s" : format_number4(r.rtol),
-                          r.ok ? format_number4(r.error_position) : "–",
-                          r.ok ? format_number4(r.error_peak_force) : "–",
+                          error_text(r), r.ok ? format_number4(r.error_peak_force) : "–",
                           r.ok ? format_number4(r.energy_residual) : "–", format_number4(r.run_time_s),
                           std::to_string(r.steps), std::to_string(r.rhs_evaluations), r.ok ? "ok" : r.error});
   return table;
 }
 
 /// The banner: the most accurate run and the cheapest one, and how many failed.
-Verdict convergence_verdict(const std::vector<ConvergenceRun>& runs, long failed) {
+Verdict convergence_verdict(const ConvergenceStudy& study, const std::vector<ConvergenceRun>& runs, long failed) {
   const ConvergenceRun* accurate = nullptr;
   const ConvergenceRun* fast = nullptr;
   for (const ConvergenceRun& r : runs) {
@@ -88,11 +110,12 @@ Verdict convergence_verdict(const std::vector<ConvergenceRun>& runs, long failed
   }
   Verdict v;
   v.tone = failed == 0 ? Verdict::Tone::good : accurate ? Verdict::Tone::warning : Verdict::Tone::bad;
-  const auto describe = [](const ConvergenceRun& r) {
+  const auto describe = [&](const ConvergenceRun& r) {
     return to_string(r.method) + " (" + to_string(r.tracking) + ", " +
            (r.method == IntegrationMethod::rk4 ? "step " + format_number4(r.step) + " s"
                                                : "rtol " + format_number4(r.rtol)) +
-           "): position error " + format_number4(r.error_position) + " in " + format_number4(r.run_time_s) + " s";
+           "): position error " + format_number4(r.error_position) + " " + position_unit(study, r) + " in " +
+           format_number4(r.run_time_s) + " s";
   };
   v.headline = accurate ? "most accurate: " + describe(*accurate) : "every run failed";
   if (fast) v.details.push_back("fastest: " + describe(*fast));
@@ -101,9 +124,8 @@ Verdict convergence_verdict(const std::vector<ConvergenceRun>& runs, long failed
   return v;
 }
 
-/// report.html: the reference, run counts and wall time [s], the
-/// work-precision plots of each scene, the cam of the first scene and the
-/// table of runs.
+}  // namespace
+
 Report convergence_report(const ConvergenceStudy& study, const std::vector<ConvergenceRun>& runs, long failed,
                           double wall, const std::string& file) {
   Report report;
@@ -111,7 +133,7 @@ Report convergence_report(const ConvergenceStudy& study, const std::vector<Conve
   report.subtitle = "convergence study: every method × tracking mode × tolerance against a reference run (" +
                     to_string(study.config.reference.method) + ", rtol " + format_number4(study.config.reference.rtol) +
                     ")";
-  report.verdict = convergence_verdict(runs, failed);
+  report.verdict = convergence_verdict(study, runs, failed);
   report.facts.emplace_back("runs", std::to_string(runs.size()));
   report.facts.emplace_back("failed", std::to_string(failed));
   report.facts.emplace_back("wall time", format_number4(wall) + " s");
@@ -129,8 +151,6 @@ Report convergence_report(const ConvergenceStudy& study, const std::vector<Conve
   report.appendix.push_back(std::move(table));
   return report;
 }
-
-}  // namespace
 
 double write_convergence_outputs(const std::filesystem::path& out_dir, const ConvergenceStudy& study,
                                  const ConvergenceResult& result, const std::string& config_file) {

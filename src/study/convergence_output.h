@@ -5,11 +5,20 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
+#include "output/report.h"
 #include "study/convergence.h"
 #include "study/convergence_config.h"
 
 namespace camdyn {
+
+/// report.html: the reference, run counts and wall time [s], the
+/// work-precision plots of each scene (the position error in the unit of its
+/// follower coordinate: m, or rad for an arm), the cam of the first scene and
+/// the table of runs; `file` names the study's config in messages.
+Report convergence_report(const ConvergenceStudy& study, const std::vector<ConvergenceRun>& runs, long failed,
+                          double wall, const std::string& file);
 
 /// Writes work_precision.csv, report.html and config.json into out_dir;
 /// returns the wall time [s] from result.started to the report.

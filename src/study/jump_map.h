@@ -15,6 +15,7 @@
 
 #include "dynamics/cam_geometry.h"
 #include "io/config.h"
+#include "output/report.h"
 #include "study/periodic_study.h"
 #include "study/study.h"
 
@@ -82,6 +83,12 @@ std::vector<JumpMapTransition> jump_map_transitions(const std::vector<JumpMapPoi
 /// A point as a journal record and back.
 Json jump_map_point_json(const JumpMapPoint& p);
 JumpMapPoint jump_map_point_from_json(const Json& j);
+
+/// report.html: the verdict, the diagrams against cam speed (impact speed,
+/// the Poincaré section of the follower coordinate in its own unit, impact
+/// angles), the cam and the table of speeds; `file` names the config in messages.
+Report jump_map_report(const JumpMapStudy& study, const std::vector<JumpMapPoint>& points,
+                       const std::vector<JumpMapTransition>& transitions, double run_time, const std::string& file);
 
 /// Runs (or, with ctx.validate_only, checks) the study; writes jump_map.json,
 /// jump_map.csv and report.html; returns the exit code.

@@ -11,6 +11,7 @@
 #include <map>
 #include <set>
 
+#include "dynamics/coordinate_units.h"
 #include "io/csv_writer.h"
 #include "io/json_writer.h"
 #include "output/cam_plots.h"
@@ -79,6 +80,8 @@ Plot diagram(const std::vector<JumpMapPoint>& points, double jump_rpm, Plot plot
   return plot;
 }
 
+}  // namespace
+
 Report jump_map_report(const JumpMapStudy& study, const std::vector<JumpMapPoint>& points,
                        const std::vector<JumpMapTransition>& transitions, double run_time, const std::string& file) {
   Report rep;
@@ -109,12 +112,15 @@ Report jump_map_report(const JumpMapStudy& study, const std::vector<JumpMapPoint
       points, jump,
       Plot{"Jump map: impact speed against cam speed", "cam speed [rpm]", "normal approach speed at impact [m/s]", {}},
       [](const JumpMapPoint& p) { return p.impact_speed; }));
-  rep.plots.push_back(diagram(points, jump,
-                              Plot{"Poincaré section: follower position once per revolution",
-                                   "cam speed [rpm]",
-                                   "follower position at the section [m]",
-                                   {}},
-                              [](const JumpMapPoint& p) { return p.section_position; }));
+  // The section samples are q: an arm's in rad (coordinate_units.h).
+  const CoordinateUnits units = coordinate_units(study.scene);
+  rep.plots.push_back(
+      diagram(points, jump,
+              Plot{"Poincaré section: " + std::string(units.position_name) + " once per revolution",
+                   "cam speed [rpm]",
+                   CoordinateUnits::axis(std::string(units.position_name) + " at the section", units.position),
+                   {}},
+              [](const JumpMapPoint& p) { return p.section_position; }));
   rep.plots.push_back(diagram(points, jump, Plot{"Impact angles", "cam speed [rpm]", "cam angle at impact [deg]", {}},
                               [](const JumpMapPoint& p) { return p.impact_angle_deg; }));
   // The cam, its SVAJ per radian of cam angle: the map runs at many speeds.
@@ -133,8 +139,6 @@ Report jump_map_report(const JumpMapStudy& study, const std::vector<JumpMapPoint
       "sampled once per revolution; its orbit is found by shooting (the periodic study).");
   return rep;
 }
-
-}  // namespace
 
 int run_jump_map_study(const Json& doc, const StudyContext& ctx) {
   const JumpMapStudy study = read_jump_map_study(doc, ctx);

@@ -4,6 +4,7 @@
 #include <numbers>
 #include <string>
 
+#include "dynamics/coordinate_units.h"
 #include "output/cam_plots.h"
 
 namespace camdyn {
@@ -13,11 +14,11 @@ namespace {
 // The orbit (or the last revolution) in the phase plane, and its section points.
 Plot phase_plane(const PeriodicResult& r, const PoincareMap& map) {
   const TimeSeries& s = r.orbit_run.series;
-  Plot p{"Phase plane: follower position against velocity", "follower velocity [m/s]", "follower position [m]", {}};
-  if (map.model().follower.oscillating()) {
-    p.xlabel = "arm angular velocity [rad/s]";
-    p.ylabel = "arm angle [rad]";
-  }
+  const CoordinateUnits u = coordinate_units(map.model());
+  Plot p{"Phase plane: follower position against velocity",
+         CoordinateUnits::axis(u.velocity_name, u.velocity),
+         CoordinateUnits::axis(u.position_name, u.position),
+         {}};
   p.series.push_back({r.analysis.orbit ? "orbit" : "last revolution", s.follower_velocity, s.follower_position});
   Series section{"Poincaré points (once per revolution)", {}, {}, "points"};
   if (r.analysis.orbit) {
@@ -77,9 +78,9 @@ Plot newton_residuals(const PeriodicAnalysis& a) {
   return p;
 }
 
-Table orbit_table(const PeriodicResult& r) {
+Table orbit_table(const PeriodicResult& r, const CoordinateUnits& u) {
   Table t{"Impacts and take-offs on the orbit",
-          {"event", "cam angle [deg]", "normal speed [m/s]", "follower velocity"},
+          {"event", "cam angle [deg]", "normal speed [m/s]", CoordinateUnits::axis(u.velocity_name, u.velocity)},
           {}};
   for (const OrbitEvent& e : r.impacts)
     t.rows.push_back(
@@ -128,7 +129,7 @@ Report periodic_report(const PeriodicStudy& study, const PeriodicResult& r, cons
   for (Plot& p : cam_plots(map.model(), study.scene.mechanism.cam.limits, r.rpm)) rep.plots.push_back(std::move(p));
   if (a.orbit) rep.plots.push_back(multipliers(*a.orbit));
   if (!a.newton.empty()) rep.plots.push_back(newton_residuals(a));
-  rep.appendix.push_back(orbit_table(r));
+  rep.appendix.push_back(orbit_table(r, coordinate_units(map.model())));
   rep.notes.push_back(
       "The orbit is found by shooting on the once-per-revolution Poincaré map; the metrics in periodic.json and "
       "orbit/summary.json are over one period of it (over the last revolution when no stable orbit converged). "

@@ -10,6 +10,7 @@
 #include <type_traits>
 
 #include "common/parallel.h"
+#include "dynamics/coordinate_units.h"
 #include "dynamics/plausibility.h"
 #include "io/atomic_file.h"
 #include "io/csv_writer.h"
@@ -502,8 +503,9 @@ Report simulation_report(const SceneConfig& scene, const Model& model, const Sim
                 {"metric", "value", "unit"},
                 {},
                 true};
+  const CoordinateUnits units = coordinate_units(model);
   for_each_metric(m, [&](const char* name, const auto& value, const MetricInfo& info) {
-    metrics.rows.push_back({name, format(static_cast<double>(value)), info.unit});
+    metrics.rows.push_back({name, format(static_cast<double>(value)), info.in_coordinate ? units.position : info.unit});
   });
   report.tables.push_back(std::move(metrics));
 

@@ -6,7 +6,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
+#include <optional>
 #include <string>
 
 #include "common/errors.h"
@@ -81,6 +83,78 @@ TEST(Plausibility, StiffnessOutsideTheUsualRangeIsWarned) {
   scene.mechanism.contact.stiffness = 1e6;
   EXPECT_TRUE(
       has_cause(input_warnings(scene, build_model(scene, "test")), "contact_stiffness", "mechanism.contact.stiffness"));
+}
+
+/// The Richardson warning of a run whose error estimate differs by `position`
+/// (in the follower coordinate), or null when there is none.
+std::optional<PlausibilityWarning> error_estimate_warning(const SceneConfig& scene, double position) {
+  const Model model = build_model(scene, "test");
+  SimulationResult result;  // no impacts, no penetration, a closed energy balance: no other warning
+  result.error.richardson = true;
+  result.error.position = position;
+  for (const PlausibilityWarning& w : result_warnings(scene, model, result))
+    if (w.cause == "error_estimate") return w;
+  return std::nullopt;
+}
+
+std::string percent_text(double share) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.3g %%", 100.0 * share);
+  return buffer;
+}
+
+/// The test cams' lift: 12° of arm rotation, 20 mm of travel (scenes.h).
+constexpr double kArmLift = 12.0 * std::numbers::pi / 180.0;  // [rad]
+constexpr double kLift = 0.02;                                // [m]
+
+// A user's arm: an error of 0.00638 rad was reported as a share of the lift
+// in metres (12.2 %) and printed without its unit; it is 0.00638 rad against
+// the arm's lift in rad.
+TEST(Plausibility, ArmsErrorEstimateIsInRadAgainstItsLiftInRad) {
+  const double error = 0.00638;  // [rad]
+  const std::optional<PlausibilityWarning> w =
+      error_estimate_warning(test::follower_scene("oscillating_roller", 1000.0), error);
+  ASSERT_TRUE(w);
+  EXPECT_EQ(w->field, "integrator.rtol");
+  EXPECT_NE(w->message.find("0.00638 rad in position"), std::string::npos) << w->message;
+  EXPECT_NE(w->message.find(percent_text(error / kArmLift) + " of the lift (0.209 rad)"), std::string::npos)
+      << w->message;
+  EXPECT_EQ(w->message.find(" m "), std::string::npos) << w->message;
+  EXPECT_EQ(w->message.find(" m,"), std::string::npos) << w->message;
+}
+
+// 1e-3 rad is 0.48 % of the 12° lift: below the 1 % threshold, though it is
+// 6 % of the lift's arc in metres (0.209 rad × 80 mm).
+TEST(Plausibility, ArmsErrorBelowOnePercentOfItsLiftInRadIsNotWarned) {
+  EXPECT_FALSE(error_estimate_warning(test::follower_scene("oscillating_roller", 1000.0), 1e-3));
+  EXPECT_TRUE(error_estimate_warning(test::follower_scene("oscillating_roller", 1000.0), 0.011 * kArmLift));
+}
+
+TEST(Plausibility, TranslatingFollowersErrorEstimateIsInMetresAgainstItsLiftInMetres) {
+  const double error = 1e-3;  // [m]
+  const std::optional<PlausibilityWarning> w =
+      error_estimate_warning(test::follower_scene("translating_roller", 1000.0), error);
+  ASSERT_TRUE(w);
+  EXPECT_NE(w->message.find("0.001 m in position, " + percent_text(error / kLift) + " of the lift (0.02 m)"),
+            std::string::npos)
+      << w->message;
+  EXPECT_EQ(w->message.find("rad"), std::string::npos) << w->message;
+  EXPECT_FALSE(error_estimate_warning(test::follower_scene("translating_roller", 1000.0), 0.009 * kLift));
+}
+
+// The tolerance warning gives the penetration of an arm in rad of its rotation.
+TEST(Plausibility, ArmsUnresolvedContactIsGivenInRad) {
+  SceneConfig scene = test::follower_scene("oscillating_roller", 1000.0);
+  scene.integrator.rtol = 1e-3;
+  scene.integrator.atol = 1e-3;
+  const Model model = build_model(scene, "test");
+  for (const PlausibilityWarning& w : input_warnings(scene, model))
+    if (w.cause == "tolerance") {
+      EXPECT_NE(w.message.find("rad of arm rotation"), std::string::npos) << w.message;
+      EXPECT_NE(w.message.find("rad)"), std::string::npos) << w.message;
+      return;
+    }
+  FAIL() << "no tolerance warning";
 }
 
 }  // namespace

@@ -213,6 +213,7 @@ TEST_F(CompareCli, InlineCaseOverlaysAndBestMarks) {
   const std::string html = read_text(dir_ / "out" / "report.html");
   EXPECT_NE(html.find("Contact force against cam angle (last revolution), mechanism.cam.rpm=1300"), std::string::npos);
   EXPECT_NE(html.find("Follower displacement against cam angle"), std::string::npos);
+  EXPECT_NE(html.find("follower displacement [m]"), std::string::npos);  // a translating follower
   EXPECT_NE(html.find("class=\"num best\""), std::string::npos);
   EXPECT_NE(html.find("Best case per metric"), std::string::npos);
   // The overlay runs carry their last revolution in the journal.
@@ -221,6 +222,29 @@ TEST_F(CompareCli, InlineCaseOverlaysAndBestMarks) {
   for (std::size_t at = journal.find("\"overlay\""); at != std::string::npos; at = journal.find("\"overlay\"", at + 1))
     ++overlays;
   EXPECT_EQ(overlays, 2u);  // both cases at 1300 rpm
+}
+
+// An oscillating arm's follower coordinate is its angle: the overlay of its
+// motion and its kinematic error are drawn in rad, its spring in N m/rad.
+TEST_F(CompareCli, ArmsMotionIsDrawnInRad) {
+  const fs::path study = dir_ / "study.json";
+  std::ofstream(study) << R"({
+    "extends": ")" << CAMDYN_SOURCE_DIR
+                       << R"(/studies/followers/oscillating_roller.json",
+    "name": "arm", "study": "compare",
+    "simulation": { "cycles": 2, "discard_cycles": 1, "output_step_deg": 1.0 },
+    "grid": { "mechanism.follower.spring.stiffness": [40, 50], "mechanism.cam.rpm": [1000, 1100] },
+    "overlays": [ { "mechanism.cam.rpm": 1000 } ]
+  })";
+  ASSERT_EQ(run_camdyn({"run", study.string(), "--out", (dir_ / "out").string()}, dir_, "run").code, 0)
+      << read_text(dir_ / "run.err");
+  for (const auto& row : read_csv(dir_ / "out" / "comparison.csv"))
+    ASSERT_EQ(row.at("status"), "ok") << row.at("error");
+  const std::string html = read_text(dir_ / "out" / "report.html");
+  EXPECT_NE(html.find("follower displacement [rad]"), std::string::npos);
+  EXPECT_EQ(html.find("follower displacement [m]"), std::string::npos);
+  EXPECT_NE(html.find("max_kinematic_error [rad]"), std::string::npos);
+  EXPECT_NE(html.find("mechanism.follower.spring.stiffness [N m/rad]"), std::string::npos);
 }
 
 // A `name` that is not a string threw a JSON type error out of the study

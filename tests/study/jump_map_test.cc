@@ -11,6 +11,7 @@
 #include <string>
 #include <utility>
 
+#include "../dynamics/scenes.h"
 #include "cli_run.h"
 #include "io/config.h"
 
@@ -120,6 +121,36 @@ TEST(JumpMap, WorkBeyondTheBudgetsIsRefusedByValidate) {
     EXPECT_EQ(r.code, 2) << fields;
     EXPECT_NE(r.err.find(expected), std::string::npos) << r.err;
   }
+}
+
+/// The report's Poincaré section plot for a one-speed map of `kind`'s follower (scenes.h).
+Plot section_plot(const std::string& kind) {
+  JumpMapStudy study;
+  study.scene = test::follower_scene(kind, 1000.0);
+  study.config.low_rpm = 900.0;
+  study.config.high_rpm = 1100.0;
+  JumpMapPoint p;
+  p.rpm = 1000.0;
+  p.ok = true;
+  p.motion = MotionKind::periodic;
+  p.period = 1;
+  p.section_position = {0.1, 0.1};
+  const Report report = jump_map_report(study, {p}, {}, 1.0, "test");
+  for (const Plot& plot : report.plots)
+    if (plot.title.rfind("Poincaré section", 0) == 0) return plot;
+  ADD_FAILURE() << "no Poincaré section plot";
+  return {};
+}
+
+// The section samples are the follower coordinate: an arm's angle in rad.
+TEST(JumpMap, ArmsSectionIsLabelledInRad) {
+  const Plot plot = section_plot("oscillating_roller");
+  EXPECT_EQ(plot.ylabel, "arm angle at the section [rad]");
+  EXPECT_EQ(plot.title, "Poincaré section: arm angle once per revolution");
+}
+
+TEST(JumpMap, TranslatingFollowersSectionIsLabelledInMetres) {
+  EXPECT_EQ(section_plot("translating_roller").ylabel, "follower position at the section [m]");
 }
 
 }  // namespace

@@ -215,6 +215,24 @@ TEST(SimulationVerdict, ReportLeadsWithTheBannerAndEndsWithTheSolverTable) {
       }
 }
 
+/// The unit the report's metrics table gives `metric`.
+std::string metric_unit_in_report(const std::string& kind, const std::string& metric) {
+  const SceneRun run(test::follower_scene(kind, 1000.0));
+  const Report report = simulation_report(run.scene, run.model, run.result);
+  for (const Table& t : report.tables)
+    for (const std::vector<std::string>& row : t.rows)
+      if (t.columns.size() == 3 && row.front() == metric) return row[2];
+  ADD_FAILURE() << "no metric " << metric;
+  return "";
+}
+
+// The kinematic error is |q − s(θ)|: an arm's in rad; contact quantities stay m.
+TEST(SimulationOutput, ArmsKinematicErrorIsInRad) {
+  EXPECT_EQ(metric_unit_in_report("oscillating_roller", "max_kinematic_error"), "rad");
+  EXPECT_EQ(metric_unit_in_report("oscillating_roller", "max_penetration"), "m");
+  EXPECT_EQ(metric_unit_in_report("translating_roller", "max_kinematic_error"), "m");
+}
+
 // timeseries.csv holds the series exactly: every number reads back to the
 // same double, column by column in column_names' order.
 TEST(SimulationOutput, TimeSeriesCsvReadsBackToTheSameDoubles) {
