@@ -94,10 +94,10 @@ std::vector<std::size_t> all_pieces(const MotionLaw& law) {
 RigidFollower rigid_follower(const Model& model, double min_force) {
   RigidFollower f;
   f.mass = model.mass;
-  f.stiffness = model.spring_stiffness;
-  f.preload = model.spring_preload;
-  f.damping = model.damping;
-  f.weight = model.mass * model.gravity;
+  f.stiffness = model.forces.spring.stiffness;
+  f.preload = model.forces.spring.preload;
+  f.damping = model.forces.damper.damping;
+  f.weight = model.forces.weight(model.mass);
   f.min_force = min_force;
   if (model.follower.oscillating()) {
     // On an arm the same P is the torque Q about the pivot, and the normal

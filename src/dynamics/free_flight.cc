@@ -70,18 +70,19 @@ bool flight_has_closed_form(const Model& model) {
   const StateLayout& l = model.layout;
   const int extra = (l.u ? 1 : 0) + (l.spin ? 1 : 0);
   return model.drive == Drive::constant_speed && model.pair_form == PairForm::reduced && !l.v &&
-         model.spring_stiffness >= 0.0 && model.mass > 0.0 && l.size == 2 + extra;
+         model.forces.spring.stiffness >= 0.0 && model.mass > 0.0 && l.size == 2 + extra;
 }
 
 // ------------------------------------------------------------------ FreeFlight
 
 FreeFlight::FreeFlight(const Model& model)
-    : c_half_(0.5 * model.damping / model.mass),
-      omega2_(model.spring_stiffness / model.mass),
+    : c_half_(0.5 * model.forces.damper.damping / model.mass),
+      omega2_(model.forces.spring.stiffness / model.mass),
       b2_(omega2_ - c_half_ * c_half_),
-      load_((model.spring_preload + model.mass * model.gravity) / model.mass),
-      q_eq_(model.spring_stiffness > 0.0 ? -(model.spring_preload + model.mass * model.gravity) / model.spring_stiffness
-                                         : 0.0) {}
+      load_((model.forces.spring.preload + model.forces.weight(model.mass)) / model.mass),
+      q_eq_(model.forces.spring.stiffness > 0.0
+                ? -(model.forces.spring.preload + model.forces.weight(model.mass)) / model.forces.spring.stiffness
+                : 0.0) {}
 
 void FreeFlight::start(double t0, double q0, double v0) {
   t0_ = t0;
@@ -176,7 +177,7 @@ bool FlightTrack::point(Workspace& ws, double t, double u_warm, FlightPoint& p) 
 }
 
 double FlightTrack::damper_work(double ta, double tb) const {
-  if (model_.damping == 0.0 || tb <= ta) return 0.0;
+  if (model_.forces.damper.damping == 0.0 || tb <= ta) return 0.0;
   // Four-point Gauss–Legendre on c q̇²: q̇ is smooth over an interval of a few degrees.
   constexpr std::array<double, 4> x{-0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.8611363115940526};
   constexpr std::array<double, 4> w{0.3478548451374538, 0.6521451548625461, 0.6521451548625461, 0.3478548451374538};
@@ -187,7 +188,7 @@ double FlightTrack::damper_work(double ta, double tb) const {
     flight_.at(mid + half * x[i], q, v);
     sum += w[i] * v * v;
   }
-  return model_.damping * half * sum;
+  return model_.forces.damper.damping * half * sum;
 }
 
 // The longest interval from p over which the gap provably stays above half

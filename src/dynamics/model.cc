@@ -344,8 +344,10 @@ void core(const Model& m, const Workspace& ws, double t, const S* x, const PairS
   o.contact_offset = offset_across_face(fg, o.q, to_world(X));
 
   support_friction(m, o);
-  const S spring = m.spring_preload + m.spring_stiffness * o.q;
-  o.acceleration = (o.generalised_force - spring - m.damping * o.v - m.mass * m.gravity + o.guide + o.pivot) / m.mass;
+  // The follower's force elements, added in their order (dynamics/follower_forces.h).
+  S force = o.generalised_force;
+  m.forces.for_each([&](const auto& element) { force = force + element.force(o.q, o.v, m.mass); });
+  o.acceleration = (force + o.guide + o.pivot) / m.mass;
   o.spin_acceleration = m.has_spin ? -(fg.radius * o.friction_force) / m.roller_inertia : S(0.0);
   o.u_rate = m.layout.u ? (-m.tracking_gain * o.f - f_q * o.v - f_theta * o.omega_c) / o.f_u : S(0.0);
   o.v_rate = S(0.0);
@@ -406,10 +408,7 @@ void assemble_elements(const SceneConfig& scene, const std::string& file, Model&
   model.mass = oscillating ? f.inertia : f.mass;
   if (!(model.mass > 0.0))
     throw InputError(file, oscillating ? "mechanism.follower.inertia" : "mechanism.follower.mass", "must be > 0");
-  model.spring_stiffness = f.spring.stiffness;
-  model.spring_preload = f.spring.preload;
-  model.damping = f.damping;
-  model.gravity = oscillating ? 0.0 : scene.gravity;
+  model.forces = follower_forces(scene);
 
   model.contact = build_force_law(scene, fg.base_radius, file);
   const FrictionConfig& fc = mech.contact.friction;
@@ -534,10 +533,9 @@ void list_elements(Model& model) {
   const bool oscillating = model.follower.oscillating();
   model.elements.clear();
   model.elements.push_back(oscillating ? "arm_inertia" : "follower_mass");
-  if (model.spring_stiffness > 0.0 || model.spring_preload > 0.0)
-    model.elements.push_back(oscillating ? "torsional_spring" : "spring");
-  if (model.damping > 0.0) model.elements.push_back(oscillating ? "torsional_damper" : "damper");
-  if (model.gravity != 0.0) model.elements.push_back("gravity");
+  model.forces.for_each([&](const auto& element) {
+    if (element.present()) model.elements.push_back(element.name(oscillating));
+  });
   model.elements.push_back("contact:" + to_string(model.contact.model));
   if (model.contact_friction) model.elements.push_back(friction_name("friction", model.friction));
   if (model.has_guide_friction) model.elements.push_back(friction_name("guide_friction", model.guide_friction));
@@ -654,8 +652,8 @@ void evaluate(const Model& model, Workspace& ws, double t, const double* state, 
         model.motor == Motor::torque_speed ? o.motor_torque * o.motor_speed : o.shaft_torque * o.motor_speed;
   }
   const double shaft_slip = o.motor_speed - o.omega_c;
-  ev.power_damper =
-      model.damping * o.v * o.v + (model.drive == Drive::shaft ? model.shaft_damping * shaft_slip * shaft_slip : 0.0);
+  ev.power_damper = model.forces.power(o.v) +
+                    (model.drive == Drive::shaft ? model.shaft_damping * shaft_slip * shaft_slip : 0.0);
   ev.power_hysteresis = o.delta > 0.0 ? (o.normal_force - model.contact.elastic_force(o.delta)) * o.delta_rate : 0.0;
   ev.power_friction = -o.friction_force * o.slip - (o.guide + o.pivot) * o.v;
 }
@@ -700,10 +698,9 @@ void root_functions(const Model& model, const Workspace& ws, const Evaluation& e
 EnergyTerms energy_terms(const Model& model, const Evaluation& ev) {
   EnergyTerms e;
   e.kinetic = 0.5 * model.mass * ev.v * ev.v + 0.5 * model.roller_inertia * ev.spin * ev.spin;
-  // Spring energy measured from its free length, so that it is never negative.
-  const double k = model.spring_stiffness, f0 = model.spring_preload;
-  e.spring = f0 * ev.y + 0.5 * k * ev.y * ev.y + (k > 0.0 ? 0.5 * f0 * f0 / k : 0.0);
-  e.gravity = model.mass * model.gravity * ev.y;
+  const StoredEnergy stored = model.forces.energy(ev.y, model.mass);
+  e.spring = stored.spring;
+  e.gravity = stored.gravity;
   e.contact = model.contact.elastic_energy(ev.delta);
   if (model.drive == Drive::shaft) {
     e.kinetic += 0.5 * model.cam_inertia * ev.cam_speed * ev.cam_speed;
@@ -714,14 +711,15 @@ EnergyTerms energy_terms(const Model& model, const Evaluation& ev) {
 }
 
 double jump_speed_rpm(const Model& model) {
-  const double x0 = model.spring_stiffness > 0.0 ? model.spring_preload / model.spring_stiffness : 0.0;
+  const ReturnSpring& spring = model.forces.spring;
+  const double x0 = spring.stiffness > 0.0 ? spring.preload / spring.stiffness : 0.0;
   auto omega_at = [&](double theta) {
     const LawSample s = model.law->eval(theta);
     if (!(s.d2s < 0.0)) return std::numeric_limits<double>::infinity();
-    const double hold = model.spring_stiffness * (s.s + x0) + model.mass * model.gravity;
-    if (model.spring_stiffness == 0.0 && model.spring_preload > 0.0) {
+    const double hold = spring.stiffness * (s.s + x0) + model.forces.weight(model.mass);
+    if (spring.stiffness == 0.0 && spring.preload > 0.0) {
       // Constant-force spring: the preload alone holds the follower.
-      return std::sqrt(std::max(0.0, model.spring_preload + model.mass * model.gravity) / (-model.mass * s.d2s));
+      return std::sqrt(std::max(0.0, spring.preload + model.forces.weight(model.mass)) / (-model.mass * s.d2s));
     }
     return hold > 0.0 ? std::sqrt(hold / (-model.mass * s.d2s)) : 0.0;
   };
@@ -749,7 +747,7 @@ double jump_speed_rpm(const Model& model) {
 
 double damped_jump_speed_rpm(const Model& model) {
   const double undamped = jump_speed_rpm(model);  // [rpm]
-  if (model.damping == 0.0 || !std::isfinite(undamped)) return undamped;
+  if (model.forces.damper.damping == 0.0 || !std::isfinite(undamped)) return undamped;
   constexpr int kAngles = 3600, kSpeeds = 200;
   auto holds = [&](double omega) {
     for (int i = 0; i < kAngles; ++i)
@@ -774,11 +772,12 @@ double damped_jump_speed_rpm(const Model& model) {
 double rigid_normal_force(const Model& model, double theta) { return rigid_normal_force(model, theta, model.omega); }
 
 double rigid_normal_force(const Model& model, double theta, double omega) {
+  const ReturnSpring& spring = model.forces.spring;
   const LawSample s = model.law->eval(theta);
-  const double x0 = model.spring_stiffness > 0.0 ? model.spring_preload / model.spring_stiffness : 0.0;
-  const double spring = model.spring_stiffness > 0.0 ? model.spring_stiffness * (s.s + x0) : model.spring_preload;
-  const double generalised =
-      model.mass * omega * omega * s.d2s + model.damping * omega * s.ds + spring + model.mass * model.gravity;
+  const double x0 = spring.stiffness > 0.0 ? spring.preload / spring.stiffness : 0.0;
+  const double spring_force = spring.stiffness > 0.0 ? spring.stiffness * (s.s + x0) : spring.preload;
+  const double generalised = model.mass * omega * omega * s.d2s + model.forces.damper.damping * omega * s.ds +
+                             spring_force + model.forces.weight(model.mass);
   return generalised / model.cam->kinematics(theta).g_q;
 }
 

@@ -30,6 +30,7 @@
 #include "contact/friction.h"
 #include "contact/point_curve_tracking.h"
 #include "dynamics/cam_geometry.h"
+#include "dynamics/follower_forces.h"
 #include "dynamics/state_layout.h"
 #include "scene/scene.h"
 
@@ -42,11 +43,8 @@ struct Model : CamGeometry {
   double omega = 0.0;   ///< nominal cam speed |θ̇| [rad/s] (0: cam held still); motor speed with a shaft
   double theta0 = 0.0;  ///< cam angle at t = 0 [rad]
 
-  double mass = 0.0;            ///< generalised inertia M: follower mass [kg] or arm inertia [kg m²]
-  double spring_stiffness = 0;  ///< k [N/m | N m/rad]
-  double spring_preload = 0;    ///< spring force [N] or torque [N m] at q = 0
-  double damping = 0.0;         ///< viscous damper c [N s/m | N m s/rad]
-  double gravity = 0.0;         ///< g [m/s²], pulling a translating follower towards the cam
+  double mass = 0.0;      ///< generalised inertia M: follower mass [kg] or arm inertia [kg m²]
+  FollowerForces forces;  ///< the return spring, the damper and gravity on q (dynamics/follower_forces.h)
 
   ForceLaw contact;
   FrictionLaw friction;           ///< sliding friction at the contact

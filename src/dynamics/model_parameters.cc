@@ -124,8 +124,8 @@ void check_parameters(const Model& model, const ModelParameters& p, const std::s
 
 /// Which of the optional force elements list_elements() lists.
 unsigned element_flags(const Model& m) {
-  return (m.spring_stiffness > 0.0 || m.spring_preload > 0.0 ? 1u : 0u) | (m.damping > 0.0 ? 2u : 0u) |
-         (m.gravity != 0.0 ? 4u : 0u) | (m.shaft_damping > 0.0 ? 8u : 0u);
+  return (m.forces.spring.present() ? 1u : 0u) | (m.forces.damper.present() ? 2u : 0u) |
+         (m.forces.gravity.present() ? 4u : 0u) | (m.shaft_damping > 0.0 ? 8u : 0u);
 }
 
 }  // namespace
@@ -184,10 +184,9 @@ void set_parameters(Model& model, const ModelParameters& p, const std::string& f
   // build_model()'s assignments, in its arithmetic.
   const bool oscillating = model.follower.oscillating();
   model.mass = p.mass;
-  model.spring_stiffness = p.spring_stiffness;
-  model.spring_preload = p.spring_preload;
-  model.damping = p.damping;
-  model.gravity = oscillating ? 0.0 : p.gravity;
+  model.forces.spring = {p.spring_stiffness, p.spring_preload};
+  model.forces.damper = {p.damping};
+  model.forces.gravity = {oscillating ? 0.0 : p.gravity};
   model.contact.stiffness = p.contact_stiffness;
   model.contact.exponent = p.contact_exponent;
   model.contact.restitution = p.restitution;

@@ -42,7 +42,7 @@ bool quadrature_reported(const Model& m, int i) {
     case 0:
       return m.omega != 0.0 || m.drive == Drive::shaft;
     case 1:
-      return m.damping > 0.0 || (m.drive == Drive::shaft && m.shaft_damping > 0.0);
+      return m.forces.damper.present() || (m.drive == Drive::shaft && m.shaft_damping > 0.0);
     case 2:
       return force_form(m.contact.model) != ForceForm::elastic;
     case 3:
