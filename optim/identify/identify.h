@@ -11,6 +11,12 @@
 // errors come from the covariance at the optimum, scaled by the residual
 // variance, and an identifiability check (rank of the Jacobian, relative
 // standard errors) names the parameters the data cannot determine.
+//
+// The pieces, each in its own file of optim/identify/: the records
+// (measured_record.h), the parallel simulations and their run cache
+// (fit_simulator.h), the residuals and their finite differences
+// (finite_differences.h), one Ceres solve (ceres_stage.h) and the statistics
+// at the optimum (optimum_statistics.h, identify_statistics.h).
 #pragma once
 
 #include <functional>
@@ -21,33 +27,9 @@
 
 #include "io/config.h"
 #include "optim/identify/identify_config.h"
+#include "optim/identify/measured_record.h"
 
 namespace camdyn::optim {
-
-/// A measured record read from its CSV file.
-struct MeasuredRecord {
-  std::vector<double> time;                 ///< [s], strictly increasing, within the simulated run
-  std::vector<int> lines;                   ///< CSV line of each sample (for messages)
-  std::vector<std::string> signals;         ///< timeseries columns
-  std::vector<std::vector<double>> values;  ///< values[k][i]: signal k at time[i] [unit of the signal]
-  std::vector<double> weights;              ///< per signal [1/unit]
-  std::vector<double> scale;                ///< RMS of each measured signal [unit]
-  std::vector<double> noise;                ///< noise standard deviation estimated from the record [unit]
-};
-
-/// Fewest samples a record may have: fewer cannot carry a transient.
-inline constexpr std::size_t kMinSamples = 10;
-
-/// Reads and checks a reference file: the named columns exist and are numeric
-/// (no NaN), time strictly increases, lies in [0, t_end] (the simulated run,
-/// [s]) and there are at least kMinSamples rows. Throws InputError naming the
-/// file and the CSV line (or column).
-MeasuredRecord read_reference(const ReferenceSpec& reference, double t_end);
-
-/// Noise standard deviation of a sampled signal estimated from its
-/// sample-to-sample differences: 1.4826 · median|Δy − median Δy| / √2 (robust
-/// to the few large differences at impacts). 0 for fewer than 3 samples.
-double estimate_noise(const std::vector<double>& y);
 
 /// One fitted parameter, resolved against the scene.
 struct FitParameter {
