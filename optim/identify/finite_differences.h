@@ -23,7 +23,8 @@ namespace camdyn::optim {
 inline double to_value(const FitParameter& p, double z) { return p.log_scale ? std::exp(z) : z; }
 inline double to_scaled(const FitParameter& p, double value) { return p.log_scale ? std::log(value) : value; }
 inline double scaled_lower(const FitParameter& p) {
-  if (p.log_scale) return p.lower > 0.0 && std::isfinite(p.lower) ? std::log(p.lower) : -std::numeric_limits<double>::infinity();
+  if (p.log_scale)
+    return p.lower > 0.0 && std::isfinite(p.lower) ? std::log(p.lower) : -std::numeric_limits<double>::infinity();
   return p.lower;
 }
 inline double scaled_upper(const FitParameter& p) { return p.log_scale ? std::log(p.upper) : p.upper; }
