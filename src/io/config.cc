@@ -48,7 +48,7 @@ Check plain_name() {
 Check scene_study() {
   Check check = one_of_enum<StudyKind>();
   check.text = [any_study = check.text](const std::string& s) -> std::string {
-    const std::string reason = any_study(s);
+    std::string reason = any_study(s);
     if (!reason.empty() || s == enum_name(StudyKind::simulate)) return reason;
     return "study '" + s + "' is not available in this version of camdyn (see the open issues)";
   };
