@@ -31,8 +31,8 @@ struct StudyInfo {
 
 /// Every study, in the order `camdyn run --help` lists them.
 inline constexpr std::array<StudyInfo, 8> kStudies = {{
-    {StudyKind::simulate, "simulate", "summary.json", "one run: metrics, time series, report", "studies/quickstart.json",
-     "--set mechanism.cam.rpm=1500"},
+    {StudyKind::simulate, "simulate", "summary.json", "one run: metrics, time series, report",
+     "studies/quickstart.json", "--set mechanism.cam.rpm=1500"},
     {StudyKind::optimize, "optimize", "result.json", "spline cam design against jump and contact force",
      "studies/optimize_jump.json", ""},
     {StudyKind::identify, "identify", "identified.json", "fit contact and follower parameters to measured records",
@@ -46,8 +46,7 @@ inline constexpr std::array<StudyInfo, 8> kStudies = {{
     {StudyKind::jump_map, "jump_map", "jump_map.json", "the steady motion over a range of cam speeds",
      "studies/periodic/bouncing_ball_jump_map.json", ""},
     {StudyKind::speed_limit, "speed_limit", "speed_limit.json",
-     "the highest cam speed that keeps the follower on the cam", "studies/quickstart.json",
-     "--set study=speed_limit"},
+     "the highest cam speed that keeps the follower on the cam", "studies/quickstart.json", "--set study=speed_limit"},
 }};
 
 /// The name table of StudyKind (scene/enum_names.h), made from kStudies.
