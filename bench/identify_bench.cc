@@ -20,9 +20,9 @@
 #include "dynamics/model.h"
 #include "dynamics/simulation.h"
 #include "io/config.h"
-#include "optim/fit_residuals.h"
-#include "optim/fit_scene.h"
-#include "optim/identify.h"
+#include "optim/identify/fit_residuals.h"
+#include "optim/identify/fit_scene.h"
+#include "optim/identify/identify.h"
 
 namespace {
 

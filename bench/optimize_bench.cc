@@ -10,10 +10,10 @@
 #include <string>
 
 #include "io/config.h"
-#include "optim/design.h"
-#include "optim/objectives.h"
-#include "optim/optimize.h"
-#include "optim/rigid_design.h"
+#include "optim/optimize/design.h"
+#include "optim/optimize/objectives.h"
+#include "optim/optimize/optimize.h"
+#include "optim/optimize/rigid_design.h"
 #include "optim/simulation_pool.h"
 
 namespace {

@@ -1,7 +1,7 @@
 // A linear programme and its solution with COIN-OR CLP (Debian
 // coinor-libclp-dev): minimise cᵀx subject to row bounds l_r ≤ A x ≤ u_r and
 // column bounds l_c ≤ x ≤ u_c. The rigid-model stage of an optimize study
-// (optim/rigid_design.h) and its jump-speed certificate (optim/jump_bound.h)
+// (optim/optimize/rigid_design.h) and its jump-speed certificate (optim/optimize/jump_bound.h)
 // build their programmes with this and never see CLP.
 //
 // CLP is chosen because it is a mature, exact (simplex) LP solver packaged by

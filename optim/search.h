@@ -22,7 +22,7 @@
 #include <string>
 #include <vector>
 
-#include "optim/optimize_config.h"
+#include "optim/optimize/optimize_config.h"
 
 namespace camdyn::optim {
 

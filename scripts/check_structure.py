@@ -3,9 +3,10 @@
 
 1. No folder includes a folder above it. The layers, bottom first:
        common < scene < io < geometry < contact < integrate < dynamics < output < study < api < optim < cli < python
-   A file in src/<layer>/ (optim/ is the optim layer, python/ the python
-   layer) may include headers of its own layer and of the layers below it
-   only, and never with "../". The Python module (python/) stands on the
+   A file in src/<layer>/ (optim/ with its study folders optim/optimize/
+   and optim/identify/ is the optim layer, python/ the python layer) may
+   include headers of its own layer and of the layers below it only, and
+   never with "../". The Python module (python/) stands on the
    public API: of the private headers it includes only the study dispatch
    "cli/run_study.h".
    The public headers (include/camdyn/) belong to the api layer, except
@@ -72,7 +73,7 @@ COMMENT_LEADER = re.compile(r"^\s*(?:///?|#|\*|/\*)?\s*")
 def layer_of(path):
     rel = path.relative_to(ROOT).parts
     if rel[0] in ("optim", "python"):
-        return rel[0]
+        return rel[0]  # optim/<study>/ included: one layer
     if rel[0] == "src" and len(rel) > 2:
         return rel[1]
     return None

@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -24,6 +25,7 @@
 #include "dynamics/model.h"
 #include "io/config.h"
 #include "output/profile_export.h"
+#include "scene/study_kind.h"
 #include "study/mpi_runner.h"
 
 namespace {
@@ -200,26 +202,7 @@ void add_export_command(CLI::App& app, ExportArgs& args) {
   command->add_option("--set", args.overrides, "Override a field (repeatable)");
 }
 
-// `camdyn run --help` ends with every study type, an example of each, and the exit codes.
-constexpr const char* kRunFooter = R"(
-Study types (the config's "study"; examples from the repository's studies/):
-  simulate     one run: metrics, time series, report
-                 camdyn run studies/quickstart.json --set mechanism.cam.rpm=1500
-  optimize     spline cam design against jump and contact force
-                 camdyn run studies/optimize_jump.json
-  identify     fit contact and follower parameters to measured records
-                 camdyn run studies/identify_drop/identify_drop.json
-  compare      cases over a grid of settings, one table and report
-                 camdyn run studies/compare_laws.json --jobs 2
-  convergence  error against run time of every integrator and tolerance
-                 camdyn run studies/work_precision.json
-  periodic     the steady motion by shooting on the Poincare map
-                 camdyn run studies/periodic/bouncing_ball.json
-  jump_map     the steady motion over a range of cam speeds
-                 camdyn run studies/periodic/bouncing_ball_jump_map.json
-  speed_limit  the highest cam speed that keeps the follower on the cam
-                 camdyn run studies/quickstart.json --set study=speed_limit
-
+constexpr const char* kExitCodesHelp = R"(
 Exit codes:
   0  success
   2  invalid input (config, data file, geometry that cannot be built; the
@@ -227,6 +210,21 @@ Exit codes:
   3  numerical failure (an integrator or optimiser gave up, a budget ran out,
      or with --strict a run whose results carry warnings)
   1  anything else)";
+
+// `camdyn run --help` ends with every study type of the registry
+// (scene/study_kind.h), an example of each, and the exit codes.
+std::string run_footer() {
+  std::string text = "\nStudy types (the config's \"study\"; examples from the repository's studies/):\n";
+  for (const camdyn::StudyInfo& study : camdyn::kStudies) {
+    constexpr std::size_t kNameWidth = 13;  // the longest name and two spaces
+    std::string name(study.name);
+    name.resize(std::max(kNameWidth, name.size() + 1), ' ');
+    text += "  " + name + std::string(study.help) + "\n                 camdyn run " + std::string(study.example);
+    if (!study.example_args.empty()) text += " " + std::string(study.example_args);
+    text += "\n";
+  }
+  return text + kExitCodesHelp;
+}
 
 // The command line: parse, dispatch the command, map its errors to exit codes.
 int run_command(int argc, char** argv) {
@@ -255,7 +253,7 @@ int run_command(int argc, char** argv) {
                   "integrator.max_wall_time_s): past it the study stops, keeps what finished and exits 3")
       ->check(CLI::PositiveNumber);
   add_memory_option(*run, run_args);
-  run->footer(kRunFooter);
+  run->footer(run_footer());
 
   RunArgs validate_args;
   CLI::App* validate = app.add_subcommand("validate", "Check a config and print it fully resolved");

@@ -28,15 +28,16 @@ struct StudyRequest {
 
 struct StudyOutcome {
   int exit_code = 0;  ///< 0, or the code a study stopped with before its runs (MPI)
-  std::string study;  ///< simulate, optimize, identify, compare, convergence, speed_limit, periodic, jump_map
+  std::string study;  ///< the config's `study` (one of the registry's, scene/study_kind.h)
   std::filesystem::path out_dir;
-  /// The study's main result in out_dir: summary.json (simulate), result.json
-  /// (optimize), identified.json, comparison.json, work_precision.csv
-  /// (convergence), speed_limit.json, periodic.json or jump_map.json.
+  /// The study's main result in out_dir (summary.json for simulate,
+  /// result.json for optimize, ...: its registry entry's main_output).
   std::filesystem::path main_output;
 };
 
-/// The file name of a study's main result (StudyOutcome::main_output).
+/// The file name of a study's main result (StudyOutcome::main_output);
+/// summary.json for a word the registry does not know (it runs as simulate,
+/// whose loader refuses it).
 std::string main_output_name(const std::string& study);
 
 /// Reads the config and runs its study. Throws InputError (naming the file

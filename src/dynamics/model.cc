@@ -652,8 +652,8 @@ void evaluate(const Model& model, Workspace& ws, double t, const double* state, 
         model.motor == Motor::torque_speed ? o.motor_torque * o.motor_speed : o.shaft_torque * o.motor_speed;
   }
   const double shaft_slip = o.motor_speed - o.omega_c;
-  ev.power_damper = model.forces.power(o.v) +
-                    (model.drive == Drive::shaft ? model.shaft_damping * shaft_slip * shaft_slip : 0.0);
+  ev.power_damper =
+      model.forces.power(o.v) + (model.drive == Drive::shaft ? model.shaft_damping * shaft_slip * shaft_slip : 0.0);
   ev.power_hysteresis = o.delta > 0.0 ? (o.normal_force - model.contact.elastic_force(o.delta)) * o.delta_rate : 0.0;
   ev.power_friction = -o.friction_force * o.slip - (o.guide + o.pivot) * o.v;
 }

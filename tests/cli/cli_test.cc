@@ -11,8 +11,10 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "cli_run.h"
+#include "scene/study_kind.h"
 
 namespace {
 
@@ -171,12 +173,34 @@ TEST(Cli, InterfaceSpecExampleRuns) {
 TEST(Cli, RunHelpListsEveryStudyTypeWithAnExampleAndTheExitCodes) {
   const Outcome o = run_cli("run --help");
   EXPECT_EQ(o.code, 0);
-  for (const char* study :
-       {"simulate", "optimize", "identify", "compare", "convergence", "periodic", "jump_map", "speed_limit"})
-    EXPECT_NE(o.out.find(std::string("  ") + study + " "), std::string::npos) << study << "\n" << o.out;
-  EXPECT_NE(o.out.find("camdyn run studies/quickstart.json"), std::string::npos) << o.out;
+  for (const camdyn::StudyInfo& study : camdyn::kStudies) {
+    const std::string name(study.name);
+    const std::size_t line = o.out.find("  " + name + " ");
+    ASSERT_NE(line, std::string::npos) << name << "\n" << o.out;
+    EXPECT_NE(o.out.find(std::string(study.help), line), std::string::npos) << name << "\n" << o.out;
+    std::string example = "camdyn run " + std::string(study.example);
+    if (!study.example_args.empty()) example += " " + std::string(study.example_args);
+    EXPECT_NE(o.out.find(example + "\n", line), std::string::npos) << name << ": " << example << "\n" << o.out;
+  }
   for (const char* code : {"  0  success", "  2  invalid input", "  3  numerical failure", "  1  anything else"})
     EXPECT_NE(o.out.find(code), std::string::npos) << code << "\n" << o.out;
+}
+
+// Every registered study has a runner that reads its example config: `camdyn
+// validate` on the help's example (its --set arguments kept) passes and prints
+// the resolved config of that study.
+TEST(Cli, EveryRegisteredStudyValidatesItsExample) {
+  for (const camdyn::StudyInfo& study : camdyn::kStudies) {
+    std::vector<std::string> args = {"validate", std::string(CAMDYN_SOURCE_DIR) + "/" + std::string(study.example)};
+    const std::vector<std::string> example_args = camdyn::test::split_args(std::string(study.example_args));
+    for (std::size_t i = 0; i + 1 < example_args.size(); ++i)
+      if (example_args[i] == "--set") args.insert(args.end(), {"--set", example_args[i + 1]});
+    const Outcome o = camdyn::test::run_camdyn(args, scratch_dir("registry"), std::string(study.name));
+    ASSERT_EQ(o.code, 0) << study.name << ": " << o.err;
+    const auto resolved = nlohmann::json::parse(o.out, nullptr, false);
+    ASSERT_TRUE(resolved.is_object()) << study.name << ": " << o.out;
+    EXPECT_EQ(resolved.value("study", ""), study.name) << o.out;
+  }
 }
 
 // ---------------------------------------------------------------- export

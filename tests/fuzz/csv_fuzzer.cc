@@ -4,7 +4,7 @@
 //     io/config.h load_table_rows), which build_motion_law then fits with a
 //     periodic spline, and
 //   * as an identification record (`reference.file`, columns time and
-//     force_N: optim/identify.h read_reference) of a 1 s run.
+//     force_N: optim/identify/measured_record.h read_reference) of a 1 s run.
 // Seeds carry all four columns (tests/fuzz/corpus/csv). Each read must end
 // normally or with a camdyn error (fuzz_support.h). (The config_fuzzer
 // reaches the same readers through whole configs, at a tenth of the speed.)
@@ -16,7 +16,7 @@
 #include "fuzz_support.h"
 #include "geometry/motion_law.h"
 #include "io/config.h"
-#include "optim/identify.h"
+#include "optim/identify/identify.h"
 
 namespace {
 

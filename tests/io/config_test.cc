@@ -15,6 +15,7 @@
 #include "common/study_budget.h"
 #include "io/json_archive.h"
 #include "io/suggest.h"
+#include "scene/study_kind.h"
 
 namespace camdyn {
 namespace {
@@ -566,6 +567,26 @@ TEST(Config, UnknownEnumValueSuggestsTheClosestValue) {
   const InputError e = expect_input_error([&] { scene_from_json(doc, {"scene.json", "/"}); });
   EXPECT_EQ(e.path(), "integrator.method");
   EXPECT_NE(e.reason().find("got string \"cvode_bfd\" (did you mean 'cvode_bdf'?)"), std::string::npos) << e.reason();
+}
+
+TEST(Config, MistypedStudyListsEveryRegisteredStudy) {
+  Json doc = minimal_scene();
+  doc["study"] = "simulat";
+  const InputError e = expect_input_error([&] { scene_from_json(doc, {"scene.json", "/"}); });
+  EXPECT_EQ(e.path(), "study");
+  for (const StudyInfo& study : kStudies)
+    EXPECT_NE(e.reason().find("'" + std::string(study.name) + "'"), std::string::npos)
+        << study.name << ": " << e.reason();
+  EXPECT_NE(e.reason().find("got string \"simulat\" (did you mean 'simulate'?)"), std::string::npos) << e.reason();
+}
+
+TEST(Config, AnotherStudysWordIsRefusedForAScene) {
+  // A scene is a simulate config: the other studies are run by their own runners.
+  Json doc = minimal_scene();
+  doc["study"] = "optimize";
+  const InputError e = expect_input_error([&] { scene_from_json(doc, {"scene.json", "/"}); });
+  EXPECT_EQ(e.path(), "study");
+  EXPECT_EQ(e.reason(), "study 'optimize' is not available in this version of camdyn (see the open issues)");
 }
 
 TEST(Config, MisspeltKeyIsReportedRatherThanTheMissingField) {

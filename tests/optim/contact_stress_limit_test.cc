@@ -17,9 +17,9 @@
 #include "dynamics/contact_stress.h"
 #include "io/config.h"
 #include "io/json_archive.h"
-#include "optim/design.h"
-#include "optim/optimize.h"
-#include "optim/rigid_design.h"
+#include "optim/optimize/design.h"
+#include "optim/optimize/optimize.h"
+#include "optim/optimize/rigid_design.h"
 
 namespace camdyn::optim {
 namespace {

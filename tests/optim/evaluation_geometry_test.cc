@@ -12,8 +12,8 @@
 #include "dynamics/model.h"
 #include "dynamics/simulation.h"
 #include "io/config.h"
-#include "optim/objectives.h"
-#include "optim/optimize_config.h"
+#include "optim/optimize/objectives.h"
+#include "optim/optimize/optimize_config.h"
 #include "optim/simulation_pool.h"
 #include "study/study.h"
 

@@ -1,9 +1,9 @@
-// An identification's inner loop (optim/fit_scene.h, optim/fit_residuals.h):
+// An identification's inner loop (optim/identify/fit_scene.h, optim/identify/fit_residuals.h):
 // values set in place give the runs the old route (the scene's JSON with the
 // values, read and built again: FitScene's from_json) gives, bit for bit; no JSON is read and no
 // model is built for parameters of the parameter block; setting them and
 // assembling the residuals allocates nothing.
-#include "optim/fit_scene.h"
+#include "optim/identify/fit_scene.h"
 
 #include <gtest/gtest.h>
 
@@ -15,8 +15,8 @@
 #include "allocation_counter.h"
 #include "common/errors.h"
 #include "io/config.h"
-#include "optim/fit_residuals.h"
-#include "optim/identify.h"
+#include "optim/identify/fit_residuals.h"
+#include "optim/identify/identify.h"
 
 namespace camdyn::optim {
 namespace {

@@ -2,7 +2,7 @@
 // parameters measured along the follower coordinate in its unit: rad, rad/s,
 // N m/rad for an oscillating arm, m, m/s, N/m for a translating follower
 // (dynamics/coordinate_units.h). Contact signals stay in N.
-#include "optim/identify_output.h"
+#include "optim/identify/identify_output.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// Resuming a killed identify run (optim/identify_journal.h) and the size
+// Resuming a killed identify run (optim/identify/identify_journal.h) and the size
 // guard on its records (solver.max_measured_values). A kill is imitated by
 // cutting the journal of a finished run after some of its records, the last
 // one half-written; the resumed fit must be the uninterrupted fit to the bit.
@@ -17,8 +17,8 @@
 #include "dynamics/simulation.h"
 #include "input_error_of.h"
 #include "io/config.h"
-#include "optim/identify.h"
-#include "optim/identify_journal.h"
+#include "optim/identify/identify.h"
+#include "optim/identify/identify_journal.h"
 
 namespace camdyn::optim {
 namespace {

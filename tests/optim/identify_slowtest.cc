@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "io/config.h"
-#include "optim/identify.h"
+#include "optim/identify/identify.h"
 #include "tolerance.h"
 
 namespace camdyn::optim {

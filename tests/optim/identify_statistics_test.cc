@@ -1,7 +1,7 @@
 // The statistics of an identification against hand-computed small cases: the
 // straight-line fit y = a + b x at x = 0, 1, 2, 3, whose JᵀJ = [[4, 6], [6, 14]]
 // has the inverse [[0.7, −0.3], [−0.3, 0.2]].
-#include "optim/identify_statistics.h"
+#include "optim/identify/identify_statistics.h"
 
 #include <gtest/gtest.h>
 

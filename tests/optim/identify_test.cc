@@ -1,8 +1,8 @@
-// Contact identification (optim/identify*): config and data checks, the
+// Contact identification (optim/identify/): config and data checks, the
 // identifiability verdict, and the acceptance fits on the committed synthetic
 // drop records of studies/identify_drop (made by its generate.py from known
 // parameters plus 1 % noise). The cam-rig fit is in identify_slowtest.cc.
-#include "optim/identify.h"
+#include "optim/identify/identify.h"
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -24,7 +24,7 @@
 #include "io/config.h"
 #include "io/csv_reader.h"
 #include "io/json_archive.h"
-#include "optim/identify_output.h"
+#include "optim/identify/identify_output.h"
 #include "tolerance.h"
 
 namespace camdyn::optim {

@@ -1,9 +1,9 @@
-// The any-law jump-speed bound (optim/jump_bound.h): the linear programme over
+// The any-law jump-speed bound (optim/optimize/jump_bound.h): the linear programme over
 // freely sampled lifts against the closed form derived in jump_bound.h for
 // rest-to-rest rises and returns, with and without a required contact force,
 // gravity and a constant-force spring; and the LP wrapper on small
 // programmes with known answers.
-#include "optim/jump_bound.h"
+#include "optim/optimize/jump_bound.h"
 
 #include <gtest/gtest.h>
 

@@ -13,9 +13,9 @@
 #include "common/errors.h"
 #include "geometry/motion_law.h"
 #include "io/json_archive.h"
-#include "optim/design.h"
-#include "optim/kinematics.h"
-#include "optim/optimize_config.h"
+#include "optim/optimize/design.h"
+#include "optim/optimize/kinematics.h"
+#include "optim/optimize/optimize_config.h"
 #include "study/study.h"
 #include "tolerance.h"
 

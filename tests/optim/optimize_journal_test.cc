@@ -1,8 +1,8 @@
-// The optimize journal (optim/optimize_journal.h): an evaluation read back is
+// The optimize journal (optim/optimize/optimize_journal.h): an evaluation read back is
 // the one written, to the bit; a line cut by a kill is dropped; a journal of
 // another study is refused. The replay itself (a killed optimize re-run ends
 // with the uninterrupted run's outputs) is tests/cli/kill_loop.py's.
-#include "optim/optimize_journal.h"
+#include "optim/optimize/optimize_journal.h"
 
 #include <gtest/gtest.h>
 

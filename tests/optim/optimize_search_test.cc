@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "optim/optimize_config.h"
+#include "optim/optimize/optimize_config.h"
 #include "optim/search.h"
 
 namespace camdyn::optim {

@@ -3,7 +3,7 @@
 // recomputed from the optimised profile, invalid designs, parallel
 // simulations, and the command line (files, `camdyn run optimized.json`
 // reproducing result.json). The full studies run in optimize_slowtest.cc.
-#include "optim/optimize.h"
+#include "optim/optimize/optimize.h"
 
 #include <gtest/gtest.h>
 #include <sys/types.h>
@@ -26,9 +26,9 @@
 #include "dynamics/simulation.h"
 #include "io/config.h"
 #include "io/json_archive.h"
-#include "optim/objectives.h"
-#include "optim/optimize_config.h"
-#include "optim/optimize_output.h"
+#include "optim/optimize/objectives.h"
+#include "optim/optimize/optimize_config.h"
+#include "optim/optimize/optimize_output.h"
 #include "optim/simulation_pool.h"
 #include "study/study.h"
 #include "tolerance.h"

@@ -1,9 +1,9 @@
-// The rigid-model stage of an optimize study (optim/rigid_design.h) on the
+// The rigid-model stage of an optimize study (optim/optimize/rigid_design.h) on the
 // study studies/optimize_jump.json: its certificate against independent
 // computations (the cycloidal law's jump speed from its closed-form
 // acceleration, the any-law bound's closed form), its design against its
 // own claims, and a target above the bound reported infeasible.
-#include "optim/rigid_design.h"
+#include "optim/optimize/rigid_design.h"
 
 #include <gtest/gtest.h>
 
@@ -15,9 +15,9 @@
 #include "dynamics/model.h"
 #include "geometry/motion_law.h"
 #include "io/config.h"
-#include "optim/design.h"
-#include "optim/jump_bound.h"
-#include "optim/optimize.h"
+#include "optim/optimize/design.h"
+#include "optim/optimize/jump_bound.h"
+#include "optim/optimize/optimize.h"
 
 namespace camdyn::optim {
 namespace {

@@ -1,5 +1,5 @@
 // The rigid stage's limits for followers without a pointwise form
-// (optim/rigid_limits.h): an oscillating roller's pressure angle, radius of
+// (optim/optimize/rigid_limits.h): an oscillating roller's pressure angle, radius of
 // curvature and contact pressure. Each limit is set just below what the
 // unlimited design reaches, so the case is worth testing; after tightening the
 // design must meet it as `validate` checks it (the model's geometry report,
@@ -15,9 +15,9 @@
 #include "dynamics/model.h"
 #include "io/config.h"
 #include "io/json_archive.h"
-#include "optim/design.h"
-#include "optim/optimize.h"
-#include "optim/rigid_design.h"
+#include "optim/optimize/design.h"
+#include "optim/optimize/optimize.h"
+#include "optim/optimize/rigid_design.h"
 
 namespace camdyn::optim {
 namespace {

@@ -14,7 +14,7 @@
 #include "cli_run.h"
 #include "dynamics/model.h"
 #include "io/config.h"
-#include "optim/jump_bound.h"
+#include "optim/optimize/jump_bound.h"
 
 namespace camdyn {
 namespace {

@@ -1,0 +1,171 @@
+#include "optim/identify/fit_scene.h"
+
+#include <algorithm>
+#include <iterator>
+#include <stdexcept>
+#include <string_view>
+#include <utility>
+
+#include "common/errors.h"
+#include "dynamics/model_parameters.h"
+#include "io/json_archive.h"
+#include "io/typed_archive.h"
+
+namespace camdyn::optim {
+
+namespace {
+
+// The parameter block's fields (dynamics/model_parameters.h), by config
+// path: set in place. Each is found in the scene through the loader's visit
+// (io/typed_archive.h), so only a field the scene may give is bound (an
+// optional block the scene lacks, or a field its choices leave out, is not).
+constexpr std::string_view kParameterPaths[] = {
+    "mechanism.follower.mass",
+    "mechanism.follower.inertia",
+    "mechanism.follower.spring.stiffness",
+    "mechanism.follower.spring.preload",
+    "mechanism.follower.damping",
+    "gravity",
+    "mechanism.contact.stiffness",
+    "mechanism.contact.restitution",
+    "mechanism.contact.damping",
+    "mechanism.contact.reference_velocity",
+    "mechanism.contact.friction.mu",
+    "mechanism.contact.friction.regularization_velocity",
+    "mechanism.follower.shape.inertia",
+    "mechanism.follower.guide_friction.mu",
+    "mechanism.follower.guide_friction.regularization_velocity",
+    "mechanism.follower.pivot_friction.mu",
+    "mechanism.follower.pivot_friction.pin_radius",
+    "mechanism.follower.pivot_friction.regularization_velocity",
+    "mechanism.cam.drive.inertia",
+    "mechanism.cam.drive.torsional_stiffness",
+    "mechanism.cam.drive.torsional_damping",
+    "mechanism.cam.drive.motor.stall_torque",
+    "mechanism.cam.drive.motor.no_load_rpm",
+    "mechanism.cam.drive.motor.inertia",
+};
+
+std::string values_text(const std::vector<FitParameter>& parameters, const std::vector<double>& values) {
+  std::string at;
+  for (std::size_t i = 0; i < values.size(); ++i)
+    at += (i ? ", " : "") + parameters[i].name + " = " + format_shortest(values[i]);
+  return at;
+}
+
+}  // namespace
+
+std::optional<FieldBinding> bind_field(const std::string& path, SceneConfig& scene) {
+  FieldBinding b;
+  if (path == "mechanism.contact.exponent") {
+    // Stiffness from materials fixes the exponent: build_model checks it.
+    b.kind = scene.mechanism.contact.from_materials ? FieldKind::geometry : FieldKind::parameter;
+  } else if (path == "mechanism.follower.initial.velocity") {
+    b.kind = FieldKind::scene;
+  } else if (path == "mechanism.cam.base_radius" || path == "mechanism.follower.shape.radius") {
+    b.kind = FieldKind::geometry;
+    b.positive = true;
+  } else if (std::find(std::begin(kParameterPaths), std::end(kParameterPaths), path) == std::end(kParameterPaths)) {
+    return std::nullopt;
+  }
+  const std::optional<SceneField> field = try_find_scene_field(scene, path);
+  if (!field) return std::nullopt;
+  b.field = field->value;
+  return b;
+}
+
+FitScene::FitScene(const FitExperiment& experiment, const std::vector<FitParameter>& parameters,
+                   const ConfigSource& source, bool from_json)
+    : experiment_(experiment),
+      parameters_(parameters),
+      source_(source),
+      json_fallback_(from_json),
+      scene_(std::make_unique<SceneConfig>(experiment.scene)) {
+  for (const FitParameter& p : parameters) {
+    bindings_.push_back(bind_field(p.path, *scene_));
+    json_fallback_ = json_fallback_ || !bindings_.back();
+  }
+  model_ = build_model(*scene_, source_.file);
+  ws_ = make_workspace(model_);
+  options_.record_series = false;
+  options_.sample_times = experiment.record.time;
+  // The residuals read only the samples; the energy residual is the one
+  // sampled column that needs the balance followed over every step, and the
+  // only one that needs the quadratures.
+  const std::vector<std::string>& signals = experiment.record.signals;
+  options_.step_metrics = std::find(signals.begin(), signals.end(), "energy_residual") != signals.end();
+  options_.quadratures = options_.step_metrics;
+  const std::vector<std::string> names = TimeSeries::column_names();
+  for (const std::string& signal : experiment.record.signals) {
+    const auto it = std::find(names.begin(), names.end(), signal);
+    if (it == names.end()) throw std::logic_error("no timeseries column " + signal);
+    columns_.push_back(static_cast<std::size_t>(it - names.begin()));
+  }
+}
+
+void FitScene::rebuild() {
+  model_current_ = false;
+  model_ = build_model(*scene_, source_.file);
+  ++model_builds_;
+  model_current_ = true;
+}
+
+void FitScene::set(const std::vector<double>& values) {
+  if (json_fallback_) {
+    // The old route, for paths without a typed field: the whole scene read again.
+    *scene_ = scene_with(experiment_.scene_json, parameters_, values, source_);
+    ++json_reads_;
+    rebuild();
+    return;
+  }
+  bool geometry_changed = !model_current_;
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    const FieldBinding& b = *bindings_[i];
+    double& field = *b.field;
+    if (b.kind != FieldKind::geometry) {
+      field = values[i];
+      continue;
+    }
+    if (b.positive && !(values[i] > 0.0))
+      throw InputError(source_.file, parameters_[i].path, positive().number(values[i]));
+    geometry_changed = geometry_changed || field != values[i];
+    field = values[i];
+  }
+  if (!geometry_changed) {
+    const ModelParameters p = model_parameters(*scene_, model_);
+    if (same_structure(model_, p)) {
+      set_parameters(model_, p, source_.file);
+      return;
+    }
+  }
+  rebuild();
+}
+
+SimulationResult FitScene::simulate() { return camdyn::simulate(*scene_, model_, ws_, options_); }
+
+FitRun FitScene::run(const std::vector<double>& values) {
+  FitRun run;
+  const auto name = [&] { return "experiment '" + experiment_.name + "': "; };
+  try {
+    set(values);
+    const SimulationResult result = simulate();
+    throw_if_failed(result);
+    if (result.samples.time.size() != experiment_.record.time.size()) {
+      run.error =
+          name() + "the simulation ended at " + format_shortest(result.end_time) + " s, before the last measured time";
+    } else {
+      const std::vector<const std::vector<double>*> columns = result.samples.columns();
+      for (const std::size_t k : columns_) run.signals.push_back(*columns[k]);
+      run.ok = true;
+    }
+  } catch (const InputError& e) {
+    run.error = name() + e.what();
+    run.input_error = std::current_exception();
+  } catch (const std::exception& e) {
+    run.error = name() + e.what();
+  }
+  if (!run.ok) run.error += " (at " + values_text(parameters_, values) + ")";
+  return run;
+}
+
+}  // namespace camdyn::optim

@@ -1,0 +1,374 @@
+#include "optim/optimize/optimize.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <functional>
+#include <nlopt.hpp>
+#include <optional>
+#include <utility>
+
+#include "common/errors.h"
+#include "common/study_budget.h"
+#include "dynamics/contact_stress.h"
+#include "dynamics/model.h"
+#include "io/json_archive.h"
+#include "optim/optimize/optimize_checkpoint.h"
+#include "study/progress.h"
+#include "study/study.h"
+
+namespace camdyn::optim {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+double top_speed(const OptimizeStudyConfig& config) {
+  return *std::max_element(config.operating_rpm.begin(), config.operating_rpm.end());
+}
+
+/// The `simulate` config of a design at the top operating speed, read back
+/// from its JSON so it is exactly what optimized.json holds.
+SceneConfig simulate_scene(const SceneConfig& design, double rpm, const std::string& name, const std::string& file) {
+  SceneConfig s = design;
+  s.name = name;
+  s.study = "simulate";
+  s.mechanism.cam.rpm = rpm;
+  return scene_from_json(to_json(s), ConfigSource{file, "."});
+}
+
+/// `mechanism.cam.rpm` set to the top operating speed where the document leaves it out.
+Json with_default_rpm(const Json& doc) {
+  Json d = doc;
+  const auto speeds = d.find("operating_rpm");
+  if (speeds == d.end() || !speeds->is_array() || speeds->empty()) return d;
+  double top = 0.0;
+  for (const Json& v : *speeds) {
+    if (!v.is_number()) return d;  // reported by the study reader
+    top = std::max(top, v.get<double>());
+  }
+  const auto mech = d.find("mechanism");
+  if (mech == d.end() || !mech->is_object()) return d;
+  const auto cam = mech->find("cam");
+  if (cam == mech->end() || !cam->is_object() || cam->contains("rpm")) return d;
+  (*cam)["rpm"] = top;
+  return d;
+}
+
+/// A progress line on stderr when options.progress is set.
+void say(const OptimizeOptions& options, const char* what) {
+  if (options.progress) std::fprintf(stderr, "  optimize: %s\n", what);
+}
+
+/// The best design of the search loop so far: valid, feasible before
+/// infeasible, then the lowest objective.
+struct BestSoFar {
+  bool have = false;
+  double objective = 0.0;
+  bool feasible = false;
+
+  /// Takes e when it is better; returns whether it did.
+  bool update(const DesignEvaluation& e) {
+    if (e.valid && (!have || (e.feasible && !feasible) || (e.feasible == feasible && e.objective < objective))) {
+      have = true;
+      objective = e.objective;
+      feasible = e.feasible;
+      return true;
+    }
+    return false;
+  }
+};
+
+/// The history record of evaluation number `evaluation` (1-based) of design e,
+/// with the best so far once e has been seen.
+HistoryRecord history_record(const DesignEvaluation& e, long evaluation, int start, PointKind kind,
+                             const BestSoFar& best) {
+  HistoryRecord h;
+  h.evaluation = evaluation;
+  h.start = start;
+  h.kind = kind;
+  h.valid = e.valid;
+  h.error = e.error;
+  h.objective = e.objective;
+  h.constraints = e.constraints;
+  h.feasible = e.feasible;
+  h.best_objective = best.have ? best.objective : e.objective;
+  h.best_feasible = best.feasible;
+  return h;
+}
+
+/// What the search sees of design e: objective, residuals, validity, feasibility.
+PointValue point_value(const DesignEvaluation& e) {
+  PointValue v;
+  v.objective = e.objective;
+  v.valid = e.valid;
+  v.feasible = e.feasible;
+  for (const ConstraintValue& c : e.constraints) v.residuals.push_back(c.residual);
+  return v;
+}
+
+/// A search-progress printer for stderr (silent without options.progress):
+/// evaluation i of max_evaluations, the best objective so far and the time
+/// left if the search uses its whole budget (it may stop earlier); at most
+/// one line per 0.2 s, and always the last evaluation.
+std::function<void(const SearchProgress&)> progress_printer(const OptimizeOptions& options,
+                                                            const OptimizerConfig& optimizer,
+                                                            Clock::time_point loop_t0) {
+  return [&options, &optimizer, loop_t0, last_print = -1.0](const SearchProgress& p) mutable {
+    if (!options.progress) return;
+    const double now = seconds_since(loop_t0);
+    if (now - last_print < 0.2 && p.evaluations < optimizer.max_evaluations) return;
+    last_print = now;
+    const long max = optimizer.max_evaluations;
+    const std::string eta =
+        p.evaluations >= max ? std::string("done")
+                             : "~" + format_duration(remaining_iterations_s(p.evaluations, max, now)) + " left at most";
+    std::fprintf(stderr, "\r  optimize: evaluation %ld of %ld, best objective %.6g (%s), start %d/%d, %.1f/s, %s    ",
+                 p.evaluations, max, p.best_objective, p.best_feasible ? "feasible" : "infeasible", p.start + 1,
+                 p.starts, p.evaluations_per_second, eta.c_str());
+    std::fflush(stderr);
+  };
+}
+
+/// The search loop with the loop settings, from the initial design: fills
+/// out.initial, out.history, out.search, out.loop_time_s and
+/// out.loop_simulations. Throws NumericalError when no design was valid.
+void search_designs(const DesignSpace& space, const DesignEvaluator& evaluator, const SimulationPool& pool,
+                    const OptimizeStudyConfig& config, const OptimizeOptions& options, LoopRecorder& recorder,
+                    OptimizeOutcome& out) {
+  const EvaluationSettings loop = loop_settings(config.optimizer);
+  out.initial = evaluator.evaluate(space.scene(out.x_initial), loop, out.loop_simulated);
+  const long sims_before = pool.simulations();
+  BestSoFar best;
+  SearchProblem problem;
+  problem.lower = space.lower();
+  problem.upper = space.upper();
+  problem.x0 = out.x_initial;
+  problem.constraint_count = static_cast<int>(out.constraints.size());
+  problem.evaluate = [&](const std::vector<double>& x, int start, PointKind kind) {
+    // The outputs cannot be kept, or the study's time is up: stop every start.
+    if (recorder.failed() || study_budget_exhausted()) throw nlopt::forced_stop();
+    DesignEvaluation e;
+    if (!recorder.replay(x, e)) {
+      const long sims = pool.simulations();
+      try {
+        e = evaluator.evaluate(space.scene(x), loop, out.loop_simulated);
+      } catch (const InputError& err) {  // a spline the geometry code refuses
+        e.valid = false;
+        e.error = err.what();
+        evaluator.score(e);
+      }
+      recorder.journal(x, e, pool.simulations() - sims);
+    }
+    const bool improved = best.update(e);
+    out.history.push_back(history_record(e, static_cast<long>(out.history.size()) + 1, start, kind, best));
+    recorder.evaluated(out, space, x, improved);
+    if (recorder.failed()) throw nlopt::forced_stop();
+    return point_value(e);
+  };
+  const auto loop_t0 = Clock::now();
+  out.search = run_search(problem, config.optimizer, progress_printer(options, config.optimizer, loop_t0));
+  recorder.rethrow();
+  if (study_budget_exhausted())
+    throw NumericalError(
+        study_budget_text() + " after " + std::to_string(out.history.size()) + " evaluations of the search" +
+        (recorder.journal_path().empty()
+             ? std::string()
+             : "; they are kept in " + recorder.journal_path().string() + ": " + study_rerun_advice()));
+  out.loop_time_s = seconds_since(loop_t0);
+  out.resumed_simulations = recorder.replayed_simulations();
+  out.loop_simulations = pool.simulations() - sims_before + out.resumed_simulations;
+  if (options.progress) std::fprintf(stderr, "\n");
+  if (out.search.candidates.empty())
+    throw NumericalError("the optimiser found no valid design in " + std::to_string(out.search.evaluations) +
+                         " evaluations (stop reason " + out.search.stop_reason + ")");
+}
+
+/// `scene` with the study's geometric constraints that design `e` meets as
+/// `mechanism.cam.limits`, so `camdyn validate optimized.json` re-checks them
+/// (one it breaks is left out, or optimized.json could not be run at all;
+/// result.json reports it).
+SceneConfig with_limits(const SceneConfig& scene, const std::vector<ConstraintSpec>& specs, const DesignEvaluation& e) {
+  SceneConfig s = scene;
+  CamLimitsConfig& l = s.mechanism.cam.limits;
+  for (std::size_t i = 0; i < specs.size() && i < e.constraints.size(); ++i) {
+    if (!e.constraints[i].holds) continue;
+    if (specs[i].name == "max_pressure_angle_deg") l.max_pressure_angle_deg = specs[i].limit;
+    if (specs[i].name == "min_radius_of_curvature") l.min_radius_of_curvature = specs[i].limit;
+    if (specs[i].name == "max_peak_jerk") l.max_peak_jerk = specs[i].limit;
+    if (specs[i].name == "max_contact_stress") l.max_contact_stress = specs[i].limit;
+  }
+  return s;
+}
+
+/// A design of the search re-evaluated with the scene's settings.
+struct Candidate {
+  DesignEvaluation evaluation;
+  SceneConfig scene;  ///< its `simulate` config
+  std::vector<double> x;
+};
+
+/// The best loop designs with the scene's settings (`full`): the first that
+/// holds every constraint there wins (the loop settings are cheaper and can
+/// differ near a constraint boundary); if none does, the best of the loop.
+/// Fills out.optimized, out.optimized_scene, out.x_optimized and
+/// out.candidates_tried; throws NumericalError when none can be simulated.
+void choose_optimized(const DesignSpace& space, const DesignEvaluator& evaluator, const EvaluationSettings& full,
+                      const std::string& name, double top, const std::string& file, OptimizeOutcome& out) {
+  std::optional<Candidate> fallback;
+  // Designs infeasible in the loop are not worth a second look: only the best one is tried then.
+  const std::size_t tries = std::max<std::size_t>(1, static_cast<std::size_t>(out.search.feasible_candidates));
+  for (std::size_t k = 0; k < tries && k < out.search.candidates.size(); ++k) {
+    const std::vector<double>& x = out.search.candidates[k];
+    ++out.candidates_tried;
+    const SceneConfig scene = simulate_scene(space.scene(x), top, name, file);
+    DesignEvaluation e = evaluator.evaluate(scene, full, true);
+    if (e.valid && e.feasible) {
+      out.optimized_scene = with_limits(scene, out.constraints, e);
+      out.optimized = std::move(e);
+      out.x_optimized = x;
+      return;
+    }
+    if (e.valid && !fallback) fallback = Candidate{e, with_limits(scene, out.constraints, e), x};
+  }
+  if (!fallback)
+    throw NumericalError("none of the " + std::to_string(out.candidates_tried) +
+                         " best designs of the search could be simulated with the scene's settings");
+  out.optimized = std::move(fallback->evaluation);
+  out.optimized_scene = std::move(fallback->scene);
+  out.x_optimized = std::move(fallback->x);
+}
+
+/// The chosen design's objective over a window twice as long (WindowCheck).
+SteadyStateCheck check_steady_state(const DesignEvaluator& evaluator, const OptimizeOutcome& out) {
+  SteadyStateCheck c;
+  SceneConfig scene = out.optimized_scene;
+  scene.simulation.steady_state = true;
+  const DesignEvaluation e = evaluator.evaluate(scene, {}, true);
+  if (!e.valid) {
+    c.reason = "the design could not be simulated for its steady state: " + e.error;
+    return c;
+  }
+  c.checked = true;
+  c.speeds = static_cast<int>(e.speeds.size());
+  for (const SpeedResult& speed : e.speeds) {
+    if (speed.result.metrics_over == "periodic_orbit") ++c.speeds_on_orbit;
+    c.notes.push_back(format_shortest(speed.rpm) + " rpm: " + speed.result.metrics_note);
+  }
+  c.objective = e.objective;
+  c.relative_change =
+      std::abs(e.objective - out.optimized.objective) / std::max(std::abs(out.optimized.objective), 1e-12);
+  c.agrees = c.relative_change <= WindowCheck::kTolerance;
+  return c;
+}
+
+WindowCheck check_window(const DesignEvaluator& evaluator, const OptimizeOutcome& out) {
+  WindowCheck w;
+  const SimulationConfig& sim = out.optimized_scene.simulation;
+  if (!evaluator.needs_simulation()) {
+    w.reason = "the objective and constraints are kinematic";
+    return w;
+  }
+  if (!sim.cycles || sim.duration) {
+    w.reason = "the scene sets simulation.duration, not cycles";
+    return w;
+  }
+  w.evaluated_cycles = *sim.cycles - sim.discard_cycles;
+  w.doubled_cycles = sim.discard_cycles + 2.0 * w.evaluated_cycles;
+  EvaluationSettings doubled;
+  doubled.cycles = w.doubled_cycles;
+  const DesignEvaluation e = evaluator.evaluate(out.optimized_scene, doubled, true);
+  if (!e.valid) {
+    w.reason = "the design could not be simulated over the longer window: " + e.error;
+    return w;
+  }
+  w.checked = true;
+  w.objective = out.optimized.objective;
+  w.objective_doubled = e.objective;
+  w.feasible_doubled = e.feasible;
+  w.relative_change = std::abs(e.objective - w.objective) / std::max(std::abs(w.objective), 1e-12);
+  w.converged = w.relative_change <= WindowCheck::kTolerance && e.feasible == out.optimized.feasible;
+  if (out.optimized_scene.simulation.steady_state)
+    w.steady_state.reason = "the loop's evaluations were on the steady state (simulation.steady_state)";
+  else
+    w.steady_state = check_steady_state(evaluator, out);
+  return w;
+}
+
+}  // namespace
+
+OptimizeStudy read_optimize_study(const Json& doc, const ConfigSource& source) {
+  Json part;
+  OptimizeStudy s;
+  s.baseline = scene_from_study_json(with_default_rpm(doc), source, optimize_study_keys(), part);
+  s.config = optimize_config_from_json(part, source);
+  return s;
+}
+
+void check_optimize(const SceneConfig& baseline, const OptimizeStudyConfig& config, const std::string& file) {
+  const double cycles = config.optimizer.evaluation_cycles.value_or(baseline.simulation.cycles.value_or(0.0));
+  if (config.optimizer.evaluation_cycles && cycles <= baseline.simulation.discard_cycles)
+    throw InputError(file, "optimizer.evaluation_cycles",
+                     "must be more than simulation.discard_cycles (" +
+                         std::to_string(baseline.simulation.discard_cycles) + "), got " + format_shortest(cycles));
+  if (config.constraints.max_contact_stress)
+    require_line_contact(baseline.mechanism.contact, file, "constraints.max_contact_stress");
+  for (double rpm : config.operating_rpm) {
+    SceneConfig s = baseline;
+    s.mechanism.cam.rpm = rpm;
+    build_model(s, file);  // geometry and contact law of the baseline
+  }
+  const DesignSpace space(baseline, config.design, file);  // the design against the baseline law
+}
+
+OptimizeOutcome run_optimize(const SceneConfig& baseline, const OptimizeStudyConfig& config, const std::string& file,
+                             const OptimizeOptions& options) {
+  const auto t0 = Clock::now();
+  check_optimize(baseline, config, file);
+  OptimizeOutcome out;
+  out.config = config;
+  const DesignSpace space(baseline, config.design, file);
+  out.variables = space.variables();
+  out.x_initial = space.initial();
+  out.fit = space.fit_quality();
+  if (config.rigid.enabled) {
+    say(options, "rigid-model stage (linear programmes)");
+    out.rigid = run_rigid_stage(baseline, config, space, file);
+    if (out.rigid.design.have) out.x_initial = out.rigid.design.x;  // the dynamic stage starts from it
+  }
+  const int threads = std::clamp(options.threads, 1, static_cast<int>(config.operating_rpm.size()));
+  SimulationPool pool(threads, file);
+  DesignEvaluator evaluator(config, file, pool);
+  out.constraints = evaluator.constraints();
+  out.loop_simulated = evaluator.needs_simulation();
+  LoopRecorder recorder(options.checkpoint_dir, baseline, config, space, out.constraints.size(), file);
+  out.resumed_evaluations = recorder.resumed_evaluations();
+  if (out.resumed_evaluations > 0 && options.progress)
+    std::fprintf(stderr, "  optimize: resuming: %zu evaluations of an earlier run replayed from %s\n",
+                 out.resumed_evaluations, recorder.journal_path().c_str());
+
+  // Baseline with the scene's settings: what the user has now, and the scales.
+  say(options, "evaluating the baseline");
+  EvaluationSettings full;
+  full.record_series = true;
+  out.baseline = evaluator.evaluate(baseline, full, true);
+  if (!out.baseline.valid) throw NumericalError("the baseline could not be simulated: " + out.baseline.error);
+  out.normalisation = evaluator.normalisation_from(out.baseline);
+  evaluator.set_normalisation(out.normalisation);
+  evaluator.score(out.baseline);
+
+  say(options, "searching");
+  search_designs(space, evaluator, pool, config, options, recorder, out);
+
+  say(options, "re-evaluating the best designs with the scene's settings");
+  choose_optimized(space, evaluator, full, baseline.name + "-optimized", top_speed(config), file, out);
+  say(options, "checking that the objective does not depend on the window");
+  out.window_check = check_window(evaluator, out);
+  out.simulations = pool.simulations() + out.resumed_simulations;
+  out.run_time_s = seconds_since(t0);
+  return out;
+}
+
+}  // namespace camdyn::optim

@@ -1,0 +1,128 @@
+// One optimize run, from the baseline scene and the study fields to the
+// optimised design: evaluate the baseline (the normalisation comes from it),
+// search with NLopt using the cheaper loop settings, then re-evaluate the best
+// designs with the scene's own settings and keep the first that satisfies every
+// constraint there. The optimised scene is built, written and read back
+// exactly as optimized.json will be, so `camdyn run optimized.json`
+// reproduces the reported metrics.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "io/config.h"
+#include "optim/optimize/design.h"
+#include "optim/optimize/objectives.h"
+#include "optim/optimize/optimize_config.h"
+#include "optim/optimize/rigid_design.h"
+#include "optim/search.h"
+
+namespace camdyn::optim {
+
+/// One row of history.csv: an evaluation of the search loop.
+struct HistoryRecord {
+  long evaluation = 0;  ///< 1-based
+  int start = 0;
+  PointKind kind = PointKind::nlopt;
+  bool valid = true;
+  std::string error;
+  double objective = 0.0;
+  std::vector<ConstraintValue> constraints;
+  bool feasible = false;
+  double best_objective = 0.0;  ///< best feasible objective so far (the first objective until one is feasible)
+  bool best_feasible = false;
+};
+
+struct OptimizeOptions {
+  int threads = 1;        ///< simulation threads (one per operating speed is enough)
+  bool progress = false;  ///< progress lines on stderr
+  /// Where history.csv, best_design.json and the journal are kept while
+  /// the search runs, and a killed run's journal is replayed from (empty: none).
+  std::filesystem::path checkpoint_dir;
+};
+
+/// The objective on each speed's periodic steady state (study/steady_state.h)
+/// where one is found, against the loop's window: the two agree when the
+/// window already sat on the orbit.
+struct SteadyStateCheck {
+  bool checked = false;
+  std::string reason;              ///< why not checked
+  int speeds_on_orbit = 0;         ///< of the operating speeds, those with a stable orbit found
+  int speeds = 0;                  ///< operating speeds
+  double objective = 0.0;          ///< with the metrics over the orbits (the window's where none)
+  double relative_change = 0.0;    ///< against the window's objective
+  bool agrees = false;             ///< within WindowCheck::kTolerance
+  std::vector<std::string> notes;  ///< per speed: the orbit, or why the window's metrics stay
+};
+
+/// The optimised design evaluated again over an evaluated window twice as
+/// long: an objective that changes with the window is a transient's, not the
+/// design's. Converged when it changes by at most `kTolerance` relative.
+/// Beside it the steady-state check: the same objective on the periodic orbits.
+struct WindowCheck {
+  static constexpr double kTolerance = 1e-3;
+  bool checked = false;
+  std::string reason;              ///< why not checked
+  double evaluated_cycles = 0.0;   ///< the scene's evaluated window [rev]
+  double doubled_cycles = 0.0;     ///< the check's [rev]
+  double objective = 0.0;          ///< over the scene's window
+  double objective_doubled = 0.0;  ///< over the doubled window
+  bool feasible_doubled = false;
+  double relative_change = 0.0;
+  bool converged = false;
+  SteadyStateCheck steady_state;
+};
+
+struct OptimizeOutcome {
+  OptimizeStudyConfig config;
+  std::vector<DesignVariable> variables;
+  std::vector<double> x_initial, x_optimized;
+  FitQuality fit;
+  std::vector<ConstraintSpec> constraints;
+  Normalisation normalisation;
+  bool loop_simulated = false;  ///< the loop ran simulations (else kinematics and geometry only)
+
+  DesignEvaluation baseline;   ///< the baseline law, scene settings, time series kept
+  RigidStageResult rigid;      ///< the rigid-model stage and its certificate (rigid.enabled)
+  DesignEvaluation initial;    ///< the first start of the search (the rigid design, else the spline fit), loop settings
+  DesignEvaluation optimized;  ///< the chosen design, scene settings, time series kept
+  SceneConfig optimized_scene;          ///< the `simulate` config written to optimized.json
+  WindowCheck window_check;             ///< the optimised objective over a doubled window (dynamic objectives only)
+  int candidates_tried = 0;             ///< designs re-evaluated at the scene settings to find a feasible one
+  std::size_t resumed_evaluations = 0;  ///< search evaluations replayed from the journal of an earlier, killed run
+  long resumed_simulations = 0;         ///< their simulations (counted in `simulations`, not run again)
+
+  SearchResult search;
+  std::vector<HistoryRecord> history;
+  long simulations = 0;       ///< all simulations of the run
+  long loop_simulations = 0;  ///< simulations of the search loop
+  double loop_time_s = 0.0;   ///< wall time of the search loop [s]
+  double run_time_s = 0.0;    ///< whole run [s]
+};
+
+/// The two halves of an optimize study config.
+struct OptimizeStudy {
+  SceneConfig baseline;
+  OptimizeStudyConfig config;
+};
+
+/// Reads an optimize study document (after load_config_json): the baseline
+/// scene and the study fields, each with its unknown keys rejected. The
+/// baseline's `mechanism.cam.rpm` is not used (the operating speeds are), so
+/// it may be left out and defaults to the top operating speed, which is also
+/// the speed of optimized.json. Throws InputError.
+OptimizeStudy read_optimize_study(const Json& doc, const ConfigSource& source);
+
+/// Runs the study. Throws InputError for a design that cannot be set up or a
+/// baseline that cannot be built, NumericalError when the baseline cannot be
+/// simulated or the search found no valid design at all.
+OptimizeOutcome run_optimize(const SceneConfig& baseline, const OptimizeStudyConfig& config, const std::string& file,
+                             const OptimizeOptions& options = {});
+
+/// Checks what run_optimize would check before simulating (design space,
+/// baseline model, loop settings against the scene); throws InputError.
+void check_optimize(const SceneConfig& baseline, const OptimizeStudyConfig& config, const std::string& file);
+
+}  // namespace camdyn::optim

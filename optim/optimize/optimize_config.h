@@ -1,0 +1,142 @@
+// The study-specific part of an `optimize` config (docs/config.md, section
+// `optimize`): what is designed, at which speeds, what is minimised, which
+// constraints must hold and how NLopt searches. Defaults live in the member
+// initialisers; optimize_config.cc maps each struct to and from JSON in one
+// `visit` function, so unknown keys are rejected and `camdyn validate` prints
+// every field.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "io/config.h"
+
+namespace camdyn::optim {
+
+/// Bounds [lower, upper] of a designed segment's end angle [deg]; unset keeps it fixed.
+struct EndAngleRanges {
+  std::optional<std::vector<double>> rise;  ///< [lower_deg, upper_deg]
+  std::optional<std::vector<double>> ret;   ///< JSON key "return"
+
+  bool operator==(const EndAngleRanges&) const = default;
+};
+
+/// `design`: the segments replaced by spline segments and their parametrisation.
+/// The most free control points `design.control_points` takes per segment.
+inline constexpr int kMaxDesignControlPoints = 100;
+
+struct DesignConfig {
+  std::vector<SegmentType> segments = {SegmentType::rise, SegmentType::return_};  ///< segment types designed
+  int control_points = 6;  ///< free interior control points per designed segment (6 boundary ones are added)
+  int degree = 5;          ///< spline degree, 3..9
+  /// Keep the free control points ordered between the fixed boundary ones, so
+  /// the lift of each designed segment is monotone (a B-spline with a
+  /// monotone control polygon is monotone).
+  bool monotone = true;
+  EndAngleRanges end_deg_range;  ///< optional end angles as extra variables
+
+  bool operator==(const DesignConfig&) const = default;
+};
+
+/// `objective`: weights of the normalised terms (0 leaves a term out).
+struct ObjectiveConfig {
+  double separation = 1.0;            ///< mean gap while separated, ∫max(g,0)dt / window
+  double peak_contact_force = 0.0;    ///< largest contact force
+  double contact_force_margin = 0.0;  ///< smallest contact force (maximised; negative while separating)
+  double peak_acceleration = 0.0;     ///< kinematic max |d²s/dθ²|
+  double peak_jerk = 0.0;             ///< kinematic max |d³s/dθ³|
+  std::string aggregate = "worst";    ///< over the operating speeds: "worst" or "mean"
+
+  bool operator==(const ObjectiveConfig&) const = default;
+};
+
+/// `constraints`: null leaves a constraint out.
+struct ConstraintsConfig {
+  std::optional<double> max_pressure_angle_deg = 30.0;  ///< [deg]
+  std::optional<double> min_radius_of_curvature;        ///< of the cam contour [m]
+  std::optional<double> max_peak_contact_force;         ///< at every operating speed [N]
+  std::optional<double> min_contact_force;              ///< floor of the smallest contact force [N], > 0
+  bool no_separation = false;                           ///< separation_fraction 0 at every operating speed
+  std::optional<double> max_peak_jerk;                  ///< max |d³s/dθ³| over the cycle [m/rad³]
+  /// Hertz line-contact pressure of the rigid-model contact force at every
+  /// operating speed [Pa] (dynamics/contact_stress.h; needs the contact's materials and width)
+  std::optional<double> max_contact_stress;
+
+  bool operator==(const ConstraintsConfig&) const = default;
+};
+
+/// `optimizer`: NLopt algorithm, budget and the cheaper settings of the search loop.
+struct OptimizerConfig {
+  /// LN_COBYLA, LN_BOBYQA, LN_SBPLX, LD_SLSQP, LD_MMA, GN_ISRES, GN_CRS2_LM, GN_DIRECT_L.
+  std::string algorithm = "LN_COBYLA";
+  int max_evaluations = 400;         ///< total over all starts (split evenly)
+  double xtol_rel = 1e-4;            ///< NLopt relative tolerance on the design vector
+  double ftol_rel = 0.0;             ///< NLopt relative tolerance on the objective (0: off)
+  std::optional<double> max_time_s;  ///< wall-time budget of the search [s]
+  int starts = 1;                    ///< local algorithms: the baseline fit, then random starts
+  int seed = 1;                      ///< random starts and NLopt's stochastic algorithms
+  double initial_step = 0.1;         ///< derivative-free local algorithms: first step, share of each bound range
+  double gradient_step = 1e-3;       ///< LD_ algorithms: forward-difference step, share of each bound range
+  /// The search loop simulates with these instead of the scene's settings
+  /// (null: the scene's); the chosen design is re-evaluated with the scene's.
+  /// Looser than 1e-7, the peak force is noisy enough (~1e-4 relative) to
+  /// stall the linear models of COBYLA near the optimum.
+  std::optional<double> evaluation_cycles = 2.0;
+  std::optional<double> evaluation_rtol = 1e-7;
+  double evaluation_max_wall_time_s = 30.0;  ///< per simulation in the loop [s]; slower designs are invalid
+
+  bool operator==(const OptimizerConfig&) const = default;
+};
+
+/// `rigid`: the rigid-model stage (optim/optimize/rigid_design.h) that runs before the
+/// search: a linear programme over the spline's control points that
+/// maximises the worst rigid-model contact-force margin at the operating
+/// speeds, and the jump-speed certificate. Translating followers only.
+struct RigidStageConfig {
+  bool enabled = true;         ///< false: the search starts from the spline fit of the baseline
+  int samples = 121;           ///< constraint samples per designed segment (ends included)
+  int certificate_grid = 300;  ///< intervals per segment of the any-law programme (bound error ~0.5/grid)
+  /// The contact force the rigid stage keeps at every angle [N]; null: the
+  /// constraint `min_contact_force` if given, else 0 (then the stage
+  /// maximises the margin above 0).
+  std::optional<double> min_contact_force;
+  /// The design is kept jump-free up to this multiple of the top operating
+  /// speed (where the family reaches it) while it minimises the peak force or
+  /// acceleration the objective weighs; with neither weighed it is the
+  /// family's fastest design.
+  double speed_factor = 1.1;
+  /// Name the constraints that hold the family's bound down even when every
+  /// operating speed is feasible (always done when one is not).
+  bool explain_bound = false;
+
+  bool operator==(const RigidStageConfig&) const = default;
+};
+
+/// The fields an optimize study adds to a scene.
+struct OptimizeStudyConfig {
+  DesignConfig design;
+  std::vector<double> operating_rpm;  ///< [rpm], > 0, at least one
+  ObjectiveConfig objective;
+  ConstraintsConfig constraints;
+  OptimizerConfig optimizer;
+  RigidStageConfig rigid;
+
+  bool operator==(const OptimizeStudyConfig&) const = default;
+};
+
+/// Top-level keys of the study part (split off the scene by scene_from_study_json).
+const std::vector<std::string>& optimize_study_keys();
+
+/// The algorithms `optimizer.algorithm` accepts.
+const std::vector<std::string>& optimize_algorithms();
+
+/// Reads the study part (an object holding optimize_study_keys()); unknown
+/// keys, wrong types and ranges are InputError naming `source.file` and the
+/// dotted path.
+OptimizeStudyConfig optimize_config_from_json(const Json& study_part, const ConfigSource& source);
+
+/// Every field, defaults included.
+Json to_json(const OptimizeStudyConfig& config);
+
+}  // namespace camdyn::optim

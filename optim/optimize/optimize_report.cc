@@ -1,0 +1,380 @@
+#include "optim/optimize/optimize_report.h"
+
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <utility>
+#include <vector>
+
+#include "common/errors.h"
+#include "dynamics/coordinate_units.h"
+#include "dynamics/model.h"
+#include "optim/optimize/rigid_design.h"
+#include "output/cam_plots.h"
+
+namespace camdyn::optim {
+
+namespace {
+
+constexpr double kBreak = std::numeric_limits<double>::quiet_NaN();
+constexpr double kDegPerRad = 180.0 / std::numbers::pi;
+constexpr double kLawStepDeg = 0.25;
+constexpr const char* kCamAngleLabel = "cam angle [deg]";
+
+Plot make_plot(std::string title, std::string xlabel, std::string ylabel, std::vector<Series> series) {
+  Plot plot;
+  plot.title = std::move(title);
+  plot.xlabel = std::move(xlabel);
+  plot.ylabel = std::move(ylabel);
+  plot.series = std::move(series);
+  plot.xrange = std::pair{0.0, 360.0};
+  return plot;
+}
+
+/// One column of the last simulated revolution against cam angle in [0, 360).
+Series last_cycle(const SpeedResult& s, const std::vector<double>& column, double scale, std::string label) {
+  Series out;
+  out.label = std::move(label);
+  const TimeSeries& ts = s.result.series;
+  const double period = 60.0 / s.rpm;
+  const double from = s.result.end_time - period * (1.0 + 1e-9);
+  double previous = -1.0;
+  for (std::size_t i = 0; i < ts.time.size(); ++i) {
+    if (ts.time[i] < from) continue;
+    const double deg = std::fmod(ts.cam_angle_deg[i], 360.0);
+    if (deg < previous) {  // wrapped: break the line
+      out.x.push_back(kBreak);
+      out.y.push_back(kBreak);
+    }
+    previous = deg;
+    out.x.push_back(deg);
+    out.y.push_back(scale * column[i]);
+  }
+  return out;
+}
+
+std::string yes_no(bool b) { return b ? "yes" : "NO"; }
+
+const SpeedResult* at_rpm(const DesignEvaluation& e, double rpm) {
+  for (const SpeedResult& s : e.speeds)
+    if (s.rpm == rpm) return &s;
+  return nullptr;
+}
+
+/// The answer first: the rigid jump speed before and after, and the certificate.
+std::vector<std::pair<std::string, std::string>> answer_facts(const OptimizeOutcome& o) {
+  std::vector<std::pair<std::string, std::string>> facts;
+  const DesignEvaluation& b = o.baseline;
+  const DesignEvaluation& p = o.optimized;
+  if (!b.speeds.empty() && !p.speeds.empty())
+    facts.emplace_back("rigid-model jump speed",
+                       format_number(b.speeds.front().result.metrics.jump_speed_rpm, 5) + " → " +
+                           format_number(p.speeds.front().result.metrics.jump_speed_rpm, 5) + " rpm");
+  const Certificate& c = o.rigid.certificate;
+  if (!c.available) {
+    facts.emplace_back("certificate", o.config.rigid.enabled ? "not available: " + c.reason : "rigid stage disabled");
+    return facts;
+  }
+  const std::string binding = c.binding_text();
+  facts.emplace_back("certificate (contact force ≥ " + format_number(c.min_contact_force) + " N)",
+                     "any law: " + format_number(c.any_law_rpm, 5) + " rpm (set by " + c.any_law_binding +
+                         "); this spline family: " + format_number(c.family_rpm, 5) + " rpm" +
+                         (binding.empty() ? "" : " (held by " + binding + ")") +
+                         "; baseline law: " + format_number(c.baseline_rpm, 5) + " rpm");
+  std::string verdict;
+  for (const SpeedCertificate& s : c.speeds)
+    verdict +=
+        (verdict.empty() ? "" : "; ") + format_number(s.rpm) + " rpm " + (s.feasible ? "feasible" : "INFEASIBLE");
+  facts.emplace_back("operating speeds", verdict);
+  return facts;
+}
+
+/// The run at a glance: algorithm, budget used, run time, objective, feasibility.
+std::vector<std::pair<std::string, std::string>> summary_facts(const OptimizeOutcome& o) {
+  const DesignEvaluation& b = o.baseline;
+  const DesignEvaluation& p = o.optimized;
+  std::string speeds;
+  for (double rpm : o.config.operating_rpm) speeds += (speeds.empty() ? "" : ", ") + format_number(rpm);
+  return {{"algorithm", o.search.method},
+          {"stop reason", o.search.stop_reason},
+          {"evaluations", std::to_string(o.search.evaluations) + " (" + std::to_string(o.search.invalid_evaluations) +
+                              " invalid designs)"},
+          {"simulations", std::to_string(o.simulations)},
+          {"run time",
+           format_number(o.run_time_s, 4) + " s (search loop " + format_number(o.loop_time_s, 4) + " s, " +
+               format_number(o.loop_time_s > 0 ? static_cast<double>(o.search.evaluations) / o.loop_time_s : 0.0, 4) +
+               " evaluations/s)"},
+          {"operating speeds", speeds + " rpm (" + o.config.objective.aggregate + " case)"},
+          {"objective", format_number(b.objective) + " → " + format_number(p.objective)},
+          {"all constraints hold", "baseline: " + yes_no(b.feasible) + ", optimised: " + yes_no(p.feasible)}};
+}
+
+/// The banner: the jump speed before → after, then the certificate and the speeds it covers.
+Verdict optimize_verdict(const OptimizeOutcome& o) {
+  Verdict v;
+  v.tone = o.optimized.feasible ? Verdict::Tone::good : Verdict::Tone::bad;
+  for (const auto& [key, value] : answer_facts(o)) {
+    if (v.headline.empty() && key == "rigid-model jump speed")
+      v.headline = "jump speed " + value + " (rigid model, baseline → optimised)";
+    else
+      v.details.push_back(key + ": " + value);
+  }
+  if (v.headline.empty())
+    v.headline = "objective " + format_number(o.baseline.objective) + " → " + format_number(o.optimized.objective);
+  if (!o.optimized.feasible) v.details.push_back("the optimised design does not satisfy every constraint");
+  return v;
+}
+
+/// Rigid-model margin P − P_min against cam angle, baseline and optimised, at each operating speed.
+void add_margin_plots(const OptimizeOutcome& o, Report& r) {
+  if (!o.rigid.certificate.available) return;
+  std::vector<double> angles;
+  for (int i = 0; i <= static_cast<int>(360.0 / kLawStepDeg); ++i) angles.push_back(i * kLawStepDeg);
+  const double pmin = o.rigid.certificate.min_contact_force;
+  for (const double rpm : o.config.operating_rpm) {
+    const std::vector<double> mb = rigid_margin_curve(o.baseline.scene, rpm, pmin, angles);
+    const std::vector<double> mp = rigid_margin_curve(o.optimized.scene, rpm, pmin, angles);
+    if (mb.empty() || mp.empty()) return;
+    r.plots.push_back(make_plot("Rigid-model contact-force margin P − " + format_number(pmin) + " N at " +
+                                    format_number(rpm) + " rpm (< 0: the follower jumps)",
+                                "cam angle [deg]", "margin [" + o.rigid.certificate.margin_unit + "]",
+                                {{"baseline", angles, mb}, {"optimised", angles, mp}}));
+  }
+}
+
+/// Constraints with their limits and margins, baseline against optimised.
+Table constraints_table(const OptimizeOutcome& o) {
+  Table constraints{"Constraints (value at the worst operating speed)",
+                    {"constraint", "limit", "unit", "baseline", "optimised", "margin", "holds"},
+                    {},
+                    true};
+  for (std::size_t i = 0; i < o.constraints.size(); ++i) {
+    const ConstraintSpec& spec = o.constraints[i];
+    const std::string limit = spec.sense == ConstraintSpec::Sense::at_most    ? "≤ " + format_number(spec.limit)
+                              : spec.sense == ConstraintSpec::Sense::at_least ? "≥ " + format_number(spec.limit)
+                                                                              : "= 0";
+    // A jerk limit is on d³s/dθ³, in q per rad³: an arm's rad/rad^3.
+    const std::string unit =
+        spec.name == "max_peak_jerk" ? coordinate_units(o.optimized_scene).per_cam_radian(3, true) : spec.unit;
+    constraints.rows.push_back({spec.name, limit, unit, format_number(o.baseline.constraints[i].value),
+                                format_number(o.optimized.constraints[i].value),
+                                format_number(o.optimized.constraints[i].margin),
+                                yes_no(o.optimized.constraints[i].holds)});
+  }
+  return constraints;
+}
+
+/// The objective's terms, raw and normalised, baseline against optimised.
+Table terms_table(const DesignEvaluation& b, const DesignEvaluation& p) {
+  Table terms{"Objective terms (normalised value = value / scale; objective = Σ weight × normalised)",
+              {"term", "weight", "unit", "baseline", "optimised", "baseline normalised", "optimised normalised"},
+              {},
+              true};
+  for (std::size_t i = 0; i < p.terms.size() && i < b.terms.size(); ++i) {
+    terms.rows.push_back({p.terms[i].name, format_number(p.terms[i].weight), p.terms[i].unit,
+                          format_number(b.terms[i].value), format_number(p.terms[i].value),
+                          format_number(b.terms[i].normalised), format_number(p.terms[i].normalised)});
+  }
+  return terms;
+}
+
+/// Simulation metrics at each operating speed, baseline → optimised.
+Table metrics_table(const OptimizeOutcome& o) {
+  Table metrics{"Metrics per operating speed (baseline → optimised)",
+                {"rpm", "separation_fraction", "impacts", "peak_contact_force [N]", "min_contact_force [N]",
+                 "max_impact_velocity [m/s]"},
+                {},
+                true};
+  for (double rpm : o.config.operating_rpm) {
+    const SpeedResult* sb = at_rpm(o.baseline, rpm);
+    const SpeedResult* sp = at_rpm(o.optimized, rpm);
+    if (!sb || !sp) continue;
+    const Metrics& mb = sb->result.metrics;
+    const Metrics& mp = sp->result.metrics;
+    auto pair = [](double x, double y) { return format_number(x) + " → " + format_number(y); };
+    metrics.rows.push_back({format_number(rpm), pair(mb.separation_fraction, mp.separation_fraction),
+                            std::to_string(mb.impact_count) + " → " + std::to_string(mp.impact_count),
+                            pair(mb.peak_contact_force, mp.peak_contact_force),
+                            pair(mb.min_contact_force, mp.min_contact_force),
+                            pair(mb.max_impact_velocity, mp.max_impact_velocity)});
+  }
+  return metrics;
+}
+
+/// Dimensionless velocity, acceleration and jerk coefficients of every rise
+/// and return segment, baseline rows then optimised rows.
+Table segments_table(const DesignEvaluation& b, const DesignEvaluation& p) {
+  Table segments{"Rise and return segments: C_v = v β/h, C_a = a β²/h, C_j = j β³/h (cycloidal 2, 6.28, 39.5)",
+                 {"segment", "type", "design", "start [deg]", "end [deg]", "C_v", "C_a", "C_j"},
+                 {},
+                 true};
+  for (const auto* e : {&b, &p}) {
+    for (const SegmentKinematics& s : e->kinematics.segments) {
+      segments.rows.push_back({std::to_string(s.index), s.type, e == &b ? "baseline" : "optimised",
+                               format_number(s.start_deg), format_number(s.end_deg),
+                               format_number(s.velocity_coefficient), format_number(s.acceleration_coefficient),
+                               format_number(s.jerk_coefficient)});
+    }
+  }
+  return segments;
+}
+
+/// What each start of the search ended with.
+Table starts_table(const SearchResult& search) {
+  Table starts{"Starts", {"start", "stop reason", "evaluations", "best objective", "feasible", "message"}, {}, true};
+  for (const StartResult& s : search.starts) {
+    starts.rows.push_back({std::to_string(s.index + 1), s.stop_reason, std::to_string(s.evaluations),
+                           s.found ? format_number(s.best_objective) : "–", yes_no(s.found && s.best_feasible),
+                           s.message});
+  }
+  return starts;
+}
+
+/// The design variables with their bounds, initial (fitted) and optimised values.
+Table variables_table(const OptimizeOutcome& o) {
+  Table vars{"Design variables (monotone: share of the remaining rise; end angles: share of their range)",
+             {"variable", "lower", "upper", "initial (fit)", "optimised"},
+             {},
+             true};
+  for (std::size_t i = 0; i < o.variables.size(); ++i) {
+    vars.rows.push_back({o.variables[i].name, format_number(o.variables[i].lower), format_number(o.variables[i].upper),
+                         format_number(o.x_initial[i]),
+                         i < o.x_optimized.size() ? format_number(o.x_optimized[i]) : "–"});
+  }
+  return vars;
+}
+
+/// The optimised cam to scale with the baseline's contour, the pressure
+/// angle and radius of curvature of both against the study's constraints,
+/// and the SVAJ of both laws per radian of cam angle (the study runs at
+/// several speeds).
+void add_cam_plots(const OptimizeOutcome& o, Report& r) {
+  std::vector<Model> models;
+  std::vector<std::string> labels;
+  auto add = [&](const SceneConfig& scene, const char* label) {
+    try {
+      models.push_back(build_model(scene, ""));
+      labels.emplace_back(label);
+    } catch (const InputError&) {  // a design that cannot be built has no cam to draw
+    }
+  };
+  add(o.optimized_scene, "optimised");
+  if (o.baseline.valid) add(o.baseline.scene, "baseline");
+  if (models.empty()) return;
+  std::vector<CamDesign> designs;
+  for (std::size_t i = 0; i < models.size(); ++i) designs.push_back({labels[i], &models[i]});
+  const ConstraintsConfig& c = o.config.constraints;
+  const double mark = models.front().geometry.max_pressure_angle_at_deg / kDegPerRad;
+  r.plots.push_back(cam_layout_plot(designs, mark));
+  r.plots.push_back(pressure_angle_plot(designs, c.max_pressure_angle_deg));
+  r.plots.push_back(curvature_plot(designs, c.min_radius_of_curvature));
+  for (Plot& p : svaj_plots(designs, 0.0)) r.plots.push_back(std::move(p));
+}
+
+/// Contact force and gap over the last simulated revolution at each operating speed.
+void add_dynamics_plots(const OptimizeOutcome& o, Report& r) {
+  const std::string xlabel = kCamAngleLabel;
+  for (double rpm : o.config.operating_rpm) {
+    const SpeedResult* sb = at_rpm(o.baseline, rpm);
+    const SpeedResult* sp = at_rpm(o.optimized, rpm);
+    if (!sb || !sp) continue;
+    const std::string at = " at " + format_number(rpm) + " rpm (last revolution)";
+    r.plots.push_back(make_plot("Contact force" + at, xlabel, "force [N]",
+                                {last_cycle(*sb, sb->result.series.contact_force, 1.0, "baseline"),
+                                 last_cycle(*sp, sp->result.series.contact_force, 1.0, "optimised")}));
+    r.plots.push_back(make_plot("Gap" + at + " (> 0 separated)", xlabel, "gap [µm]",
+                                {last_cycle(*sb, sb->result.series.gap, 1e6, "baseline"),
+                                 last_cycle(*sp, sp->result.series.gap, 1e6, "optimised")}));
+  }
+}
+
+/// The objective of each evaluation and the best so far (valid designs only:
+/// the penalty of invalid ones would flatten the plot), log scale when all positive.
+Plot convergence_plot(const std::vector<HistoryRecord>& history) {
+  Series all{"objective of each evaluation", {}, {}, "points"}, feasible{"feasible designs", {}, {}, "points"},
+      best{"best so far", {}, {}, "lines"};
+  for (const HistoryRecord& h : history) {
+    if (!h.valid) continue;
+    const double n = static_cast<double>(h.evaluation);
+    (h.feasible ? feasible : all).x.push_back(n);
+    (h.feasible ? feasible : all).y.push_back(h.objective);
+    best.x.push_back(n);
+    best.y.push_back(h.best_objective);
+  }
+  bool positive = true;
+  for (const Series* se : {&all, &feasible, &best})
+    for (double y : se->y) positive = positive && y > 0.0;
+  Plot convergence =
+      make_plot("Convergence (search loop settings)", "evaluation [-]", "objective [–]", {all, feasible, best});
+  convergence.xrange.reset();
+  convergence.logy = positive && !best.y.empty();
+  return convergence;
+}
+
+/// Notes on the normalisation, the search-loop settings and the initial fit,
+/// and a warning when the optimised design breaks a constraint.
+std::vector<std::string> report_notes(const OptimizeOutcome& o) {
+  std::vector<std::string> notes;
+  const Normalisation& nm = o.normalisation;
+  const CoordinateUnits units = coordinate_units(o.optimized_scene);  // the law's derivatives are in q per rad^n
+  notes.push_back("Normalisation: forces by " + format_number(nm.force) +
+                  " N (baseline peak rigid-model contact force at the top speed), separation by a mean gap of " +
+                  format_number(nm.mean_gap) + " m, peak acceleration by " + format_number(nm.acceleration) + " " +
+                  units.per_cam_radian(2) + ", peak jerk by " + format_number(nm.jerk) + " " + units.per_cam_radian(3) +
+                  " (baseline values).");
+  const OptimizerConfig& oc = o.config.optimizer;
+  notes.push_back(
+      std::string("The search loop ") +
+      (o.loop_simulated
+           ? "simulates with " +
+                 (oc.evaluation_cycles ? format_number(*oc.evaluation_cycles) + " cycles" : "the scene's cycles") +
+                 " and rtol " + (oc.evaluation_rtol ? format_number(*oc.evaluation_rtol) : "of the scene")
+           : "evaluates kinematics and geometry only (no term or constraint needs a simulation)") +
+      "; the baseline and the optimised design are evaluated with the scene's own settings (" +
+      std::to_string(o.candidates_tried) + " best design(s) re-evaluated to find one that holds every constraint).");
+  if (o.rigid.design.have)
+    notes.push_back("Rigid-model stage: " + std::to_string(o.rigid.lp_solves) + " linear programmes in " +
+                    format_number(o.rigid.run_time_s, 3) + " s; its design, jump-free to " +
+                    format_number(o.rigid.design.jump_free_rpm, 5) + " rpm on the rigid model, starts the search.");
+  notes.push_back("Spline fit of the baseline law: max lift error " + format_number(o.fit.max_lift_error, 3) +
+                  " of the lift, max acceleration error " + format_number(o.fit.max_acceleration_error, 3) +
+                  " of the peak.");
+  const WindowCheck& w = o.window_check;
+  if (w.checked)
+    notes.push_back("Window check: the objective over a window twice as long changes by " +
+                    format_number(w.relative_change, 2) + (w.converged ? " (converged)." : " (NOT converged)."));
+  if (w.steady_state.checked)
+    notes.push_back("Steady-state check: with the metrics over the periodic orbit (" +
+                    std::to_string(w.steady_state.speeds_on_orbit) + " of " + std::to_string(w.steady_state.speeds) +
+                    " speeds on one) the objective changes by " + format_number(w.steady_state.relative_change, 2) +
+                    (w.steady_state.agrees ? " (agrees)." : " (DIFFERS: set simulation.steady_state)."));
+  if (!o.optimized.feasible) notes.push_back("WARNING: the optimised design does not satisfy every constraint.");
+  return notes;
+}
+
+}  // namespace
+
+Report optimize_report(const OptimizeOutcome& o, const std::string& name) {
+  Report r;
+  r.title = "camdyn optimize: " + name;
+  r.subtitle =
+      "Spline cam design: rigid-model linear programmes, then NLopt on simulations; baseline against the optimised "
+      "design";
+  r.verdict = optimize_verdict(o);
+  r.facts = summary_facts(o);
+  const Table constraints = constraints_table(o);
+  if (!constraints.rows.empty()) r.tables.push_back(constraints);
+  r.tables.push_back(terms_table(o.baseline, o.optimized));
+  r.tables.push_back(metrics_table(o));
+  r.tables.push_back(segments_table(o.baseline, o.optimized));
+  r.appendix.push_back(starts_table(o.search));
+  r.appendix.push_back(variables_table(o));
+  add_margin_plots(o, r);
+  add_cam_plots(o, r);
+  add_dynamics_plots(o, r);
+  r.plots.push_back(convergence_plot(o.history));
+  r.notes = report_notes(o);
+  return r;
+}
+
+}  // namespace camdyn::optim

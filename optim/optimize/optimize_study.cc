@@ -1,0 +1,109 @@
+#include "optim/optimize/optimize_study.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <string>
+
+#include "common/errors.h"
+#include "io/json_writer.h"
+#include "optim/optimize/optimize.h"
+#include "optim/optimize/optimize_checkpoint.h"
+#include "optim/optimize/optimize_config.h"
+#include "optim/optimize/optimize_output.h"
+#include "output/report.h"
+
+namespace camdyn::optim {
+
+namespace {
+
+/// The certificate on stdout: the bounds, then each operating speed.
+void print_certificate(const OptimizeOutcome& o) {
+  const Certificate& c = o.rigid.certificate;
+  if (!c.available) {
+    if (o.config.rigid.enabled) std::printf("  rigid-model stage not run: %s\n", c.reason.c_str());
+    return;
+  }
+  const std::string binding = c.binding_text();
+  const std::string held = binding.empty() ? "" : " (held by " + binding + ")";
+  std::printf(
+      "  certificate (rigid model, contact force >= %g N): any law %.5g rpm (set by %s); this spline family "
+      "%.5g rpm%s; baseline law %.5g rpm\n",
+      c.min_contact_force, c.any_law_rpm, c.any_law_binding.c_str(), c.family_rpm, held.c_str(), c.baseline_rpm);
+  for (const SpeedCertificate& s : c.speeds) {
+    if (s.feasible)
+      std::printf("  %6g rpm: feasible (best rigid margin %.4g %s)\n", s.rpm, s.best_margin, c.margin_unit.c_str());
+    else
+      std::printf("  %6g rpm: INFEASIBLE, above the family's bound %.5g rpm (any law: %.5g rpm)%s\n", s.rpm,
+                  c.family_rpm, c.any_law_rpm, held.c_str());
+  }
+  if (o.rigid.design.have)
+    std::printf("  rigid design: jump-free to %.5g rpm, start of the dynamic stage (%d LPs, %.3g s)\n",
+                o.rigid.design.jump_free_rpm, o.rigid.lp_solves, o.rigid.run_time_s);
+}
+
+}  // namespace
+
+int run_optimize_study(const Json& doc, const StudyContext& ctx) {
+  const OptimizeStudy study = read_optimize_study(doc, ctx.source);
+  const SceneConfig& baseline = study.baseline;
+  const OptimizeStudyConfig& config = study.config;
+  check_optimize(baseline, config, ctx.config_file);
+  if (ctx.validate_only) {
+    std::cout << dump_json(resolved_study_json(baseline, "optimize", to_json(config)));
+    std::cerr << "camdyn: " << ctx.config_file << " is valid (optimize: " << config.operating_rpm.size()
+              << " operating speeds, " << config.optimizer.algorithm << ")\n";
+    return 0;
+  }
+
+  OptimizeOptions options;
+  options.threads = ctx.threads();
+  options.progress = ctx.progress;
+  options.checkpoint_dir = ctx.out_dir;
+  const OptimizeOutcome o = run_optimize(baseline, config, ctx.config_file, options);
+  write_optimize_outputs(ctx.out_dir, o, baseline.name, ctx.config_file);
+  remove_checkpoint(ctx.out_dir);
+  if (o.resumed_evaluations > 0)
+    std::printf("  resumed: %zu evaluations (%ld simulations) replayed from the journal of an earlier run\n",
+                o.resumed_evaluations, o.resumed_simulations);
+
+  print_certificate(o);
+  const auto& b = o.baseline;
+  const auto& p = o.optimized;
+  std::printf("%s: %s, %ld evaluations (%ld invalid), stop reason %s, %.3g s\n", baseline.name.c_str(),
+              o.search.method.c_str(), o.search.evaluations, o.search.invalid_evaluations, o.search.stop_reason.c_str(),
+              o.run_time_s);
+  std::printf("  objective %.6g -> %.6g; constraints %s\n", b.objective, p.objective,
+              p.feasible ? "all hold" : "VIOLATED (see result.json)");
+  for (std::size_t i = 0; i < b.speeds.size() && i < p.speeds.size(); ++i) {
+    const Metrics& mb = b.speeds[i].result.metrics;
+    const Metrics& mp = p.speeds[i].result.metrics;
+    std::printf(
+        "  %6g rpm: separation_fraction %.4g -> %.4g, peak_contact_force %.6g -> %.6g N, "
+        "min_contact_force %.6g -> %.6g N\n",
+        b.speeds[i].rpm, mb.separation_fraction, mp.separation_fraction, mb.peak_contact_force, mp.peak_contact_force,
+        mb.min_contact_force, mp.min_contact_force);
+  }
+  const WindowCheck& w = o.window_check;
+  if (w.checked)
+    std::printf(
+        "  window check: objective %.6g over %g evaluated revolutions, %.6g over %g (change %.2g): %s\n", w.objective,
+        w.evaluated_cycles, w.objective_doubled, 2.0 * w.evaluated_cycles, w.relative_change,
+        w.converged ? "converged" : "NOT converged: the objective depends on the window; raise simulation.cycles");
+  const SteadyStateCheck& ss = w.steady_state;
+  if (ss.checked)
+    std::printf(
+        "  steady-state check: objective %.6g with the metrics over the periodic orbit (%d of %d speeds on "
+        "one; change %.2g): %s\n",
+        ss.objective, ss.speeds_on_orbit, ss.speeds, ss.relative_change,
+        ss.agrees ? "agrees" : "DIFFERS: the window is not the steady state; set simulation.steady_state");
+  if (!b.speeds.empty() && !p.speeds.empty())
+    std::printf("  rigid-model jump speed %.6g -> %.6g rpm\n", b.speeds.front().result.metrics.jump_speed_rpm,
+                p.speeds.front().result.metrics.jump_speed_rpm);
+  const auto abs_out = std::filesystem::absolute(ctx.out_dir).lexically_normal();
+  std::printf("  optimised config: %s\n", (abs_out / "optimized.json").c_str());
+  std::printf("  report: %s\n", (abs_out / "report.html").c_str());
+  return 0;
+}
+
+}  // namespace camdyn::optim

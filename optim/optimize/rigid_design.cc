@@ -1,0 +1,633 @@
+#include "optim/optimize/rigid_design.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "common/errors.h"
+#include "dynamics/contact_stress.h"
+#include "dynamics/coordinate_units.h"
+#include "dynamics/model.h"
+#include "geometry/bspline.h"
+#include "geometry/motion_law.h"
+#include "optim/linear_program.h"
+#include "optim/optimize/jump_bound.h"
+#include "optim/optimize/rigid_limits.h"
+
+namespace camdyn::optim {
+
+namespace {
+
+constexpr double kRadPerRpm = 2.0 * std::numbers::pi / 60.0;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kBisectionRtol = 1e-4;  // relative width of the bracket on ω
+constexpr int kVerifySamples = 2000;     // per piece, for the margins of built laws
+
+/// s, s', s'', s''' at one sample angle, affine in the control points:
+/// value[k] = constant[k] + Σ_j coefficient[j][k] c[first + j].
+struct AffineSample {
+  double theta = 0.0;  ///< cam angle [rad]
+  std::array<double, 4> constant{};
+  int first = 0;
+  std::vector<std::array<double, 4>> coefficient;
+};
+
+std::array<double, 4> derivatives(const LawSample& s) { return {s.s, s.ds, s.d2s, s.d3s}; }
+
+/// Which linear constraints a programme has, and what it optimises.
+struct FamilyOptions {
+  bool monotone = true;
+  bool pressure_angle = true;
+  bool jerk = true;
+  /// max_margin: maximise t. Otherwise keep t ≥ 0 and minimise the peak of
+  /// the rigid contact force P (min_peak_force) or of |s''|
+  /// (min_peak_acceleration) at `peak_omega`.
+  enum class Goal { max_margin, min_peak_force, min_peak_acceleration } goal = Goal::max_margin;
+  double peak_omega = 0.0;  ///< [rad/s]
+};
+
+/// The spline family of the design space as the rigid stage sees it: the
+/// affine samples of the designed segments, the fixed rest of the law, and
+/// the linear constraints.
+class SplineFamily {
+ public:
+  SplineFamily(const DesignSpace& space, const DesignConfig& design, const RigidFollower& follower,
+               const FollowerGeometry& geometry, const ConstraintsConfig& constraints, int samples,
+               const std::string& file)
+      : follower_(follower), m_(design.control_points), monotone_(design.monotone), pitch_height_(geometry.y0) {
+    const std::optional<double>& max_pressure_angle_deg = constraints.max_pressure_angle_deg;
+    // s''' is held at the samples only; between them (a quadratic per knot
+    // span of a quintic) it can overshoot by ~1 %, so the LP keeps 2 % clear
+    // and the dense check of the dynamic stage and `validate` then holds.
+    max_jerk_ = 0.98 * constraints.max_peak_jerk.value_or(0.0);
+    const std::vector<double> zero(static_cast<std::size_t>(space.control_point_count()), 0.0);
+    law0_ = std::make_shared<MotionLaw>(
+        build_motion_law(space.scene_with_control_points(zero).mechanism.cam.motion_law, file));
+    designed_ = space.designed_segments();
+    std::vector<std::size_t> fixed;
+    for (std::size_t i = 0; i < law0_->pieces().size(); ++i)
+      if (std::find(designed_.begin(), designed_.end(), i) == designed_.end()) fixed.push_back(i);
+    fixed_ = std::make_shared<SampledLaw>(*law0_, fixed, kVerifySamples);
+    levels_ = space.control_point_levels();
+    for (std::size_t k = 0; k < designed_.size(); ++k) sample_segment(k, design.degree, samples);
+    if (!geometry.oscillating() && geometry.offset == 0.0) {
+      curvature_ = true;
+      flat_ = !geometry.circle();
+      circle_radius_ = geometry.radius;
+      rho_min_ = constraints.min_radius_of_curvature.value_or(0.0);
+    }
+    if (max_pressure_angle_deg && geometry.circle() && !geometry.oscillating()) {
+      tan_max_ = std::tan(*max_pressure_angle_deg * std::numbers::pi / 180.0);
+      offset_ = std::abs(geometry.offset);
+    }
+  }
+
+  int columns() const { return static_cast<int>(levels_.size()) * m_; }
+  /// Column index of the margin t in margin_program's programmes.
+  int margin_column() const { return columns(); }
+  const MotionLaw& law0() const { return *law0_; }
+  const std::vector<std::size_t>& designed() const { return designed_; }
+  bool has_pressure_rows() const { return tan_max_ > 0.0; }
+  bool has_jerk_rows() const { return max_jerk_ > 0.0; }
+
+  /// Whether the cam's radius of curvature has a pointwise form in (s, s', s'')
+  /// here (translating follower without offset) and a limit is asked for.
+  bool curvature_linearisable() const { return curvature_ && rho_min_ > 0.0; }
+  /// Radius of curvature of the cam contour [m] for the lift values x =
+  /// (s, s', s''): flat face r_b + s + s''; circle of radius r: the pitch
+  /// curve's (r_p² + s'²)^{3/2} / (r_p² + 2 s'² − r_p s'') less r, r_p = y₀ + s
+  /// (+inf where the pitch curve is concave: its contour radius only grows).
+  double radius_of_curvature(const std::array<double, 4>& x) const {
+    const double rp = pitch_height_ + x[0];
+    if (flat_) return rp + x[2];
+    const double den = rp * rp + 2.0 * x[1] * x[1] - rp * x[2];
+    if (den <= 0.0) return kInf;
+    return std::pow(rp * rp + x[1] * x[1], 1.5) / den - circle_radius_;
+  }
+  /// The cam angles of the samples [rad].
+  std::vector<double> sample_angles() const {
+    std::vector<double> out;
+    for (const AffineSample& a : samples_) out.push_back(a.theta);
+    return out;
+  }
+  /// Rows over the control points kept for every later programme (a probe's cuts).
+  void add_cuts(const std::vector<LimitCut>& cuts) { cuts_.insert(cuts_.end(), cuts.begin(), cuts.end()); }
+  /// The trust region |c − c0| ≤ `step` of the next programmes (replaced on each call).
+  void set_trust_region(const std::vector<double>& c0, double step) {
+    trust_.clear();
+    for (int j = 0; j < columns(); ++j) trust_.push_back({{{j, 1.0}}, c0[j] - step, c0[j] + step});
+  }
+  /// Adds, at every sample where the radius at c0 is below 1.5 × the limit,
+  /// the row "radius linearised at c0 ≥ 1.002 × limit" (kept for every later
+  /// programme: cuts).
+  void add_curvature_cuts(const std::vector<double>& c0) {
+    for (const AffineSample& a : samples_) {
+      const std::array<double, 4> x = at(a, c0);
+      const double g = radius_of_curvature(x);
+      if (g < 1.5 * rho_min_)
+        add_cut(
+            a, c0, x, g, [this](const std::array<double, 4>& y) { return radius_of_curvature(y); }, 1.002 * rho_min_,
+            kLpInfinity);
+    }
+  }
+
+  /// Holds the rigid-model Hertz pressure p₀ = √(P_n κ E* / (π L)) (P_n the
+  /// normal force, κ the curvature sum) at most `limit` [Pa] at every ω of
+  /// `omegas`: P_n κ ≤ Q = limit² π L / E*. Translating follower without
+  /// offset only (pressure_linearisable()).
+  void limit_contact_pressure(const LineContact& contact, double limit, std::vector<double> omegas) {
+    pressure_q_ = limit * limit * std::numbers::pi * contact.width / contact.e_star;
+    pressure_omegas_ = std::move(omegas);
+  }
+  bool pressure_linearisable() const { return curvature_ && pressure_q_ > 0.0; }
+  /// P_n κ [N/m] of the rigid model at lift values x = (s, s', s'') and cam
+  /// speed ω; 0 where the follower is not pressed or the surfaces conform,
+  /// +inf where the roller does not fit the pitch curve (an undercut).
+  double pressure_load(const std::array<double, 4>& x, double omega) const {
+    const double force = follower_.coefficient_s() * x[0] + follower_.coefficient_ds(omega) * x[1] +
+                         follower_.coefficient_d2s(omega) * x[2] + follower_.constant() + follower_.min_force;
+    if (!(force > 0.0)) return 0.0;
+    const double rp = pitch_height_ + x[0];
+    if (flat_) {  // the face is normal to the axis: P_n = P, κ = 1 / (r_b + s + s'')
+      const double rho = rp + x[2];
+      return rho > 0.0 ? force / rho : kInf;
+    }
+    // Roller: P_n = P / cos φ with tan φ = s' / r_p; κ = 1 / (r (1 − r κ_p)), κ_p the pitch curve's curvature.
+    const double q2 = rp * rp + x[1] * x[1];
+    const double kappa_p = (rp * rp + 2.0 * x[1] * x[1] - rp * x[2]) / std::pow(q2, 1.5);
+    const double reduced = circle_radius_ * (1.0 - circle_radius_ * kappa_p);
+    return reduced > 0.0 ? force * std::sqrt(q2) / rp / reduced : kInf;
+  }
+  /// Adds, at every sample and speed where P_n κ at c0 is above half of Q, the
+  /// row "P_n κ linearised at c0 ≤ 0.996 Q" (p₀ ≤ 0.998 × the limit; cuts).
+  void add_pressure_cuts(const std::vector<double>& c0) {
+    for (const double w : pressure_omegas_) {
+      for (const AffineSample& a : samples_) {
+        const std::array<double, 4> x = at(a, c0);
+        const double load = pressure_load(x, w);
+        if (load > 0.5 * pressure_q_)
+          add_cut(
+              a, c0, x, load, [this, w](const std::array<double, 4>& y) { return pressure_load(y, w); }, -kLpInfinity,
+              0.996 * pressure_q_);
+      }
+    }
+  }
+  /// Largest p₀ / limit over the designed segments of `law`, densely sampled, at every ω.
+  double largest_pressure_ratio(const MotionLaw& law) const {
+    double largest = 0.0;
+    const SampledLaw sampled(law, designed_, kVerifySamples);
+    for (const double w : pressure_omegas_)
+      for (const LawSample& s : sampled.samples())
+        largest = std::max(largest, pressure_load({s.s, s.ds, s.d2s, s.d3s}, w) / pressure_q_);
+    return std::sqrt(largest);
+  }
+  /// Smallest radius of curvature of the designed segments of `law`, densely sampled [m].
+  double smallest_radius(const MotionLaw& law) const {
+    double smallest = kInf;
+    const SampledLaw sampled(law, designed_, kVerifySamples);  // named: it must outlive the loop
+    for (const LawSample& s : sampled.samples())
+      smallest = std::min(smallest, radius_of_curvature({s.s, s.ds, s.d2s, s.d3s}));
+    return smallest;
+  }
+  bool monotone() const { return monotone_; }
+
+  /// Worst margin over the pieces that are not designed, at every ω of `omegas` [N].
+  double fixed_margin(const std::vector<double>& omegas) const { return fixed_->worst_margin(follower_, omegas); }
+
+  /// The programme: maximise t with P − P_min ≥ t at every sample and ω in
+  /// `omegas`. Columns: c, then t (the last).
+  LinearProgram margin_program(const std::vector<double>& omegas, const FamilyOptions& options) const;
+
+ private:
+  /// A column z (the last, cost 1) and z ≥ P_i(peak_omega), or z ≥ ±s''_i, at every sample.
+  void add_peak_rows(LinearProgram& lp, const FamilyOptions& options) const {
+    const int z = lp.add_column(-kLpInfinity, kLpInfinity, 1.0);
+    const bool force = options.goal == FamilyOptions::Goal::min_peak_force;
+    const double w = options.peak_omega;
+    const std::array<double, 3> a = force
+                                        ? std::array<double, 3>{follower_.coefficient_s(), follower_.coefficient_ds(w),
+                                                                follower_.coefficient_d2s(w)}
+                                        : std::array<double, 3>{0.0, 0.0, 1.0};
+    const double offset = force ? follower_.constant() + follower_.min_force : 0.0;  // P = Σ a·s + F₀ + M g
+    std::vector<std::pair<int, double>> terms;
+    for (const AffineSample& s : samples_) {
+      for (const double sign : force ? std::vector<double>{1.0} : std::vector<double>{1.0, -1.0}) {
+        terms.clear();
+        for (int j = 0; j < m_; ++j) {
+          const auto& d = s.coefficient[j];
+          terms.emplace_back(s.first + j, -sign * (a[0] * d[0] + a[1] * d[1] + a[2] * d[2]));
+        }
+        terms.emplace_back(z, 1.0);
+        const double known = a[0] * s.constant[0] + a[1] * s.constant[1] + a[2] * s.constant[2] + offset;
+        lp.add_row(terms, sign * known, kLpInfinity);
+      }
+    }
+  }
+
+  /// The affine samples of designed segment k. The segment's lift is
+  /// s = base + h f(ξ), ξ = (θ − start) / β, with f the clamped spline of
+  /// degree p on m + 6 uniform-knot control points whose free ones are
+  /// coefficients 3 … m + 2 (geometry/motion_law.cc; the boundary ones do not
+  /// depend on them), so ∂s⁽ᵏ⁾/∂c_j = h N⁽ᵏ⁾_{3+j}(ξ) / βᵏ exactly.
+  void sample_segment(std::size_t k, int p, int samples) {
+    const MotionLaw::Piece& pc = law0_->pieces()[designed_[k]];
+    const double beta = pc.end - pc.start;
+    const int n = m_ + 6;
+    const std::vector<double> knots = ClampedBSpline::uniform_knots(p, n);
+    for (int i = 0; i < samples; ++i) {
+      const double x = std::clamp(static_cast<double>(i) / (samples - 1), 1e-12, 1.0 - 1e-12);
+      AffineSample a;
+      a.theta = pc.start + x * beta;
+      a.constant = derivatives(law0_->eval(a.theta));
+      a.first = static_cast<int>(k) * m_;
+      a.coefficient.assign(static_cast<std::size_t>(m_), {0.0, 0.0, 0.0, 0.0});
+      const int span = find_span(n, p, x, knots);
+      const BasisDerivatives b = basis_derivatives(span, x, p, knots);
+      for (int r = 0; r <= p; ++r) {
+        const int j = span - p + r - 3;  // free control point j is coefficient 3 + j
+        if (j < 0 || j >= m_) continue;
+        a.coefficient[j] = {pc.lift * b.ders[0][r], pc.lift * b.ders[1][r] / beta,
+                            pc.lift * b.ders[2][r] / (beta * beta), pc.lift * b.ders[3][r] / (beta * beta * beta)};
+      }
+      samples_.push_back(std::move(a));
+    }
+  }
+
+  /// (s, s', s'', s''') of sample `a` at control points c.
+  std::array<double, 4> at(const AffineSample& a, const std::vector<double>& c) const {
+    std::array<double, 4> x = a.constant;
+    for (int j = 0; j < m_; ++j)
+      for (int k = 0; k < 4; ++k) x[k] += a.coefficient[j][k] * c[a.first + j];
+    return x;
+  }
+  /// The cut lower ≤ g(x(c0)) + ∇g · (x(c) − x(c0)) ≤ upper for a function g
+  /// of (s, s', s'') at sample `a` (value `g0` at c0; gradient by central differences).
+  template <class G>
+  void add_cut(const AffineSample& a, const std::vector<double>& c0, const std::array<double, 4>& x, double g0,
+               const G& g, double lower, double upper) {
+    std::array<double, 3> grad{};
+    for (int k = 0; k < 3; ++k) {
+      const double h = 1e-7 * (std::abs(x[k]) + 1e-3);
+      std::array<double, 4> up = x, down = x;
+      up[k] += h;
+      down[k] -= h;
+      grad[k] = (g(up) - g(down)) / (2.0 * h);
+    }
+    Cut cut;
+    double at_c0 = 0.0;
+    for (int j = 0; j < m_; ++j) {
+      const auto& d = a.coefficient[j];
+      const double v = grad[0] * d[0] + grad[1] * d[1] + grad[2] * d[2];
+      cut.terms.emplace_back(a.first + j, v);
+      at_c0 += v * c0[a.first + j];
+    }
+    if (!std::isfinite(at_c0) || !std::isfinite(g0)) return;
+    cut.lower = std::isfinite(lower) ? lower - g0 + at_c0 : -kLpInfinity;
+    cut.upper = std::isfinite(upper) ? upper - g0 + at_c0 : kLpInfinity;
+    cuts_.push_back(std::move(cut));
+  }
+
+  RigidFollower follower_;
+  int m_ = 0;
+  bool monotone_ = true;
+  std::shared_ptr<const MotionLaw> law0_;
+  std::vector<std::size_t> designed_;
+  std::shared_ptr<const SampledLaw> fixed_;  ///< the pieces that are not designed
+  std::vector<std::pair<double, double>> levels_;
+  std::vector<AffineSample> samples_;
+  double tan_max_ = 0.0, pitch_height_ = 0.0, offset_ = 0.0;  ///< pitch_height_: y₀ of the follower [m]
+  double max_jerk_ = 0.0;                                     ///< |s'''| bound [m/rad³] (0: none)
+  // Radius of curvature: pointwise form and the limit, and the rows added so far.
+  bool curvature_ = false, flat_ = false;
+  double circle_radius_ = 0.0, rho_min_ = 0.0;
+  // Contact pressure: Q = limit² π L / E* [N/m] (0: no limit) and the speeds it holds at [rad/s].
+  double pressure_q_ = 0.0;
+  std::vector<double> pressure_omegas_;
+  using Cut = LimitCut;
+  std::vector<Cut> cuts_, trust_;
+};
+
+LinearProgram SplineFamily::margin_program(const std::vector<double>& omegas, const FamilyOptions& options) const {
+  LinearProgram lp;
+  for (std::size_t k = 0; k < levels_.size(); ++k) {
+    const auto [low, high] = levels_[k];
+    const double span = std::max(high - low, 1e-3);
+    for (int j = 0; j < m_; ++j) {
+      if (options.monotone)
+        lp.add_column(std::min(low, high), std::max(low, high));
+      else
+        lp.add_column(low - 0.5 * span, high + 0.5 * span);
+    }
+  }
+  const double force_scale = std::abs(follower_.constant()) + follower_.stiffness * 0.1 + 1.0;
+  const bool max_margin = options.goal == FamilyOptions::Goal::max_margin;
+  const int t = lp.add_column(max_margin ? -kLpInfinity : 0.0, 1e3 * force_scale, max_margin ? -1.0 : 0.0);
+  if (!max_margin) add_peak_rows(lp, options);
+  std::vector<std::pair<int, double>> terms;
+  for (const double w : omegas) {
+    const std::array<double, 3> a = {follower_.coefficient_s(), follower_.coefficient_ds(w),
+                                     follower_.coefficient_d2s(w)};
+    for (const AffineSample& s : samples_) {
+      terms.clear();
+      for (int j = 0; j < m_; ++j) {
+        const auto& d = s.coefficient[j];
+        terms.emplace_back(s.first + j, a[0] * d[0] + a[1] * d[1] + a[2] * d[2]);
+      }
+      terms.emplace_back(t, -1.0);
+      const double known = a[0] * s.constant[0] + a[1] * s.constant[1] + a[2] * s.constant[2] + follower_.constant();
+      lp.add_row(terms, -known, kLpInfinity);
+    }
+  }
+  if (options.monotone) {
+    for (std::size_t k = 0; k < levels_.size(); ++k) {
+      const int first = static_cast<int>(k) * m_;
+      for (int j = 0; j + 1 < m_; ++j) lp.add_row({{first + j + 1, 1.0}, {first + j, -1.0}}, 0.0, kLpInfinity);
+    }
+  }
+  for (const std::vector<Cut>* rows : {&cuts_, &trust_})
+    for (const Cut& cut : *rows) lp.add_row(cut.terms, cut.lower, cut.upper);
+  if (options.jerk && has_jerk_rows()) {
+    // −J ≤ s''' ≤ J at every sample.
+    for (const AffineSample& s : samples_) {
+      terms.clear();
+      for (int j = 0; j < m_; ++j) terms.emplace_back(s.first + j, s.coefficient[j][3]);
+      lp.add_row(terms, -max_jerk_ - s.constant[3], max_jerk_ - s.constant[3]);
+    }
+  }
+  if (options.pressure_angle && has_pressure_rows()) {
+    // ±s' − tan φ s ≤ tan φ y₀ − |e| at every sample.
+    const double rhs = tan_max_ * pitch_height_ - offset_;
+    for (const AffineSample& s : samples_) {
+      for (const double sign : {1.0, -1.0}) {
+        terms.clear();
+        for (int j = 0; j < m_; ++j)
+          terms.emplace_back(s.first + j, sign * s.coefficient[j][1] - tan_max_ * s.coefficient[j][0]);
+        lp.add_row(terms, -kLpInfinity, rhs - (sign * s.constant[1] - tan_max_ * s.constant[0]));
+      }
+    }
+  }
+  return lp;
+}
+
+/// Solves a margin programme; returns t* [N] and the control points.
+struct MarginSolution {
+  double margin = -kInf;
+  std::vector<double> c;
+};
+
+MarginSolution solve_margin(const SplineFamily& family, const std::vector<double>& omegas, const FamilyOptions& options,
+                            int& solves) {
+  const LinearProgram lp = family.margin_program(omegas, options);
+  const LpSolution sol = solve(lp);
+  ++solves;
+  if (sol.status == LpStatus::infeasible) return {};  // no design meets the other constraints (e.g. a jerk bound)
+  if (sol.status != LpStatus::optimal)
+    throw NumericalError(std::string("the rigid-model design programme could not be solved (CLP: ") + sol.message +
+                         ")");
+  MarginSolution out;
+  out.margin = sol.x[family.margin_column()];
+  out.c.assign(sol.x.begin(), sol.x.begin() + family.columns());
+  return out;
+}
+
+/// The speeds the design programme checks: every operating speed (with the
+/// damper's fractions of each).
+std::vector<double> operating_omegas(const OptimizeStudyConfig& config, const RigidFollower& f) {
+  std::vector<double> out;
+  for (const double rpm : config.operating_rpm)
+    for (const double w : check_speeds(rpm * kRadPerRpm, f)) out.push_back(w);
+  return out;
+}
+
+/// The family's highest jump-free speed with `options` [rad/s]; `design`
+/// (if given) receives the solution at the highest feasible speed tried.
+double family_bound(const SplineFamily& family, const RigidFollower& f, const FamilyOptions& options, double hint,
+                    int& solves, MarginSolution* design = nullptr) {
+  const double tol = 1e-9 * (std::abs(f.constant()) + 1.0);
+  double best_w = -1.0;
+  auto feasible = [&](double w) {
+    const std::vector<double> omegas = check_speeds(w, f);
+    if (family.fixed_margin(omegas) < -tol) return false;
+    MarginSolution sol = solve_margin(family, omegas, options, solves);
+    if (sol.margin < -tol) return false;
+    if (design && w > best_w) {
+      best_w = w;
+      *design = std::move(sol);
+    }
+    return true;
+  };
+  return highest_feasible_speed(feasible, hint, 1e3 * hint, kBisectionRtol);
+}
+
+/// The jump-free speed of a sampled law [rad/s].
+double law_bound(const SampledLaw& sampled, const RigidFollower& f, double hint) {
+  auto feasible = [&](double w) { return sampled.worst_margin(f, check_speeds(w, f)) >= 0.0; };
+  return highest_feasible_speed(feasible, hint, 1e3 * hint, kBisectionRtol);
+}
+
+double as_rpm(double omega) { return std::isfinite(omega) ? omega / kRadPerRpm : kInf; }
+
+/// (a): the any-law bound of the designed pieces and the fixed rest's own bound.
+void any_law_part(const SplineFamily& family, const RigidFollower& f, double hint, int grid, Certificate& cert) {
+  const std::vector<SegmentJumpBound> bounds = any_law_jump_bounds(family.law0(), f, family.designed(), hint, grid);
+  double best = kInf;
+  for (const SegmentJumpBound& b : bounds) {
+    if (b.omega < best) {
+      best = b.omega;
+      cert.any_law_binding = "segments[" + std::to_string(b.piece) + "]";
+    }
+  }
+  auto fixed_ok = [&](double w) { return family.fixed_margin(check_speeds(w, f)) >= 0.0; };
+  const double fixed = highest_feasible_speed(fixed_ok, hint, 1e3 * hint, kBisectionRtol);
+  if (fixed < best) {
+    best = fixed;
+    cert.any_law_binding = fixed == 0.0 ? "the spring cannot hold the follower at rest with the required force"
+                                        : "the segments that are not designed";
+  }
+  cert.any_law_rpm = best >= 1e3 * hint ? kInf : as_rpm(best);
+}
+
+/// (b); `fastest` receives the family's fastest design.
+double family_part(const SplineFamily& family, const RigidFollower& f, double hint, Certificate& cert, int& solves,
+                   MarginSolution& fastest) {
+  const FamilyOptions all{family.monotone(), true};
+  const double bound = family_bound(family, f, all, hint, solves, &fastest);
+  cert.family_rpm = as_rpm(bound);
+  return bound;
+}
+
+/// What holds (b) down: two more bisections, each without one kind of constraint.
+void family_binding(const SplineFamily& family, const RigidFollower& f, double hint, double bound, Certificate& cert,
+                    int& solves) {
+  const FamilyOptions all{family.monotone(), true};
+  if (family.has_pressure_rows() &&
+      family_bound(family, f, FamilyOptions{all.monotone, false, true}, hint, solves) > 1.005 * bound)
+    cert.family_binding.push_back("max_pressure_angle_deg");
+  if (family.has_jerk_rows() &&
+      family_bound(family, f, FamilyOptions{all.monotone, true, false}, hint, solves) > 1.005 * bound)
+    cert.family_binding.push_back("max_peak_jerk");
+  if (family.monotone() && family_bound(family, f, FamilyOptions{false, true, true}, hint, solves) > 1.005 * bound)
+    cert.family_binding.push_back("monotone");
+  if (std::isfinite(cert.any_law_rpm) && cert.family_rpm >= 0.99 * cert.any_law_rpm)
+    cert.family_binding.push_back("spring and mass (no law does better)");
+  else if (cert.family_binding.empty())
+    cert.family_binding.push_back("spline family (degree and control points)");
+}
+
+/// The stage's design. Jump-free up to rigid.speed_factor × the top
+/// operating speed where the family allows it, and then, as the study's
+/// objective asks, with the lowest peak contact force or acceleration at the
+/// top speed; otherwise (or when the family cannot reach that speed) the
+/// family's fastest design.
+RigidDesign make_design(const SplineFamily& family, const RigidFollower& f, const OptimizeStudyConfig& config,
+                        const DesignSpace& space, double bound, const MarginSolution& fastest, int& solves) {
+  const double top = *std::max_element(config.operating_rpm.begin(), config.operating_rpm.end()) * kRadPerRpm;
+  const double wanted = config.rigid.speed_factor * top;
+  FamilyOptions options{family.monotone(), true};
+  if (config.objective.peak_contact_force > 0.0)
+    options.goal = FamilyOptions::Goal::min_peak_force;
+  else if (config.objective.peak_acceleration > 0.0)
+    options.goal = FamilyOptions::Goal::min_peak_acceleration;
+  options.peak_omega = top;
+  MarginSolution chosen = fastest;
+  if (options.goal != FamilyOptions::Goal::max_margin && bound >= wanted) {
+    std::vector<double> omegas = check_speeds(wanted, f);
+    for (const double w : operating_omegas(config, f)) omegas.push_back(w);
+    chosen = solve_margin(family, omegas, options, solves);
+  }
+  RigidDesign d;
+  d.have = !chosen.c.empty();
+  if (!d.have) return d;
+  d.control_points = chosen.c;
+  d.x = space.design_from_control_points(chosen.c);
+  d.lp_margin = chosen.margin;
+  return d;
+}
+
+/// The limits that are not linear (radius of curvature, contact pressure,
+/// an arm's pressure angle): while the design (densely sampled) breaks one,
+/// linearise it at the design's samples (pointwise forms in the family, the
+/// rest through `probe`), add the cuts and a trust region, and design again
+/// (at most 8 rounds; the dynamic stage holds the limits in any case).
+RigidDesign tighten_nonlinear(SplineFamily& family, const RigidLimitProbe* probe, const RigidFollower& f,
+                              const OptimizeStudyConfig& config, const DesignSpace& space, double hint, RigidDesign d,
+                              int& solves) {
+  double step = 0.2;  // trust region in normalised lift
+  for (int round = 0; round < 8 && d.have; ++round) {
+    const MotionLaw law = build_motion_law(space.scene(d.x).mechanism.cam.motion_law, "");
+    const bool curvature_short =
+        family.curvature_linearisable() && family.smallest_radius(law) < *config.constraints.min_radius_of_curvature;
+    const bool pressure_over = family.pressure_linearisable() && family.largest_pressure_ratio(law) > 1.0;
+    const bool probed_broken = probe && probe->broken(d.control_points);
+    if (!curvature_short && !pressure_over && !probed_broken) break;
+    family.set_trust_region(d.control_points, step);
+    if (curvature_short) family.add_curvature_cuts(d.control_points);
+    if (pressure_over) family.add_pressure_cuts(d.control_points);
+    if (probed_broken) family.add_cuts(probe->cuts(d.control_points));
+    MarginSolution fastest;
+    const double bound = family_bound(family, f, FamilyOptions{family.monotone(), true}, hint, solves, &fastest);
+    const RigidDesign next = make_design(family, f, config, space, bound, fastest, solves);
+    if (!next.have) break;  // the cuts leave nothing: keep the last design
+    d = next;
+    step *= 0.7;
+  }
+  return d;
+}
+
+/// The probe for the limits the family has no linear or pointwise form of:
+/// an arm's pressure angle, and the radius of curvature and contact pressure
+/// of offset followers and arms. None when there are none.
+std::optional<RigidLimitProbe> limit_probe(const SceneConfig& baseline, const Model& model, const RigidFollower& f,
+                                           const OptimizeStudyConfig& config, const DesignSpace& space,
+                                           const SplineFamily& family) {
+  const ConstraintsConfig& c = config.constraints;
+  const FollowerGeometry& g = model.follower;
+  const bool pointwise = !g.oscillating() && g.offset == 0.0;  // the family's own forms
+  ProbedLimits limits;
+  if (g.oscillating()) limits.max_pressure_angle_deg = c.max_pressure_angle_deg;
+  if (!pointwise) {
+    limits.min_radius_of_curvature = c.min_radius_of_curvature;
+    limits.contact = line_contact(baseline.mechanism.contact);
+    if (limits.contact) limits.max_contact_stress = c.max_contact_stress;
+  }
+  if (!limits.any()) return std::nullopt;
+  limits.omegas = operating_omegas(config, f);
+  return RigidLimitProbe(space, g, model.direction, f, std::move(limits), family.sample_angles());
+}
+
+}  // namespace
+
+bool Certificate::all_feasible() const {
+  return available && std::all_of(speeds.begin(), speeds.end(), [](const SpeedCertificate& s) { return s.feasible; });
+}
+
+std::vector<double> rigid_margin_curve(const SceneConfig& scene, double rpm, double min_force,
+                                       const std::vector<double>& angles_deg) {
+  SceneConfig at = scene;
+  at.mechanism.cam.rpm = rpm;
+  const Model model = build_model(at, "");
+  const RigidFollower f = rigid_follower(model, min_force);
+  std::vector<double> out;
+  for (const double deg : angles_deg)
+    out.push_back(f.margin(rpm * kRadPerRpm, model.law->eval(std::min(deg, 360.0 - 1e-9) * std::numbers::pi / 180.0)));
+  return out;
+}
+
+std::string Certificate::binding_text() const {
+  std::string text;
+  for (const std::string& b : family_binding) text += (text.empty() ? "" : ", ") + b;
+  return text;
+}
+
+double rigid_min_contact_force(const OptimizeStudyConfig& config) {
+  return config.rigid.min_contact_force.value_or(config.constraints.min_contact_force.value_or(0.0));
+}
+
+RigidStageResult run_rigid_stage(const SceneConfig& baseline, const OptimizeStudyConfig& config,
+                                 const DesignSpace& space, const std::string& file) {
+  const auto t0 = std::chrono::steady_clock::now();
+  RigidStageResult out;
+  Certificate& cert = out.certificate;
+  cert.min_contact_force = rigid_min_contact_force(config);
+  const Model model = build_model(baseline, file);
+  const RigidFollower f = rigid_follower(model, cert.min_contact_force);
+  cert.margin_unit = coordinate_units(model).force;  // a torque about the pivot for an arm
+  SplineFamily family(space, config.design, f, model.follower, config.constraints, config.rigid.samples, file);
+  if (const std::optional<LineContact> contact = line_contact(baseline.mechanism.contact);
+      contact && config.constraints.max_contact_stress)
+    family.limit_contact_pressure(*contact, *config.constraints.max_contact_stress, operating_omegas(config, f));
+  const double hint = *std::max_element(config.operating_rpm.begin(), config.operating_rpm.end()) * kRadPerRpm;
+  cert.available = true;
+  cert.baseline_rpm = as_rpm(law_bound(SampledLaw(*model.law, kVerifySamples), f, hint));
+  any_law_part(family, f, hint, config.rigid.certificate_grid, cert);
+  MarginSolution fastest;
+  const double bound = family_part(family, f, hint, cert, out.lp_solves, fastest);
+  const FamilyOptions all{family.monotone(), true};
+  for (const double rpm : config.operating_rpm) {
+    const std::vector<double> omegas = check_speeds(rpm * kRadPerRpm, f);
+    const double m = std::min(solve_margin(family, omegas, all, out.lp_solves).margin, family.fixed_margin(omegas));
+    cert.speeds.push_back({rpm, m >= -1e-9 * (std::abs(f.constant()) + 1.0), m});
+  }
+  if (config.rigid.explain_bound || !cert.all_feasible()) family_binding(family, f, hint, bound, cert, out.lp_solves);
+
+  out.design = make_design(family, f, config, space, bound, fastest, out.lp_solves);
+  const std::optional<RigidLimitProbe> probe = limit_probe(baseline, model, f, config, space, family);
+  if (family.curvature_linearisable() || family.pressure_linearisable() || probe)
+    out.design =
+        tighten_nonlinear(family, probe ? &*probe : nullptr, f, config, space, hint, out.design, out.lp_solves);
+  RigidDesign& d = out.design;
+  if (!d.have) {
+    out.run_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return out;
+  }
+  const SampledLaw law(build_motion_law(space.scene(d.x).mechanism.cam.motion_law, file), kVerifySamples);
+  for (const double rpm : config.operating_rpm) d.verified_margin.push_back(law.worst_margin(f, rpm * kRadPerRpm));
+  d.jump_free_rpm = as_rpm(law_bound(law, f, hint));
+  out.run_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return out;
+}
+
+}  // namespace camdyn::optim

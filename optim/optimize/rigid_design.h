@@ -1,0 +1,91 @@
+// The rigid-model stage of an optimize study: exact and global, because on
+// the rigid model the contact condition is linear in the spline's control
+// points (optim/optimize/jump_bound.h has the physics).
+//
+//  * The design: a linear programme over the free control points c of the
+//    designed segments that maximises the worst margin P − P_min over the
+//    operating speeds at sample angles, subject to a monotone control polygon
+//    (design.monotone) and, for a translating roller or mushroom, the
+//    pressure-angle bound |s'| + |e| ≤ tan φ_max (y₀ + s), which is linear
+//    and, without offset, exact. The dynamic stage starts from it.
+//  * The certificate: (a) the highest jump-free speed ANY law with these
+//    lifts, durations, follower and spring reaches; (b) the highest the
+//    spline family reaches under the same linear constraints, and which
+//    constraints hold it down; (c) for each operating speed whether the
+//    family can be jump-free there. All by bisection on ω over CLP solves.
+// Constraints that are not linear (radius of curvature, Hertz contact
+// pressure, an arm's pressure angle): the stage tightens the design under
+// them, with cuts where the dense check fails, a shrinking trust region and
+// at most 8 rounds. For a translating follower without offset the first two
+// have a pointwise form in (s, s', s''); the rest come from a probe through
+// the cam synthesis (optim/optimize/rigid_limits.h). The dynamic stage holds them as
+// constraints as well, and the final design is re-checked.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "io/config.h"
+#include "optim/optimize/design.h"
+#include "optim/optimize/optimize_config.h"
+
+namespace camdyn::optim {
+
+/// (c): one operating speed.
+struct SpeedCertificate {
+  double rpm = 0.0;
+  bool feasible = false;     ///< some design of the family keeps P ≥ P_min at this speed
+  double best_margin = 0.0;  ///< the largest worst margin P − P_min the family reaches at this speed [N]
+};
+
+struct Certificate {
+  bool available = false;
+  std::string reason;              ///< why not, when not available
+  double min_contact_force = 0.0;  ///< P_min [N]
+  std::string margin_unit = "N";   ///< of the margins: "N", or "N m" for an arm (torque about its pivot)
+  double any_law_rpm = 0.0;        ///< (a) [rpm] (+inf: no limit below 1000× the top speed)
+  std::string any_law_binding;     ///< the segment (or the fixed part of the law) that sets (a)
+  double family_rpm = 0.0;         ///< (b) [rpm]
+  /// What holds (b) down: "max_pressure_angle_deg" and "monotone" when dropping
+  /// them raises (b) by more than 0.5 %; "spline family" otherwise;
+  /// "spring and mass" when (b) is within 1 % of (a). Found (two more
+  /// bisections) when an operating speed is infeasible or rigid.explain_bound
+  /// is set; empty otherwise.
+  std::vector<std::string> family_binding;
+  double baseline_rpm = 0.0;             ///< the baseline law's own rigid jump-free speed at P_min [rpm]
+  std::vector<SpeedCertificate> speeds;  ///< (c), in operating_rpm order
+  bool all_feasible() const;
+  /// family_binding joined by ", " ("" when none was worked out).
+  std::string binding_text() const;
+};
+
+struct RigidDesign {
+  bool have = false;
+  std::vector<double> control_points;   ///< the raw free control points c
+  std::vector<double> x;                ///< as a design vector of the DesignSpace
+  double lp_margin = 0.0;               ///< the programme's worst margin over the operating speeds [N]
+  std::vector<double> verified_margin;  ///< per operating speed, the built law sampled densely [N]
+  double jump_free_rpm = 0.0;           ///< the design's own rigid jump-free speed at P_min [rpm]
+};
+
+struct RigidStageResult {
+  Certificate certificate;
+  RigidDesign design;
+  int lp_solves = 0;
+  double run_time_s = 0.0;
+};
+
+/// Runs the stage on `baseline` (translating or oscillating follower). Throws
+/// NumericalError when CLP fails on a programme (not for an infeasible one).
+RigidStageResult run_rigid_stage(const SceneConfig& baseline, const OptimizeStudyConfig& config,
+                                 const DesignSpace& space, const std::string& file);
+
+/// The rigid-model margin P − P_min [N, or N m for an arm] of `scene`'s law
+/// at `rpm` at each cam angle of `angles_deg`.
+std::vector<double> rigid_margin_curve(const SceneConfig& scene, double rpm, double min_force,
+                                       const std::vector<double>& angles_deg);
+
+/// P_min of the stage: rigid.min_contact_force, else constraints.min_contact_force, else 0 [N].
+double rigid_min_contact_force(const OptimizeStudyConfig& config);
+
+}  // namespace camdyn::optim

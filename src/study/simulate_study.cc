@@ -1,0 +1,115 @@
+#include "study/simulate_study.h"
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <optional>
+#include <vector>
+
+#include "common/errors.h"
+#include "dynamics/coordinate_units.h"
+#include "dynamics/model.h"
+#include "dynamics/plausibility.h"
+#include "dynamics/simulation.h"
+#include "io/config.h"
+#include "io/json_writer.h"
+#include "output/profile_export.h"
+#include "study/simulation_output.h"
+#include "study/steady_state.h"
+
+namespace camdyn {
+
+namespace {
+
+constexpr int kExitOk = 0, kExitNumerical = 3;
+
+// A progress line on stderr, redrawn in place, only on a terminal.
+class Progress {
+ public:
+  explicit Progress(bool enabled) : enabled_(enabled && isatty(STDERR_FILENO)) {}
+  void operator()(double fraction) const {
+    if (!enabled_) return;
+    std::fprintf(stderr, "\r  simulating %5.1f %%", 100.0 * fraction);
+    if (fraction >= 1.0) std::fprintf(stderr, "\n");
+    std::fflush(stderr);
+  }
+  bool enabled() const { return enabled_; }
+
+ private:
+  bool enabled_;
+};
+
+// `camdyn validate`'s design check on stderr: the rigid-model jump speed,
+// the largest pressure angle and the smallest radius of curvature.
+void print_design_check(const Model& model) {
+  const CamGeometryReport& g = model.geometry;
+  const double jump = jump_speed_rpm(model);  // [rpm]; +inf: the law never decelerates
+  char speed[48] = "none (the law never decelerates)";
+  if (std::isfinite(jump)) std::snprintf(speed, sizeof speed, "%.4g rpm", jump);
+  std::fprintf(stderr,
+               "  design check: rigid-model jump speed %s, max pressure angle %.3g deg at %.4g deg, "
+               "min radius of curvature %.3g m at %.4g deg\n",
+               speed, g.max_pressure_angle_deg, g.max_pressure_angle_at_deg, g.min_radius_of_curvature,
+               g.min_radius_of_curvature_at_deg);
+}
+
+}  // namespace
+
+int run_simulate_study(const Json& doc, const StudyContext& ctx) {
+  const SceneConfig scene = scene_from_json(doc, ctx.source);
+  // Building the model checks what the config layer cannot: the motion law,
+  // the cam geometry (undercut, pressure angle) and the contact law.
+  const Model model = build_model(scene, ctx.config_file);
+  // outputs.profile is sampled (and its tool radius checked) before the run, so validate sees its errors too.
+  std::optional<CamProfile> profile;
+  if (scene.outputs.profile)
+    profile = sample_cam_profile(model, profile_options(*scene.outputs.profile), ProfileOptionNames{ctx.config_file});
+  if (ctx.validate_only) {
+    std::cout << dump_json(to_json(scene));
+    std::cerr << "camdyn: " << ctx.config_file << " is valid (" << model.layout.size << " states: ";
+    for (size_t i = 0; i < model.layout.names.size(); ++i) std::cerr << (i ? ", " : "") << model.layout.names[i];
+    std::cerr << ")\n";
+    print_design_check(model);
+    for (const PlausibilityWarning& w : input_warnings(scene, model)) std::cerr << warning_line(w) << "\n";
+    return kExitOk;
+  }
+  Workspace ws;
+  const Progress progress(ctx.progress);
+  SimulationOptions options;
+  if (progress.enabled()) options.progress = [&](double f) { progress(f); };
+  SimulationResult result = simulate(scene, model, ws, options);
+  estimate_error(scene, model, result);
+  throw_if_failed(result);
+  apply_steady_state(scene, model, result, SteadyStateSearch::full, ctx.threads());
+  const std::filesystem::path& out = ctx.out_dir;
+  write_simulation_outputs(out, scene, model, result);
+  if (profile) write_profile_files(out, *profile, scene.name, scene.outputs.profile->formats);
+
+  const Metrics& m = result.metrics;
+  std::printf("%s: %s, %.6g rpm (rigid-model jump speed %.6g rpm)\n", scene.name.c_str(),
+              m.separation_fraction > 0.0 ? "follower SEPARATES" : "follower stays in contact", scene.mechanism.cam.rpm,
+              m.jump_speed_rpm);
+  if (!result.metrics_note.empty()) std::printf("  steady state: %s\n", result.metrics_note.c_str());
+  std::printf("  separation_fraction %.4g, impacts %ld, peak_contact_force %.6g N, min_contact_force %.6g N\n",
+              m.separation_fraction, m.impact_count, m.peak_contact_force, m.min_contact_force);
+  std::printf("  energy_residual %.3g, %ld steps, %ld RHS evaluations, %.3g s\n", m.energy_residual,
+              result.solver.counters.steps, result.solver.counters.rhs_evaluations, result.solver.run_time_s);
+  if (result.error.richardson)
+    std::printf("  error estimate (run at 100x tighter tolerance): position %.3g %s, peak force %.3g\n",
+                result.error.position, coordinate_units(model).position, result.error.peak_contact_force);
+  std::printf("  report: %s\n", std::filesystem::absolute(out / "report.html").lexically_normal().c_str());
+  const std::vector<PlausibilityWarning> warnings = run_warnings(scene, model, result);
+  for (const PlausibilityWarning& w : warnings) std::printf("%s\n", warning_line(w).c_str());
+  if (ctx.strict && !warnings.empty()) {
+    std::fflush(stdout);
+    std::cerr << "camdyn: --strict: " << ctx.config_file << ": " << warnings.size()
+              << " warning(s), the results should not be trusted (outputs written)\n";
+    return kExitNumerical;
+  }
+  return kExitOk;
+}
+
+}  // namespace camdyn
