@@ -9,6 +9,7 @@
 #include "api/scene_impl.h"
 #include "common/errors.h"
 #include "dynamics/cam_outline.h"
+#include "dynamics/rigid_jump_speed.h"
 #include "io/config.h"
 #include "io/dotted_path.h"
 #include "io/json_archive.h"

@@ -6,6 +6,7 @@
 
 #include "common/errors.h"
 #include "contact/hertz_pressure.h"
+#include "dynamics/rigid_jump_speed.h"
 #include "geometry/extremum.h"
 
 namespace camdyn {

@@ -1,4 +1,6 @@
 // The cam-follower mechanism as an ODE (docs/model.md §5): an immutable Model
+// (built in dynamics/model_assembly.cc; its rigid-model jump speed is
+// dynamics/rigid_jump_speed.h)
 // assembled from the scene with only what the scene needs, a mutable
 // Workspace reused across runs, and free functions that evaluate it
 // (Pinocchio style). The state is, in this order and only where needed:
@@ -200,25 +202,5 @@ struct EnergyTerms {
   double kinetic = 0.0, spring = 0.0, gravity = 0.0, contact = 0.0;
 };
 EnergyTerms energy_terms(const Model& model, const Evaluation& ev);
-
-/// The rigid-model critical (jump) speed of docs/model.md §9 [rpm], in the
-/// generalised coordinate of any follower (the cam must push with
-/// Q = M ω² s'' + k (s + x₀) + m g ≥ 0, and ∂g/∂q > 0 turns Q into a normal
-/// force): min over θ with s'' < 0 of sqrt((k (s + x₀) + m g) / (−M s'')).
-/// +inf if the law never decelerates.
-double jump_speed_rpm(const Model& model);
-
-/// The same bound with the damper's c ω s' term: the lowest cam speed at
-/// which the rigid-model normal force (rigid_normal_force) turns negative
-/// somewhere on the cam [rpm]. A damper lowers it on the return (s' < 0);
-/// equal to jump_speed_rpm without one; +inf if the force never turns.
-double damped_jump_speed_rpm(const Model& model);
-
-/// Rigid-model normal contact force at cam angle θ and constant speed [N]:
-/// Q / (∂g/∂q) with Q = M ω² s'' + c ω s' + k (s + x₀) + m g (translating
-/// roller: P / cos φ of docs/model.md §9). Negative: the follower would need pulling.
-double rigid_normal_force(const Model& model, double theta);
-/// The same at cam speed `omega` [rad/s] instead of the model's.
-double rigid_normal_force(const Model& model, double theta, double omega);
 
 }  // namespace camdyn

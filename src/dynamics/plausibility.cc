@@ -9,6 +9,7 @@
 #include "common/errors.h"
 #include "contact/force_law.h"
 #include "dynamics/coordinate_units.h"
+#include "dynamics/rigid_jump_speed.h"
 #include "scene/follower_shape.h"
 
 namespace camdyn {

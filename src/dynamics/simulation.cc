@@ -15,6 +15,7 @@
 #include "common/errors.h"
 #include "common/study_budget.h"
 #include "dynamics/free_flight.h"
+#include "dynamics/rigid_jump_speed.h"
 #include "dynamics/step_extremes.h"
 #include "dynamics/step_quadrature.h"
 #include "geometry/check_text.h"

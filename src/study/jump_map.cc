@@ -9,6 +9,7 @@
 #include "common/study_budget.h"
 #include "dynamics/model.h"
 #include "dynamics/poincare_map.h"
+#include "dynamics/rigid_jump_speed.h"
 #include "io/json_writer.h"
 
 namespace camdyn {

@@ -12,6 +12,7 @@
 
 #include "common/errors.h"
 #include "dynamics/model.h"
+#include "dynamics/rigid_jump_speed.h"
 #include "io/json_archive.h"
 #include "io/json_writer.h"
 #include "study/periodic_report.h"

@@ -13,6 +13,7 @@
 #include "dynamics/coordinate_units.h"
 #include "dynamics/model.h"
 #include "dynamics/plausibility.h"
+#include "dynamics/rigid_jump_speed.h"
 #include "dynamics/simulation.h"
 #include "io/config.h"
 #include "io/json_writer.h"

@@ -12,6 +12,7 @@
 #include "common/parallel.h"
 #include "dynamics/coordinate_units.h"
 #include "dynamics/plausibility.h"
+#include "dynamics/rigid_jump_speed.h"
 #include "io/atomic_file.h"
 #include "io/csv_writer.h"
 #include "io/json_writer.h"

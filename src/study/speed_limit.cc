@@ -12,6 +12,7 @@
 #include "common/errors.h"
 #include "common/parallel.h"
 #include "dynamics/model.h"
+#include "dynamics/rigid_jump_speed.h"
 #include "dynamics/simulation.h"
 #include "io/json_archive.h"
 #include "io/json_writer.h"

@@ -15,6 +15,7 @@
 #include "dynamics/cam_geometry.h"
 #include "dynamics/cam_outline.h"
 #include "dynamics/model.h"
+#include "dynamics/rigid_jump_speed.h"
 #include "input_error_of.h"
 #include "io/config.h"
 #include "io/json_archive.h"

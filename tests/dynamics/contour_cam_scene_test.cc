@@ -16,6 +16,7 @@
 
 #include "common/errors.h"
 #include "contact/profile_pair_tracking.h"
+#include "dynamics/rigid_jump_speed.h"
 #include "dynamics/simulation.h"
 #include "scenes.h"
 #include "tolerance.h"

@@ -12,6 +12,7 @@
 #include <sstream>
 #include <string>
 
+#include "dynamics/rigid_jump_speed.h"
 #include "dynamics/simulation.h"
 #include "geometry/motion_law.h"
 #include "rigid_follower.h"

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "dynamics/model.h"
+#include "dynamics/rigid_jump_speed.h"
 #include "io/config.h"
 #include "tolerance.h"
 

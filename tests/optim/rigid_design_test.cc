@@ -13,6 +13,7 @@
 #include <string>
 
 #include "dynamics/model.h"
+#include "dynamics/rigid_jump_speed.h"
 #include "geometry/motion_law.h"
 #include "io/config.h"
 #include "optim/optimize/design.h"

@@ -1,0 +1,237 @@
+// Building a Model (dynamics/model.h): the geometry of the design
+// (dynamics/cam_geometry.h) and, on it, the bodies and force elements of one
+// cam speed, with the checks the loader cannot make (docs/warnings.md); the
+// speed set in place; the list of elements summary.json names.
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <string>
+
+#include "common/errors.h"
+#include "dynamics/contact_stress.h"
+#include "dynamics/model.h"
+#include "dynamics/plausibility.h"
+#include "geometry/check_text.h"
+#include "scene/follower_shape.h"
+
+namespace camdyn {
+
+namespace {
+
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+
+/// `cam_radius` [m]: the cam's radius for stiffness from materials (its base radius).
+ForceLaw build_force_law(const SceneConfig& scene, double cam_radius, const std::string& file) {
+  const ContactConfig& c = scene.mechanism.contact;
+  ForceLaw law;
+  law.model = c.model;
+  law.exponent = c.exponent;
+  law.restitution = c.restitution;
+  law.reference_velocity = c.reference_velocity;
+  law.damping = c.damping.value_or(0.0);
+  if (c.from_materials) {
+    const MaterialsConfig& m = *c.from_materials;
+    const bool line = m.width.has_value();
+    const double implied_exponent = line ? 1.0 : 1.5;
+    if (std::abs(c.exponent - implied_exponent) > 1e-12)
+      throw InputError(file, "mechanism.contact.exponent",
+                       std::string("stiffness from materials is for ") + (line ? "line" : "point") +
+                           " contact, which needs exponent " + (line ? "1" : "1.5"));
+    // A circle has radius of curvature ρ, a flat face's line an infinite one.
+    const ShapeConfig& shape = scene.mechanism.follower.shape;
+    const double r2 =
+        follower_shape_traits(shape.type).circle() ? shape.radius : std::numeric_limits<double>::infinity();
+    law.stiffness = stiffness_from_materials(m.E1, m.nu1, m.E2, m.nu2, cam_radius, r2, line, m.width.value_or(0.0));
+  } else if (c.stiffness) {
+    law.stiffness = *c.stiffness;
+  } else {
+    throw InputError(file, "mechanism.contact.stiffness", "a stiffness or { \"from_materials\": ... } is required");
+  }
+  if (!(law.stiffness > 0.0) || !std::isfinite(law.stiffness))
+    throw InputError(file, "mechanism.contact.stiffness", "must be a finite number > 0");
+  return law;
+}
+
+FrictionLaw friction_law(double mu, double regularization_velocity, FrictionRegularization regularization) {
+  FrictionLaw law;
+  law.mu = mu;
+  law.regularization_velocity = regularization_velocity;
+  law.linear_ramp = regularization == FrictionRegularization::linear;
+  return law;
+}
+
+std::string friction_name(const char* kind, const FrictionLaw& law) {
+  return std::string(kind) + ":coulomb_" + (law.linear_ramp ? "linear" : "tanh");
+}
+
+}  // namespace
+
+namespace {
+
+/// Throws InputError naming `mechanism.cam.limits.max_contact_stress` when
+/// the rigid-model Hertz pressure at the scene's speed exceeds it, or when the
+/// scene gives no line-contact materials to compute it from.
+void check_contact_stress_limit(const MechanismConfig& mech, const Model& model, const std::string& file) {
+  const std::optional<double>& limit = mech.cam.limits.max_contact_stress;
+  if (!limit) return;
+  const std::string at = "mechanism.cam.limits.max_contact_stress";
+  const LineContact contact = require_line_contact(mech.contact, file, at);
+  const PressurePeak peak = peak_rigid_contact_pressure(model, contact, model.omega);
+  if (peak.pressure > *limit)
+    throw InputError(file, at,
+                     "the rigid-model Hertz contact pressure reaches " + check_text::num(peak.pressure) +
+                         " Pa at cam angle " + check_text::num(peak.at_deg) + " deg at " +
+                         check_text::num(mech.cam.rpm) + " rpm, above the limit " + check_text::num(*limit) + " Pa");
+}
+
+/// The mass, spring, damper, gravity, contact law, friction and drive of the
+/// mechanism (the model's geometry is already built).
+void assemble_elements(const SceneConfig& scene, const std::string& file, Model& model) {
+  const MechanismConfig& mech = scene.mechanism;
+  const FollowerConfig& f = mech.follower;
+  const FollowerGeometry& fg = model.follower;
+  const bool oscillating = fg.oscillating();
+  model.mass = oscillating ? f.inertia : f.mass;
+  if (!(model.mass > 0.0))
+    throw InputError(file, oscillating ? "mechanism.follower.inertia" : "mechanism.follower.mass", "must be > 0");
+  model.forces = follower_forces(scene);
+
+  model.contact = build_force_law(scene, fg.base_radius, file);
+  const FrictionConfig& fc = mech.contact.friction;
+  model.friction = friction_law(fc.mu, fc.regularization_velocity, fc.regularization);
+  const bool roller = fg.rolls();
+  model.roller_inertia = roller ? f.shape.inertia : 0.0;
+  // A roller without inertia rolls freely: friction can do no work, so neither
+  // the spin state nor the friction force is assembled (docs/model.md §4). A flat
+  // face or a mushroom slides: friction acts whenever μ > 0.
+  model.has_spin = roller && model.roller_inertia > 0.0 && fc.mu > 0.0;
+  model.contact_friction = fc.mu > 0.0 && (!roller || model.has_spin);
+  if (!oscillating && f.guide_friction && f.guide_friction->mu > 0.0) {
+    model.has_guide_friction = true;
+    model.guide_friction =
+        friction_law(f.guide_friction->mu, f.guide_friction->regularization_velocity, fc.regularization);
+  }
+  if (oscillating && f.pivot_friction && f.pivot_friction->mu > 0.0) {
+    model.has_pivot_friction = true;
+    model.pivot_friction =
+        friction_law(f.pivot_friction->mu, f.pivot_friction->regularization_velocity, fc.regularization);
+    model.pin_radius = f.pivot_friction->pin_radius;
+  }
+
+  const DriveConfig& dc = mech.cam.drive;
+  if (dc.type == Drive::shaft) {
+    model.drive = Drive::shaft;
+    model.cam_inertia = dc.inertia;
+    model.shaft_stiffness = dc.torsional_stiffness;
+    model.shaft_damping = dc.torsional_damping;
+    if (dc.motor.type == Motor::torque_speed) {
+      model.motor = Motor::torque_speed;
+      model.stall_torque = dc.motor.stall_torque;
+      model.no_load_speed = dc.motor.no_load_rpm * kTwoPi / 60.0;
+      model.motor_inertia = dc.motor.inertia;
+    }
+  }
+}
+
+/// The state layout of model.h's header comment: q, q̇, then only what this
+/// model needs (pair parameters, roller spin, cam and motor angles and speeds).
+void assign_state_layout(Model& model) {
+  StateLayout& layout = model.layout;
+  layout = StateLayout::follower_only(model.follower.oscillating());
+  if (model.tracking == Tracking::differential) {
+    layout.u = layout.add("contact_parameter_u");
+    if (model.pair_form == PairForm::general) layout.v = layout.add("contact_parameter_v");
+  }
+  if (model.has_spin) layout.spin = layout.add("roller_spin");
+  if (model.drive == Drive::shaft) {
+    layout.cam_angle = layout.add("cam_angle");
+    layout.cam_speed = layout.add("cam_speed");
+    if (model.motor == Motor::torque_speed) {
+      layout.motor_angle = layout.add("motor_angle");
+      layout.motor_speed = layout.add("motor_speed");
+    }
+  }
+}
+
+}  // namespace
+
+namespace {
+
+/// The speed-dependent parts of the model: the nominal speed, the tracking
+/// gain, and the checks that depend on the speed.
+void assign_cam_speed(const SceneConfig& scene, const std::string& file, Model& model) {
+  model.omega = scene.mechanism.cam.rpm * kTwoPi / 60.0;
+  check_contact_stress_limit(scene.mechanism, model, file);
+  // Drift of f decays with time constant 1/α, well below a cam degree.
+  model.tracking_gain = 1000.0 + 100.0 * model.omega;
+}
+
+Model assemble_model(const CamGeometry& geometry, const SceneConfig& scene, const std::string& file) {
+  const MechanismConfig& mech = scene.mechanism;
+  Model model;
+  static_cast<CamGeometry&>(model) = geometry;
+  const FollowerGeometry& fg = model.follower;
+  model.theta0 = mech.cam.initial_angle_deg * std::numbers::pi / 180.0;
+  assemble_elements(scene, file, model);
+  model.tracking = mech.contact.tracking;
+  assign_cam_speed(scene, file, model);
+  // Beyond this the compliant-contact model no longer describes the contact.
+  model.penetration_limit = fg.circle() ? 0.5 * fg.radius : 0.1 * fg.base_radius;
+
+  assign_state_layout(model);
+
+  list_elements(model);
+  // Refuses what the solver could not run (docs/warnings.md), naming the field.
+  check_plausibility(scene, model, file);
+  return model;
+}
+
+}  // namespace
+
+Model build_model(const SceneConfig& scene, const std::string& file) {
+  return build_model(*build_cam_geometry(scene, file), scene, file);
+}
+
+Model build_model(const CamGeometry& geometry, const SceneConfig& scene, const std::string& file) {
+  try {
+    return assemble_model(geometry, scene, file);
+  } catch (const InputError& e) {
+    // A contact or a spring that cannot be assembled for a length in millimetres: name the slip.
+    rethrow_naming_unit_slip(scene, file, e);
+  }
+}
+
+Model build_model(const std::shared_ptr<const CamGeometry>& geometry, const SceneConfig& scene,
+                  const std::string& file) {
+  return geometry ? build_model(*geometry, scene, file) : build_model(scene, file);
+}
+
+void set_cam_speed(Model& model, const SceneConfig& scene, const std::string& file) {
+  try {
+    assign_cam_speed(scene, file, model);
+    check_plausibility(scene, model, file);
+  } catch (const InputError& e) {
+    rethrow_naming_unit_slip(scene, file, e);
+  }
+}
+
+void list_elements(Model& model) {
+  const bool oscillating = model.follower.oscillating();
+  model.elements.clear();
+  model.elements.push_back(oscillating ? "arm_inertia" : "follower_mass");
+  model.forces.for_each([&](const auto& element) {
+    if (element.present()) model.elements.push_back(element.name(oscillating));
+  });
+  model.elements.push_back("contact:" + to_string(model.contact.model));
+  if (model.contact_friction) model.elements.push_back(friction_name("friction", model.friction));
+  if (model.has_guide_friction) model.elements.push_back(friction_name("guide_friction", model.guide_friction));
+  if (model.has_pivot_friction) model.elements.push_back(friction_name("pivot_friction", model.pivot_friction));
+  if (model.drive == Drive::shaft) {
+    model.elements.push_back("cam_inertia");
+    model.elements.push_back("shaft_spring");
+    if (model.shaft_damping > 0.0) model.elements.push_back("shaft_damper");
+    model.elements.push_back(model.motor == Motor::torque_speed ? "motor:torque_speed" : "motor:constant_speed");
+  }
+}
+
+}  // namespace camdyn

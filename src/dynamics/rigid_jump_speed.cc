@@ -1,0 +1,87 @@
+#include "dynamics/rigid_jump_speed.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+namespace camdyn {
+
+namespace {
+
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+
+}  // namespace
+
+double jump_speed_rpm(const Model& model) {
+  const ReturnSpring& spring = model.forces.spring;
+  const double x0 = spring.stiffness > 0.0 ? spring.preload / spring.stiffness : 0.0;
+  auto omega_at = [&](double theta) {
+    const LawSample s = model.law->eval(theta);
+    if (!(s.d2s < 0.0)) return std::numeric_limits<double>::infinity();
+    const double hold = spring.stiffness * (s.s + x0) + model.forces.weight(model.mass);
+    if (spring.stiffness == 0.0 && spring.preload > 0.0) {
+      // Constant-force spring: the preload alone holds the follower.
+      return std::sqrt(std::max(0.0, spring.preload + model.forces.weight(model.mass)) / (-model.mass * s.d2s));
+    }
+    return hold > 0.0 ? std::sqrt(hold / (-model.mass * s.d2s)) : 0.0;
+  };
+  constexpr int kSamples = 7200;
+  double best = std::numeric_limits<double>::infinity();
+  int best_i = 0;
+  for (int i = 0; i < kSamples; ++i) {
+    const double w = omega_at(kTwoPi * i / kSamples);
+    if (w < best) best = w, best_i = i;
+  }
+  if (!std::isfinite(best)) return best;
+  // Golden-section refinement around the best sample.
+  double a = kTwoPi * (best_i - 1) / kSamples, b = kTwoPi * (best_i + 1) / kSamples;
+  const double r = (std::sqrt(5.0) - 1.0) / 2.0;
+  for (int it = 0; it < 60; ++it) {
+    const double x1 = b - r * (b - a), x2 = a + r * (b - a);
+    if (omega_at(x1) < omega_at(x2))
+      b = x2;
+    else
+      a = x1;
+  }
+  best = std::min(best, omega_at(0.5 * (a + b)));
+  return best * 60.0 / kTwoPi;
+}
+
+double damped_jump_speed_rpm(const Model& model) {
+  const double undamped = jump_speed_rpm(model);  // [rpm]
+  if (model.forces.damper.damping == 0.0 || !std::isfinite(undamped)) return undamped;
+  constexpr int kAngles = 3600, kSpeeds = 200;
+  auto holds = [&](double omega) {
+    for (int i = 0; i < kAngles; ++i)
+      if (rigid_normal_force(model, kTwoPi * i / kAngles, omega) < 0.0) return false;
+    return true;
+  };
+  // A scan up to twice the undamped bound (the force need not change sign
+  // once only), then bisection in the first interval where it fails [rad/s].
+  const double top = 2.0 * undamped * kTwoPi / 60.0;
+  for (int j = 1; j <= kSpeeds; ++j) {
+    if (holds(top * j / kSpeeds)) continue;
+    double lo = top * (j - 1) / kSpeeds, hi = top * j / kSpeeds;
+    for (int it = 0; it < 60 && hi - lo > 1e-12 * hi; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      (holds(mid) ? lo : hi) = mid;
+    }
+    return lo * 60.0 / kTwoPi;
+  }
+  return std::numeric_limits<double>::infinity();
+}
+
+double rigid_normal_force(const Model& model, double theta) { return rigid_normal_force(model, theta, model.omega); }
+
+double rigid_normal_force(const Model& model, double theta, double omega) {
+  const ReturnSpring& spring = model.forces.spring;
+  const LawSample s = model.law->eval(theta);
+  const double x0 = spring.stiffness > 0.0 ? spring.preload / spring.stiffness : 0.0;
+  const double spring_force = spring.stiffness > 0.0 ? spring.stiffness * (s.s + x0) : spring.preload;
+  const double generalised = model.mass * omega * omega * s.d2s + model.forces.damper.damping * omega * s.ds +
+                             spring_force + model.forces.weight(model.mass);
+  return generalised / model.cam->kinematics(theta).g_q;
+}
+
+}  // namespace camdyn
