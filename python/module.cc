@@ -266,8 +266,9 @@ PYBIND11_MODULE(_camdyn, m) {
   m.def(
       "run_study",
       [](const std::string& config_file, const std::string& json_text, const std::string& base_dir,
-         const std::vector<std::string>& overrides, const std::string& out_dir, int jobs) {
+         const std::vector<std::string>& overrides, const std::string& out_dir, int jobs, bool summary) {
         camdyn::StudyRequest request;
+        request.summary = summary;
         request.config_file = config_file;
         request.json_text = json_text;
         request.base_dir = base_dir;
@@ -277,5 +278,5 @@ PYBIND11_MODULE(_camdyn, m) {
         return run_study_dict(request);
       },
       py::arg("config_file"), py::arg("json_text"), py::arg("base_dir"), py::arg("overrides"), py::arg("out_dir"),
-      py::arg("jobs"));
+      py::arg("jobs"), py::arg("summary"));
 }

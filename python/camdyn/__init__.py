@@ -286,7 +286,8 @@ def run_study(config, out=None, jobs=0, set=None, base_dir=None):
     config: a config file's path, or a config as a dict (its relative file
         names resolve against base_dir, default the current directory).
     out: the output folder; None runs in a temporary folder that is removed
-        afterwards (only the returned dict remains).
+        afterwards (only the returned dict remains, and nothing is printed
+        that names the folder).
     jobs: parallel jobs for the studies that run many simulations (0: one per core).
     set: overrides, as for ``load``.
 
@@ -303,7 +304,8 @@ def run_study(config, out=None, jobs=0, set=None, base_dir=None):
         file, text, base = os.fspath(config), "", ""
     with tempfile.TemporaryDirectory(prefix="camdyn-") as scratch:
         folder = os.fspath(out) if out is not None else scratch
-        outcome = _camdyn.run_study(file, text, base, _overrides(set), folder, int(jobs))
+        # The study's stdout summary names its report: not printed for a folder deleted on return.
+        outcome = _camdyn.run_study(file, text, base, _overrides(set), folder, int(jobs), out is not None)
         if outcome["exit_code"] != 0:
             raise Error(f"the {outcome['study']} study stopped with exit code {outcome['exit_code']}")
         return _read_main_output(outcome["main_output"])

@@ -1,5 +1,10 @@
 #include "cli/run_study.h"
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cstdio>
+
 #include <iostream>
 #include <optional>
 #include <stdexcept>
@@ -80,6 +85,31 @@ int dispatch(const std::string& study, const Json& doc, const StudyContext& ctx)
   return runner.run(doc, ctx);
 }
 
+/// Sends what the process writes on stdout to /dev/null while it lives (the
+/// study runners print their summaries there). Process-wide: output another
+/// thread prints meanwhile is lost too.
+class SilencedStdout {
+ public:
+  SilencedStdout() {
+    std::fflush(stdout);
+    saved_ = ::dup(STDOUT_FILENO);
+    const int null = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
+    if (saved_ >= 0 && null >= 0) ::dup2(null, STDOUT_FILENO);
+    if (null >= 0) ::close(null);
+  }
+  ~SilencedStdout() {
+    std::fflush(stdout);
+    if (saved_ < 0) return;
+    ::dup2(saved_, STDOUT_FILENO);
+    ::close(saved_);
+  }
+  SilencedStdout(const SilencedStdout&) = delete;
+  SilencedStdout& operator=(const SilencedStdout&) = delete;
+
+ private:
+  int saved_ = -1;
+};
+
 Json request_json(const StudyRequest& request, ConfigSource& source) {
   if (!request.config_file.empty()) {
     source = config_source(request.config_file);
@@ -122,6 +152,8 @@ StudyOutcome run_study(const StudyRequest& request) {
   }
   try {
     const StudyBudgetScope budget(request.max_study_time_s, request.max_memory_mb);
+    std::optional<SilencedStdout> silenced;
+    if (!request.summary) silenced.emplace();
     outcome.exit_code = dispatch(outcome.study, doc, ctx);
   } catch (const InputError& e) {
     // Errors raised below the config layer may not know the file: name it here.

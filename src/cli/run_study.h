@@ -22,6 +22,11 @@ struct StudyRequest {
   bool progress = false;               ///< draw progress on stderr
   bool validate_only = false;          ///< check, print the resolved config, do not run
   bool strict = false;                 ///< a run with plausibility warnings exits 3 (docs/warnings.md)
+  /// Print the study's summary on stdout (the lines that name its report).
+  /// Off for a caller that deletes the output folder afterwards (the Python
+  /// module's run_study without `out`): a path to a folder that is gone
+  /// would mislead.
+  bool summary = true;
   double max_study_time_s = 86400.0;   ///< the whole study's wall-time budget [s] (common/study_budget.h)
   double max_memory_mb = 2048.0;       ///< the memory budget [MB] (common/study_budget.h)
 };

@@ -35,3 +35,14 @@ def test_simulate_study_returns_the_summary(quickstart, tmp_path):
     assert summary["study"] == "simulate"
     assert summary["metrics"]["separation_fraction"] == 0.0
     assert (tmp_path / "summary.json").exists() and (tmp_path / "report.html").exists()
+
+
+def test_a_temporary_folder_is_never_named(quickstart, tmp_path, capfd):
+    """Without `out` the folder is deleted on return: nothing printed names it; with `out` the summary says where."""
+    result = camdyn.run_study(quickstart, set={"simulation.cycles": 2})
+    printed = capfd.readouterr().out
+    assert "metrics" in result
+    assert "report" not in printed and "camdyn-" not in printed, printed
+    camdyn.run_study(quickstart, out=tmp_path / "kept", set={"simulation.cycles": 2})
+    printed = capfd.readouterr().out
+    assert str(tmp_path / "kept") in printed and "report" in printed, printed
