@@ -14,7 +14,6 @@ namespace camdyn {
 
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 using Jet = Dual<StateLayout::kMax>;
 
 /// The pair parameter and the profile there, solved in double precision.
