@@ -27,8 +27,8 @@ struct StudyRequest {
   /// module's run_study without `out`): a path to a folder that is gone
   /// would mislead.
   bool summary = true;
-  double max_study_time_s = 86400.0;   ///< the whole study's wall-time budget [s] (common/study_budget.h)
-  double max_memory_mb = 2048.0;       ///< the memory budget [MB] (common/study_budget.h)
+  double max_study_time_s = 86400.0;  ///< the whole study's wall-time budget [s] (common/study_budget.h)
+  double max_memory_mb = 2048.0;      ///< the memory budget [MB] (common/study_budget.h)
 };
 
 struct StudyOutcome {
