@@ -9,15 +9,14 @@
 #include <limits>
 #include <numbers>
 #include <optional>
-#include <sstream>
 #include <stdexcept>
 
 #include "common/errors.h"
 #include "common/study_budget.h"
 #include "dynamics/free_flight.h"
-#include "dynamics/rigid_jump_speed.h"
-#include "dynamics/step_extremes.h"
+#include "dynamics/initial_state.h"
 #include "dynamics/step_quadrature.h"
+#include "dynamics/window_observer.h"
 #include "geometry/check_text.h"
 #include "integrate/integrator.h"
 
@@ -25,12 +24,12 @@ namespace camdyn {
 
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 constexpr int kMaxState = StateLayout::kMax;
 
-using State = std::array<double, kMaxState>;
-using Quadratures = std::array<double, Model::kQuadratures>;
+using State = RunState;
+using Quadratures = RunQuadratures;
+using Failure = RunFailure;
 using Clock = std::chrono::steady_clock;
 
 // The quadratures a model reports (docs/model.md §7; Quadratures holds all of
@@ -53,12 +52,7 @@ bool quadrature_reported(const Model& m, int i) {
   }
 }
 
-// The quadratures' integrand at an evaluation.
-Quadratures integrand(const Evaluation& ev) {
-  Quadratures f;
-  quadrature_derivative(ev, f.data());
-  return f;
-}
+Quadratures integrand(const Evaluation& ev) { return quadrature_integrand(ev); }
 
 // The scene as an OdeSystem: the model's evaluation behind SUNDIALS' callbacks.
 // After each step CVODE asks for the roots at the state it accepted, and the
@@ -115,189 +109,6 @@ class SceneOde final : public OdeSystem {
   bool valid_ = false;
   double t_ = 0.0, v0_ = 0.0, motor_phase_ = 0.0;  // the point of ev_ [s], [m/s], [rad]
   std::array<double, kMaxState> y_{};
-};
-
-std::string where(const Model& model, double t) {
-  std::ostringstream s;
-  s << "at t = " << t << " s, cam angle " << std::fmod(model.theta(t) * kRadToDeg, 360.0) << " deg";
-  return s.str();
-}
-
-// Why a run stopped before its end time; converged while it did not.
-struct Failure {
-  Termination termination = Termination::converged;
-  std::string message;
-  explicit operator bool() const { return termination != Termination::converged; }
-};
-
-// Initial state: given, or on the law at quasi-static equilibrium (the contact
-// force supplies exactly the law's acceleration); the pair by Newton from the
-// cam angle (global search if that fails); a roller spinning without slip; a
-// shaft twisted to carry the initial cam torque.
-Failure initial_state(const SceneConfig& scene, const Model& model, Workspace& ws, double* y) {
-  const InitialConfig& init = scene.mechanism.follower.initial;
-  const double theta = model.theta(0.0);
-  const LawSample law = model.law->eval(theta);
-  // The set-up probe: Newton tracking, no spin, the cam at constant speed.
-  Model probe = model;
-  probe.tracking = Tracking::newton;
-  probe.contact_friction = model.contact_friction && !model.has_spin;
-  probe.has_spin = false;
-  probe.drive = Drive::constant_speed;
-  probe.layout = StateLayout::follower_only(model.follower.oscillating());
-  Evaluation ev;
-  std::array<double, kMaxState> s{};
-  ws.v0 = model.contact.reference_velocity;
-  const double u_guess = model.pair_guess(theta);
-  ws.u_warm = u_guess;
-  ws.motor_phase = 0.0;
-
-  if (init.position) {
-    s[0] = *init.position;
-    s[1] = init.velocity;
-  } else {
-    s[1] = model.omega * law.ds + init.velocity;
-    const double target = model.omega * model.omega * law.d2s;
-    auto excess = [&](double y_trial) {
-      s[0] = y_trial;
-      ws.u_warm = u_guess;
-      evaluate(probe, ws, 0.0, s.data(), ev);
-      return ev.acceleration - target;
-    };
-    double hi = law.s;  // touching: no contact force
-    if (excess(hi) >= 0.0) {
-      s[0] = hi;
-    } else {
-      // Penetrations far below the base radius (metres or, for an arm, radians times its length).
-      const double limit = model.follower.oscillating() ? 0.1 * model.follower.base_radius / model.follower.arm_length
-                                                        : 0.1 * model.follower.base_radius;
-      double span = 1e-9;
-      while (excess(hi - span) < 0.0) {
-        span *= 4.0;
-        if (span > limit)
-          throw InputError("", "mechanism.follower.initial.position",
-                           "no static equilibrium in contact: the contact cannot carry the spring load");
-      }
-      double lo = hi - span;
-      for (int it = 0; it < 200 && hi - lo > 1e-15; ++it) {
-        const double mid = 0.5 * (lo + hi);
-        (excess(mid) < 0.0 ? hi : lo) = mid;
-      }
-      s[0] = 0.5 * (lo + hi);
-    }
-  }
-
-  ws.u_warm = u_guess;
-  const long resets = ws.tracking_resets;
-  evaluate(probe, ws, 0.0, s.data(), ev);
-  ws.tracking_resets = resets;  // the set-up search is not a loss of tracking
-  if (!ev.tracking_ok)
-    return {Termination::no_initial_contact, "could not find the initial contact pair " + where(model, 0.0)};
-  ws.u_warm = ev.pair.u;
-  ws.v_warm = ev.pair_v;
-  std::fill(y, y + model.layout.size, 0.0);
-  y[0] = s[0];
-  y[1] = s[1];
-  if (model.layout.u) y[*model.layout.u] = ev.pair.u;
-  if (model.layout.v) y[*model.layout.v] = ev.pair_v;
-  if (model.layout.cam_angle) {
-    y[*model.layout.cam_angle] = theta;
-    y[*model.layout.cam_speed] = model.omega;
-  }
-  if (model.layout.motor_angle) {
-    y[*model.layout.motor_angle] = theta;
-    y[*model.layout.motor_speed] = model.omega;
-  }
-  if (model.layout.spin) {
-    // Rolling without slip at the start: slip = slip(Ω = 0) − r_r Ω = 0.
-    evaluate(model, ws, 0.0, y, ev);
-    y[*model.layout.spin] = ev.slip / model.follower.radius;
-  }
-  if (model.drive == Drive::shaft) {
-    // Twist the shaft so that it carries the contact torque on the cam.
-    evaluate(model, ws, 0.0, y, ev);
-    const double twist = -ev.cam_torque / model.shaft_stiffness;
-    if (model.layout.motor_angle)
-      y[*model.layout.motor_angle] += twist;
-    else
-      ws.motor_phase = twist;
-  }
-  return {};
-}
-
-// A given start (SimulationOptions::start): every state as given except the
-// pair parameters, which warm-started Newton (global search if that fails)
-// finds from the others at t = 0, as the drift projection does.
-Failure given_state(const Model& model, Workspace& ws, const StartState& start, double* y) {
-  if (static_cast<int>(start.y.size()) != model.layout.size)
-    throw std::logic_error("simulate: a start state of " + std::to_string(start.y.size()) + " values for a model of " +
-                           std::to_string(model.layout.size) + " states");
-  std::copy(start.y.begin(), start.y.end(), y);
-  ws.v0 = std::max(start.approach_speed, model.contact.reference_velocity);
-  ws.motor_phase = start.motor_phase;
-  ws.u_warm = model.pair_guess(model.theta(0.0));
-  Model newton_model = model;
-  newton_model.tracking = Tracking::newton;
-  Evaluation ev;
-  const long resets = ws.tracking_resets;
-  evaluate(newton_model, ws, 0.0, y, ev);
-  ws.tracking_resets = resets;  // the set-up search is not a loss of tracking
-  if (!ev.tracking_ok)
-    return {Termination::no_initial_contact, "could not find the contact pair of the start state " + where(model, 0.0)};
-  ws.u_warm = ev.pair.u;
-  ws.v_warm = ev.pair_v;
-  if (model.layout.u) y[*model.layout.u] = ev.pair.u;
-  if (model.layout.v) y[*model.layout.v] = ev.pair_v;
-  return {};
-}
-
-struct RunPlan {
-  double t_end = 0.0, t_eval = 0.0, output_dt = 0.0, max_step = 0.0;
-};
-
-RunPlan plan(const SceneConfig& scene, const Model& model) {
-  const SimulationConfig& sim = scene.simulation;
-  RunPlan p;
-  const double period = model.omega > 0.0 ? kTwoPi / model.omega : 0.0;
-  if (sim.duration) {
-    p.t_end = *sim.duration;
-    const double discard = sim.cycles ? 0.0 : scene.simulation.discard_cycles * period;
-    p.t_eval = discard < p.t_end ? discard : 0.0;
-  } else {
-    const double cycles = sim.cycles.value_or(4.0);
-    p.t_end = cycles * period;
-    p.t_eval = sim.discard_cycles * period;
-  }
-  if (sim.output_step) {
-    p.output_dt = *sim.output_step;
-  } else {
-    p.output_dt = model.omega > 0.0 ? sim.output_step_deg.value_or(0.5) / kRadToDeg / model.omega : p.t_end / 1000.0;
-  }
-  // Steps never longer than 2° of cam rotation, so that no contact episode fits inside one step.
-  p.max_step = scene.integrator.max_step.value_or(model.omega > 0.0 ? 2.0 / kRadToDeg / model.omega : p.t_end / 200.0);
-  return p;
-}
-
-// Builds the integrator's options from the config and the plan.
-IntegratorOptions integrator_options(const IntegratorConfig& ic, const RunPlan& p) {
-  IntegratorOptions io;
-  io.method = ic.method;
-  io.rtol = ic.rtol;
-  io.atol = ic.atol;
-  io.max_step = p.max_step;
-  io.fixed_step = ic.step.value_or(0.0);
-  io.analytic_jacobian = ic.jacobian == JacobianSource::analytic;
-  return io;
-}
-
-// Where the observer reads the state and quadratures between the loop's
-// stops: the integrator's dense output over its last step, or the flight in
-// closed form.
-class StateSource {
- public:
-  virtual ~StateSource() = default;
-  // The state at t into y and all quadratures into q; either may be null.
-  virtual void state(double t, double* y, double* q) = 0;
 };
 
 class IntegratorSource final : public StateSource {
@@ -363,257 +174,6 @@ class FlightSource final : public StateSource {
   const State& y_;
   const Quadratures& q_;
   bool ok_ = true;
-};
-
-// The metrics over the evaluated window (docs/model.md §8) and the energy
-// balance over the whole run (§7), folded in from dense-output samples. Its
-// evaluation and dense-output buffers are the run's scratch: the loop and the
-// series recorder read the evaluation it leaves behind.
-class WindowObserver {
- public:
-  WindowObserver(const Model& model, Workspace& ws, StateSource& source, const State& y0, const Quadratures& q0,
-                 double t_eval, bool every_step, Metrics& m)
-      : model_(model), ws_(ws), source_(&source), y0_(y0), q0_(q0), t_eval_(t_eval), every_step_(every_step), m_(m) {}
-
-  // Evaluates the model at a dense-output time into ev() and folds it into the
-  // metrics; returns the energy deviation E(t) − E(0) [J]. Before the first
-  // step there is no dense output yet: the initial values are used.
-  double observe(double t) {
-    if (stepped_) {
-      source_->state(t, ys_.data(), qs_.data());
-    } else {
-      ys_ = y0_;
-      qs_ = q0_;
-    }
-    evaluate_keeping_warm_start(t, ev_);
-    if (!stepped_) start_ = extreme_values(ev_);
-    fold_extremes(t, extreme_values(ev_));
-    return fold_energy(ev_);
-  }
-
-  // The step [t0, t] the integrator just took, but for its end
-  // (observe_step_end): the model at its midpoint. The gap keeps its sign
-  // inside a step (its zeros are located as roots), so the midpoint decides
-  // separation; the quadratures' integrand there goes to `f_mid` unless it is
-  // null. Without `every_step` the midpoint is evaluated only when the
-  // quadratures or Newton tracking need it. Newton tracking solves there and
-  // keeps the pair as the warm start of the evaluation after the step, with
-  // and without `every_step`, so that the run is the same to the last bit.
-  void observe_step(double t0, double t, Quadratures* f_mid) {
-    stepped_ = true;
-    step_start_ = t0;
-    if (!every_step_ && !f_mid && model_.tracking != Tracking::newton) return;
-    const double t_mid = t0 + (t - t0) * 0.5;
-    source_->state(t_mid, ys_.data(), nullptr);
-    evaluate(model_, ws_, t_mid, ys_.data(), ev_);
-    if (f_mid) *f_mid = integrand(ev_);
-    if (every_step_) {
-      mid_ = extreme_values(ev_);
-      fold_extremes(t_mid, mid_);
-    }
-    if (ev_.gap > 0.0) separated_time_ += std::max(0.0, t - std::max(t0, t_eval_));
-  }
-
-  // The end t of the step just taken, evaluated there by the loop (`at_end`):
-  // its metrics and energy, with the quadratures at t; where the extremes'
-  // parabola through the step's start, middle and end promises a record
-  // inside the step, the model evaluated there too (state only).
-  void observe_step_end(double t, const Evaluation& at_end) {
-    if (!every_step_) return;
-    source_->state(t, nullptr, qs_.data());
-    const StepExtremes::Values end = extreme_values(at_end);
-    fold_extremes(t, end);
-    StepExtremes::Values s{};
-    const std::size_t probes = extremes_.probes(start_, mid_, end, s);
-    for (std::size_t i = 0; i < probes; ++i) {
-      const double t_probe = step_start_ + (t - step_start_) * s[i];
-      fold_extremes(t_probe, extreme_values(probe(t_probe)));
-    }
-    start_ = end;
-    fold_energy(at_end);
-  }
-
-  // The flight interval [t0, t] (open throughout but at a landing that ends
-  // it): the metrics at its end; the largest gap inside it from the cubic
-  // through its ends (`largest_gap` [m]), the others (contact force,
-  // penetration) being zero in flight.
-  void observe_flight(double t0, double t, double largest_gap) {
-    stepped_ = true;
-    if (every_step_) {
-      observe(t);
-      start_ = extreme_values(ev_);
-      if (t >= t_eval_) flight_gap_ = std::max(flight_gap_, largest_gap);
-    }
-    separated_time_ += std::max(0.0, t - std::max(t0, t_eval_));
-  }
-
-  // Reads the state from `source` from now on.
-  void read_from(StateSource& source) { source_ = &source; }
-
-  // The metrics that are not extremes (publish_extremes), once the run
-  // reached `t_end` [s]; `separation_integral` is ∫ max(g, 0) dt over the
-  // evaluated window [m s].
-  void finish(double t_end, double separation_integral) {
-    const double evaluated = t_end - t_eval_;
-    m_.separation_fraction = evaluated > 0.0 ? separated_time_ / evaluated : 0.0;
-    m_.energy_residual = energy_scale_ > 0.0 ? energy_max_dev_ / energy_scale_ : 0.0;
-    m_.max_pressure_angle_deg = model_.geometry.max_pressure_angle_deg;
-    m_.min_radius_of_curvature = model_.geometry.min_radius_of_curvature;
-    m_.jump_speed_rpm = jump_speed_rpm(model_);
-    m_.separation_integral = separation_integral;
-  }
-
-  // The extremes so far into the metrics (a failed run's too).
-  void publish_extremes() {
-    const StepExtremes::Values& best = extremes_.best();
-    m_.max_separation_gap = std::max({0.0, best[0], flight_gap_});
-    m_.peak_contact_force = std::max(0.0, best[1]);
-    m_.min_contact_force = std::isfinite(best[2]) ? -best[2] : 0.0;
-    m_.max_penetration = std::max(0.0, best[3]);
-    m_.max_kinematic_error = std::max(0.0, best[4]);
-  }
-
-  Evaluation& ev() { return ev_; }
-  // The separation integral quadrature at the last observation [m s].
-  double separation_quadrature() const { return qs_[4]; }
-  // Energy deviation [J] → energy residual [-].
-  double residual(double deviation) const { return energy_scale_ > 0.0 ? deviation / energy_scale_ : 0.0; }
-
- private:
-  // The model at t [s] from the state in ys_ into `out`, the Newton warm
-  // start kept as it was.
-  void evaluate_keeping_warm_start(double t, Evaluation& out) {
-    const double u_keep = ws_.u_warm;
-    evaluate(model_, ws_, t, ys_.data(), out);
-    ws_.u_warm = u_keep;
-  }
-
-  // The model at t inside the step just taken (state only).
-  const Evaluation& probe(double t) {
-    source_->state(t, ys_.data(), nullptr);
-    evaluate_keeping_warm_start(t, probe_);
-    return probe_;
-  }
-
-  // What the window's extremes follow, at the evaluation `e`.
-  StepExtremes::Values extreme_values(const Evaluation& e) const {
-    return {e.gap, e.normal_force, -e.normal_force, e.delta, std::abs(e.y - model_.law->eval(e.theta).s)};
-  }
-
-  // Folds the extremes' values `x` at t [s] into the window's records.
-  void fold_extremes(double t, const StepExtremes::Values& x) {
-    if (t >= t_eval_) extremes_.fold(x);
-  }
-
-  // Folds the energy of `e` with the quadratures qs_ into the balance;
-  // returns the deviation E(t) − E(0) [J].
-  double fold_energy(const Evaluation& e) {
-    const EnergyTerms terms = energy_terms(model_, e);
-    const double energy =
-        terms.kinetic + terms.spring + terms.gravity + terms.contact - qs_[0] + qs_[1] + qs_[2] + qs_[3];
-    if (!energy_initialised_) {
-      energy0_ = energy;
-      energy_initialised_ = true;
-    }
-    energy_scale_ = std::max(energy_scale_, terms.kinetic + terms.spring + std::abs(qs_[0]));
-    energy_max_dev_ = std::max(energy_max_dev_, std::abs(energy - energy0_));
-    return energy - energy0_;
-  }
-
-  const Model& model_;
-  Workspace& ws_;
-  StateSource* source_;
-  const State& y0_;
-  const Quadratures& q0_;
-  const double t_eval_;  // start of the evaluated window [s]
-  const bool every_step_;
-  Metrics& m_;
-  bool stepped_ = false;
-  Evaluation ev_, probe_;
-  StepExtremes extremes_;
-  StepExtremes::Values start_{}, mid_{};  // the extremes' values at the step's start and middle
-  double step_start_ = 0.0;               // [s]
-  double flight_gap_ = 0.0;               // the largest gap inside the flights in the window [m]
-  State ys_{};
-  Quadratures qs_{};
-  double energy0_ = 0.0, energy_scale_ = 0.0, energy_max_dev_ = 0.0;  // [J]
-  bool energy_initialised_ = false;
-  double separated_time_ = 0.0;  // within the evaluated window [s]
-};
-
-// One row of a time series from an evaluation at t [s].
-void push_row(const Model& model, const Evaluation& ev, TimeSeries& series, double t) {
-  series.time.push_back(t);
-  series.cam_angle_deg.push_back(ev.theta * kRadToDeg);
-  series.follower_position.push_back(ev.y);
-  series.follower_velocity.push_back(ev.v);
-  series.follower_acceleration.push_back(ev.acceleration);
-  series.kinematic_position.push_back(model.law->eval(ev.theta).s);
-  series.gap.push_back(ev.gap);
-  series.contact_force.push_back(ev.normal_force);
-  series.friction_force.push_back(ev.friction_force);
-  series.contact_offset.push_back(ev.contact_offset);
-  series.cam_speed_rpm.push_back(ev.cam_speed * 60.0 / kTwoPi);
-}
-
-// The series recording: the rows of timeseries.csv on the output grid, the
-// samples at SimulationOptions::sample_times, and the separation integral at
-// the start of the evaluated window, each observed as the integration passes.
-class SeriesRecorder {
- public:
-  SeriesRecorder(const Model& model, const RunPlan& p, const SimulationOptions& options, WindowObserver& observer,
-                 SimulationResult& result)
-      : model_(model),
-        p_(p),
-        options_(options),
-        observer_(observer),
-        result_(result),
-        eval_start_seen_(p.t_eval <= 0.0) {}
-
-  // Records everything due up to t_hi [s].
-  void record_until(double t_hi) {
-    for (;; ++next_output_) {
-      const double t_nominal = static_cast<double>(next_output_) * p_.output_dt;
-      const double t_out = std::min(t_nominal, p_.t_end);
-      if (t_out > t_hi * (1.0 + 1e-14) + 1e-300) break;
-      if (t_nominal > p_.t_end * (1.0 + 1e-12)) break;
-      const double de = observer_.observe(t_out);
-      if (!options_.record_series) continue;
-      push_row(model_, observer_.ev(), result_.series, t_out);
-      energy_deviation_.push_back(de);
-    }
-    const std::vector<double>& sample_times = options_.sample_times;
-    for (; next_sample_ < sample_times.size() && sample_times[next_sample_] <= t_hi; ++next_sample_) {
-      const double t_sample = sample_times[next_sample_];
-      sample_energy_deviation_.push_back(observer_.observe(t_sample));
-      push_row(model_, observer_.ev(), result_.samples, t_sample);
-    }
-    if (!eval_start_seen_ && p_.t_eval <= t_hi) {
-      observer_.observe(p_.t_eval);
-      separation_integral_at_eval_ = observer_.separation_quadrature();
-      eval_start_seen_ = true;
-    }
-  }
-
-  // The energy residual columns, once the run's energy scale is known.
-  void finish() {
-    for (double de : energy_deviation_) result_.series.energy_residual.push_back(observer_.residual(de));
-    for (double de : sample_energy_deviation_) result_.samples.energy_residual.push_back(observer_.residual(de));
-  }
-
-  double separation_integral_at_eval() const { return separation_integral_at_eval_; }  // [m s]
-
- private:
-  const Model& model_;
-  const RunPlan& p_;
-  const SimulationOptions& options_;
-  WindowObserver& observer_;
-  SimulationResult& result_;
-  long next_output_ = 0;
-  std::size_t next_sample_ = 0;
-  std::vector<double> energy_deviation_, sample_energy_deviation_;  // [J]
-  double separation_integral_at_eval_ = 0.0;
-  bool eval_start_seen_;
 };
 
 // What one run's pieces share besides the observer and the recorder.
@@ -953,7 +513,7 @@ std::vector<const std::vector<double>*> TimeSeries::columns() const {
 SimulationResult simulate(const SceneConfig& scene, const Model& model, Workspace& ws,
                           const SimulationOptions& options) {
   const Clock::time_point wall_start = Clock::now();
-  const RunPlan p = plan(scene, model);
+  const RunPlan p = plan_run(scene, model);
   SimulationResult result;
   result.evaluated_from = p.t_eval;
   result.end_time = p.t_end;
@@ -977,35 +537,6 @@ SimulationResult simulate(const SceneConfig& scene, const Model& model, Workspac
   s.message = std::move(failure.message);
   if (s.converged() && options.progress) options.progress(1.0);
   return result;
-}
-
-void estimate_error(const SceneConfig& scene, const Model& model, SimulationResult& result) {
-  if (scene.integrator.error_estimate != ErrorEstimateMethod::richardson || !result.solver.converged()) return;
-  SceneConfig tight = scene;
-  if (scene.integrator.method == IntegrationMethod::rk4) {
-    tight.integrator.step = scene.integrator.step.value_or(0.0) / std::pow(100.0, 0.25);
-  } else {
-    tight.integrator.rtol = scene.integrator.rtol / 100.0;
-    tight.integrator.atol = scene.integrator.atol / 100.0;
-  }
-  Workspace ws;
-  const SimulationResult reference = simulate(tight, model, ws);
-  if (!reference.solver.converged()) {
-    result.solver.termination = reference.solver.termination;
-    result.solver.message = reference.solver.message;
-    return;
-  }
-  ErrorEstimate& e = result.error;
-  e.richardson = true;
-  e.position = 0.0;
-  const TimeSeries& a = result.series;
-  const TimeSeries& b = reference.series;
-  for (size_t i = 0; i < std::min(a.time.size(), b.time.size()); ++i)
-    if (a.time[i] >= result.evaluated_from)
-      e.position = std::max(e.position, std::abs(a.follower_position[i] - b.follower_position[i]));
-  const double f_ref = reference.metrics.peak_contact_force;
-  e.peak_contact_force = f_ref > 0.0 ? std::abs(result.metrics.peak_contact_force / f_ref - 1.0) : 0.0;
-  e.tight_run_time_s = reference.solver.run_time_s;
 }
 
 SimulationResult simulate_scene(const SceneConfig& scene, const std::string& file, const SimulationOptions& options) {

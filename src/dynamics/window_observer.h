@@ -1,0 +1,268 @@
+// What a run observes (docs/model.md §8, §7): the window's metrics and the
+// energy balance folded in from dense-output samples (WindowObserver), and the
+// rows of the time series and the requested samples (SeriesRecorder), read
+// from a StateSource between the loop's stops. Internal to dynamics/:
+// simulation.h is the interface.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "dynamics/rigid_jump_speed.h"
+#include "dynamics/run_plan.h"
+#include "dynamics/simulation.h"
+#include "dynamics/step_extremes.h"
+
+namespace camdyn {
+
+// Where the observer reads the state and quadratures between the loop's
+// stops: the integrator's dense output over its last step, or the flight in
+// closed form.
+class StateSource {
+ public:
+  virtual ~StateSource() = default;
+  // The state at t into y and all quadratures into q; either may be null.
+  virtual void state(double t, double* y, double* q) = 0;
+};
+
+// The metrics over the evaluated window (docs/model.md §8) and the energy
+// balance over the whole run (§7), folded in from dense-output samples. Its
+// evaluation and dense-output buffers are the run's scratch: the loop and the
+// series recorder read the evaluation it leaves behind.
+class WindowObserver {
+ public:
+  WindowObserver(const Model& model, Workspace& ws, StateSource& source, const RunState& y0, const RunQuadratures& q0,
+                 double t_eval, bool every_step, Metrics& m)
+      : model_(model), ws_(ws), source_(&source), y0_(y0), q0_(q0), t_eval_(t_eval), every_step_(every_step), m_(m) {}
+
+  // Evaluates the model at a dense-output time into ev() and folds it into the
+  // metrics; returns the energy deviation E(t) − E(0) [J]. Before the first
+  // step there is no dense output yet: the initial values are used.
+  double observe(double t) {
+    if (stepped_) {
+      source_->state(t, ys_.data(), qs_.data());
+    } else {
+      ys_ = y0_;
+      qs_ = q0_;
+    }
+    evaluate_keeping_warm_start(t, ev_);
+    if (!stepped_) start_ = extreme_values(ev_);
+    fold_extremes(t, extreme_values(ev_));
+    return fold_energy(ev_);
+  }
+
+  // The step [t0, t] the integrator just took, but for its end
+  // (observe_step_end): the model at its midpoint. The gap keeps its sign
+  // inside a step (its zeros are located as roots), so the midpoint decides
+  // separation; the quadratures' integrand there goes to `f_mid` unless it is
+  // null. Without `every_step` the midpoint is evaluated only when the
+  // quadratures or Newton tracking need it. Newton tracking solves there and
+  // keeps the pair as the warm start of the evaluation after the step, with
+  // and without `every_step`, so that the run is the same to the last bit.
+  void observe_step(double t0, double t, RunQuadratures* f_mid) {
+    stepped_ = true;
+    step_start_ = t0;
+    if (!every_step_ && !f_mid && model_.tracking != Tracking::newton) return;
+    const double t_mid = t0 + (t - t0) * 0.5;
+    source_->state(t_mid, ys_.data(), nullptr);
+    evaluate(model_, ws_, t_mid, ys_.data(), ev_);
+    if (f_mid) *f_mid = quadrature_integrand(ev_);
+    if (every_step_) {
+      mid_ = extreme_values(ev_);
+      fold_extremes(t_mid, mid_);
+    }
+    if (ev_.gap > 0.0) separated_time_ += std::max(0.0, t - std::max(t0, t_eval_));
+  }
+
+  // The end t of the step just taken, evaluated there by the loop (`at_end`):
+  // its metrics and energy, with the quadratures at t; where the extremes'
+  // parabola through the step's start, middle and end promises a record
+  // inside the step, the model evaluated there too (state only).
+  void observe_step_end(double t, const Evaluation& at_end) {
+    if (!every_step_) return;
+    source_->state(t, nullptr, qs_.data());
+    const StepExtremes::Values end = extreme_values(at_end);
+    fold_extremes(t, end);
+    StepExtremes::Values s{};
+    const std::size_t probes = extremes_.probes(start_, mid_, end, s);
+    for (std::size_t i = 0; i < probes; ++i) {
+      const double t_probe = step_start_ + (t - step_start_) * s[i];
+      fold_extremes(t_probe, extreme_values(probe(t_probe)));
+    }
+    start_ = end;
+    fold_energy(at_end);
+  }
+
+  // The flight interval [t0, t] (open throughout but at a landing that ends
+  // it): the metrics at its end; the largest gap inside it from the cubic
+  // through its ends (`largest_gap` [m]), the others (contact force,
+  // penetration) being zero in flight.
+  void observe_flight(double t0, double t, double largest_gap) {
+    stepped_ = true;
+    if (every_step_) {
+      observe(t);
+      start_ = extreme_values(ev_);
+      if (t >= t_eval_) flight_gap_ = std::max(flight_gap_, largest_gap);
+    }
+    separated_time_ += std::max(0.0, t - std::max(t0, t_eval_));
+  }
+
+  // Reads the state from `source` from now on.
+  void read_from(StateSource& source) { source_ = &source; }
+
+  // The metrics that are not extremes (publish_extremes), once the run
+  // reached `t_end` [s]; `separation_integral` is ∫ max(g, 0) dt over the
+  // evaluated window [m s].
+  void finish(double t_end, double separation_integral) {
+    const double evaluated = t_end - t_eval_;
+    m_.separation_fraction = evaluated > 0.0 ? separated_time_ / evaluated : 0.0;
+    m_.energy_residual = energy_scale_ > 0.0 ? energy_max_dev_ / energy_scale_ : 0.0;
+    m_.max_pressure_angle_deg = model_.geometry.max_pressure_angle_deg;
+    m_.min_radius_of_curvature = model_.geometry.min_radius_of_curvature;
+    m_.jump_speed_rpm = jump_speed_rpm(model_);
+    m_.separation_integral = separation_integral;
+  }
+
+  // The extremes so far into the metrics (a failed run's too).
+  void publish_extremes() {
+    const StepExtremes::Values& best = extremes_.best();
+    m_.max_separation_gap = std::max({0.0, best[0], flight_gap_});
+    m_.peak_contact_force = std::max(0.0, best[1]);
+    m_.min_contact_force = std::isfinite(best[2]) ? -best[2] : 0.0;
+    m_.max_penetration = std::max(0.0, best[3]);
+    m_.max_kinematic_error = std::max(0.0, best[4]);
+  }
+
+  Evaluation& ev() { return ev_; }
+  // The separation integral quadrature at the last observation [m s].
+  double separation_quadrature() const { return qs_[4]; }
+  // Energy deviation [J] → energy residual [-].
+  double residual(double deviation) const { return energy_scale_ > 0.0 ? deviation / energy_scale_ : 0.0; }
+
+ private:
+  // The model at t [s] from the state in ys_ into `out`, the Newton warm
+  // start kept as it was.
+  void evaluate_keeping_warm_start(double t, Evaluation& out) {
+    const double u_keep = ws_.u_warm;
+    evaluate(model_, ws_, t, ys_.data(), out);
+    ws_.u_warm = u_keep;
+  }
+
+  // The model at t inside the step just taken (state only).
+  const Evaluation& probe(double t) {
+    source_->state(t, ys_.data(), nullptr);
+    evaluate_keeping_warm_start(t, probe_);
+    return probe_;
+  }
+
+  // What the window's extremes follow, at the evaluation `e`.
+  StepExtremes::Values extreme_values(const Evaluation& e) const {
+    return {e.gap, e.normal_force, -e.normal_force, e.delta, std::abs(e.y - model_.law->eval(e.theta).s)};
+  }
+
+  // Folds the extremes' values `x` at t [s] into the window's records.
+  void fold_extremes(double t, const StepExtremes::Values& x) {
+    if (t >= t_eval_) extremes_.fold(x);
+  }
+
+  // Folds the energy of `e` with the quadratures qs_ into the balance;
+  // returns the deviation E(t) − E(0) [J].
+  double fold_energy(const Evaluation& e) {
+    const EnergyTerms terms = energy_terms(model_, e);
+    const double energy =
+        terms.kinetic + terms.spring + terms.gravity + terms.contact - qs_[0] + qs_[1] + qs_[2] + qs_[3];
+    if (!energy_initialised_) {
+      energy0_ = energy;
+      energy_initialised_ = true;
+    }
+    energy_scale_ = std::max(energy_scale_, terms.kinetic + terms.spring + std::abs(qs_[0]));
+    energy_max_dev_ = std::max(energy_max_dev_, std::abs(energy - energy0_));
+    return energy - energy0_;
+  }
+
+  const Model& model_;
+  Workspace& ws_;
+  StateSource* source_;
+  const RunState& y0_;
+  const RunQuadratures& q0_;
+  const double t_eval_;  // start of the evaluated window [s]
+  const bool every_step_;
+  Metrics& m_;
+  bool stepped_ = false;
+  Evaluation ev_, probe_;
+  StepExtremes extremes_;
+  StepExtremes::Values start_{}, mid_{};  // the extremes' values at the step's start and middle
+  double step_start_ = 0.0;               // [s]
+  double flight_gap_ = 0.0;               // the largest gap inside the flights in the window [m]
+  RunState ys_{};
+  RunQuadratures qs_{};
+  double energy0_ = 0.0, energy_scale_ = 0.0, energy_max_dev_ = 0.0;  // [J]
+  bool energy_initialised_ = false;
+  double separated_time_ = 0.0;  // within the evaluated window [s]
+};
+
+/// One row of a time series from an evaluation at t [s].
+void push_row(const Model& model, const Evaluation& ev, TimeSeries& series, double t);
+
+// The series recording: the rows of timeseries.csv on the output grid, the
+// samples at SimulationOptions::sample_times, and the separation integral at
+// the start of the evaluated window, each observed as the integration passes.
+class SeriesRecorder {
+ public:
+  SeriesRecorder(const Model& model, const RunPlan& p, const SimulationOptions& options, WindowObserver& observer,
+                 SimulationResult& result)
+      : model_(model),
+        p_(p),
+        options_(options),
+        observer_(observer),
+        result_(result),
+        eval_start_seen_(p.t_eval <= 0.0) {}
+
+  // Records everything due up to t_hi [s].
+  void record_until(double t_hi) {
+    for (;; ++next_output_) {
+      const double t_nominal = static_cast<double>(next_output_) * p_.output_dt;
+      const double t_out = std::min(t_nominal, p_.t_end);
+      if (t_out > t_hi * (1.0 + 1e-14) + 1e-300) break;
+      if (t_nominal > p_.t_end * (1.0 + 1e-12)) break;
+      const double de = observer_.observe(t_out);
+      if (!options_.record_series) continue;
+      push_row(model_, observer_.ev(), result_.series, t_out);
+      energy_deviation_.push_back(de);
+    }
+    const std::vector<double>& sample_times = options_.sample_times;
+    for (; next_sample_ < sample_times.size() && sample_times[next_sample_] <= t_hi; ++next_sample_) {
+      const double t_sample = sample_times[next_sample_];
+      sample_energy_deviation_.push_back(observer_.observe(t_sample));
+      push_row(model_, observer_.ev(), result_.samples, t_sample);
+    }
+    if (!eval_start_seen_ && p_.t_eval <= t_hi) {
+      observer_.observe(p_.t_eval);
+      separation_integral_at_eval_ = observer_.separation_quadrature();
+      eval_start_seen_ = true;
+    }
+  }
+
+  // The energy residual columns, once the run's energy scale is known.
+  void finish() {
+    for (double de : energy_deviation_) result_.series.energy_residual.push_back(observer_.residual(de));
+    for (double de : sample_energy_deviation_) result_.samples.energy_residual.push_back(observer_.residual(de));
+  }
+
+  double separation_integral_at_eval() const { return separation_integral_at_eval_; }  // [m s]
+
+ private:
+  const Model& model_;
+  const RunPlan& p_;
+  const SimulationOptions& options_;
+  WindowObserver& observer_;
+  SimulationResult& result_;
+  long next_output_ = 0;
+  std::size_t next_sample_ = 0;
+  std::vector<double> energy_deviation_, sample_energy_deviation_;  // [J]
+  double separation_integral_at_eval_ = 0.0;
+  bool eval_start_seen_;
+};
+
+}  // namespace camdyn
