@@ -19,9 +19,9 @@ RunFailure initial_state(const SceneConfig& scene, const Model& model, Workspace
   // The set-up probe: Newton tracking, no spin, the cam at constant speed.
   Model probe = model;
   probe.tracking = Tracking::newton;
-  probe.contact_friction = model.contact_friction && !model.has_spin;
-  probe.has_spin = false;
-  probe.drive = Drive::constant_speed;
+  probe.friction.present = model.friction.present && !model.friction.spin;
+  probe.friction.spin = false;
+  probe.drive = ShaftDrive{};
   probe.layout = StateLayout::follower_only(model.follower.oscillating());
   Evaluation ev;
   RunState s{};
@@ -91,10 +91,10 @@ RunFailure initial_state(const SceneConfig& scene, const Model& model, Workspace
     evaluate(model, ws, 0.0, y, ev);
     y[*model.layout.spin] = ev.slip / model.follower.radius;
   }
-  if (model.drive == Drive::shaft) {
+  if (model.drive.shaft()) {
     // Twist the shaft so that it carries the contact torque on the cam.
     evaluate(model, ws, 0.0, y, ev);
-    const double twist = -ev.cam_torque / model.shaft_stiffness;
+    const double twist = -ev.cam_torque / model.drive.stiffness;
     if (model.layout.motor_angle)
       y[*model.layout.motor_angle] += twist;
     else

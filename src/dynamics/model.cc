@@ -50,7 +50,7 @@ void element_in_cam_frame(const Model& m, double q, double theta, Eigen::Vector2
 }
 
 double cam_angle(const Model& m, double t, const double* x) {
-  return m.drive == Drive::shaft ? x[*m.layout.cam_angle] : m.theta(t);
+  return m.drive.shaft() ? x[*m.layout.cam_angle] : m.theta(t);
 }
 
 /// The general pair form: both profiles in their motion, tracked by
@@ -58,7 +58,7 @@ double cam_angle(const Model& m, double t, const double* x) {
 PairSolution solve_general(const Model& m, Workspace& ws, double t, const double* x) {
   PairSolution ps;
   const double theta = cam_angle(m, t, x);
-  const double omega_c = m.drive == Drive::shaft ? x[*m.layout.cam_speed] : m.omega;
+  const double omega_c = m.drive.shaft() ? x[*m.layout.cam_speed] : m.omega;
   const double phi = m.direction * theta;
   const BodyMotion cam = BodyMotion::make(phi, Eigen::Vector2d::Zero(), m.direction * omega_c);
   const BodyMotion follower = follower_motion(m.follower, x[0], x[1]);
@@ -133,39 +133,20 @@ struct Core {
 /// force already in `o`.
 template <class S>
 void support_friction(const Model& m, Core<S>& o) {
-  using std::abs;
-  using std::sqrt;
-  o.guide = S(0.0);
-  o.pivot = S(0.0);
-  if (m.has_guide_friction) o.guide = -(m.guide_friction.coefficient_t(o.v) * abs(o.force_world.x));
-  if (m.has_pivot_friction && value(o.normal_force) > 0.0) {
-    const S reaction = sqrt(o.normal_force * o.normal_force + o.friction_force * o.friction_force);
-    o.pivot = -(m.pin_radius * m.pivot_friction.coefficient_t(m.pin_radius * o.v) * reaction);
-  }
+  m.support.forces(o.v, o.force_world.x, o.normal_force, o.friction_force, o.guide, o.pivot);
 }
 
-/// The shaft drive's twist, torque and the cam and motor accelerations
-/// (constant-speed drive: zero twist, the nominal speed), from the cam torque in `o`.
+/// The drive's rates (dynamics/shaft_drive.h), from the cam torque in `o`.
 template <class S>
 void drive_dynamics(const Model& m, const Workspace& ws, double t, const S* x, Core<S>& o) {
-  o.twist = S(0.0);
-  o.shaft_torque = S(0.0);
-  o.motor_speed = S(m.omega);
-  o.motor_torque = S(0.0);
-  o.cam_acceleration = S(0.0);
-  o.motor_acceleration = S(0.0);
-  if (m.drive == Drive::shaft) {
-    S motor_angle = S(m.theta(t) + ws.motor_phase);
-    if (m.motor == Motor::torque_speed) {
-      motor_angle = x[*m.layout.motor_angle];
-      o.motor_speed = x[*m.layout.motor_speed];
-      o.motor_torque = m.stall_torque * (1.0 - o.motor_speed / m.no_load_speed);
-    }
-    o.twist = motor_angle - o.theta;
-    o.shaft_torque = m.shaft_stiffness * o.twist + m.shaft_damping * (o.motor_speed - o.omega_c);
-    o.cam_acceleration = (o.shaft_torque + o.cam_torque) / m.cam_inertia;
-    if (m.motor == Motor::torque_speed) o.motor_acceleration = (o.motor_torque - o.shaft_torque) / m.motor_inertia;
-  }
+  DriveRates<S> r;
+  m.drive.rates(m.layout, x, m.theta(t) + ws.motor_phase, m.omega, o.theta, o.omega_c, o.cam_torque, r);
+  o.twist = r.twist;
+  o.shaft_torque = r.shaft_torque;
+  o.motor_speed = r.motor_speed;
+  o.motor_torque = r.motor_torque;
+  o.cam_acceleration = r.cam_acceleration;
+  o.motor_acceleration = r.motor_acceleration;
 }
 
 /// Where the contact point X (world) lies across the follower's face, from its centre [m].
@@ -213,7 +194,7 @@ void core(const Model& m, const Workspace& ws, double t, const S* x, const PairS
   o.q = x[0];
   o.v = x[1];
   o.spin = m.layout.spin ? x[*m.layout.spin] : S(0.0);
-  if (m.drive == Drive::shaft) {
+  if (m.drive.shaft()) {
     o.theta = x[*m.layout.cam_angle];
     o.omega_c = x[*m.layout.cam_speed];
   } else {
@@ -283,10 +264,10 @@ void core(const Model& m, const Workspace& ws, double t, const S* x, const PairS
   o.normal_force = m.contact.force_t(o.delta, o.delta_rate, ws.v0);
   o.slip = S(0.0);
   o.friction_force = S(0.0);
-  if (m.contact_friction) {
+  if (m.friction.present) {
     o.slip = dot(tangent, X_q) * o.v + dot(tangent, X_theta) * o.omega_c;
-    if (m.has_spin) o.slip = o.slip - fg.radius * o.spin;
-    o.friction_force = -(m.friction.coefficient_t(o.slip) * o.normal_force);
+    if (m.friction.spin) o.slip = o.slip - fg.radius * o.spin;
+    o.friction_force = -(m.friction.law.coefficient_t(o.slip) * o.normal_force);
   }
   // Generalised forces by virtual power: F·(∂X/∂q) on the follower, F·(∂X/∂θ) on the cam.
   o.generalised_force = o.normal_force * g_q + o.friction_force * dot(tangent, X_q);
@@ -299,7 +280,7 @@ void core(const Model& m, const Workspace& ws, double t, const S* x, const PairS
   S force = o.generalised_force;
   m.forces.for_each([&](const auto& element) { force = force + element.force(o.q, o.v, m.mass); });
   o.acceleration = (force + o.guide + o.pivot) / m.mass;
-  o.spin_acceleration = m.has_spin ? -(fg.radius * o.friction_force) / m.roller_inertia : S(0.0);
+  o.spin_acceleration = m.friction.spin ? -(fg.radius * o.friction_force) / m.friction.roller_inertia : S(0.0);
   o.u_rate = m.layout.u ? (-m.tracking_gain * o.f - f_q * o.v - f_theta * o.omega_c) / o.f_u : S(0.0);
   o.v_rate = S(0.0);
   if (m.pair_form == PairForm::general) {
@@ -428,15 +409,10 @@ void evaluate(const Model& model, Workspace& ws, double t, const double* state, 
 
   // Powers (docs/model.md §7): what the drive delivers, what dampers, contact
   // hysteresis and friction dissipate.
-  if (model.drive == Drive::constant_speed) {
-    ev.power_drive = -o.cam_torque * o.omega_c;
-  } else {
-    ev.power_drive =
-        model.motor == Motor::torque_speed ? o.motor_torque * o.motor_speed : o.shaft_torque * o.motor_speed;
-  }
-  const double shaft_slip = o.motor_speed - o.omega_c;
-  ev.power_damper =
-      model.forces.power(o.v) + (model.drive == Drive::shaft ? model.shaft_damping * shaft_slip * shaft_slip : 0.0);
+  const DriveRates<double> drive{o.twist,        o.shaft_torque,     o.motor_speed,
+                                 o.motor_torque, o.cam_acceleration, o.motor_acceleration};
+  ev.power_drive = model.drive.drive_power(drive, o.cam_torque, o.omega_c);
+  ev.power_damper = model.forces.power(o.v) + model.drive.damper_power(o.motor_speed, o.omega_c);
   ev.power_hysteresis = o.delta > 0.0 ? (o.normal_force - model.contact.elastic_force(o.delta)) * o.delta_rate : 0.0;
   ev.power_friction = -o.friction_force * o.slip - (o.guide + o.pivot) * o.v;
 }
@@ -480,16 +456,12 @@ void root_functions(const Model& model, const Workspace& ws, const Evaluation& e
 
 EnergyTerms energy_terms(const Model& model, const Evaluation& ev) {
   EnergyTerms e;
-  e.kinetic = 0.5 * model.mass * ev.v * ev.v + 0.5 * model.roller_inertia * ev.spin * ev.spin;
+  e.kinetic = 0.5 * model.mass * ev.v * ev.v + model.friction.kinetic_energy(ev.spin);
   const StoredEnergy stored = model.forces.energy(ev.y, model.mass);
   e.spring = stored.spring;
   e.gravity = stored.gravity;
   e.contact = model.contact.elastic_energy(ev.delta);
-  if (model.drive == Drive::shaft) {
-    e.kinetic += 0.5 * model.cam_inertia * ev.cam_speed * ev.cam_speed;
-    if (model.motor == Motor::torque_speed) e.kinetic += 0.5 * model.motor_inertia * ev.motor_speed * ev.motor_speed;
-    e.spring += 0.5 * model.shaft_stiffness * ev.shaft_twist * ev.shaft_twist;
-  }
+  model.drive.add_energy(ev.cam_speed, ev.motor_speed, ev.shaft_twist, e.kinetic, e.spring);
   return e;
 }
 

@@ -33,6 +33,8 @@
 #include "contact/point_curve_tracking.h"
 #include "dynamics/cam_geometry.h"
 #include "dynamics/follower_forces.h"
+#include "dynamics/friction_elements.h"
+#include "dynamics/shaft_drive.h"
 #include "dynamics/state_layout.h"
 #include "scene/scene.h"
 
@@ -49,25 +51,10 @@ struct Model : CamGeometry {
   FollowerForces forces;  ///< the return spring, the damper and gravity on q (dynamics/follower_forces.h)
 
   ForceLaw contact;
-  FrictionLaw friction;           ///< sliding friction at the contact
-  bool contact_friction = false;  ///< friction force at the contact assembled
-  double roller_inertia = 0.0;    ///< [kg m²]
-  bool has_spin = false;          ///< roller spin state (roller with inertia and friction)
+  ContactFriction friction;  ///< sliding friction at the contact, the roller's spin (dynamics/friction_elements.h)
+  SupportFriction support;   ///< guide or pivot friction (dynamics/friction_elements.h)
 
-  bool has_guide_friction = false;  ///< translating: μ_g |side load| opposing q̇
-  FrictionLaw guide_friction;
-  bool has_pivot_friction = false;  ///< oscillating: μ_p r_pin |contact force| opposing q̇
-  FrictionLaw pivot_friction;
-  double pin_radius = 0.0;  ///< [m]
-
-  Drive drive = Drive::constant_speed;
-  double cam_inertia = 0.0;      ///< J_c [kg m²]
-  double shaft_stiffness = 0.0;  ///< k_s [N m/rad]
-  double shaft_damping = 0.0;    ///< c_s [N m s/rad]
-  Motor motor = Motor::constant_speed;
-  double stall_torque = 0.0;   ///< T₀ [N m]
-  double no_load_speed = 0.0;  ///< ω₀ [rad/s]
-  double motor_inertia = 0.0;  ///< J_m [kg m²]
+  ShaftDrive drive;  ///< the cam's drive: constant speed or a shaft from a motor (dynamics/shaft_drive.h)
 
   Tracking tracking = Tracking::differential;
   double tracking_gain = 0.0;      ///< α of ḟ = −α f [1/s]

@@ -60,10 +60,6 @@ FrictionLaw friction_law(double mu, double regularization_velocity, FrictionRegu
   return law;
 }
 
-std::string friction_name(const char* kind, const FrictionLaw& law) {
-  return std::string(kind) + ":coulomb_" + (law.linear_ramp ? "linear" : "tanh");
-}
-
 }  // namespace
 
 namespace {
@@ -98,39 +94,27 @@ void assemble_elements(const SceneConfig& scene, const std::string& file, Model&
 
   model.contact = build_force_law(scene, fg.base_radius, file);
   const FrictionConfig& fc = mech.contact.friction;
-  model.friction = friction_law(fc.mu, fc.regularization_velocity, fc.regularization);
+  model.friction.law = friction_law(fc.mu, fc.regularization_velocity, fc.regularization);
   const bool roller = fg.rolls();
-  model.roller_inertia = roller ? f.shape.inertia : 0.0;
+  model.friction.roller_inertia = roller ? f.shape.inertia : 0.0;
   // A roller without inertia rolls freely: friction can do no work, so neither
   // the spin state nor the friction force is assembled (docs/model.md §4). A flat
   // face or a mushroom slides: friction acts whenever μ > 0.
-  model.has_spin = roller && model.roller_inertia > 0.0 && fc.mu > 0.0;
-  model.contact_friction = fc.mu > 0.0 && (!roller || model.has_spin);
+  model.friction.spin = roller && model.friction.roller_inertia > 0.0 && fc.mu > 0.0;
+  model.friction.present = fc.mu > 0.0 && (!roller || model.friction.spin);
   if (!oscillating && f.guide_friction && f.guide_friction->mu > 0.0) {
-    model.has_guide_friction = true;
-    model.guide_friction =
+    model.support.guide = true;
+    model.support.guide_law =
         friction_law(f.guide_friction->mu, f.guide_friction->regularization_velocity, fc.regularization);
   }
   if (oscillating && f.pivot_friction && f.pivot_friction->mu > 0.0) {
-    model.has_pivot_friction = true;
-    model.pivot_friction =
+    model.support.pivot = true;
+    model.support.pivot_law =
         friction_law(f.pivot_friction->mu, f.pivot_friction->regularization_velocity, fc.regularization);
-    model.pin_radius = f.pivot_friction->pin_radius;
+    model.support.pin_radius = f.pivot_friction->pin_radius;
   }
 
-  const DriveConfig& dc = mech.cam.drive;
-  if (dc.type == Drive::shaft) {
-    model.drive = Drive::shaft;
-    model.cam_inertia = dc.inertia;
-    model.shaft_stiffness = dc.torsional_stiffness;
-    model.shaft_damping = dc.torsional_damping;
-    if (dc.motor.type == Motor::torque_speed) {
-      model.motor = Motor::torque_speed;
-      model.stall_torque = dc.motor.stall_torque;
-      model.no_load_speed = dc.motor.no_load_rpm * kTwoPi / 60.0;
-      model.motor_inertia = dc.motor.inertia;
-    }
-  }
+  model.drive = shaft_drive(mech.cam.drive);
 }
 
 /// The state layout of model.h's header comment: q, q̇, then only what this
@@ -142,15 +126,8 @@ void assign_state_layout(Model& model) {
     layout.u = layout.add("contact_parameter_u");
     if (model.pair_form == PairForm::general) layout.v = layout.add("contact_parameter_v");
   }
-  if (model.has_spin) layout.spin = layout.add("roller_spin");
-  if (model.drive == Drive::shaft) {
-    layout.cam_angle = layout.add("cam_angle");
-    layout.cam_speed = layout.add("cam_speed");
-    if (model.motor == Motor::torque_speed) {
-      layout.motor_angle = layout.add("motor_angle");
-      layout.motor_speed = layout.add("motor_speed");
-    }
-  }
+  model.friction.declare_states(layout);
+  model.drive.declare_states(layout);
 }
 
 }  // namespace
@@ -223,15 +200,9 @@ void list_elements(Model& model) {
     if (element.present()) model.elements.push_back(element.name(oscillating));
   });
   model.elements.push_back("contact:" + to_string(model.contact.model));
-  if (model.contact_friction) model.elements.push_back(friction_name("friction", model.friction));
-  if (model.has_guide_friction) model.elements.push_back(friction_name("guide_friction", model.guide_friction));
-  if (model.has_pivot_friction) model.elements.push_back(friction_name("pivot_friction", model.pivot_friction));
-  if (model.drive == Drive::shaft) {
-    model.elements.push_back("cam_inertia");
-    model.elements.push_back("shaft_spring");
-    if (model.shaft_damping > 0.0) model.elements.push_back("shaft_damper");
-    model.elements.push_back(model.motor == Motor::torque_speed ? "motor:torque_speed" : "motor:constant_speed");
-  }
+  model.friction.add_names(model.elements);
+  model.support.add_names(model.elements);
+  model.drive.add_names(model.elements);
 }
 
 }  // namespace camdyn

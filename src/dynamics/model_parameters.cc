@@ -65,8 +65,8 @@ struct Structure {
 };
 
 Structure structure_of(const Model& m) {
-  return {m.follower.motion, m.follower.shape,     m.contact.model,     m.drive,
-          m.motor,           m.has_guide_friction, m.has_pivot_friction};
+  return {m.follower.motion, m.follower.shape, m.contact.model, m.drive.kind,
+          m.drive.motor,     m.support.guide,  m.support.pivot};
 }
 
 /// The loader's checks of the parameter block of the models of one structure.
@@ -125,7 +125,7 @@ void check_parameters(const Model& model, const ModelParameters& p, const std::s
 /// Which of the optional force elements list_elements() lists.
 unsigned element_flags(const Model& m) {
   return (m.forces.spring.present() ? 1u : 0u) | (m.forces.damper.present() ? 2u : 0u) |
-         (m.forces.gravity.present() ? 4u : 0u) | (m.shaft_damping > 0.0 ? 8u : 0u);
+         (m.forces.gravity.present() ? 4u : 0u) | (m.drive.damping > 0.0 ? 8u : 0u);
 }
 
 }  // namespace
@@ -173,8 +173,8 @@ bool same_structure(const Model& model, const ModelParameters& p) {
   const bool has_spin = roller && p.roller_inertia > 0.0 && p.friction_mu > 0.0;
   const bool contact_friction = p.friction_mu > 0.0 && (!roller || has_spin);
   // μ of an absent guide or pivot friction block is 0 (model_parameters()).
-  return has_spin == model.has_spin && contact_friction == model.contact_friction &&
-         model.has_guide_friction == (p.guide_mu > 0.0) && model.has_pivot_friction == (p.pivot_mu > 0.0);
+  return has_spin == model.friction.spin && contact_friction == model.friction.present &&
+         model.support.guide == (p.guide_mu > 0.0) && model.support.pivot == (p.pivot_mu > 0.0);
 }
 
 void set_parameters(Model& model, const ModelParameters& p, const std::string& file) {
@@ -192,26 +192,26 @@ void set_parameters(Model& model, const ModelParameters& p, const std::string& f
   model.contact.restitution = p.restitution;
   model.contact.damping = p.contact_damping;
   model.contact.reference_velocity = p.reference_velocity;
-  model.friction.mu = p.friction_mu;
-  model.friction.regularization_velocity = p.friction_regularization_velocity;
-  model.roller_inertia = model.follower.rolls() ? p.roller_inertia : 0.0;
-  if (model.has_guide_friction) {
-    model.guide_friction.mu = p.guide_mu;
-    model.guide_friction.regularization_velocity = p.guide_regularization_velocity;
+  model.friction.law.mu = p.friction_mu;
+  model.friction.law.regularization_velocity = p.friction_regularization_velocity;
+  model.friction.roller_inertia = model.follower.rolls() ? p.roller_inertia : 0.0;
+  if (model.support.guide) {
+    model.support.guide_law.mu = p.guide_mu;
+    model.support.guide_law.regularization_velocity = p.guide_regularization_velocity;
   }
-  if (model.has_pivot_friction) {
-    model.pivot_friction.mu = p.pivot_mu;
-    model.pivot_friction.regularization_velocity = p.pivot_regularization_velocity;
-    model.pin_radius = p.pin_radius;
+  if (model.support.pivot) {
+    model.support.pivot_law.mu = p.pivot_mu;
+    model.support.pivot_law.regularization_velocity = p.pivot_regularization_velocity;
+    model.support.pin_radius = p.pin_radius;
   }
-  if (model.drive == Drive::shaft) {
-    model.cam_inertia = p.cam_inertia;
-    model.shaft_stiffness = p.shaft_stiffness;
-    model.shaft_damping = p.shaft_damping;
-    if (model.motor == Motor::torque_speed) {
-      model.stall_torque = p.stall_torque;
-      model.no_load_speed = p.no_load_rpm * kTwoPi / 60.0;
-      model.motor_inertia = p.motor_inertia;
+  if (model.drive.shaft()) {
+    model.drive.cam_inertia = p.cam_inertia;
+    model.drive.stiffness = p.shaft_stiffness;
+    model.drive.damping = p.shaft_damping;
+    if (model.drive.motor == Motor::torque_speed) {
+      model.drive.stall_torque = p.stall_torque;
+      model.drive.no_load_speed = p.no_load_rpm * kTwoPi / 60.0;
+      model.drive.motor_inertia = p.motor_inertia;
     }
   }
   if (element_flags(model) != elements_before) list_elements(model);

@@ -140,7 +140,7 @@ void chatter_warnings(const SceneConfig& scene, const Model& model, const Simula
   else if (revolutions == 0.0 && impacts > kMaxImpactsStill)
     out.push_back({"chatter", "integrator.rtol",
                    std::to_string(m.impact_count) + " impacts with the cam held still is numerical chatter" + tighten});
-  if (model.omega > 0.0 && !explicit_start(scene) && model.drive == Drive::constant_speed) {
+  if (model.omega > 0.0 && !explicit_start(scene) && !model.drive.shaft()) {
     const double rpm = model.omega * 60.0 / kTwoPi;
     const double jump = damped_jump_speed_rpm(model);
     if (std::isfinite(jump) && rpm < kJumpSpeedMargin * jump)

@@ -33,7 +33,7 @@ PoincareMap::PoincareMap(const SceneConfig& scene, const Model& model, const std
     : scene_(scene), model_(model) {
   if (!(model.omega > 0.0))
     throw InputError(file, "mechanism.cam.rpm", "a periodic orbit needs a turning cam (rpm > 0)");
-  if (model.drive == Drive::shaft && model.motor != Motor::constant_speed)
+  if (model.drive.torque_motor())
     throw InputError(file, "mechanism.cam.drive.motor.type",
                      "a periodic orbit needs the drive to set the speed (a constant-speed motor); a torque-speed "
                      "motor finds its own speed");

@@ -40,13 +40,13 @@ using Clock = std::chrono::steady_clock;
 bool quadrature_reported(const Model& m, int i) {
   switch (i) {
     case 0:
-      return m.omega != 0.0 || m.drive == Drive::shaft;
+      return m.drive.works(m.omega);
     case 1:
-      return m.forces.damper.present() || (m.drive == Drive::shaft && m.shaft_damping > 0.0);
+      return m.forces.damper.present() || m.drive.dissipates();
     case 2:
       return force_form(m.contact.model) != ForceForm::elastic;
     case 3:
-      return m.contact_friction || m.has_guide_friction || m.has_pivot_friction;
+      return m.friction.present || m.support.present();
     default:
       return true;
   }

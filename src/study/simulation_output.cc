@@ -74,8 +74,8 @@ std::string follower_name(const Model& model) {
 }
 
 std::string drive_name(const Model& model) {
-  if (model.drive == Drive::shaft)
-    return model.motor == Motor::torque_speed ? "shaft:torque_speed_motor" : "shaft:constant_speed_motor";
+  if (model.drive.shaft())
+    return model.drive.motor == Motor::torque_speed ? "shaft:torque_speed_motor" : "shaft:constant_speed_motor";
   return model.omega > 0.0 ? "constant_speed" : "stationary";
 }
 
@@ -454,9 +454,9 @@ void add_run_plots(const Model& model, const SimulationResult& result, Report& r
                                 "gap [µm]",
                                 {{"gap", ts.time, scaled(ts.gap, 1e6)}}});
     Plot force{"Contact force", "time [s]", "force [N]", {{"contact force", ts.time, ts.contact_force}}};
-    if (model.contact_friction) force.series.push_back({"friction force", ts.time, ts.friction_force});
+    if (model.friction.present) force.series.push_back({"friction force", ts.time, ts.friction_force});
     report.plots.push_back(std::move(force));
-  } else if (model.contact_friction) {
+  } else if (model.friction.present) {
     report.plots.push_back(
         Plot{"Whole run: friction force", "time [s]", "force [N]", {{"friction force", ts.time, ts.friction_force}}});
   }

@@ -75,7 +75,7 @@ void expect_in_place_equals_built(const SceneConfig& base, const std::string& wh
   EXPECT_EQ(in_place.mass, built.mass) << what;
   EXPECT_EQ(in_place.contact.stiffness, built.contact.stiffness) << what;
   EXPECT_EQ(in_place.contact.chi(), built.contact.chi()) << what;
-  EXPECT_EQ(in_place.no_load_speed, built.no_load_speed) << what;
+  EXPECT_EQ(in_place.drive.no_load_speed, built.drive.no_load_speed) << what;
   EXPECT_EQ(in_place.elements, built.elements) << what;
   Workspace fresh;
   expect_identical(simulate(changed, in_place, ws), simulate(changed, built, fresh), what);
