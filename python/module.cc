@@ -87,11 +87,11 @@ py::dict to_arrays(const camdyn::Columns& columns) {
   return d;
 }
 
-// The columns of Result::events (time [s], cam_angle_deg [deg], onset, speed [m/s], impact).
+// The columns of Result::events (time [s], cam_angle_deg [deg], onset, speed [m/s], impact, grazing).
 py::dict events_dict(const std::vector<camdyn::Event>& events) {
   const auto n = static_cast<py::ssize_t>(events.size());
   py::array_t<double> time(n), angle(n), speed(n);
-  py::array_t<bool> onset(n), impact(n);
+  py::array_t<bool> onset(n), impact(n), grazing(n);
   for (py::ssize_t i = 0; i < n; ++i) {
     const camdyn::Event& e = events[static_cast<std::size_t>(i)];
     time.mutable_at(i) = e.time;
@@ -99,6 +99,7 @@ py::dict events_dict(const std::vector<camdyn::Event>& events) {
     onset.mutable_at(i) = e.onset;
     speed.mutable_at(i) = e.speed;
     impact.mutable_at(i) = e.impact;
+    grazing.mutable_at(i) = e.grazing;
   }
   py::dict d;
   d["time"] = time;
@@ -106,6 +107,7 @@ py::dict events_dict(const std::vector<camdyn::Event>& events) {
   d["onset"] = onset;
   d["speed"] = speed;
   d["impact"] = impact;
+  d["grazing"] = grazing;
   return d;
 }
 

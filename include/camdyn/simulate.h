@@ -89,7 +89,8 @@ struct Event {
   double cam_angle_deg = 0.0;  ///< [deg]
   bool onset = true;           ///< onset (gap closes) or separation (gap opens)
   double speed = 0.0;          ///< normal approach speed at onset, separation speed at separation [m/s]
-  bool impact = false;         ///< an onset after a separation
+  bool impact = false;         ///< an onset after a separation, with a positive approach speed
+  bool grazing = false;        ///< an onset that is not an impact (no approach, or no separation before it)
 };
 
 struct Result {

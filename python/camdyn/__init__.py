@@ -54,7 +54,8 @@ EVENT_UNITS = {
     "cam_angle_deg": "deg",
     "onset": "bool (True: the gap closes, False: it opens)",
     "speed": "m/s (approach speed at an onset, separation speed at a separation)",
-    "impact": "bool (an onset after a separation)",
+    "impact": "bool (an onset after a separation, with a positive approach speed)",
+    "grazing": "bool (an onset that is not an impact: no approach, or no separation before it)",
 }
 
 

@@ -13,6 +13,7 @@
 
 #include "common/errors.h"
 #include "common/study_budget.h"
+#include "dynamics/contact_events.h"
 #include "dynamics/free_flight.h"
 #include "dynamics/initial_state.h"
 #include "dynamics/step_quadrature.h"
@@ -204,17 +205,19 @@ struct LoopState {
   bool ended_in_flight = false;          // the run's end came in a flight
 };
 
-// A contact onset at t (docs/model.md §6): an impact when the follower was
-// separated; the episode's approach speed v₀ from the gap's closing rate.
+// A contact onset at t (docs/model.md §6; dynamics/contact_events.h): an
+// impact, or a graze or re-entry recorded but not counted; the episode's
+// approach speed v₀ from the gap's closing rate.
 void record_onset(const RunContext& run, const Evaluation& ev, double t, bool& separated) {
   SimulationResult& result = run.result;
   const double approach = -ev.gap_rate;
   run.ws.v0 = std::max(approach, run.model.contact.reference_velocity);
-  if (separated && t >= run.plan.t_eval) {
+  const OnsetClass onset = classify_onset(separated, approach);
+  if (onset.impact && t >= run.plan.t_eval) {
     ++result.metrics.impact_count;
     result.metrics.max_impact_velocity = std::max(result.metrics.max_impact_velocity, approach);
   }
-  result.events.push_back({t, ev.theta * kRadToDeg, true, approach, separated, ev.v});
+  result.events.push_back({t, ev.theta * kRadToDeg, true, approach, onset.impact, ev.v, onset.grazing});
   separated = false;
 }
 
@@ -231,7 +234,7 @@ bool handle_root(const RunContext& run, const Integrator& integrator, const Eval
     record_onset(run, ev, t, separated);
     restart = true;
   } else if (root_dirs[0] > 0) {  // gap opening: separation
-    run.result.events.push_back({t, ev.theta * kRadToDeg, false, ev.gap_rate, false, ev.v});
+    run.result.events.push_back({t, ev.theta * kRadToDeg, false, ev.gap_rate, false, ev.v, false});
     separated = true;
     restart = true;
   }

@@ -32,8 +32,11 @@ struct ContactEvent {
   double cam_angle_deg = 0.0;      ///< [deg]
   bool onset = true;               ///< onset (gap closes) or separation (gap opens)
   double speed = 0.0;              ///< normal approach speed at onset, separation speed at separation [m/s]
-  bool impact = false;             ///< onset after a separation
+  bool impact = false;             ///< onset after a separation with a positive approach speed
   double follower_velocity = 0.0;  ///< q̇ at the event [m/s | rad/s]
+  /// An onset that is not an impact: no approach (speed ≤ 0, a graze), or no
+  /// separation before it (a re-entry) (docs/model.md §6).
+  bool grazing = false;
 };
 
 /// How a run ended (summary.json `solver.termination`), in the manner of

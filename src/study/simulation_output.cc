@@ -532,10 +532,10 @@ void write_timeseries_csv(const std::filesystem::path& path, const TimeSeries& s
 }
 
 void write_events_csv(const std::filesystem::path& path, const std::vector<ContactEvent>& events) {
-  CsvWriter csv(path, {"time", "cam_angle_deg", "kind", "speed", "impact"});
+  CsvWriter csv(path, {"time", "cam_angle_deg", "kind", "speed", "impact", "grazing"});
   for (const ContactEvent& e : events)
     csv.row({CsvCell(e.time), CsvCell(e.cam_angle_deg), CsvCell(e.onset ? "onset" : "separation"), CsvCell(e.speed),
-             CsvCell(e.impact ? 1 : 0)});
+             CsvCell(e.impact ? 1 : 0), CsvCell(e.grazing ? 1 : 0)});
   csv.commit();
 }
 

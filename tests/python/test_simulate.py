@@ -97,7 +97,9 @@ def test_events_have_the_documented_columns(quickstart):
     result = camdyn.load(quickstart).simulate(series=False, as_frame=False)
     ev = result.events
     assert list(ev.dtype.names) == list(camdyn.EVENT_UNITS)
-    assert ev.onset.dtype == np.bool_ and ev.impact.dtype == np.bool_
+    assert ev.onset.dtype == np.bool_ and ev.impact.dtype == np.bool_ and ev.grazing.dtype == np.bool_
+    assert not np.any(ev.impact & ev.grazing) and not np.any(ev.grazing & ~ev.onset)
+    assert np.all(ev.speed[ev.impact] > 0)
     assert np.all(np.diff(ev.time) >= 0)
     assert np.all(ev.speed >= 0)
     evaluated = ev.time >= result.solver["evaluated_from_s"]
