@@ -115,6 +115,7 @@ JumpMapStudy read_jump_map_study(const Json& doc, const StudyContext& ctx) {
   study.scene = scene_from_study_json(doc, ctx.source, kStudyKeys, part);
   const Json fields = read_study_fields(part, "jump_map", ctx.source, study.config);
   study.periodic.options.lyapunov_revolutions = 100;  // per speed: a shorter default than the periodic study's
+  study.periodic.options.settle_revolutions = 300;    // likewise: a contracting speed is followed 200 more
   const Json periodic = read_study_fields(part, "periodic", ctx.source, study.periodic);
   study.geometry = build_cam_geometry(study.scene, ctx.config_file);
   const Model model = build_model(*study.geometry, study.scene, ctx.config_file);

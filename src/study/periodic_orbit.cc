@@ -140,6 +140,29 @@ std::optional<Orbit> shoot(Shooter& shooter, const SectionPoint& start, int k, c
   return std::nullopt;
 }
 
+// The orbit at its minimal period: for every divisor d of k, smallest first,
+// where P^d nearly returns the fixed point of P^k (within 1e3 times the
+// shooting tolerance: Newton's tolerance on P^k allows |P^d(x) − x| a few
+// times larger when a multiplier of P^d is near −1), Newton on P^d from
+// there; when it converges to the same point, the orbit is reported at period
+// d with that map's monodromy and multipliers (those of P^k are their k/d-th
+// powers).
+Orbit at_minimal_period(Shooter& shooter, Orbit orbit, const PeriodicOptions& options, std::vector<NewtonStep>& trace) {
+  const double near = 1e3 * options.tolerance;
+  for (int d = 1; d < orbit.period; ++d) {
+    if (orbit.period % d != 0) continue;
+    const std::optional<SectionPoint> image = shooter.apply(orbit.fixed_point, d);
+    if (!image || shooter.scaled_norm(to_vector(image->x) - to_vector(orbit.fixed_point.x)) > near) continue;
+    std::optional<Orbit> minimal = shoot(shooter, orbit.fixed_point, d, options, trace);
+    if (!minimal || shooter.scaled_norm(to_vector(minimal->fixed_point.x) - to_vector(orbit.fixed_point.x)) > near)
+      continue;
+    shooter.log(format("period %d: the orbit repeats every %d revolution%s: reported at period %d", orbit.period, d,
+                       d == 1 ? "" : "s", d));
+    return *minimal;
+  }
+  return orbit;
+}
+
 // Whether `orbit` is one already found (a fixed point of a period dividing its own).
 bool known(const Shooter& shooter, const Orbit& orbit, const std::vector<Orbit>& found, double tolerance) {
   for (const Orbit& o : found) {
@@ -148,6 +171,61 @@ bool known(const Shooter& shooter, const Orbit& orbit, const std::vector<Orbit>&
     if (d < 1e3 * tolerance) return true;
   }
   return false;
+}
+
+// The smallest period d ≤ options.max_period with which the last sampled
+// states repeat (every |x_n − x_{n−d}| within the shooting tolerance over the
+// last 2d + 2 samples), and in `since` the first sample from which they do;
+// 0 when they do not.
+int recurrence_period(const Shooter& shooter, const std::vector<VectorXd>& x, const PeriodicOptions& options,
+                      std::size_t& since) {
+  const std::size_t n = x.size();
+  for (int d = 1; d <= options.max_period; ++d) {
+    const std::size_t du = static_cast<std::size_t>(d);
+    if (n < 3 * du + 2) break;
+    auto repeats = [&](std::size_t i) { return shooter.scaled_norm(x[i] - x[i - du]) <= options.tolerance; };
+    bool holds = true;
+    for (std::size_t i = n - 2 * du - 2; i < n && holds; ++i) holds = repeats(i);
+    if (!holds) continue;
+    since = n - 2 * du - 2;
+    while (since > du && repeats(since - 1)) --since;
+    since -= du;
+    return d;
+  }
+  return 0;
+}
+
+// Follows the motion from the last of `points` (the section points so far,
+// once a revolution), up to options.settle_revolutions in all, until the
+// sampled states repeat; then shoots the orbit from there at that period and
+// keeps it when it is stable (at its minimal period).
+void settle_and_shoot(const PoincareMap& map, const std::vector<std::vector<double>>& points, SectionPoint last,
+                      const PeriodicOptions& options, PeriodicAnalysis& a) {
+  Shooter shooter(map, options);
+  std::vector<VectorXd> x;
+  for (const std::vector<double>& p : points) x.push_back(to_vector(p));
+  std::size_t since = 0;
+  int d = recurrence_period(shooter, x, options, since);
+  while (d == 0 && std::ssize(x) < options.settle_revolutions) {
+    const std::optional<SectionPoint> next = shooter.apply(last, 1);
+    if (!next) break;
+    last = *next;
+    x.push_back(to_vector(last.x));
+    d = recurrence_period(shooter, x, options, since);
+  }
+  if (d == 0) {
+    a.revolutions += shooter.revolutions();
+    return;
+  }
+  shooter.log(format("the motion settled after %zu revolutions and repeats every %d: shooting from there", since, d));
+  std::optional<Orbit> orbit = shoot(shooter, last, d, options, a.newton);
+  if (orbit) orbit = at_minimal_period(shooter, std::move(*orbit), options, a.newton);
+  a.revolutions += shooter.revolutions();
+  if (!orbit || !orbit->stable) return;
+  Orbit& minimal = *orbit;
+  a.orbit = std::move(minimal);
+  a.motion = MotionKind::periodic;
+  a.settled_after = static_cast<long>(since);
 }
 
 }  // namespace
@@ -170,6 +248,7 @@ PeriodicAnalysis find_periodic_orbit(const PoincareMap& map, const SectionPoint&
   bool moved_on = false;  // the start was moved once already
   for (int k = 1; k <= options.max_period && !a.orbit; ++k) {
     std::optional<Orbit> orbit = shoot(shooter, from, k, options, a.newton);
+    if (orbit) orbit = at_minimal_period(shooter, std::move(*orbit), options, a.newton);
     if (orbit && known(shooter, *orbit, found, options.tolerance) && !moved_on) {
       // Newton went back to a repelling orbit found before: the start is still
       // near it. Follow the motion further, away from it, and try k again.
@@ -227,6 +306,7 @@ LyapunovEstimate estimate_lyapunov(const PoincareMap& map, const SectionPoint& s
     ++e.revolutions;
     x = *ends[0];
     e.section_points.push_back(x.x);
+    e.last = x;
     neighbour = x;
     const VectorXd pulled = to_vector(x.x) + difference * (d0 / d);
     for (int j = 0; j < n; ++j) neighbour.x[static_cast<std::size_t>(j)] = pulled[j];
@@ -249,6 +329,11 @@ PeriodicAnalysis analyse_from(const PoincareMap& map, const SectionPoint& start,
   a.motion = lambda > options.chaos_threshold    ? MotionKind::chaotic
              : lambda > -options.chaos_threshold ? MotionKind::quasi_periodic
                                                  : MotionKind::unresolved;
+  // A motion that does not expand may still settle onto an orbit after a
+  // long transient: follow it until its samples repeat, then shoot from there.
+  if (lambda <= options.chaos_threshold && !a.lyapunov->section_points.empty()) {
+    settle_and_shoot(map, a.lyapunov->section_points, a.lyapunov->last, options, a);
+  }
   return a;
 }
 

@@ -34,6 +34,9 @@ struct PeriodicOptions {
   double tolerance = 1e-7;         ///< max |R_j| / scale_j at a converged orbit [-]
   int lyapunov_revolutions = 200;  ///< of the Lyapunov run when no stable orbit converged (0: none)
   double chaos_threshold = 0.01;   ///< λ per revolution above which the motion is called chaotic [-]
+  /// When no stable orbit converged: the most revolutions followed (the
+  /// Lyapunov run's included) waiting for the sampled states to repeat.
+  int settle_revolutions = 1000;
   int threads = 1;
   /// Told what the search is doing (period tried, Newton residual).
   std::function<void(const std::string&)> log;
@@ -64,6 +67,7 @@ struct LyapunovEstimate {
   long revolutions = 0;
   long impacts = 0;
   std::vector<std::vector<double>> section_points;  ///< the reference trajectory's x, once per revolution
+  SectionPoint last;                                ///< the reference trajectory's last section point
 };
 
 enum class MotionKind { periodic, chaotic, quasi_periodic, unresolved };
@@ -83,6 +87,9 @@ struct PeriodicAnalysis {
   long revolutions = 0;  ///< integrated in all, transient included
   long map_evaluations = 0;
   std::string failure;  ///< the last map evaluation that failed, if any
+  /// Revolutions after the orbit search's start until the sampled states
+  /// repeated (the orbit then shot from there); -1 when it was not needed.
+  long settled_after = -1;
 };
 
 /// The orbit search from `start` (normally the end of a transient run).

@@ -123,16 +123,20 @@ std::string periodic_verdict(const PeriodicResult& r) {
                   "%.3g m, contact force %.4g to %.4g N",
                   a.orbit->period, a.orbit->spectral_radius(), r.impacts.size(), r.impacts.size() == 1 ? "" : "s",
                   m.max_separation_gap, m.min_contact_force, m.peak_contact_force);
-    return buffer;
+    std::string verdict = buffer;
+    if (a.settled_after >= 0)
+      verdict +=
+          "; the motion settled onto it after a transient of " + std::to_string(a.settled_after) + " revolutions";
+    return verdict;
   }
   const int max_period = a.newton.empty() ? 0 : a.newton.back().period;
   const double lambda = a.lyapunov ? a.lyapunov->per_revolution : 0.0;
   const double per_impact = a.lyapunov ? a.lyapunov->per_impact : 0.0;
   const char* kind = a.motion == MotionKind::chaotic          ? "chaotic: the largest Lyapunov exponent is positive"
                      : a.motion == MotionKind::quasi_periodic ? "quasi-periodic: the largest Lyapunov exponent is ~0"
-                                                              : "unresolved: the motion contracts, so a longer "
-                                                                "period or a slow transient (raise "
-                                                                "periodic.max_period or transient_revolutions)";
+                                                              : "unresolved: the motion contracts but its "
+                                                                "samples did not repeat within the settling budget "
+                                                                "(a longer period: raise periodic.max_period)";
   std::snprintf(buffer, sizeof buffer,
                 "no stable periodic orbit up to period %d; %s (%+.3g per revolution, %+.3g per impact)", max_period,
                 kind, lambda, per_impact);
@@ -172,6 +176,7 @@ Json periodic_json(const PeriodicStudy& study, const PeriodicResult& r, const st
               {"metrics", metrics_json(m)},
               {"lyapunov", lyapunov},
               {"newton", newton},
+              {"settled_after_revolutions", a.settled_after >= 0 ? Json(a.settled_after) : Json()},
               {"revolutions_integrated", a.revolutions},
               {"map_evaluations", a.map_evaluations},
               {"run_time_s", r.run_time_s}};

@@ -72,6 +72,28 @@ TEST(JumpMap, QuickstartLeavesTheCamAtTheFirstSpeedAboveTheRigidJumpSpeed) {
   EXPECT_EQ(k["speeds"], j["speeds"]);
 }
 
+// The bouncing ball's chaotic bands graze the cam now and then (the gap
+// touches zero without closing): those onsets are not impacts, so no impact
+// of the diagram has a non-positive approach speed (issue: they were drawn
+// and counted as impacts).
+TEST(JumpMap, ChaoticBandsHoldOnlyImpactsThatApproach) {
+  const fs::path dir = test::scratch_dir("jump_map_test", "grazing");
+  const std::string ball = std::string(CAMDYN_SOURCE_DIR) + "/studies/periodic/bouncing_ball_jump_map.json";
+  const test::Outcome r = test::run_camdyn(
+      {"run", ball, "--out", (dir / "out").string(), "--quiet", "--jobs", "2", "--set",
+       R"(jump_map={"low_rpm": 660, "high_rpm": 690, "speeds": 4, "ranges": 1, "transient_revolutions": 20,
+          "samples": 40})"},
+      dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Json j = Json::parse(test::read_text(dir / "out" / "jump_map.json"));
+  std::size_t impacts = 0;
+  for (const Json& p : j["speeds"]) {
+    for (const Json& v : p["impact_speed"]) EXPECT_GT(v.get<double>(), 0.0) << p["rpm"];
+    impacts += p["impact_speed"].size();
+  }
+  EXPECT_GT(impacts, 100u);
+}
+
 JumpMapPoint point(double rpm, MotionKind motion, int period, int impacts) {
   JumpMapPoint p;
   p.rpm = rpm;

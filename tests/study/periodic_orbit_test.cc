@@ -128,6 +128,36 @@ TEST(PeriodicOrbit, BouncingBallPastThePeriodDoublingIsUnstable) {
   EXPECT_NEAR(orbit->multipliers.front().imag(), 0.0, test::kAmplifiedRoundoff);
 }
 
+// The long-flight cam (studies/peers/long_flight.json) at 700 rpm settles on a
+// period-1 orbit with one impact a revolution; Newton on period 1 from the
+// transient's end finds a repelling orbit, Newton on period 2 the stable one,
+// which must be reported at its minimal period 1 (issue: it was reported as
+// period 2 with the square of the multipliers). Closed form: the flight is
+// conservative and the impact contracts areas by e*², so det J = e*² and the
+// complex pair has |μ| = e*.
+TEST(PeriodicOrbit, AnOrbitIsReportedAtItsMinimalPeriod) {
+  const std::string file = std::string(CAMDYN_SOURCE_DIR) + "/studies/peers/long_flight.json";
+  const PeriodicStudy study = read_study(
+      file, {"study=periodic", "periodic={\"max_period\": 2}", "simulation={\"cycles\": 4, \"discard_cycles\": 1}"});
+  const PeriodicResult r = run_study(study);
+  ASSERT_TRUE(r.analysis.orbit) << r.analysis.failure;
+  const Orbit& orbit = *r.analysis.orbit;
+  EXPECT_EQ(orbit.period, 1);
+  EXPECT_TRUE(orbit.stable);
+  EXPECT_EQ(r.impacts.size(), 1u);
+  const double e = exact_restitution(study.scene.mechanism.contact);
+  ASSERT_EQ(orbit.multipliers.size(), 2u);
+  constexpr double kAreaContraction = 5e-3;  // central differences at 10 √rtol through one impact
+  EXPECT_NEAR(std::abs(orbit.multipliers[0] * orbit.multipliers[1]) / (e * e), 1.0, kAreaContraction);
+  // Listed once: no other orbit found is the same point.
+  for (const Orbit& other : r.analysis.unstable_orbits) {
+    double d = 0.0;
+    for (std::size_t j = 0; j < other.fixed_point.x.size(); ++j)
+      d = std::max(d, std::abs(other.fixed_point.x[j] - orbit.fixed_point.x[j]));
+    EXPECT_GT(d, 1e-6);
+  }
+}
+
 // A flat face pressed onto an eccentric cam by a preloaded spring through a
 // linear Kelvin–Voigt contact: the motion is linear, so the monodromy matrix
 // is exp(A T) and its eigenvalues exp(λ T), λ the roots of
