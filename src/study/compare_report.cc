@@ -390,10 +390,40 @@ struct CaseStanding {
   double worst_separation = 0.0;  ///< largest separation fraction over its runs [–]; +inf if none ran
   std::size_t wins = 0;           ///< cells marked best in the results table
   std::string first_error;
+  /// With a cam-speed axis: the highest grid speed up to which every run of
+  /// the case ran and kept contact [rpm]; −inf when its lowest speed does not.
+  double holds_to_rpm = -std::numeric_limits<double>::infinity();
 };
 
-/// The cases ranked: fewest failed runs, then least separation (within
-/// kSeparationTie), then most metric comparisons won.
+/// The grid's cam-speed axis (an index into r.keys), if it has one.
+std::optional<std::size_t> speed_axis(const CompareResult& r) {
+  for (std::size_t k = 0; k < r.keys.size(); ++k)
+    if (r.keys[k] == "mechanism.cam.rpm") return k;
+  return std::nullopt;
+}
+
+/// Each case's holds_to_rpm: runs taken by speed, the highest speed below
+/// which no run failed or separated (at any value of the other axes).
+void find_speeds_held(const CompareResult& r, std::size_t axis, std::vector<CaseStanding>& cases) {
+  for (std::size_t c = 0; c < cases.size(); ++c) {
+    std::vector<std::pair<double, bool>> runs;  // rpm, held
+    for (std::size_t i = 0; i < r.points.size(); ++i) {
+      if (r.points[i].case_index != c || !r.points[i].values[axis].is_number()) continue;
+      runs.emplace_back(r.points[i].values[axis].get<double>(), r.outcomes[i].ok && separation(r, i) <= kSeparationTie);
+    }
+    std::sort(runs.begin(), runs.end());
+    double held = -std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < runs.size(); ++k) {
+      if (!runs[k].second) break;
+      if (k + 1 == runs.size() || runs[k + 1].first > runs[k].first) held = runs[k].first;
+    }
+    cases[c].holds_to_rpm = held;
+  }
+}
+
+/// The cases ranked: over a cam-speed axis, the highest speed held without
+/// separation first; then fewest failed runs, least separation (within
+/// kSeparationTie) and most metric comparisons won.
 std::vector<CaseStanding> rank_cases(const CompareResult& r, const Table& marked_results) {
   std::vector<CaseStanding> cases(r.spec->cases.size());
   for (std::size_t c = 0; c < cases.size(); ++c) cases[c].name = r.spec->cases[c].name;
@@ -411,7 +441,9 @@ std::vector<CaseStanding> rank_cases(const CompareResult& r, const Table& marked
   for (CaseStanding& s : cases)
     if (s.ok == 0) s.worst_separation = std::numeric_limits<double>::infinity();
   for (const auto& [row, column] : marked_results.marked) ++cases[r.points[row].case_index].wins;
+  if (const std::optional<std::size_t> axis = speed_axis(r)) find_speeds_held(r, *axis, cases);
   std::stable_sort(cases.begin(), cases.end(), [](const CaseStanding& a, const CaseStanding& b) {
+    if (a.holds_to_rpm != b.holds_to_rpm) return a.holds_to_rpm > b.holds_to_rpm;
     if (a.failed != b.failed) return a.failed < b.failed;
     if (std::abs(a.worst_separation - b.worst_separation) > kSeparationTie || !std::isfinite(a.worst_separation) ||
         !std::isfinite(b.worst_separation))
@@ -421,17 +453,26 @@ std::vector<CaseStanding> rank_cases(const CompareResult& r, const Table& marked
   return cases;
 }
 
-Table standings_table(const std::vector<CaseStanding>& cases) {
-  Table t{"Cases at a glance (ranked: failed runs, then separation, then metrics won)",
+/// "up to 1205 rpm", or "below the lowest speed" when the lowest does not hold.
+std::string held_text(double holds_to_rpm) {
+  return std::isfinite(holds_to_rpm) ? "up to " + format_number(holds_to_rpm) + " rpm" : "below the lowest speed";
+}
+
+Table standings_table(const std::vector<CaseStanding>& cases, bool by_speed) {
+  Table t{by_speed ? "Cases at a glance (ranked: highest speed held without separation, then failed runs, then "
+                     "separation, then metrics won)"
+                   : "Cases at a glance (ranked: failed runs, then separation, then metrics won)",
           {"rank", "case", "runs ok", "failed", "worst separation fraction [–]", "best values (★)", "first failure"},
           {},
           false};
+  if (by_speed) t.columns.insert(t.columns.begin() + 2, "holds without separation");
   t.wrap = true;
   for (std::size_t k = 0; k < cases.size(); ++k) {
     const CaseStanding& c = cases[k];
     t.rows.push_back({std::to_string(k + 1), c.name, std::to_string(c.ok), std::to_string(c.failed),
                       std::isfinite(c.worst_separation) ? format_number(c.worst_separation, 3) : "–",
                       std::to_string(c.wins), c.first_error.empty() ? "–" : c.first_error});
+    if (by_speed) t.rows.back().insert(t.rows.back().begin() + 2, held_text(c.holds_to_rpm));
   }
   return t;
 }
@@ -452,11 +493,16 @@ Verdict compare_verdict(const CompareResult& r, const std::vector<CaseStanding>&
   v.headline = stays ? who + " — stays in contact at every grid point"
                      : (cases.size() > 1 ? "every case separates somewhere; least: " + best.name : best.name) +
                            " — airborne up to " + format_number(100.0 * best.worst_separation, 3) + " % of the time";
+  if (speed_axis(r) && cases.size() > 1 && !stays)
+    v.headline = "best: " + best.name + " — holds without separation " + held_text(best.holds_to_rpm);
   if (cases.size() > 1) v.headline += ", " + std::to_string(best.wins) + " best values";
   v.tone = r.failed > 0 || !stays ? Verdict::Tone::warning : Verdict::Tone::good;
   v.details.push_back(runs);
   if (cases.size() > 1)
-    v.details.push_back("ranked on the failed runs, then the separation, then the best values of the chosen metrics");
+    v.details.push_back(speed_axis(r) ? "ranked on the highest speed held without separation, then the failed runs, "
+                                        "the separation and the best values of the chosen metrics"
+                                      : "ranked on the failed runs, then the separation, then the best values of the "
+                                        "chosen metrics");
   return v;
 }
 
@@ -477,7 +523,7 @@ void write_compare_report(const CompareResult& r, const std::filesystem::path& o
   Table best = best_table(r, table);
   const std::vector<CaseStanding> cases = rank_cases(r, table);
   report.verdict = compare_verdict(r, cases);
-  report.tables.push_back(standings_table(cases));
+  report.tables.push_back(standings_table(cases, speed_axis(r).has_value()));
   report.tables.push_back(std::move(best));
   if (std::optional<Plot> map = pass_fail_map(r)) report.plots.push_back(std::move(*map));
   for (Plot& plot : metric_plots(r)) report.plots.push_back(std::move(plot));

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -65,6 +66,28 @@ TEST(CompareLawsStudy, JumpOnsetPerLawIsTheFirstSpeedAboveItsJumpSpeed) {
     }
     EXPECT_GT(first_above, 0.0) << name << ": no grid speed above " << law.jump;
     EXPECT_EQ(first_separating, first_above) << name << " (jump speed " << law.jump << " rpm)";
+  }
+
+  // The report ranks the laws by the highest grid speed each holds without
+  // separation: the last grid speed below its jump speed, highest first.
+  const std::string html = camdyn::test::read_text(dir / "out" / "report.html");
+  const std::size_t standings = html.find("Cases at a glance (ranked: highest speed held without separation");
+  ASSERT_NE(standings, std::string::npos);
+  std::vector<std::pair<double, std::string>> expected;  // -(speed held), law
+  for (const std::string& name : order) {
+    double held = 0.0;
+    for (const auto& [rpm, separation] : laws[name].speed_separation)
+      if (rpm < laws[name].jump) held = std::max(held, rpm);
+    expected.emplace_back(-held, name);
+  }
+  std::stable_sort(expected.begin(), expected.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::size_t at = standings;
+  for (const auto& [minus_held, name] : expected) {
+    std::ostringstream held;
+    held << "up to " << -minus_held << " rpm";
+    const std::size_t row = html.find(held.str(), at);
+    ASSERT_NE(row, std::string::npos) << name << " should hold " << held.str() << " in rank order";
+    at = row;
   }
   fs::remove_all(dir);
 }
