@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <mutex>
 #include <numbers>
+#include <optional>
 
 #include "common/errors.h"
 #include "common/parallel.h"
@@ -49,19 +50,54 @@ ConvergenceRun make_run(size_t scene, IntegrationMethod method, Tracking trackin
   return r;
 }
 
-/// The reference run of each scene variant, in parallel.
-std::vector<SimulationResult> reference_runs(const ConvergenceStudy& study, const StudyContext& ctx, int threads) {
-  const ConvergenceConfig& config = study.config;
-  std::vector<SimulationResult> references(study.scenes.size());
-  parallel_for(study.scenes.size(), threads, [&](size_t k) {
-    SceneConfig s = configure(study.scenes[k], config.reference.method, config.tracking.front(),
-                              config.scenes[k].reference_rtol.value_or(config.reference.rtol), config.atol_factor, 0.0);
+/// The reference run of scene `s`: as configured; after a step budget
+/// exhausted, again with four times the budget (twice at most); after any
+/// other failure, once with a tolerance ten times tighter. nullopt with the
+/// last failure in `missing`; how it ran in `note`.
+std::optional<SimulationResult> reference_run(SceneConfig s, const std::string& file, std::string& missing,
+                                              std::string& note) {
+  int budget_retries = 0;
+  bool tightened = false;
+  for (;;) {
+    SimulationResult r;
     try {
-      references[k] = simulate_scene(s, ctx.config_file);
-      throw_if_failed(references[k]);
+      r = simulate_scene(s, file);
     } catch (const NumericalError& e) {
-      throw NumericalError("reference run of scene '" + config.scenes[k].name + "' failed: " + e.what());
+      r.solver.termination = Termination::integrator_failure;
+      r.solver.message = e.what();
     }
+    char how[128];
+    std::snprintf(how, sizeof how, "rtol %.3g, max_steps %ld", s.integrator.rtol, s.integrator.max_steps);
+    note = how;
+    if (r.solver.converged()) return r;
+    missing = r.solver.message;
+    if (r.solver.termination == Termination::step_budget && budget_retries < 2) {
+      ++budget_retries;
+      s.integrator.max_steps *= 4;
+    } else if (r.solver.termination != Termination::wall_time_budget && !tightened) {
+      tightened = true;
+      s.integrator.rtol /= 10.0;
+      s.integrator.atol /= 10.0;
+    } else {
+      return std::nullopt;
+    }
+  }
+}
+
+/// The reference run of each scene variant, in parallel.
+std::vector<std::optional<SimulationResult>> reference_runs(const ConvergenceStudy& study, const StudyContext& ctx,
+                                                            int threads, ConvergenceResult& out) {
+  const ConvergenceConfig& config = study.config;
+  std::vector<std::optional<SimulationResult>> references(study.scenes.size());
+  out.reference_missing.assign(study.scenes.size(), "");
+  out.reference_note.assign(study.scenes.size(), "");
+  parallel_for(study.scenes.size(), threads, [&](size_t k) {
+    const SceneConfig s =
+        configure(study.scenes[k], config.reference.method, config.tracking.front(),
+                  config.scenes[k].reference_rtol.value_or(config.reference.rtol), config.atol_factor, 0.0);
+    std::string missing;
+    references[k] = reference_run(s, ctx.config_file, missing, out.reference_note[k]);
+    if (!references[k]) out.reference_missing[k] = missing;
   });
   return references;
 }
@@ -90,20 +126,24 @@ std::vector<ConvergenceRun> plan_runs(const ConvergenceStudy& study) {
 }
 
 /// Runs r and measures it against its scene's reference; a failure is kept in r.
-void measure_run(const ConvergenceStudy& study, const std::vector<SimulationResult>& references,
+void measure_run(const ConvergenceStudy& study, const std::vector<std::optional<SimulationResult>>& references,
                  const std::string& config_file, ConvergenceRun& r) {
   const SceneConfig s =
       configure(study.scenes[r.scene], r.method, r.tracking, r.rtol, study.config.atol_factor, r.step);
   try {
     const SimulationResult result = simulate_scene(s, config_file);
     throw_if_failed(result);
-    const SimulationResult& ref = references[r.scene];
-    r.error_position = max_position_error(result, ref);
-    r.error_peak_force = std::abs(result.metrics.peak_contact_force / ref.metrics.peak_contact_force - 1.0);
     r.energy_residual = result.metrics.energy_residual;
     r.run_time_s = result.solver.run_time_s;
     r.steps = result.solver.counters.steps;
     r.rhs_evaluations = result.solver.counters.rhs_evaluations;
+    if (!references[r.scene]) {
+      r.error = "no reference to measure against (its run failed)";
+      return;
+    }
+    const SimulationResult& ref = *references[r.scene];
+    r.error_position = max_position_error(result, ref);
+    r.error_peak_force = std::abs(result.metrics.peak_contact_force / ref.metrics.peak_contact_force - 1.0);
     r.ok = std::isfinite(r.error_position) && std::isfinite(r.error_peak_force);
     if (!r.ok) r.error = "non-finite error";
   } catch (const std::exception& e) {
@@ -117,7 +157,7 @@ ConvergenceResult run_convergence(const ConvergenceStudy& study, const StudyCont
   ConvergenceResult out;
   out.started = std::chrono::steady_clock::now();
   const int threads = ctx.threads();
-  const std::vector<SimulationResult> references = reference_runs(study, ctx, threads);
+  const std::vector<std::optional<SimulationResult>> references = reference_runs(study, ctx, threads, out);
   out.runs = plan_runs(study);
   std::vector<ConvergenceRun>& runs = out.runs;
 

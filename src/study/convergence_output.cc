@@ -127,13 +127,21 @@ Verdict convergence_verdict(const ConvergenceStudy& study, const std::vector<Con
 }  // namespace
 
 Report convergence_report(const ConvergenceStudy& study, const std::vector<ConvergenceRun>& runs, long failed,
-                          double wall, const std::string& file) {
+                          double wall, const std::string& file, const std::vector<std::string>& reference_missing) {
   Report report;
   report.title = "camdyn: " + study.base.name + " — error against run time";
   report.subtitle = "convergence study: every method × tracking mode × tolerance against a reference run (" +
                     to_string(study.config.reference.method) + ", rtol " + format_number4(study.config.reference.rtol) +
                     ")";
   report.verdict = convergence_verdict(study, runs, failed);
+  for (std::size_t k = 0; k < reference_missing.size(); ++k) {
+    if (reference_missing[k].empty()) continue;
+    // Without its reference a scene's runs measure nothing: say so first.
+    report.verdict->tone = Verdict::Tone::bad;
+    report.verdict->headline =
+        "reference run of scene '" + study.config.scenes[k].name + "' missing: its runs are listed without errors";
+    report.verdict->details.insert(report.verdict->details.begin(), "the reference failed: " + reference_missing[k]);
+  }
   report.facts.emplace_back("runs", std::to_string(runs.size()));
   report.facts.emplace_back("failed", std::to_string(failed));
   report.facts.emplace_back("wall time", format_number4(wall) + " s");
@@ -159,7 +167,8 @@ double write_convergence_outputs(const std::filesystem::path& out_dir, const Con
   write_work_precision_csv(out_dir / "work_precision.csv", study, runs);
   const long failed = result.failed();
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - result.started).count();
-  write_report(out_dir / "report.html", convergence_report(study, runs, failed, wall, config_file));
+  write_report(out_dir / "report.html",
+               convergence_report(study, runs, failed, wall, config_file, result.reference_missing));
   write_json_atomic(out_dir / "config.json", study.resolved);
   return wall;
 }

@@ -18,7 +18,7 @@ namespace camdyn {
 /// follower coordinate: m, or rad for an arm), the cam of the first scene and
 /// the table of runs; `file` names the study's config in messages.
 Report convergence_report(const ConvergenceStudy& study, const std::vector<ConvergenceRun>& runs, long failed,
-                          double wall, const std::string& file);
+                          double wall, const std::string& file, const std::vector<std::string>& reference_missing = {});
 
 /// Writes work_precision.csv, report.html and config.json into out_dir;
 /// returns the wall time [s] from result.started to the report.

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "common/errors.h"
 #include "io/json_writer.h"
 #include "study/convergence.h"
 #include "study/convergence_config.h"
@@ -23,6 +24,14 @@ int run_convergence_study(const Json& doc, const StudyContext& ctx) {
   std::printf("%s: %zu runs (%ld failed) in %.3g s\n  work_precision.csv and report: %s\n", study.base.name.c_str(),
               result.runs.size(), failed, wall,
               std::filesystem::absolute(ctx.out_dir / "report.html").lexically_normal().c_str());
+  // Everything finished is written; a missing reference is still a solver that gave up: exit 3.
+  std::string missing;
+  for (std::size_t k = 0; k < result.reference_missing.size(); ++k)
+    if (!result.reference_missing[k].empty())
+      missing +=
+          (missing.empty() ? "" : "; ") + ("the reference run of scene '" + study.config.scenes[k].name + "' failed (" +
+                                           result.reference_note[k] + "): " + result.reference_missing[k]);
+  if (!missing.empty()) throw NumericalError(missing + "; the runs that finished are written without errors");
   return 0;
 }
 
