@@ -22,6 +22,7 @@
 #include "io/suggest.h"
 #include "optim/identify/ceres_stage.h"
 #include "optim/identify/finite_differences.h"
+#include "optim/identify/fit_quality.h"
 #include "optim/identify/fit_simulator.h"
 #include "optim/identify/identify_journal.h"
 #include "optim/identify/identify_statistics.h"
@@ -334,7 +335,10 @@ void record_fits(const IdentifyProblem& problem, FitSimulator& simulator, const 
 
 }  // namespace
 
-IdentifyResult identify(const IdentifyProblem& problem, const IdentifyOptions& options) {
+namespace {
+
+/// The fit from the scaled start `z` (one start of identify()).
+IdentifyResult identify_from(const IdentifyProblem& problem, const IdentifyOptions& options, std::vector<double> z) {
   const auto wall_start = std::chrono::steady_clock::now();
   const std::size_t p = problem.parameters.size();
   const SolverSpec& spec = problem.solver;
@@ -343,8 +347,6 @@ IdentifyResult identify(const IdentifyProblem& problem, const IdentifyOptions& o
   result.loss = spec.loss;
   result.loss_scale = loss_scale_of(problem);
 
-  std::vector<double> z(p);
-  for (std::size_t i = 0; i < p; ++i) z[i] = to_scaled(problem.parameters[i], problem.parameters[i].initial);
   const std::unique_ptr<Stage> stage = run_continuation(problem, simulator, options, z, result);
   FitEvaluator& cost = *stage->evaluator;
   const Optimum optimum = evaluate_optimum(problem, cost, z, result);
@@ -376,6 +378,98 @@ IdentifyResult identify(const IdentifyProblem& problem, const IdentifyOptions& o
   result.resumed_simulations = simulator.resumed_simulations();
   result.run_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   return result;
+}
+
+/// The k-th point (k ≥ 1) of the Halton sequence in base `base`, in (0, 1).
+double halton(int k, int base) {
+  double f = 1.0, x = 0.0;
+  for (int i = k; i > 0; i /= base) {
+    f /= base;
+    x += f * (i % base);
+  }
+  return x;
+}
+
+/// Start k ≥ 1 of the space-filling design: parameter i at the k-th Halton
+/// point of the i-th prime over its bounds in the scaled space (an unbounded
+/// side: a factor e² from the initial value on a log scale, max(|p₀|, scale)
+/// on a linear one).
+std::vector<double> design_start(const IdentifyProblem& problem, int k) {
+  static constexpr int kPrimes[] = {2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53};
+  const std::size_t p = problem.parameters.size();
+  std::vector<double> z(p);
+  for (std::size_t i = 0; i < p; ++i) {
+    const FitParameter& par = problem.parameters[i];
+    const double z0 = to_scaled(par, par.initial);
+    const double reach = par.log_scale ? 2.0 : std::max(std::abs(par.initial), par.scale);
+    double lo = scaled_lower(par), hi = scaled_upper(par);
+    if (!std::isfinite(lo)) lo = z0 - reach;
+    if (!std::isfinite(hi)) hi = z0 + reach;
+    z[i] = lo + halton(k, kPrimes[i % std::size(kPrimes)]) * (hi - lo);
+  }
+  return z;
+}
+
+std::vector<double> to_values(const IdentifyProblem& problem, const std::vector<double>& z) {
+  std::vector<double> v(z.size());
+  for (std::size_t i = 0; i < z.size(); ++i) v[i] = to_value(problem.parameters[i], z[i]);
+  return v;
+}
+
+/// A poor fit (optim/identify/fit_quality.h) reports no standard error and is not identified.
+void flag_poor_fit(const FitQuality& q, IdentifyResult& result) {
+  result.poor_fit = q.poor;
+  result.misfit_ratio = q.worst_ratio;
+  if (!q.poor) return;
+  result.identifiable = false;
+  for (ParameterEstimate& e : result.parameters) {
+    e.std_error.reset();
+    e.identifiable = false;
+  }
+  for (auto& row : result.correlation) std::fill(row.begin(), row.end(), std::nullopt);
+  result.warnings.insert(result.warnings.begin(),
+                         "poor_fit: local minimum likely: the misfit variance of " + q.where + " is " +
+                             fmt(q.worst_ratio) + " times the noise variance estimated from the record (critical " +
+                             fmt(q.critical) + " at the 0.1 % level); no standard error is reported, and the " +
+                             std::to_string(result.starts.size()) + " start(s) are listed");
+}
+
+}  // namespace
+
+IdentifyResult identify(const IdentifyProblem& problem, const IdentifyOptions& options) {
+  const auto wall_start = std::chrono::steady_clock::now();
+  const std::size_t p = problem.parameters.size();
+  std::vector<double> z0(p);
+  for (std::size_t i = 0; i < p; ++i) z0[i] = to_scaled(problem.parameters[i], problem.parameters[i].initial);
+  IdentifyResult best = identify_from(problem, options, z0);
+  FitQuality quality = assess_fit(best.fits);
+  std::vector<FitStart> starts = {
+      {to_values(problem, z0), best.identified_values(), best.final_cost, quality.poor, ""}};
+  long simulations = best.simulations;
+  const int wanted = problem.solver.starts.value_or(quality.poor ? 2 * static_cast<int>(p) + 3 : 1);
+  IdentifyOptions extra = options;
+  extra.journal = nullptr;  // the journal resumes the first start
+  for (int k = 1; k < wanted; ++k) {
+    const std::vector<double> z = design_start(problem, k);
+    FitStart start{to_values(problem, z), {}, 0.0, false, ""};
+    try {
+      IdentifyResult r = identify_from(problem, extra, z);
+      simulations += r.simulations;
+      start.values = r.identified_values();
+      start.final_cost = r.final_cost;
+      start.poor_fit = assess_fit(r.fits).poor;
+      if (r.final_cost < best.final_cost) best = std::move(r);
+    } catch (const NumericalError& e) {
+      start.error = e.what();
+    }
+    starts.push_back(std::move(start));
+  }
+  quality = assess_fit(best.fits);
+  best.starts = std::move(starts);
+  best.simulations = simulations;
+  flag_poor_fit(quality, best);
+  best.run_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  return best;
 }
 
 }  // namespace camdyn::optim

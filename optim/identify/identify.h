@@ -115,6 +115,15 @@ struct StageSummary {
   std::vector<double> values;  ///< parameter values at the end of the stage
 };
 
+/// One start of a multi-start fit (solver.starts).
+struct FitStart {
+  std::vector<double> initial;  ///< where it started [units of the fields]
+  std::vector<double> values;   ///< where it ended (empty when it failed)
+  double final_cost = 0.0;
+  bool poor_fit = false;
+  std::string error;  ///< why it failed, if it did
+};
+
 struct IdentifyResult {
   std::vector<ParameterEstimate> parameters;
   /// Correlation of the estimates; null where a standard error is undefined.
@@ -135,6 +144,12 @@ struct IdentifyResult {
   std::string loss;
   double loss_scale = 0.0;  ///< robust loss scale used (0 without one)
   bool identifiable = true;
+  /// The misfit is significantly above the noise estimated from the records
+  /// (optim/identify/fit_quality.h): a local minimum is likely, and no
+  /// standard error is reported.
+  bool poor_fit = false;
+  double misfit_ratio = 0.0;     ///< worst signal's (RMS misfit / noise)² [-]
+  std::vector<FitStart> starts;  ///< every start, the first from the config's initial values
   /// Singular values of the column-equilibrated Jacobian at the optimum,
   /// largest first, and its condition number (largest / smallest).
   std::vector<double> singular_values;
@@ -143,6 +158,13 @@ struct IdentifyResult {
   std::vector<StageSummary> stages;
   std::vector<ExperimentFit> fits;
   SceneConfig identified_scene;  ///< the study's scene with the identified values
+
+  /// The identified values, in the parameters' order.
+  std::vector<double> identified_values() const {
+    std::vector<double> v;
+    for (const ParameterEstimate& e : parameters) v.push_back(e.value);
+    return v;
+  }
 };
 
 /// Where the fit is, for a progress line: the continuation stage (1-based,

@@ -79,6 +79,7 @@ void visit(A& a, SolverSpec& s) {
   a.field("smoothing", s.smoothing, positive());
   a.field("max_relative_std_error", s.max_relative_std_error, positive());
   a.field("max_measured_values", s.max_measured_values, at_least(1));
+  a.field("starts", s.starts, at_least(1));
 }
 
 template <class A>

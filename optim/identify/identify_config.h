@@ -88,6 +88,11 @@ struct SolverSpec {
   /// memory per value, so the default is about 400 MB; a larger record is
   /// refused at validation (decimate it, or raise this).
   long max_measured_values = 500000;
+  /// Starts of the fit: the config's initial values first, the others from a
+  /// space-filling (Halton) design over the bounds; the best fit is kept.
+  /// null: automatic, one start, and 2p + 2 more when its fit is poor
+  /// (optim/identify/fit_quality.h).
+  std::optional<int> starts;
 };
 
 struct IdentifySpec {

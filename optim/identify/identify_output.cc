@@ -111,6 +111,16 @@ Json identified_json(const IdentifyProblem& problem, const IdentifyResult& resul
                           {"values", st.values}});
   j["stages"] = stages;
   j["identifiable"] = result.identifiable;
+  j["poor_fit"] = result.poor_fit;
+  j["misfit_ratio"] = finite_or_null(result.misfit_ratio);
+  Json starts = Json::array();
+  for (const FitStart& s : result.starts)
+    starts.push_back(Json{{"initial", s.initial},
+                          {"values", s.values},
+                          {"final_cost", s.error.empty() ? Json(s.final_cost) : Json()},
+                          {"poor_fit", s.poor_fit},
+                          {"error", s.error}});
+  j["starts"] = starts;
   j["warnings"] = result.warnings;
   Json names = Json::array();
   Json matrix = Json::array();
@@ -160,16 +170,20 @@ Json identified_scene_json(const IdentifyProblem& problem, const IdentifyResult&
 /// The banner: each parameter with its standard error, or which ones the data cannot pin down.
 Verdict identify_verdict(const IdentifyResult& result) {
   Verdict v;
-  v.tone = result.identifiable ? Verdict::Tone::good : Verdict::Tone::warning;
+  v.tone = result.poor_fit ? Verdict::Tone::bad : result.identifiable ? Verdict::Tone::good : Verdict::Tone::warning;
   std::string values, unpinned;
   for (const ParameterEstimate& p : result.parameters) {
     values += (values.empty() ? "" : ", ") + p.name + " = " + format_number(p.value, 5) +
               (p.std_error ? " ± " + format_number(*p.std_error, 2) : "");
     if (!p.identifiable) unpinned += (unpinned.empty() ? "" : ", ") + p.name;
   }
-  v.headline = result.identifiable
+  v.headline = result.poor_fit ? "NOT identified: poor fit, a local minimum is likely (misfit " +
+                                     format_number(result.misfit_ratio, 3) + " times the noise variance): " + values
+               : result.identifiable
                    ? "identified: " + values
                    : "NOT identifiable" + (unpinned.empty() ? "" : " (" + unpinned + ")") + ": " + values;
+  if (result.starts.size() > 1)
+    v.details.push_back("best of " + std::to_string(result.starts.size()) + " starts (solver.starts)");
   v.details.push_back("termination " + result.termination + " after " + std::to_string(result.iterations) +
                       " iterations; RMS residual (weighted) " + format_number(result.rms_residual, 4));
   return v;
