@@ -70,11 +70,14 @@ struct LyapunovEstimate {
   SectionPoint last;                                ///< the reference trajectory's last section point
 };
 
-enum class MotionKind { periodic, chaotic, quasi_periodic, unresolved };
+/// `chattering`: impacts accumulating onto a contact phase
+/// (dynamics/chatter.h), periodic or not: never called chaotic.
+enum class MotionKind { periodic, chaotic, quasi_periodic, unresolved, chattering };
 inline constexpr EnumName<MotionKind> kMotionKindNames[] = {{MotionKind::periodic, "periodic"},
                                                             {MotionKind::chaotic, "chaotic"},
                                                             {MotionKind::quasi_periodic, "quasi_periodic"},
-                                                            {MotionKind::unresolved, "unresolved"}};
+                                                            {MotionKind::unresolved, "unresolved"},
+                                                            {MotionKind::chattering, "chattering"}};
 constexpr std::span<const EnumName<MotionKind>> enum_names(MotionKind) { return kMotionKindNames; }
 
 struct PeriodicAnalysis {

@@ -11,6 +11,7 @@
 #include <numbers>
 
 #include "common/errors.h"
+#include "dynamics/chatter.h"
 #include "dynamics/model.h"
 #include "dynamics/rigid_jump_speed.h"
 #include "io/json_archive.h"
@@ -50,6 +51,13 @@ Json events_json(const std::vector<OrbitEvent>& events, const char* speed) {
   Json j = Json::array();
   for (const OrbitEvent& e : events)
     j.push_back({{"cam_angle_deg", e.cam_angle_deg}, {speed, e.speed}, {"follower_velocity", e.follower_velocity}});
+  return j;
+}
+
+Json chatter_json(const std::vector<ChatterSequence>& chatter) {
+  Json j = Json::array();
+  for (const ChatterSequence& c : chatter)
+    j.push_back({{"impacts", c.impacts}, {"flight_ratio", c.ratio}, {"accumulation_deg", c.accumulation_deg}});
   return j;
 }
 
@@ -99,22 +107,55 @@ PeriodicResult run_periodic(const PeriodicStudy& study, const StudyContext& ctx,
   r.jump_speed_rpm = jump_speed_rpm(model);
   r.analysis = analyse_steady_state(map, options);
   const PeriodicAnalysis& a = r.analysis;
+  SectionPoint start = a.transient_end;  // of the run the metrics are over
   if (a.orbit) {
-    r.orbit_run = run_orbit(map, a.orbit->fixed_point, a.orbit->period);
-  } else {
-    SectionPoint last = a.transient_end;
-    if (a.lyapunov && !a.lyapunov->section_points.empty()) last.x = a.lyapunov->section_points.back();
-    r.orbit_run = run_orbit(map, last, 1);
+    start = a.orbit->fixed_point;
+  } else if (a.lyapunov && !a.lyapunov->section_points.empty()) {
+    start = a.lyapunov->last;
   }
+  const int period = a.orbit ? a.orbit->period : 1;
+  r.orbit_run = run_orbit(map, start, period);
   r.analysis.revolutions += a.orbit ? a.orbit->period : 1;
   r.impacts = orbit_events(r.orbit_run, true);
   r.take_offs = orbit_events(r.orbit_run, false);
+  // Chatter over two periods, so that a sequence across the section is seen whole.
+  const SimulationResult twice = run_orbit(map, start, 2 * period);
+  // Over two periods each sequence of the orbit is seen twice: keep one of each.
+  for (const ChatterSequence& c : find_chatter(twice.events, twice.end_time, 6.0 * r.rpm))
+    if (std::none_of(r.chatter.begin(), r.chatter.end(), [&](const ChatterSequence& seen) {
+          return std::abs(seen.accumulation_deg - c.accumulation_deg) < 0.01 && seen.impacts == c.impacts;
+        }))
+      r.chatter.push_back(c);
+  if (!r.chatter.empty()) r.analysis.motion = MotionKind::chattering;
   r.run_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
 }
 
+namespace {
+
+// "chattering: 7 impacts accumulating at 212.4 deg (flight ratio 0.61), then contact" for the first sequence.
+std::string chatter_text(const std::vector<ChatterSequence>& chatter) {
+  const ChatterSequence& c = chatter.front();
+  char buffer[256];
+  std::snprintf(buffer, sizeof buffer,
+                "chattering: %zu impacts accumulating at %.4g deg (flight ratio %.3g), then contact%s", c.impacts,
+                c.accumulation_deg, c.ratio, chatter.size() > 1 ? " (and more sequences)" : "");
+  return buffer;
+}
+
+}  // namespace
+
 std::string periodic_verdict(const PeriodicResult& r) {
   const PeriodicAnalysis& a = r.analysis;
+  if (!r.chatter.empty()) {
+    const std::string chatter = chatter_text(r.chatter);
+    if (a.orbit)
+      return chatter + "; period-" + std::to_string(a.orbit->period) + " orbit with chatter, " +
+             (a.orbit->stable ? "stable" : "unstable");
+    return chatter +
+           "; no stable periodic orbit found (a Lyapunov estimate across the accumulations is no sign of "
+           "chaos)";
+  }
   char buffer[512];
   if (a.orbit) {
     const Metrics& m = r.orbit_run.metrics;
@@ -168,6 +209,7 @@ Json periodic_json(const PeriodicStudy& study, const PeriodicResult& r, const st
               {"orbit", a.orbit ? orbit_json(*a.orbit, coordinates) : Json()},
               {"unstable_orbits", unstable},
               {"impacts", events_json(r.impacts, "approach_speed")},
+              {"chatter", chatter_json(r.chatter)},
               {"take_offs", events_json(r.take_offs, "separation_speed")},
               {"max_gap", m.max_separation_gap},
               {"peak_contact_force", m.peak_contact_force},

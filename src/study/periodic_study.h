@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "common/study_budget.h"
+#include "dynamics/chatter.h"
 #include "dynamics/simulation.h"
 #include "io/config.h"
 #include "io/json_archive.h"
@@ -78,7 +79,9 @@ struct PeriodicResult {
   SimulationResult orbit_run;         ///< one period from the fixed point: metrics on the orbit, series, events
   std::vector<OrbitEvent> impacts;    ///< on the orbit
   std::vector<OrbitEvent> take_offs;  ///< separations on the orbit
-  double jump_speed_rpm = 0.0;        ///< rigid model [rpm]
+  std::vector<ChatterSequence>
+      chatter;  ///< accumulating impact sequences over two periods (or revolutions) from the orbit's start
+  double jump_speed_rpm = 0.0;  ///< rigid model [rpm]
   double rpm = 0.0;
   double run_time_s = 0.0;
 };

@@ -158,6 +158,57 @@ TEST(PeriodicOrbit, AnOrbitIsReportedAtItsMinimalPeriod) {
   }
 }
 
+// studies/periodic/chattering_follower.json: thrown off by the rise, the
+// follower settles onto the dwell (a flat at rest under it) through an
+// accumulating impact sequence. Closed form of a ball bouncing on a flat at
+// rest: each flight lasts 2 v/g and the next impact comes at e* v, so the
+// flights shrink by e* and, from the first impact of the sequence at t₁ with
+// approach speed v₁, sum to 2 e* v₁ / (g (1 − e*)). The compliant contact adds
+// its contact durations between the flights, taken from the run's events.
+TEST(PeriodicOrbit, AChatteringFollowerIsClassifiedChatteringAtTheBallsAccumulationAngle) {
+  const std::string file = std::string(CAMDYN_SOURCE_DIR) + "/studies/periodic/chattering_follower.json";
+  const PeriodicStudy study = read_study(file);
+  const PeriodicResult r = run_study(study);
+  EXPECT_EQ(r.analysis.motion, MotionKind::chattering);
+  ASSERT_TRUE(r.analysis.orbit);
+  EXPECT_EQ(r.analysis.orbit->period, 1);
+  ASSERT_EQ(r.chatter.size(), 1u);
+  const ChatterSequence& c = r.chatter.front();
+  const double e = exact_restitution(study.scene.mechanism.contact);
+  // The sequence in the orbit run's events (found on a run of two periods:
+  // its times agree with this one's to the integrator's tolerance): its
+  // first impact's approach speed, its flights and its contact durations.
+  double v1 = 0.0, contact = 0.0, landing = -1.0, take_off = -1.0;
+  std::vector<double> flights;
+  for (const ContactEvent& ev : r.orbit_run.events) {
+    if (ev.time < c.first_impact_time - 1e-6 || ev.time > c.accumulation_time) continue;
+    if (ev.onset && landing < 0.0) v1 = ev.speed;
+    if (ev.onset && take_off >= 0.0) flights.push_back(ev.time - take_off);
+    if (ev.onset) landing = ev.time;
+    if (!ev.onset && landing >= 0.0) {
+      contact += ev.time - landing;
+      take_off = ev.time;
+    }
+  }
+  ASSERT_GT(v1, 0.0);
+  ASSERT_GE(flights.size(), 3u);
+  // The first flights shrink by e* (approach speeds of centimetres per second,
+  // where gravity's impulse over a contact of tens of µs is negligible).
+  constexpr double kEarlyRatio = 5e-3;
+  EXPECT_NEAR(flights[1] / flights[0] / e, 1.0, kEarlyRatio);
+  EXPECT_NEAR(flights[0] / (2.0 * e * v1 / study.scene.gravity), 1.0, kEarlyRatio);
+  // The accumulation angle: the rigid ball's flights 2 e* v₁ / (g (1 − e*))
+  // against the run's (its contact durations taken out). The last impacts,
+  // at approach speeds of millimetres per second, rebound a little less than
+  // e* (gravity acts through their contact), so the run's flights sum to a
+  // few per cent less: 3 % of the span is the tolerance.
+  const double deg_per_s = 6.0 * study.scene.mechanism.cam.rpm;
+  const double rigid = 2.0 * e * v1 / (study.scene.gravity * (1.0 - e)) * deg_per_s;  // [deg]
+  const double measured = (c.accumulation_time - c.first_impact_time - contact) * deg_per_s;
+  EXPECT_NEAR(measured, rigid, 0.03 * rigid);
+  EXPECT_LT(c.ratio, e);
+}
+
 // A flat face pressed onto an eccentric cam by a preloaded spring through a
 // linear Kelvin–Voigt contact: the motion is linear, so the monodromy matrix
 // is exp(A T) and its eigenvalues exp(λ T), λ the roots of
