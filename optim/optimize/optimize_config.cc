@@ -42,8 +42,18 @@ void visit(A& a, EndAngleRanges& r) {
 }
 
 template <class A>
+void visit(A& a, DesignEventConfig& e) {
+  a.field("from_deg", e.from_deg, closed_open(0, 360));
+  a.field("to_deg", e.to_deg, open_closed(0, 360));
+  a.require(e.to_deg > e.from_deg, "to_deg", "must be greater than from_deg (an event does not wrap past 360 deg)");
+}
+
+template <class A>
 void visit(A& a, DesignConfig& d) {
   a.field("segments", d.segments, non_empty(), one_of({"rise", "return"}));
+  a.field("event", d.event);
+  a.require(!d.event || (!d.end_deg_range.rise && !d.end_deg_range.ret), "end_deg_range",
+            "an event design keeps its span fixed: leave end_deg_range out");
   a.field("control_points", d.control_points, at_least(1));
   // Each is a design variable of the search and its rigid-stage LP: beyond
   // a few dozen the law gains nothing a cam can be cut to, and 2e9 of them
@@ -67,8 +77,10 @@ void visit(A& a, ObjectiveConfig& o) {
   a.field("contact_force_margin", o.contact_force_margin, non_negative());
   a.field("peak_acceleration", o.peak_acceleration, non_negative());
   a.field("peak_jerk", o.peak_jerk, non_negative());
+  a.field("lift_area", o.lift_area, non_negative());
   a.field("aggregate", o.aggregate, one_of({"worst", "mean"}));
-  const double total = o.separation + o.peak_contact_force + o.contact_force_margin + o.peak_acceleration + o.peak_jerk;
+  const double total = o.separation + o.peak_contact_force + o.contact_force_margin + o.peak_acceleration +
+                       o.peak_jerk + o.lift_area;
   a.require(total > 0.0, "", "every weight is 0: give at least one term a positive weight");
 }
 
@@ -83,6 +95,8 @@ void visit(A& a, ConstraintsConfig& c) {
   a.field("no_separation", c.no_separation);
   a.field("max_peak_jerk", c.max_peak_jerk, positive());
   a.field("max_contact_stress", c.max_contact_stress, positive());
+  a.field("max_lift", c.max_lift, positive());
+  a.field("face_edge_margin", c.face_edge_margin, non_negative());
 }
 
 template <class A>

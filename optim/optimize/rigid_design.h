@@ -38,6 +38,20 @@ struct SpeedCertificate {
   double best_margin = 0.0;  ///< the largest worst margin P − P_min the family reaches at this speed [N]
 };
 
+/// The certificate of a lift-area design (objective.lift_area with
+/// design.event; docs/optimize.md "Lift area"): its area against the largest
+/// any lift over the same event can have under the same constraints
+/// (optim/optimize/lobe_bound.h).
+struct LiftAreaCertificate {
+  bool available = false;
+  std::string reason;             ///< why not, when not available
+  double design = 0.0;            ///< ∫ s dθ of the stage's design over the event [m rad]
+  double bound = 0.0;             ///< the any-law bound [m rad]
+  double baseline = 0.0;          ///< the baseline's [m rad]
+  int grid = 0;                   ///< intervals of the bound's programme
+  std::vector<double> speeds_rpm;  ///< the speeds at which P ≥ P_min is held [rpm]
+};
+
 struct Certificate {
   bool available = false;
   std::string reason;              ///< why not, when not available
@@ -54,6 +68,7 @@ struct Certificate {
   std::vector<std::string> family_binding;
   double baseline_rpm = 0.0;             ///< the baseline law's own rigid jump-free speed at P_min [rpm]
   std::vector<SpeedCertificate> speeds;  ///< (c), in operating_rpm order
+  LiftAreaCertificate lift_area;
   bool all_feasible() const;
   /// family_binding joined by ", " ("" when none was worked out).
   std::string binding_text() const;
