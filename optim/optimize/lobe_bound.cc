@@ -30,19 +30,27 @@ struct Grid {
   }
 };
 
-/// Stencil weights of s, s', s'', s''' at a point (offsets −2 … 2).
-constexpr double kStencil[4][5] = {
-    {0.0, 0.0, 1.0, 0.0, 0.0}, {0.0, -0.5, 0.0, 0.5, 0.0}, {0.0, 1.0, -2.0, 1.0, 0.0}, {-0.5, 1.0, 0.0, -1.0, 0.5}};
+/// Stencil weights (offsets −2 … 2) of s, s', s'' at a point, and of s' and
+/// s''' half a step after it. The half-step ones are the compact
+/// differences (s_{i+1} − s_i)/h and (s_{i+2} − 3s_{i+1} + 3s_i − s_{i−1})/h³:
+/// central ones would leave the even and odd points free of each other
+/// (a zigzag they do not see), and the bound would be loose by it.
+constexpr double kStencil[5][5] = {{0.0, 0.0, 1.0, 0.0, 0.0},
+                                   {0.0, -0.5, 0.0, 0.5, 0.0},
+                                   {0.0, 1.0, -2.0, 1.0, 0.0},
+                                   {0.0, 0.0, -1.0, 1.0, 0.0},
+                                   {0.0, -1.0, 3.0, -3.0, 1.0}};
 
-/// Σ_k a_k s⁽ᵏ⁾ at grid point i as terms and a constant.
-void combination(const Grid& g, int i, const std::array<double, 4>& a, std::vector<std::pair<int, double>>& terms,
+/// Σ_k a_k (stencil k) at grid point i as terms and a constant: a = (s, s',
+/// s'' at i; s', s''' at i + 1/2).
+void combination(const Grid& g, int i, const std::array<double, 5>& a, std::vector<std::pair<int, double>>& terms,
                  double& constant) {
   terms.clear();
   constant = 0.0;
-  const double scale[4] = {1.0, 1.0 / g.h, 1.0 / (g.h * g.h), 1.0 / (g.h * g.h * g.h)};
+  const double scale[5] = {1.0, 1.0 / g.h, 1.0 / (g.h * g.h), 1.0 / g.h, 1.0 / (g.h * g.h * g.h)};
   for (int o = -2; o <= 2; ++o) {
     double w = 0.0;
-    for (int k = 0; k < 4; ++k) w += a[k] * kStencil[k][o + 2] * scale[k];
+    for (int k = 0; k < 5; ++k) w += a[k] * kStencil[k][o + 2] * scale[k];
     if (w != 0.0) g.add(i + o, w, terms, constant);
   }
 }
@@ -65,21 +73,22 @@ LobeBound lift_area_bound(const MotionLaw& law, double from, double to, const Ri
   for (int i = 1; i < grid; ++i) lp.add_column(-kLpInfinity, limits.max_lift / g.unit, -1.0);
   std::vector<std::pair<int, double>> terms;
   double constant = 0.0;
-  for (int i = 0; i <= grid; ++i) {
+  for (int i = -1; i <= grid; ++i) {
     for (const double w : limits.omegas) {
-      combination(g, i, {f.coefficient_s(), f.coefficient_ds(w), f.coefficient_d2s(w), 0.0}, terms, constant);
+      if (i < 0) break;
+      combination(g, i, {f.coefficient_s(), f.coefficient_ds(w), f.coefficient_d2s(w), 0.0, 0.0}, terms, constant);
       if (!terms.empty()) lp.add_row(terms, -f.constant() - constant, kLpInfinity);  // P − P_min ≥ 0
     }
     if (std::isfinite(limits.face_limit)) {
-      combination(g, i, {0.0, 1.0, 0.0, 0.0}, terms, constant);
+      combination(g, i, {0.0, 0.0, 0.0, 1.0, 0.0}, terms, constant);
       if (!terms.empty()) lp.add_row(terms, -limits.face_limit - constant, limits.face_limit - constant);
     }
-    if (limits.min_radius > 0.0) {
-      combination(g, i, {1.0, 0.0, 1.0, 0.0}, terms, constant);
+    if (limits.min_radius > 0.0 && i >= 0) {
+      combination(g, i, {1.0, 0.0, 1.0, 0.0, 0.0}, terms, constant);
       if (!terms.empty()) lp.add_row(terms, limits.min_radius - limits.pitch_height - constant, kLpInfinity);
     }
     if (limits.max_jerk > 0.0) {
-      combination(g, i, {0.0, 0.0, 0.0, 1.0}, terms, constant);
+      combination(g, i, {0.0, 0.0, 0.0, 0.0, 1.0}, terms, constant);
       if (!terms.empty()) lp.add_row(terms, -limits.max_jerk - constant, limits.max_jerk - constant);
     }
   }

@@ -6,9 +6,10 @@
 // face's |s'| ≤ face limit, r_b + s + s'' ≥ ρ_min and |s'''| ≤ J.
 //
 // The lift is free at every point of a fine grid (N intervals, spacing
-// h = β / N): s' and s'' by central differences, s''' by the central
-// five-point difference, the points just outside the event taken from the
-// kept law (so the joins are held to s''' as the spline's are). Every
+// h = β / N): s'' by the three-point difference, s' (in P) by the central
+// one, and s' (face) and s''' half a step after each point by the compact
+// differences, the points just outside the event taken from the kept law
+// (so the joins are held to s''' as the spline's are). Every
 // smooth law that meets the constraints meets their differenced form up to
 // O(h²), so the optimum is an upper bound on any law's area to that order:
 // it converges from above as N grows, and the tests check that it does.

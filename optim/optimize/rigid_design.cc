@@ -72,7 +72,10 @@ class SplineFamily {
     // s''' is held at the samples only; between them (a quadratic per knot
     // span of a quintic) it can overshoot by ~1 %, so the LP keeps 2 % clear
     // and the dense check of the dynamic stage and `validate` then holds.
-    max_jerk_ = 0.98 * constraints.max_peak_jerk.value_or(0.0);
+    // With 8 or more samples per knot span (a lift-area event design is
+    // sampled that densely) the overshoot is below 0.2 % and 0.5 % is kept.
+    const double per_span = static_cast<double>(samples) / std::max(1, space.spline_size() - design.degree);
+    max_jerk_ = (per_span >= 8.0 ? 0.995 : 0.98) * constraints.max_peak_jerk.value_or(0.0);
     const std::vector<double> zero(static_cast<std::size_t>(space.control_point_count()), 0.0);
     law0_ = std::make_shared<MotionLaw>(
         build_motion_law(space.scene_with_control_points(zero).mechanism.cam.motion_law, file));
@@ -269,7 +272,7 @@ class SplineFamily {
       for (const AffineSample& a : samples_) {
         terms.clear();
         for (int j = 0; j < m_; ++j) terms.emplace_back(a.first + j, a.coefficient[j][0]);
-        lp.add_row(terms, -kLpInfinity, max_lift_ - a.constant[0]);
+        lp.add_row(terms, -kLpInfinity, (1.0 - 1e-5) * max_lift_ - a.constant[0]);  // room between samples
       }
     }
     add_face_and_radius_rows(lp);
@@ -288,7 +291,7 @@ class SplineFamily {
       if (flat_radius_rows_) {
         terms.clear();
         for (int j = 0; j < m_; ++j) terms.emplace_back(a.first + j, a.coefficient[j][0] + a.coefficient[j][2]);
-        lp.add_row(terms, 1.005 * rho_min_ - pitch_height_ - a.constant[0] - a.constant[2], kLpInfinity);
+        lp.add_row(terms, 1.002 * rho_min_ - pitch_height_ - a.constant[0] - a.constant[2], kLpInfinity);
       }
     }
   }
@@ -680,7 +683,10 @@ RigidDesign tighten_nonlinear(SplineFamily& family, const RigidLimitProbe* probe
     if (pressure_over) family.add_pressure_cuts(d.control_points);
     if (probed_broken) family.add_cuts(probe->cuts(d.control_points));
     MarginSolution fastest;
-    const double bound = family_bound(family, f, FamilyOptions{family.monotone(), true}, hint, solves, &fastest);
+    // A lift-area design does not need the family's fastest (make_design).
+    const double bound = config.objective.lift_area > 0.0
+                             ? 0.0
+                             : family_bound(family, f, FamilyOptions{family.monotone(), true}, hint, solves, &fastest);
     const RigidDesign next = make_design(family, f, config, space, bound, fastest, solves);
     if (!next.have) break;  // the cuts leave nothing: keep the last design
     d = next;
@@ -763,14 +769,23 @@ RigidStageResult run_rigid_stage(const SceneConfig& baseline, const OptimizeStud
     any_law_part(family, f, hint, config.rigid.certificate_grid, cert);
   }
   MarginSolution fastest;
-  const double bound = family_part(family, f, hint, cert, out.lp_solves, fastest);
+  // A lift-area design is not the family's fastest; its certificate is the
+  // area bound (lift_area_part), so (b) is left out: a dozen programmes of
+  // the dense sampling such a design needs.
+  const bool lift_area_goal = config.objective.lift_area > 0.0;
+  const double bound = lift_area_goal ? 0.0 : family_part(family, f, hint, cert, out.lp_solves, fastest);
+  if (lift_area_goal) {
+    cert.family_rpm = kInf;
+    cert.family_binding = {"not computed for a lift-area design"};
+  }
   const FamilyOptions all{family.monotone(), true};
   for (const double rpm : config.operating_rpm) {
     const std::vector<double> omegas = check_speeds(rpm * kRadPerRpm, f);
     const double m = std::min(solve_margin(family, omegas, all, out.lp_solves).margin, family.fixed_margin(omegas));
     cert.speeds.push_back({rpm, m >= -1e-9 * (std::abs(f.constant()) + 1.0), m});
   }
-  if (config.rigid.explain_bound || !cert.all_feasible()) family_binding(family, f, hint, bound, cert, out.lp_solves);
+  if (!lift_area_goal && (config.rigid.explain_bound || !cert.all_feasible()))
+    family_binding(family, f, hint, bound, cert, out.lp_solves);
 
   out.design = make_design(family, f, config, space, bound, fastest, out.lp_solves);
   const std::optional<RigidLimitProbe> probe = limit_probe(baseline, model, f, config, space, family);
