@@ -479,7 +479,9 @@ LinearProgram SplineFamily::margin_program(const std::vector<double>& omegas, co
       }
     }
   }
-  lp.equilibrate_rows();  // jerk and m ω² s'' rows span many decades
+  // An event's rows (dense jerk rows, 100 control points) span many decades;
+  // the segment designs' programmes are left as they were.
+  if (lift_scale_ > 0.0) lp.equilibrate_rows();
   return lp;
 }
 

@@ -110,7 +110,7 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(Base{"periodic_spline", Json("profiles/flat_tappet_valve_lift.json")},
                       Base{"segments", Json("profiles/polynomial_4567.json")},
                       Base{"harmonic_eccentric", Json("profiles/harmonic_eccentric.json")}),
-    [](const auto& info) { return info.param.name; });
+    [](const auto& param_info) { return param_info.param.name; });
 
 TEST(EventSplineConfig, RoundTripsThroughJsonToTheSameLaw) {
   Json law = Json::parse(R"({"segments": [
