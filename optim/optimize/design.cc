@@ -364,8 +364,7 @@ SceneConfig DesignSpace::scene_with_control_points(const std::vector<double>& c)
 std::vector<double> DesignSpace::design_from_control_points(const std::vector<double>& c) const {
   if (event_) {
     std::vector<double> x(c.size());
-    for (std::size_t j = 0; j < c.size(); ++j)
-      x[j] = std::clamp(c[j], variables_[j].lower, variables_[j].upper);
+    for (std::size_t j = 0; j < c.size(); ++j) x[j] = std::clamp(c[j], variables_[j].lower, variables_[j].upper);
     return x;
   }
   const std::vector<Levels> lv = levels_vary_ ? levels(skeleton(initial_)) : fixed_levels_;

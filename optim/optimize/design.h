@@ -85,9 +85,7 @@ class DesignSpace {
   // with the end angles at their baseline values. The lift is affine in c,
   // which the rigid-model stage (optim/optimize/rigid_design.h) uses.
 
-  int control_point_count() const {
-    return config_.control_points * (event_ ? 1 : static_cast<int>(designed_.size()));
-  }
+  int control_point_count() const { return config_.control_points * (event_ ? 1 : static_cast<int>(designed_.size())); }
   /// Levels (c_2, c_{n−3}) of each designed segment: with `monotone` its free
   /// control points lie ordered between them.
   std::vector<std::pair<double, double>> control_point_levels() const;

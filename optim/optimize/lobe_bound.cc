@@ -99,8 +99,8 @@ LobeBound lift_area_bound(const MotionLaw& law, double from, double to, const Ri
   out.status = to_string(sol.status);
   if (sol.status == LpStatus::infeasible) return out;
   if (sol.status != LpStatus::optimal)
-    throw NumericalError(std::string("the lift-area certificate programme could not be solved (CLP: ") +
-                         sol.message + ")");
+    throw NumericalError(std::string("the lift-area certificate programme could not be solved (CLP: ") + sol.message +
+                         ")");
   out.solved = true;
   out.lift.push_back(g.known[2]);
   for (int i = 1; i < grid; ++i) out.lift.push_back(g.unit * sol.x[static_cast<std::size_t>(g.column(i))]);

@@ -25,19 +25,19 @@
 namespace camdyn::optim {
 
 struct LobeLimits {
-  std::vector<double> omegas;                                ///< speeds where P ≥ P_min holds [rad/s]
-  double max_lift = std::numeric_limits<double>::infinity();  ///< s cap [m]
+  std::vector<double> omegas;                                   ///< speeds where P ≥ P_min holds [rad/s]
+  double max_lift = std::numeric_limits<double>::infinity();    ///< s cap [m]
   double face_limit = std::numeric_limits<double>::infinity();  ///< |s'| cap [m/rad]
-  double pitch_height = 0.0;                                 ///< r_b of a flat face [m]
-  double min_radius = 0.0;                                   ///< ρ_min of a flat face [m] (0: none)
-  double max_jerk = 0.0;                                     ///< |s'''| cap [m/rad³] (0: none)
+  double pitch_height = 0.0;                                    ///< r_b of a flat face [m]
+  double min_radius = 0.0;                                      ///< ρ_min of a flat face [m] (0: none)
+  double max_jerk = 0.0;                                        ///< |s'''| cap [m/rad³] (0: none)
 };
 
 struct LobeBound {
   bool solved = false;
-  std::string status;  ///< CLP's status ("optimal", "infeasible", ...)
-  int grid = 0;        ///< N
-  double area = 0.0;   ///< the largest ∫ s dθ over the event [m rad]
+  std::string status;        ///< CLP's status ("optimal", "infeasible", ...)
+  int grid = 0;              ///< N
+  double area = 0.0;         ///< the largest ∫ s dθ over the event [m rad]
   std::vector<double> lift;  ///< the optimal lift at the N + 1 grid points [m]
 };
 

@@ -79,8 +79,8 @@ void visit(A& a, ObjectiveConfig& o) {
   a.field("peak_jerk", o.peak_jerk, non_negative());
   a.field("lift_area", o.lift_area, non_negative());
   a.field("aggregate", o.aggregate, one_of({"worst", "mean"}));
-  const double total = o.separation + o.peak_contact_force + o.contact_force_margin + o.peak_acceleration +
-                       o.peak_jerk + o.lift_area;
+  const double total =
+      o.separation + o.peak_contact_force + o.contact_force_margin + o.peak_acceleration + o.peak_jerk + o.lift_area;
   a.require(total > 0.0, "", "every weight is 0: give at least one term a positive weight");
 }
 

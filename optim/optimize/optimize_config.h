@@ -63,7 +63,7 @@ struct ObjectiveConfig {
   /// maximised: the term is baseline area / area. The rigid stage maximises
   /// it by LP (docs/optimize.md "Lift area").
   double lift_area = 0.0;
-  std::string aggregate = "worst";    ///< over the operating speeds: "worst" or "mean"
+  std::string aggregate = "worst";  ///< over the operating speeds: "worst" or "mean"
 
   bool operator==(const ObjectiveConfig&) const = default;
 };

@@ -111,7 +111,7 @@ Json steady_state_check_json(const SteadyStateCheck& c) {
 
 /// The lift-area certificate (docs/optimize.md "Lift area").
 Json lift_area_json(const LiftAreaCertificate& c) {
-  Json j{{"available", c.available}, {"unit", "m rad"}, {"design", c.design}, {"baseline", c.baseline},
+  Json j{{"available", c.available},   {"unit", "m rad"}, {"design", c.design}, {"baseline", c.baseline},
          {"speeds_rpm", c.speeds_rpm}, {"grid", c.grid}};
   if (!c.available) {
     j["reason"] = c.reason;

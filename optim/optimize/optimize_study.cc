@@ -38,9 +38,10 @@ void print_certificate(const OptimizeOutcome& o) {
                   c.family_rpm, c.any_law_rpm, held.c_str());
   }
   if (const LiftAreaCertificate& a = c.lift_area; a.available)
-    std::printf("  lift area (rigid design, over the event): %.6g m rad, %.2f %% of the most any law can have under "
-                "the same constraints (%.6g m rad); baseline %.6g m rad\n",
-                a.design, 100.0 * a.design / a.bound, a.bound, a.baseline);
+    std::printf(
+        "  lift area (rigid design, over the event): %.6g m rad, %.2f %% of the most any law can have under "
+        "the same constraints (%.6g m rad); baseline %.6g m rad\n",
+        a.design, 100.0 * a.design / a.bound, a.bound, a.baseline);
   else if (!a.reason.empty())
     std::printf("  lift-area certificate not available: %s\n", a.reason.c_str());
   if (o.rigid.design.have)

@@ -389,8 +389,8 @@ class SplineFamily {
   RigidFollower follower_;
   int m_ = 0;
   bool monotone_ = true;
-  int first_free_ = 3;   ///< index of the first free control point among the spline's coefficients
-  int spline_size_ = 0;  ///< all coefficients of a designed spline
+  int first_free_ = 3;       ///< index of the first free control point among the spline's coefficients
+  int spline_size_ = 0;      ///< all coefficients of a designed spline
   double lift_scale_ = 0.0;  ///< an event's raw control points are in units of this lift [m] (0: a segment's)
   double max_lift_ = kInf, face_limit_ = kInf;  ///< lift_area: s cap [m]; flat face: |s'| cap [m/rad]
   bool flat_radius_rows_ = false;
@@ -429,8 +429,8 @@ LinearProgram SplineFamily::margin_program(const std::vector<double>& omegas, co
   const bool lift_area = options.goal == FamilyOptions::Goal::max_lift_area;
   // A lift-area design is held at the samples only; 1e-3 of the force scale
   // keeps the margin between them (a knot span holds a few samples) ≥ 0.
-  const int t = lp.add_column(max_margin ? -kLpInfinity : (lift_area ? 1e-3 * force_scale : 0.0),
-                              1e3 * force_scale, max_margin ? -1.0 : 0.0);
+  const int t = lp.add_column(max_margin ? -kLpInfinity : (lift_area ? 1e-3 * force_scale : 0.0), 1e3 * force_scale,
+                              max_margin ? -1.0 : 0.0);
   if (lift_area)
     add_lobe_rows(lp);
   else if (!max_margin)
@@ -571,9 +571,8 @@ void lift_area_part(const SplineFamily& family, const RigidFollower& f, const Op
   for (const double w : omegas) c.speeds_rpm.push_back(w / kRadPerRpm);
   c.baseline = lift_area(baseline, from, to);
   if (d.have) c.design = lift_area(build_motion_law(space.scene(d.x).mechanism.cam.motion_law, ""), from, to);
-  const LobeBound b =
-      lift_area_bound(family.law0(), from, to, f, family.lobe_limits(omegas, config.constraints),
-                      config.rigid.certificate_grid);
+  const LobeBound b = lift_area_bound(family.law0(), from, to, f, family.lobe_limits(omegas, config.constraints),
+                                      config.rigid.certificate_grid);
   c.grid = b.grid;
   if (!b.solved) {
     c.reason = "no lift over the event meets the constraints (the bound's programme is " + b.status + ")";

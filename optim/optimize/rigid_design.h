@@ -44,11 +44,11 @@ struct SpeedCertificate {
 /// (optim/optimize/lobe_bound.h).
 struct LiftAreaCertificate {
   bool available = false;
-  std::string reason;             ///< why not, when not available
-  double design = 0.0;            ///< ∫ s dθ of the stage's design over the event [m rad]
-  double bound = 0.0;             ///< the any-law bound [m rad]
-  double baseline = 0.0;          ///< the baseline's [m rad]
-  int grid = 0;                   ///< intervals of the bound's programme
+  std::string reason;              ///< why not, when not available
+  double design = 0.0;             ///< ∫ s dθ of the stage's design over the event [m rad]
+  double bound = 0.0;              ///< the any-law bound [m rad]
+  double baseline = 0.0;           ///< the baseline's [m rad]
+  int grid = 0;                    ///< intervals of the bound's programme
   std::vector<double> speeds_rpm;  ///< the speeds at which P ≥ P_min is held [rpm]
 };
 

@@ -120,7 +120,8 @@ MotionLaw splice_event(const MotionLaw& law, const EventSplineBasis& basis, cons
   event.end = basis.to;
   event.base = 0.0;
   event.lift = 1.0;
-  event.shape = std::make_shared<EventShape>(ClampedBSpline(basis.degree, basis.knots, basis.coefficients(free_points)));
+  event.shape =
+      std::make_shared<EventShape>(ClampedBSpline(basis.degree, basis.knots, basis.coefficients(free_points)));
   pieces.push_back(event);
   for (const MotionLaw::Piece& pc : law.pieces())
     if (pc.end > basis.to) pieces.push_back(clipped(pc, std::max(pc.start, basis.to), pc.end));

@@ -1,8 +1,8 @@
 // The event of a motion law as one curve: a clamped B-spline that replaces
 // the law on a span [from, to] of cam angle (a whole valve lobe, nose
 // included, between its lash ramps) while the rest of the law is kept bit
-// for bit (docs/config.md `motion_law.event`, docs/optimize.md "The whole
-// event as one curve"). At both joins the spline's first control points are
+// for bit (docs/config.md `motion_law`, its field `event`; docs/optimize.md
+// "The whole event as one curve"). At both joins the spline's first control points are
 // set so that s, s', s'' and, from degree 4 on, s''' equal the kept law's
 // there; the free control points in between are lift values [m] (or [rad]
 // for an arm), not normalised, because an event that rises and returns has

@@ -493,8 +493,8 @@ MotionLaw law_with_event(const MotionLaw& law, const EventSplineConfig& ec, cons
                          const std::string& at) {
   check_degree(ec.degree, file, at + ".degree");
   if (!(ec.from_deg >= 0.0 && ec.to_deg > ec.from_deg && ec.to_deg <= 360.0))
-    throw InputError(file, at, "needs 0 <= from_deg < to_deg <= 360, got " + num(ec.from_deg) + " and " +
-                                   num(ec.to_deg));
+    throw InputError(file, at,
+                     "needs 0 <= from_deg < to_deg <= 360, got " + num(ec.from_deg) + " and " + num(ec.to_deg));
   const int free = static_cast<int>(ec.control_points.size());
   const int order = event_join_order(ec.degree);
   if (free + 2 * (order + 1) < ec.degree + 1 || free < 1)
@@ -504,8 +504,8 @@ MotionLaw law_with_event(const MotionLaw& law, const EventSplineConfig& ec, cons
   for (std::size_t j = 0; j < ec.control_points.size(); ++j)
     if (!std::isfinite(ec.control_points[j]))
       throw InputError(file, indexed(at + ".control_points", j), "must be finite");
-  const EventSplineBasis basis =
-      event_spline_basis(law, deg_to_rad(ec.from_deg), ec.to_deg == 360.0 ? kTwoPi : deg_to_rad(ec.to_deg), ec.degree, free);
+  const EventSplineBasis basis = event_spline_basis(
+      law, deg_to_rad(ec.from_deg), ec.to_deg == 360.0 ? kTwoPi : deg_to_rad(ec.to_deg), ec.degree, free);
   return splice_event(law, basis, ec.control_points);
 }
 

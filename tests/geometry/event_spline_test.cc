@@ -92,8 +92,8 @@ TEST_P(EventSplice, IsContinuousAtTheJoinsUpToSecondOrThirdDerivative) {
     EXPECT_EQ(order, degree >= 4 ? 3 : 2);
     for (const auto& [join, outside] : {std::pair{from, -1.0}, std::pair{to, 1.0}}) {
       const LawSample in = spliced.eval(join + (outside < 0 ? 0.0 : -1e-12));  // the event's side
-      const LawSample near = spliced.eval(join + outside * 1e-7);             // the kept side
-      const double d = -outside * 1e-7;                                         // back to the join
+      const LawSample near = spliced.eval(join + outside * 1e-7);              // the kept side
+      const double d = -outside * 1e-7;                                        // back to the join
       const std::array<double, 4> kept = {near.s + d * near.ds + 0.5 * d * d * near.d2s,
                                           near.ds + d * near.d2s + 0.5 * d * d * near.d3s, near.d2s + d * near.d3s,
                                           near.d3s};
@@ -105,12 +105,11 @@ TEST_P(EventSplice, IsContinuousAtTheJoinsUpToSecondOrThirdDerivative) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Laws, EventSplice,
-    ::testing::Values(Base{"periodic_spline", Json("profiles/flat_tappet_valve_lift.json")},
-                      Base{"segments", Json("profiles/polynomial_4567.json")},
-                      Base{"harmonic_eccentric", Json("profiles/harmonic_eccentric.json")}),
-    [](const auto& param_info) { return param_info.param.name; });
+INSTANTIATE_TEST_SUITE_P(Laws, EventSplice,
+                         ::testing::Values(Base{"periodic_spline", Json("profiles/flat_tappet_valve_lift.json")},
+                                           Base{"segments", Json("profiles/polynomial_4567.json")},
+                                           Base{"harmonic_eccentric", Json("profiles/harmonic_eccentric.json")}),
+                         [](const auto& param_info) { return param_info.param.name; });
 
 TEST(EventSplineConfig, RoundTripsThroughJsonToTheSameLaw) {
   Json law = Json::parse(R"({"segments": [

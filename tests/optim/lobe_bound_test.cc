@@ -19,9 +19,7 @@
 namespace camdyn::optim {
 namespace {
 
-MotionLaw dwell_law() {
-  return MotionLaw({MotionLaw::Piece{0.0, 2.0 * std::numbers::pi, 0.0, 0.0, nullptr}});
-}
+MotionLaw dwell_law() { return MotionLaw({MotionLaw::Piece{0.0, 2.0 * std::numbers::pi, 0.0, 0.0, nullptr}}); }
 
 RigidFollower follower() {
   RigidFollower f;

@@ -97,8 +97,9 @@ TEST(LiftAreaDesign, HonoursEveryConstraintOnAFineGridIndependentlyOfTheProgramm
     worst_jerk = std::max(worst_jerk, std::abs(l.d3s));
     highest = std::max(highest, l.s);
   }
-  std::printf("worst margin %.4g N, smallest radius %.5g m, largest |s'| %.5g m/rad (limit %.5g), |s'''| %.4g, lift %.6g\n",
-              worst_margin, worst_rho, worst_face, face, worst_jerk, highest);
+  std::printf(
+      "worst margin %.4g N, smallest radius %.5g m, largest |s'| %.5g m/rad (limit %.5g), |s'''| %.4g, lift %.6g\n",
+      worst_margin, worst_rho, worst_face, face, worst_jerk, highest);
   EXPECT_GE(worst_margin, -1e-6 * f0);
   EXPECT_GE(worst_rho, *c.constraints.min_radius_of_curvature * (1 - 1e-6));
   EXPECT_LE(worst_face, face * (1 + 1e-6));
@@ -121,8 +122,8 @@ TEST(LiftAreaDesign, IsWithinOnePercentOfTheCertificate) {
   EXPECT_NEAR(area, a.design, 1e-9 * area);
   EXPECT_LE(area, a.bound * (1 + 1e-3));  // the bound is above any law, to its grid's O(h²)
   EXPECT_GE(area, 0.99 * a.bound);
-  std::printf("lift area %.6g m rad, certificate %.6g m rad (%.2f %%), baseline %.6g m rad; rigid stage %.3g s\n",
-              area, a.bound, 100 * area / a.bound, a.baseline, s.result.run_time_s);
+  std::printf("lift area %.6g m rad, certificate %.6g m rad (%.2f %%), baseline %.6g m rad; rigid stage %.3g s\n", area,
+              a.bound, 100 * area / a.bound, a.baseline, s.result.run_time_s);
 }
 
 /// A classical rise-return lobe of the valve's lift and duration (0-150 deg,
@@ -155,7 +156,8 @@ TEST(LiftAreaDesign, BeatsEveryClassicalLawThatIsJumpFreeAtTheRedLine) {
     double low = 1e300, rho = 1e300, v = 0.0;
     for (int i = 0; i <= 15000; ++i) {
       const LawSample l = lobe.eval(0.01 * i * kRad);
-      low = std::min(low, follower.mass * top * top * l.d2s + follower.spring.stiffness * l.s + follower.spring.preload);
+      low =
+          std::min(low, follower.mass * top * top * l.d2s + follower.spring.stiffness * l.s + follower.spring.preload);
       rho = std::min(rho, rb + l.s + l.d2s);
       v = std::max(v, std::abs(l.ds));
     }
