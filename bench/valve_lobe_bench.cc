@@ -72,7 +72,6 @@ void BM_ValveLobeCertificate(benchmark::State& state) {
   }
   state.counters["bound_mm_rad"] = 1e3 * b.area;
   state.counters["grid"] = b.grid;
-
 }
 BENCHMARK(BM_ValveLobeCertificate)->Unit(benchmark::kMillisecond)->UseRealTime();
 

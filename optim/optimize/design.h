@@ -2,7 +2,9 @@
 // the spline segments that replace the baseline's designed rise / return
 // segments (docs/config.md `motion_law` spline segments: the boundary control
 // points that keep s, s', s'' continuous with the neighbours are added by the
-// geometry code), plus optional segment end angles. Every variable has finite
+// geometry code), plus optional segment end angles; or, with design.event,
+// the free control points of one spline over a span of any baseline law
+// (geometry/event_spline.h). Every variable has finite
 // bounds, so NLopt's global algorithms can use them as they are.
 //
 // With `monotone` the control points of a segment are parametrised by

@@ -52,8 +52,6 @@ template <class A>
 void visit(A& a, DesignConfig& d) {
   a.field("segments", d.segments, non_empty(), one_of({"rise", "return"}));
   a.field("event", d.event);
-  a.require(!d.event || (!d.end_deg_range.rise && !d.end_deg_range.ret), "end_deg_range",
-            "an event design keeps its span fixed: leave end_deg_range out");
   a.field("control_points", d.control_points, at_least(1));
   // Each is a design variable of the search and its rigid-stage LP: beyond
   // a few dozen the law gains nothing a cam can be cut to, and 2e9 of them
@@ -68,6 +66,8 @@ void visit(A& a, DesignConfig& d) {
                 " free control points, got " + std::to_string(d.control_points));
   a.field("monotone", d.monotone);
   a.field("end_deg_range", d.end_deg_range);
+  a.require(!d.event || (!d.end_deg_range.rise && !d.end_deg_range.ret), "end_deg_range",
+            "an event design keeps its span fixed: leave end_deg_range out");
 }
 
 template <class A>

@@ -140,12 +140,6 @@ class SplineFamily {
       }
     }
   }
-  /// ∫ s dθ over the designed pieces of control points c, by the samples' trapezoid rule [m rad].
-  double sampled_area(const std::vector<double>& c) const {
-    double area = 0.0;
-    for (std::size_t i = 0; i < samples_.size(); ++i) area += area_weight_[i] * at(samples_[i], c)[0];
-    return area;
-  }
 
   int columns() const { return static_cast<int>(levels_.size()) * m_; }
   /// Column index of the margin t in margin_program's programmes.

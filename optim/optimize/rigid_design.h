@@ -7,7 +7,11 @@
 //    operating speeds at sample angles, subject to a monotone control polygon
 //    (design.monotone) and, for a translating roller or mushroom, the
 //    pressure-angle bound |s'| + |e| ≤ tan φ_max (y₀ + s), which is linear
-//    and, without offset, exact. The dynamic stage starts from it.
+//    and, without offset, exact. The dynamic stage starts from it. With
+//    objective.lift_area it maximises ∫ s dθ instead, keeping P ≥ P_min at
+//    every speed up to the top one, the lift cap, a flat face's |s'| and
+//    r_b + s + s'' ≥ ρ_min as rows, and reports the area's certificate
+//    (optim/optimize/lobe_bound.h; docs/optimize.md "Lift area").
 //  * The certificate: (a) the highest jump-free speed ANY law with these
 //    lifts, durations, follower and spring reaches; (b) the highest the
 //    spline family reaches under the same linear constraints, and which
