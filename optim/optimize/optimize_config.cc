@@ -151,4 +151,33 @@ OptimizeStudyConfig optimize_config_from_json(const Json& study_part, const Conf
 
 Json to_json(const OptimizeStudyConfig& config) { return JsonWriter::write(config); }
 
+void resolve_segment_groups(Json& study_part, const MotionLawConfig& baseline_law, const ConfigSource& source) {
+  const auto design = study_part.find("design");
+  if (design == study_part.end() || !design->is_object()) return;
+  const auto segments = design->find("segments");
+  if (segments == design->end() || !segments->is_array() || segments->empty() || !segments->front().is_array()) return;
+  const std::string at = "design.segments";
+  if (segments->size() != 1 || design->contains("event"))
+    throw InputError(source.file, at, "give one group of segments to design as one curve (or design.event)");
+  std::vector<std::string> group;
+  for (const Json& t : segments->front()) {
+    if (!t.is_string()) throw InputError(source.file, at + "[0]", "expected segment types, got " + describe_json(t));
+    group.push_back(t.get<std::string>());
+  }
+  const std::vector<SegmentConfig>& segs = baseline_law.segments;
+  if (segs.empty() || group.empty())
+    throw InputError(source.file, at,
+                     "a group of segments needs the baseline motion law as 'segments' (or give design.event)");
+  for (std::size_t i = 0; i + group.size() <= segs.size(); ++i) {
+    bool match = true;
+    for (std::size_t k = 0; k < group.size() && match; ++k) match = to_string(segs[i + k].type) == group[k];
+    if (!match) continue;
+    (*design)["event"] =
+        Json{{"from_deg", i == 0 ? 0.0 : segs[i - 1].end_deg}, {"to_deg", segs[i + group.size() - 1].end_deg}};
+    design->erase("segments");
+    return;
+  }
+  throw InputError(source.file, at, "the baseline motion law has no consecutive segments " + segments->front().dump());
+}
+
 }  // namespace camdyn::optim

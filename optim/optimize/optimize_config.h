@@ -162,4 +162,12 @@ OptimizeStudyConfig optimize_config_from_json(const Json& study_part, const Conf
 /// Every field, defaults included.
 Json to_json(const OptimizeStudyConfig& config);
 
+/// `design.segments` given as groups (`[["rise", "return"]]`: a run of
+/// consecutive segments of the baseline designed as one curve) rewritten as
+/// the equivalent `design.event` from the start of the run's first segment
+/// to the end of its last, in `study_part`; InputError naming
+/// `design.segments` when the baseline has no such run or is not segmented.
+/// A plain list of types is left as it is.
+void resolve_segment_groups(Json& study_part, const MotionLawConfig& baseline_law, const ConfigSource& source);
+
 }  // namespace camdyn::optim

@@ -29,8 +29,9 @@ OptimizeStudy jump_study(std::vector<std::string> overrides) {
 // optimize_jump.json's baseline: 3-4-5 rise 0-120, dwell, return 180-300,
 // dwell. The event covers rise, dwell and return as one curve.
 TEST(DesignEvent, StartsFromTheBaselineAndKeepsTheRestBitForBit) {
-  const OptimizeStudy s = jump_study({"design={\"event\": {\"from_deg\": 0, \"to_deg\": 300}, \"control_points\": 30, "
-                                      "\"degree\": 5, \"monotone\": false}"});
+  const OptimizeStudy s =
+      jump_study({"design={\"event\": {\"from_deg\": 0, \"to_deg\": 300}, \"control_points\": 30, "
+                  "\"degree\": 5, \"monotone\": false}"});
   const DesignSpace space(s.baseline, s.config.design, kFile);
   ASSERT_TRUE(space.is_event());
   EXPECT_EQ(space.dimension(), 30);
@@ -52,8 +53,9 @@ TEST(DesignEvent, HasAFreeNoseWhereARiseRunsIntoTheReturn) {
   // lift at the top need not stop: the control points here make a lobe whose
   // acceleration at its peak is well below zero, which segment boundaries
   // (s' = s'' = 0) forbid.
-  const OptimizeStudy s = jump_study({"design={\"event\": {\"from_deg\": 0, \"to_deg\": 300}, \"control_points\": 8, "
-                                      "\"degree\": 5, \"monotone\": false}"});
+  const OptimizeStudy s =
+      jump_study({"design={\"event\": {\"from_deg\": 0, \"to_deg\": 300}, \"control_points\": 8, "
+                  "\"degree\": 5, \"monotone\": false}"});
   const DesignSpace space(s.baseline, s.config.design, kFile);
   std::vector<double> c;
   for (int j = 0; j < 8; ++j) c.push_back(std::sin(std::numbers::pi * (j + 1) / 9.0));
@@ -78,6 +80,21 @@ TEST(DesignEvent, ConfigRefusesEndAngleRangesAndSpansOutOfOrder) {
     FAIL() << "accepted an event that ends before it starts";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("design.event.to_deg"), std::string::npos) << e.what();
+  }
+}
+
+// `design.segments: [["rise", "dwell", "return"]]` is the event from the
+// start of the rise to the end of the return.
+TEST(DesignEvent, AGroupOfSegmentsIsTheEventOverThem) {
+  const OptimizeStudy s = jump_study({"design.segments=[[\"rise\", \"dwell\", \"return\"]]", "design.monotone=false"});
+  ASSERT_TRUE(s.config.design.event.has_value());
+  EXPECT_EQ(s.config.design.event->from_deg, 0.0);
+  EXPECT_EQ(s.config.design.event->to_deg, 300.0);
+  try {
+    jump_study({"design.segments=[[\"return\", \"rise\"]]"});
+    FAIL() << "accepted a group the baseline does not have";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("design.segments"), std::string::npos) << e.what();
   }
 }
 
