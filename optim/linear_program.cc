@@ -81,6 +81,19 @@ int LinearProgram::add_row(const std::vector<std::pair<int, double>>& terms, dou
 
 void LinearProgram::set_cost(int column, double cost) { cost_.at(static_cast<std::size_t>(column)) = cost; }
 
+void LinearProgram::equilibrate_rows() {
+  std::vector<double> largest(row_lower_.size(), 0.0);
+  for (std::size_t k = 0; k < t_val_.size(); ++k)
+    largest[static_cast<std::size_t>(t_row_[k])] =
+        std::max(largest[static_cast<std::size_t>(t_row_[k])], std::abs(t_val_[k]));
+  for (std::size_t k = 0; k < t_val_.size(); ++k) t_val_[k] /= largest[static_cast<std::size_t>(t_row_[k])];
+  for (std::size_t r = 0; r < largest.size(); ++r) {
+    if (largest[r] == 0.0) continue;
+    row_lower_[r] /= largest[r];  // ±inf stays infinite
+    row_upper_[r] /= largest[r];
+  }
+}
+
 const char* to_string(LpStatus status) {
   switch (status) {
     case LpStatus::optimal:

@@ -34,6 +34,13 @@ class LinearProgram {
   /// Changes the objective coefficient of column `column`.
   void set_cost(int column, double cost);
 
+  /// Divides every row (coefficients and bounds) by its largest |coefficient|,
+  /// so rows whose coefficients span many decades (finite differences of
+  /// third order, m ω² s'') are checked against the same relative tolerance.
+  /// The feasible set and the optimum are unchanged; row activities are then
+  /// of the scaled rows.
+  void equilibrate_rows();
+
   int columns() const { return static_cast<int>(col_lower_.size()); }
   int rows() const { return static_cast<int>(row_lower_.size()); }
 

@@ -4,10 +4,12 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numbers>
 #include <utility>
 
 #include "common/errors.h"
 #include "geometry/bspline.h"
+#include "geometry/event_spline.h"
 #include "geometry/motion_law.h"
 #include "io/json_archive.h"
 
@@ -114,8 +116,19 @@ FitQuality measure_fit(const MotionLaw& base_law, const MotionLaw& fitted, const
 
 }  // namespace
 
+struct DesignSpace::Event {
+  MotionLawConfig base_config;  ///< the baseline's law, without an event of the same span
+  EventSplineBasis basis;
+  double scale = 1.0;     ///< the baseline's lift h: variables are control points / h [m]
+  std::size_t piece = 0;  ///< the event's piece in the built law
+};
+
 DesignSpace::DesignSpace(const SceneConfig& baseline, const DesignConfig& config, const std::string& file)
     : baseline_(baseline), config_(config), file_(file) {
+  if (config.event) {
+    make_event(baseline);
+    return;
+  }
   const std::vector<SegmentConfig>& segs = baseline.mechanism.cam.motion_law.segments;
   if (segs.empty())
     throw InputError(file, "mechanism.cam.motion_law",
@@ -278,6 +291,7 @@ std::vector<double> DesignSpace::upper() const {
 }
 
 std::vector<std::size_t> DesignSpace::designed_segments() const {
+  if (event_) return {event_->piece};
   std::vector<std::size_t> v;
   for (const Designed& d : designed_) v.push_back(d.index);
   return v;
@@ -325,6 +339,7 @@ std::vector<double> DesignSpace::control_points(const Designed& d, const Levels&
 }
 
 std::vector<std::pair<double, double>> DesignSpace::control_point_levels() const {
+  if (event_) return {{0.0, 1.0}};
   const std::vector<Levels> lv = levels_vary_ ? levels(skeleton(initial_)) : fixed_levels_;
   std::vector<std::pair<double, double>> out;
   for (const Levels& l : lv) out.emplace_back(l.low, l.high);
@@ -332,6 +347,11 @@ std::vector<std::pair<double, double>> DesignSpace::control_point_levels() const
 }
 
 SceneConfig DesignSpace::scene_with_control_points(const std::vector<double>& c) const {
+  if (event_) {
+    std::vector<double> metres(c.size());
+    for (std::size_t j = 0; j < c.size(); ++j) metres[j] = c[j] * event_->scale;
+    return event_scene(metres);
+  }
   SceneConfig scene = skeleton(initial_);
   std::vector<SegmentConfig>& segs = scene.mechanism.cam.motion_law.segments;
   const auto m = static_cast<std::size_t>(config_.control_points);
@@ -342,6 +362,11 @@ SceneConfig DesignSpace::scene_with_control_points(const std::vector<double>& c)
 }
 
 std::vector<double> DesignSpace::design_from_control_points(const std::vector<double>& c) const {
+  if (event_) {
+    std::vector<double> x(c.size());
+    for (std::size_t j = 0; j < c.size(); ++j) x[j] = std::clamp(c[j], variables_[j].lower, variables_[j].upper);
+    return x;
+  }
   const std::vector<Levels> lv = levels_vary_ ? levels(skeleton(initial_)) : fixed_levels_;
   std::vector<double> x = initial_;
   const auto m = static_cast<std::size_t>(config_.control_points);
@@ -354,6 +379,11 @@ std::vector<double> DesignSpace::design_from_control_points(const std::vector<do
 }
 
 SceneConfig DesignSpace::scene(const std::vector<double>& x) const {
+  if (event_) {
+    std::vector<double> c(x.size());
+    for (std::size_t j = 0; j < x.size(); ++j) c[j] = x[j] * event_->scale;
+    return event_scene(c);
+  }
   SceneConfig scene = skeleton(x);
   const std::vector<Levels> lv = levels_vary_ ? levels(scene) : fixed_levels_;
   std::vector<SegmentConfig>& segs = scene.mechanism.cam.motion_law.segments;
@@ -361,5 +391,119 @@ SceneConfig DesignSpace::scene(const std::vector<double>& x) const {
     segs[designed_[k].index].control_points = control_points(designed_[k], lv[k], x);
   return scene;
 }
+
+// ---------------------------------------------------------------- event design
+
+namespace {
+
+constexpr double kDegToRad = std::numbers::pi / 180.0;
+
+/// Least-squares free control points of `basis` so that the event spline
+/// follows `target` on the span in value, slope and curvature (each order
+/// weighted by the inverse of its peak).
+std::vector<double> fit_event(const MotionLaw& target, const EventSplineBasis& basis) {
+  const int m = basis.free, p = basis.degree, n = basis.count();
+  const double beta = basis.span();
+  const std::vector<double> fixed = basis.coefficients(std::vector<double>(static_cast<std::size_t>(m), 0.0));
+  const ClampedBSpline f0(p, basis.knots, fixed);
+  std::array<double, 3> peak{1e-300, 1e-300, 1e-300};
+  std::vector<std::array<double, 3>> t(kFitSamples);
+  for (int i = 0; i < kFitSamples; ++i) {
+    const double xi = static_cast<double>(i) / (kFitSamples - 1);
+    const LawSample s = target.eval(basis.from + xi * beta);
+    t[i] = {s.s, s.ds * beta, s.d2s * beta * beta};  // in x = (θ − from) / β
+    for (int k = 0; k < 3; ++k) peak[k] = std::max(peak[k], std::abs(t[i][k]));
+  }
+  constexpr Eigen::Index kRows = 3 * Eigen::Index{kFitSamples};
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(kRows, m);
+  Eigen::VectorXd b(kRows);
+  for (int i = 0; i < kFitSamples; ++i) {
+    const double xi = static_cast<double>(i) / (kFitSamples - 1);
+    const int span = find_span(n, p, xi, basis.knots);
+    const BasisDerivatives bd = basis_derivatives(span, xi, p, basis.knots);
+    const Derivatives3 z = f0.eval(xi);
+    for (int order = 0; order < 3; ++order) {
+      const int row = 3 * i + order;
+      const double w = 1.0 / peak[order];
+      b(row) = w * (t[i][order] - z[order]);
+      for (int r = 0; r <= p; ++r) {
+        const int j = span - p + r - basis.first_free();
+        if (j >= 0 && j < m) a(row, j) = w * bd.ders[order][r];
+      }
+    }
+  }
+  const Eigen::VectorXd c = a.colPivHouseholderQr().solve(b);
+  return {c.data(), c.data() + c.size()};
+}
+
+}  // namespace
+
+void DesignSpace::make_event(const SceneConfig& baseline) {
+  const DesignEventConfig& ev = *config_.event;
+  const std::string at = "design.event";
+  const MotionLawConfig& law_config = baseline.mechanism.cam.motion_law;
+  if (law_config.contour)
+    throw InputError(file_, "mechanism.cam.motion_law",
+                     "an event design needs the baseline as a motion law (segments, spline or table), not a contour");
+  auto e = std::make_shared<Event>();
+  e->base_config = law_config;
+  e->base_config.source.clear();
+  if (law_config.event) {
+    if (law_config.event->from_deg != ev.from_deg || law_config.event->to_deg != ev.to_deg)
+      throw InputError(file_, at,
+                       "the baseline law already has an event over a different span (" +
+                           format_shortest(law_config.event->from_deg) + " to " +
+                           format_shortest(law_config.event->to_deg) + " deg)");
+    e->base_config.event.reset();  // the same span: designed anew over the same kept law
+  }
+  const MotionLaw base = build_motion_law(e->base_config, file_);
+  const int order = event_join_order(config_.degree);
+  if (config_.control_points + 2 * (order + 1) < config_.degree + 1)
+    throw InputError(file_, "design.control_points",
+                     "too few for a degree-" + std::to_string(config_.degree) + " event spline");
+  const double to = ev.to_deg == 360.0 ? 2.0 * std::numbers::pi : ev.to_deg * kDegToRad;
+  e->basis = event_spline_basis(base, ev.from_deg * kDegToRad, to, config_.degree, config_.control_points);
+  e->scale = std::max(base.max_s() - base.min_s(), 1e-9);
+  const std::vector<double> fitted = fit_event(base, e->basis);
+  const MotionLaw fitted_law = splice_event(base, e->basis, fitted);
+  e->piece = event_piece_index(fitted_law, e->basis);
+  event_ = e;
+  for (int j = 0; j < config_.control_points; ++j)
+    variables_.push_back({"event.control_points[" + std::to_string(j) + "]", -0.5, 1.5});
+  std::vector<double> normalised(fitted.size());
+  for (std::size_t j = 0; j < fitted.size(); ++j) normalised[j] = fitted[j] / e->scale;
+  initial_ = design_from_control_points(normalised);
+  // How well the fit reproduces the baseline over the event.
+  double peak_acc = 1e-300;
+  for (int i = 0; i < kFitSamples; ++i) {
+    const double th = e->basis.from + e->basis.span() * i / (kFitSamples - 1.0);
+    const LawSample a = base.eval(th), b = fitted_law.eval(th);
+    peak_acc = std::max(peak_acc, std::abs(a.d2s));
+    fit_.max_lift_error = std::max(fit_.max_lift_error, std::abs(a.s - b.s) / e->scale);
+    fit_.max_acceleration_error = std::max(fit_.max_acceleration_error, std::abs(a.d2s - b.d2s));
+  }
+  fit_.max_acceleration_error /= peak_acc;
+}
+
+SceneConfig DesignSpace::event_scene(const std::vector<double>& c) const {
+  SceneConfig scene = baseline_;
+  MotionLawConfig& law = scene.mechanism.cam.motion_law;
+  law = event_->base_config;
+  EventSplineConfig ev;
+  ev.from_deg = config_.event->from_deg;
+  ev.to_deg = config_.event->to_deg;
+  ev.degree = config_.degree;
+  ev.control_points = c;
+  law.event = ev;
+  return scene;
+}
+
+const EventSplineBasis& DesignSpace::event_basis() const { return event_->basis; }
+
+double DesignSpace::event_scale() const { return event_->scale; }
+
+int DesignSpace::free_offset() const { return event_ ? event_->basis.first_free() : 3; }
+
+int DesignSpace::spline_size() const { return event_ ? event_->basis.count() : config_.control_points + 6; }
 
 }  // namespace camdyn::optim

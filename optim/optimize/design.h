@@ -2,7 +2,9 @@
 // the spline segments that replace the baseline's designed rise / return
 // segments (docs/config.md `motion_law` spline segments: the boundary control
 // points that keep s, s', s'' continuous with the neighbours are added by the
-// geometry code), plus optional segment end angles. Every variable has finite
+// geometry code), plus optional segment end angles; or, with design.event,
+// the free control points of one spline over a span of any baseline law
+// (geometry/event_spline.h). Every variable has finite
 // bounds, so NLopt's global algorithms can use them as they are.
 //
 // With `monotone` the control points of a segment are parametrised by
@@ -14,12 +16,17 @@
 #pragma once
 
 #include <cstddef>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "io/config.h"
 #include "optim/optimize/optimize_config.h"
+
+namespace camdyn {
+struct EventSplineBasis;
+}
 
 namespace camdyn::optim {
 
@@ -57,15 +64,30 @@ class DesignSpace {
   /// segments of design `x` (dimension() values within the bounds).
   SceneConfig scene(const std::vector<double>& x) const;
 
-  /// Indices (into motion_law.segments) of the designed segments.
+  /// Indices (into motion_law.segments) of the designed segments; for an
+  /// event design, the index of the event's piece in the built law.
   std::vector<std::size_t> designed_segments() const;
+
+  // An event design (design.event): one spline over [from, to] of any
+  // baseline law (geometry/event_spline.h); its variables, and its raw
+  // control points as well, are the free control points divided by the
+  // baseline's lift event_scale() (the config holds them in metres).
+  bool is_event() const { return event_ != nullptr; }
+  /// The baseline's lift h [m] (is_event() only).
+  double event_scale() const;
+  /// The event's spline basis (is_event() only).
+  const EventSplineBasis& event_basis() const;
+  /// Index of the first free control point among the spline's coefficients
+  /// (3 for a segment; the join order + 1 for an event), and their number.
+  int free_offset() const;
+  int spline_size() const;
 
   // The raw control points: the free control points c of every designed
   // segment (control_points per segment, in segment order; normalised lift),
   // with the end angles at their baseline values. The lift is affine in c,
   // which the rigid-model stage (optim/optimize/rigid_design.h) uses.
 
-  int control_point_count() const { return config_.control_points * static_cast<int>(designed_.size()); }
+  int control_point_count() const { return config_.control_points * (event_ ? 1 : static_cast<int>(designed_.size())); }
   /// Levels (c_2, c_{n−3}) of each designed segment: with `monotone` its free
   /// control points lie ordered between them.
   std::vector<std::pair<double, double>> control_point_levels() const;
@@ -114,6 +136,12 @@ class DesignSpace {
   void set_initial_control_points(const Designed& d, const Levels& lv, const std::vector<double>& c,
                                   std::vector<double>& x) const;
 
+  struct Event;
+  /// The event design's construction (called by the constructor).
+  void make_event(const SceneConfig& baseline);
+  SceneConfig event_scene(const std::vector<double>& c) const;
+
+  std::shared_ptr<const Event> event_;
   SceneConfig baseline_;
   DesignConfig config_;
   std::string file_;

@@ -12,8 +12,9 @@ LawKinematics law_kinematics(const MotionLaw& law, const std::vector<SegmentConf
   for (std::size_t i = 0; i < pieces.size(); ++i) {
     const MotionLaw::Piece& pc = pieces[i];
     if (!pc.shape) continue;  // a dwell
-    const double beta = pc.end - pc.start;
-    const ShapePeaks peaks = shape_peaks(*pc.shape, samples);  // of the normalised shape's derivatives
+    const double beta = pc.shape_length();
+    const ShapePeaks peaks =
+        shape_peaks(*pc.shape, samples, pc.x_begin(), pc.x_end());  // of the normalised shape's derivatives
     const double f1 = peaks.d1, f2 = peaks.d2, f3 = peaks.d3;
     const double h = std::abs(pc.lift);
     k.peak_velocity = std::max(k.peak_velocity, h * f1 / beta);

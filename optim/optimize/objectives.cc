@@ -13,6 +13,7 @@
 #include "dynamics/model.h"
 #include "geometry/cam_synthesis.h"
 #include "geometry/motion_law.h"
+#include "optim/optimize/lobe_bound.h"
 #include "output/report.h"
 #include "study/simulation_output.h"
 
@@ -80,7 +81,7 @@ SceneConfig DesignEvaluator::at_speed(const SceneConfig& scene, double rpm, cons
 double DesignEvaluator::invalid_objective() const {
   const ObjectiveConfig& o = config_.objective;
   const double weights =
-      o.separation + o.peak_contact_force + o.contact_force_margin + o.peak_acceleration + o.peak_jerk;
+      o.separation + o.peak_contact_force + o.contact_force_margin + o.peak_acceleration + o.peak_jerk + o.lift_area;
   return 1000.0 * weights;
 }
 
@@ -96,6 +97,10 @@ DesignEvaluation DesignEvaluator::evaluate(const SceneConfig& scene, const Evalu
   try {
     geometry = build_cam_geometry(e.scene, file_);
     e.kinematics = law_kinematics(*geometry->law, scene.mechanism.cam.motion_law.segments);
+    const std::optional<DesignEventConfig>& ev = config_.design.event;
+    constexpr double kRad = std::numbers::pi / 180.0;
+    e.lift_area = ev ? optim::lift_area(*geometry->law, ev->from_deg * kRad, ev->to_deg * kRad)
+                     : optim::lift_area(*geometry->law, 0.0, 2.0 * std::numbers::pi);
     e.geometry = geometry->geometry;
     e.valid = true;
   } catch (const InputError& err) {
@@ -199,6 +204,9 @@ void DesignEvaluator::score(DesignEvaluation& e) const {
        e.kinematics.peak_acceleration / norm_.acceleration, units.per_cam_radian(2, true));
   term("peak_jerk", o.peak_jerk, e.kinematics.peak_jerk, e.kinematics.peak_jerk / norm_.jerk,
        units.per_cam_radian(3, true));
+  // Maximised: baseline area / area, 1 for the baseline, smaller for more area.
+  term("lift_area", o.lift_area, e.lift_area, norm_.lift_area / std::max(e.lift_area, 1e-6 * norm_.lift_area),
+       std::string(units.position) + " rad");
 
   e.feasible = true;
   for (std::size_t i = 0; i < constraints_.size(); ++i) {
@@ -268,6 +276,7 @@ Normalisation DesignEvaluator::normalisation_from(const DesignEvaluation& baseli
   n.mean_gap = std::max(aggregate(gap, true), kMeanGapFloor * lift);
   n.acceleration = baseline.kinematics.peak_acceleration > 0.0 ? baseline.kinematics.peak_acceleration : 1.0;
   n.jerk = baseline.kinematics.peak_jerk > 0.0 ? baseline.kinematics.peak_jerk : 1.0;
+  n.lift_area = baseline.lift_area > 0.0 ? baseline.lift_area : 1.0;
   return n;
 }
 

@@ -76,6 +76,8 @@ struct DesignEvaluation {
   std::string error;  ///< why the design is invalid
   SceneConfig scene;  ///< as evaluated (simulation settings of the evaluation, rpm of the top speed)
   LawKinematics kinematics;
+  /// ∫ s dθ over the designed event (the whole turn for a segment design) [m rad]
+  double lift_area = 0.0;
   CamGeometryReport geometry;
   /// Highest rigid-model Hertz pressure over the operating speeds [Pa]
   /// (only with constraints.max_contact_stress), at `contact_stress_rpm`.
@@ -95,6 +97,7 @@ struct Normalisation {
   double mean_gap = 1.0;      ///< [m]
   double acceleration = 1.0;  ///< [m/rad²]
   double jerk = 1.0;          ///< [m/rad³]
+  double lift_area = 1.0;     ///< [m rad]
 };
 
 class DesignEvaluator {

@@ -303,6 +303,7 @@ OptimizeStudy read_optimize_study(const Json& doc, const ConfigSource& source) {
   Json part;
   OptimizeStudy s;
   s.baseline = scene_from_study_json(with_default_rpm(doc), source, optimize_study_keys(), part);
+  resolve_segment_groups(part, s.baseline.mechanism.cam.motion_law, source);  // [["rise", "return"]]: design.event
   s.config = optimize_config_from_json(part, source);
   return s;
 }

@@ -42,8 +42,16 @@ void visit(A& a, EndAngleRanges& r) {
 }
 
 template <class A>
+void visit(A& a, DesignEventConfig& e) {
+  a.field("from_deg", e.from_deg, closed_open(0, 360));
+  a.field("to_deg", e.to_deg, open_closed(0, 360));
+  a.require(e.to_deg > e.from_deg, "to_deg", "must be greater than from_deg (an event does not wrap past 360 deg)");
+}
+
+template <class A>
 void visit(A& a, DesignConfig& d) {
   a.field("segments", d.segments, non_empty(), one_of({"rise", "return"}));
+  a.field("event", d.event);
   a.field("control_points", d.control_points, at_least(1));
   // Each is a design variable of the search and its rigid-stage LP: beyond
   // a few dozen the law gains nothing a cam can be cut to, and 2e9 of them
@@ -58,6 +66,8 @@ void visit(A& a, DesignConfig& d) {
                 " free control points, got " + std::to_string(d.control_points));
   a.field("monotone", d.monotone);
   a.field("end_deg_range", d.end_deg_range);
+  a.require(!d.event || (!d.end_deg_range.rise && !d.end_deg_range.ret), "end_deg_range",
+            "an event design keeps its span fixed: leave end_deg_range out");
 }
 
 template <class A>
@@ -67,8 +77,10 @@ void visit(A& a, ObjectiveConfig& o) {
   a.field("contact_force_margin", o.contact_force_margin, non_negative());
   a.field("peak_acceleration", o.peak_acceleration, non_negative());
   a.field("peak_jerk", o.peak_jerk, non_negative());
+  a.field("lift_area", o.lift_area, non_negative());
   a.field("aggregate", o.aggregate, one_of({"worst", "mean"}));
-  const double total = o.separation + o.peak_contact_force + o.contact_force_margin + o.peak_acceleration + o.peak_jerk;
+  const double total =
+      o.separation + o.peak_contact_force + o.contact_force_margin + o.peak_acceleration + o.peak_jerk + o.lift_area;
   a.require(total > 0.0, "", "every weight is 0: give at least one term a positive weight");
 }
 
@@ -83,6 +95,8 @@ void visit(A& a, ConstraintsConfig& c) {
   a.field("no_separation", c.no_separation);
   a.field("max_peak_jerk", c.max_peak_jerk, positive());
   a.field("max_contact_stress", c.max_contact_stress, positive());
+  a.field("max_lift", c.max_lift, positive());
+  a.field("face_edge_margin", c.face_edge_margin, non_negative());
 }
 
 template <class A>
@@ -136,5 +150,34 @@ OptimizeStudyConfig optimize_config_from_json(const Json& study_part, const Conf
 }
 
 Json to_json(const OptimizeStudyConfig& config) { return JsonWriter::write(config); }
+
+void resolve_segment_groups(Json& study_part, const MotionLawConfig& baseline_law, const ConfigSource& source) {
+  const auto design = study_part.find("design");
+  if (design == study_part.end() || !design->is_object()) return;
+  const auto segments = design->find("segments");
+  if (segments == design->end() || !segments->is_array() || segments->empty() || !segments->front().is_array()) return;
+  const std::string at = "design.segments";
+  if (segments->size() != 1 || design->contains("event"))
+    throw InputError(source.file, at, "give one group of segments to design as one curve (or design.event)");
+  std::vector<std::string> group;
+  for (const Json& t : segments->front()) {
+    if (!t.is_string()) throw InputError(source.file, at + "[0]", "expected segment types, got " + describe_json(t));
+    group.push_back(t.get<std::string>());
+  }
+  const std::vector<SegmentConfig>& segs = baseline_law.segments;
+  if (segs.empty() || group.empty())
+    throw InputError(source.file, at,
+                     "a group of segments needs the baseline motion law as 'segments' (or give design.event)");
+  for (std::size_t i = 0; i + group.size() <= segs.size(); ++i) {
+    bool match = true;
+    for (std::size_t k = 0; k < group.size() && match; ++k) match = to_string(segs[i + k].type) == group[k];
+    if (!match) continue;
+    (*design)["event"] =
+        Json{{"from_deg", i == 0 ? 0.0 : segs[i - 1].end_deg}, {"to_deg", segs[i + group.size() - 1].end_deg}};
+    design->erase("segments");
+    return;
+  }
+  throw InputError(source.file, at, "the baseline motion law has no consecutive segments " + segments->front().dump());
+}
 
 }  // namespace camdyn::optim

@@ -26,6 +26,16 @@ struct EndAngleRanges {
 /// The most free control points `design.control_points` takes per segment.
 inline constexpr int kMaxDesignControlPoints = 100;
 
+/// `design.event`: one spline over the cam angles [from_deg, to_deg] of any
+/// baseline law, nose free; the rest of the law kept bit for bit
+/// (geometry/event_spline.h).
+struct DesignEventConfig {
+  double from_deg = 0.0;  ///< [deg], in [0, 360)
+  double to_deg = 0.0;    ///< [deg], in (from_deg, 360]
+
+  bool operator==(const DesignEventConfig&) const = default;
+};
+
 struct DesignConfig {
   std::vector<SegmentType> segments = {SegmentType::rise, SegmentType::return_};  ///< segment types designed
   int control_points = 6;  ///< free interior control points per designed segment (6 boundary ones are added)
@@ -35,6 +45,9 @@ struct DesignConfig {
   /// monotone control polygon is monotone).
   bool monotone = true;
   EndAngleRanges end_deg_range;  ///< optional end angles as extra variables
+  /// Instead of segments: the event as one curve (control_points free ones
+  /// over the whole span; monotone does not apply).
+  std::optional<DesignEventConfig> event;
 
   bool operator==(const DesignConfig&) const = default;
 };
@@ -46,7 +59,11 @@ struct ObjectiveConfig {
   double contact_force_margin = 0.0;  ///< smallest contact force (maximised; negative while separating)
   double peak_acceleration = 0.0;     ///< kinematic max |d²s/dθ²|
   double peak_jerk = 0.0;             ///< kinematic max |d³s/dθ³|
-  std::string aggregate = "worst";    ///< over the operating speeds: "worst" or "mean"
+  /// ∫ s dθ over the designed event (the whole turn for a segment design),
+  /// maximised: the term is baseline area / area. The rigid stage maximises
+  /// it by LP (docs/optimize.md "Lift area").
+  double lift_area = 0.0;
+  std::string aggregate = "worst";  ///< over the operating speeds: "worst" or "mean"
 
   bool operator==(const ObjectiveConfig&) const = default;
 };
@@ -62,6 +79,12 @@ struct ConstraintsConfig {
   /// Hertz line-contact pressure of the rigid-model contact force at every
   /// operating speed [Pa] (dynamics/contact_stress.h; needs the contact's materials and width)
   std::optional<double> max_contact_stress;
+  /// Highest lift of the designed event [m] (lift_area: the valve lift the
+  /// lobe may reach; default the baseline's highest lift).
+  std::optional<double> max_lift;
+  /// A flat face's contact stays this far inside the face's edge [m]:
+  /// |s'| ≤ face_width / 2 − margin (flat follower only).
+  std::optional<double> face_edge_margin;
 
   bool operator==(const ConstraintsConfig&) const = default;
 };
@@ -138,5 +161,13 @@ OptimizeStudyConfig optimize_config_from_json(const Json& study_part, const Conf
 
 /// Every field, defaults included.
 Json to_json(const OptimizeStudyConfig& config);
+
+/// `design.segments` given as groups (`[["rise", "return"]]`: a run of
+/// consecutive segments of the baseline designed as one curve) rewritten as
+/// the equivalent `design.event` from the start of the run's first segment
+/// to the end of its last, in `study_part`; InputError naming
+/// `design.segments` when the baseline has no such run or is not segmented.
+/// A plain list of types is left as it is.
+void resolve_segment_groups(Json& study_part, const MotionLawConfig& baseline_law, const ConfigSource& source);
 
 }  // namespace camdyn::optim

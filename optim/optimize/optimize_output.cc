@@ -109,6 +109,19 @@ Json steady_state_check_json(const SteadyStateCheck& c) {
               {"notes", c.notes}};
 }
 
+/// The lift-area certificate (docs/optimize.md "Lift area").
+Json lift_area_json(const LiftAreaCertificate& c) {
+  Json j{{"available", c.available},   {"unit", "m rad"}, {"design", c.design}, {"baseline", c.baseline},
+         {"speeds_rpm", c.speeds_rpm}, {"grid", c.grid}};
+  if (!c.available) {
+    j["reason"] = c.reason;
+    return j;
+  }
+  j["bound"] = c.bound;
+  j["design_share_of_bound"] = c.bound > 0.0 ? c.design / c.bound : 0.0;
+  return j;
+}
+
 Json rigid_json(const RigidStageResult& r, bool enabled) {
   const Certificate& c = r.certificate;
   Json j = Json::object();
@@ -130,6 +143,7 @@ Json rigid_json(const RigidStageResult& r, bool enabled) {
                           {"baseline_jump_free_rpm", finite_or_null(c.baseline_rpm)},
                           {"all_feasible", c.all_feasible()},
                           {"speeds", speeds}};
+  if (c.lift_area.available || !c.lift_area.reason.empty()) j["certificate"]["lift_area"] = lift_area_json(c.lift_area);
   const RigidDesign& d = r.design;
   Json dj{{"made", d.have}};
   if (d.have) {

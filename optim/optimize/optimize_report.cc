@@ -86,6 +86,12 @@ std::vector<std::pair<std::string, std::string>> answer_facts(const OptimizeOutc
     verdict +=
         (verdict.empty() ? "" : "; ") + format_number(s.rpm) + " rpm " + (s.feasible ? "feasible" : "INFEASIBLE");
   facts.emplace_back("operating speeds", verdict);
+  if (const LiftAreaCertificate& a = c.lift_area; a.available)
+    facts.emplace_back("lift area (rigid design, over the event)",
+                       format_number(1e3 * a.design, 6) + " mm·rad, " + format_number(100.0 * a.design / a.bound, 4) +
+                           " % of the most any law can have under the same constraints (" +
+                           format_number(1e3 * a.bound, 6) + " mm·rad); baseline " +
+                           format_number(1e3 * a.baseline, 6) + " mm·rad");
   return facts;
 }
 

@@ -37,6 +37,13 @@ void print_certificate(const OptimizeOutcome& o) {
       std::printf("  %6g rpm: INFEASIBLE, above the family's bound %.5g rpm (any law: %.5g rpm)%s\n", s.rpm,
                   c.family_rpm, c.any_law_rpm, held.c_str());
   }
+  if (const LiftAreaCertificate& a = c.lift_area; a.available)
+    std::printf(
+        "  lift area (rigid design, over the event): %.6g m rad, %.2f %% of the most any law can have under "
+        "the same constraints (%.6g m rad); baseline %.6g m rad\n",
+        a.design, 100.0 * a.design / a.bound, a.bound, a.baseline);
+  else if (!a.reason.empty())
+    std::printf("  lift-area certificate not available: %s\n", a.reason.c_str());
   if (o.rigid.design.have)
     std::printf("  rigid design: jump-free to %.5g rpm, start of the dynamic stage (%d LPs, %.3g s)\n",
                 o.rigid.design.jump_free_rpm, o.rigid.lp_solves, o.rigid.run_time_s);

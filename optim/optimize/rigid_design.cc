@@ -12,9 +12,11 @@
 #include "dynamics/coordinate_units.h"
 #include "dynamics/model.h"
 #include "geometry/bspline.h"
+#include "geometry/event_spline.h"
 #include "geometry/motion_law.h"
 #include "optim/linear_program.h"
 #include "optim/optimize/jump_bound.h"
+#include "optim/optimize/lobe_bound.h"
 #include "optim/optimize/rigid_limits.h"
 
 namespace camdyn::optim {
@@ -45,7 +47,9 @@ struct FamilyOptions {
   /// max_margin: maximise t. Otherwise keep t ≥ 0 and minimise the peak of
   /// the rigid contact force P (min_peak_force) or of |s''|
   /// (min_peak_acceleration) at `peak_omega`.
-  enum class Goal { max_margin, min_peak_force, min_peak_acceleration } goal = Goal::max_margin;
+  /// max_lift_area: keep t ≥ 0 and maximise ∫ s dθ over the designed
+  /// pieces, with s ≤ the lift cap (docs/optimize.md "Lift area").
+  enum class Goal { max_margin, min_peak_force, min_peak_acceleration, max_lift_area } goal = Goal::max_margin;
   double peak_omega = 0.0;  ///< [rad/s]
 };
 
@@ -57,12 +61,21 @@ class SplineFamily {
   SplineFamily(const DesignSpace& space, const DesignConfig& design, const RigidFollower& follower,
                const FollowerGeometry& geometry, const ConstraintsConfig& constraints, int samples,
                const std::string& file)
-      : follower_(follower), m_(design.control_points), monotone_(design.monotone), pitch_height_(geometry.y0) {
+      : follower_(follower),
+        m_(design.control_points),
+        monotone_(design.monotone && !space.is_event()),
+        first_free_(space.free_offset()),
+        spline_size_(space.spline_size()),
+        lift_scale_(space.is_event() ? space.event_scale() : 0.0),
+        pitch_height_(geometry.y0) {
     const std::optional<double>& max_pressure_angle_deg = constraints.max_pressure_angle_deg;
     // s''' is held at the samples only; between them (a quadratic per knot
     // span of a quintic) it can overshoot by ~1 %, so the LP keeps 2 % clear
     // and the dense check of the dynamic stage and `validate` then holds.
-    max_jerk_ = 0.98 * constraints.max_peak_jerk.value_or(0.0);
+    // With 8 or more samples per knot span (a lift-area event design is
+    // sampled that densely) the overshoot is below 0.2 % and 0.5 % is kept.
+    const double per_span = static_cast<double>(samples) / std::max(1, space.spline_size() - design.degree);
+    max_jerk_ = (per_span >= 8.0 ? 0.995 : 0.98) * constraints.max_peak_jerk.value_or(0.0);
     const std::vector<double> zero(static_cast<std::size_t>(space.control_point_count()), 0.0);
     law0_ = std::make_shared<MotionLaw>(
         build_motion_law(space.scene_with_control_points(zero).mechanism.cam.motion_law, file));
@@ -82,6 +95,49 @@ class SplineFamily {
     if (max_pressure_angle_deg && geometry.circle() && !geometry.oscillating()) {
       tan_max_ = std::tan(*max_pressure_angle_deg * std::numbers::pi / 180.0);
       offset_ = std::abs(geometry.offset);
+    }
+    set_lobe_limits(space, geometry, constraints);
+  }
+
+  /// The lift cap (lift_area), the face-edge rows of a flat face and the
+  /// linear radius rows of a flat face without offset.
+  void set_lobe_limits(const DesignSpace& space, const FollowerGeometry& geometry,
+                       const ConstraintsConfig& constraints) {
+    if (constraints.max_lift)
+      max_lift_ = *constraints.max_lift;
+    else if (space.is_event())
+      max_lift_ = space.event_scale();  // the baseline's lift (its lowest s is 0)
+    const bool flat_face = !geometry.circle() && !geometry.oscillating();
+    if (flat_face && constraints.face_edge_margin && geometry.face_width > 0.0)
+      face_limit_ = 0.5 * geometry.face_width - *constraints.face_edge_margin;
+    // r_b + s + s'' ≥ ρ_min is linear for a flat face without offset: exact rows.
+    flat_radius_rows_ = flat_face && geometry.offset == 0.0 && rho_min_ > 0.0;
+  }
+  /// The limits of the lift-area certificate: the same as this family's
+  /// rows, at their true values (the family keeps a little clear of some).
+  LobeLimits lobe_limits(std::vector<double> omegas, const ConstraintsConfig& constraints) const {
+    LobeLimits l;
+    l.omegas = std::move(omegas);
+    l.max_lift = max_lift_;
+    l.face_limit = face_limit_;
+    l.pitch_height = pitch_height_;
+    l.min_radius = flat_radius_rows_ ? rho_min_ : 0.0;
+    l.max_jerk = constraints.max_peak_jerk.value_or(0.0);
+    return l;
+  }
+  /// The event's samples' trapezoid weights of ∫ s dθ as costs on c (negated: CLP minimises).
+  void add_area_costs(LinearProgram& lp) const {
+    // Scaled so the objective is of order 1 (CLP's optimality tolerance is absolute).
+    double span = 0.0;
+    for (const double w : area_weight_) span += w;
+    const double scale = 1.0 / (span * (std::isfinite(max_lift_) ? max_lift_ : 1e-3));
+    for (std::size_t i = 0; i < samples_.size(); ++i) {
+      const double w = area_weight_[i] * scale;
+      if (w == 0.0) continue;
+      for (int j = 0; j < m_; ++j) {
+        const int col = samples_[i].first + j;
+        lp.set_cost(col, lp.costs()[col] - w * samples_[i].coefficient[j][0]);
+      }
     }
   }
 
@@ -202,6 +258,38 @@ class SplineFamily {
   LinearProgram margin_program(const std::vector<double>& omegas, const FamilyOptions& options) const;
 
  private:
+  /// The lift-area programme's own rows and costs: s ≤ the lift cap at
+  /// every sample, the face and radius rows, and −∫ s dθ as the cost.
+  void add_lobe_rows(LinearProgram& lp) const {
+    std::vector<std::pair<int, double>> terms;
+    if (std::isfinite(max_lift_)) {
+      for (const AffineSample& a : samples_) {
+        terms.clear();
+        for (int j = 0; j < m_; ++j) terms.emplace_back(a.first + j, a.coefficient[j][0]);
+        lp.add_row(terms, -kLpInfinity, (1.0 - 1e-5) * max_lift_ - a.constant[0]);  // room between samples
+      }
+    }
+    add_face_and_radius_rows(lp);
+    add_area_costs(lp);
+  }
+  /// |s'| ≤ the face limit (flat face with constraints.face_edge_margin) and
+  /// r_b + s + s'' ≥ ρ_min (flat face without offset), at every sample.
+  void add_face_and_radius_rows(LinearProgram& lp) const {
+    std::vector<std::pair<int, double>> terms;
+    for (const AffineSample& a : samples_) {
+      if (std::isfinite(face_limit_)) {
+        terms.clear();
+        for (int j = 0; j < m_; ++j) terms.emplace_back(a.first + j, a.coefficient[j][1]);
+        lp.add_row(terms, -face_limit_ - a.constant[1], face_limit_ - a.constant[1]);
+      }
+      if (flat_radius_rows_) {
+        terms.clear();
+        for (int j = 0; j < m_; ++j) terms.emplace_back(a.first + j, a.coefficient[j][0] + a.coefficient[j][2]);
+        lp.add_row(terms, 1.002 * rho_min_ - pitch_height_ - a.constant[0] - a.constant[2], kLpInfinity);
+      }
+    }
+  }
+
   /// A column z (the last, cost 1) and z ≥ P_i(peak_omega), or z ≥ ±s''_i, at every sample.
   void add_peak_rows(LinearProgram& lp, const FamilyOptions& options) const {
     const int z = lp.add_column(-kLpInfinity, kLpInfinity, 1.0);
@@ -235,9 +323,11 @@ class SplineFamily {
   void sample_segment(std::size_t k, int p, int samples) {
     const MotionLaw::Piece& pc = law0_->pieces()[designed_[k]];
     const double beta = pc.end - pc.start;
-    const int n = m_ + 6;
+    const double lift = lift_scale_ > 0.0 ? lift_scale_ : pc.lift;  // an event's piece has lift 1 and raw c in h
+    const int n = spline_size_;
     const std::vector<double> knots = ClampedBSpline::uniform_knots(p, n);
     for (int i = 0; i < samples; ++i) {
+      area_weight_.push_back((i == 0 || i + 1 == samples ? 0.5 : 1.0) * beta / (samples - 1));
       const double x = std::clamp(static_cast<double>(i) / (samples - 1), 1e-12, 1.0 - 1e-12);
       AffineSample a;
       a.theta = pc.start + x * beta;
@@ -247,10 +337,10 @@ class SplineFamily {
       const int span = find_span(n, p, x, knots);
       const BasisDerivatives b = basis_derivatives(span, x, p, knots);
       for (int r = 0; r <= p; ++r) {
-        const int j = span - p + r - 3;  // free control point j is coefficient 3 + j
+        const int j = span - p + r - first_free_;  // free control point j is coefficient first_free_ + j
         if (j < 0 || j >= m_) continue;
-        a.coefficient[j] = {pc.lift * b.ders[0][r], pc.lift * b.ders[1][r] / beta,
-                            pc.lift * b.ders[2][r] / (beta * beta), pc.lift * b.ders[3][r] / (beta * beta * beta)};
+        a.coefficient[j] = {lift * b.ders[0][r], lift * b.ders[1][r] / beta, lift * b.ders[2][r] / (beta * beta),
+                            lift * b.ders[3][r] / (beta * beta * beta)};
       }
       samples_.push_back(std::move(a));
     }
@@ -293,6 +383,12 @@ class SplineFamily {
   RigidFollower follower_;
   int m_ = 0;
   bool monotone_ = true;
+  int first_free_ = 3;       ///< index of the first free control point among the spline's coefficients
+  int spline_size_ = 0;      ///< all coefficients of a designed spline
+  double lift_scale_ = 0.0;  ///< an event's raw control points are in units of this lift [m] (0: a segment's)
+  double max_lift_ = kInf, face_limit_ = kInf;  ///< lift_area: s cap [m]; flat face: |s'| cap [m/rad]
+  bool flat_radius_rows_ = false;
+  std::vector<double> area_weight_;  ///< per sample: its trapezoid weight in ∫ s dθ [rad]
   std::shared_ptr<const MotionLaw> law0_;
   std::vector<std::size_t> designed_;
   std::shared_ptr<const SampledLaw> fixed_;  ///< the pieces that are not designed
@@ -324,8 +420,16 @@ LinearProgram SplineFamily::margin_program(const std::vector<double>& omegas, co
   }
   const double force_scale = std::abs(follower_.constant()) + follower_.stiffness * 0.1 + 1.0;
   const bool max_margin = options.goal == FamilyOptions::Goal::max_margin;
-  const int t = lp.add_column(max_margin ? -kLpInfinity : 0.0, 1e3 * force_scale, max_margin ? -1.0 : 0.0);
-  if (!max_margin) add_peak_rows(lp, options);
+  const bool lift_area = options.goal == FamilyOptions::Goal::max_lift_area;
+  // A lift-area design is held at the samples only; 1e-3 of the force scale
+  // keeps the margin between them (a knot span holds a few samples) ≥ 0.
+  const int t = lp.add_column(max_margin ? -kLpInfinity : (lift_area ? 1e-3 * force_scale : 0.0), 1e3 * force_scale,
+                              max_margin ? -1.0 : 0.0);
+  if (lift_area)
+    add_lobe_rows(lp);
+  else if (!max_margin)
+    add_peak_rows(lp, options);
+  if (!lift_area) add_face_and_radius_rows(lp);
   std::vector<std::pair<int, double>> terms;
   for (const double w : omegas) {
     const std::array<double, 3> a = {follower_.coefficient_s(), follower_.coefficient_ds(w),
@@ -369,6 +473,9 @@ LinearProgram SplineFamily::margin_program(const std::vector<double>& omegas, co
       }
     }
   }
+  // An event's rows (dense jerk rows, 100 control points) span many decades;
+  // the segment designs' programmes are left as they were.
+  if (lift_scale_ > 0.0) lp.equilibrate_rows();
   return lp;
 }
 
@@ -402,6 +509,21 @@ std::vector<double> operating_omegas(const OptimizeStudyConfig& config, const Ri
   return out;
 }
 
+/// The speeds at which a lift-area design keeps P ≥ P_min: every speed from
+/// 0 to rigid.speed_factor × the top operating speed ω₁. P = M ω² s'' +
+/// c ω s' + k s + F₀ + M g is, at each angle, affine in ω² when c = 0, so
+/// its least value over [0, ω₁] is at 0 or at ω₁ and those two rows are
+/// exact; with a damper it is a parabola in ω whose least value can lie
+/// inside, and the rows sample it at every 1/16 of ω₁ (docs/optimize.md).
+std::vector<double> lobe_speeds(const OptimizeStudyConfig& config, const RigidFollower& f) {
+  const double top = *std::max_element(config.operating_rpm.begin(), config.operating_rpm.end()) * kRadPerRpm *
+                     config.rigid.speed_factor;
+  std::vector<double> out = {0.0};
+  const int steps = f.damping == 0.0 ? 1 : 16;
+  for (int k = 1; k <= steps; ++k) out.push_back(top * k / steps);
+  return out;
+}
+
 /// The family's highest jump-free speed with `options` [rad/s]; `design`
 /// (if given) receives the solution at the highest feasible speed tried.
 double family_bound(const SplineFamily& family, const RigidFollower& f, const FamilyOptions& options, double hint,
@@ -429,6 +551,30 @@ double law_bound(const SampledLaw& sampled, const RigidFollower& f, double hint)
 }
 
 double as_rpm(double omega) { return std::isfinite(omega) ? omega / kRadPerRpm : kInf; }
+
+/// The lift-area certificate of design `d` of an event design space.
+void lift_area_part(const SplineFamily& family, const RigidFollower& f, const OptimizeStudyConfig& config,
+                    const DesignSpace& space, const RigidDesign& d, const MotionLaw& baseline, Certificate& cert) {
+  LiftAreaCertificate& c = cert.lift_area;
+  if (!space.is_event()) {
+    c.reason = "the lift-area certificate is for an event design (design.event)";
+    return;
+  }
+  const double from = space.event_basis().from, to = space.event_basis().to;
+  const std::vector<double> omegas = lobe_speeds(config, f);
+  for (const double w : omegas) c.speeds_rpm.push_back(w / kRadPerRpm);
+  c.baseline = lift_area(baseline, from, to);
+  if (d.have) c.design = lift_area(build_motion_law(space.scene(d.x).mechanism.cam.motion_law, ""), from, to);
+  const LobeBound b = lift_area_bound(family.law0(), from, to, f, family.lobe_limits(omegas, config.constraints),
+                                      config.rigid.certificate_grid);
+  c.grid = b.grid;
+  if (!b.solved) {
+    c.reason = "no lift over the event meets the constraints (the bound's programme is " + b.status + ")";
+    return;
+  }
+  c.available = true;
+  c.bound = b.area;
+}
 
 /// (a): the any-law bound of the designed pieces and the fixed rest's own bound.
 void any_law_part(const SplineFamily& family, const RigidFollower& f, double hint, int grid, Certificate& cert) {
@@ -493,7 +639,11 @@ RigidDesign make_design(const SplineFamily& family, const RigidFollower& f, cons
     options.goal = FamilyOptions::Goal::min_peak_acceleration;
   options.peak_omega = top;
   MarginSolution chosen = fastest;
-  if (options.goal != FamilyOptions::Goal::max_margin && bound >= wanted) {
+  if (config.objective.lift_area > 0.0) {
+    options.goal = FamilyOptions::Goal::max_lift_area;
+    MarginSolution most = solve_margin(family, lobe_speeds(config, f), options, solves);
+    if (!most.c.empty()) chosen = std::move(most);  // else no law keeps contact there: the fastest
+  } else if (options.goal != FamilyOptions::Goal::max_margin && bound >= wanted) {
     std::vector<double> omegas = check_speeds(wanted, f);
     for (const double w : operating_omegas(config, f)) omegas.push_back(w);
     chosen = solve_margin(family, omegas, options, solves);
@@ -528,7 +678,10 @@ RigidDesign tighten_nonlinear(SplineFamily& family, const RigidLimitProbe* probe
     if (pressure_over) family.add_pressure_cuts(d.control_points);
     if (probed_broken) family.add_cuts(probe->cuts(d.control_points));
     MarginSolution fastest;
-    const double bound = family_bound(family, f, FamilyOptions{family.monotone(), true}, hint, solves, &fastest);
+    // A lift-area design does not need the family's fastest (make_design).
+    const double bound = config.objective.lift_area > 0.0
+                             ? 0.0
+                             : family_bound(family, f, FamilyOptions{family.monotone(), true}, hint, solves, &fastest);
     const RigidDesign next = make_design(family, f, config, space, bound, fastest, solves);
     if (!next.have) break;  // the cuts leave nothing: keep the last design
     d = next;
@@ -602,16 +755,32 @@ RigidStageResult run_rigid_stage(const SceneConfig& baseline, const OptimizeStud
   const double hint = *std::max_element(config.operating_rpm.begin(), config.operating_rpm.end()) * kRadPerRpm;
   cert.available = true;
   cert.baseline_rpm = as_rpm(law_bound(SampledLaw(*model.law, kVerifySamples), f, hint));
-  any_law_part(family, f, hint, config.rigid.certificate_grid, cert);
+  if (space.is_event()) {
+    // The any-law bound bisects each rise and return between its end
+    // levels; an event that rises and returns has its own (lift_area_part).
+    cert.any_law_rpm = kInf;
+    cert.any_law_binding = "not computed for an event design";
+  } else {
+    any_law_part(family, f, hint, config.rigid.certificate_grid, cert);
+  }
   MarginSolution fastest;
-  const double bound = family_part(family, f, hint, cert, out.lp_solves, fastest);
+  // A lift-area design is not the family's fastest; its certificate is the
+  // area bound (lift_area_part), so (b) is left out: a dozen programmes of
+  // the dense sampling such a design needs.
+  const bool lift_area_goal = config.objective.lift_area > 0.0;
+  const double bound = lift_area_goal ? 0.0 : family_part(family, f, hint, cert, out.lp_solves, fastest);
+  if (lift_area_goal) {
+    cert.family_rpm = kInf;
+    cert.family_binding = {"not computed for a lift-area design"};
+  }
   const FamilyOptions all{family.monotone(), true};
   for (const double rpm : config.operating_rpm) {
     const std::vector<double> omegas = check_speeds(rpm * kRadPerRpm, f);
     const double m = std::min(solve_margin(family, omegas, all, out.lp_solves).margin, family.fixed_margin(omegas));
     cert.speeds.push_back({rpm, m >= -1e-9 * (std::abs(f.constant()) + 1.0), m});
   }
-  if (config.rigid.explain_bound || !cert.all_feasible()) family_binding(family, f, hint, bound, cert, out.lp_solves);
+  if (!lift_area_goal && (config.rigid.explain_bound || !cert.all_feasible()))
+    family_binding(family, f, hint, bound, cert, out.lp_solves);
 
   out.design = make_design(family, f, config, space, bound, fastest, out.lp_solves);
   const std::optional<RigidLimitProbe> probe = limit_probe(baseline, model, f, config, space, family);
@@ -626,6 +795,7 @@ RigidStageResult run_rigid_stage(const SceneConfig& baseline, const OptimizeStud
   const SampledLaw law(build_motion_law(space.scene(d.x).mechanism.cam.motion_law, file), kVerifySamples);
   for (const double rpm : config.operating_rpm) d.verified_margin.push_back(law.worst_margin(f, rpm * kRadPerRpm));
   d.jump_free_rpm = as_rpm(law_bound(law, f, hint));
+  if (config.objective.lift_area > 0.0) lift_area_part(family, f, config, space, d, *model.law, cert);
   out.run_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
 }

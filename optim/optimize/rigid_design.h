@@ -7,7 +7,11 @@
 //    operating speeds at sample angles, subject to a monotone control polygon
 //    (design.monotone) and, for a translating roller or mushroom, the
 //    pressure-angle bound |s'| + |e| ≤ tan φ_max (y₀ + s), which is linear
-//    and, without offset, exact. The dynamic stage starts from it.
+//    and, without offset, exact. The dynamic stage starts from it. With
+//    objective.lift_area it maximises ∫ s dθ instead, keeping P ≥ P_min at
+//    every speed up to the top one, the lift cap, a flat face's |s'| and
+//    r_b + s + s'' ≥ ρ_min as rows, and reports the area's certificate
+//    (optim/optimize/lobe_bound.h; docs/optimize.md "Lift area").
 //  * The certificate: (a) the highest jump-free speed ANY law with these
 //    lifts, durations, follower and spring reaches; (b) the highest the
 //    spline family reaches under the same linear constraints, and which
@@ -38,6 +42,20 @@ struct SpeedCertificate {
   double best_margin = 0.0;  ///< the largest worst margin P − P_min the family reaches at this speed [N]
 };
 
+/// The certificate of a lift-area design (objective.lift_area with
+/// design.event; docs/optimize.md "Lift area"): its area against the largest
+/// any lift over the same event can have under the same constraints
+/// (optim/optimize/lobe_bound.h).
+struct LiftAreaCertificate {
+  bool available = false;
+  std::string reason;              ///< why not, when not available
+  double design = 0.0;             ///< ∫ s dθ of the stage's design over the event [m rad]
+  double bound = 0.0;              ///< the any-law bound [m rad]
+  double baseline = 0.0;           ///< the baseline's [m rad]
+  int grid = 0;                    ///< intervals of the bound's programme
+  std::vector<double> speeds_rpm;  ///< the speeds at which P ≥ P_min is held [rpm]
+};
+
 struct Certificate {
   bool available = false;
   std::string reason;              ///< why not, when not available
@@ -54,6 +72,7 @@ struct Certificate {
   std::vector<std::string> family_binding;
   double baseline_rpm = 0.0;             ///< the baseline law's own rigid jump-free speed at P_min [rpm]
   std::vector<SpeedCertificate> speeds;  ///< (c), in operating_rpm order
+  LiftAreaCertificate lift_area;
   bool all_feasible() const;
   /// family_binding joined by ", " ("" when none was worked out).
   std::string binding_text() const;

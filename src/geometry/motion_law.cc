@@ -12,6 +12,7 @@
 
 #include "common/errors.h"
 #include "geometry/bspline.h"
+#include "geometry/event_spline.h"
 
 namespace camdyn {
 
@@ -485,6 +486,29 @@ MotionLaw law_from_table(const TableConfig& tc, const std::string& file, const s
   });
 }
 
+// ---------------------------------------------------------------- event
+
+/// `law` with the event of `ec` (at config path `at`) spliced in.
+MotionLaw law_with_event(const MotionLaw& law, const EventSplineConfig& ec, const std::string& file,
+                         const std::string& at) {
+  check_degree(ec.degree, file, at + ".degree");
+  if (!(ec.from_deg >= 0.0 && ec.to_deg > ec.from_deg && ec.to_deg <= 360.0))
+    throw InputError(file, at,
+                     "needs 0 <= from_deg < to_deg <= 360, got " + num(ec.from_deg) + " and " + num(ec.to_deg));
+  const int free = static_cast<int>(ec.control_points.size());
+  const int order = event_join_order(ec.degree);
+  if (free + 2 * (order + 1) < ec.degree + 1 || free < 1)
+    throw InputError(file, at + ".control_points",
+                     std::to_string(free) + " control points; a degree-" + std::to_string(ec.degree) +
+                         " event needs at least " + std::to_string(std::max(1, ec.degree - 1 - 2 * order)));
+  for (std::size_t j = 0; j < ec.control_points.size(); ++j)
+    if (!std::isfinite(ec.control_points[j]))
+      throw InputError(file, indexed(at + ".control_points", j), "must be finite");
+  const EventSplineBasis basis = event_spline_basis(
+      law, deg_to_rad(ec.from_deg), ec.to_deg == 360.0 ? kTwoPi : deg_to_rad(ec.to_deg), ec.degree, free);
+  return splice_event(law, basis, ec.control_points);
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------- public
@@ -527,8 +551,10 @@ MotionLaw::MotionLaw(std::vector<Piece> pieces) : pieces_(std::move(pieces)) {
     // Classic laws are monotone (extremes at piece ends); splines may overshoot
     // between knots, so sample densely (~4096 points per turn, ≥ 64 per piece).
     const int n = 64 + static_cast<int>(std::ceil(4096.0 * (pc.end - pc.start) / kTwoPi));
+    const double x0 = pc.x_begin(), x1 = pc.x_end();
     for (int k = 0; k <= n; ++k) {
-      const double s = pc.shape ? pc.base + pc.lift * pc.shape->eval(static_cast<double>(k) / n).s : pc.base;
+      const double x = x0 + (x1 - x0) * static_cast<double>(k) / n;
+      const double s = pc.shape ? pc.base + pc.lift * pc.shape->eval(x).s : pc.base;
       min_s_ = std::min(min_s_, s);
       max_s_ = std::max(max_s_, s);
     }
@@ -545,8 +571,8 @@ LawSample MotionLaw::eval(double theta) const {
       std::upper_bound(pieces_.begin(), pieces_.end(), t, [](double v, const Piece& pc) { return v < pc.start; });
   const Piece& pc = it == pieces_.begin() ? pieces_.front() : *(it - 1);
   if (!pc.shape) return {pc.base, 0.0, 0.0, 0.0, 0.0};
-  const double len = pc.end - pc.start;
-  const LawSample f = pc.shape->eval((t - pc.start) / len);
+  const double len = pc.shape_length();
+  const LawSample f = pc.shape->eval((t - pc.shape_origin()) / len);
   const double k1 = pc.lift / len, k2 = k1 / len, k3 = k2 / len, k4 = k3 / len;
   return {pc.base + pc.lift * f.s, k1 * f.ds, k2 * f.d2s, k3 * f.d3s, k4 * f.d4s};
 }
@@ -557,15 +583,20 @@ MotionLaw build_motion_law(const MotionLawConfig& config, const std::string& fil
     throw InputError(
         file, path,
         given == 0 ? "give one of segments, spline or table" : "give only one of segments, spline or table");
+  if (config.event) {
+    MotionLawConfig base = config;
+    base.event.reset();
+    return law_with_event(build_motion_law(base, file, path), *config.event, file, path + ".event");
+  }
   if (config.spline) return law_from_spline(*config.spline, file, path);
   if (config.table) return law_from_table(*config.table, file, path);
   return law_from_segments(config.segments, file, path);
 }
 
-ShapePeaks shape_peaks(const NormalisedRise& shape, int samples) {
+ShapePeaks shape_peaks(const NormalisedRise& shape, int samples, double x0, double x1) {
   ShapePeaks p;
   for (int j = 0; j <= samples; ++j) {
-    const LawSample f = shape.eval(static_cast<double>(j) / samples);
+    const LawSample f = shape.eval(x0 + (x1 - x0) * static_cast<double>(j) / samples);
     p.d1 = std::max(p.d1, std::abs(f.ds));
     p.d2 = std::max(p.d2, std::abs(f.d2s));
     p.d3 = std::max(p.d3, std::abs(f.d3s));
@@ -577,8 +608,8 @@ LawPeaks law_peaks(const MotionLaw& law, int samples) {
   LawPeaks k;
   for (const MotionLaw::Piece& pc : law.pieces()) {
     if (!pc.shape) continue;  // a dwell
-    const double beta = pc.end - pc.start;
-    const ShapePeaks f = shape_peaks(*pc.shape, samples);
+    const double beta = pc.shape_length();
+    const ShapePeaks f = shape_peaks(*pc.shape, samples, pc.x_begin(), pc.x_end());
     const double h = std::abs(pc.lift);
     k.velocity = std::max(k.velocity, h * f.d1 / beta);
     k.acceleration = std::max(k.acceleration, h * f.d2 / (beta * beta));

@@ -53,6 +53,19 @@ class MotionLaw {
     double base = 0.0;                            ///< s at the piece start [m]
     double lift = 0.0;                            ///< signed lift over the piece [m] (0 for a dwell)
     std::shared_ptr<const NormalisedRise> shape;  ///< null for a dwell
+    /// A piece cut out of a longer one (the parts of a law kept around a
+    /// spliced event, geometry/event_spline.h) evaluates its shape over the
+    /// longer one's range [origin, origin + length), with the same arithmetic,
+    /// so the values are bit for bit those of the law it was cut from.
+    /// length 0: the range is [start, end).
+    double origin = 0.0, length = 0.0;  ///< [rad]
+
+    /// The shape's angle range: origin and length as evaluated [rad].
+    double shape_origin() const { return length > 0.0 ? origin : start; }
+    double shape_length() const { return length > 0.0 ? length : end - start; }
+    /// The part [x_begin, x_end] ⊆ [0, 1] of the normalised shape the piece uses.
+    double x_begin() const { return (start - shape_origin()) / shape_length(); }
+    double x_end() const { return (end - shape_origin()) / shape_length(); }
   };
 
   /// A law made of pieces that cover [0, 2π) in order.
@@ -66,11 +79,11 @@ class MotionLaw {
 };
 
 /// Peaks of |f'|, |f''|, |f'''| of a normalised shape, sampled at `samples` + 1
-/// points of [0, 1] (both ends included).
+/// points of [x0, x1] (both ends included; a piece's x_begin() … x_end()).
 struct ShapePeaks {
   double d1 = 0.0, d2 = 0.0, d3 = 0.0;
 };
-ShapePeaks shape_peaks(const NormalisedRise& shape, int samples);
+ShapePeaks shape_peaks(const NormalisedRise& shape, int samples, double x0 = 0.0, double x1 = 1.0);
 
 /// Peaks of |s'| [m/rad], |s''| [m/rad²] and |s'''| [m/rad³] over the cycle:
 /// every piece's shape_peaks scaled by its lift and length, so a jump at a

@@ -172,6 +172,15 @@ void visit(A& a, ContourConfig& c) {
 }
 
 template <class A>
+void visit(A& a, EventSplineConfig& e) {
+  a.field("from_deg", e.from_deg, closed_open(0.0, 360.0));
+  a.field("to_deg", e.to_deg, open_closed(0.0, 360.0));
+  a.require(e.to_deg > e.from_deg, "to_deg", "must be greater than from_deg (an event does not wrap past 360 deg)");
+  a.field("degree", e.degree, at_least(3));
+  a.field("control_points", e.control_points, non_empty());
+}
+
+template <class A>
 void visit(A& a, MotionLawConfig& m) {
   const bool segments = a.given("segments", !m.segments.empty());
   const bool spline = a.given("spline", m.spline.has_value());
@@ -183,6 +192,9 @@ void visit(A& a, MotionLawConfig& m) {
   if (spline) a.field("spline", m.spline);
   if (table) a.field("table", m.table);
   if (contour) a.field("contour", m.contour);
+  const bool event = a.given("event", m.event.has_value());
+  a.require(!event || !contour, "event", "a contour cam has no law to splice an event into");
+  if (event) a.field("event", m.event);
 }
 
 // ---------------------------------------------------------------- mechanism

@@ -194,12 +194,25 @@ struct ContourConfig {
   bool operator==(const ContourConfig&) const = default;
 };
 
+/// `motion_law.event`: the law on [from_deg, to_deg] replaced by one clamped
+/// spline (geometry/event_spline.h) whose joins match the rest of the law up
+/// to s'' (s''' from degree 4 on); the rest is kept bit for bit.
+struct EventSplineConfig {
+  double from_deg = 0.0;               ///< start of the replaced span [deg], in [0, 360)
+  double to_deg = 0.0;                 ///< its end [deg], in (from_deg, 360]
+  int degree = 5;                      ///< 3 … 9
+  std::vector<double> control_points;  ///< the free control points: lift values [m] (arm: [rad])
+
+  bool operator==(const EventSplineConfig&) const = default;
+};
+
 /// Exactly one of `segments`, `spline`, `table`, `contour` is set after loading.
 struct MotionLawConfig {
   std::vector<SegmentConfig> segments;
   std::optional<PeriodicSplineConfig> spline;
   std::optional<TableConfig> table;
   std::optional<ContourConfig> contour;
+  std::optional<EventSplineConfig> event;  ///< with segments, spline or table: the event replaced by a spline
   std::string source;  ///< profile file it came from, if given as "profiles/NAME.json" (not serialised)
 
   bool operator==(const MotionLawConfig&) const = default;
