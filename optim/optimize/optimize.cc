@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <functional>
 #include <nlopt.hpp>
+#include <numbers>
 #include <optional>
 #include <utility>
 
@@ -12,7 +13,9 @@
 #include "common/study_budget.h"
 #include "dynamics/contact_stress.h"
 #include "dynamics/model.h"
+#include "dynamics/spring_sizing.h"
 #include "io/json_archive.h"
+#include "optim/optimize/jump_bound.h"
 #include "optim/optimize/optimize_checkpoint.h"
 #include "study/progress.h"
 #include "study/study.h"
@@ -22,6 +25,8 @@ namespace camdyn::optim {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+constexpr double kRadPerRpm = 2.0 * std::numbers::pi / 60.0;
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
@@ -241,25 +246,22 @@ void choose_optimized(const DesignSpace& space, const DesignEvaluator& evaluator
   out.x_optimized = std::move(fallback->x);
 }
 
-/// The chosen design's objective over a window twice as long (WindowCheck).
-SteadyStateCheck check_steady_state(const DesignEvaluator& evaluator, const OptimizeOutcome& out) {
+/// The steady-state check of the chosen design from its verification (the
+/// metrics over the periodic orbits) against its window's objective.
+SteadyStateCheck steady_state_check(const DesignEvaluation& verified, double window_objective) {
   SteadyStateCheck c;
-  SceneConfig scene = out.optimized_scene;
-  scene.simulation.steady_state = true;
-  const DesignEvaluation e = evaluator.evaluate(scene, {}, true);
-  if (!e.valid) {
-    c.reason = "the design could not be simulated for its steady state: " + e.error;
+  if (!verified.valid) {
+    c.reason = "the design could not be simulated for its steady state: " + verified.error;
     return c;
   }
   c.checked = true;
-  c.speeds = static_cast<int>(e.speeds.size());
-  for (const SpeedResult& speed : e.speeds) {
+  c.speeds = static_cast<int>(verified.speeds.size());
+  for (const SpeedResult& speed : verified.speeds) {
     if (speed.result.metrics_over == "periodic_orbit") ++c.speeds_on_orbit;
     c.notes.push_back(format_shortest(speed.rpm) + " rpm: " + speed.result.metrics_note);
   }
-  c.objective = e.objective;
-  c.relative_change =
-      std::abs(e.objective - out.optimized.objective) / std::max(std::abs(out.optimized.objective), 1e-12);
+  c.objective = verified.objective;
+  c.relative_change = std::abs(verified.objective - window_objective) / std::max(std::abs(window_objective), 1e-12);
   c.agrees = c.relative_change <= WindowCheck::kTolerance;
   return c;
 }
@@ -293,11 +295,130 @@ WindowCheck check_window(const DesignEvaluator& evaluator, const OptimizeOutcome
   if (out.optimized_scene.simulation.steady_state)
     w.steady_state.reason = "the loop's evaluations were on the steady state (simulation.steady_state)";
   else
-    w.steady_state = check_steady_state(evaluator, out);
+    w.steady_state = steady_state_check(out.selection.chosen().verified, out.optimized.objective);
   return w;
 }
 
+/// The operating speeds the rigid stage proved jump-free: its design's
+/// rigid-model margin P − P_min (the built law sampled densely) is ≥ 0 there.
+std::vector<double> proven_speeds(const RigidStageResult& rigid, const OptimizeStudyConfig& config) {
+  std::vector<double> out;
+  if (!rigid.design.have) return out;
+  for (std::size_t i = 0; i < config.operating_rpm.size() && i < rigid.design.verified_margin.size(); ++i)
+    if (rigid.design.verified_margin[i] >= 0.0) out.push_back(config.operating_rpm[i]);
+  return out;
+}
+
+/// Candidate `scene` verified: the scene's settings, the metrics over the
+/// steady state at every operating speed (its `window` evaluation when the
+/// scene already asks for the steady state).
+CandidateVerification verify(CandidateKind kind, const SceneConfig& scene, const DesignEvaluator& evaluator,
+                             const DesignEvaluation& window) {
+  CandidateVerification v;
+  v.kind = kind;
+  v.available = true;
+  if (scene.simulation.steady_state) {
+    v.verified = window;
+  } else {
+    SceneConfig s = scene;
+    s.simulation.steady_state = true;
+    v.verified = evaluator.evaluate(s, {}, true);
+  }
+  for (const SpeedResult& speed : v.verified.speeds)
+    if (speed.result.metrics.separation_fraction > 0.0) v.separating_rpm.push_back(speed.rpm);
+  return v;
+}
+
+/// What the choice needs of a verified candidate.
+CandidateScore score_of(const CandidateVerification& c, const std::vector<ConstraintSpec>& specs,
+                        const std::vector<double>& proven_rpm) {
+  CandidateScore s;
+  s.kind = c.kind;
+  s.available = c.available;
+  s.valid = c.available && c.verified.valid;
+  s.feasible = s.valid && c.verified.feasible;
+  s.objective = c.verified.objective;
+  for (std::size_t i = 0; i < specs.size() && i < c.verified.constraints.size(); ++i) {
+    const ConstraintValue& v = c.verified.constraints[i];
+    s.violation += std::max(v.residual, 0.0);
+    if (!v.holds) s.violated.push_back(specs[i].name);
+  }
+  // The proven speeds, also where the search did not hold them (a kinematic search).
+  const char* kProven = "no_separation_where_proven";
+  for (double rpm : c.separating_rpm) {
+    if (std::find(proven_rpm.begin(), proven_rpm.end(), rpm) == proven_rpm.end()) continue;
+    if (std::find(s.violated.begin(), s.violated.end(), kProven) == s.violated.end()) {
+      s.violated.emplace_back(kProven);
+      s.feasible = false;
+      s.violation += 1.0;
+    }
+  }
+  return s;
+}
+
+/// The study's answer (optim/optimize/candidate_choice.h): the baseline, the
+/// rigid design and the dynamic result (out.optimized from choose_optimized)
+/// verified alike, the best kept as out.optimized and out.optimized_scene.
+void select_answer(const DesignSpace& space, const DesignEvaluator& evaluator, const EvaluationSettings& full,
+                   const SceneConfig& baseline, const std::string& name, double top, const std::string& file,
+                   OptimizeOutcome& out) {
+  std::vector<CandidateVerification>& list = out.selection.candidates;
+  list.clear();
+  const SceneConfig base_scene = simulate_scene(baseline, top, name, file);
+  list.push_back(verify(CandidateKind::baseline, base_scene, evaluator, out.baseline));
+  std::optional<Candidate> rigid;
+  if (out.rigid.design.have) {
+    const SceneConfig scene = simulate_scene(space.scene(out.rigid.design.x), top, name, file);
+    DesignEvaluation e = evaluator.evaluate(scene, full, true);
+    list.push_back(verify(CandidateKind::rigid, scene, evaluator, e));
+    rigid = Candidate{std::move(e), scene, out.rigid.design.x};
+  } else {
+    CandidateVerification none;
+    none.kind = CandidateKind::rigid;
+    none.reason = out.config.rigid.enabled ? "the rigid stage made no design" : "rigid.enabled is false";
+    list.push_back(std::move(none));
+  }
+  list.push_back(verify(CandidateKind::dynamic, out.optimized_scene, evaluator, out.optimized));
+  std::vector<CandidateScore> scores;
+  for (CandidateVerification& c : list) {
+    c.score = score_of(c, out.constraints, out.proven_rpm);
+    scores.push_back(c.score);
+  }
+  out.selection.choice = choose_candidate(scores);
+  if (out.selection.choice.chosen == CandidateKind::baseline) {
+    out.optimized = out.baseline;
+    out.optimized_scene = with_limits(base_scene, out.constraints, out.baseline);
+    out.x_optimized.clear();
+  } else if (out.selection.choice.chosen == CandidateKind::rigid && rigid) {
+    out.optimized_scene = with_limits(rigid->scene, out.constraints, rigid->evaluation);
+    out.optimized = std::move(rigid->evaluation);
+    out.x_optimized = std::move(rigid->x);
+  }
+}
+
+/// out.required_preload and out.required_stiffness of the chosen design up
+/// to the top operating speed, with the rigid stage's P_min.
+void size_chosen_spring(const std::string& file, OptimizeOutcome& out) {
+  const Model model = build_model(out.optimized_scene, file);
+  const double pmin = rigid_follower(model, rigid_min_contact_force(out.config)).min_force;
+  const SpringSizing s = size_spring(*model.law, rigid_spring_load(model, pmin), top_speed(out.config) * kRadPerRpm);
+  out.required_preload = s.required_preload;
+  out.required_stiffness = s.required_stiffness;
+}
+
 }  // namespace
+
+const CandidateVerification& Selection::chosen() const {
+  for (const CandidateVerification& c : candidates)
+    if (c.kind == choice.chosen) return c;
+  static const CandidateVerification kNone;
+  return kNone;
+}
+
+bool Selection::good() const {
+  const CandidateVerification& c = chosen();
+  return choice.feasible && choice.beats_baseline && c.verified.valid && c.separating_rpm.empty();
+}
 
 OptimizeStudy read_optimize_study(const Json& doc, const ConfigSource& source) {
   Json part;
@@ -341,6 +462,11 @@ OptimizeOutcome run_optimize(const SceneConfig& baseline, const OptimizeStudyCon
   const int threads = std::clamp(options.threads, 1, static_cast<int>(config.operating_rpm.size()));
   SimulationPool pool(threads, file);
   DesignEvaluator evaluator(config, file, pool);
+  // A speed the rigid stage proved jump-free stays so: a hard constraint of a
+  // search that simulates (a kinematic search is not made to simulate for it;
+  // the verification of the answer checks it either way).
+  out.proven_rpm = proven_speeds(out.rigid, config);
+  if (evaluator.needs_simulation()) evaluator.require_no_separation_at(out.proven_rpm);
   out.constraints = evaluator.constraints();
   out.loop_simulated = evaluator.needs_simulation();
   LoopRecorder recorder(options.checkpoint_dir, baseline, config, space, out.constraints.size(), file);
@@ -364,6 +490,9 @@ OptimizeOutcome run_optimize(const SceneConfig& baseline, const OptimizeStudyCon
 
   say(options, "re-evaluating the best designs with the scene's settings");
   choose_optimized(space, evaluator, full, baseline.name + "-optimized", top_speed(config), file, out);
+  say(options, "verifying the baseline, the rigid design and the dynamic result on the steady state");
+  select_answer(space, evaluator, full, baseline, baseline.name + "-optimized", top_speed(config), file, out);
+  size_chosen_spring(file, out);
   say(options, "checking that the objective does not depend on the window");
   out.window_check = check_window(evaluator, out);
   out.simulations = pool.simulations() + out.resumed_simulations;
