@@ -27,6 +27,8 @@ std::string noun(CandidateKind kind) {
       return "the rigid design";
     case CandidateKind::dynamic:
       return "the dynamic result";
+    case CandidateKind::spring:
+      return "the sized spring";
     case CandidateKind::baseline:
       break;
   }
@@ -60,6 +62,8 @@ const char* to_string(CandidateKind kind) {
       return "rigid";
     case CandidateKind::dynamic:
       return "dynamic";
+    case CandidateKind::spring:
+      return "spring";
   }
   return "baseline";
 }

@@ -15,9 +15,11 @@
 
 namespace camdyn::optim {
 
-enum class CandidateKind { baseline, rigid, dynamic };
+/// In this order (the index of each in an optimize study's candidate list);
+/// `spring`: the best of the others with its spring preload sized (design.spring).
+enum class CandidateKind { baseline, rigid, dynamic, spring };
 
-/// "baseline", "rigid", "dynamic" (result.json `chosen`).
+/// "baseline", "rigid", "dynamic", "spring" (result.json `chosen`).
 const char* to_string(CandidateKind kind);
 
 /// One candidate as the verification saw it.

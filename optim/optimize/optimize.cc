@@ -356,52 +356,101 @@ CandidateScore score_of(const CandidateVerification& c, const std::vector<Constr
   return s;
 }
 
+/// The rigid-model spring sizing of `scene` up to the top operating speed,
+/// with the rigid stage's P_min (dynamics/spring_sizing.h).
+SpringSizing size_scene_spring(const SceneConfig& scene, const OptimizeStudyConfig& config, const std::string& file) {
+  const Model model = build_model(scene, file);
+  const double pmin = rigid_follower(model, rigid_min_contact_force(config)).min_force;
+  return size_spring(*model.law, rigid_spring_load(model, pmin), top_speed(config) * kRadPerRpm);
+}
+
+/// Scores every candidate of out.selection and chooses among them.
+void choose_among(OptimizeOutcome& out) {
+  std::vector<CandidateScore> scores;
+  for (CandidateVerification& c : out.selection.candidates) {
+    c.score = score_of(c, out.constraints, out.proven_rpm);
+    scores.push_back(c.score);
+  }
+  out.selection.choice = choose_candidate(scores);
+}
+
+/// design.spring: `best` with the smallest preload that keeps the rigid-model
+/// force ≥ P_min up to the top speed, verified and added to out.selection.
+/// The simulated force dips below the rigid model's by the contact's and the
+/// follower's own dynamics: where the verification finds the study's
+/// min_contact_force short by Δ, the preload is raised by Δ (force is linear
+/// in the preload on the rigid model) and verified again, at most kRaises times.
+Candidate sized_spring_candidate(const Candidate& best, const DesignEvaluator& evaluator,
+                                 const EvaluationSettings& full, const std::string& file, OptimizeOutcome& out) {
+  constexpr int kRaises = 3;
+  const auto& specs = out.constraints;
+  const auto floor_at =
+      std::find_if(specs.begin(), specs.end(), [](const ConstraintSpec& c) { return c.name == "min_contact_force"; });
+  SceneConfig scene = best.scene;
+  double& preload = scene.mechanism.follower.spring.preload;
+  preload = size_scene_spring(scene, out.config, file).required_preload;
+  for (int k = 0;; ++k) {
+    DesignEvaluation e = evaluator.evaluate(scene, full, true);
+    CandidateVerification v = verify(CandidateKind::spring, scene, evaluator, e);
+    double shortfall = 0.0;
+    if (floor_at != specs.end() && v.verified.valid) {
+      const ConstraintValue& c = v.verified.constraints[static_cast<std::size_t>(floor_at - specs.begin())];
+      if (!c.holds && c.value > 0.0) shortfall = -c.margin;  // in contact, below the floor
+    }
+    if (shortfall <= 0.0 || k == kRaises) {
+      out.selection.candidates.push_back(std::move(v));
+      return Candidate{std::move(e), scene, best.x};
+    }
+    preload += shortfall;
+  }
+}
+
 /// The study's answer (optim/optimize/candidate_choice.h): the baseline, the
 /// rigid design and the dynamic result (out.optimized from choose_optimized)
-/// verified alike, the best kept as out.optimized and out.optimized_scene.
+/// verified alike; with design.spring also the best of them with its
+/// preload sized (docs/model.md §11). The best is kept as out.optimized and
+/// out.optimized_scene.
 void select_answer(const DesignSpace& space, const DesignEvaluator& evaluator, const EvaluationSettings& full,
                    const SceneConfig& baseline, const std::string& name, double top, const std::string& file,
                    OptimizeOutcome& out) {
   std::vector<CandidateVerification>& list = out.selection.candidates;
   list.clear();
-  const SceneConfig base_scene = simulate_scene(baseline, top, name, file);
+  std::vector<std::optional<Candidate>> answers;  // beside `list`
+  const SceneConfig base_scene = with_limits(simulate_scene(baseline, top, name, file), out.constraints, out.baseline);
   list.push_back(verify(CandidateKind::baseline, base_scene, evaluator, out.baseline));
-  std::optional<Candidate> rigid;
+  answers.push_back(Candidate{out.baseline, base_scene, {}});
   if (out.rigid.design.have) {
-    const SceneConfig scene = simulate_scene(space.scene(out.rigid.design.x), top, name, file);
+    SceneConfig scene = simulate_scene(space.scene(out.rigid.design.x), top, name, file);
     DesignEvaluation e = evaluator.evaluate(scene, full, true);
+    scene = with_limits(scene, out.constraints, e);
     list.push_back(verify(CandidateKind::rigid, scene, evaluator, e));
-    rigid = Candidate{std::move(e), scene, out.rigid.design.x};
+    answers.push_back(Candidate{std::move(e), scene, out.rigid.design.x});
   } else {
     CandidateVerification none;
     none.kind = CandidateKind::rigid;
     none.reason = out.config.rigid.enabled ? "the rigid stage made no design" : "rigid.enabled is false";
     list.push_back(std::move(none));
+    answers.emplace_back();
   }
   list.push_back(verify(CandidateKind::dynamic, out.optimized_scene, evaluator, out.optimized));
-  std::vector<CandidateScore> scores;
-  for (CandidateVerification& c : list) {
-    c.score = score_of(c, out.constraints, out.proven_rpm);
-    scores.push_back(c.score);
+  answers.push_back(Candidate{out.optimized, out.optimized_scene, out.x_optimized});
+  choose_among(out);
+  if (out.config.design.spring) {
+    const CandidateKind from = out.selection.choice.chosen;
+    answers.push_back(sized_spring_candidate(*answers[static_cast<std::size_t>(from)], evaluator, full, file, out));
+    list.back().sized_from = from;
+    choose_among(out);
   }
-  out.selection.choice = choose_candidate(scores);
-  if (out.selection.choice.chosen == CandidateKind::baseline) {
-    out.optimized = out.baseline;
-    out.optimized_scene = with_limits(base_scene, out.constraints, out.baseline);
-    out.x_optimized.clear();
-  } else if (out.selection.choice.chosen == CandidateKind::rigid && rigid) {
-    out.optimized_scene = with_limits(rigid->scene, out.constraints, rigid->evaluation);
-    out.optimized = std::move(rigid->evaluation);
-    out.x_optimized = std::move(rigid->x);
-  }
+  Candidate& chosen = *answers[static_cast<std::size_t>(out.selection.choice.chosen)];
+  out.optimized = std::move(chosen.evaluation);
+  out.optimized_scene = std::move(chosen.scene);
+  out.x_optimized = std::move(chosen.x);
 }
 
 /// out.required_preload and out.required_stiffness of the chosen design up
 /// to the top operating speed, with the rigid stage's P_min.
 void size_chosen_spring(const std::string& file, OptimizeOutcome& out) {
-  const Model model = build_model(out.optimized_scene, file);
-  const double pmin = rigid_follower(model, rigid_min_contact_force(out.config)).min_force;
-  const SpringSizing s = size_spring(*model.law, rigid_spring_load(model, pmin), top_speed(out.config) * kRadPerRpm);
+  const SpringSizing s = size_scene_spring(out.optimized_scene, out.config, file);
   out.required_preload = s.required_preload;
   out.required_stiffness = s.required_stiffness;
 }

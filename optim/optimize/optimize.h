@@ -81,16 +81,17 @@ struct WindowCheck {
 struct CandidateVerification {
   CandidateKind kind = CandidateKind::baseline;
   bool available = false;
-  std::string reason;                  ///< why not available
-  DesignEvaluation verified;           ///< simulation.steady_state set, the scene's settings
-  std::vector<double> separating_rpm;  ///< operating speeds where it separates on the steady state
-  CandidateScore score;                ///< as the choice saw it (the proven speeds included)
+  std::string reason;                                  ///< why not available
+  DesignEvaluation verified;                           ///< simulation.steady_state set, the scene's settings
+  std::vector<double> separating_rpm;                  ///< operating speeds where it separates on the steady state
+  CandidateScore score;                                ///< as the choice saw it (the proven speeds included)
+  CandidateKind sized_from = CandidateKind::baseline;  ///< spring: the candidate whose law it keeps
 };
 
 /// The study's answer: which candidate won, and the verification of each.
 struct Selection {
   CandidateChoice choice;
-  std::vector<CandidateVerification> candidates;  ///< baseline, rigid, dynamic
+  std::vector<CandidateVerification> candidates;  ///< baseline, rigid, dynamic (and spring), in CandidateKind order
   /// The verification of the chosen candidate.
   const CandidateVerification& chosen() const;
   /// Green banner: jump-free at every operating speed, every constraint, better than the baseline.

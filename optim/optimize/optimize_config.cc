@@ -58,6 +58,7 @@ void visit(A& a, DesignConfig& d) {
                 " free control points, got " + std::to_string(d.control_points));
   a.field("monotone", d.monotone);
   a.field("end_deg_range", d.end_deg_range);
+  a.field("spring", d.spring);
 }
 
 template <class A>

@@ -35,6 +35,9 @@ struct DesignConfig {
   /// monotone control polygon is monotone).
   bool monotone = true;
   EndAngleRanges end_deg_range;  ///< optional end angles as extra variables
+  /// Also size the answer's spring: the best design with the smallest preload
+  /// that keeps the rigid-model force ≥ P_min up to the top speed competes.
+  bool spring = false;
 
   bool operator==(const DesignConfig&) const = default;
 };

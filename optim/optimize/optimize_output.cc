@@ -162,6 +162,10 @@ Json candidate_json(const CandidateVerification& c, const OptimizeOutcome& o) {
         {"value", e.valid ? finite_or_null(e.constraints[i].value) : Json(nullptr)}, {"holds", e.constraints[i].holds}};
   j["constraints"] = constraints;
   j["jump_free"] = e.valid && c.separating_rpm.empty();
+  if (c.kind == CandidateKind::spring) {
+    j["sized_from"] = to_string(c.sized_from);
+    j["preload"] = e.scene.mechanism.follower.spring.preload;
+  }
   j["separating_rpm"] = c.separating_rpm;
   Json speeds = Json::array();
   for (const SpeedResult& s : e.speeds)

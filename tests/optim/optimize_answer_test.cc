@@ -117,5 +117,33 @@ TEST(OptimizeAnswer, ASpeedTheRigidStageProvedJumpFreeIsJumpFreeInTheAnswer) {
   EXPECT_EQ(o.selection.candidates[0].separating_rpm, std::vector<double>{1300});
 }
 
+// design.spring: a spring preloaded to 200 N presses far harder than 900 rpm
+// needs; the answer with the preload sized to keep 20 N (the rigid stage's
+// P_min, from the constraint; raised by what the simulation finds short) has
+// a lower peak force and is verified like the others.
+TEST(OptimizeAnswer, DesignSpringSizesThePreloadOfTheAnswer) {
+  std::string mechanism = kMechanism;
+  mechanism.replace(mechanism.find("\"preload\": 40"), 14, "\"preload\": 200");
+  const Study s = study_from("{" + mechanism + R"(,
+    "design": { "segments": ["rise", "return"], "control_points": 5, "degree": 5, "spring": true },
+    "operating_rpm": [900],
+    "objective": { "separation": 0, "peak_contact_force": 1 },
+    "constraints": { "min_contact_force": 20 },
+    "optimizer": { "algorithm": "LN_COBYLA", "max_evaluations": 6 } })");
+  const OptimizeOutcome o = run_optimize(s.scene, s.config, "test.json");
+  ASSERT_EQ(o.selection.candidates.size(), 4u);
+  EXPECT_EQ(o.selection.choice.chosen, CandidateKind::spring) << o.selection.choice.reason;
+  EXPECT_TRUE(o.selection.good()) << o.selection.choice.reason;
+  const double preload = o.optimized_scene.mechanism.follower.spring.preload;
+  EXPECT_GE(preload, o.required_preload);
+  EXPECT_LT(preload, 200.0);
+  // At 900 rpm the spring holds the follower by itself: the preload keeps
+  // P_min on the base circle, where the rigid force is the preload.
+  EXPECT_EQ(o.required_preload, 20.0);
+  const Metrics m = steady_state_metrics(o.optimized_scene, 900.0);
+  EXPECT_EQ(m.separation_fraction, 0.0);
+  EXPECT_GE(m.min_contact_force, 20.0);
+}
+
 }  // namespace
 }  // namespace camdyn::optim
