@@ -234,6 +234,29 @@ Table segments_table(const DesignEvaluation& b, const DesignEvaluation& p) {
   return segments;
 }
 
+/// The candidates the answer was chosen from, as the verification saw them.
+Table candidates_table(const Selection& sel) {
+  Table t{"Candidates, verified with the scene's settings on the steady state (answer: " +
+              std::string(to_string(sel.choice.chosen)) + ")",
+          {"candidate", "objective", "meets every constraint", "breaks", "separates at [rpm]"},
+          {},
+          true};
+  t.wrap = true;
+  for (const CandidateVerification& c : sel.candidates) {
+    if (!c.available) {
+      t.rows.push_back({to_string(c.kind), "–", "–", c.reason, "–"});
+      continue;
+    }
+    std::string breaks, speeds;
+    for (const std::string& v : c.score.violated) breaks += (breaks.empty() ? "" : ", ") + v;
+    for (double rpm : c.separating_rpm) speeds += (speeds.empty() ? "" : ", ") + format_number(rpm);
+    if (!c.verified.valid) breaks = c.verified.error;
+    t.rows.push_back({to_string(c.kind), c.verified.valid ? format_number(c.verified.objective) : "–",
+                      yes_no(c.score.feasible), breaks, speeds.empty() ? "none" : speeds});
+  }
+  return t;
+}
+
 /// What each start of the search ended with.
 Table starts_table(const SearchResult& search) {
   Table starts{"Starts", {"start", "stop reason", "evaluations", "best objective", "feasible", "message"}, {}, true};
@@ -377,6 +400,7 @@ Report optimize_report(const OptimizeOutcome& o, const std::string& name) {
       "design";
   r.verdict = optimize_verdict(o);
   r.facts = summary_facts(o);
+  r.tables.push_back(candidates_table(o.selection));
   const Table constraints = constraints_table(o);
   if (!constraints.rows.empty()) r.tables.push_back(constraints);
   r.tables.push_back(terms_table(o.baseline, o.optimized));
