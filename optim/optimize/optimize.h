@@ -2,7 +2,10 @@
 // optimised design: evaluate the baseline (the normalisation comes from it),
 // search with NLopt using the cheaper loop settings, then re-evaluate the best
 // designs with the scene's own settings and keep the first that satisfies every
-// constraint there. The optimised scene is built, written and read back
+// constraint there. The answer is then the best of the baseline, the rigid
+// stage's design and that result, each verified on the steady state at every
+// operating speed (optim/optimize/candidate_choice.h), so it is never worse
+// than the baseline. The optimised scene is built, written and read back
 // exactly as optimized.json will be, so `camdyn run optimized.json`
 // reproduces the reported metrics.
 #pragma once
