@@ -88,16 +88,20 @@ Metrics steady_state_metrics(SceneConfig scene, double rpm) {
   return r.metrics;
 }
 
-// (b) Minimising the peak contact force alone pushes a law towards the jump:
-// the rigid design, jump-free on the rigid model to 1.1 × 1300 rpm with the
-// least peak force, is proven at both speeds, and the answer must stay on
-// the cam at both, on its steady state.
+// (b) Minimising the peak contact force alone pushes a law towards the jump.
+// The rigid design, jump-free on the rigid model to 1.02 × 1300 rpm with the
+// least peak force, is proven at both speeds (margins ≈ 30 N and 4.8 N).
+// Before, with separation no constraint of the search, 40 evaluations ended
+// on a design that separates at 1300 rpm on its steady state (fraction
+// 0.067, two impacts a revolution) while stdout said "constraints all hold".
+// Now the answer must stay on the cam at both speeds, on its steady state.
 TEST(OptimizeAnswer, ASpeedTheRigidStageProvedJumpFreeIsJumpFreeInTheAnswer) {
   const Study s = study_from("{" + kMechanism + R"(,
     "design": { "segments": ["rise", "return"], "control_points": 5, "degree": 5 },
     "operating_rpm": [1150, 1300],
-    "objective": { "separation": 0.001, "peak_contact_force": 1 },
-    "optimizer": { "algorithm": "LN_COBYLA", "max_evaluations": 12 } })");
+    "rigid": { "speed_factor": 1.02 },
+    "objective": { "separation": 0, "peak_contact_force": 1 },
+    "optimizer": { "algorithm": "LN_COBYLA", "max_evaluations": 40 } })");
   OptimizeOptions options;
   options.threads = 2;
   const OptimizeOutcome o = run_optimize(s.scene, s.config, "test.json", options);
