@@ -419,6 +419,13 @@ TEST(OptimizeCli, TargetAboveTheBoundIsReportedInfeasibleAndTheBestDesignWritten
   EXPECT_LT(cert["any_law_jump_free_rpm"].get<double>(), 2500.0);
   EXPECT_TRUE(fs::exists(dir / "optimized.json"));
   EXPECT_TRUE(result["rigid_stage"]["design"]["made"].get<bool>());
+  // Nothing can stay on the cam at 2500 rpm, so nothing meets no_separation:
+  // the answer says so (red), and stdout never claims the constraints hold.
+  EXPECT_EQ(result["verdict"], "bad");
+  EXPECT_FALSE(result["candidates"][result["chosen"].get<std::string>()]["feasible"].get<bool>());
+  EXPECT_EQ(run.out.find("constraints all hold"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("constraints VIOLATED"), std::string::npos) << run.out;
+  EXPECT_NE(read_text(dir / "report.html").find("class=\"verdict bad\""), std::string::npos);
 }
 
 // Kill -9 part-way: history.csv, the best design so far and the journal are
