@@ -65,6 +65,13 @@ DesignEvaluator::DesignEvaluator(const OptimizeStudyConfig& config, std::string 
                       std::any_of(constraints_.begin(), constraints_.end(), [](const auto& s) { return s.dynamic; });
 }
 
+void DesignEvaluator::require_no_separation_at(const std::vector<double>& rpm) {
+  if (rpm.empty()) return;
+  proven_rpm_ = rpm;
+  constraints_.push_back({"no_separation_where_proven", ConstraintSpec::Sense::zero, 0.0, "-", true});
+  needs_simulation_ = true;
+}
+
 SceneConfig DesignEvaluator::at_speed(const SceneConfig& scene, double rpm, const EvaluationSettings& settings) {
   SceneConfig s = scene;
   s.mechanism.cam.rpm = rpm;
@@ -241,6 +248,15 @@ void DesignEvaluator::score(DesignEvaluation& e) const {
       c.residual = -1e300;
       for (std::size_t k = 0; k < lowest.size(); ++k)
         c.residual = std::max(c.residual, (limit - lowest[k]) / limit + gap[k] / norm_.mean_gap);
+    } else if (spec.name == "no_separation_where_proven") {
+      // As no_separation, over the speeds the rigid stage proved jump-free only.
+      c.value = 0.0;
+      c.residual = 0.0;
+      for (std::size_t k = 0; k < e.speeds.size(); ++k) {
+        if (std::find(proven_rpm_.begin(), proven_rpm_.end(), e.speeds[k].rpm) == proven_rpm_.end()) continue;
+        c.value = std::max(c.value, fraction[k]);
+        c.residual = std::max(c.residual, std::max(gap[k] / norm_.mean_gap, fraction[k]));
+      }
     } else {  // no_separation
       c.value = max_of(fraction);
       c.residual = std::max(max_of(gap) / norm_.mean_gap, c.value);

@@ -113,6 +113,13 @@ class DesignEvaluator {
   /// throws for an invalid design (see the file comment).
   DesignEvaluation evaluate(const SceneConfig& scene, const EvaluationSettings& settings, bool simulate) const;
 
+  /// Adds the constraint `no_separation_where_proven`: separation_fraction 0
+  /// at each of `rpm`, the operating speeds the rigid stage proved jump-free
+  /// (docs/config.md, "The answer of an optimize study"). Call before
+  /// constraints() is read; no speeds add nothing.
+  void require_no_separation_at(const std::vector<double>& rpm);
+  const std::vector<double>& proven_rpm() const { return proven_rpm_; }
+
   /// Normalisation from the baseline (evaluated with simulations); its
   /// scenes' top speed gives the rigid-model force scale. Throws InputError if
   /// the baseline is invalid.
@@ -139,6 +146,7 @@ class DesignEvaluator {
   SimulationPool& pool_;
   std::vector<ConstraintSpec> constraints_;
   bool needs_simulation_ = false;
+  std::vector<double> proven_rpm_;  ///< speeds of no_separation_where_proven
   Normalisation norm_;
 };
 

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <functional>
 #include <nlopt.hpp>
+#include <numbers>
 #include <optional>
 #include <utility>
 
@@ -12,7 +13,9 @@
 #include "common/study_budget.h"
 #include "dynamics/contact_stress.h"
 #include "dynamics/model.h"
+#include "dynamics/spring_sizing.h"
 #include "io/json_archive.h"
+#include "optim/optimize/jump_bound.h"
 #include "optim/optimize/optimize_checkpoint.h"
 #include "study/progress.h"
 #include "study/study.h"
@@ -22,6 +25,8 @@ namespace camdyn::optim {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+constexpr double kRadPerRpm = 2.0 * std::numbers::pi / 60.0;
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
@@ -241,25 +246,22 @@ void choose_optimized(const DesignSpace& space, const DesignEvaluator& evaluator
   out.x_optimized = std::move(fallback->x);
 }
 
-/// The chosen design's objective over a window twice as long (WindowCheck).
-SteadyStateCheck check_steady_state(const DesignEvaluator& evaluator, const OptimizeOutcome& out) {
+/// The steady-state check of the chosen design from its verification (the
+/// metrics over the periodic orbits) against its window's objective.
+SteadyStateCheck steady_state_check(const DesignEvaluation& verified, double window_objective) {
   SteadyStateCheck c;
-  SceneConfig scene = out.optimized_scene;
-  scene.simulation.steady_state = true;
-  const DesignEvaluation e = evaluator.evaluate(scene, {}, true);
-  if (!e.valid) {
-    c.reason = "the design could not be simulated for its steady state: " + e.error;
+  if (!verified.valid) {
+    c.reason = "the design could not be simulated for its steady state: " + verified.error;
     return c;
   }
   c.checked = true;
-  c.speeds = static_cast<int>(e.speeds.size());
-  for (const SpeedResult& speed : e.speeds) {
+  c.speeds = static_cast<int>(verified.speeds.size());
+  for (const SpeedResult& speed : verified.speeds) {
     if (speed.result.metrics_over == "periodic_orbit") ++c.speeds_on_orbit;
     c.notes.push_back(format_shortest(speed.rpm) + " rpm: " + speed.result.metrics_note);
   }
-  c.objective = e.objective;
-  c.relative_change =
-      std::abs(e.objective - out.optimized.objective) / std::max(std::abs(out.optimized.objective), 1e-12);
+  c.objective = verified.objective;
+  c.relative_change = std::abs(verified.objective - window_objective) / std::max(std::abs(window_objective), 1e-12);
   c.agrees = c.relative_change <= WindowCheck::kTolerance;
   return c;
 }
@@ -293,11 +295,179 @@ WindowCheck check_window(const DesignEvaluator& evaluator, const OptimizeOutcome
   if (out.optimized_scene.simulation.steady_state)
     w.steady_state.reason = "the loop's evaluations were on the steady state (simulation.steady_state)";
   else
-    w.steady_state = check_steady_state(evaluator, out);
+    w.steady_state = steady_state_check(out.selection.chosen().verified, out.optimized.objective);
   return w;
 }
 
+/// The operating speeds the rigid stage proved jump-free: its design's
+/// rigid-model margin P − P_min (the built law sampled densely) is ≥ 0 there.
+std::vector<double> proven_speeds(const RigidStageResult& rigid, const OptimizeStudyConfig& config) {
+  std::vector<double> out;
+  if (!rigid.design.have) return out;
+  for (std::size_t i = 0; i < config.operating_rpm.size() && i < rigid.design.verified_margin.size(); ++i)
+    if (rigid.design.verified_margin[i] >= 0.0) out.push_back(config.operating_rpm[i]);
+  return out;
+}
+
+/// Candidate `scene` verified: the scene's settings, the metrics over the
+/// steady state at every operating speed (its `window` evaluation when the
+/// scene already asks for the steady state).
+CandidateVerification verify(CandidateKind kind, const SceneConfig& scene, const DesignEvaluator& evaluator,
+                             const DesignEvaluation& window) {
+  CandidateVerification v;
+  v.kind = kind;
+  v.available = true;
+  if (scene.simulation.steady_state) {
+    v.verified = window;
+  } else {
+    SceneConfig s = scene;
+    s.simulation.steady_state = true;
+    v.verified = evaluator.evaluate(s, {}, true);
+  }
+  for (const SpeedResult& speed : v.verified.speeds)
+    if (speed.result.metrics.separation_fraction > 0.0) v.separating_rpm.push_back(speed.rpm);
+  return v;
+}
+
+/// What the choice needs of a verified candidate.
+CandidateScore score_of(const CandidateVerification& c, const std::vector<ConstraintSpec>& specs,
+                        const std::vector<double>& proven_rpm) {
+  CandidateScore s;
+  s.kind = c.kind;
+  s.available = c.available;
+  s.valid = c.available && c.verified.valid;
+  s.feasible = s.valid && c.verified.feasible;
+  s.objective = c.verified.objective;
+  for (std::size_t i = 0; i < specs.size() && i < c.verified.constraints.size(); ++i) {
+    const ConstraintValue& v = c.verified.constraints[i];
+    s.violation += std::max(v.residual, 0.0);
+    if (!v.holds) s.violated.push_back(specs[i].name);
+  }
+  // The proven speeds, also where the search did not hold them (a kinematic search).
+  const char* kProven = "no_separation_where_proven";
+  for (double rpm : c.separating_rpm) {
+    if (std::find(proven_rpm.begin(), proven_rpm.end(), rpm) == proven_rpm.end()) continue;
+    if (std::find(s.violated.begin(), s.violated.end(), kProven) == s.violated.end()) {
+      s.violated.emplace_back(kProven);
+      s.feasible = false;
+      s.violation += 1.0;
+    }
+  }
+  return s;
+}
+
+/// The rigid-model spring sizing of `scene` up to the top operating speed,
+/// with the rigid stage's P_min (dynamics/spring_sizing.h).
+SpringSizing size_scene_spring(const SceneConfig& scene, const OptimizeStudyConfig& config, const std::string& file) {
+  const Model model = build_model(scene, file);
+  const double pmin = rigid_follower(model, rigid_min_contact_force(config)).min_force;
+  return size_spring(*model.law, rigid_spring_load(model, pmin), top_speed(config) * kRadPerRpm);
+}
+
+/// Scores every candidate of out.selection and chooses among them.
+void choose_among(OptimizeOutcome& out) {
+  std::vector<CandidateScore> scores;
+  for (CandidateVerification& c : out.selection.candidates) {
+    c.score = score_of(c, out.constraints, out.proven_rpm);
+    scores.push_back(c.score);
+  }
+  out.selection.choice = choose_candidate(scores);
+}
+
+/// design.spring: `best` with the smallest preload that keeps the rigid-model
+/// force ≥ P_min up to the top speed, verified and added to out.selection.
+/// The simulated force dips below the rigid model's by the contact's and the
+/// follower's own dynamics: where the verification finds the study's
+/// min_contact_force short by Δ, the preload is raised by Δ (force is linear
+/// in the preload on the rigid model) and verified again, at most kRaises times.
+Candidate sized_spring_candidate(const Candidate& best, const DesignEvaluator& evaluator,
+                                 const EvaluationSettings& full, const std::string& file, OptimizeOutcome& out) {
+  constexpr int kRaises = 3;
+  const auto& specs = out.constraints;
+  const auto floor_at =
+      std::find_if(specs.begin(), specs.end(), [](const ConstraintSpec& c) { return c.name == "min_contact_force"; });
+  SceneConfig scene = best.scene;
+  double& preload = scene.mechanism.follower.spring.preload;
+  preload = size_scene_spring(scene, out.config, file).required_preload;
+  for (int k = 0;; ++k) {
+    DesignEvaluation e = evaluator.evaluate(scene, full, true);
+    CandidateVerification v = verify(CandidateKind::spring, scene, evaluator, e);
+    double shortfall = 0.0;
+    if (floor_at != specs.end() && v.verified.valid) {
+      const ConstraintValue& c = v.verified.constraints[static_cast<std::size_t>(floor_at - specs.begin())];
+      if (!c.holds && c.value > 0.0) shortfall = -c.margin;  // in contact, below the floor
+    }
+    if (shortfall <= 0.0 || k == kRaises) {
+      out.selection.candidates.push_back(std::move(v));
+      return Candidate{std::move(e), scene, best.x};
+    }
+    preload += shortfall;
+  }
+}
+
+/// The study's answer (optim/optimize/candidate_choice.h): the baseline, the
+/// rigid design and the dynamic result (out.optimized from choose_optimized)
+/// verified alike; with design.spring also the best of them with its
+/// preload sized (docs/model.md §11). The best is kept as out.optimized and
+/// out.optimized_scene.
+void select_answer(const DesignSpace& space, const DesignEvaluator& evaluator, const EvaluationSettings& full,
+                   const SceneConfig& baseline, const std::string& name, double top, const std::string& file,
+                   OptimizeOutcome& out) {
+  std::vector<CandidateVerification>& list = out.selection.candidates;
+  list.clear();
+  std::vector<std::optional<Candidate>> answers;  // beside `list`
+  const SceneConfig base_scene = with_limits(simulate_scene(baseline, top, name, file), out.constraints, out.baseline);
+  list.push_back(verify(CandidateKind::baseline, base_scene, evaluator, out.baseline));
+  answers.push_back(Candidate{out.baseline, base_scene, {}});
+  if (out.rigid.design.have) {
+    SceneConfig scene = simulate_scene(space.scene(out.rigid.design.x), top, name, file);
+    DesignEvaluation e = evaluator.evaluate(scene, full, true);
+    scene = with_limits(scene, out.constraints, e);
+    list.push_back(verify(CandidateKind::rigid, scene, evaluator, e));
+    answers.push_back(Candidate{std::move(e), scene, out.rigid.design.x});
+  } else {
+    CandidateVerification none;
+    none.kind = CandidateKind::rigid;
+    none.reason = out.config.rigid.enabled ? "the rigid stage made no design" : "rigid.enabled is false";
+    list.push_back(std::move(none));
+    answers.emplace_back();
+  }
+  list.push_back(verify(CandidateKind::dynamic, out.optimized_scene, evaluator, out.optimized));
+  answers.push_back(Candidate{out.optimized, out.optimized_scene, out.x_optimized});
+  choose_among(out);
+  if (out.config.design.spring) {
+    const CandidateKind from = out.selection.choice.chosen;
+    answers.push_back(sized_spring_candidate(*answers[static_cast<std::size_t>(from)], evaluator, full, file, out));
+    list.back().sized_from = from;
+    choose_among(out);
+  }
+  Candidate& chosen = *answers[static_cast<std::size_t>(out.selection.choice.chosen)];
+  out.optimized = std::move(chosen.evaluation);
+  out.optimized_scene = std::move(chosen.scene);
+  out.x_optimized = std::move(chosen.x);
+}
+
+/// out.required_preload and out.required_stiffness of the chosen design up
+/// to the top operating speed, with the rigid stage's P_min.
+void size_chosen_spring(const std::string& file, OptimizeOutcome& out) {
+  const SpringSizing s = size_scene_spring(out.optimized_scene, out.config, file);
+  out.required_preload = s.required_preload;
+  out.required_stiffness = s.required_stiffness;
+}
+
 }  // namespace
+
+const CandidateVerification& Selection::chosen() const {
+  for (const CandidateVerification& c : candidates)
+    if (c.kind == choice.chosen) return c;
+  static const CandidateVerification kNone;
+  return kNone;
+}
+
+bool Selection::good() const {
+  const CandidateVerification& c = chosen();
+  return choice.feasible && choice.beats_baseline && c.verified.valid && c.separating_rpm.empty();
+}
 
 OptimizeStudy read_optimize_study(const Json& doc, const ConfigSource& source) {
   Json part;
@@ -342,6 +512,11 @@ OptimizeOutcome run_optimize(const SceneConfig& baseline, const OptimizeStudyCon
   const int threads = std::clamp(options.threads, 1, static_cast<int>(config.operating_rpm.size()));
   SimulationPool pool(threads, file);
   DesignEvaluator evaluator(config, file, pool);
+  // A speed the rigid stage proved jump-free stays so: a hard constraint of a
+  // search that simulates (a kinematic search is not made to simulate for it;
+  // the verification of the answer checks it either way).
+  out.proven_rpm = proven_speeds(out.rigid, config);
+  if (evaluator.needs_simulation()) evaluator.require_no_separation_at(out.proven_rpm);
   out.constraints = evaluator.constraints();
   out.loop_simulated = evaluator.needs_simulation();
   LoopRecorder recorder(options.checkpoint_dir, baseline, config, space, out.constraints.size(), file);
@@ -365,6 +540,9 @@ OptimizeOutcome run_optimize(const SceneConfig& baseline, const OptimizeStudyCon
 
   say(options, "re-evaluating the best designs with the scene's settings");
   choose_optimized(space, evaluator, full, baseline.name + "-optimized", top_speed(config), file, out);
+  say(options, "verifying the baseline, the rigid design and the dynamic result on the steady state");
+  select_answer(space, evaluator, full, baseline, baseline.name + "-optimized", top_speed(config), file, out);
+  size_chosen_spring(file, out);
   say(options, "checking that the objective does not depend on the window");
   out.window_check = check_window(evaluator, out);
   out.simulations = pool.simulations() + out.resumed_simulations;

@@ -2,7 +2,10 @@
 // optimised design: evaluate the baseline (the normalisation comes from it),
 // search with NLopt using the cheaper loop settings, then re-evaluate the best
 // designs with the scene's own settings and keep the first that satisfies every
-// constraint there. The optimised scene is built, written and read back
+// constraint there. The answer is then the best of the baseline, the rigid
+// stage's design and that result, each verified on the steady state at every
+// operating speed (optim/optimize/candidate_choice.h), so it is never worse
+// than the baseline. The optimised scene is built, written and read back
 // exactly as optimized.json will be, so `camdyn run optimized.json`
 // reproduces the reported metrics.
 #pragma once
@@ -13,6 +16,7 @@
 #include <vector>
 
 #include "io/config.h"
+#include "optim/optimize/candidate_choice.h"
 #include "optim/optimize/design.h"
 #include "optim/optimize/objectives.h"
 #include "optim/optimize/optimize_config.h"
@@ -75,6 +79,28 @@ struct WindowCheck {
   SteadyStateCheck steady_state;
 };
 
+/// One candidate answer (baseline, rigid design, dynamic result) with the
+/// scene's settings on the steady state at every operating speed.
+struct CandidateVerification {
+  CandidateKind kind = CandidateKind::baseline;
+  bool available = false;
+  std::string reason;                                  ///< why not available
+  DesignEvaluation verified;                           ///< simulation.steady_state set, the scene's settings
+  std::vector<double> separating_rpm;                  ///< operating speeds where it separates on the steady state
+  CandidateScore score;                                ///< as the choice saw it (the proven speeds included)
+  CandidateKind sized_from = CandidateKind::baseline;  ///< spring: the candidate whose law it keeps
+};
+
+/// The study's answer: which candidate won, and the verification of each.
+struct Selection {
+  CandidateChoice choice;
+  std::vector<CandidateVerification> candidates;  ///< baseline, rigid, dynamic (and spring), in CandidateKind order
+  /// The verification of the chosen candidate.
+  const CandidateVerification& chosen() const;
+  /// Green banner: jump-free at every operating speed, every constraint, better than the baseline.
+  bool good() const;
+};
+
 struct OptimizeOutcome {
   OptimizeStudyConfig config;
   std::vector<DesignVariable> variables;
@@ -84,10 +110,19 @@ struct OptimizeOutcome {
   Normalisation normalisation;
   bool loop_simulated = false;  ///< the loop ran simulations (else kinematics and geometry only)
 
-  DesignEvaluation baseline;   ///< the baseline law, scene settings, time series kept
-  RigidStageResult rigid;      ///< the rigid-model stage and its certificate (rigid.enabled)
+  DesignEvaluation baseline;  ///< the baseline law, scene settings, time series kept
+  RigidStageResult rigid;     ///< the rigid-model stage and its certificate (rigid.enabled)
+  /// Operating speeds the rigid design is jump-free at (rigid-model margin ≥ 0):
+  /// the search holds no separation there as a constraint (no_separation_where_proven).
+  std::vector<double> proven_rpm;
   DesignEvaluation initial;    ///< the first start of the search (the rigid design, else the spline fit), loop settings
-  DesignEvaluation optimized;  ///< the chosen design, scene settings, time series kept
+  DesignEvaluation optimized;  ///< the chosen design (selection), scene settings, time series kept
+  Selection selection;         ///< which of baseline, rigid design and dynamic result is the answer
+  /// The smallest spring preload [N | N m] that keeps the chosen design's
+  /// rigid-model contact force at least P_min up to the top operating speed
+  /// (dynamics/spring_sizing.h), and the smallest rate for the preload it has.
+  double required_preload = 0.0;
+  double required_stiffness = 0.0;      ///< +inf when no rate suffices
   SceneConfig optimized_scene;          ///< the `simulate` config written to optimized.json
   WindowCheck window_check;             ///< the optimised objective over a doubled window (dynamic objectives only)
   int candidates_tried = 0;             ///< designs re-evaluated at the scene settings to find a feasible one

@@ -68,6 +68,7 @@ void visit(A& a, DesignConfig& d) {
   a.field("end_deg_range", d.end_deg_range);
   a.require(!d.event || (!d.end_deg_range.rise && !d.end_deg_range.ret), "end_deg_range",
             "an event design keeps its span fixed: leave end_deg_range out");
+  a.field("spring", d.spring);
 }
 
 template <class A>

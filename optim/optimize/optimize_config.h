@@ -48,6 +48,9 @@ struct DesignConfig {
   /// Instead of segments: the event as one curve (control_points free ones
   /// over the whole span; monotone does not apply).
   std::optional<DesignEventConfig> event;
+  /// Also size the answer's spring: the best design with the smallest preload
+  /// that keeps the rigid-model force ≥ P_min up to the top speed competes.
+  bool spring = false;
 
   bool operator==(const DesignConfig&) const = default;
 };

@@ -157,6 +157,54 @@ Json rigid_json(const RigidStageResult& r, bool enabled) {
   return j;
 }
 
+/// One candidate answer as verified: objective, each constraint, the speeds where it separates.
+Json candidate_json(const CandidateVerification& c, const OptimizeOutcome& o) {
+  Json j{{"available", c.available}};
+  if (!c.available) {
+    j["reason"] = c.reason;
+    return j;
+  }
+  const DesignEvaluation& e = c.verified;
+  j["valid"] = e.valid;
+  if (!e.valid) j["error"] = e.error;
+  j["objective"] = e.valid ? finite_or_null(e.objective) : Json(nullptr);
+  j["feasible"] = c.score.feasible;
+  j["violated"] = c.score.violated;
+  Json constraints = Json::object();
+  for (std::size_t i = 0; i < o.constraints.size() && i < e.constraints.size(); ++i)
+    constraints[o.constraints[i].name] = Json{
+        {"value", e.valid ? finite_or_null(e.constraints[i].value) : Json(nullptr)}, {"holds", e.constraints[i].holds}};
+  j["constraints"] = constraints;
+  j["jump_free"] = e.valid && c.separating_rpm.empty();
+  if (c.kind == CandidateKind::spring) {
+    j["sized_from"] = to_string(c.sized_from);
+    j["preload"] = e.scene.mechanism.follower.spring.preload;
+  }
+  j["separating_rpm"] = c.separating_rpm;
+  Json speeds = Json::array();
+  for (const SpeedResult& s : e.speeds)
+    speeds.push_back(Json{{"rpm", s.rpm},
+                          {"metrics_over", s.result.metrics_over},
+                          {"separation_fraction", s.result.metrics.separation_fraction},
+                          {"min_contact_force", s.result.metrics.min_contact_force},
+                          {"peak_contact_force", s.result.metrics.peak_contact_force}});
+  j["speeds"] = speeds;
+  return j;
+}
+
+/// Which candidate the study returns and why, and how each fared.
+void add_selection(const OptimizeOutcome& o, Json& r) {
+  const Selection& sel = o.selection;
+  r["chosen"] = to_string(sel.choice.chosen);
+  r["chosen_reason"] = sel.choice.reason;
+  r["verdict"] = sel.good() ? "good" : sel.choice.feasible ? "warning" : "bad";
+  Json candidates = Json::object();
+  for (const CandidateVerification& c : sel.candidates) candidates[to_string(c.kind)] = candidate_json(c, o);
+  r["candidates"] = candidates;
+  r["required_preload"] = finite_or_null(o.required_preload);
+  r["required_stiffness"] = finite_or_null(o.required_stiffness);
+}
+
 }  // namespace
 
 Json result_json(const OptimizeOutcome& o, const std::string& name, const std::string& file) {
@@ -208,6 +256,8 @@ Json result_json(const OptimizeOutcome& o, const std::string& name, const std::s
       {"candidates_tried", o.candidates_tried},
       {"variables", vars}};
   r["rigid_stage"] = rigid_json(o.rigid, o.config.rigid.enabled);
+  r["rigid_stage"]["proven_rpm"] = o.proven_rpm;
+  add_selection(o, r);
   r["resumed_evaluations"] = o.resumed_evaluations;
   r["resumed_simulations"] = o.resumed_simulations;
   const WindowCheck& w = o.window_check;
@@ -235,7 +285,8 @@ Json optimized_config_json(const OptimizeOutcome& o, const std::string& config_f
   out["name"] = scene["name"];
   out["description"] = "Optimised by `camdyn run " + config_file + "` (" + o.search.method + ", " +
                        std::to_string(o.search.evaluations) + " evaluations, stop reason " + o.search.stop_reason +
-                       "), at the top operating speed.";
+                       "), at the top operating speed; the answer is the " + to_string(o.selection.choice.chosen) +
+                       " design (result.json `chosen`).";
   for (const auto& [key, value] : scene.items())
     if (key != "name") out[key] = value;
   return out;

@@ -112,22 +112,37 @@ std::vector<std::pair<std::string, std::string>> summary_facts(const OptimizeOut
                " evaluations/s)"},
           {"operating speeds", speeds + " rpm (" + o.config.objective.aggregate + " case)"},
           {"objective", format_number(b.objective) + " → " + format_number(p.objective)},
+          {"answer", std::string(to_string(o.selection.choice.chosen)) + " (" + o.selection.choice.reason + ")"},
+          {"required spring preload", format_number(o.required_preload) + " at the rate given"},
           {"all constraints hold", "baseline: " + yes_no(b.feasible) + ", optimised: " + yes_no(p.feasible)}};
 }
 
-/// The banner: the jump speed before → after, then the certificate and the speeds it covers.
+/// The banner: which candidate is the answer and why, coloured by what was
+/// verified (green: jump-free at every operating speed, every constraint,
+/// better than the baseline; amber: the baseline kept, or an answer that
+/// separates somewhere; red: nothing meets the constraints), then the jump
+/// speed before → after, the certificate and the speeds it covers.
 Verdict optimize_verdict(const OptimizeOutcome& o) {
   Verdict v;
-  v.tone = o.optimized.feasible ? Verdict::Tone::good : Verdict::Tone::bad;
-  for (const auto& [key, value] : answer_facts(o)) {
-    if (v.headline.empty() && key == "rigid-model jump speed")
-      v.headline = "jump speed " + value + " (rigid model, baseline → optimised)";
-    else
-      v.details.push_back(key + ": " + value);
+  const Selection& sel = o.selection;
+  const CandidateVerification& chosen = sel.chosen();
+  v.tone = sel.good() ? Verdict::Tone::good : sel.choice.feasible ? Verdict::Tone::warning : Verdict::Tone::bad;
+  if (!sel.choice.feasible)
+    v.headline = "no design meets every constraint: the " + std::string(to_string(sel.choice.chosen)) +
+                 " design breaks the fewest";
+  else if (sel.choice.chosen == CandidateKind::baseline)
+    v.headline = "baseline kept: no design the study made is better on the steady state";
+  else
+    v.headline = std::string("the ") + to_string(sel.choice.chosen) + " design: objective " +
+                 format_number(o.selection.candidates.front().verified.objective) + " → " +
+                 format_number(chosen.verified.objective) + " on the steady state";
+  v.details.push_back("why: " + sel.choice.reason);
+  if (!chosen.separating_rpm.empty()) {
+    std::string speeds;
+    for (double rpm : chosen.separating_rpm) speeds += (speeds.empty() ? "" : ", ") + format_number(rpm);
+    v.details.push_back("separates on the steady state at " + speeds + " rpm");
   }
-  if (v.headline.empty())
-    v.headline = "objective " + format_number(o.baseline.objective) + " → " + format_number(o.optimized.objective);
-  if (!o.optimized.feasible) v.details.push_back("the optimised design does not satisfy every constraint");
+  for (const auto& [key, value] : answer_facts(o)) v.details.push_back(key + ": " + value);
   return v;
 }
 
@@ -223,6 +238,29 @@ Table segments_table(const DesignEvaluation& b, const DesignEvaluation& p) {
     }
   }
   return segments;
+}
+
+/// The candidates the answer was chosen from, as the verification saw them.
+Table candidates_table(const Selection& sel) {
+  Table t{"Candidates, verified with the scene's settings on the steady state (answer: " +
+              std::string(to_string(sel.choice.chosen)) + ")",
+          {"candidate", "objective", "meets every constraint", "breaks", "separates at [rpm]"},
+          {},
+          true};
+  t.wrap = true;
+  for (const CandidateVerification& c : sel.candidates) {
+    if (!c.available) {
+      t.rows.push_back({to_string(c.kind), "–", "–", c.reason, "–"});
+      continue;
+    }
+    std::string breaks, speeds;
+    for (const std::string& v : c.score.violated) breaks += (breaks.empty() ? "" : ", ") + v;
+    for (double rpm : c.separating_rpm) speeds += (speeds.empty() ? "" : ", ") + format_number(rpm);
+    if (!c.verified.valid) breaks = c.verified.error;
+    t.rows.push_back({to_string(c.kind), c.verified.valid ? format_number(c.verified.objective) : "–",
+                      yes_no(c.score.feasible), breaks, speeds.empty() ? "none" : speeds});
+  }
+  return t;
 }
 
 /// What each start of the search ended with.
@@ -368,6 +406,7 @@ Report optimize_report(const OptimizeOutcome& o, const std::string& name) {
       "design";
   r.verdict = optimize_verdict(o);
   r.facts = summary_facts(o);
+  r.tables.push_back(candidates_table(o.selection));
   const Table constraints = constraints_table(o);
   if (!constraints.rows.empty()) r.tables.push_back(constraints);
   r.tables.push_back(terms_table(o.baseline, o.optimized));

@@ -1,5 +1,6 @@
 #include "optim/optimize/optimize_study.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -49,6 +50,40 @@ void print_certificate(const OptimizeOutcome& o) {
                 o.rigid.design.jump_free_rpm, o.rigid.lp_solves, o.rigid.run_time_s);
 }
 
+/// The answer: which candidate, why, each verified objective, and the spring it needs.
+void print_selection(const OptimizeOutcome& o) {
+  const Selection& sel = o.selection;
+  const CandidateVerification& chosen = sel.chosen();
+  std::printf("  answer: the %s design (%s): %s\n", to_string(sel.choice.chosen),
+              sel.good()            ? "better than the baseline"
+              : sel.choice.feasible ? (sel.choice.chosen == CandidateKind::baseline ? "baseline kept" : "see below")
+                                    : "NOTHING MEETS THE CONSTRAINTS",
+              sel.choice.reason.c_str());
+  std::string line;
+  for (const CandidateVerification& c : sel.candidates) {
+    if (!c.available) continue;
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%s%s %.6g%s", line.empty() ? "" : ", ", to_string(c.kind), c.verified.objective,
+                  c.score.feasible ? "" : " (infeasible)");
+    line += buf;
+  }
+  std::printf("  objective on the steady state: %s\n", line.c_str());
+  const bool verified = chosen.score.feasible;
+  std::printf("  constraints %s\n", verified ? "all hold (verified on the steady state at every operating speed)"
+                                             : "VIOLATED (see result.json)");
+  if (!chosen.separating_rpm.empty()) {
+    std::string speeds;
+    for (double rpm : chosen.separating_rpm) speeds += (speeds.empty() ? "" : ", ") + format_shortest(rpm);
+    std::printf("  the answer separates on the steady state at %s rpm\n", speeds.c_str());
+  }
+  const char* unit =
+      o.optimized_scene.mechanism.follower.motion == FollowerMotion::oscillating ? "N m (torque about the pivot)" : "N";
+  std::printf(
+      "  required spring preload %.6g %s at the rate given, to keep the rigid-model force >= %g N up to %g rpm\n",
+      o.required_preload, unit, rigid_min_contact_force(o.config),
+      *std::max_element(o.config.operating_rpm.begin(), o.config.operating_rpm.end()));
+}
+
 }  // namespace
 
 int run_optimize_study(const Json& doc, const StudyContext& ctx) {
@@ -80,8 +115,7 @@ int run_optimize_study(const Json& doc, const StudyContext& ctx) {
   std::printf("%s: %s, %ld evaluations (%ld invalid), stop reason %s, %.3g s\n", baseline.name.c_str(),
               o.search.method.c_str(), o.search.evaluations, o.search.invalid_evaluations, o.search.stop_reason.c_str(),
               o.run_time_s);
-  std::printf("  objective %.6g -> %.6g; constraints %s\n", b.objective, p.objective,
-              p.feasible ? "all hold" : "VIOLATED (see result.json)");
+  print_selection(o);
   for (std::size_t i = 0; i < b.speeds.size() && i < p.speeds.size(); ++i) {
     const Metrics& mb = b.speeds[i].result.metrics;
     const Metrics& mp = p.speeds[i].result.metrics;

@@ -15,6 +15,7 @@
 #include "dynamics/plausibility.h"
 #include "dynamics/rigid_jump_speed.h"
 #include "dynamics/simulation.h"
+#include "dynamics/spring_sizing.h"
 #include "io/config.h"
 #include "io/json_writer.h"
 #include "output/profile_export.h"
@@ -96,6 +97,9 @@ int run_simulate_study(const Json& doc, const StudyContext& ctx) {
   if (!result.metrics_note.empty()) std::printf("  steady state: %s\n", result.metrics_note.c_str());
   std::printf("  separation_fraction %.4g, impacts %ld, peak_contact_force %.6g N, min_contact_force %.6g N\n",
               m.separation_fraction, m.impact_count, m.peak_contact_force, m.min_contact_force);
+  const SpringSizing sizing = size_spring(*model.law, rigid_spring_load(model, 0.0), model.omega);
+  std::printf("  required spring preload %.6g %s at the rate given (rigid model, contact up to this speed)\n",
+              sizing.required_preload, coordinate_units(model).force);
   std::printf("  energy_residual %.3g, %ld steps, %ld RHS evaluations, %.3g s\n", m.energy_residual,
               result.solver.counters.steps, result.solver.counters.rhs_evaluations, result.solver.run_time_s);
   if (result.error.richardson)

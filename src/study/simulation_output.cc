@@ -13,6 +13,7 @@
 #include "dynamics/coordinate_units.h"
 #include "dynamics/plausibility.h"
 #include "dynamics/rigid_jump_speed.h"
+#include "dynamics/spring_sizing.h"
 #include "io/atomic_file.h"
 #include "io/csv_writer.h"
 #include "io/json_writer.h"
@@ -128,6 +129,16 @@ Json contour_fit_json(const Model& model) {
 
 }  // namespace
 
+Json spring_sizing_json(const Model& model) {
+  const SpringSizing s = size_spring(*model.law, rigid_spring_load(model, 0.0), model.omega);
+  const Json rate = std::isfinite(s.required_stiffness) ? Json(s.required_stiffness) : Json(nullptr);
+  return Json{{"required_preload", s.required_preload},
+              {"required_preload_at_deg", s.preload_at_deg},
+              {"required_stiffness", rate},
+              {"min_contact_force", 0.0},
+              {"up_to_rpm", model.omega * 60.0 / (2.0 * std::numbers::pi)}};
+}
+
 Json summary_json(const SceneConfig& scene, const Model& model, const SimulationResult& result) {
   const SolverSummary& s = result.solver;
   Json summary;
@@ -167,6 +178,7 @@ Json summary_json(const SceneConfig& scene, const Model& model, const Simulation
                           {"contact_pair", contact_pair_name(model)}};
   if (model.contour) summary["contour_fit"] = contour_fit_json(model);
   summary["warnings"] = warnings_json(run_warnings(scene, model, result));
+  summary["spring_sizing"] = spring_sizing_json(model);
   summary["config"] = to_json(scene);
   return summary;
 }

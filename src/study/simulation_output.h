@@ -26,6 +26,11 @@ Json warnings_json(const std::vector<PlausibilityWarning>& warnings);
 /// jump speed (a law that never decelerates) is written as null.
 Json summary_json(const SceneConfig& scene, const Model& model, const SimulationResult& result);
 
+/// summary.json `spring_sizing` (dynamics/spring_sizing.h): the smallest
+/// preload at the spring's rate, and the smallest rate at its preload, that
+/// keep the rigid-model force ≥ 0 at every cam speed up to the run's.
+Json spring_sizing_json(const Model& model);
+
 /// The report a user looks at first: follower motion against the law, gap,
 /// contact force against cam angle (with the rigid-model force), energy
 /// residual, the cam plots (output/cam_plots.h: the cam to scale, pressure angle,

@@ -21,6 +21,7 @@
 #include "common/errors.h"
 #include "dynamics/simulation.h"
 #include "output/curve_decimation.h"
+#include "tolerance.h"
 
 namespace camdyn {
 namespace {
@@ -47,6 +48,27 @@ TEST(SimulationOutput, SummaryListsEveryMetricOnceInVisitOrder) {
   EXPECT_EQ(keys(summary["metrics"]), metric_names());
   EXPECT_TRUE(summary["metrics"]["impact_count"].is_number_integer());
   EXPECT_EQ(summary["metrics"]["peak_contact_force"].get<double>(), run.result.metrics.peak_contact_force);
+}
+
+// summary.json `spring_sizing` (docs/model.md §11) at the run's speed, on a
+// harmonic rise and return of the shorter duration β = 120°: the closed form
+// F₀ = max(0, h (m ω² π² / (2 β²) − k)) with P_min = 0.
+TEST(SimulationOutput, SummarySizesTheSpringForTheRunsSpeedAsTheHarmonicClosedForm) {
+  SceneConfig scene = test::cycloidal_cam_scene(1300.0);
+  for (SegmentConfig& seg : scene.mechanism.cam.motion_law.segments)
+    if (seg.law == SegmentLaw::cycloidal) seg.law = SegmentLaw::harmonic;
+  scene.simulation.cycles = 1;
+  scene.simulation.discard_cycles = 0;
+  const SceneRun run(scene);
+  const Json sizing = summary_json(run.scene, run.model, run.result)["spring_sizing"];
+  const double omega = 1300.0 * std::numbers::pi / 30.0, beta = 2.0 * std::numbers::pi / 3.0;
+  const double h = 0.02, m = 0.3, k = 5000.0;
+  const double expected =
+      std::max(0.0, h * (m * omega * omega * std::numbers::pi * std::numbers::pi / (2 * beta * beta) - k));
+  ASSERT_GT(expected, 0.0);
+  EXPECT_NEAR(sizing["required_preload"].get<double>(), expected, test::kConverged * expected);
+  EXPECT_EQ(sizing["up_to_rpm"].get<double>(), 1300.0);
+  EXPECT_EQ(sizing["min_contact_force"].get<double>(), 0.0);
 }
 
 TEST(SimulationOutput, SolverBlockEndsWithTerminationAndMessage) {

@@ -1,0 +1,47 @@
+// Spring sizing on the rigid model (docs/model.md §11): for a given motion
+// law, the smallest preload F₀ (at the spring's rate k) and the smallest rate
+// k (at its preload F₀) that keep the rigid-model force
+//   P(θ; ω) = M ω² s''(θ) + c ω s'(θ) + k s(θ) + F₀ + M g
+// at least P_min at every cam angle θ and every cam speed ω in [0, ω_max].
+// P is linear in (k, F₀), so the feasible springs are the intersection of
+// half-planes k s(θ) + F₀ ≥ D(θ), with the demand
+//   D(θ) = P_min − M g − min over ω ∈ [0, ω_max] of (M ω² s'' + c ω s')
+// (a quadratic in ω: its minimum is at an end or at its vertex). With one of
+// (k, F₀) fixed the other is a closed-form maximum over θ, so no linear
+// programme is needed. Generalised coordinate of any follower: an arm's
+// figures are torques [N m] and rates [N m/rad].
+#pragma once
+
+#include "dynamics/model.h"
+#include "geometry/motion_law.h"
+
+namespace camdyn {
+
+/// The follower as the rigid model sees it (translating: kg, N s/m, N/m, N).
+struct RigidSpringLoad {
+  double mass = 0.0;       ///< M [kg | kg m²]
+  double damping = 0.0;    ///< c [N s/m | N m s/rad]
+  double weight = 0.0;     ///< M g towards the cam [N]
+  double stiffness = 0.0;  ///< k of the spring in place [N/m | N m/rad]
+  double preload = 0.0;    ///< F₀ of the spring in place [N | N m]
+  double min_force = 0.0;  ///< P_min: the force to keep [N | N m], ≥ 0
+};
+
+struct SpringSizing {
+  /// Smallest F₀ ≥ 0 that holds with the rate `stiffness` [N | N m].
+  double required_preload = 0.0;
+  double preload_at_deg = 0.0;  ///< cam angle where it is set [deg]
+  /// Smallest k ≥ 0 that holds with the preload `preload` [N/m | N m/rad];
+  /// +inf when no rate suffices (the demand exceeds F₀ where s = 0).
+  double required_stiffness = 0.0;
+};
+
+/// Sizes the spring for `law` up to the cam speed `omega_max` [rad/s], ≥ 0,
+/// with `samples` angles per piece of the law (both ends, each from inside
+/// its own piece) and the largest demand refined by golden section.
+SpringSizing size_spring(const MotionLaw& law, const RigidSpringLoad& load, double omega_max, int samples = 2000);
+
+/// The load of `model` (its mass, damper, gravity and spring) with P_min = `min_force`.
+RigidSpringLoad rigid_spring_load(const Model& model, double min_force);
+
+}  // namespace camdyn
