@@ -42,6 +42,18 @@ void visit(A& a, EndAngleRanges& r) {
 }
 
 template <class A>
+void visit(A& a, LayoutConfig& l) {
+  for (auto [key, range] : {std::pair{"base_radius", &l.base_radius}, std::pair{"offset", &l.offset},
+                            std::pair{"pivot_x", &l.pivot_x}, std::pair{"pivot_y", &l.pivot_y},
+                            std::pair{"arm_length", &l.arm_length}}) {
+    a.field(key, *range);
+    if (*range)
+      a.require((*range)->size() == 2 && (**range)[0] < (**range)[1], key,
+                "expected [lower, upper] in metres with lower < upper");
+  }
+}
+
+template <class A>
 void visit(A& a, DesignEventConfig& e) {
   a.field("from_deg", e.from_deg, closed_open(0, 360));
   a.field("to_deg", e.to_deg, open_closed(0, 360));
@@ -69,6 +81,7 @@ void visit(A& a, DesignConfig& d) {
   a.require(!d.event || (!d.end_deg_range.rise && !d.end_deg_range.ret), "end_deg_range",
             "an event design keeps its span fixed: leave end_deg_range out");
   a.field("spring", d.spring);
+  a.field("layout", d.layout);
 }
 
 template <class A>

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "optim/optimize/layout_design.h"
 #include "io/config.h"
 
 namespace camdyn::optim {
@@ -51,6 +52,8 @@ struct DesignConfig {
   /// Also size the answer's spring: the best design with the smallest preload
   /// that keeps the rigid-model force ≥ P_min up to the top speed competes.
   bool spring = false;
+  /// Instead of the law: the cam's layout (optim/optimize/layout_design.h), geometric only.
+  std::optional<LayoutConfig> layout;
 
   bool operator==(const DesignConfig&) const = default;
 };

@@ -10,6 +10,7 @@
 #include "io/json_writer.h"
 #include "optim/optimize/optimize.h"
 #include "optim/optimize/optimize_checkpoint.h"
+#include "optim/optimize/layout_design.h"
 #include "optim/optimize/optimize_config.h"
 #include "optim/optimize/optimize_output.h"
 #include "output/report.h"
@@ -84,12 +85,68 @@ void print_selection(const OptimizeOutcome& o) {
       *std::max_element(o.config.operating_rpm.begin(), o.config.operating_rpm.end()));
 }
 
+Json layout_point_json(const LayoutResult& r, const LayoutPoint& p) {
+  Json values = Json::object();
+  for (std::size_t i = 0; i < r.names.size() && i < p.values.size(); ++i) values[r.names[i]] = p.values[i];
+  return Json{{"values", values},
+              {"buildable", p.buildable},
+              {"error", p.error},
+              {"feasible", p.feasible()},
+              {"cam_size", p.buildable ? Json(p.cam_size) : Json()},
+              {"max_pressure_angle_deg", p.buildable ? Json(p.report.max_pressure_angle_deg) : Json()},
+              {"min_radius_of_curvature", p.buildable ? Json(p.report.min_radius_of_curvature) : Json()},
+              {"violation", p.violation}};
+}
+
+/// `design.layout`: the cam's layout alone, geometric (optim/optimize/layout_design.h).
+int run_layout_study(const OptimizeStudy& study, const StudyContext& ctx) {
+  const LayoutConfig& layout = *study.config.design.layout;
+  check_layout(study.baseline, layout, ctx.config_file);
+  if (ctx.validate_only) {
+    std::cout << dump_json(resolved_study_json(study.baseline, "optimize", to_json(study.config)));
+    return 0;
+  }
+  const ConstraintsConfig& c = study.config.constraints;
+  const LayoutResult r =
+      design_layout(study.baseline, layout, {c.max_pressure_angle_deg, c.min_radius_of_curvature}, ctx.config_file);
+  const bool feasible = r.best.feasible();
+  const bool smaller = feasible && (!r.baseline.feasible() || r.best.cam_size < r.baseline.cam_size);
+  const std::string verdict = !feasible ? "bad" : smaller ? "good" : "warning";
+  std::filesystem::create_directories(ctx.out_dir);
+  Json result{{"name", study.baseline.name},
+              {"study", "optimize"},
+              {"design", "layout"},
+              {"verdict", verdict},
+              {"baseline", layout_point_json(r, r.baseline)},
+              {"optimized", layout_point_json(r, r.best)},
+              {"evaluations", r.evaluations},
+              {"run_time_s", r.run_time_s},
+              {"optimized_config", "optimized.json"}};
+  write_json_atomic(ctx.out_dir / "result.json", result);
+  Json scene = to_json(r.scene);
+  scene["description"] = "Cam layout by `camdyn run " + ctx.config_file + "` (design.layout)";
+  write_json_atomic(ctx.out_dir / "optimized.json", scene);
+  std::printf("%s: cam layout, %ld geometry evaluations, %.3g s\n", study.baseline.name.c_str(), r.evaluations,
+              r.run_time_s);
+  for (std::size_t i = 0; i < r.names.size(); ++i)
+    std::printf("  %s: %.6g -> %.6g m\n", r.names[i].c_str(), r.baseline.values[i], r.best.values[i]);
+  if (feasible)
+    std::printf("  cam size (largest contour radius) %.6g -> %.6g m; pressure angle %.4g deg, min radius of curvature "
+                "%.4g m\n",
+                r.baseline.cam_size, r.best.cam_size, r.best.report.max_pressure_angle_deg,
+                r.best.report.min_radius_of_curvature);
+  else
+    std::printf("  no layout in the ranges meets the limits (least violation %.3g)\n", r.best.violation);
+  return feasible ? 0 : 3;
+}
+
 }  // namespace
 
 int run_optimize_study(const Json& doc, const StudyContext& ctx) {
   const OptimizeStudy study = read_optimize_study(doc, ctx.source);
   const SceneConfig& baseline = study.baseline;
   const OptimizeStudyConfig& config = study.config;
+  if (config.design.layout) return run_layout_study(study, ctx);
   check_optimize(baseline, config, ctx.config_file);
   if (ctx.validate_only) {
     std::cout << dump_json(resolved_study_json(baseline, "optimize", to_json(config)));

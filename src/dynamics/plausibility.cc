@@ -125,8 +125,14 @@ void jerk_warning(const Model& model, std::vector<PlausibilityWarning>& out) {
 void chatter_warnings(const SceneConfig& scene, const Model& model, const SimulationResult& result,
                       std::vector<PlausibilityWarning>& out) {
   const Metrics& m = result.metrics;
-  if (m.impact_count == 0) return;
-  const auto impacts = static_cast<double>(m.impact_count);
+  // Numerical chatter makes onsets that are mostly grazes and re-entries
+  // (dynamics/contact_events.h), not impacts: count every onset in the window.
+  const auto onsets = std::count_if(result.events.begin(), result.events.end(), [&](const ContactEvent& e) {
+    return e.onset && e.time >= result.evaluated_from;
+  });
+  if (onsets == 0) return;
+  const auto impacts = static_cast<double>(onsets);
+  const std::string count = std::to_string(onsets) + " contact onsets (" + std::to_string(m.impact_count) + " impacts)";
   const std::string tighten =
       "; tighten integrator.rtol and integrator.atol (a run at 100x tighter tolerances tells "
       "physics from numerics)";
@@ -134,18 +140,18 @@ void chatter_warnings(const SceneConfig& scene, const Model& model, const Simula
   const double revolutions = model.omega > 0.0 ? window * model.omega / kTwoPi : 0.0;
   if (revolutions > 0.0 && impacts > kMaxImpactsPerRevolution * revolutions)
     out.push_back({"chatter", "integrator.rtol",
-                   std::to_string(m.impact_count) + " impacts in " + num(revolutions) + " evaluated revolutions (" +
+                   count + " in " + num(revolutions) + " evaluated revolutions (" +
                        num(impacts / revolutions) + " per revolution) is numerical chatter rather than bouncing" +
                        tighten});
   else if (revolutions == 0.0 && impacts > kMaxImpactsStill)
     out.push_back({"chatter", "integrator.rtol",
-                   std::to_string(m.impact_count) + " impacts with the cam held still is numerical chatter" + tighten});
+                   count + " with the cam held still is numerical chatter" + tighten});
   if (model.omega > 0.0 && !explicit_start(scene) && !model.drive.shaft()) {
     const double rpm = model.omega * 60.0 / kTwoPi;
     const double jump = damped_jump_speed_rpm(model);
     if (std::isfinite(jump) && rpm < kJumpSpeedMargin * jump)
       out.push_back({"chatter", "integrator.rtol",
-                     "the follower separates (" + std::to_string(m.impact_count) + " impacts) at " + rpm_text(rpm) +
+                     "the follower separates (" + count + ") at " + rpm_text(rpm) +
                          ", below the rigid-model jump speed " + rpm_text(jump) +
                          ": on the rigid model the cam holds it there, so the separations are numerical" + tighten});
   } else if (model.omega > 0.0 && !explicit_start(scene) && std::isfinite(m.jump_speed_rpm) &&
@@ -153,7 +159,7 @@ void chatter_warnings(const SceneConfig& scene, const Model& model, const Simula
     // A shaft drive's speed varies, so separation below the jump speed may be
     // real: only a high count of impacts is suspicious then.
     out.push_back({"chatter", "integrator.rtol",
-                   "the follower separates (" + std::to_string(m.impact_count) + " impacts) at a nominal " +
+                   "the follower separates (" + count + ") at a nominal " +
                        rpm_text(model.omega * 60.0 / kTwoPi) + ", below the rigid-model jump speed " +
                        rpm_text(m.jump_speed_rpm) + tighten});
   }
