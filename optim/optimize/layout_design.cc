@@ -113,6 +113,33 @@ double limits_constraint(unsigned n, const double* x, double* grad, void* data) 
   return p.buildable ? p.violation : 1.0;
 }
 
+/// COBYLA from x within the ranges; the best point goes into `search`.
+void refine(LayoutSearch& search, const std::vector<LayoutVariable>& vars, std::vector<double> x) {
+  const std::size_t n = vars.size();
+  nlopt::opt opt(nlopt::LN_COBYLA, static_cast<unsigned>(n));
+  std::vector<double> lo(n), hi(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    lo[i] = vars[i].lower;
+    hi[i] = vars[i].upper;
+    x[i] = std::clamp(x[i], lo[i], hi[i]);
+  }
+  opt.set_lower_bounds(lo);
+  opt.set_upper_bounds(hi);
+  opt.set_min_objective(objective, &search);
+  opt.add_inequality_constraint(limits_constraint, &search, 0.0);
+  opt.set_xtol_rel(1e-6);
+  opt.set_maxeval(200);
+  double f = 0.0;
+  try {
+    const nlopt::result status = opt.optimize(x, f);
+    if (status < 0) throw NumericalError("layout search: NLopt " + nlopt_result_name(status));
+  } catch (const nlopt::roundoff_limited&) {
+    // The best point found is kept.
+  } catch (const std::invalid_argument& e) {
+    throw NumericalError(std::string("layout search: NLopt refused the problem: ") + e.what());
+  }
+}
+
 }  // namespace
 
 void check_layout(const SceneConfig& scene, const LayoutConfig& layout, const std::string& file) {
@@ -121,8 +148,9 @@ void check_layout(const SceneConfig& scene, const LayoutConfig& layout, const st
     if (!range) return;
     const std::string at = std::string("design.layout.") + key;
     if (!applies)
-      throw InputError(file, at, oscillating ? "a translating follower's field: this follower oscillates"
-                                             : "an oscillating follower's field: this follower translates");
+      throw InputError(file, at,
+                       oscillating ? "a translating follower's field: this follower oscillates"
+                                   : "an oscillating follower's field: this follower translates");
     if (range->size() != 2 || !((*range)[0] < (*range)[1]))
       throw InputError(file, at, "expected [lower, upper] with lower < upper");
     if (positive && !((*range)[0] > 0.0)) throw InputError(file, at, "the lower bound must be > 0");
@@ -133,7 +161,8 @@ void check_layout(const SceneConfig& scene, const LayoutConfig& layout, const st
   check(layout.pivot_y, "pivot_y", oscillating, false);
   check(layout.arm_length, "arm_length", oscillating, true);
   if (variables_of(layout).empty())
-    throw InputError(file, "design.layout", "give at least one range (base_radius, offset, pivot_x, pivot_y, arm_length)");
+    throw InputError(file, "design.layout",
+                     "give at least one range (base_radius, offset, pivot_x, pivot_y, arm_length)");
 }
 
 LayoutResult design_layout(const SceneConfig& baseline, const LayoutConfig& layout, const LayoutLimits& limits,
@@ -152,35 +181,18 @@ LayoutResult design_layout(const SceneConfig& baseline, const LayoutConfig& layo
   // A space-filling design over the ranges finds the feasible region ...
   static constexpr int kPrimes[] = {2, 3, 5, 7, 11};
   const int samples = 60 * static_cast<int>(n);
+  std::vector<LayoutPoint> sampled;
   for (int k = 1; k <= samples; ++k) {
     std::vector<double> x(n);
-    for (std::size_t i = 0; i < n; ++i)
-      x[i] = vars[i].lower + halton(k, kPrimes[i]) * (vars[i].upper - vars[i].lower);
-    search.at(x);
+    for (std::size_t i = 0; i < n; ++i) x[i] = vars[i].lower + halton(k, kPrimes[i]) * (vars[i].upper - vars[i].lower);
+    sampled.push_back(search.at(x));
   }
-  // ... and COBYLA shrinks the cam from the best point found.
-  nlopt::opt opt(nlopt::LN_COBYLA, static_cast<unsigned>(n));
-  std::vector<double> lo(n), hi(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    lo[i] = vars[i].lower;
-    hi[i] = vars[i].upper;
-  }
-  opt.set_lower_bounds(lo);
-  opt.set_upper_bounds(hi);
-  opt.set_min_objective(objective, &search);
-  opt.add_inequality_constraint(limits_constraint, &search, 0.0);
-  opt.set_xtol_rel(1e-6);
-  opt.set_maxeval(400);
-  std::vector<double> x = search.best.values;
-  double f = 0.0;
-  try {
-    const nlopt::result status = opt.optimize(x, f);
-    if (status < 0) throw NumericalError("layout search: NLopt " + nlopt_result_name(status));
-  } catch (const nlopt::roundoff_limited&) {
-    // The best point found is kept.
-  } catch (const std::invalid_argument& e) {
-    throw NumericalError(std::string("layout search: NLopt refused the problem: ") + e.what());
-  }
+  // ... and COBYLA shrinks the cam from the best few points found (the
+  // problem is not convex: each start may end in a different local minimum).
+  std::sort(sampled.begin(), sampled.end(), better);
+  constexpr std::size_t kStarts = 4;
+  for (std::size_t s = 0; s < std::min(kStarts, sampled.size()); ++s) refine(search, vars, sampled[s].values);
+  refine(search, vars, r.baseline.values);
   r.best = search.best;
   r.scene = with_values(baseline, vars, r.best.values);
   r.evaluations = search.evaluations;

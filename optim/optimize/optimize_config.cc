@@ -43,9 +43,9 @@ void visit(A& a, EndAngleRanges& r) {
 
 template <class A>
 void visit(A& a, LayoutConfig& l) {
-  for (auto [key, range] : {std::pair{"base_radius", &l.base_radius}, std::pair{"offset", &l.offset},
-                            std::pair{"pivot_x", &l.pivot_x}, std::pair{"pivot_y", &l.pivot_y},
-                            std::pair{"arm_length", &l.arm_length}}) {
+  for (auto [key, range] :
+       {std::pair{"base_radius", &l.base_radius}, std::pair{"offset", &l.offset}, std::pair{"pivot_x", &l.pivot_x},
+        std::pair{"pivot_y", &l.pivot_y}, std::pair{"arm_length", &l.arm_length}}) {
     a.field(key, *range);
     if (*range)
       a.require((*range)->size() == 2 && (**range)[0] < (**range)[1], key,

@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "optim/optimize/layout_design.h"
 #include "io/config.h"
+#include "optim/optimize/layout_design.h"
 
 namespace camdyn::optim {
 

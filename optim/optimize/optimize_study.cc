@@ -8,9 +8,9 @@
 
 #include "common/errors.h"
 #include "io/json_writer.h"
+#include "optim/optimize/layout_design.h"
 #include "optim/optimize/optimize.h"
 #include "optim/optimize/optimize_checkpoint.h"
-#include "optim/optimize/layout_design.h"
 #include "optim/optimize/optimize_config.h"
 #include "optim/optimize/optimize_output.h"
 #include "output/report.h"
@@ -131,10 +131,11 @@ int run_layout_study(const OptimizeStudy& study, const StudyContext& ctx) {
   for (std::size_t i = 0; i < r.names.size(); ++i)
     std::printf("  %s: %.6g -> %.6g m\n", r.names[i].c_str(), r.baseline.values[i], r.best.values[i]);
   if (feasible)
-    std::printf("  cam size (largest contour radius) %.6g -> %.6g m; pressure angle %.4g deg, min radius of curvature "
-                "%.4g m\n",
-                r.baseline.cam_size, r.best.cam_size, r.best.report.max_pressure_angle_deg,
-                r.best.report.min_radius_of_curvature);
+    std::printf(
+        "  cam size (largest contour radius) %.6g -> %.6g m; pressure angle %.4g deg, min radius of curvature "
+        "%.4g m\n",
+        r.baseline.cam_size, r.best.cam_size, r.best.report.max_pressure_angle_deg,
+        r.best.report.min_radius_of_curvature);
   else
     std::printf("  no layout in the ranges meets the limits (least violation %.3g)\n", r.best.violation);
   return feasible ? 0 : 3;

@@ -127,9 +127,8 @@ void chatter_warnings(const SceneConfig& scene, const Model& model, const Simula
   const Metrics& m = result.metrics;
   // Numerical chatter makes onsets that are mostly grazes and re-entries
   // (dynamics/contact_events.h), not impacts: count every onset in the window.
-  const auto onsets = std::count_if(result.events.begin(), result.events.end(), [&](const ContactEvent& e) {
-    return e.onset && e.time >= result.evaluated_from;
-  });
+  const auto onsets = std::count_if(result.events.begin(), result.events.end(),
+                                    [&](const ContactEvent& e) { return e.onset && e.time >= result.evaluated_from; });
   if (onsets == 0) return;
   const auto impacts = static_cast<double>(onsets);
   const std::string count = std::to_string(onsets) + " contact onsets (" + std::to_string(m.impact_count) + " impacts)";
@@ -140,12 +139,10 @@ void chatter_warnings(const SceneConfig& scene, const Model& model, const Simula
   const double revolutions = model.omega > 0.0 ? window * model.omega / kTwoPi : 0.0;
   if (revolutions > 0.0 && impacts > kMaxImpactsPerRevolution * revolutions)
     out.push_back({"chatter", "integrator.rtol",
-                   count + " in " + num(revolutions) + " evaluated revolutions (" +
-                       num(impacts / revolutions) + " per revolution) is numerical chatter rather than bouncing" +
-                       tighten});
+                   count + " in " + num(revolutions) + " evaluated revolutions (" + num(impacts / revolutions) +
+                       " per revolution) is numerical chatter rather than bouncing" + tighten});
   else if (revolutions == 0.0 && impacts > kMaxImpactsStill)
-    out.push_back({"chatter", "integrator.rtol",
-                   count + " with the cam held still is numerical chatter" + tighten});
+    out.push_back({"chatter", "integrator.rtol", count + " with the cam held still is numerical chatter" + tighten});
   if (model.omega > 0.0 && !explicit_start(scene) && !model.drive.shaft()) {
     const double rpm = model.omega * 60.0 / kTwoPi;
     const double jump = damped_jump_speed_rpm(model);
@@ -159,9 +156,8 @@ void chatter_warnings(const SceneConfig& scene, const Model& model, const Simula
     // A shaft drive's speed varies, so separation below the jump speed may be
     // real: only a high count of impacts is suspicious then.
     out.push_back({"chatter", "integrator.rtol",
-                   "the follower separates (" + count + ") at a nominal " +
-                       rpm_text(model.omega * 60.0 / kTwoPi) + ", below the rigid-model jump speed " +
-                       rpm_text(m.jump_speed_rpm) + tighten});
+                   "the follower separates (" + count + ") at a nominal " + rpm_text(model.omega * 60.0 / kTwoPi) +
+                       ", below the rigid-model jump speed " + rpm_text(m.jump_speed_rpm) + tighten});
   }
 }
 
