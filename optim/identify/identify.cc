@@ -20,6 +20,7 @@
 #include "io/dotted_path.h"
 #include "io/json_archive.h"
 #include "io/suggest.h"
+#include "optim/halton_sequence.h"
 #include "optim/identify/ceres_stage.h"
 #include "optim/identify/finite_differences.h"
 #include "optim/identify/fit_quality.h"
@@ -380,22 +381,11 @@ IdentifyResult identify_from(const IdentifyProblem& problem, const IdentifyOptio
   return result;
 }
 
-/// The k-th point (k ≥ 1) of the Halton sequence in base `base`, in (0, 1).
-double halton(int k, int base) {
-  double f = 1.0, x = 0.0;
-  for (int i = k; i > 0; i /= base) {
-    f /= base;
-    x += f * (i % base);
-  }
-  return x;
-}
-
 /// Start k ≥ 1 of the space-filling design: parameter i at the k-th Halton
 /// point of the i-th prime over its bounds in the scaled space (an unbounded
 /// side: a factor e² from the initial value on a log scale, max(|p₀|, scale)
 /// on a linear one).
 std::vector<double> design_start(const IdentifyProblem& problem, int k) {
-  static constexpr int kPrimes[] = {2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53};
   const std::size_t p = problem.parameters.size();
   std::vector<double> z(p);
   for (std::size_t i = 0; i < p; ++i) {
@@ -405,7 +395,7 @@ std::vector<double> design_start(const IdentifyProblem& problem, int k) {
     double lo = scaled_lower(par), hi = scaled_upper(par);
     if (!std::isfinite(lo)) lo = z0 - reach;
     if (!std::isfinite(hi)) hi = z0 + reach;
-    z[i] = lo + halton(k, kPrimes[i % std::size(kPrimes)]) * (hi - lo);
+    z[i] = lo + halton(k, kHaltonBases[i % kHaltonBases.size()]) * (hi - lo);
   }
   return z;
 }

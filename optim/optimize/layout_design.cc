@@ -8,6 +8,7 @@
 #include "common/errors.h"
 #include "dynamics/cam_outline.h"
 #include "dynamics/model.h"
+#include "optim/halton_sequence.h"
 #include "optim/search.h"
 
 namespace camdyn::optim {
@@ -68,15 +69,6 @@ bool better(const LayoutPoint& a, const LayoutPoint& b) {
   if (a.feasible()) return a.cam_size < b.cam_size;
   if (a.buildable != b.buildable) return a.buildable;
   return a.violation < b.violation;
-}
-
-double halton(int k, int base) {
-  double f = 1.0, x = 0.0;
-  for (int i = k; i > 0; i /= base) {
-    f /= base;
-    x += f * (i % base);
-  }
-  return x;
 }
 
 /// COBYLA's view: the cam size, with a penalty where the cam cannot be made;
@@ -179,12 +171,12 @@ LayoutResult design_layout(const SceneConfig& baseline, const LayoutConfig& layo
   r.baseline = search.at(x0);
   search.best = r.baseline;
   // A space-filling design over the ranges finds the feasible region ...
-  static constexpr int kPrimes[] = {2, 3, 5, 7, 11};
   const int samples = 60 * static_cast<int>(n);
   std::vector<LayoutPoint> sampled;
   for (int k = 1; k <= samples; ++k) {
     std::vector<double> x(n);
-    for (std::size_t i = 0; i < n; ++i) x[i] = vars[i].lower + halton(k, kPrimes[i]) * (vars[i].upper - vars[i].lower);
+    for (std::size_t i = 0; i < n; ++i)
+      x[i] = vars[i].lower + halton(k, kHaltonBases[i]) * (vars[i].upper - vars[i].lower);
     sampled.push_back(search.at(x));
   }
   // ... and COBYLA shrinks the cam from the best few points found (the

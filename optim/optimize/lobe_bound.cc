@@ -21,12 +21,17 @@ struct Grid {
   double unit = 1e-3;  ///< the columns are s / unit: millimetres, so CLP's tolerances mean the same in every row
   bool free(int i) const { return i >= 1 && i <= n - 1; }
   int column(int i) const { return i - 1; }
+  /// known[]'s index of grid point i (i ≥ −2).
+  static std::size_t index_of(int i) {
+    const int index = i + 2;
+    return static_cast<std::size_t>(index);
+  }
   /// Adds weight·s_i to the row: a term when s_i is a column, else into `constant`.
   void add(int i, double weight, std::vector<std::pair<int, double>>& terms, double& constant) const {
     if (free(i))
       terms.emplace_back(column(i), weight * unit);
     else
-      constant += weight * known[static_cast<std::size_t>(i + 2)];
+      constant += weight * known[index_of(i)];
   }
 };
 
@@ -65,7 +70,7 @@ LobeBound lift_area_bound(const MotionLaw& law, double from, double to, const Ri
   g.h = (to - from) / grid;
   for (int i = -2; i <= grid + 2; ++i) g.known.push_back(law.eval(from + i * g.h).s);
   g.known[2] = law.eval(from).s;
-  g.known[static_cast<std::size_t>(grid + 2)] = law.eval(to).s;
+  g.known[Grid::index_of(grid)] = law.eval(to).s;
 
   LinearProgram lp;
   // Trapezoid rule: every interior point weighs h; the costs are −1 (CLP's
@@ -104,7 +109,7 @@ LobeBound lift_area_bound(const MotionLaw& law, double from, double to, const Ri
   out.solved = true;
   out.lift.push_back(g.known[2]);
   for (int i = 1; i < grid; ++i) out.lift.push_back(g.unit * sol.x[static_cast<std::size_t>(g.column(i))]);
-  out.lift.push_back(g.known[static_cast<std::size_t>(grid + 2)]);
+  out.lift.push_back(g.known[Grid::index_of(grid)]);
   out.area = -sol.objective * g.h * g.unit + 0.5 * g.h * (out.lift.front() + out.lift.back());
   return out;
 }

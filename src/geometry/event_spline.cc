@@ -95,8 +95,9 @@ EventSplineBasis event_spline_basis(const MotionLaw& law, double from, double to
   // derivative, so each join is a triangular solve.
   const BasisDerivatives b0 = basis_derivatives(p, 0.0, p, b.knots);
   const BasisDerivatives b1 = basis_derivatives(n - 1, 1.0, p, b.knots);
-  b.head.assign(static_cast<std::size_t>(b.order + 1), 0.0);
-  b.tail.assign(static_cast<std::size_t>(b.order + 1), 0.0);
+  const std::size_t joined = static_cast<std::size_t>(b.order) + 1;  // s, s', ..., up to the join's order
+  b.head.assign(joined, 0.0);
+  b.tail.assign(joined, 0.0);
   double scale = 1.0;
   for (int k = 0; k <= b.order; ++k) {
     double r0 = v0[k] * scale, r1 = v1[k] * scale;

@@ -24,7 +24,7 @@ const char* position_unit(const ConvergenceStudy& study, const ConvergenceRun& r
 /// The unit the runs' position errors share, or "" when the scenes mix
 /// translating and oscillating followers (each value then carries its own).
 std::string shared_position_unit(const ConvergenceStudy& study) {
-  const std::string first = coordinate_units(study.scenes.front()).position;
+  std::string first = coordinate_units(study.scenes.front()).position;
   for (const SceneConfig& scene : study.scenes)
     if (coordinate_units(scene).position != first) return "";
   return first;
