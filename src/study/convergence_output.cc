@@ -1,6 +1,8 @@
 #include "study/convergence_output.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <utility>
 
 #include "dynamics/coordinate_units.h"
@@ -99,6 +101,43 @@ Table runs_table(const ConvergenceStudy& study, const std::vector<ConvergenceRun
   return table;
 }
 
+/// Where the position error does not fall with the tolerance: per scene,
+/// method and tracking mode with at least 3 successful runs over a decade or
+/// more of rtol, the least-squares slope of log error against log rtol; below
+/// 0.3 the error is flat, limited by event location or by the model, not by
+/// the integrator (a well-resolved run has a slope near 1). One line each.
+std::vector<std::string> flat_error_notes(const ConvergenceStudy& study, const std::vector<ConvergenceRun>& runs) {
+  std::vector<std::string> notes;
+  for (std::size_t k = 0; k < study.scenes.size(); ++k)
+    for (const IntegrationMethod method : study.config.methods)
+      for (const Tracking tracking : study.config.tracking) {
+        double sx = 0.0, sy = 0.0, sxx = 0.0, sxy = 0.0, lo = INFINITY, hi = 0.0;
+        int n = 0;
+        for (const ConvergenceRun& r : runs) {
+          if (r.scene != k || r.method != method || r.tracking != tracking || !r.ok || !(r.rtol > 0.0) ||
+              !(r.error_position > 0.0))
+            continue;
+          const double x = std::log10(r.rtol), y = std::log10(r.error_position);
+          sx += x;
+          sy += y;
+          sxx += x * x;
+          sxy += x * y;
+          lo = std::min(lo, r.rtol);
+          hi = std::max(hi, r.rtol);
+          ++n;
+        }
+        if (n < 3 || hi < 10.0 * lo) continue;
+        const double slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
+        if (slope >= 0.3) continue;
+        notes.push_back("scene '" + study.config.scenes[k].name + "', " + to_string(method) + " (" +
+                        to_string(tracking) + "): the position error stays flat as rtol falls from " +
+                        format_number4(hi) + " to " + format_number4(lo) + " (slope " + format_number4(slope) +
+                        " per decade): it is limited by event location or by the model, not by the "
+                        "integrator's tolerance, and tightening rtol will not make it smaller");
+      }
+  return notes;
+}
+
 /// The banner: the most accurate run and the cheapest one, and how many failed.
 Verdict convergence_verdict(const ConvergenceStudy& study, const std::vector<ConvergenceRun>& runs, long failed) {
   const ConvergenceRun* accurate = nullptr;
@@ -121,6 +160,7 @@ Verdict convergence_verdict(const ConvergenceStudy& study, const std::vector<Con
   if (fast) v.details.push_back("fastest: " + describe(*fast));
   v.details.push_back(std::to_string(runs.size() - static_cast<std::size_t>(failed)) + " of " +
                       std::to_string(runs.size()) + " runs succeeded");
+  for (std::string& note : flat_error_notes(study, runs)) v.details.push_back(std::move(note));
   return v;
 }
 
