@@ -10,6 +10,7 @@
 // * a chaotic speed: λ > 0 and the same to 10 % over twice the revolutions.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <complex>
 #include <numbers>
@@ -156,6 +157,70 @@ TEST(PeriodicOrbit, AnOrbitIsReportedAtItsMinimalPeriod) {
       d = std::max(d, std::abs(other.fixed_point.x[j] - orbit.fixed_point.x[j]));
     EXPECT_GT(d, 1e-6);
   }
+}
+
+// The same cam against an event-driven rigid solution written here: flights
+// in closed form (m ÿ = −F₀ − k y), an impact where y reaches the lift s(θ)
+// from above, Newton's law on the normal (ẏ⁺ − ω s′ = −e (ẏ⁻ − ω s′): the
+// pressure angle's cosine cancels for a follower without offset), with the
+// contact law's exact rebound ratio e*. Iterated to its period-1 orbit (one
+// impact a revolution); its impact angle and, from the impact map's
+// finite-difference Jacobian, its multipliers against camdyn's compliant orbit.
+struct RigidImpact {
+  double theta = 0.0, v = 0.0;  ///< cam angle [rad] and follower velocity after the impact [m/s]
+};
+
+RigidImpact next_rigid_impact(const Model& m, const RigidImpact& from, double e) {
+  const double w = std::sqrt(m.forces.spring.stiffness / m.mass), omega = m.omega;
+  const double y_eq = -m.forces.spring.preload / m.forces.spring.stiffness;
+  const double y0 = m.law->eval(from.theta).s, a = y0 - y_eq, b = from.v / w;
+  auto y = [&](double t) { return y_eq + a * std::cos(w * t) + b * std::sin(w * t); };
+  auto gap = [&](double t) { return y(t) - m.law->eval(from.theta + omega * t).s; };
+  constexpr double kStep = 2e-5;  // [s]: 0.08° of cam at 700 rpm
+  double t0 = kStep;
+  while (gap(t0 + kStep) > 0.0) t0 += kStep;
+  double lo = t0, hi = t0 + kStep;
+  for (int i = 0; i < 200 && hi - lo > 1e-15; ++i) (gap(0.5 * (lo + hi)) > 0.0 ? lo : hi) = 0.5 * (lo + hi);
+  const double t = 0.5 * (lo + hi), theta = from.theta + omega * t;
+  const double v_minus = w * (-a * std::sin(w * t) + b * std::cos(w * t));
+  const double cam = omega * m.law->eval(theta).ds;
+  return {theta, cam - e * (v_minus - cam)};
+}
+
+TEST(PeriodicOrbit, TheLongFlightCamMatchesAnEventDrivenRigidSolution) {
+  const std::string file = std::string(CAMDYN_SOURCE_DIR) + "/studies/peers/long_flight.json";
+  const PeriodicStudy study = read_study(
+      file, {"study=periodic", "periodic={\"max_period\": 2}", "simulation={\"cycles\": 4, \"discard_cycles\": 1}"});
+  const PeriodicResult r = run_study(study);
+  ASSERT_TRUE(r.analysis.orbit);
+  ASSERT_EQ(r.analysis.orbit->period, 1);
+  ASSERT_EQ(r.impacts.size(), 1u);
+  const Model m = build_model(study.scene, file);
+  const double e = exact_restitution(study.scene.mechanism.contact);
+  // The rigid orbit: start at camdyn's impact and iterate (|λ| ≈ 0.83 a revolution).
+  RigidImpact x{r.impacts[0].cam_angle_deg * kPi / 180.0, 0.0};
+  x.v = m.omega * m.law->eval(x.theta).ds;  // the cam's own speed: a start on the cam
+  for (int i = 0; i < 400; ++i) {
+    x = next_rigid_impact(m, x, e);
+    x.theta = std::fmod(x.theta, 2.0 * kPi);
+  }
+  const double rigid_deg = x.theta * 180.0 / kPi;
+  constexpr double kImpactAngleDeg = 0.1;  // the tolerance
+  EXPECT_NEAR(std::remainder(r.impacts[0].cam_angle_deg - rigid_deg, 360.0), 0.0, kImpactAngleDeg);
+  // The rigid map's multipliers: its Jacobian in (θ, v) at the fixed point by central differences.
+  const double h_theta = 1e-7, h_v = 1e-7 * std::max(1.0, std::abs(x.v));
+  auto image = [&](double dtheta, double dv) {
+    RigidImpact p = next_rigid_impact(m, {x.theta + dtheta, x.v + dv}, e);
+    return std::array<double, 2>{std::remainder(p.theta - x.theta, 2.0 * kPi), p.v};
+  };
+  const auto tp = image(h_theta, 0.0), tm = image(-h_theta, 0.0), vp = image(0.0, h_v), vm = image(0.0, -h_v);
+  const double j11 = (tp[0] - tm[0]) / (2 * h_theta), j21 = (tp[1] - tm[1]) / (2 * h_theta);
+  const double j12 = (vp[0] - vm[0]) / (2 * h_v), j22 = (vp[1] - vm[1]) / (2 * h_v);
+  const double rigid_radius = std::sqrt(std::abs(j11 * j22 - j12 * j21));  // a complex pair: |λ|² = det
+  const double trace = j11 + j22;
+  ASSERT_LT(trace * trace, 4.0 * std::abs(j11 * j22 - j12 * j21)) << "the rigid multipliers are a complex pair";
+  constexpr double kMultiplier = 0.03;  // the tolerance
+  EXPECT_NEAR(r.analysis.orbit->spectral_radius() / rigid_radius, 1.0, kMultiplier);
 }
 
 // studies/periodic/chattering_follower.json: thrown off by the rise, the
