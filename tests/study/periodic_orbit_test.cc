@@ -159,6 +159,25 @@ TEST(PeriodicOrbit, AnOrbitIsReportedAtItsMinimalPeriod) {
   }
 }
 
+// A motion Newton cannot shoot from the transient's end (here: no Newton
+// step allowed at all) but that contracts is followed until its samples
+// repeat and shot from there: the bouncing ball past its period doubling
+// (603 rpm in closed form) settles on its stable period-2 orbit, reported
+// with the transient it took (issue: such a motion was left "unresolved").
+TEST(PeriodicOrbit, AContractingMotionIsFollowedUntilItRepeatsThenShot) {
+  PeriodicStudy study = read_study(kBouncingBall);
+  study.scene.mechanism.cam.rpm = 620.0;
+  study.config.options.max_newton_iterations = 0;
+  study.config.options.max_period = 4;
+  const PeriodicResult r = run_study(study);
+  ASSERT_TRUE(r.analysis.orbit) << "motion " << to_string(r.analysis.motion);
+  EXPECT_EQ(r.analysis.orbit->period, 2);
+  EXPECT_TRUE(r.analysis.orbit->stable);
+  EXPECT_EQ(r.analysis.motion, MotionKind::periodic);
+  EXPECT_GE(r.analysis.settled_after, 0);
+  EXPECT_LE(r.analysis.orbit->residual, study.config.options.tolerance);
+}
+
 // The same cam against an event-driven rigid solution written here: flights
 // in closed form (m ÿ = −F₀ − k y), an impact where y reaches the lift s(θ)
 // from above, Newton's law on the normal (ẏ⁺ − ω s′ = −e (ẏ⁻ − ω s′): the
