@@ -18,24 +18,12 @@
 #include "io/config.h"
 #include "optim/optimize/optimize.h"
 #include "optim/optimize/optimize_config.h"
+#include "optimize_study_text.h"
 #include "study/steady_state.h"
 #include "study/study.h"
 
 namespace camdyn::optim {
 namespace {
-
-const ConfigSource kSource{"test.json", CAMDYN_SOURCE_DIR};
-
-struct Study {
-  SceneConfig scene;
-  OptimizeStudyConfig config;
-};
-
-Study study_from(const std::string& text) {
-  Json part;
-  SceneConfig scene = scene_from_study_json(Json::parse(text), kSource, optimize_study_keys(), part);
-  return {scene, optimize_config_from_json(part, kSource)};
-}
 
 /// The quickstart mechanism (20 mm cycloidal rise and return, 0.3 kg on 5 kN/m,
 /// 40 N; rigid jump speed 1174 rpm) with cheap run settings.

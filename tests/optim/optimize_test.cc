@@ -30,6 +30,7 @@
 #include "optim/optimize/optimize_config.h"
 #include "optim/optimize/optimize_output.h"
 #include "optim/simulation_pool.h"
+#include "optimize_study_text.h"
 #include "study/study.h"
 #include "tolerance.h"
 
@@ -38,21 +39,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const ConfigSource kSource{"test.json", CAMDYN_SOURCE_DIR};
 // Same scene, same deterministic integration: only summation order could
 // differ, and it does not; 1e-12 leaves room for nothing but that.
 constexpr double kReproduced = 1e-12;
-
-struct Study {
-  SceneConfig scene;
-  OptimizeStudyConfig config;
-};
-
-Study study_from(const std::string& text) {
-  Json part;
-  SceneConfig scene = scene_from_study_json(Json::parse(text), kSource, optimize_study_keys(), part);
-  return {scene, optimize_config_from_json(part, kSource)};
-}
 
 /// The quickstart mechanism (cycloidal rise/return, 20 mm) with cheap run settings.
 std::string mechanism(double base_radius = 0.04, double roller = 0.01) {
