@@ -123,7 +123,7 @@ struct Core {
   S gap, gap_rate, delta, delta_rate, normal_force, slip, friction_force;
   S generalised_force, cam_torque, guide, pivot;
   S acceleration, spin_acceleration, u_rate, v_rate;
-  S twist, shaft_torque, motor_speed, motor_torque, cam_acceleration, motor_acceleration;
+  DriveRates<S> drive;
   Vec2<S> force_world;
   S contact_offset;
 };
@@ -134,19 +134,6 @@ struct Core {
 template <class S>
 void support_friction(const Model& m, Core<S>& o) {
   m.support.forces(o.v, o.force_world.x, o.normal_force, o.friction_force, o.guide, o.pivot);
-}
-
-/// The drive's rates (dynamics/shaft_drive.h), from the cam torque in `o`.
-template <class S>
-void drive_dynamics(const Model& m, const Workspace& ws, double t, const S* x, Core<S>& o) {
-  DriveRates<S> r;
-  m.drive.rates(m.layout, x, m.theta(t) + ws.motor_phase, m.omega, o.theta, o.omega_c, o.cam_torque, r);
-  o.twist = r.twist;
-  o.shaft_torque = r.shaft_torque;
-  o.motor_speed = r.motor_speed;
-  o.motor_torque = r.motor_torque;
-  o.cam_acceleration = r.cam_acceleration;
-  o.motor_acceleration = r.motor_acceleration;
 }
 
 /// Where the contact point X (world) lies across the follower's face, from its centre [m].
@@ -288,7 +275,8 @@ void core(const Model& m, const Workspace& ws, double t, const S* x, const PairS
     o.v_rate = S(ps.v_rate);
   }
 
-  drive_dynamics(m, ws, t, x, o);
+  // The drive's rates (dynamics/shaft_drive.h), from the cam torque.
+  m.drive.rates(m.layout, x, m.theta(t) + ws.motor_phase, m.omega, o.theta, o.omega_c, o.cam_torque, o.drive);
 }
 
 /// ẋ in the model's state layout from the rates of a Core (double or dual
@@ -302,11 +290,11 @@ void scatter_state_rates(const Model& m, const Rates& r, const S& cam_speed, S* 
   if (m.layout.spin) x_dot[*m.layout.spin] = r.spin_acceleration;
   if (m.layout.cam_angle) {
     x_dot[*m.layout.cam_angle] = cam_speed;
-    x_dot[*m.layout.cam_speed] = r.cam_acceleration;
+    x_dot[*m.layout.cam_speed] = r.drive.cam_acceleration;
   }
   if (m.layout.motor_angle) {
-    x_dot[*m.layout.motor_angle] = r.motor_speed;
-    x_dot[*m.layout.motor_speed] = r.motor_acceleration;
+    x_dot[*m.layout.motor_angle] = r.drive.motor_speed;
+    x_dot[*m.layout.motor_speed] = r.drive.motor_acceleration;
   }
 }
 
@@ -400,19 +388,12 @@ void evaluate(const Model& model, Workspace& ws, double t, const double* state, 
   ev.spin_acceleration = o.spin_acceleration;
   ev.u_rate = ev.tracking_ok ? o.u_rate : 0.0;
   ev.v_rate = ev.tracking_ok ? o.v_rate : 0.0;
-  ev.shaft_twist = o.twist;
-  ev.shaft_torque = o.shaft_torque;
-  ev.motor_speed = o.motor_speed;
-  ev.motor_torque = o.motor_torque;
-  ev.cam_acceleration = o.cam_acceleration;
-  ev.motor_acceleration = o.motor_acceleration;
+  ev.drive = o.drive;
 
   // Powers (docs/model.md §7): what the drive delivers, what dampers, contact
   // hysteresis and friction dissipate.
-  const DriveRates<double> drive{o.twist,        o.shaft_torque,     o.motor_speed,
-                                 o.motor_torque, o.cam_acceleration, o.motor_acceleration};
-  ev.power_drive = model.drive.drive_power(drive, o.cam_torque, o.omega_c);
-  ev.power_damper = model.forces.power(o.v) + model.drive.damper_power(o.motor_speed, o.omega_c);
+  ev.power_drive = model.drive.drive_power(o.drive, o.cam_torque, o.omega_c);
+  ev.power_damper = model.forces.power(o.v) + model.drive.damper_power(o.drive.motor_speed, o.omega_c);
   ev.power_hysteresis = o.delta > 0.0 ? (o.normal_force - model.contact.elastic_force(o.delta)) * o.delta_rate : 0.0;
   ev.power_friction = -o.friction_force * o.slip - (o.guide + o.pivot) * o.v;
 }
@@ -461,7 +442,7 @@ EnergyTerms energy_terms(const Model& model, const Evaluation& ev) {
   e.spring = stored.spring;
   e.gravity = stored.gravity;
   e.contact = model.contact.elastic_energy(ev.delta);
-  model.drive.add_energy(ev.cam_speed, ev.motor_speed, ev.shaft_twist, e.kinetic, e.spring);
+  model.drive.add_energy(ev.cam_speed, ev.drive.motor_speed, ev.drive.twist, e.kinetic, e.spring);
   return e;
 }
 

@@ -152,12 +152,9 @@ struct Evaluation {
   double pivot_friction = 0.0;                            ///< pivot friction torque on q [N m]
   double acceleration = 0.0;                              ///< q̈
   double spin_acceleration = 0.0;
-  double u_rate = 0.0;        ///< u̇ [rad/s] (differential tracking)
-  double v_rate = 0.0;        ///< v̇ (general pair form, differential tracking)
-  double shaft_twist = 0.0;   ///< θ_m − θ_c [rad]
-  double shaft_torque = 0.0;  ///< torque of the shaft on the cam [N m]
-  double motor_speed = 0.0, motor_torque = 0.0;
-  double cam_acceleration = 0.0, motor_acceleration = 0.0;
+  double u_rate = 0.0;       ///< u̇ [rad/s] (differential tracking)
+  double v_rate = 0.0;       ///< v̇ (general pair form, differential tracking)
+  DriveRates<double> drive;  ///< shaft twist and torque, motor speed and torque, accelerations (dynamics/shaft_drive.h)
   double power_drive = 0.0, power_damper = 0.0, power_hysteresis = 0.0, power_friction = 0.0;  ///< [W]
 };
 
