@@ -79,5 +79,17 @@ TEST(LayoutDesign, PackagingArmStudyIsSmallerMeetsItsLimitsAndItsConfigRuns) {
   EXPECT_EQ(v.code, 0) << v.err;
 }
 
+TEST(LayoutDesign, NoFeasibleLayoutIsARedVerdictNotASolverFailure) {
+  const fs::path dir = test::scratch_dir("layout_design_test", "infeasible");
+  const std::string file = std::string(CAMDYN_SOURCE_DIR) + "/studies/layout_packaging_arm.json";
+  const test::Outcome r = test::run_camdyn(
+      {"run", file, "--out", (dir / "out").string(), "--quiet", "--set", "constraints.max_pressure_angle_deg=1"}, dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Json j = Json::parse(test::read_text(dir / "out" / "result.json"));
+  EXPECT_EQ(j["verdict"], "bad");
+  EXPECT_FALSE(j["optimized"]["feasible"].get<bool>());
+  EXPECT_NE(r.out.find("no layout in the ranges meets the limits"), std::string::npos) << r.out;
+}
+
 }  // namespace
 }  // namespace camdyn::optim
