@@ -277,11 +277,71 @@ struct ShapeConfig {
   bool operator==(const ShapeConfig&) const = default;
 };
 
+/// `spring.clash`: coil clash of a spring with mass (docs/model.md §12): a
+/// segment closing by more than `gap` beyond its installed length meets a
+/// stiff linear contact.
+struct CoilClashConfig {
+  double gap = 0.0;        ///< closing of one segment beyond installed before its coils touch [m], > 0
+  double stiffness = 0.0;  ///< stiffness of the closed coils [N/m], > 0
+
+  bool operator==(const CoilClashConfig&) const = default;
+};
+
 struct SpringConfig {
   double stiffness = 0.0;  ///< k [N/m], >= 0
   double preload = 0.0;    ///< spring force at the lowest follower position [N], >= 0
+  /// Mass of the spring [kg], >= 0: 0 is a massless spring; > 0 lumps it in
+  /// `coils` equal masses (the surge model of docs/model.md §12).
+  std::optional<double> mass;
+  std::optional<int> coils;               ///< lumped masses, >= 1 (required with mass > 0)
+  std::optional<double> damping_ratio;    ///< of the first fixed-fixed surge mode [-], >= 0 (default 0.02)
+  std::optional<CoilClashConfig> clash;   ///< coil clash (only with mass > 0)
+
+  static constexpr double kDefaultDampingRatio = 0.02;
+  /// Whether the spring has mass (is lumped).
+  bool massive() const { return mass.value_or(0.0) > 0.0; }
 
   bool operator==(const SpringConfig&) const = default;
+};
+
+/// `seat` / `stop`: a one-sided contact of a body against the frame at
+/// `position` (docs/model.md §12), with the force laws of the cam contact.
+/// A seat holds the body from below (δ = position − x), a stop from above
+/// (δ = x − position).
+struct SeatConfig {
+  double position = 0.0;  ///< [m] (an arm: [rad]), in the body's coordinate
+  ContactModel model = ContactModel::lankarani_nikravesh;
+  double stiffness = 0.0;            ///< K [N/m^n], > 0
+  double exponent = 1.5;             ///< n [-], > 0
+  double restitution = 0.8;          ///< target e [-], in (0, 1]
+  std::optional<double> damping;     ///< kelvin_voigt c [N s/m]
+  double reference_velocity = 0.01;  ///< floor of v0 [m/s], > 0
+
+  bool operator==(const SeatConfig&) const = default;
+};
+
+/// `link`: how a train body is driven by the body before it (docs/model.md §12).
+struct LinkConfig {
+  double ratio = 1.0;      ///< lever ratio [m/m], or [m/rad] after an oscillating arm, > 0
+  double stiffness = 0.0;  ///< K [N/m], > 0
+  double damping = 0.0;    ///< c [N s/m], >= 0
+  double lash = 0.0;       ///< clearance taken up before the link pushes [m], >= 0 (one-sided only)
+  bool one_sided = true;   ///< false: a two-sided compliant joint (no lash)
+
+  bool operator==(const LinkConfig&) const = default;
+};
+
+/// One body of `mechanism.train`, after the follower.
+struct TrainBodyConfig {
+  std::string name;             ///< column prefix in timeseries.csv; unique, not "follower"
+  double mass = 0.0;            ///< [kg], > 0
+  double damping = 0.0;         ///< viscous damper to the frame [N s/m], >= 0
+  LinkConfig link;              ///< from the body before it
+  SpringConfig spring;          ///< return spring to the frame (optional: zero stiffness and preload)
+  std::optional<SeatConfig> seat;  ///< lower end of travel
+  std::optional<SeatConfig> stop;  ///< upper end of travel
+
+  bool operator==(const TrainBodyConfig&) const = default;
 };
 
 struct InitialConfig {
@@ -321,6 +381,8 @@ struct FollowerConfig {
   std::optional<GuideFrictionConfig> guide_friction;  ///< translating only
   std::optional<PivotFrictionConfig> pivot_friction;  ///< oscillating only
   InitialConfig initial;                              ///< oscillating: position [rad], velocity [rad/s]
+  std::optional<SeatConfig> seat;  ///< above the base-circle contact position: valve lash (docs/model.md §12)
+  std::optional<SeatConfig> stop;  ///< upper end of travel
 
   bool operator==(const FollowerConfig&) const = default;
 };
@@ -361,6 +423,7 @@ struct MechanismConfig {
   CamConfig cam;
   FollowerConfig follower;
   ContactConfig contact;
+  std::vector<TrainBodyConfig> train;  ///< bodies after the follower, in order (docs/model.md §12)
 
   bool operator==(const MechanismConfig&) const = default;
 };
