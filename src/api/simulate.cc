@@ -63,8 +63,8 @@ RunSummary public_summary(const SolverSummary& s, const ErrorEstimate& error) {
 
 Columns public_columns(const TimeSeries& series) {
   Columns columns;
-  columns.names = TimeSeries::column_names();
-  for (const std::vector<double>* column : series.columns()) columns.values.push_back(*column);
+  columns.names = series.all_names();
+  for (const std::vector<double>* column : series.all_columns()) columns.values.push_back(*column);
   return columns;
 }
 
@@ -73,6 +73,21 @@ std::map<std::string, double> public_metrics(const Metrics& metrics) {
   for_each_metric(metrics, [&](const char* name, const auto& value, const MetricInfo&) {
     named[name] = static_cast<double>(value);
   });
+  if (metrics.train) {
+    const TrainMetrics& t = *metrics.train;
+    if (t.links) {
+      named["min_link_force"] = t.min_link_force;
+      named["link_separation_fraction"] = t.link_separation_fraction;
+    }
+    if (t.seats) {
+      named["max_seating_velocity"] = t.max_seating_velocity;
+      named["seat_impacts"] = static_cast<double>(t.seat_impacts);
+    }
+    if (t.springs) named["peak_spring_force"] = t.peak_spring_force;
+    if (t.clash) named["coil_clashes"] = static_cast<double>(t.coil_clashes);
+    for (std::size_t i = 0; i < t.bodies.size(); ++i)
+      named["max_lift_error:" + t.bodies[i]] = t.max_lift_error[i];
+  }
   return named;
 }
 

@@ -70,7 +70,7 @@ bool flight_has_closed_form(const Model& model) {
   const StateLayout& l = model.layout;
   const int extra = (l.u ? 1 : 0) + (l.spin ? 1 : 0);
   return !model.drive.shaft() && model.pair_form == PairForm::reduced && !l.v && model.forces.spring.stiffness >= 0.0 &&
-         model.mass > 0.0 && l.size == 2 + extra;
+         model.mass > 0.0 && l.size == 2 + extra && !model.train.present();
 }
 
 // ------------------------------------------------------------------ FreeFlight

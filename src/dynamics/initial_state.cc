@@ -1,6 +1,7 @@
 #include "dynamics/initial_state.h"
 
 #include <algorithm>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -12,6 +13,17 @@ namespace camdyn {
 // force supplies exactly the law's acceleration); the pair by Newton from the
 // cam angle (global search if that fails); a roller spinning without slip; a
 // shaft twisted to carry the initial cam torque.
+namespace {
+
+/// The follower's seat position [m | rad], or −inf without a seat.
+double follower_seat_position(const Model& model) {
+  const FollowerTrain& train = model.train;
+  if (train.bodies.empty() || train.bodies[0].seat < 0) return -std::numeric_limits<double>::infinity();
+  return train.elements[static_cast<std::size_t>(train.bodies[0].seat)].offset;
+}
+
+}  // namespace
+
 RunFailure initial_state(const SceneConfig& scene, const Model& model, Workspace& ws, double* y) {
   const InitialConfig& init = scene.mechanism.follower.initial;
   const double theta = model.theta(0.0);
@@ -36,15 +48,27 @@ RunFailure initial_state(const SceneConfig& scene, const Model& model, Workspace
   } else {
     s[1] = model.omega * law.ds + init.velocity;
     const double target = model.omega * model.omega * law.d2s;
+    // The train (docs/model.md §12) at rest in static equilibrium on the follower.
     auto excess = [&](double y_trial) {
       s[0] = y_trial;
       ws.u_warm = u_guess;
+      if (model.train.has_coordinates()) train_static_state(model.train, ws.train, s.data());
       evaluate(probe, ws, 0.0, s.data(), ev);
       return ev.acceleration - target;
     };
     double hi = law.s;  // touching: no contact force
     if (excess(hi) >= 0.0) {
       s[0] = hi;
+      // A seat above the cam holds the follower off it: the equilibrium on the seat.
+      if (const double seat = follower_seat_position(model); seat > hi && excess(seat) < 0.0) {
+        double lo = hi, up = seat;
+        for (int it = 0; it < 200 && up - lo > 1e-15; ++it) {
+          const double mid = 0.5 * (lo + up);
+          (excess(mid) < 0.0 ? up : lo) = mid;
+        }
+        s[0] = 0.5 * (lo + up);
+      }
+      excess(s[0]);
     } else {
       // Penetrations far below the base radius (metres or, for an arm, radians times its length).
       const double limit = model.follower.oscillating() ? 0.1 * model.follower.base_radius / model.follower.arm_length
@@ -62,7 +86,10 @@ RunFailure initial_state(const SceneConfig& scene, const Model& model, Workspace
         (excess(mid) < 0.0 ? hi : lo) = mid;
       }
       s[0] = 0.5 * (lo + hi);
+      excess(s[0]);
     }
+  } else if (model.train.has_coordinates()) {
+    train_static_state(model.train, ws.train, s.data());
   }
 
   ws.u_warm = u_guess;
@@ -74,6 +101,7 @@ RunFailure initial_state(const SceneConfig& scene, const Model& model, Workspace
   ws.u_warm = ev.pair.u;
   ws.v_warm = ev.pair_v;
   std::fill(y, y + model.layout.size, 0.0);
+  std::copy(s.begin() + model.layout.core_size, s.begin() + model.layout.size, y + model.layout.core_size);
   y[0] = s[0];
   y[1] = s[1];
   if (model.layout.u) y[*model.layout.u] = ev.pair.u;

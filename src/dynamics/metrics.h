@@ -3,11 +3,26 @@
 // summary.json, the report's metrics table, the compare study's columns.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <vector>
 
 namespace camdyn {
+
+/// The metrics of a follower train (docs/model.md §12), each written only
+/// when the scene has the element it is about.
+struct TrainMetrics {
+  bool links = false, seats = false, springs = false, clash = false;  ///< which elements the scene has
+  double min_link_force = 0.0;            ///< [N], smallest link force while its body is off its seat
+  double link_separation_fraction = 0.0;  ///< [-], time with a link open while no body from it on is seated
+  double max_seating_velocity = 0.0;      ///< [m/s], largest approach speed at a seat onset
+  long seat_impacts = 0;                  ///< seat onsets with approach in the window
+  double peak_spring_force = 0.0;         ///< [N], largest force at the frame end of any spring
+  long coil_clashes = 0;                  ///< coil clash onsets in the window
+  std::vector<std::string> bodies;        ///< every body, the follower first
+  std::vector<double> max_lift_error;     ///< per body: |x − its kinematic lift| [m | rad]
+};
 
 struct Metrics {
   double separation_fraction = 0.0;
@@ -23,6 +38,9 @@ struct Metrics {
   double max_pressure_angle_deg = 0.0;
   double min_radius_of_curvature = 0.0;  ///< [m]
   double jump_speed_rpm = 0.0;           ///< +inf when the law never decelerates (written as null)
+  /// With a follower train (seats, springs with mass, bodies): its metrics,
+  /// written besides the others (not part of `visit`).
+  std::optional<TrainMetrics> train;
 };
 
 /// What a writer needs to know about a metric besides its name and value.

@@ -1,6 +1,7 @@
 #include "dynamics/model.h"
 
 #include <Eigen/LU>
+#include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <limits>
@@ -14,7 +15,7 @@ namespace camdyn {
 
 namespace {
 
-using Jet = Dual<StateLayout::kMax>;
+using Jet = Dual<StateLayout::kCore>;
 
 /// The pair parameter and the profile there, solved in double precision.
 struct PairSolution {
@@ -170,8 +171,10 @@ void general_pair_partials(const FollowerGeometry& fg, const PairSolution& ps, d
   }
 }
 
+/// `train_force`: the follower train's generalised force on q (dynamics/follower_train.h).
 template <class S>
-void core(const Model& m, const Workspace& ws, double t, const S* x, const PairSolution& ps, const S& u, Core<S>& o) {
+void core(const Model& m, const Workspace& ws, double t, const S* x, const PairSolution& ps, const S& u,
+          double train_force, Core<S>& o) {
   using std::abs;
   using std::cos;
   using std::sin;
@@ -266,6 +269,7 @@ void core(const Model& m, const Workspace& ws, double t, const S* x, const PairS
   // The follower's force elements, added in their order (dynamics/follower_forces.h).
   S force = o.generalised_force;
   m.forces.for_each([&](const auto& element) { force = force + element.force(o.q, o.v, m.mass); });
+  if (m.train.present()) force = force + train_force;
   o.acceleration = (force + o.guide + o.pivot) / m.mass;
   o.spin_acceleration = m.friction.spin ? -(fg.radius * o.friction_force) / m.friction.roller_inertia : S(0.0);
   o.u_rate = m.layout.u ? (-m.tracking_gain * o.f - f_q * o.v - f_theta * o.omega_c) / o.f_u : S(0.0);
@@ -320,6 +324,7 @@ void prepare_workspace(const Model& model, Workspace& ws) {
   ws.tracking_resets = fresh.tracking_resets;
   ws.motor_phase = fresh.motor_phase;
   ws.v_warm = fresh.v_warm;
+  prepare_train_workspace(model.train, ws.train);
   if (model.pair_form != PairForm::general) {
     ws.pair_search.reset();
     ws.pair_search_cam.reset();
@@ -348,8 +353,9 @@ void prepare_workspace(const Model& model, Workspace& ws) {
 
 void evaluate(const Model& model, Workspace& ws, double t, const double* state, Evaluation& ev) {
   const PairSolution ps = solve_pair(model, ws, t, state);
+  if (model.train.present()) evaluate_train(model.train, ws.train, state, ev.train);
   Core<double> o;
-  core(model, ws, t, state, ps, ps.u, o);
+  core(model, ws, t, state, ps, ps.u, ev.train.follower_force, o);
 
   ev.theta = o.theta;
   ev.cam_speed = o.omega_c;
@@ -396,30 +402,46 @@ void evaluate(const Model& model, Workspace& ws, double t, const double* state, 
   ev.power_damper = model.forces.power(o.v) + model.drive.damper_power(o.drive.motor_speed, o.omega_c);
   ev.power_hysteresis = o.delta > 0.0 ? (o.normal_force - model.contact.elastic_force(o.delta)) * o.delta_rate : 0.0;
   ev.power_friction = -o.friction_force * o.slip - (o.guide + o.pivot) * o.v;
+  if (model.train.present()) {
+    ev.power_damper += ev.train.power_damper;
+    ev.power_hysteresis += ev.train.power_hysteresis;
+  }
 }
 
 void state_jacobian(const Model& model, Workspace& ws, double t, const double* state, double* jacobian) {
   assert(model.exact_jacobian());
-  const int n = model.layout.size;
+  // The core states (follower, pair, spin, drive) by dual numbers; the
+  // train's, which are linear chains of one-dimensional elements, by their
+  // elements' partials (dynamics/follower_train.h).
+  const int n = model.layout.size, nc = model.layout.core_size;
   const PairSolution ps = solve_pair(model, ws, t, state);
-  Jet x[StateLayout::kMax];
-  for (int i = 0; i < n; ++i) x[i] = Jet::variable(state[i], i);
+  double train_force = 0.0;
+  if (model.train.present()) {
+    TrainEvaluation& te = ws.train_scratch;
+    evaluate_train(model.train, ws.train, state, te);
+    train_force = te.follower_force;
+  }
+  Jet x[StateLayout::kCore];
+  for (int i = 0; i < nc; ++i) x[i] = Jet::variable(state[i], i);
   Jet u = model.layout.u ? x[*model.layout.u] : Jet(ps.u);
   Core<Jet> o;
   if (!model.layout.u) {
     // Newton: u(x) solves f(x, u) = 0, so ∂u/∂x = −(∂f/∂x) / f_u.
-    core(model, ws, t, x, ps, u, o);
-    for (int i = 0; i < n; ++i) u.d[i] = -o.f.d[i] / o.f_u.v;
+    core(model, ws, t, x, ps, u, train_force, o);
+    for (int i = 0; i < nc; ++i) u.d[i] = -o.f.d[i] / o.f_u.v;
   }
-  core(model, ws, t, x, ps, u, o);
-  Jet x_dot[StateLayout::kMax];
+  core(model, ws, t, x, ps, u, train_force, o);
+  Jet x_dot[StateLayout::kCore];
   scatter_state_rates(model, o, o.omega_c, x_dot);
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) jacobian[i + n * j] = x_dot[i].d[j];
+  if (nc < n) std::fill(jacobian, jacobian + static_cast<std::size_t>(n) * static_cast<std::size_t>(n), 0.0);
+  for (int j = 0; j < nc; ++j)
+    for (int i = 0; i < nc; ++i) jacobian[i + n * j] = x_dot[i].d[j];
+  if (model.train.present()) add_train_jacobian(model.train, ws.train, state, n, jacobian);
 }
 
 void state_derivative(const Model& model, const Evaluation& ev, double* state_dot) {
   scatter_state_rates(model, ev, ev.cam_speed, state_dot);
+  if (model.train.has_coordinates()) train_state_derivative(model.train, ev.train, state_dot);
 }
 
 void quadrature_derivative(const Evaluation& ev, double* q_dot) {
@@ -433,6 +455,8 @@ void quadrature_derivative(const Evaluation& ev, double* q_dot) {
 void root_functions(const Model& model, const Workspace& ws, const Evaluation& ev, double* g) {
   g[0] = ev.gap;
   if (model.contact.has_clamp_switch()) g[1] = model.contact.clamp_switch(ev.delta, ev.delta_rate, ws.v0);
+  const int base = model.contact_root_count();
+  for (int k = 0; k < model.train.roots; ++k) g[base + k] = ev.train.gap[static_cast<std::size_t>(k)];
 }
 
 EnergyTerms energy_terms(const Model& model, const Evaluation& ev) {
@@ -443,6 +467,10 @@ EnergyTerms energy_terms(const Model& model, const Evaluation& ev) {
   e.gravity = stored.gravity;
   e.contact = model.contact.elastic_energy(ev.delta);
   model.drive.add_energy(ev.cam_speed, ev.drive.motor_speed, ev.drive.twist, e.kinetic, e.spring);
+  if (model.train.present()) {
+    e.kinetic += ev.train.kinetic;
+    e.spring += ev.train.potential;
+  }
   return e;
 }
 

@@ -33,6 +33,7 @@
 #include "contact/point_curve_tracking.h"
 #include "dynamics/cam_geometry.h"
 #include "dynamics/follower_forces.h"
+#include "dynamics/follower_train.h"
 #include "dynamics/friction_elements.h"
 #include "dynamics/shaft_drive.h"
 #include "dynamics/state_layout.h"
@@ -55,6 +56,12 @@ struct Model : CamGeometry {
   SupportFriction support;   ///< guide or pivot friction (dynamics/friction_elements.h)
 
   ShaftDrive drive;  ///< the cam's drive: constant speed or a shaft from a motor (dynamics/shaft_drive.h)
+  /// Seats, stops, springs with mass and the bodies after the follower
+  /// (dynamics/follower_train.h); empty for a scene without them.
+  FollowerTrain train;
+  /// The jump speed of the held, linearised train [rpm] (dynamics/train_jump_speed.h),
+  /// for a train with coordinates of its own; speed-independent, so made once.
+  double train_jump_speed_rpm = 0.0;
 
   Tracking tracking = Tracking::differential;
   double tracking_gain = 0.0;      ///< α of ḟ = −α f [1/s]
@@ -69,8 +76,10 @@ struct Model : CamGeometry {
   /// Nominal cam angle at time t [rad]: the cam's with constant-speed drive,
   /// the motor's (without the shaft's twist) with a shaft.
   double theta(double t) const { return theta0 + omega * t; }
-  /// Number of root functions: gap, plus the force clamp switch where the law has one.
-  int root_count() const { return contact.has_clamp_switch() ? 2 : 1; }
+  /// Root functions of the cam contact: its gap, plus the force clamp switch where the law has one.
+  int contact_root_count() const { return contact.has_clamp_switch() ? 2 : 1; }
+  /// Number of root functions: the cam contact's, then the train's gaps.
+  int root_count() const { return contact_root_count() + train.roots; }
   /// Whether state_jacobian() is available (the reduced pair forms; the general
   /// one leaves the Jacobian to the integrator's difference quotients).
   bool exact_jacobian() const { return pair_form == PairForm::reduced; }
@@ -109,6 +118,8 @@ struct Workspace {
   /// profiles is recognised and remade, never reused).
   std::shared_ptr<PairTrackerWorkspace> pair_search;
   std::shared_ptr<const PairProfile> pair_search_cam, pair_search_follower;
+  TrainWorkspace train;  ///< the train's approach speeds (dynamics/follower_train.h)
+  TrainEvaluation train_scratch;  ///< the train at the Jacobian's state
 };
 
 /// A workspace for this model with everything evaluate() needs allocated
@@ -156,6 +167,7 @@ struct Evaluation {
   double v_rate = 0.0;       ///< v̇ (general pair form, differential tracking)
   DriveRates<double> drive;  ///< shaft twist and torque, motor speed and torque, accelerations (dynamics/shaft_drive.h)
   double power_drive = 0.0, power_damper = 0.0, power_hysteresis = 0.0, power_friction = 0.0;  ///< [W]
+  TrainEvaluation train;  ///< the train's forces and rates (only with model.train.present())
 };
 
 /// Evaluates the model. With Newton tracking the pair is solved from
@@ -178,7 +190,8 @@ void quadrature_derivative(const Evaluation& ev, double* q_dot);
 /// Only for model.exact_jacobian().
 void state_jacobian(const Model& model, Workspace& ws, double t, const double* state, double* jacobian);
 
-/// Root functions: [0] gap g, [1] force clamp switch (where the law has one).
+/// Root functions: [0] gap g, [1] force clamp switch (where the law has one),
+/// then the gaps of the train's one-sided elements.
 void root_functions(const Model& model, const Workspace& ws, const Evaluation& ev, double* g);
 
 /// Mechanical energy terms at an evaluation [J].

@@ -11,6 +11,7 @@
 #include "dynamics/contact_stress.h"
 #include "dynamics/model.h"
 #include "dynamics/plausibility.h"
+#include "dynamics/train_jump_speed.h"
 #include "geometry/check_text.h"
 #include "scene/follower_shape.h"
 
@@ -156,6 +157,10 @@ Model assemble_model(const CamGeometry& geometry, const SceneConfig& scene, cons
   model.penetration_limit = fg.circle() ? 0.5 * fg.radius : 0.1 * fg.base_radius;
 
   assign_state_layout(model);
+  model.train = build_follower_train(scene, file, model.layout);
+  // A spring with mass is the train's lumped chain, not the follower's massless spring.
+  if (model.train.follower_spring_lumped) model.forces.spring = ReturnSpring{};
+  if (model.train.has_coordinates()) model.train_jump_speed_rpm = train_jump_speed_rpm(model);
 
   list_elements(model);
   // Refuses what the solver could not run (docs/warnings.md), naming the field.
@@ -203,6 +208,7 @@ void list_elements(Model& model) {
   model.friction.add_names(model.elements);
   model.support.add_names(model.elements);
   model.drive.add_names(model.elements);
+  add_train_names(model.train, model.elements);
 }
 
 }  // namespace camdyn

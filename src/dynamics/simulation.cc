@@ -32,6 +32,8 @@ using State = RunState;
 using Quadratures = RunQuadratures;
 using Failure = RunFailure;
 using Clock = std::chrono::steady_clock;
+// The directions of the roots the integrator found: the cam contact's, then the train's.
+using RootDirections = std::array<int, 2 + TrainLimits::kMaxRoots>;
 
 // The quadratures a model reports (docs/model.md §7; Quadratures holds all of
 // them, by index): the drive's work only where the cam turns or a motor
@@ -224,8 +226,25 @@ void record_onset(const RunContext& run, const Evaluation& ev, double t, bool& s
 // A root the integrator stopped at (docs/model.md §6): records a contact onset
 // (an impact when the follower was separated) or a separation. Returns whether
 // the right-hand side changed, so that the integrator must restart.
+// A train gap closing at t (docs/model.md §12): a seat's or stop's approach
+// speed becomes its v₀; seat onsets and coil clashes in the window are counted.
+void record_train_onset(const RunContext& run, const Evaluation& ev, double t, int root) {
+  const FollowerTrain& train = run.model.train;
+  const double approach = -ev.train.gap_rate[static_cast<std::size_t>(root)];
+  const TrainElement& e = train_element_of_root(train, root);
+  if (e.law == TrainElement::Law::contact) record_train_onset(train, run.ws.train, root, approach);
+  if (t < run.plan.t_eval || !(approach > 0.0) || !run.result.metrics.train) return;
+  TrainMetrics& m = *run.result.metrics.train;
+  if (e.role == TrainRole::seat) {
+    ++m.seat_impacts;
+    m.max_seating_velocity = std::max(m.max_seating_velocity, approach);
+  } else if (e.role == TrainRole::clash) {
+    ++m.coil_clashes;
+  }
+}
+
 bool handle_root(const RunContext& run, const Integrator& integrator, const Evaluation& ev, double t,
-                 std::array<int, 2>& root_dirs, bool& separated) {
+                 RootDirections& root_dirs, bool& separated) {
   const Model& model = run.model;
   bool restart = false;
   integrator.root_info(root_dirs.data());
@@ -233,12 +252,20 @@ bool handle_root(const RunContext& run, const Integrator& integrator, const Eval
   if (root_dirs[0] < 0) {  // gap closing: contact onset
     record_onset(run, ev, t, separated);
     restart = true;
-  } else if (root_dirs[0] > 0) {  // gap opening: separation
+  } else if (root_dirs[0] > 0) {  // gap opening: separation (lash while a body rests on its seat)
     run.result.events.push_back({t, ev.theta * kRadToDeg, false, ev.gap_rate, false, ev.v, false});
-    separated = true;
+    separated = !(model.train.present() && model.train.seated_from(ev.train, 0));
     restart = true;
   }
-  if (model.root_count() > 1 && root_dirs[1] != 0 && ev.delta > 0.0) restart = true;  // force clamp switches
+  if (model.contact_root_count() > 1 && root_dirs[1] != 0 && ev.delta > 0.0) restart = true;  // force clamp switches
+  // The train's gaps: a force switches on or off (its damping term jumps).
+  const int base = model.contact_root_count();
+  for (int k = 0; k < model.train.roots; ++k) {
+    const int dir = root_dirs[static_cast<std::size_t>(base + k)];
+    if (dir == 0) continue;
+    if (dir < 0) record_train_onset(run, ev, t, k);
+    restart = true;
+  }
   return restart;
 }
 
@@ -375,7 +402,7 @@ Failure integrate(const RunContext& run, SceneOde& ode, Integrator& integrator, 
   recorder.record_until(0.0);
   loop.integrator_source->start_quadratures(0.0, loop.y.data(), loop.q);
   loop.separated = ev.gap > 0.0;
-  std::array<int, 2> root_dirs{};
+  RootDirections root_dirs{};
   const double projection_tolerance = std::max(1e-9, 10.0 * run.scene.integrator.rtol);  // [rad]
   bool in_flight = loop.flight && loop.separated;  // a start off the cam flies first
 
@@ -511,6 +538,18 @@ std::vector<std::string> TimeSeries::column_names() {
 std::vector<const std::vector<double>*> TimeSeries::columns() const {
   return {&time, &cam_angle_deg, &follower_position, &follower_velocity, &follower_acceleration, &kinematic_position,
           &gap,  &contact_force, &friction_force,    &energy_residual,   &contact_offset,        &cam_speed_rpm};
+}
+
+std::vector<std::string> TimeSeries::all_names() const {
+  std::vector<std::string> names = column_names();
+  names.insert(names.end(), train_names.begin(), train_names.end());
+  return names;
+}
+
+std::vector<const std::vector<double>*> TimeSeries::all_columns() const {
+  std::vector<const std::vector<double>*> all = columns();
+  for (const std::vector<double>& column : train) all.push_back(&column);
+  return all;
 }
 
 SimulationResult simulate(const SceneConfig& scene, const Model& model, Workspace& ws,

@@ -22,8 +22,18 @@ struct TimeSeries {
       kinematic_position, gap, contact_force, friction_force, energy_residual,
       contact_offset,  ///< contact point across the follower face from its centre [m]
       cam_speed_rpm;   ///< cam speed [rpm] (constant unless the drive is a shaft)
+  /// A follower train's columns (docs/model.md §12), after the others:
+  /// `<body>_position`, `<body>_velocity` (train bodies), `<body>_link_force`,
+  /// `<body>_seat_force`, `<body>_stop_force`, `<body>_spring_force` where the body has them.
+  std::vector<std::string> train_names;
+  std::vector<std::vector<double>> train;
+
+  /// The columns every run has, in order.
   static std::vector<std::string> column_names();
   std::vector<const std::vector<double>*> columns() const;
+  /// Every column of this series: column_names() and the train's.
+  std::vector<std::string> all_names() const;
+  std::vector<const std::vector<double>*> all_columns() const;
 };
 
 /// A contact onset or separation located by root finding.

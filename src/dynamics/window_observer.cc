@@ -11,6 +11,34 @@ constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 
 }  // namespace
 
+namespace {
+
+/// Calls f(name, value) for each train column of the evaluation, in order.
+template <class F>
+void for_each_train_column(const FollowerTrain& train, const TrainEvaluation& e, F&& f) {
+  for (std::size_t i = 0; i < train.bodies.size(); ++i) {
+    const TrainBody& b = train.bodies[i];
+    if (i > 0) {
+      f(b.name + "_position", e.position[i]);
+      f(b.name + "_velocity", e.velocity[i]);
+    }
+    if (b.link >= 0) f(b.name + "_link_force", e.link_force[i]);
+    if (b.seat >= 0) f(b.name + "_seat_force", e.seat_force[i]);
+    if (b.stop >= 0) f(b.name + "_stop_force", e.stop_force[i]);
+    if (b.spring_end >= 0) f(b.name + "_spring_force", e.spring_force[i]);
+  }
+}
+
+void push_train_row(const FollowerTrain& train, const TrainEvaluation& e, TimeSeries& series) {
+  if (series.train_names.empty())
+    for_each_train_column(train, e, [&](std::string name, double) { series.train_names.push_back(std::move(name)); });
+  series.train.resize(series.train_names.size());
+  std::size_t k = 0;
+  for_each_train_column(train, e, [&](const std::string&, double value) { series.train[k++].push_back(value); });
+}
+
+}  // namespace
+
 void push_row(const Model& model, const Evaluation& ev, TimeSeries& series, double t) {
   series.time.push_back(t);
   series.cam_angle_deg.push_back(ev.theta * kRadToDeg);
@@ -23,6 +51,7 @@ void push_row(const Model& model, const Evaluation& ev, TimeSeries& series, doub
   series.friction_force.push_back(ev.friction_force);
   series.contact_offset.push_back(ev.contact_offset);
   series.cam_speed_rpm.push_back(ev.cam_speed * 60.0 / kTwoPi);
+  if (model.train.present()) push_train_row(model.train, ev.train, series);
 }
 
 }  // namespace camdyn

@@ -13,6 +13,7 @@
 #include "dynamics/run_plan.h"
 #include "dynamics/simulation.h"
 #include "dynamics/step_extremes.h"
+#include "dynamics/train_observer.h"
 
 namespace camdyn {
 
@@ -34,7 +35,15 @@ class WindowObserver {
  public:
   WindowObserver(const Model& model, Workspace& ws, StateSource& source, const RunState& y0, const RunQuadratures& q0,
                  double t_eval, bool every_step, Metrics& m)
-      : model_(model), ws_(ws), source_(&source), y0_(y0), q0_(q0), t_eval_(t_eval), every_step_(every_step), m_(m) {}
+      : model_(model),
+        ws_(ws),
+        source_(&source),
+        y0_(y0),
+        q0_(q0),
+        t_eval_(t_eval),
+        every_step_(every_step),
+        m_(m),
+        train_(model, m) {}
 
   // Evaluates the model at a dense-output time into ev() and folds it into the
   // metrics; returns the energy deviation E(t) − E(0) [J]. Before the first
@@ -49,6 +58,7 @@ class WindowObserver {
     evaluate_keeping_warm_start(t, ev_);
     if (!stepped_) start_ = extreme_values(ev_);
     fold_extremes(t, extreme_values(ev_));
+    fold_train(t, ev_);
     return fold_energy(ev_);
   }
 
@@ -71,8 +81,11 @@ class WindowObserver {
     if (every_step_) {
       mid_ = extreme_values(ev_);
       fold_extremes(t_mid, mid_);
+      fold_train(t_mid, ev_);
     }
-    if (ev_.gap > 0.0) separated_time_ += std::max(0.0, t - std::max(t0, t_eval_));
+    const double in_window = std::max(0.0, t - std::max(t0, t_eval_));  // [s]
+    if (ev_.gap > 0.0 && !train_.lash(ev_)) separated_time_ += in_window;
+    train_.fold_step(ev_, in_window);
   }
 
   // The end t of the step just taken, evaluated there by the loop (`at_end`):
@@ -84,6 +97,7 @@ class WindowObserver {
     source_->state(t, nullptr, qs_.data());
     const StepExtremes::Values end = extreme_values(at_end);
     fold_extremes(t, end);
+    fold_train(t, at_end);
     StepExtremes::Values s{};
     const std::size_t probes = extremes_.probes(start_, mid_, end, s);
     for (std::size_t i = 0; i < probes; ++i) {
@@ -120,8 +134,9 @@ class WindowObserver {
     m_.energy_residual = energy_scale_ > 0.0 ? energy_max_dev_ / energy_scale_ : 0.0;
     m_.max_pressure_angle_deg = model_.geometry.max_pressure_angle_deg;
     m_.min_radius_of_curvature = model_.geometry.min_radius_of_curvature;
-    m_.jump_speed_rpm = jump_speed_rpm(model_);
+    m_.jump_speed_rpm = model_.train.has_coordinates() ? model_.train_jump_speed_rpm : jump_speed_rpm(model_);
     m_.separation_integral = separation_integral;
+    train_.finish(evaluated);
   }
 
   // The extremes so far into the metrics (a failed run's too).
@@ -157,13 +172,25 @@ class WindowObserver {
   }
 
   // What the window's extremes follow, at the evaluation `e`.
+  // While a body rests on its seat the cam's gap is lash: neither a
+  // separation nor the least contact force (docs/model.md §12).
   StepExtremes::Values extreme_values(const Evaluation& e) const {
-    return {e.gap, e.normal_force, -e.normal_force, e.delta, std::abs(e.y - model_.law->eval(e.theta).s)};
+    const double kinematic_error = std::abs(e.y - model_.law->eval(e.theta).s);
+    if (train_.lash(e)) {
+      constexpr double none = -std::numeric_limits<double>::infinity();
+      return {none, e.normal_force, none, e.delta, kinematic_error};
+    }
+    return {e.gap, e.normal_force, -e.normal_force, e.delta, kinematic_error};
   }
 
   // Folds the extremes' values `x` at t [s] into the window's records.
   void fold_extremes(double t, const StepExtremes::Values& x) {
     if (t >= t_eval_) extremes_.fold(x);
+  }
+
+  // Folds the train at the evaluation `e` at t [s] into its records.
+  void fold_train(double t, const Evaluation& e) {
+    if (t >= t_eval_) train_.fold(e);
   }
 
   // Folds the energy of `e` with the quadratures qs_ into the balance;
@@ -200,6 +227,7 @@ class WindowObserver {
   double energy0_ = 0.0, energy_scale_ = 0.0, energy_max_dev_ = 0.0;  // [J]
   bool energy_initialised_ = false;
   double separated_time_ = 0.0;  // within the evaluated window [s]
+  TrainObserver train_;
 };
 
 /// One row of a time series from an evaluation at t [s].

@@ -56,6 +56,23 @@ Json warnings_json(const std::vector<PlausibilityWarning>& warnings) {
   return list;
 }
 
+/// A follower train's metrics (docs/model.md §12), each where the scene has its element.
+void add_train_metrics(const TrainMetrics& t, Json& j) {
+  if (t.links) {
+    j["min_link_force"] = t.min_link_force;
+    j["link_separation_fraction"] = t.link_separation_fraction;
+  }
+  if (t.seats) {
+    j["max_seating_velocity"] = t.max_seating_velocity;
+    j["seat_impacts"] = t.seat_impacts;
+  }
+  if (t.springs) j["peak_spring_force"] = t.peak_spring_force;
+  if (t.clash) j["coil_clashes"] = t.coil_clashes;
+  Json lift = Json::object();
+  for (std::size_t i = 0; i < t.bodies.size(); ++i) lift[t.bodies[i]] = t.max_lift_error[i];
+  j["max_lift_error"] = lift;
+}
+
 Json metrics_json(const Metrics& m) {
   Json j = Json::object();
   for_each_metric(m, [&](const char* name, const auto& value, const MetricInfo& info) {
@@ -64,6 +81,7 @@ Json metrics_json(const Metrics& m) {
     else
       j[name] = value;
   });
+  if (m.train) add_train_metrics(*m.train, j);
   return j;
 }
 
@@ -538,8 +556,8 @@ Report simulation_report(const SceneConfig& scene, const Model& model, const Sim
 }
 
 void write_timeseries_csv(const std::filesystem::path& path, const TimeSeries& series) {
-  CsvWriter csv(path, TimeSeries::column_names());
-  csv.rows_from_columns(series.columns());
+  CsvWriter csv(path, series.all_names());
+  csv.rows_from_columns(series.all_columns());
   csv.commit();
 }
 

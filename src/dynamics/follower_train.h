@@ -1,0 +1,143 @@
+// The follower train (docs/model.md §12): the bodies after the follower, the
+// lumped masses of springs with mass, and the one-dimensional compliant
+// elements between them and the frame — links, seats, stops, spring segments,
+// coil clash, dampers. Every element is one TrainElement: a compression d
+// linear in two coordinates and a force F(d, ḋ) pushing them apart, so that
+// the right-hand side, the Jacobian, the events, the energy terms and the
+// outputs loop over one list. Coordinate 0 is the follower's q (its own
+// forces and the cam contact stay in dynamics/model.cc); the others have
+// their position and velocity in the state after the follower's states.
+// A scene without a seat, a stop, a spring with mass or a train body has an
+// empty train, and the model is today's to the bit.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "contact/force_law.h"
+#include "dynamics/state_layout.h"
+#include "scene/scene.h"
+
+namespace camdyn {
+
+/// What an element is, for its outputs, events and metrics.
+enum class TrainRole { link, seat, stop, spring, spring_segment, clash, damper };
+
+/// One compliant element: compression d = ca x_a + cb x_b + offset (a, b
+/// train coordinates; −1 the frame) [m], and a force F ≥ 0 (a spring's may
+/// be any sign) pushing them apart: x_a receives −ca F, x_b −cb F (virtual work).
+struct TrainElement {
+  /// spring: F = preload + k d + c ḋ (two-sided, always on);
+  /// one_sided: F = max(0, k d + c ḋ) while d > 0;
+  /// contact: the cam contact's force laws, F(δ = d, δ̇ = ḋ, v₀).
+  enum class Law { spring, one_sided, contact };
+  Law law = Law::spring;
+  TrainRole role = TrainRole::spring;
+  int body = 0;  ///< the body whose output it is (0: the follower)
+  int a = -1, b = -1;
+  double ca = 0.0, cb = 0.0, offset = 0.0;
+  double preload = 0.0, stiffness = 0.0, damping = 0.0;  ///< [N], [N/m], [N s/m]
+  ForceLaw contact;                                      ///< Law::contact only
+  int root = -1;  ///< its root function among the train's (one-sided and contact elements)
+
+  bool gap_root() const { return law != Law::spring; }
+};
+
+/// A train coordinate: the follower (coordinate 0, its states 0 and 1) or a
+/// body or spring lump with its own states.
+struct TrainCoordinate {
+  int position = 0, velocity = 1;  ///< state indices
+  double mass = 0.0;               ///< [kg] (the follower's inertia stays in Model::mass)
+};
+
+/// A body's outputs: what timeseries.csv and the metrics name it by.
+struct TrainBody {
+  std::string name;  ///< "follower" for coordinate 0
+  int coordinate = 0;
+  int link = -1, seat = -1, stop = -1, spring_end = -1;  ///< element indices (−1: none)
+  double ratio = 1.0;  ///< the link's lever ratio (1 for the follower)
+  double lash = 0.0;   ///< the link's lash [m]
+};
+
+/// Fixed capacities, so that evaluations and runs allocate nothing.
+struct TrainLimits {
+  static constexpr int kMaxBodies = 9;       ///< the follower and 8 train bodies
+  static constexpr int kMaxCoordinates = 1 + StateLayout::kMaxTrain / 2;
+  static constexpr int kMaxRoots = 96;
+};
+
+/// The train's forces and rates at one state (double).
+struct TrainEvaluation {
+  double follower_force = 0.0;  ///< generalised force of the train on q [N | N m]
+  std::array<double, TrainLimits::kMaxCoordinates> rate{};          ///< velocity of every coordinate
+  std::array<double, TrainLimits::kMaxCoordinates> acceleration{};  ///< of every coordinate but the follower's
+  std::array<double, TrainLimits::kMaxBodies> position{}, velocity{}, link_force{}, seat_force{}, stop_force{},
+      spring_force{};  ///< per body: [m], [m/s], [N] (spring: at its frame end)
+  std::array<bool, TrainLimits::kMaxBodies> seated{};  ///< resting on its seat (seat compressed)
+  std::array<double, TrainLimits::kMaxRoots> gap{}, gap_rate{};  ///< −d, −ḋ of each one-sided element [m], [m/s]
+  double kinetic = 0.0, potential = 0.0;               ///< [J], bodies and lumps, all elements
+  double power_damper = 0.0, power_hysteresis = 0.0;   ///< dissipated [W]
+};
+
+/// Per-run data of the train: each contact element's approach speed v₀ [m/s].
+struct TrainWorkspace {
+  std::array<double, TrainLimits::kMaxRoots> v0{};
+};
+
+/// The assembled train.
+struct FollowerTrain {
+  std::vector<TrainCoordinate> coordinates;  ///< [0] the follower
+  std::vector<TrainElement> elements;
+  std::vector<TrainBody> bodies;  ///< [0] the follower
+  int roots = 0;                  ///< root functions (one per one-sided or contact element)
+  bool follower_spring_lumped = false;  ///< the follower's own spring has mass (taken out of FollowerForces)
+
+  bool present() const { return !elements.empty(); }
+  /// Whether the train has bodies or lumps beyond the follower (states of its own).
+  bool has_coordinates() const { return coordinates.size() > 1; }
+  /// Whether some body has a seat.
+  bool has_seat() const;
+  /// Whether some coordinate from `body`'s on rests on its seat.
+  bool seated_from(const TrainEvaluation& e, int body) const;
+};
+
+/// Builds the train of a scene and appends its states to `layout`.
+/// `inertia` [kg | kg m²] is the follower's, `oscillating` whether its
+/// coordinate is an angle. Throws InputError naming the field for a train
+/// whose states exceed StateLayout's capacity.
+FollowerTrain build_follower_train(const SceneConfig& scene, const std::string& file, StateLayout& layout);
+
+/// Appends the names of the train's elements (summary.json `model.elements`):
+/// "link:valve", "seat:follower", "spring:valve" (with mass: "spring:valve:8_coils"), ...
+void add_train_names(const FollowerTrain& train, std::vector<std::string>& names);
+
+/// Resets the per-run data.
+void prepare_train_workspace(const FollowerTrain& train, TrainWorkspace& ws);
+
+/// The train at a state. Allocates nothing.
+void evaluate_train(const FollowerTrain& train, const TrainWorkspace& ws, const double* x, TrainEvaluation& e);
+
+/// Writes the train coordinates' rates into x_dot (not the follower's).
+void train_state_derivative(const FollowerTrain& train, const TrainEvaluation& e, double* x_dot);
+
+/// Adds the train's entries to the column-major Jacobian of the state
+/// derivative (n states): every element's ∂F/∂d, ∂F/∂ḋ into the rows of the
+/// accelerations of the coordinates it acts on (the follower's row included),
+/// and ∂ẋ/∂ẋ = 1 for the train's positions.
+void add_train_jacobian(const FollowerTrain& train, const TrainWorkspace& ws, const double* x, int n,
+                        double* jacobian);
+
+/// Puts the train's coordinates (not the follower's) at rest in static
+/// equilibrium for the follower's position x[0] (Newton on the elements'
+/// static forces from the kinematic positions). Returns whether it converged;
+/// where it did not, the coordinates are left at their kinematic positions.
+bool train_static_state(const FollowerTrain& train, const TrainWorkspace& ws, double* x);
+
+/// The approach speed of element `root`'s gap at onset, stored as its v₀ (floored).
+void record_train_onset(const FollowerTrain& train, TrainWorkspace& ws, int root, double approach);
+
+/// The element of a root function.
+const TrainElement& train_element_of_root(const FollowerTrain& train, int root);
+
+}  // namespace camdyn

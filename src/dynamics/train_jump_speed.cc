@@ -1,0 +1,110 @@
+#include "dynamics/train_jump_speed.h"
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "dynamics/rigid_jump_speed.h"
+
+namespace camdyn {
+
+namespace {
+
+constexpr double kRpmPerRadPerSecond = 60.0 / (2.0 * std::numbers::pi);
+constexpr int kHarmonics = 48;  ///< of the lift in the train's response
+
+/// The train's own elements (links held; seats, stops and clash left out)
+/// and the follower's massless spring, damper and weight into `lt`.
+void add_train_elements(const Model& model, LinearTrain& lt) {
+  const int n = static_cast<int>(lt.M.rows());
+  const ReturnSpring& spring = model.forces.spring;
+  lt.K(0, 0) += spring.stiffness;
+  lt.C(0, 0) += model.forces.damper.damping;
+  lt.f0[0] -= spring.preload + model.forces.weight(model.mass);
+  for (const TrainElement& e : model.train.elements) {
+    if (e.role == TrainRole::seat || e.role == TrainRole::stop || e.role == TrainRole::clash) continue;
+    Eigen::VectorXd c = Eigen::VectorXd::Zero(n);
+    if (e.a >= 0) c[e.a] += e.ca;
+    if (e.b >= 0) c[e.b] += e.cb;
+    const double constant = e.preload + e.stiffness * e.offset;  // F at x = 0, ẋ = 0 [N]
+    lt.K += e.stiffness * c * c.transpose();
+    lt.C += e.damping * c * c.transpose();
+    lt.f0 -= constant * c;
+    LinearForce force{e.stiffness * c, e.damping * c, 0.0, 0.0, constant, ""};
+    if (e.role == TrainRole::link) {
+      force.name = "link " + model.train.bodies[static_cast<std::size_t>(e.body)].name;
+      lt.held.push_back(force);
+    } else if (e.role == TrainRole::spring) {
+      force.name = "spring " + model.train.bodies[static_cast<std::size_t>(e.body)].name;
+      lt.peaks.push_back(force);
+    }
+  }
+}
+
+/// The cam contact held as a linear spring and damper of stiffness k_c and
+/// damping c_c between the lift and q, with force F̄ − k_c δ̄ at δ = 0, in
+/// generalised units (lever L: an arm's length, 1 for a translating follower).
+LinearForce contact_force(double k_c, double c_c, double offset, double lever, int n) {
+  LinearForce f;
+  f.a = Eigen::VectorXd::Zero(n);
+  f.b = Eigen::VectorXd::Zero(n);
+  f.a[0] = -k_c * lever;
+  f.b[0] = -c_c * lever;
+  f.e = k_c * lever;
+  f.f = c_c * lever;
+  f.constant = offset;
+  f.name = "cam contact";
+  return f;
+}
+
+}  // namespace
+
+LinearTrain linearised_train(const Model& model) {
+  const int n = static_cast<int>(model.train.coordinates.size());
+  LinearTrain base;
+  base.M = Eigen::MatrixXd::Zero(n, n);
+  for (int i = 0; i < n; ++i)
+    base.M(i, i) = i == 0 ? model.mass : model.train.coordinates[static_cast<std::size_t>(i)].mass;
+  base.C = base.K = Eigen::MatrixXd::Zero(n, n);
+  base.f0 = base.k_in = base.c_in = Eigen::VectorXd::Zero(n);
+  add_train_elements(model, base);
+  const double lever = model.follower.oscillating() ? model.follower.arm_length : 1.0;  // [m/rad | -]
+  const ForceLaw& law = model.contact;
+  const double mean_lift = lift_harmonics(*model.law, 0).mean;  // [m | rad]
+  // The mean contact force F̄ [N] of the static train, with the contact first
+  // taken rigid, then at its stiffness there (twice: exact for exponent 1).
+  double k_c = 1e3 * std::max(law.stiffness, 1.0), mean_force = 0.0, mean_delta = 0.0;
+  LinearTrain lt;
+  for (int pass = 0; pass < 3; ++pass) {
+    const double c_c = force_form(law.model) == ForceForm::viscous     ? law.damping
+                       : force_form(law.model) == ForceForm::hysteresis ? law.chi() * mean_force / law.reference_velocity
+                                                                        : 0.0;
+    lt = base;
+    const LinearForce f = contact_force(k_c, c_c, mean_force - k_c * mean_delta, lever, n);
+    lt.K(0, 0) += k_c * lever * lever;
+    lt.C(0, 0) += c_c * lever * lever;
+    lt.k_in[0] += k_c * lever * lever;
+    lt.c_in[0] += c_c * lever * lever;
+    lt.f0[0] += f.constant * lever;
+    lt.held.insert(lt.held.begin(), f);
+    const Eigen::VectorXd x = lt.K.fullPivLu().solve(lt.f0 + lt.k_in * mean_lift);
+    const double force = f.a.dot(x) + f.e * mean_lift + f.constant;  // [N]
+    if (pass > 0 && !(force > 0.0)) break;
+    mean_force = std::max(force, 0.0);
+    mean_delta = mean_force > 0.0 ? std::pow(mean_force / law.stiffness, 1.0 / law.exponent) : 0.0;
+    k_c = mean_delta > 0.0 ? law.exponent * mean_force / mean_delta : law.stiffness;
+  }
+  return lt;
+}
+
+double train_jump_speed_rpm(const Model& model) {
+  const LinearTrain lt = linearised_train(model);
+  const double rigid_rpm = jump_speed_rpm(model);
+  const double limit_rpm = std::isfinite(rigid_rpm) && rigid_rpm > 0.0 ? 20.0 * rigid_rpm : 1e5;
+  const double omega = linear_train_jump_speed(lt, lift_harmonics(*model.law, kHarmonics),
+                                               limit_rpm / kRpmPerRadPerSecond);  // [rad/s]
+  return std::isfinite(omega) ? omega * kRpmPerRadPerSecond : std::numeric_limits<double>::infinity();
+}
+
+}  // namespace camdyn

@@ -1,0 +1,28 @@
+// The jump speed of a follower train (docs/model.md §12): the train with every
+// one-sided force held — the cam contact linearised at its mean load, every
+// link in contact, seats, stops and coil clash left out — is linear, and its
+// jump speed is the lowest cam speed at which the smallest cam contact or link
+// force over a revolution of its periodic response reaches zero
+// (dynamics/linear_train_response.h). For one rigid mass it is the rigid
+// figure of docs/model.md §9.
+#pragma once
+
+#include "dynamics/linear_train_response.h"
+#include "dynamics/model.h"
+
+namespace camdyn {
+
+/// The model's train, held and linearised: coordinate 0 the follower, then
+/// the train's coordinates in order. Held forces: the cam contact first, then
+/// each link; peaks: each spring's frame end. The cam contact is taken along
+/// the follower's coordinate (δ = s − q; an arm: δ = L (s − q), L the arm
+/// length), linearised at the mean contact force of the static train.
+LinearTrain linearised_train(const Model& model);
+
+/// The train's jump speed [rpm] for a model whose train has coordinates of
+/// its own (bodies or spring lumps); +inf when no held force reaches zero up
+/// to 20 times the rigid figure (or 100 000 rpm without one); 0 when the
+/// static train does not hold the contact.
+double train_jump_speed_rpm(const Model& model);
+
+}  // namespace camdyn
