@@ -3,9 +3,12 @@
 // Checks between fields use `require`; defaults stay in config.h.
 #include "io/config.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -68,6 +71,13 @@ constexpr double kMaxInitialSpeed = 1e3;
 /// grows with it (the contact point sweeps the contour at R ω: 1e4 m takes
 /// 12x the time of 1 m, 1e5 m does not finish).
 constexpr double kMaxBaseRadius = 100.0;
+/// The most lumped masses a spring with mass may be cut into (docs/config.md, "Follower trains").
+constexpr int kMaxSpringCoils = 32;
+/// The most bodies `mechanism.train` may hold after the follower.
+constexpr std::size_t kMaxTrainBodies = 8;
+/// The most states a train may add: 2 per body and 2 per lumped mass of every
+/// spring with mass, the follower's included (the band its solver is built for).
+constexpr std::int64_t kMaxTrainStates = 112;
 
 // Conditions on one value that depend on the scene's choices are checks of
 // that field (not `require`s), so that whatever checks a value without JSON
@@ -108,6 +118,61 @@ Check no_gravity_on_an_arm() {
     if (g == 0.0) return "";
     return "gravity on an oscillating arm is not modelled (its centre of mass is not known): set it to 0 and "
            "fold the arm's weight into the spring preload";
+  };
+  return check;
+}
+
+/// The lumped masses of a spring with mass: an integer in [1, kMaxSpringCoils].
+Check coil_count() {
+  Check check;
+  check.expected = "an integer in [1, " + std::to_string(kMaxSpringCoils) + "]";
+  check.number = [](double n) -> std::string {
+    if (n >= 1 && n <= kMaxSpringCoils) return "";
+    return "must be in [1, " + std::to_string(kMaxSpringCoils) + "], got " + format_shortest(n);
+  };
+  return check;
+}
+
+/// An oscillating arm's spring is torsional: its mass is not modelled.
+Check no_spring_mass_on_an_arm() {
+  Check check;
+  check.expected = "0";
+  check.number = [](double m) -> std::string {
+    if (m == 0.0) return "";
+    return "spring mass is modelled for a translating follower or a train body; put the valve spring on a train "
+           "body (an oscillating follower's spring is torsional), got " +
+           format_shortest(m);
+  };
+  return check;
+}
+
+/// A train body's name prefixes its timeseries.csv columns (`<name>_position`):
+/// a plain identifier whose columns are not the follower's or the law's.
+Check train_body_name() {
+  Check check;
+  check.expected = "a non-empty name of letters, digits and '_'";
+  check.text = [](const std::string& s) -> std::string {
+    if (s.empty()) return "must not be empty";
+    for (const char c : s) {
+      const bool plain = (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_';
+      if (!plain)
+        return "must hold only letters, digits and '_' (it prefixes output columns), got " + describe_json(Json(s));
+    }
+    if (s == "follower" || s == "kinematic") {
+      return "'" + s + "' is taken: its columns (" + s + "_position) are already in timeseries.csv";
+    }
+    return "";
+  };
+  return check;
+}
+
+/// At most kMaxTrainBodies bodies after the follower.
+Check train_size() {
+  Check check;
+  check.expected = "at most " + std::to_string(kMaxTrainBodies) + " bodies";
+  check.size = [](std::size_t n) -> std::string {
+    if (n <= kMaxTrainBodies) return "";
+    return "holds at most " + std::to_string(kMaxTrainBodies) + " bodies, got " + std::to_string(n);
   };
   return check;
 }
@@ -279,9 +344,80 @@ void visit(A& a, ShapeConfig& s) {
 }
 
 template <class A>
-void visit(A& a, SpringConfig& s) {
+void visit(A& a, CoilClashConfig& c) {
+  a.field("gap", c.gap, positive());
+  a.field("stiffness", c.stiffness, positive());
+}
+
+namespace {
+/// A spring with what it acts on: an oscillating arm's spring is torsional,
+/// and its mass is refused.
+struct CarriedSpring {
+  SpringConfig& spring;
+  bool torsional = false;
+};
+
+// The surge model's fields (mass, coils, damping_ratio, clash) are written
+// only when given, so a massless spring prints as it did before them. With
+// mass 0 they are accepted and unused (mass toggled to compare). In the
+// namespace of CarriedSpring, for the archives' argument-dependent lookup.
+template <class A>
+void visit(A& a, CarriedSpring& c) {
+  SpringConfig& s = c.spring;
   a.field("stiffness", s.stiffness, non_negative());
   a.field("preload", s.preload, non_negative());
+  if (a.given("mass", s.mass.has_value()))
+    a.field("mass", s.mass, non_negative(), c.torsional ? no_spring_mass_on_an_arm() : Check{});
+  if (a.given("coils", s.coils.has_value())) a.field("coils", s.coils, coil_count());
+  a.require(!s.massive() || s.coils.has_value(), "coils",
+            "missing: a spring with mass needs 'coils', the masses it is lumped in (an integer in [1, " +
+                std::to_string(kMaxSpringCoils) + "])");
+  if (a.given("damping_ratio", s.damping_ratio.has_value())) a.field("damping_ratio", s.damping_ratio, non_negative());
+  if (a.given("clash", s.clash.has_value())) a.field("clash", s.clash);
+}
+}  // namespace
+
+template <class A>
+void visit(A& a, SpringConfig& s) {
+  CarriedSpring carried{s, false};
+  visit(a, carried);
+}
+
+/// A contact law's 'damping' [N s/m]: required by the viscous law, refused by
+/// the others (mechanism.contact, seats and stops). `written_when_null`: the
+/// field is written as null when not given (the cam contact's), else left out.
+template <class A>
+void contact_damping(A& a, ContactModel model, std::optional<double>& damping, bool written_when_null) {
+  const bool viscous = force_form(model) == ForceForm::viscous;
+  if (written_when_null || a.given("damping", damping.has_value()))
+    a.field("damping", damping, non_negative(), viscous ? Check{} : damping_unused_by(model));
+  if (viscous) {
+    a.require(damping.has_value(), "damping", "missing: model '" + to_string(model) + "' needs 'damping' [N s/m] >= 0");
+  }
+}
+
+/// A seat or a stop: the cam contact's force laws against the frame.
+template <class A>
+void visit(A& a, SeatConfig& s) {
+  a.field("position", s.position);
+  a.field("model", s.model);
+  a.field("stiffness", s.stiffness, positive());
+  a.field("exponent", s.exponent, open_closed(0, 5), contact_exponent_floor());
+  a.field("restitution", s.restitution, open_closed(0, 1));
+  contact_damping(a, s.model, s.damping, /*written_when_null=*/false);
+  a.field("reference_velocity", s.reference_velocity, positive());
+}
+
+/// A body's `seat` and `stop`, each written only when given; the stop above the seat.
+template <class A>
+void visit_travel_limits(A& a, std::optional<SeatConfig>& seat, std::optional<SeatConfig>& stop) {
+  if (a.given("seat", seat.has_value())) a.field("seat", seat);
+  if (a.given("stop", stop.has_value())) a.field("stop", stop);
+  if (seat && stop) {
+    a.require(stop->position > seat->position, "stop.position",
+              "must be above the seat (seat.position = " + format_shortest(seat->position) + "), got " +
+                  format_shortest(stop->position));
+  }
 }
 
 template <class A>
@@ -332,7 +468,8 @@ void visit(A& a, FollowerConfig& f) {
   } else {
     a.field("mass", f.mass, positive());
   }
-  a.field("spring", f.spring);
+  CarriedSpring spring{f.spring, oscillating};
+  a.field("spring", spring);
   a.field("damping", f.damping, non_negative());
   if (oscillating) {
     a.field("pivot_friction", f.pivot_friction);
@@ -340,6 +477,7 @@ void visit(A& a, FollowerConfig& f) {
     a.field("guide_friction", f.guide_friction);
   }
   a.field("initial", f.initial);
+  visit_travel_limits(a, f.seat, f.stop);
 }
 
 template <class A>
@@ -386,12 +524,7 @@ void visit(A& a, ContactConfig& c) {
             "missing (expected a number > 0 [N/m^n] or { \"from_materials\": {...} })");
   a.field("exponent", c.exponent, open_closed(0, 5), contact_exponent_floor());
   a.field("restitution", c.restitution, open_closed(0, 1));
-  const bool viscous = force_form(c.model) == ForceForm::viscous;
-  a.field("damping", c.damping, non_negative(), viscous ? Check{} : damping_unused_by(c.model));
-  if (viscous) {
-    a.require(c.damping.has_value(), "damping",
-              "missing: model '" + to_string(c.model) + "' needs 'damping' [N s/m] >= 0");
-  }
+  contact_damping(a, c.model, c.damping, /*written_when_null=*/true);
   a.field("reference_velocity", c.reference_velocity, positive());
   a.field("friction", c.friction);
   a.field("tracking", c.tracking);
@@ -399,10 +532,64 @@ void visit(A& a, ContactConfig& c) {
 }
 
 template <class A>
+void visit(A& a, LinkConfig& l) {
+  a.field("ratio", l.ratio, positive());
+  a.field("stiffness", l.stiffness, positive());
+  a.field("damping", l.damping, non_negative());
+  a.field("lash", l.lash, non_negative());
+  a.field("one_sided", l.one_sided);
+  a.require(l.one_sided || l.lash == 0.0, "lash",
+            "a two-sided link has no lash: set 'lash' to 0 or make the link one-sided, got " + format_shortest(l.lash));
+}
+
+template <class A>
+void visit(A& a, TrainBodyConfig& b) {
+  a.field("name", b.name, train_body_name());
+  a.field("mass", b.mass, positive());
+  a.field("damping", b.damping, non_negative());
+  const bool link = a.given("link", true);
+  a.require(link, "link", "missing (expected an object with the link's 'stiffness' [N/m] > 0)");
+  if (link) a.field("link", b.link);
+  // Absent = no spring; written only when the body has one.
+  if (a.given("spring", b.spring != SpringConfig{})) a.field("spring", b.spring);
+  visit_travel_limits(a, b.seat, b.stop);
+}
+
+namespace {
+
+/// The lumped masses of a spring that has mass (0 for a massless one).
+std::int64_t spring_lumps(const SpringConfig& s) { return s.massive() ? std::max(0, s.coils.value_or(0)) : 0; }
+
+}  // namespace
+
+/// `mechanism.train`, written only when it has bodies: names unique, and the
+/// states of the bodies and of the springs with mass within kMaxTrainStates.
+template <class A>
+void visit_train(A& a, MechanismConfig& m) {
+  if (a.given("train", !m.train.empty())) a.field("train", m.train, train_size());
+  std::int64_t states = 2 * spring_lumps(m.follower.spring);
+  for (std::size_t i = 0; i < m.train.size(); ++i) {
+    const std::string& name = m.train[i].name;
+    states += 2 + 2 * spring_lumps(m.train[i].spring);
+    for (std::size_t j = 0; j < i && !name.empty(); ++j) {
+      a.require(m.train[j].name != name, "train[" + std::to_string(i) + "].name",
+                "'" + name + "' is already the name of train[" + std::to_string(j) +
+                    "]: each body needs its own (it prefixes the body's timeseries.csv columns)");
+    }
+  }
+  a.require(states <= kMaxTrainStates, m.train.empty() ? "follower.spring.coils" : "train",
+            "the train has " + std::to_string(states) +
+                " states (2 per body and 2 per lumped mass of every spring with mass, the follower's included), "
+                "more than the limit of " +
+                std::to_string(kMaxTrainStates) + ": use fewer bodies or fewer coils");
+}
+
+template <class A>
 void visit(A& a, MechanismConfig& m) {
   a.field("cam", m.cam);
   a.field("follower", m.follower);
   a.field("contact", m.contact);
+  visit_train(a, m);
   const bool translating = m.follower.motion == FollowerMotion::translating;
   const bool contour = m.cam.motion_law.contour.has_value();
   a.require(translating || !contour, "follower.motion",

@@ -293,9 +293,9 @@ struct SpringConfig {
   /// Mass of the spring [kg], >= 0: 0 is a massless spring; > 0 lumps it in
   /// `coils` equal masses (the surge model of docs/model.md §12).
   std::optional<double> mass;
-  std::optional<int> coils;               ///< lumped masses, >= 1 (required with mass > 0)
-  std::optional<double> damping_ratio;    ///< of the first fixed-fixed surge mode [-], >= 0 (default 0.02)
-  std::optional<CoilClashConfig> clash;   ///< coil clash (only with mass > 0)
+  std::optional<int> coils;              ///< lumped masses, >= 1 (required with mass > 0)
+  std::optional<double> damping_ratio;   ///< of the first fixed-fixed surge mode [-], >= 0 (default 0.02)
+  std::optional<CoilClashConfig> clash;  ///< coil clash (only with mass > 0)
 
   static constexpr double kDefaultDampingRatio = 0.02;
   /// Whether the spring has mass (is lumped).
@@ -333,11 +333,11 @@ struct LinkConfig {
 
 /// One body of `mechanism.train`, after the follower.
 struct TrainBodyConfig {
-  std::string name;             ///< column prefix in timeseries.csv; unique, not "follower"
-  double mass = 0.0;            ///< [kg], > 0
-  double damping = 0.0;         ///< viscous damper to the frame [N s/m], >= 0
-  LinkConfig link;              ///< from the body before it
-  SpringConfig spring;          ///< return spring to the frame (optional: zero stiffness and preload)
+  std::string name;                ///< column prefix in timeseries.csv; unique, not "follower"
+  double mass = 0.0;               ///< [kg], > 0
+  double damping = 0.0;            ///< viscous damper to the frame [N s/m], >= 0
+  LinkConfig link;                 ///< from the body before it
+  SpringConfig spring;             ///< return spring to the frame (optional: zero stiffness and preload)
   std::optional<SeatConfig> seat;  ///< lower end of travel
   std::optional<SeatConfig> stop;  ///< upper end of travel
 
