@@ -85,8 +85,7 @@ std::map<std::string, double> public_metrics(const Metrics& metrics) {
     }
     if (t.springs) named["peak_spring_force"] = t.peak_spring_force;
     if (t.clash) named["coil_clashes"] = static_cast<double>(t.coil_clashes);
-    for (std::size_t i = 0; i < t.bodies.size(); ++i)
-      named["max_lift_error:" + t.bodies[i]] = t.max_lift_error[i];
+    for (std::size_t i = 0; i < t.bodies.size(); ++i) named["max_lift_error:" + t.bodies[i]] = t.max_lift_error[i];
   }
   return named;
 }

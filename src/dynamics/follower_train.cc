@@ -32,7 +32,8 @@ class TrainBuilder {
 
   /// A coordinate of mass `mass` [kg] with its two states; returns its index.
   int add_coordinate(const std::string& name, double mass, const std::string& at) {
-    if (layout_.size + 2 > StateLayout::kMax || static_cast<int>(train_.coordinates.size()) >= TrainLimits::kMaxCoordinates)
+    if (layout_.size + 2 > StateLayout::kMax ||
+        static_cast<int>(train_.coordinates.size()) >= TrainLimits::kMaxCoordinates)
       throw InputError(file_, at,
                        "the train needs more than " + std::to_string(StateLayout::kMaxTrain) +
                            " states: fewer bodies or spring coils");
@@ -48,8 +49,9 @@ class TrainBuilder {
   int add(TrainElement e, const std::string& at) {
     if (e.gap_root()) {
       if (train_.roots >= TrainLimits::kMaxRoots)
-        throw InputError(file_, at, "the train has more than " + std::to_string(TrainLimits::kMaxRoots) +
-                                        " one-sided elements (links, seats, stops, coil clash segments)");
+        throw InputError(file_, at,
+                         "the train has more than " + std::to_string(TrainLimits::kMaxRoots) +
+                             " one-sided elements (links, seats, stops, coil clash segments)");
       e.root = train_.roots++;
     }
     train_.elements.push_back(e);

@@ -56,28 +56,28 @@ struct TrainBody {
   std::string name;  ///< "follower" for coordinate 0
   int coordinate = 0;
   int link = -1, seat = -1, stop = -1, spring_end = -1;  ///< element indices (−1: none)
-  double ratio = 1.0;  ///< the link's lever ratio (1 for the follower)
-  double lash = 0.0;   ///< the link's lash [m]
+  double ratio = 1.0;                                    ///< the link's lever ratio (1 for the follower)
+  double lash = 0.0;                                     ///< the link's lash [m]
 };
 
 /// Fixed capacities, so that evaluations and runs allocate nothing.
 struct TrainLimits {
-  static constexpr int kMaxBodies = 9;       ///< the follower and 8 train bodies
+  static constexpr int kMaxBodies = 9;  ///< the follower and 8 train bodies
   static constexpr int kMaxCoordinates = 1 + StateLayout::kMaxTrain / 2;
   static constexpr int kMaxRoots = 96;
 };
 
 /// The train's forces and rates at one state (double).
 struct TrainEvaluation {
-  double follower_force = 0.0;  ///< generalised force of the train on q [N | N m]
+  double follower_force = 0.0;                                      ///< generalised force of the train on q [N | N m]
   std::array<double, TrainLimits::kMaxCoordinates> rate{};          ///< velocity of every coordinate
   std::array<double, TrainLimits::kMaxCoordinates> acceleration{};  ///< of every coordinate but the follower's
   std::array<double, TrainLimits::kMaxBodies> position{}, velocity{}, link_force{}, seat_force{}, stop_force{},
-      spring_force{};  ///< per body: [m], [m/s], [N] (spring: at its frame end)
+      spring_force{};                                  ///< per body: [m], [m/s], [N] (spring: at its frame end)
   std::array<bool, TrainLimits::kMaxBodies> seated{};  ///< resting on its seat (seat compressed)
   std::array<double, TrainLimits::kMaxRoots> gap{}, gap_rate{};  ///< −d, −ḋ of each one-sided element [m], [m/s]
-  double kinetic = 0.0, potential = 0.0;               ///< [J], bodies and lumps, all elements
-  double power_damper = 0.0, power_hysteresis = 0.0;   ///< dissipated [W]
+  double kinetic = 0.0, potential = 0.0;                         ///< [J], bodies and lumps, all elements
+  double power_damper = 0.0, power_hysteresis = 0.0;             ///< dissipated [W]
 };
 
 /// Per-run data of the train: each contact element's approach speed v₀ [m/s].
@@ -89,8 +89,8 @@ struct TrainWorkspace {
 struct FollowerTrain {
   std::vector<TrainCoordinate> coordinates;  ///< [0] the follower
   std::vector<TrainElement> elements;
-  std::vector<TrainBody> bodies;  ///< [0] the follower
-  int roots = 0;                  ///< root functions (one per one-sided or contact element)
+  std::vector<TrainBody> bodies;        ///< [0] the follower
+  int roots = 0;                        ///< root functions (one per one-sided or contact element)
   bool follower_spring_lumped = false;  ///< the follower's own spring has mass (taken out of FollowerForces)
 
   bool present() const { return !elements.empty(); }
@@ -125,8 +125,7 @@ void train_state_derivative(const FollowerTrain& train, const TrainEvaluation& e
 /// derivative (n states): every element's ∂F/∂d, ∂F/∂ḋ into the rows of the
 /// accelerations of the coordinates it acts on (the follower's row included),
 /// and ∂ẋ/∂ẋ = 1 for the train's positions.
-void add_train_jacobian(const FollowerTrain& train, const TrainWorkspace& ws, const double* x, int n,
-                        double* jacobian);
+void add_train_jacobian(const FollowerTrain& train, const TrainWorkspace& ws, const double* x, int n, double* jacobian);
 
 /// Puts the train's coordinates (not the follower's) at rest in static
 /// equilibrium for the follower's position x[0] (Newton on the elements'

@@ -68,7 +68,6 @@ RunFailure initial_state(const SceneConfig& scene, const Model& model, Workspace
         }
         s[0] = 0.5 * (lo + up);
       }
-      excess(s[0]);
     } else {
       // Penetrations far below the base radius (metres or, for an arm, radians times its length).
       const double limit = model.follower.oscillating() ? 0.1 * model.follower.base_radius / model.follower.arm_length
@@ -86,11 +85,9 @@ RunFailure initial_state(const SceneConfig& scene, const Model& model, Workspace
         (excess(mid) < 0.0 ? hi : lo) = mid;
       }
       s[0] = 0.5 * (lo + hi);
-      excess(s[0]);
     }
-  } else if (model.train.has_coordinates()) {
-    train_static_state(model.train, ws.train, s.data());
   }
+  if (model.train.has_coordinates()) train_static_state(model.train, ws.train, s.data());
 
   ws.u_warm = u_guess;
   const long resets = ws.tracking_resets;

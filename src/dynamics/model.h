@@ -118,7 +118,7 @@ struct Workspace {
   /// profiles is recognised and remade, never reused).
   std::shared_ptr<PairTrackerWorkspace> pair_search;
   std::shared_ptr<const PairProfile> pair_search_cam, pair_search_follower;
-  TrainWorkspace train;  ///< the train's approach speeds (dynamics/follower_train.h)
+  TrainWorkspace train;           ///< the train's approach speeds (dynamics/follower_train.h)
   TrainEvaluation train_scratch;  ///< the train at the Jacobian's state
 };
 

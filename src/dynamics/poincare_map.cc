@@ -53,6 +53,13 @@ PoincareMap::PoincareMap(const SceneConfig& scene, const Model& model, const std
     coordinates_.push_back(*l.cam_speed);
     scales_.push_back(model.omega);
   }
+  // The follower train's bodies and spring lumps (docs/model.md §12), on the follower's scales.
+  for (std::size_t c = 1; c < model.train.coordinates.size(); ++c) {
+    coordinates_.push_back(model.train.coordinates[c].position);
+    scales_.push_back(lift);
+    coordinates_.push_back(model.train.coordinates[c].velocity);
+    scales_.push_back(model.omega * lift);
+  }
 }
 
 std::vector<std::string> PoincareMap::coordinate_names() const {

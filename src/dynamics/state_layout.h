@@ -30,14 +30,14 @@ class StateSlot {
 
 /// The states of one model, in order, with their names (summary.json `model`).
 struct StateLayout {
-  static constexpr int kCore = 9;  ///< the most states of the follower, the contact pair, the spin and the drive
-  static constexpr int kMaxTrain = 112;         ///< the most states of a follower train (dynamics/follower_train.h)
+  static constexpr int kCore = 9;        ///< the most states of the follower, the contact pair, the spin and the drive
+  static constexpr int kMaxTrain = 112;  ///< the most states of a follower train (dynamics/follower_train.h)
   static constexpr int kMax = kCore + kMaxTrain;  ///< the most states any model has
-  static constexpr int kQ = 0;     ///< follower coordinate q [m | rad]
-  static constexpr int kQDot = 1;  ///< its rate q̇
+  static constexpr int kQ = 0;                    ///< follower coordinate q [m | rad]
+  static constexpr int kQDot = 1;                 ///< its rate q̇
 
   int size = 2;
-  int core_size = 2;  ///< the states before the train's (the exact Jacobian's dual numbers cover these)
+  int core_size = 2;               ///< the states before the train's (the exact Jacobian's dual numbers cover these)
   StateSlot u;                     ///< contact pair parameter [rad] (differential tracking)
   StateSlot v;                     ///< follower profile parameter [rad | m] (general pair form, differential tracking)
   StateSlot spin;                  ///< roller spin Ω [rad/s]

@@ -77,9 +77,10 @@ LinearTrain linearised_train(const Model& model) {
   double k_c = 1e3 * std::max(law.stiffness, 1.0), mean_force = 0.0, mean_delta = 0.0;
   LinearTrain lt;
   for (int pass = 0; pass < 3; ++pass) {
-    const double c_c = force_form(law.model) == ForceForm::viscous     ? law.damping
-                       : force_form(law.model) == ForceForm::hysteresis ? law.chi() * mean_force / law.reference_velocity
-                                                                        : 0.0;
+    const double c_c = force_form(law.model) == ForceForm::viscous ? law.damping
+                       : force_form(law.model) == ForceForm::hysteresis
+                           ? law.chi() * mean_force / law.reference_velocity
+                           : 0.0;
     lt = base;
     const LinearForce f = contact_force(k_c, c_c, mean_force - k_c * mean_delta, lever, n);
     lt.K(0, 0) += k_c * lever * lever;

@@ -304,7 +304,8 @@ TEST(PeriodicOrbit, DampedLinearFollowerMultipliersAreExpLambdaT) {
   s.mechanism.cam.rpm = 600;
   s.mechanism.follower.initial = {};
   s.mechanism.follower.mass = 0.3;
-  s.mechanism.follower.spring = {5000.0, 100.0};
+  s.mechanism.follower.spring.stiffness = 5000.0;
+  s.mechanism.follower.spring.preload = 100.0;
   s.mechanism.follower.damping = 2.0;
   ContactConfig& c = s.mechanism.contact;
   c.model = ContactModel::kelvin_voigt;
