@@ -87,11 +87,11 @@ py::dict to_arrays(const camdyn::Columns& columns) {
   return d;
 }
 
-// The columns of Result::events (time [s], cam_angle_deg [deg], onset, speed [m/s], impact, grazing).
+// The columns of Result::events (time [s], cam_angle_deg [deg], onset, speed [m/s], impact, grazing, lash).
 py::dict events_dict(const std::vector<camdyn::Event>& events) {
   const auto n = static_cast<py::ssize_t>(events.size());
   py::array_t<double> time(n), angle(n), speed(n);
-  py::array_t<bool> onset(n), impact(n), grazing(n);
+  py::array_t<bool> onset(n), impact(n), grazing(n), lash(n);
   for (py::ssize_t i = 0; i < n; ++i) {
     const camdyn::Event& e = events[static_cast<std::size_t>(i)];
     time.mutable_at(i) = e.time;
@@ -100,6 +100,7 @@ py::dict events_dict(const std::vector<camdyn::Event>& events) {
     speed.mutable_at(i) = e.speed;
     impact.mutable_at(i) = e.impact;
     grazing.mutable_at(i) = e.grazing;
+    lash.mutable_at(i) = e.lash;
   }
   py::dict d;
   d["time"] = time;
@@ -108,6 +109,7 @@ py::dict events_dict(const std::vector<camdyn::Event>& events) {
   d["speed"] = speed;
   d["impact"] = impact;
   d["grazing"] = grazing;
+  d["lash"] = lash;
   return d;
 }
 

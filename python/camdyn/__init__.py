@@ -56,6 +56,7 @@ EVENT_UNITS = {
     "speed": "m/s (approach speed at an onset, separation speed at a separation)",
     "impact": "bool (an onset after a separation, with a positive approach speed)",
     "grazing": "bool (an onset that is not an impact: no approach, or no separation before it)",
+    "lash": "bool (a separation while a body rests on its seat, or the onset taking that lash up)",
 }
 
 

@@ -98,7 +98,7 @@ Result public_result(SimulationResult&& run) {
   result.samples = public_columns(run.samples);
   result.events.reserve(run.events.size());
   for (const ContactEvent& e : run.events)
-    result.events.push_back({e.time, e.cam_angle_deg, e.onset, e.speed, e.impact, e.grazing});
+    result.events.push_back({e.time, e.cam_angle_deg, e.onset, e.speed, e.impact, e.grazing, e.lash});
   result.metrics_over = run.metrics_over;
   result.steady_state = run.metrics_note;
   result.evaluated_from = run.evaluated_from;

@@ -197,6 +197,7 @@ struct LoopState {
   Quadratures q{};
   double t = 0.0;  // time of the last stop [s]
   bool separated = false;
+  bool lash_open = false;  // the cam's gap is open while a body rests on its seat (docs/model.md §12)
   double last_progress = 0.0;  // wall time of the last progress report [s]
   IntegratorSource* integrator_source = nullptr;
   FlightSource* flight_source = nullptr;
@@ -210,16 +211,21 @@ struct LoopState {
 // A contact onset at t (docs/model.md §6; dynamics/contact_events.h): an
 // impact, or a graze or re-entry recorded but not counted; the episode's
 // approach speed v₀ from the gap's closing rate.
-void record_onset(const RunContext& run, const Evaluation& ev, double t, bool& separated) {
+void record_onset(const RunContext& run, const Evaluation& ev, double t, bool& separated, bool& lash_open) {
   SimulationResult& result = run.result;
   const double approach = -ev.gap_rate;
   run.ws.v0 = std::max(approach, run.model.contact.reference_velocity);
+  if (lash_open) {  // the cam takes up the lash (docs/model.md §12)
+    result.events.push_back({t, ev.theta * kRadToDeg, true, approach, false, ev.v, false, true});
+    lash_open = separated = false;
+    return;
+  }
   const OnsetClass onset = classify_onset(separated, approach);
   if (onset.impact && t >= run.plan.t_eval) {
     ++result.metrics.impact_count;
     result.metrics.max_impact_velocity = std::max(result.metrics.max_impact_velocity, approach);
   }
-  result.events.push_back({t, ev.theta * kRadToDeg, true, approach, onset.impact, ev.v, onset.grazing});
+  result.events.push_back({t, ev.theta * kRadToDeg, true, approach, onset.impact, ev.v, onset.grazing, false});
   separated = false;
 }
 
@@ -244,17 +250,18 @@ void record_train_onset(const RunContext& run, const Evaluation& ev, double t, i
 }
 
 bool handle_root(const RunContext& run, const Integrator& integrator, const Evaluation& ev, double t,
-                 RootDirections& root_dirs, bool& separated) {
+                 RootDirections& root_dirs, bool& separated, bool& lash_open) {
   const Model& model = run.model;
   bool restart = false;
   integrator.root_info(root_dirs.data());
   ++run.result.solver.events;
   if (root_dirs[0] < 0) {  // gap closing: contact onset
-    record_onset(run, ev, t, separated);
+    record_onset(run, ev, t, separated, lash_open);
     restart = true;
   } else if (root_dirs[0] > 0) {  // gap opening: separation (lash while a body rests on its seat)
-    run.result.events.push_back({t, ev.theta * kRadToDeg, false, ev.gap_rate, false, ev.v, false});
-    separated = !(model.train.present() && model.train.seated_from(ev.train, 0));
+    lash_open = model.train.present() && model.train.seated_from(ev.train, 0);
+    run.result.events.push_back({t, ev.theta * kRadToDeg, false, ev.gap_rate, false, ev.v, false, lash_open});
+    separated = !lash_open;
     restart = true;
   }
   if (model.contact_root_count() > 1 && root_dirs[1] != 0 && ev.delta > 0.0) restart = true;  // force clamp switches
@@ -381,7 +388,7 @@ Failure fly(const RunContext& run, SceneOde& ode, Integrator& integrator, LoopSt
   loop.ended_in_flight = !landed;
   if (landed) {
     ++run.result.solver.events;
-    record_onset(run, ode.evaluated(end.t, loop.y.data()), end.t, loop.separated);
+    record_onset(run, ode.evaluated(end.t, loop.y.data()), end.t, loop.separated, loop.lash_open);
     loop.integrator_source->restart(end.t, loop.y.data(), loop.q);
   }
   return {};
@@ -401,7 +408,8 @@ Failure integrate(const RunContext& run, SceneOde& ode, Integrator& integrator, 
   observer.observe(0.0);
   recorder.record_until(0.0);
   loop.integrator_source->start_quadratures(0.0, loop.y.data(), loop.q);
-  loop.separated = ev.gap > 0.0;
+  loop.lash_open = ev.gap > 0.0 && model.train.present() && model.train.seated_from(ev.train, 0);
+  loop.separated = ev.gap > 0.0 && !loop.lash_open;
   RootDirections root_dirs{};
   const double projection_tolerance = std::max(1e-9, 10.0 * run.scene.integrator.rtol);  // [rad]
   bool in_flight = loop.flight && loop.separated;  // a start off the cam flies first
@@ -436,7 +444,7 @@ Failure integrate(const RunContext& run, SceneOde& ode, Integrator& integrator, 
     }
     bool restart = false;
     if (result_kind == Integrator::Result::root)
-      restart = handle_root(run, integrator, ev, t, root_dirs, loop.separated);
+      restart = handle_root(run, integrator, ev, t, root_dirs, loop.separated, loop.lash_open);
     if (Failure f = check_contact(model, ev, t)) return f;
     // A take-off: the flight in closed form, unless the last one landed at once.
     in_flight = restart && loop.separated && loop.flight && !loop.last_flight_short;

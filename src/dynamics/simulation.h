@@ -47,6 +47,9 @@ struct ContactEvent {
   /// An onset that is not an impact: no approach (speed ≤ 0, a graze), or no
   /// separation before it (a re-entry) (docs/model.md §6).
   bool grazing = false;
+  /// Valve lash (docs/model.md §12): a separation while a body rests on its
+  /// seat, or the onset that takes that lash up. Neither a jump nor an impact.
+  bool lash = false;
 };
 
 /// How a run ended (summary.json `solver.termination`), in the manner of

@@ -108,4 +108,14 @@ double train_jump_speed_rpm(const Model& model) {
   return std::isfinite(omega) ? omega * kRpmPerRadPerSecond : std::numeric_limits<double>::infinity();
 }
 
+double model_jump_speed_rpm(const Model& model) {
+  return model.train.has_coordinates() ? model.train_jump_speed_rpm : jump_speed_rpm(model);
+}
+
+const char* jump_speed_name(const Model& model) {
+  return model.train.has_coordinates() ? "train jump speed (held, linearised)" : "rigid-model jump speed";
+}
+
+bool rigid_spring_sizing_applies(const Model& model) { return !model.train.has_coordinates(); }
+
 }  // namespace camdyn

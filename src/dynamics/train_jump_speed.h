@@ -25,4 +25,18 @@ LinearTrain linearised_train(const Model& model);
 /// static train does not hold the contact.
 double train_jump_speed_rpm(const Model& model);
 
+/// The model's jump speed [rpm]: its train's (Model::train_jump_speed_rpm)
+/// where the train has coordinates of its own, else the rigid figure of
+/// docs/model.md §9 (dynamics/rigid_jump_speed.h).
+double model_jump_speed_rpm(const Model& model);
+
+/// What model_jump_speed_rpm is, for messages: "train jump speed (held, linearised)"
+/// or "rigid-model jump speed".
+const char* jump_speed_name(const Model& model);
+
+/// Whether the rigid single-mass spring sizing (dynamics/spring_sizing.h)
+/// describes the model: not for a train with coordinates of its own or a
+/// follower spring with mass.
+bool rigid_spring_sizing_applies(const Model& model);
+
 }  // namespace camdyn

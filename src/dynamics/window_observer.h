@@ -13,6 +13,7 @@
 #include "dynamics/run_plan.h"
 #include "dynamics/simulation.h"
 #include "dynamics/step_extremes.h"
+#include "dynamics/train_jump_speed.h"
 #include "dynamics/train_observer.h"
 
 namespace camdyn {
@@ -134,7 +135,7 @@ class WindowObserver {
     m_.energy_residual = energy_scale_ > 0.0 ? energy_max_dev_ / energy_scale_ : 0.0;
     m_.max_pressure_angle_deg = model_.geometry.max_pressure_angle_deg;
     m_.min_radius_of_curvature = model_.geometry.min_radius_of_curvature;
-    m_.jump_speed_rpm = model_.train.has_coordinates() ? model_.train_jump_speed_rpm : jump_speed_rpm(model_);
+    m_.jump_speed_rpm = model_jump_speed_rpm(model_);
     m_.separation_integral = separation_integral;
     train_.finish(evaluated);
   }

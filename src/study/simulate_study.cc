@@ -16,6 +16,7 @@
 #include "dynamics/rigid_jump_speed.h"
 #include "dynamics/simulation.h"
 #include "dynamics/spring_sizing.h"
+#include "dynamics/train_jump_speed.h"
 #include "io/config.h"
 #include "io/json_writer.h"
 #include "output/profile_export.h"
@@ -48,13 +49,13 @@ class Progress {
 // the largest pressure angle and the smallest radius of curvature.
 void print_design_check(const Model& model) {
   const CamGeometryReport& g = model.geometry;
-  const double jump = jump_speed_rpm(model);  // [rpm]; +inf: the law never decelerates
+  const double jump = model_jump_speed_rpm(model);  // [rpm]; +inf: the law never decelerates
   char speed[48] = "none (the law never decelerates)";
   if (std::isfinite(jump)) std::snprintf(speed, sizeof speed, "%.4g rpm", jump);
   std::fprintf(stderr,
-               "  design check: rigid-model jump speed %s, max pressure angle %.3g deg at %.4g deg, "
+               "  design check: %s %s, max pressure angle %.3g deg at %.4g deg, "
                "min radius of curvature %.3g m at %.4g deg\n",
-               speed, g.max_pressure_angle_deg, g.max_pressure_angle_at_deg, g.min_radius_of_curvature,
+               jump_speed_name(model), speed, g.max_pressure_angle_deg, g.max_pressure_angle_at_deg, g.min_radius_of_curvature,
                g.min_radius_of_curvature_at_deg);
 }
 
@@ -91,15 +92,20 @@ int run_simulate_study(const Json& doc, const StudyContext& ctx) {
   if (profile) write_profile_files(out, *profile, scene.name, scene.outputs.profile->formats);
 
   const Metrics& m = result.metrics;
-  std::printf("%s: %s, %.6g rpm (rigid-model jump speed %.6g rpm)\n", scene.name.c_str(),
-              m.separation_fraction > 0.0 ? "follower SEPARATES" : "follower stays in contact", scene.mechanism.cam.rpm,
-              m.jump_speed_rpm);
+  const bool link_opens = m.train && m.train->link_separation_fraction > 0.0;
+  const char* verdict = m.separation_fraction > 0.0 ? "follower SEPARATES"
+                        : link_opens                 ? "train SEPARATES at a link"
+                                                     : "follower stays in contact";
+  std::printf("%s: %s, %.6g rpm (%s %.6g rpm)\n", scene.name.c_str(), verdict, scene.mechanism.cam.rpm,
+              jump_speed_name(model), m.jump_speed_rpm);
   if (!result.metrics_note.empty()) std::printf("  steady state: %s\n", result.metrics_note.c_str());
   std::printf("  separation_fraction %.4g, impacts %ld, peak_contact_force %.6g N, min_contact_force %.6g N\n",
               m.separation_fraction, m.impact_count, m.peak_contact_force, m.min_contact_force);
-  const SpringSizing sizing = size_spring(*model.law, rigid_spring_load(model, 0.0), model.omega);
-  std::printf("  required spring preload %.6g %s at the rate given (rigid model, contact up to this speed)\n",
-              sizing.required_preload, coordinate_units(model).force);
+  if (rigid_spring_sizing_applies(model)) {
+    const SpringSizing sizing = size_spring(*model.law, rigid_spring_load(model, 0.0), model.omega);
+    std::printf("  required spring preload %.6g %s at the rate given (rigid model, contact up to this speed)\n",
+                sizing.required_preload, coordinate_units(model).force);
+  }
   std::printf("  energy_residual %.3g, %ld steps, %ld RHS evaluations, %.3g s\n", m.energy_residual,
               result.solver.counters.steps, result.solver.counters.rhs_evaluations, result.solver.run_time_s);
   if (result.error.richardson)

@@ -14,6 +14,7 @@
 #include "dynamics/plausibility.h"
 #include "dynamics/rigid_jump_speed.h"
 #include "dynamics/spring_sizing.h"
+#include "dynamics/train_jump_speed.h"
 #include "io/atomic_file.h"
 #include "io/csv_writer.h"
 #include "io/json_writer.h"
@@ -196,7 +197,8 @@ Json summary_json(const SceneConfig& scene, const Model& model, const Simulation
                           {"contact_pair", contact_pair_name(model)}};
   if (model.contour) summary["contour_fit"] = contour_fit_json(model);
   summary["warnings"] = warnings_json(run_warnings(scene, model, result));
-  summary["spring_sizing"] = spring_sizing_json(model);
+  // The rigid single-mass sizing does not describe a train (docs/model.md §12).
+  if (rigid_spring_sizing_applies(model)) summary["spring_sizing"] = spring_sizing_json(model);
   summary["config"] = to_json(scene);
   return summary;
 }
@@ -562,10 +564,10 @@ void write_timeseries_csv(const std::filesystem::path& path, const TimeSeries& s
 }
 
 void write_events_csv(const std::filesystem::path& path, const std::vector<ContactEvent>& events) {
-  CsvWriter csv(path, {"time", "cam_angle_deg", "kind", "speed", "impact", "grazing"});
+  CsvWriter csv(path, {"time", "cam_angle_deg", "kind", "speed", "impact", "grazing", "lash"});
   for (const ContactEvent& e : events)
     csv.row({CsvCell(e.time), CsvCell(e.cam_angle_deg), CsvCell(e.onset ? "onset" : "separation"), CsvCell(e.speed),
-             CsvCell(e.impact ? 1 : 0), CsvCell(e.grazing ? 1 : 0)});
+             CsvCell(e.impact ? 1 : 0), CsvCell(e.grazing ? 1 : 0), CsvCell(e.lash ? 1 : 0)});
   csv.commit();
 }
 

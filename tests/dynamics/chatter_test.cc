@@ -17,7 +17,7 @@ constexpr double kDegPerS = 360.0;  // one revolution a second
 // contacts of `contact` seconds between them, then contact until `t_end`.
 std::vector<ContactEvent> bounces(double tau1, double r, int flights, double contact) {
   std::vector<ContactEvent> events;
-  auto add = [&](double t, bool onset) { events.push_back({t, t * kDegPerS, onset, 0.1, onset, 0.0, false}); };
+  auto add = [&](double t, bool onset) { events.push_back({t, t * kDegPerS, onset, 0.1, onset, 0.0, false, false}); };
   add(0.1, false);
   double t = 0.3;
   add(t, true);
@@ -54,8 +54,8 @@ TEST(Chatter, ASequenceTheFollowerLeavesAtOnceIsNotChatter) {
   std::vector<ContactEvent> events = bounces(0.04, 0.6, 8, 0.0);
   const double last = events.back().time;
   // Thrown off again right after the last bounce, for a long flight.
-  events.push_back({last + 1e-4, 0.0, false, 0.1, false, 0.0, false});
-  events.push_back({last + 0.2, 0.0, true, 0.1, true, 0.0, false});
+  events.push_back({last + 1e-4, 0.0, false, 0.1, false, 0.0, false, false});
+  events.push_back({last + 0.2, 0.0, true, 0.1, true, 0.0, false, false});
   EXPECT_TRUE(find_chatter(events, 1.0, kDegPerS).empty());
 }
 
