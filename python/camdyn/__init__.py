@@ -26,7 +26,7 @@ from ._camdyn import Error, InputError, SolverError, __version__
 
 __all__ = [
     "Error", "InputError", "SolverError", "Result", "Scene", "__version__", "EVENT_UNITS", "TIMESERIES_UNITS",
-    "jump_speed", "law", "load", "profile", "run_study",
+    "TRAIN_COLUMN_UNITS", "column_unit", "jump_speed", "law", "load", "profile", "run_study",
 ]
 
 #: The time series' columns, in order, and their units (summary.json's
@@ -47,6 +47,38 @@ TIMESERIES_UNITS = {
     "contact_offset": "m",
     "cam_speed_rpm": "rpm",
 }
+
+#: The units of a follower train's columns (mechanism.train, seats, stops,
+#: springs with mass; docs/model.md §12), by the suffix after the body's
+#: name: ``valve_position`` [m], ``valve_link_force`` [N], ``follower_seat_force``
+#: [N], ... They follow the columns of ``TIMESERIES_UNITS`` when the scene has
+#: a train. A train body's coordinate is a length even after an oscillating
+#: arm (its link's ratio is in m/rad); the follower's own ``follower_seat_force``,
+#: ``follower_stop_force`` and ``follower_spring_force`` act along its
+#: coordinate, so for an oscillating arm they are torques [N m].
+TRAIN_COLUMN_UNITS = {
+    "_position": "m",
+    "_velocity": "m/s",
+    "_link_force": "N",
+    "_seat_force": "N",
+    "_stop_force": "N",
+    "_spring_force": "N",
+}
+
+
+def column_unit(name):
+    """The unit of a time-series column: from ``TIMESERIES_UNITS``, else a
+    train column's from its suffix (``TRAIN_COLUMN_UNITS``; the force suffixes
+    tried first, so ``valve_link_force`` is N). None for a name that is neither.
+    The follower coordinate's units are those of a translating follower (see
+    ``TIMESERIES_UNITS`` for an arm's)."""
+    if name in TIMESERIES_UNITS:
+        return TIMESERIES_UNITS[name]
+    for suffix in sorted(TRAIN_COLUMN_UNITS, key=len, reverse=True):
+        if name.endswith(suffix) and len(name) > len(suffix):
+            return TRAIN_COLUMN_UNITS[suffix]
+    return None
+
 
 #: The events' columns and their units: contact onsets and separations.
 EVENT_UNITS = {
@@ -119,11 +151,13 @@ class Result:
             and what it cost (``steps``, ``rhs_evaluations``, ...), under
             summary.json's ``solver`` names.
         timeseries: the columns of ``TIMESERIES_UNITS`` at the config's output
-            step: a numpy record array (``r.timeseries["contact_force"]``, or
-            ``r.timeseries.contact_force``), or a pandas DataFrame.
+            step, then a follower train's (``TRAIN_COLUMN_UNITS``; ``column_unit``
+            gives any column's unit): a numpy record array
+            (``r.timeseries["contact_force"]``, or ``r.timeseries.contact_force``),
+            or a pandas DataFrame.
         events: contact onsets and separations (``EVENT_UNITS``), likewise.
             None with ``series=False``.
-        samples: the state at ``sample_times`` (same columns as ``timeseries``), or None.
+        samples: the state at ``sample_times`` (the columns of ``timeseries``), or None.
         model: the model's ``states``, force ``elements``, ``cam``,
             ``follower`` and ``contact_pair`` (summary.json ``model``).
         metrics_over: ``"window"`` or ``"periodic_orbit"`` (simulation.steady_state).
@@ -135,7 +169,9 @@ class Result:
         self.metrics = dict(raw["metrics"])
         self.solver = raw["solver"]
         self.timeseries = _series_table(raw["timeseries"], names, as_frame)
-        self.samples = _series_table(raw["samples"], names, as_frame)
+        # Its own columns: a train's are named when its first row is, so a run
+        # without a series (series=False) names them only in its samples.
+        self.samples = _series_table(raw["samples"], list(raw["samples"]), as_frame)
         self.events = _table(raw["events"], list(EVENT_UNITS), as_frame)
         self.model = model
         self.metrics_over = raw["metrics_over"]

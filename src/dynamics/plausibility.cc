@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <limits>
 #include <numbers>
+#include <string>
+#include <vector>
 
 #include "common/errors.h"
 #include "contact/force_law.h"
@@ -43,6 +45,14 @@ constexpr double kMaxImpactsStill = 1000.0;        ///< cam held still: above, c
 constexpr double kJumpSpeedMargin = 0.9;           ///< separation below this × jump speed: chatter
 constexpr double kMaxPositionErrorOfLift = 0.01;   ///< Richardson position error / lift [-]
 constexpr double kMaxPeakForceError = 0.05;        ///< Richardson relative peak-force error [-]
+
+/// Follower train thresholds (docs/warnings.md, "Follower trains").
+/// A seat's linearised stiffness below this × the spring rate it holds against [-].
+constexpr double kMinSeatToSpringStiffness = 10.0;
+/// A link's stiffness (seen at the follower) below this × the cam contact's linearised stiffness [-].
+constexpr double kMinLinkToContactStiffness = 1e-3;
+/// Fewer lumps than this resolve a spring's surge poorly.
+constexpr int kMinSpringCoils = 4;
 
 std::string num(double x) {
   char buffer[32];
@@ -143,15 +153,23 @@ void chatter_warnings(const SceneConfig& scene, const Model& model, const Simula
                        " per revolution) is numerical chatter rather than bouncing" + tighten});
   else if (revolutions == 0.0 && impacts > kMaxImpactsStill)
     out.push_back({"chatter", "integrator.rtol", count + " with the cam held still is numerical chatter" + tighten});
-  if (model.omega > 0.0 && !explicit_start(scene) && !model.drive.shaft()) {
+  // A follower with a seat (valve lash) rests on it over the base circle, and
+  // the cam picks it up with an impact every revolution: its separations
+  // after that are physics whatever the jump speed. A train with coordinates
+  // has its own jump speed (dynamics/train_jump_speed.h); the rigid model's
+  // leaves out its bodies and a spring with mass.
+  const bool lash = scene.mechanism.follower.seat.has_value();
+  if (model.omega > 0.0 && !explicit_start(scene) && !model.drive.shaft() && !lash) {
     const double rpm = model.omega * 60.0 / kTwoPi;
-    const double jump = damped_jump_speed_rpm(model);
+    const bool train = model.train.has_coordinates();
+    const double jump = train ? model.train_jump_speed_rpm : damped_jump_speed_rpm(model);
     if (std::isfinite(jump) && rpm < kJumpSpeedMargin * jump)
       out.push_back({"chatter", "integrator.rtol",
-                     "the follower separates (" + count + ") at " + rpm_text(rpm) +
-                         ", below the rigid-model jump speed " + rpm_text(jump) +
-                         ": on the rigid model the cam holds it there, so the separations are numerical" + tighten});
-  } else if (model.omega > 0.0 && !explicit_start(scene) && std::isfinite(m.jump_speed_rpm) &&
+                     "the follower separates (" + count + ") at " + rpm_text(rpm) + ", below the " +
+                         (train ? "held train's" : "rigid-model") + " jump speed " + rpm_text(jump) + ": on the " +
+                         (train ? "linearised train" : "rigid model") +
+                         " the cam holds it there, so the separations are numerical" + tighten});
+  } else if (!lash && model.omega > 0.0 && !explicit_start(scene) && std::isfinite(m.jump_speed_rpm) &&
              model.omega * 60.0 / kTwoPi < kJumpSpeedMargin * m.jump_speed_rpm && impacts > kMaxImpactsPerRevolution) {
     // A shaft drive's speed varies, so separation below the jump speed may be
     // real: only a high count of impacts is suspicious then.
@@ -244,6 +262,129 @@ void tolerance_warning(const SceneConfig& scene, const Model& model, std::vector
                      num(load.peak_penetration) + " m" + r.text() +
                      ": the integrator cannot see the contact and will report chatter as impacts; tighten "
                      "integrator.atol and integrator.rtol"});
+}
+
+/// One body of the train as the scene gives it: its dotted path, its spring and seat.
+struct BodyConfig {
+  std::string path;  ///< "mechanism.follower" or "mechanism.train[i]"
+  const SpringConfig* spring = nullptr;
+  const SeatConfig* seat = nullptr;
+  double link_ratio = 1.0;  ///< of the link from the body before it (1 for the follower)
+  const LinkConfig* link = nullptr;
+};
+
+std::vector<BodyConfig> train_bodies(const SceneConfig& scene) {
+  const FollowerConfig& f = scene.mechanism.follower;
+  std::vector<BodyConfig> bodies{{"mechanism.follower", &f.spring, f.seat ? &*f.seat : nullptr, 1.0, nullptr}};
+  for (std::size_t i = 0; i < scene.mechanism.train.size(); ++i) {
+    const TrainBodyConfig& b = scene.mechanism.train[i];
+    bodies.push_back(
+        {"mechanism.train[" + std::to_string(i) + "]", &b.spring, b.seat ? &*b.seat : nullptr, b.link.ratio, &b.link});
+  }
+  return bodies;
+}
+
+/// A seat softer than the spring it holds the body against: linearised at the
+/// penetration under the spring's force at the seat, F = F₀ + k p (the
+/// follower's preload is at its lowest position, a train body's at x = 0),
+/// k_seat = dF/dδ = n K^(1/n) F^((n−1)/n) (K for n = 1). Below 10 k the seat
+/// is no stiffer than the spring: the body sinks into it by a fair part of
+/// the spring's own travel and rings on it at about the body's own frequency.
+void seat_warnings(const SceneConfig& scene, const Model& model, std::vector<PlausibilityWarning>& out) {
+  const std::vector<BodyConfig> bodies = train_bodies(scene);
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    const BodyConfig& b = bodies[i];
+    if (!b.seat || !(b.spring->stiffness > 0.0) || !(b.seat->stiffness > 0.0)) continue;
+    const double k = b.spring->stiffness, n = b.seat->exponent;
+    const double load = b.spring->preload + k * b.seat->position;  // [N | N m]
+    if (n != 1.0 && !(load > 0.0)) continue;                       // unloaded: no representative penetration
+    const double k_seat =
+        n == 1.0 ? b.seat->stiffness : n * std::pow(b.seat->stiffness, 1.0 / n) * std::pow(load, (n - 1.0) / n);
+    if (k_seat >= kMinSeatToSpringStiffness * k) continue;
+    const CoordinateUnits units = i == 0 ? coordinate_units(model) : CoordinateUnits{};
+    const std::string rate = std::string(units.force) + "/" + units.position;
+    const std::string at_load =
+        n == 1.0 ? std::string() : " (linearised under the spring's " + num(load) + " " + units.force + " at the seat)";
+    out.push_back({"seat_stiffness", b.path + ".seat.stiffness",
+                   "the seat's stiffness " + num(k_seat) + " " + rate + at_load + " is only " + num(k_seat / k) +
+                       " x the rate " + num(k) + " " + rate +
+                       " of the spring it holds the body against (expect at "
+                       "least " +
+                       num(kMinSeatToSpringStiffness) +
+                       " x): the body sinks into its seat by a fair part "
+                       "of the spring's travel; a seat is a stiff contact (usual 1e8 ... 1e10 N/m^n), was it given "
+                       "in N/mm?"});
+  }
+}
+
+/// The static load of every spring of the train at full lift, at the cam
+/// contact [N]: the follower's F₀ + k h and each body's F₀ᵢ + kᵢ Rᵢ h through
+/// its lever ratios Rᵢ = r₁ ⋯ rᵢ (links taken as rigid, seats as open),
+/// divided by ∂g/∂q. The rigid model's load (contact_load) leaves out the
+/// train and a spring with mass.
+double train_spring_load(const SceneConfig& scene, const Model& model, double g_q) {
+  const double lift_q = std::max(std::abs(model.law->min_s()), std::abs(model.law->max_s()));  // h [m | rad]
+  const SpringConfig& f = scene.mechanism.follower.spring;
+  double load = f.preload + f.stiffness * lift_q;  // on q [N | N m]
+  double ratio = 1.0;
+  for (const TrainBodyConfig& b : scene.mechanism.train) {
+    ratio *= b.link.ratio;
+    load += ratio * (b.spring.preload + b.spring.stiffness * ratio * lift_q);
+  }
+  return g_q > 0.0 ? load / g_q : 0.0;
+}
+
+/// A link far more compliant than the cam contact: the link's stiffness seen
+/// at the follower, K (r₁ ⋯ rᵢ)², against the cam contact's linearised
+/// stiffness seen there, k_c (∂g/∂q)² with k_c = n F / δ at the larger of the
+/// rigid model's peak load (contact_load) and the train's static spring load
+/// at full lift (train_spring_load).
+void link_warnings(const SceneConfig& scene, const Model& model, std::vector<PlausibilityWarning>& out) {
+  if (scene.mechanism.train.empty()) return;
+  const ForceLaw& law = model.contact;
+  const double g_q = std::abs(model.cam->kinematics(model.theta0).g_q);  // [m per unit of q]
+  const double load = std::max(contact_load(model).peak_force, train_spring_load(scene, model, g_q));  // [N]
+  if (!(load > 0.0) || !(law.stiffness > 0.0)) return;
+  const double k_c = law.exponent * std::pow(law.stiffness, 1.0 / law.exponent) *
+                     std::pow(load, (law.exponent - 1.0) / law.exponent);  // n F / δ [N/m]
+  const double k_c_q = k_c * g_q * g_q;                                    // at the follower [N/m | N m/rad]
+  const CoordinateUnits units = coordinate_units(model);
+  const std::string rate_q = std::string(units.force) + "/" + units.position;
+  double ratio = 1.0;  // r₁ ⋯ rᵢ [m/m | m/rad]
+  const std::vector<BodyConfig> bodies = train_bodies(scene);
+  for (std::size_t i = 1; i < bodies.size(); ++i) {
+    ratio *= bodies[i].link_ratio;
+    const double K = bodies[i].link->stiffness, K_q = K * ratio * ratio;
+    if (!(K > 0.0) || K_q >= kMinLinkToContactStiffness * k_c_q) continue;
+    out.push_back({"link_stiffness", bodies[i].path + ".link.stiffness",
+                   "the link's stiffness " + num(K) + " N/m (" + num(K_q) + " " + rate_q +
+                       " at the follower, through the lever ratios) is " + num(K_q / k_c_q) +
+                       " x the cam contact's linearised stiffness " + num(k_c_q) + " " + rate_q + " (n F / delta at " +
+                       num(load) + " N; expect at least " + num(kMinLinkToContactStiffness) +
+                       " x): a link softer than the contact by orders of magnitude is as soft as a spring; "
+                       "was it given in N/mm?"});
+  }
+}
+
+/// A spring with mass in fewer than 4 lumps: its first surge mode
+/// ω₁ = 2 √(k_s N / m_s) sin(π / (2(N + 1))), k_s = (N + 1) k, lies
+/// 1 − ω₁ / (π √(k / m_s)) below the continuous spring's (36 % for N = 1,
+/// 16 % for N = 3), and only N modes exist.
+void coil_warnings(const SceneConfig& scene, std::vector<PlausibilityWarning>& out) {
+  for (const BodyConfig& b : train_bodies(scene)) {
+    const SpringConfig& s = *b.spring;
+    if (!s.massive() || !s.coils || *s.coils >= kMinSpringCoils || !(s.stiffness > 0.0)) continue;
+    const int n = *s.coils;
+    const double m_s = *s.mass, k_s = (n + 1) * s.stiffness;
+    const double lumped = std::sqrt(k_s * n / m_s) * std::sin(std::numbers::pi / (2.0 * (n + 1))) / std::numbers::pi;
+    const double continuous = 0.5 * std::sqrt(s.stiffness / m_s);  // [Hz]
+    out.push_back({"spring_coils", b.path + ".spring.coils",
+                   "a spring with mass in " + std::to_string(n) + " lump" + (n == 1 ? "" : "s") +
+                       " resolves its surge poorly: its first surge mode is at " + num(lumped) + " Hz, " +
+                       num(100.0 * (1.0 - lumped / continuous)) + " % below the continuous spring's " +
+                       num(continuous) + " Hz, and it has only " + std::to_string(n) + " mode" + (n == 1 ? "" : "s") +
+                       "; use at least " + std::to_string(kMinSpringCoils) + " coils"});
+  }
 }
 
 }  // namespace
@@ -348,6 +489,9 @@ std::vector<PlausibilityWarning> input_warnings(const SceneConfig& scene, const 
   stiffness_warning(model, out);
   tolerance_warning(scene, model, out);
   jerk_warning(model, out);
+  seat_warnings(scene, model, out);
+  link_warnings(scene, model, out);
+  coil_warnings(scene, out);
   const ContactConfig& contact = scene.mechanism.contact;
   if (force_form(contact.model) != ForceForm::hysteresis && contact.restitution != ContactConfig{}.restitution)
     out.push_back(

@@ -54,7 +54,9 @@ std::optional<PlausibilityWarning> unit_slip(const SceneConfig& scene);
 
 /// Inputs that are legal but almost surely a slip: lengths above 1 m,
 /// pressure angle above 30°, a contact stiffness outside 1e7 ... 1e13 N/m^n,
-/// an acceleration that jumps, a restitution the contact law ignores.
+/// an acceleration that jumps, a restitution the contact law ignores; in a
+/// follower train, a seat softer than the spring it holds, a link far softer
+/// than the cam contact, a spring with mass in fewer than 4 coils.
 std::vector<PlausibilityWarning> input_warnings(const SceneConfig& scene, const Model& model);
 
 /// Results that should not be trusted: an energy residual too large for the
