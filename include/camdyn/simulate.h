@@ -91,7 +91,8 @@ struct Event {
   double speed = 0.0;          ///< normal approach speed at onset, separation speed at separation [m/s]
   bool impact = false;         ///< an onset after a separation, with a positive approach speed
   bool grazing = false;        ///< an onset that is not an impact (no approach, or no separation before it)
-  bool lash = false;  ///< a separation while a body rests on its seat, or the onset taking that lash up (docs/model.md §12)
+  bool lash =
+      false;  ///< a separation while a body rests on its seat, or the onset taking that lash up (docs/model.md §12)
 };
 
 struct Result {

@@ -65,6 +65,11 @@ std::optional<FieldBinding> bind_field(const std::string& path, SceneConfig& sce
   } else if (path == "mechanism.cam.base_radius" || path == "mechanism.follower.shape.radius") {
     b.kind = FieldKind::geometry;
     b.positive = true;
+  } else if (path.rfind("mechanism.train[", 0) == 0 || path.rfind("mechanism.follower.seat.", 0) == 0 ||
+             path.rfind("mechanism.follower.stop.", 0) == 0 || path == "mechanism.follower.spring.mass" ||
+             path == "mechanism.follower.spring.damping_ratio") {
+    // The follower train's numbers (docs/model.md §12): the model is built again, the geometry reused.
+    b.kind = FieldKind::geometry;
   } else if (std::find(std::begin(kParameterPaths), std::end(kParameterPaths), path) == std::end(kParameterPaths)) {
     return std::nullopt;
   }
@@ -95,10 +100,14 @@ FitScene::FitScene(const FitExperiment& experiment, const std::vector<FitParamet
   const std::vector<std::string>& signals = experiment.record.signals;
   options_.step_metrics = std::find(signals.begin(), signals.end(), "energy_residual") != signals.end();
   options_.quadratures = options_.step_metrics;
-  const std::vector<std::string> names = TimeSeries::column_names();
+  const std::vector<std::string> names = series_column_names(model_);
   for (const std::string& signal : experiment.record.signals) {
     const auto it = std::find(names.begin(), names.end(), signal);
-    if (it == names.end()) throw std::logic_error("no timeseries column " + signal);
+    if (it == names.end())
+      throw InputError(source_.file, "reference.signals." + signal,
+                       "'" + signal +
+                           "' is not a column of this scene's time series (its train has no such body "
+                           "or element)");
     columns_.push_back(static_cast<std::size_t>(it - names.begin()));
   }
 }
@@ -131,7 +140,8 @@ void FitScene::set(const std::vector<double>& values) {
     geometry_changed = geometry_changed || field != values[i];
     field = values[i];
   }
-  if (!geometry_changed) {
+  // A follower train's model is built again (its elements hold the parameters of docs/model.md §12).
+  if (!geometry_changed && !model_.train.present()) {
     const ModelParameters p = model_parameters(*scene_, model_);
     if (same_structure(model_, p)) {
       set_parameters(model_, p, source_.file);
@@ -154,7 +164,7 @@ FitRun FitScene::run(const std::vector<double>& values) {
       run.error =
           name() + "the simulation ended at " + format_shortest(result.end_time) + " s, before the last measured time";
     } else {
-      const std::vector<const std::vector<double>*> columns = result.samples.columns();
+      const std::vector<const std::vector<double>*> columns = result.samples.all_columns();
       for (const std::size_t k : columns_) run.signals.push_back(*columns[k]);
       run.ok = true;
     }

@@ -117,7 +117,8 @@ void read_reference_maps(const Json& raw, const std::string& path, const ConfigS
     fail(source, path + ".signals", "must name at least one signal (e.g. { \"contact_force\": \"force_N\" })");
   for (const auto& [key, value] : signals.items()) {
     const std::string at = path + ".signals." + key;
-    if (std::find(names.begin(), names.end(), key) == names.end()) {
+    // A train's columns (docs/model.md §12) are checked against the scene's train when it is built.
+    if (std::find(names.begin(), names.end(), key) == names.end() && !is_train_column_name(key)) {
       std::string list;
       for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
       const std::string hint = did_you_mean(key, names);

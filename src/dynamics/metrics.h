@@ -22,6 +22,10 @@ struct TrainMetrics {
   long coil_clashes = 0;                  ///< coil clash onsets in the window
   std::vector<std::string> bodies;        ///< every body, the follower first
   std::vector<double> max_lift_error;     ///< per body: |x − its kinematic lift| [m | rad]
+  /// Where the train lets go first in the window: "cam contact" or "link <body>"
+  /// (empty: nowhere), and the cam angle there [deg].
+  std::string separates_first;
+  double separates_first_deg = 0.0;
 };
 
 struct Metrics {

@@ -197,7 +197,7 @@ struct LoopState {
   Quadratures q{};
   double t = 0.0;  // time of the last stop [s]
   bool separated = false;
-  bool lash_open = false;  // the cam's gap is open while a body rests on its seat (docs/model.md §12)
+  bool lash_open = false;      // the cam's gap is open while a body rests on its seat (docs/model.md §12)
   double last_progress = 0.0;  // wall time of the last progress report [s]
   IntegratorSource* integrator_source = nullptr;
   FlightSource* flight_source = nullptr;

@@ -36,6 +36,14 @@ struct TimeSeries {
   std::vector<const std::vector<double>*> all_columns() const;
 };
 
+/// Every column the model's time series has: TimeSeries::column_names() and
+/// its train's (docs/model.md §12).
+std::vector<std::string> series_column_names(const Model& model);
+
+/// Whether `name` has the form of a train column (`<body>_position`,
+/// `_velocity`, `_link_force`, `_seat_force`, `_stop_force`, `_spring_force`).
+bool is_train_column_name(const std::string& name);
+
 /// A contact onset or separation located by root finding.
 struct ContactEvent {
   double time = 0.0;               ///< [s]

@@ -58,13 +58,24 @@ class TrainObserver {
 
   /// The step [t0, t] judged at its midpoint `mid`: a link open there while
   /// no body from it on is seated counts as link separation.
+  /// The first place the train lets go in the window is recorded.
   void fold_step(const Evaluation& mid, double duration) {
-    if (!train_.present()) return;
+    if (!train_.present() || !(duration > 0.0)) return;
+    TrainMetrics& t = *m_.train;
+    constexpr double kDegPerRad = 180.0 / 3.14159265358979323846;
+    if (t.separates_first.empty() && mid.gap > 0.0 && !lash(mid)) {
+      t.separates_first = "cam contact";
+      t.separates_first_deg = std::fmod(mid.theta * kDegPerRad, 360.0);
+    }
     for (std::size_t i = 1; i < train_.bodies.size(); ++i) {
       const TrainElement& link = train_.elements[static_cast<std::size_t>(train_.bodies[i].link)];
       if (link.root < 0 || !(mid.train.gap[static_cast<std::size_t>(link.root)] > 0.0)) continue;
       if (train_.seated_from(mid.train, static_cast<int>(i))) continue;
       link_open_time_ += duration;
+      if (t.separates_first.empty()) {
+        t.separates_first = "link " + train_.bodies[i].name;
+        t.separates_first_deg = std::fmod(mid.theta * kDegPerRad, 360.0);
+      }
       return;
     }
   }

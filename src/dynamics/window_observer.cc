@@ -39,6 +39,23 @@ void push_train_row(const FollowerTrain& train, const TrainEvaluation& e, TimeSe
 
 }  // namespace
 
+std::vector<std::string> series_column_names(const Model& model) {
+  std::vector<std::string> names = TimeSeries::column_names();
+  const TrainEvaluation none;
+  if (model.train.present())
+    for_each_train_column(model.train, none, [&](std::string name, double) { names.push_back(std::move(name)); });
+  return names;
+}
+
+bool is_train_column_name(const std::string& name) {
+  for (const std::string suffix :
+       {"_position", "_velocity", "_link_force", "_seat_force", "_stop_force", "_spring_force"}) {
+    if (name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0)
+      return true;
+  }
+  return false;
+}
+
 void push_row(const Model& model, const Evaluation& ev, TimeSeries& series, double t) {
   series.time.push_back(t);
   series.cam_angle_deg.push_back(ev.theta * kRadToDeg);

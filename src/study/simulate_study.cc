@@ -55,8 +55,8 @@ void print_design_check(const Model& model) {
   std::fprintf(stderr,
                "  design check: %s %s, max pressure angle %.3g deg at %.4g deg, "
                "min radius of curvature %.3g m at %.4g deg\n",
-               jump_speed_name(model), speed, g.max_pressure_angle_deg, g.max_pressure_angle_at_deg, g.min_radius_of_curvature,
-               g.min_radius_of_curvature_at_deg);
+               jump_speed_name(model), speed, g.max_pressure_angle_deg, g.max_pressure_angle_at_deg,
+               g.min_radius_of_curvature, g.min_radius_of_curvature_at_deg);
 }
 
 }  // namespace
@@ -94,8 +94,8 @@ int run_simulate_study(const Json& doc, const StudyContext& ctx) {
   const Metrics& m = result.metrics;
   const bool link_opens = m.train && m.train->link_separation_fraction > 0.0;
   const char* verdict = m.separation_fraction > 0.0 ? "follower SEPARATES"
-                        : link_opens                 ? "train SEPARATES at a link"
-                                                     : "follower stays in contact";
+                        : link_opens                ? "train SEPARATES at a link"
+                                                    : "follower stays in contact";
   std::printf("%s: %s, %.6g rpm (%s %.6g rpm)\n", scene.name.c_str(), verdict, scene.mechanism.cam.rpm,
               jump_speed_name(model), m.jump_speed_rpm);
   if (!result.metrics_note.empty()) std::printf("  steady state: %s\n", result.metrics_note.c_str());

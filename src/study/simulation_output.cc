@@ -19,6 +19,7 @@
 #include "io/csv_writer.h"
 #include "io/json_writer.h"
 #include "output/cam_plots.h"
+#include "study/train_report.h"
 
 namespace camdyn {
 
@@ -72,6 +73,8 @@ void add_train_metrics(const TrainMetrics& t, Json& j) {
   Json lift = Json::object();
   for (std::size_t i = 0; i < t.bodies.size(); ++i) lift[t.bodies[i]] = t.max_lift_error[i];
   j["max_lift_error"] = lift;
+  if (!t.separates_first.empty())
+    j["separates_first"] = Json{{"where", t.separates_first}, {"cam_angle_deg", t.separates_first_deg}};
 }
 
 Json metrics_json(const Metrics& m) {
@@ -306,13 +309,14 @@ Verdict simulation_verdict(const SceneConfig& scene, const Model& model, const S
   if (model.omega <= 0.0) return drop_verdict(result);
   const Metrics& m = result.metrics;
   const double rpm = scene.mechanism.cam.rpm;
-  const std::string jump =
-      "rigid-model jump speed " + rpm_text(m.jump_speed_rpm) + " (this run is at " + format_number(rpm, 5) + " rpm)";
+  const std::string jump = std::string(jump_speed_name(model)) + " " + rpm_text(m.jump_speed_rpm) +
+                           " (this run is at " + format_number(rpm, 5) + " rpm)";
   Verdict v;
   const auto in_window = [&](const ContactEvent& e) { return e.time >= result.evaluated_from; };
   const auto lift_off = std::find_if(result.events.begin(), result.events.end(),
-                                     [&](const ContactEvent& e) { return in_window(e) && !e.onset; });
-  if (lift_off == result.events.end() && m.separation_fraction <= 0.0) {
+                                     [&](const ContactEvent& e) { return in_window(e) && !e.onset && !e.lash; });
+  const bool link_opens = m.train && m.train->link_separation_fraction > 0.0;
+  if (lift_off == result.events.end() && m.separation_fraction <= 0.0 && !link_opens) {
     v.tone = Verdict::Tone::good;
     const std::size_t at = min_force_index(result.series, result.evaluated_from);
     v.headline = "stays in contact, minimum contact force " + format_number(m.min_contact_force, 4) + " N" +
@@ -326,9 +330,16 @@ Verdict simulation_verdict(const SceneConfig& scene, const Model& model, const S
                    (landing == result.events.end() ? ", still airborne when the run ends"
                                                    : ", lands at " + angle_text(landing->cam_angle_deg) + " at " +
                                                          format_number(landing->speed, 4) + " m/s");
+    } else if (link_opens) {
+      v.headline = "the train lets go at its " + m.train->separates_first + " first, at " +
+                   angle_text(m.train->separates_first_deg);
     } else {
       v.headline = "separated for part of the evaluated window";
     }
+    if (m.train && !m.train->separates_first.empty() && m.train->separates_first != "cam contact")
+      v.details.push_back("the train lets go first at its " + m.train->separates_first + ", at " +
+                          angle_text(m.train->separates_first_deg) + "; links open " +
+                          format_number(100.0 * m.train->link_separation_fraction, 3) + " % of the evaluated time");
     v.headline += "; " + jump;
     v.details.push_back("airborne " + format_number(100.0 * m.separation_fraction, 3) + " % of the evaluated time, " +
                         std::to_string(m.impact_count) + " impact" + (m.impact_count == 1 ? "" : "s") +
@@ -524,7 +535,7 @@ Report simulation_report(const SceneConfig& scene, const Model& model, const Sim
   report.subtitle = "simulate — " + follower + " follower, contact model " + to_string(scene.mechanism.contact.model);
   report.verdict = simulation_verdict(scene, model, result);
   report.facts = {{"cam speed", format(scene.mechanism.cam.rpm, "rpm")},
-                  {"rigid-model jump speed", format(m.jump_speed_rpm, "rpm")},
+                  {jump_speed_name(model), format(m.jump_speed_rpm, "rpm")},
                   {"simulated", format(result.end_time, "s")},
                   {"metrics from", format(result.evaluated_from, "s")},
                   {"integrator", result.solver.method + ", rtol " + format(result.solver.rtol)},
@@ -544,6 +555,7 @@ Report simulation_report(const SceneConfig& scene, const Model& model, const Sim
 
   if (model.omega > 0.0) add_revolution_plots(model, result, report);
   add_run_plots(model, result, report);
+  add_train_plots(scene, model, result, report);
   // The cam itself: to scale, its pressure angle and curvature with the scene's limits, the law's SVAJ.
   for (Plot& plot : cam_plots(model, scene.mechanism.cam.limits, scene.mechanism.cam.rpm))
     report.plots.push_back(std::move(plot));

@@ -40,7 +40,10 @@ SpeedCheck check_speed(const SpeedLimitStudy& study, double rpm, double min_forc
   c.separation_fraction = r.metrics.separation_fraction;
   c.min_contact_force = r.metrics.min_contact_force;
   c.peak_contact_force = r.metrics.peak_contact_force;
-  c.ok = c.converged && c.separation_fraction == 0.0 && (min_force <= 0.0 || c.min_contact_force >= min_force);
+  // A train also jumps where a link opens (docs/model.md §12).
+  const bool link_opens = r.metrics.train && r.metrics.train->link_separation_fraction > 0.0;
+  c.ok = c.converged && c.separation_fraction == 0.0 && !link_opens &&
+         (min_force <= 0.0 || c.min_contact_force >= min_force);
   return c;
 }
 

@@ -123,3 +123,63 @@ TEST(FitScene, SettingParametersAndAssemblingResidualsAllocatesNothing) {
 
 }  // namespace
 }  // namespace camdyn::optim
+
+namespace camdyn::optim {
+namespace {
+
+// A follower train's numbers are identifiable like the contact's (docs/model.md §12):
+// a link stiffness set through its typed field gives the run of the scene read
+// again with it, bit for bit, and the train's columns are signals.
+TEST(FitScene, TrainParametersAndColumnsFitLikeTheContacts) {
+  const Json scene_json = Json::parse(R"({
+    "name": "train-fit", "study": "simulate",
+    "mechanism": {
+      "cam": { "base_radius": 0.02, "rpm": 2000,
+        "motion_law": { "segments": [
+          { "type": "rise", "law": "harmonic", "end_deg": 180, "lift": 0.008 },
+          { "type": "return", "law": "harmonic", "end_deg": 360, "lift": 0.008 } ] } },
+      "follower": { "shape": { "type": "flat", "face_width": 0.06 }, "mass": 0.05,
+        "spring": { "stiffness": 5000, "preload": 50 }, "damping": 1.0 },
+      "contact": { "model": "kelvin_voigt", "stiffness": 1e8, "exponent": 1.0, "damping": 300 },
+      "train": [ { "name": "valve", "mass": 0.08, "damping": 2.0,
+        "link": { "ratio": 1.5, "stiffness": 2e7, "damping": 100 },
+        "spring": { "stiffness": 30000, "preload": 300, "mass": 0.04, "coils": 4 } } ] },
+    "simulation": { "cycles": 1, "discard_cycles": 0, "output_step_deg": 2 },
+    "integrator": { "rtol": 1e-8, "atol": 1e-12 } })");
+  const ConfigSource source = config_source("train-fit.json");
+  FitExperiment e;
+  e.name = "valve";
+  e.scene_json = scene_json;
+  e.scene = scene_from_json(scene_json, source);
+  for (int i = 1; i <= 20; ++i) e.record.time.push_back(0.0015 * i);
+  e.record.signals = {"valve_position", "valve_link_force"};
+  FitParameter k;
+  k.name = k.path = "mechanism.train[0].link.stiffness";
+  k.initial = 2e7;
+  k.lower = 1e6;
+  k.upper = 1e9;
+  const std::vector<FitParameter> parameters = {k};  // FitScene keeps a reference
+  FitScene scene(e, parameters, source);
+  FitScene rebuilt(e, parameters, source, /*from_json=*/true);
+  const FitRun stiff = scene.run({4e7});
+  ASSERT_TRUE(stiff.ok) << stiff.error;
+  const FitRun expected = rebuilt.run({4e7});
+  ASSERT_TRUE(expected.ok) << expected.error;
+  ASSERT_EQ(stiff.signals.size(), 2u);
+  EXPECT_EQ(stiff.signals, expected.signals);
+  const FitRun soft = scene.run({1e7});
+  ASSERT_TRUE(soft.ok) << soft.error;
+  EXPECT_NE(soft.signals[1], stiff.signals[1]);  // the link force feels its stiffness
+  EXPECT_EQ(scene.json_reads(), 0);
+
+  e.record.signals = {"cam_position"};  // no body 'cam' in this train
+  try {
+    FitScene wrong(e, parameters, source);
+    FAIL() << "a column the train does not have was accepted";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find("reference.signals.cam_position"), std::string::npos) << error.what();
+  }
+}
+
+}  // namespace
+}  // namespace camdyn::optim
