@@ -471,6 +471,23 @@ bool train_static_state(const FollowerTrain& train, const TrainWorkspace& ws, do
   return false;
 }
 
+int train_jacobian_bandwidth(const FollowerTrain& train, int core_size) {
+  int band = core_size - 1;
+  const auto couple = [&](int c, int d) {  // the rows of coordinate c's rates against d's states
+    const TrainCoordinate& a = train.coordinates[static_cast<std::size_t>(c)];
+    const TrainCoordinate& b = train.coordinates[static_cast<std::size_t>(d)];
+    for (int row : {a.position, a.velocity})
+      for (int col : {b.position, b.velocity}) band = std::max(band, std::abs(row - col));
+  };
+  for (std::size_t c = 1; c < train.coordinates.size(); ++c) couple(static_cast<int>(c), static_cast<int>(c));
+  for (const TrainElement& e : train.elements)
+    if (e.a >= 0 && e.b >= 0) {
+      couple(e.a, e.b);
+      couple(e.b, e.a);
+    }
+  return band;
+}
+
 void record_train_onset(const FollowerTrain& train, TrainWorkspace& ws, int root, double approach) {
   const TrainElement& e = train_element_of_root(train, root);
   ws.v0[static_cast<std::size_t>(root)] = std::max(approach, e.contact.reference_velocity);

@@ -133,6 +133,12 @@ void add_train_jacobian(const FollowerTrain& train, const TrainWorkspace& ws, co
 /// where it did not, the coordinates are left at their kinematic positions.
 bool train_static_state(const FollowerTrain& train, const TrainWorkspace& ws, double* x);
 
+/// Half-bandwidth of the state Jacobian of a model with `core_size` core
+/// states (coupled among themselves, the follower's rate row with every
+/// coordinate an element ties to the follower): the largest |i − j| of a
+/// possibly nonzero ∂ẋ_i/∂x_j.
+int train_jacobian_bandwidth(const FollowerTrain& train, int core_size);
+
 /// The approach speed of element `root`'s gap at onset, stored as its v₀ (floored).
 void record_train_onset(const FollowerTrain& train, TrainWorkspace& ws, int root, double approach);
 

@@ -32,6 +32,8 @@ using State = RunState;
 using Quadratures = RunQuadratures;
 using Failure = RunFailure;
 using Clock = std::chrono::steady_clock;
+// Fewest states for which a banded linear solver is tried.
+constexpr int kMinBandedStates = 10;
 // The directions of the roots the integrator found: the cam contact's, then the train's.
 using RootDirections = std::array<int, 2 + TrainLimits::kMaxRoots>;
 
@@ -79,6 +81,12 @@ class SceneOde final : public OdeSystem {
     return 0;
   }
   bool has_jacobian() const override { return model_.exact_jacobian(); }
+  // A train long enough for a banded solve to pay (a spring's chain of lumps).
+  int bandwidth() const override {
+    if (!model_.train.has_coordinates() || model_.layout.size < kMinBandedStates) return -1;
+    const int band = train_jacobian_bandwidth(model_.train, model_.layout.core_size);
+    return 4 * band + 2 < model_.layout.size ? band : -1;
+  }
   int jacobian(double t, const double* y, double* J) override {
     state_jacobian(model_, ws_, t, y, J);
     return 0;

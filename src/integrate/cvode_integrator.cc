@@ -3,9 +3,12 @@
 #include <cvodes/cvodes.h>
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
+#include <sunlinsol/sunlinsol_band.h>
 #include <sunlinsol/sunlinsol_dense.h>
+#include <sunmatrix/sunmatrix_band.h>
 #include <sunmatrix/sunmatrix_dense.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <vector>
 
@@ -21,6 +24,8 @@ struct CvodeIntegrator::Impl {
   N_Vector y = nullptr, scratch = nullptr;
   SUNMatrix matrix = nullptr;
   SUNLinearSolver linear_solver = nullptr;
+  int band = -1;              // half-bandwidth of a banded Jacobian; −1: dense
+  std::vector<double> dense;  // banded: the system's Jacobian, column-major n × n, before it is banded
   std::string last_message;
   SolverCounters before_reinit;  // counters of earlier integrations (CVodeReInit resets them)
   double t = 0.0;
@@ -42,7 +47,15 @@ struct CvodeIntegrator::Impl {
     return static_cast<Impl*>(data)->system->roots(t, N_VGetArrayPointer(y), g);
   }
   static int jacobian(realtype t, N_Vector y, N_Vector, SUNMatrix J, void* data, N_Vector, N_Vector, N_Vector) {
-    return static_cast<Impl*>(data)->system->jacobian(t, N_VGetArrayPointer(y), SUNDenseMatrix_Data(J));
+    Impl& m = *static_cast<Impl*>(data);
+    if (m.band < 0) return m.system->jacobian(t, N_VGetArrayPointer(y), SUNDenseMatrix_Data(J));
+    const int flag = m.system->jacobian(t, N_VGetArrayPointer(y), m.dense.data());
+    if (flag != 0) return flag;
+    const sunindextype n = SUNBandMatrix_Columns(J);
+    for (sunindextype j = 0; j < n; ++j)
+      for (sunindextype i = std::max<sunindextype>(0, j - m.band); i <= std::min<sunindextype>(n - 1, j + m.band); ++i)
+        SM_ELEMENT_B(J, i, j) = m.dense[static_cast<std::size_t>(i + n * j)];
+    return 0;
   }
   static void error_handler(int, const char* module, const char* function, char* message, void* data) {
     static_cast<Impl*>(data)->last_message = std::string(module) + "/" + function + ": " + message;
@@ -101,10 +114,20 @@ CvodeIntegrator::CvodeIntegrator(OdeSystem& system, const IntegratorOptions& opt
   // lowers the order instead of shrinking the step.
   if (options.method != IntegrationMethod::cvode_adams)
     m.check(CVodeSetStabLimDet(m.mem, SUNTRUE), "CVodeSetStabLimDet");
-  m.matrix = SUNDenseMatrix(n, n, m.context);
-  m.check_created(m.matrix, "the dense Jacobian matrix");
-  m.linear_solver = SUNLinSol_Dense(m.y, m.matrix, m.context);
-  m.check_created(m.linear_solver, "the dense linear solver");
+  m.band = system.bandwidth();
+  if (m.band >= 0) {
+    // A chain of lumped masses: banded LU, linear in its length.
+    m.matrix = SUNBandMatrix(n, m.band, m.band, m.context);
+    m.check_created(m.matrix, "the banded Jacobian matrix");
+    m.linear_solver = SUNLinSol_Band(m.y, m.matrix, m.context);
+    m.check_created(m.linear_solver, "the banded linear solver");
+    m.dense.assign(static_cast<std::size_t>(n) * static_cast<std::size_t>(n), 0.0);
+  } else {
+    m.matrix = SUNDenseMatrix(n, n, m.context);
+    m.check_created(m.matrix, "the dense Jacobian matrix");
+    m.linear_solver = SUNLinSol_Dense(m.y, m.matrix, m.context);
+    m.check_created(m.linear_solver, "the dense linear solver");
+  }
   m.check(CVodeSetLinearSolver(m.mem, m.linear_solver, m.matrix), "CVodeSetLinearSolver");
   if (options.analytic_jacobian && system.has_jacobian())
     m.check(CVodeSetJacFn(m.mem, &Impl::jacobian), "CVodeSetJacFn");

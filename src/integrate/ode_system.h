@@ -17,6 +17,9 @@ class OdeSystem {
   /// -1 when the system has none (a finite-difference one is used instead).
   virtual int jacobian(double /*t*/, const double* /*y*/, double* /*J*/) { return -1; }
   virtual bool has_jacobian() const { return false; }
+  /// Half-bandwidth b of ∂f/∂y (∂f_i/∂y_j = 0 for |i − j| > b) when a banded
+  /// linear solver pays (a chain of lumped masses); −1: dense.
+  virtual int bandwidth() const { return -1; }
 };
 
 /// Solver counters, accumulated over re-initialisations.
