@@ -10,6 +10,7 @@
 #include "dynamics/model.h"
 #include "dynamics/poincare_map.h"
 #include "dynamics/rigid_jump_speed.h"
+#include "dynamics/train_jump_speed.h"
 #include "io/json_writer.h"
 
 namespace camdyn {
@@ -101,6 +102,7 @@ JumpMapPoint run_speed(const JumpMapStudy& study, double rpm, const std::string&
     }
   p.section_position = samples.samples.follower_position;
   p.separation_fraction = samples.metrics.separation_fraction;
+  if (samples.metrics.train) p.link_separation_fraction = samples.metrics.train->link_separation_fraction;
   p.max_gap = samples.metrics.max_separation_gap;
   p.peak_contact_force = samples.metrics.peak_contact_force;
   carry = map.point(samples);
@@ -120,8 +122,10 @@ JumpMapStudy read_jump_map_study(const Json& doc, const StudyContext& ctx) {
   study.geometry = build_cam_geometry(study.scene, ctx.config_file);
   const Model model = build_model(*study.geometry, study.scene, ctx.config_file);
   [[maybe_unused]] const PoincareMap map(study.scene, model, ctx.config_file);  // the drive sets the speed
-  study.rigid_jump_speed_rpm = jump_speed_rpm(model);
-  study.damped_rigid_jump_speed_rpm = damped_jump_speed_rpm(model);
+  study.rigid_jump_speed_rpm = model_jump_speed_rpm(model);
+  study.damped_rigid_jump_speed_rpm =
+      model.train.has_coordinates() ? study.rigid_jump_speed_rpm : damped_jump_speed_rpm(model);
+  study.jump_speed_name = jump_speed_name(model);
   const JumpMapConfig& c = study.config;
   for (int i = 0; i < c.speeds; ++i) study.rpm.push_back(c.low_rpm + (c.high_rpm - c.low_rpm) * i / (c.speeds - 1));
   study.resolved = resolved_study_json(study.scene, "jump_map", Json{{"jump_map", fields}, {"periodic", periodic}});
@@ -160,8 +164,8 @@ std::vector<JumpMapTransition> jump_map_transitions(const std::vector<JumpMapPoi
     if (!p.ok) continue;
     if (previous) {
       const JumpMapPoint& a = *previous;
-      const bool left_a = !a.impact_speed.empty() || a.separation_fraction > 0;
-      const bool left_b = !p.impact_speed.empty() || p.separation_fraction > 0;
+      const bool left_a = !a.impact_speed.empty() || a.separation_fraction > 0 || a.link_separation_fraction > 0;
+      const bool left_b = !p.impact_speed.empty() || p.separation_fraction > 0 || p.link_separation_fraction > 0;
       const int pa = a.motion == MotionKind::periodic ? a.period : 0;
       const int pb = p.motion == MotionKind::periodic ? p.period : 0;
       auto add = [&](const char* kind) { t.push_back({kind, a.rpm, p.rpm, pa, pb}); };

@@ -41,6 +41,8 @@ struct JumpMapStudy {
   Json resolved;
   double rigid_jump_speed_rpm = 0.0;         ///< jump_speed_rpm of the scene [rpm]
   double damped_rigid_jump_speed_rpm = 0.0;  ///< damped_jump_speed_rpm (the damper's c ω s' included) [rpm]
+  /// With a follower train both figures are the held train's (docs/model.md §12), so named.
+  std::string jump_speed_name = "rigid-model jump speed";
   std::vector<double> rpm;                   ///< the grid
 };
 
@@ -56,6 +58,7 @@ struct JumpMapPoint {
   std::vector<double> impact_angle_deg, impact_speed;  ///< every impact of the samples [deg], [m/s]
   std::vector<double> section_position;                ///< follower coordinate at each sample [m | rad]
   double separation_fraction = 0.0;                    ///< over the samples
+  double link_separation_fraction = 0.0;               ///< a follower train's links open, over the samples
   double max_gap = 0.0;                                ///< [m]
   double peak_contact_force = 0.0;                     ///< [N]
 };

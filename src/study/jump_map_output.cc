@@ -61,7 +61,8 @@ std::string motion_label(const JumpMapPoint& p) {
 // `y(p)` against rpm for every speed, one series per motion label, and the
 // rigid jump speed as a vertical line.
 template <class Values>
-Plot diagram(const std::vector<JumpMapPoint>& points, double jump_rpm, Plot plot, Values values) {
+Plot diagram(const std::vector<JumpMapPoint>& points, double jump_rpm, const std::string& jump_name, Plot plot,
+             Values values) {
   std::map<std::string, Series> by_label;
   double lo = 0.0, hi = 0.0;
   for (const JumpMapPoint& p : points) {
@@ -76,7 +77,7 @@ Plot diagram(const std::vector<JumpMapPoint>& points, double jump_rpm, Plot plot
   }
   for (auto& [label, s] : by_label) plot.series.push_back(std::move(s));
   if (std::isfinite(jump_rpm))
-    plot.series.push_back({"rigid-model jump speed", {jump_rpm, jump_rpm}, {lo, hi}, "lines"});
+    plot.series.push_back({jump_name, {jump_rpm, jump_rpm}, {lo, hi}, "lines"});
   return plot;
 }
 
@@ -87,20 +88,20 @@ Report jump_map_report(const JumpMapStudy& study, const std::vector<JumpMapPoint
   Report rep;
   rep.title = "camdyn jump_map: " + study.scene.name;
   const auto first = std::find_if(points.begin(), points.end(), [](const JumpMapPoint& p) {
-    return p.ok && (!p.impact_speed.empty() || p.separation_fraction > 0);
+    return p.ok && (!p.impact_speed.empty() || p.separation_fraction > 0 || p.link_separation_fraction > 0);
   });
   rep.subtitle = "jump map: the steady motion at each cam speed from " + format_number(study.config.low_rpm) + " to " +
                  format_number(study.config.high_rpm) + " rpm";
   rep.verdict = Verdict{first == points.end() ? Verdict::Tone::good : Verdict::Tone::warning,
                         first == points.end() ? "the follower stays on the cam at every speed of the map"
                                               : "the follower first leaves the cam at " + format_number(first->rpm, 5) +
-                                                    " rpm (rigid-model jump speed " +
+                                                    " rpm (" + study.jump_speed_name + " " +
                                                     format_number(study.damped_rigid_jump_speed_rpm, 5) + " rpm)",
                         {}};
   rep.facts = {
       {"speeds", std::to_string(points.size()) + " from " + format_number(study.config.low_rpm) + " to " +
                      format_number(study.config.high_rpm) + " rpm"},
-      {"rigid-model jump speed", format_number(study.damped_rigid_jump_speed_rpm, 5) + " rpm with the damper, " +
+      {study.jump_speed_name, format_number(study.damped_rigid_jump_speed_rpm, 5) + " rpm with the damper, " +
                                      format_number(study.rigid_jump_speed_rpm, 5) + " rpm without"},
       {"run time", format_number(run_time, 3) + " s"}};
   for (const JumpMapTransition& t : transitions)
@@ -109,19 +110,19 @@ Report jump_map_report(const JumpMapStudy& study, const std::vector<JumpMapPoint
                                      std::to_string(t.to_period) + ")"});
   const double jump = study.damped_rigid_jump_speed_rpm;
   rep.plots.push_back(diagram(
-      points, jump,
+      points, jump, study.jump_speed_name,
       Plot{"Jump map: impact speed against cam speed", "cam speed [rpm]", "normal approach speed at impact [m/s]", {}},
       [](const JumpMapPoint& p) { return p.impact_speed; }));
   // The section samples are q: an arm's in rad (coordinate_units.h).
   const CoordinateUnits units = coordinate_units(study.scene);
   rep.plots.push_back(
-      diagram(points, jump,
+      diagram(points, jump, study.jump_speed_name,
               Plot{"Poincaré section: " + std::string(units.position_name) + " once per revolution",
                    "cam speed [rpm]",
                    CoordinateUnits::axis(std::string(units.position_name) + " at the section", units.position),
                    {}},
               [](const JumpMapPoint& p) { return p.section_position; }));
-  rep.plots.push_back(diagram(points, jump, Plot{"Impact angles", "cam speed [rpm]", "cam angle at impact [deg]", {}},
+  rep.plots.push_back(diagram(points, jump, study.jump_speed_name, Plot{"Impact angles", "cam speed [rpm]", "cam angle at impact [deg]", {}},
                               [](const JumpMapPoint& p) { return p.impact_angle_deg; }));
   // The cam, its SVAJ per radian of cam angle: the map runs at many speeds.
   const Model model = build_model(study.geometry, study.scene, file);

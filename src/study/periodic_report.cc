@@ -104,7 +104,7 @@ Report periodic_report(const PeriodicStudy& study, const PeriodicResult& r, cons
               periodic_verdict(r),
               {}};
   rep.facts = {{"cam speed", format_number(r.rpm) + " rpm"},
-               {"rigid-model jump speed", format_number(r.jump_speed_rpm, 5) + " rpm"},
+               {r.jump_speed_name, format_number(r.jump_speed_rpm, 5) + " rpm"},
                {"motion", to_string(a.motion)}};
   if (a.orbit) {
     std::string mu;

@@ -14,6 +14,7 @@
 #include "dynamics/chatter.h"
 #include "dynamics/model.h"
 #include "dynamics/rigid_jump_speed.h"
+#include "dynamics/train_jump_speed.h"
 #include "io/json_archive.h"
 #include "io/json_writer.h"
 #include "study/periodic_report.h"
@@ -104,7 +105,8 @@ PeriodicResult run_periodic(const PeriodicStudy& study, const StudyContext& ctx,
   options.log = log;
   PeriodicResult r;
   r.rpm = study.scene.mechanism.cam.rpm;
-  r.jump_speed_rpm = jump_speed_rpm(model);
+  r.jump_speed_rpm = model_jump_speed_rpm(model);
+  r.jump_speed_name = jump_speed_name(model);
   r.analysis = analyse_steady_state(map, options);
   const PeriodicAnalysis& a = r.analysis;
   SectionPoint start = a.transient_end;  // of the run the metrics are over
@@ -240,7 +242,7 @@ int run_periodic_study(const Json& doc, const StudyContext& ctx) {
   write_simulation_outputs(ctx.out_dir / "orbit", map.scene_for(r.analysis.orbit ? r.analysis.orbit->period : 1), model,
                            r.orbit_run);
   write_report(ctx.out_dir / "report.html", periodic_report(study, r, map));
-  std::printf("%s at %.6g rpm (rigid jump speed %.6g rpm): %s\n", name.c_str(), r.rpm, r.jump_speed_rpm,
+  std::printf("%s at %.6g rpm (%s %.6g rpm): %s\n", name.c_str(), r.rpm, r.jump_speed_name.c_str(), r.jump_speed_rpm,
               periodic_verdict(r).c_str());
   std::printf("  %ld revolutions integrated, %.3g s; report: %s\n", r.analysis.revolutions, r.run_time_s,
               std::filesystem::absolute(ctx.out_dir / "report.html").lexically_normal().c_str());

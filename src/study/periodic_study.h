@@ -81,7 +81,8 @@ struct PeriodicResult {
   std::vector<OrbitEvent> take_offs;  ///< separations on the orbit
   std::vector<ChatterSequence>
       chatter;  ///< accumulating impact sequences over two periods (or revolutions) from the orbit's start
-  double jump_speed_rpm = 0.0;  ///< rigid model [rpm]
+  double jump_speed_rpm = 0.0;  ///< rigid model, or the held train's (docs/model.md §12) [rpm]
+  std::string jump_speed_name = "rigid-model jump speed";
   double rpm = 0.0;
   double run_time_s = 0.0;
 };

@@ -13,6 +13,7 @@
 #include "common/parallel.h"
 #include "dynamics/model.h"
 #include "dynamics/rigid_jump_speed.h"
+#include "dynamics/train_jump_speed.h"
 #include "dynamics/simulation.h"
 #include "io/json_archive.h"
 #include "io/json_writer.h"
@@ -72,7 +73,12 @@ SpeedLimitStudy read_speed_limit_study(const Json& doc, const StudyContext& ctx)
   const Json fields = read_study_fields(part, "speed_limit", ctx.source, study.config);
   // The geometry and contact law are checked here, before any run.
   study.geometry = build_cam_geometry(study.scene, ctx.config_file);
-  study.rigid_jump_speed_rpm = jump_speed_rpm(build_model(*study.geometry, study.scene, ctx.config_file));
+  {
+    const Model model = build_model(*study.geometry, study.scene, ctx.config_file);
+    study.rigid_jump_speed_rpm = model_jump_speed_rpm(model);
+    study.jump_speed_name = jump_speed_name(model);
+    study.train = model.train.has_coordinates();
+  }
   study.resolved = resolved_study_json(study.scene, "speed_limit", Json{{"speed_limit", fields}});
   return study;
 }
@@ -82,6 +88,8 @@ SpeedLimitResult run_speed_limit(const SpeedLimitStudy& study, const StudyContex
   const SpeedLimitConfig& c = study.config;
   SpeedLimitResult r;
   r.rigid_jump_speed_rpm = study.rigid_jump_speed_rpm;
+  r.jump_speed_name = study.jump_speed_name;
+  r.train = study.train;
   const double high =
       c.high_rpm.value_or(std::isfinite(r.rigid_jump_speed_rpm) ? 2.0 * r.rigid_jump_speed_rpm : 10.0 * c.low_rpm);
   const double hi = std::max(high, 1.01 * c.low_rpm);
@@ -134,7 +142,8 @@ Json speed_limit_json(const SpeedLimitStudy& study, const SpeedLimitResult& r) {
               {"limited", r.limited},
               {"first_failure_rpm", r.limited ? Json(r.first_failure_rpm) : Json(nullptr)},
               {"tolerance_rpm", study.config.tolerance_rpm},
-              {"rigid_jump_speed_rpm", std::isfinite(r.rigid_jump_speed_rpm) ? Json(r.rigid_jump_speed_rpm) : Json()},
+              {r.train ? "train_jump_speed_rpm" : "rigid_jump_speed_rpm",
+               std::isfinite(r.rigid_jump_speed_rpm) ? Json(r.rigid_jump_speed_rpm) : Json()},
               {"min_contact_force", study.config.min_contact_force},
               {"checks", checks},
               {"run_time_s", r.run_time_s}};
@@ -167,12 +176,12 @@ Report speed_limit_report(const SpeedLimitStudy& study, const SpeedLimitResult& 
               r.limited ? "stays on the cam up to " + format_number(r.speed_limit_rpm, 5) + " rpm, separates at " +
                               format_number(r.first_failure_rpm, 5) + " rpm"
                         : "stays on the cam at every speed up to " + format_number(r.speed_limit_rpm, 5) + " rpm",
-              {"rigid-model jump speed " + format_number(r.rigid_jump_speed_rpm, 5) + " rpm"}};
+              {r.jump_speed_name + " " + format_number(r.rigid_jump_speed_rpm, 5) + " rpm"}};
   rep.facts = {
       {"speed limit (simulated)", r.limited ? format_number(r.speed_limit_rpm, 5) + " rpm (fails at " +
                                                   format_number(r.first_failure_rpm, 5) + " rpm)"
                                             : "none found up to " + format_number(r.speed_limit_rpm, 5) + " rpm"},
-      {"rigid-model jump speed", format_number(r.rigid_jump_speed_rpm, 5) + " rpm"},
+      {r.jump_speed_name, format_number(r.rigid_jump_speed_rpm, 5) + " rpm"},
       {"simulations", std::to_string(r.checks.size()) + " in " + format_number(r.run_time_s, 3) + " s"}};
   rep.appendix.push_back(table);
   rep.plots.push_back(Plot{"Separation against speed", "cam speed [rpm]", "separation fraction [-]", {sep}});
@@ -199,12 +208,12 @@ int run_speed_limit_study(const Json& doc, const StudyContext& ctx) {
                 study.scene.name.c_str(), r.first_failure_rpm);
   else if (r.limited)
     std::printf(
-        "%s: stays on the cam up to %.6g rpm (simulated; leaves it at %.6g rpm); rigid-model jump speed "
-        "%.6g rpm\n",
-        study.scene.name.c_str(), r.speed_limit_rpm, r.first_failure_rpm, r.rigid_jump_speed_rpm);
+        "%s: stays on the cam up to %.6g rpm (simulated; leaves it at %.6g rpm); %s %.6g rpm\n",
+        study.scene.name.c_str(), r.speed_limit_rpm, r.first_failure_rpm, r.jump_speed_name.c_str(),
+        r.rigid_jump_speed_rpm);
   else
-    std::printf("%s: stays on the cam at every speed checked, up to %.6g rpm; rigid-model jump speed %.6g rpm\n",
-                study.scene.name.c_str(), r.speed_limit_rpm, r.rigid_jump_speed_rpm);
+    std::printf("%s: stays on the cam at every speed checked, up to %.6g rpm; %s %.6g rpm\n",
+                study.scene.name.c_str(), r.speed_limit_rpm, r.jump_speed_name.c_str(), r.rigid_jump_speed_rpm);
   std::printf("  %zu simulations, %.3g s; report: %s\n", r.checks.size(), r.run_time_s,
               std::filesystem::absolute(ctx.out_dir / "report.html").lexically_normal().c_str());
   return 0;

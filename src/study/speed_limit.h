@@ -41,6 +41,9 @@ struct SpeedLimitStudy {
   SpeedLimitConfig config;
   Json resolved;                      ///< the resolved study config (`camdyn validate` prints it)
   double rigid_jump_speed_rpm = 0.0;  ///< of the scene's model, built when the config is read
+  /// With a follower train the figure is the train's (docs/model.md §12): its name for messages.
+  std::string jump_speed_name = "rigid-model jump speed";
+  bool train = false;
 };
 
 /// One simulated speed.
@@ -60,7 +63,9 @@ struct SpeedLimitResult {
   double speed_limit_rpm = 0.0;
   double first_failure_rpm = 0.0;  ///< the lowest speed known to fail [rpm] (0 when none did)
   bool limited = false;            ///< some speed in [low_rpm, high_rpm] failed
-  double rigid_jump_speed_rpm = 0.0;
+  double rigid_jump_speed_rpm = 0.0;  ///< the train's where SpeedLimitStudy::train
+  std::string jump_speed_name = "rigid-model jump speed";
+  bool train = false;
   std::vector<SpeedCheck> checks;  ///< every simulation, in the order run
   double run_time_s = 0.0;
 };
