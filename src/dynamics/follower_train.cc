@@ -464,7 +464,7 @@ bool train_static_state(const FollowerTrain& train, const TrainWorkspace& ws, do
     // Limit a step to 0.1 mm: one-sided elements make the force piecewise.
     const double largest = step.cwiseAbs().maxCoeff();
     if (largest > 1e-4) step *= 1e-4 / largest;
-    for (int c = 0; c < n; ++c) x[train.coordinates[static_cast<std::size_t>(c + 1)].position] += step[c];
+    for (int c = 0; c < n; ++c) x[train.coordinates[static_cast<std::size_t>(c) + 1].position] += step[c];
     if (largest < 1e-15) return true;
   }
   kinematic_positions(train, x);

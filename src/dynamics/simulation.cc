@@ -276,7 +276,7 @@ bool handle_root(const RunContext& run, const Integrator& integrator, const Eval
   // The train's gaps: a force switches on or off (its damping term jumps).
   const int base = model.contact_root_count();
   for (int k = 0; k < model.train.roots; ++k) {
-    const int dir = root_dirs[static_cast<std::size_t>(base + k)];
+    const int dir = root_dirs[static_cast<std::size_t>(base) + static_cast<std::size_t>(k)];
     if (dir == 0) continue;
     if (dir < 0) record_train_onset(run, ev, t, k);
     restart = true;
