@@ -43,7 +43,7 @@ struct JumpMapStudy {
   double damped_rigid_jump_speed_rpm = 0.0;  ///< damped_jump_speed_rpm (the damper's c ω s' included) [rpm]
   /// With a follower train both figures are the held train's (docs/model.md §12), so named.
   std::string jump_speed_name = "rigid-model jump speed";
-  std::vector<double> rpm;                   ///< the grid
+  std::vector<double> rpm;  ///< the grid
 };
 
 /// What one speed gave.

@@ -76,8 +76,7 @@ Plot diagram(const std::vector<JumpMapPoint>& points, double jump_rpm, const std
     }
   }
   for (auto& [label, s] : by_label) plot.series.push_back(std::move(s));
-  if (std::isfinite(jump_rpm))
-    plot.series.push_back({jump_name, {jump_rpm, jump_rpm}, {lo, hi}, "lines"});
+  if (std::isfinite(jump_rpm)) plot.series.push_back({jump_name, {jump_rpm, jump_rpm}, {lo, hi}, "lines"});
   return plot;
 }
 
@@ -98,12 +97,11 @@ Report jump_map_report(const JumpMapStudy& study, const std::vector<JumpMapPoint
                                                     " rpm (" + study.jump_speed_name + " " +
                                                     format_number(study.damped_rigid_jump_speed_rpm, 5) + " rpm)",
                         {}};
-  rep.facts = {
-      {"speeds", std::to_string(points.size()) + " from " + format_number(study.config.low_rpm) + " to " +
-                     format_number(study.config.high_rpm) + " rpm"},
-      {study.jump_speed_name, format_number(study.damped_rigid_jump_speed_rpm, 5) + " rpm with the damper, " +
-                                     format_number(study.rigid_jump_speed_rpm, 5) + " rpm without"},
-      {"run time", format_number(run_time, 3) + " s"}};
+  rep.facts = {{"speeds", std::to_string(points.size()) + " from " + format_number(study.config.low_rpm) + " to " +
+                              format_number(study.config.high_rpm) + " rpm"},
+               {study.jump_speed_name, format_number(study.damped_rigid_jump_speed_rpm, 5) + " rpm with the damper, " +
+                                           format_number(study.rigid_jump_speed_rpm, 5) + " rpm without"},
+               {"run time", format_number(run_time, 3) + " s"}};
   for (const JumpMapTransition& t : transitions)
     rep.facts.push_back({t.kind, "between " + format_number(t.from_rpm, 5) + " and " + format_number(t.to_rpm, 5) +
                                      " rpm (period " + std::to_string(t.from_period) + " → " +
@@ -122,7 +120,8 @@ Report jump_map_report(const JumpMapStudy& study, const std::vector<JumpMapPoint
                    CoordinateUnits::axis(std::string(units.position_name) + " at the section", units.position),
                    {}},
               [](const JumpMapPoint& p) { return p.section_position; }));
-  rep.plots.push_back(diagram(points, jump, study.jump_speed_name, Plot{"Impact angles", "cam speed [rpm]", "cam angle at impact [deg]", {}},
+  rep.plots.push_back(diagram(points, jump, study.jump_speed_name,
+                              Plot{"Impact angles", "cam speed [rpm]", "cam angle at impact [deg]", {}},
                               [](const JumpMapPoint& p) { return p.impact_angle_deg; }));
   // The cam, its SVAJ per radian of cam angle: the map runs at many speeds.
   const Model model = build_model(study.geometry, study.scene, file);

@@ -13,8 +13,8 @@
 #include "common/parallel.h"
 #include "dynamics/model.h"
 #include "dynamics/rigid_jump_speed.h"
-#include "dynamics/train_jump_speed.h"
 #include "dynamics/simulation.h"
+#include "dynamics/train_jump_speed.h"
 #include "io/json_archive.h"
 #include "io/json_writer.h"
 #include "output/cam_plots.h"
@@ -207,13 +207,12 @@ int run_speed_limit_study(const Json& doc, const StudyContext& ctx) {
     std::printf("%s: the follower leaves the cam already at %.6g rpm (the lowest speed checked)\n",
                 study.scene.name.c_str(), r.first_failure_rpm);
   else if (r.limited)
-    std::printf(
-        "%s: stays on the cam up to %.6g rpm (simulated; leaves it at %.6g rpm); %s %.6g rpm\n",
-        study.scene.name.c_str(), r.speed_limit_rpm, r.first_failure_rpm, r.jump_speed_name.c_str(),
-        r.rigid_jump_speed_rpm);
+    std::printf("%s: stays on the cam up to %.6g rpm (simulated; leaves it at %.6g rpm); %s %.6g rpm\n",
+                study.scene.name.c_str(), r.speed_limit_rpm, r.first_failure_rpm, r.jump_speed_name.c_str(),
+                r.rigid_jump_speed_rpm);
   else
-    std::printf("%s: stays on the cam at every speed checked, up to %.6g rpm; %s %.6g rpm\n",
-                study.scene.name.c_str(), r.speed_limit_rpm, r.jump_speed_name.c_str(), r.rigid_jump_speed_rpm);
+    std::printf("%s: stays on the cam at every speed checked, up to %.6g rpm; %s %.6g rpm\n", study.scene.name.c_str(),
+                r.speed_limit_rpm, r.jump_speed_name.c_str(), r.rigid_jump_speed_rpm);
   std::printf("  %zu simulations, %.3g s; report: %s\n", r.checks.size(), r.run_time_s,
               std::filesystem::absolute(ctx.out_dir / "report.html").lexically_normal().c_str());
   return 0;

@@ -61,8 +61,8 @@ struct SpeedLimitResult {
   /// The highest speed known to keep contact [rpm]: 0 when even low_rpm
   /// fails, high_rpm when nothing failed up to it (`limited` false).
   double speed_limit_rpm = 0.0;
-  double first_failure_rpm = 0.0;  ///< the lowest speed known to fail [rpm] (0 when none did)
-  bool limited = false;            ///< some speed in [low_rpm, high_rpm] failed
+  double first_failure_rpm = 0.0;     ///< the lowest speed known to fail [rpm] (0 when none did)
+  bool limited = false;               ///< some speed in [low_rpm, high_rpm] failed
   double rigid_jump_speed_rpm = 0.0;  ///< the train's where SpeedLimitStudy::train
   std::string jump_speed_name = "rigid-model jump speed";
   bool train = false;

@@ -94,7 +94,8 @@ TEST(FollowerTrainRhs, ExactJacobianMatchesCentralDifferences) {
       const double fd = (up[static_cast<std::size_t>(i)] - down[static_cast<std::size_t>(i)]) / (2.0 * h);
       const double exact = jacobian[static_cast<std::size_t>(i + n * j)];
       EXPECT_NEAR(exact, fd, 1e-5 * std::max(1.0, std::abs(fd)))
-          << model.layout.names[static_cast<std::size_t>(i)] << " by " << model.layout.names[static_cast<std::size_t>(j)];
+          << model.layout.names[static_cast<std::size_t>(i)] << " by "
+          << model.layout.names[static_cast<std::size_t>(j)];
     }
   }
 }
@@ -105,7 +106,8 @@ TEST(FollowerTrainRhs, AllocatesNothing) {
   Workspace ws = make_workspace(model);
   const std::vector<double> y = engaged_state(scene, model, ws);
   Evaluation ev;
-  std::vector<double> y_dot(StateLayout::kMax), q_dot(Model::kQuadratures), g(static_cast<std::size_t>(model.root_count()));
+  std::vector<double> y_dot(StateLayout::kMax), q_dot(Model::kQuadratures),
+      g(static_cast<std::size_t>(model.root_count()));
   std::vector<double> jacobian(static_cast<std::size_t>(model.layout.size * model.layout.size));
   const long before = test::allocation_count();
   for (int i = 0; i < 50; ++i) {
