@@ -1,6 +1,7 @@
 #include "dynamics/train_jump_speed.h"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -60,8 +61,8 @@ LinearForce contact_force(double k_c, double c_c, double offset, double lever, i
 
 }  // namespace
 
-LinearTrain linearised_train(const Model& model) {
-  const int n = static_cast<int>(model.train.coordinates.size());
+LinearTrain linear_train_without_contact(const Model& model) {
+  const int n = std::max(1, static_cast<int>(model.train.coordinates.size()));  // a model without a train: 1
   LinearTrain base;
   base.M = Eigen::MatrixXd::Zero(n, n);
   for (int i = 0; i < n; ++i)
@@ -69,6 +70,12 @@ LinearTrain linearised_train(const Model& model) {
   base.C = base.K = Eigen::MatrixXd::Zero(n, n);
   base.f0 = base.k_in = base.c_in = Eigen::VectorXd::Zero(n);
   add_train_elements(model, base);
+  return base;
+}
+
+LinearTrain linearised_train(const Model& model) {
+  const int n = static_cast<int>(model.train.coordinates.size());
+  const LinearTrain base = linear_train_without_contact(model);
   const double lever = model.follower.oscillating() ? model.follower.arm_length : 1.0;  // [m/rad | -]
   const ForceLaw& law = model.contact;
   const double mean_lift = lift_harmonics(*model.law, 0).mean;  // [m | rad]

@@ -19,6 +19,11 @@ namespace camdyn {
 /// length), linearised at the mean contact force of the static train.
 LinearTrain linearised_train(const Model& model);
 
+/// The same train without the cam contact: coordinate 0's row holds the
+/// follower's inertia, spring, damper and weight and the train's forces on it
+/// (the held train of dynamics/held_train.h prescribes that coordinate).
+LinearTrain linear_train_without_contact(const Model& model);
+
 /// The train's jump speed [rpm] for a model whose train has coordinates of
 /// its own (bodies or spring lumps); +inf when no held force reaches zero up
 /// to 20 times the rigid figure (or 100 000 rpm without one); 0 when the

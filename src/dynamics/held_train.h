@@ -1,0 +1,127 @@
+// The follower train held (docs/model.md §12, "The held train"): every link
+// held in contact, seats, stops, lash take-up and coil clash left out, and
+// the cam contact held rigid, so that coordinate 0 (the follower) moves with
+// the lift s(θ) and the other coordinates y obey the linear system
+//   M ÿ + C ẏ + K y = f0 + k_in s + c_in ṡ.
+// Every quantity the rigid stage of an optimize study constrains — the cam
+// contact force, each link force, each spring's frame-end force, a seated
+// body's position and velocity — is then
+//   L = α s + β ṡ + γ s̈ + a·y + b·ẏ + constant,
+// linear in the lift. At cam speed ω (θ = ω t) its periodic response to a
+// lift is the exact rigid part α s + β ω s' + γ ω² s'' plus the response of y,
+// a sum over the lift's harmonics of the train's frequency response at h ω.
+// The y part decays with h like the lift's harmonics themselves (the train's
+// elastic elements filter it), so a few hundred harmonics converge it; the
+// count is chosen per speed from a stated tolerance and reported.
+//
+// For one rigid mass (no coordinates of its own) the contact quantity is the
+// rigid force of docs/model.md §9 exactly.
+#pragma once
+
+#include <Eigen/Core>
+#include <complex>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "geometry/motion_law.h"
+
+namespace camdyn {
+
+struct Model;
+
+/// A monitored quantity of the held train: L = α s + β ṡ + γ s̈ + a·y + b·ẏ + constant.
+struct HeldQuantity {
+  /// contact: the cam's generalised force on the follower [N | N m] (held > 0);
+  /// link: a link's force [N] (held > 0); spring_end: a spring's force at its
+  /// frame end [N]; seat_position [m] / seat_velocity [m/s] of a body with a seat.
+  enum class Kind { contact, link, spring_end, seat_position, seat_velocity };
+  Kind kind = Kind::contact;
+  std::string name;  ///< "cam contact", "link valve", "spring valve", "seat valve"
+  int body = 0;      ///< index into FollowerTrain::bodies
+  double seat = 0.0;                           ///< seat_position: the seat's position p [m]
+  double alpha = 0.0, beta = 0.0, gamma = 0.0;  ///< per s [unit/m], ṡ [unit s/m], s̈ [unit s²/m]
+  Eigen::VectorXd a, b;                         ///< per y, ẏ
+  double constant = 0.0;
+  bool held() const { return kind == Kind::contact || kind == Kind::link; }
+};
+
+/// The held train of a model.
+struct HeldTrain {
+  Eigen::MatrixXd M, C, K;          ///< of the free coordinates y (m×m) [kg], [N s/m], [N/m]
+  Eigen::VectorXd f0, k_in, c_in;   ///< constant load [N], per s [N/m], per ṡ [N s/m]
+  std::vector<HeldQuantity> quantities;  ///< the contact first, then links, spring ends, seat bodies
+  int free_coordinates() const { return static_cast<int>(M.rows()); }
+};
+
+/// The model's held train. A model without a train has no free coordinates
+/// and one quantity, the rigid contact force.
+HeldTrain held_train(const Model& model);
+
+/// A lift function on the response grid of R angles θ_i = 2π i / R: exact
+/// u, u', u'' there, and its Fourier coefficients U_0 (the mean) and U_h,
+/// h = 1 … R/2 − 1, with u = U_0 + Re Σ U_h e^{ihθ}.
+struct GridSignal {
+  std::vector<double> u, du, d2u;       ///< at the grid angles [m], [m/rad], [m/rad²]
+  std::vector<std::complex<double>> U;  ///< U_0 … U_{R/2−1} [m]
+};
+
+/// The signal of a function θ ↦ (u, u', u'') over one revolution on `angles`
+/// (a power of two, ≥ 16) grid angles; the coefficients from 16 × `angles`
+/// samples (aliasing below 1e−10 of the lift for a law with a continuous s').
+GridSignal grid_signal(const std::function<LawSample(double)>& f, int angles);
+
+/// The response of one speed: per quantity k, its values at the grid angles
+/// for the zero lift (`fixed`) and per unit of each signal (`per_signal`).
+struct SpeedResponse {
+  double omega = 0.0;  ///< [rad/s]
+  int harmonics = 0;   ///< of the y response
+  /// Estimated truncation: the y part of the last octave of harmonics over
+  /// the largest |L| of any quantity [-]: the next octave adds less.
+  double truncation = 0.0;
+  std::vector<Eigen::VectorXd> fixed;       ///< [k]: R values, constant + static preload response
+  std::vector<Eigen::MatrixXd> per_signal;  ///< [k]: R × signals
+};
+
+/// The held train's responses at each speed, for a fixed list of signals
+/// (the zero-design law first, then the design's basis functions), cached
+/// per speed.
+class HeldTrainResponse {
+ public:
+  /// Throws std::invalid_argument for a K that does not hold every coordinate.
+  HeldTrainResponse(HeldTrain train, std::vector<GridSignal> signals, int angles, double tolerance = 1e-5);
+  /// The response at ω [rad/s] (computed once per ω, then cached).
+  const SpeedResponse& at(double omega);
+  const HeldTrain& train() const { return train_; }
+  int angles() const { return angles_; }
+  int signals() const { return static_cast<int>(signals_.size()); }
+  double tolerance() const { return tolerance_; }
+
+ private:
+  SpeedResponse compute(double omega) const;
+
+  HeldTrain train_;
+  std::vector<GridSignal> signals_;
+  int angles_ = 0;
+  double tolerance_ = 0.0;
+  Eigen::VectorXd y_static_;  ///< K⁻¹ f0 [m]
+  Eigen::VectorXd y_per_s_;   ///< K⁻¹ k_in [m/m]
+  std::map<double, SpeedResponse> cache_;
+};
+
+/// The values of every quantity of `train` at the grid angles for lift
+/// `signal` at ω: [k] → R values (the law's own response; for reports and
+/// the jump speed). `harmonics` receives the count used.
+std::vector<Eigen::VectorXd> held_train_values(const HeldTrain& train, const GridSignal& signal, double omega,
+                                               int* harmonics = nullptr);
+
+/// The lowest ω in (0, omega_max] at which a held quantity of the law falls
+/// to `min_force` (the contact's in its own unit; links in N) [rad/s]: a scan
+/// over 400 equal steps and the natural frequencies over each harmonic, then
+/// bisection to `rtol`. 0 when the train does not hold even at rest; +inf
+/// when nothing reaches the floor up to omega_max.
+double held_train_jump_speed(const HeldTrain& train, const GridSignal& law, double omega_max, double contact_floor,
+                             double link_floor, double rtol = 1e-6);
+
+}  // namespace camdyn
