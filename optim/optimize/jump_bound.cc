@@ -113,7 +113,8 @@ RigidFollower rigid_follower(const Model& model, double min_force) {
 
 std::vector<double> check_speeds(double omega, const RigidFollower& follower) {
   std::vector<double> w = {omega};
-  if (follower.damping != 0.0)
+  for (int k = 1; k < follower.sampled_speeds; ++k) w.push_back(omega * k / follower.sampled_speeds);
+  if (follower.damping != 0.0 && follower.sampled_speeds == 0)
     for (int k = 1; k < 8; ++k) w.push_back(omega * k / 8.0);
   return w;
 }

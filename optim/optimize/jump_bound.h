@@ -40,6 +40,9 @@ struct RigidFollower {
   double damping = 0.0;    ///< c [N s/m]
   double weight = 0.0;     ///< M g, towards the cam [N]
   double min_force = 0.0;  ///< P_min: the contact force to keep [N], ≥ 0
+  /// A follower train (optim/optimize/train_rows.h): a design jump-free up to
+  /// ω is checked at ω k / n, k = 1 … n (its response is not monotone in ω); 0: one mass.
+  int sampled_speeds = 0;
 
   /// P − P_min at one sample [N]: the margin against losing contact.
   double margin(double omega, const LawSample& s) const {
@@ -61,7 +64,7 @@ RigidFollower rigid_follower(const Model& model, double min_force);
 
 /// The speeds at which a design that is to be jump-free up to ω [rad/s] is
 /// checked: ω itself; with a damper (whose term c ω s' is not monotone in ω)
-/// also 1/8 … 7/8 of it.
+/// also 1/8 … 7/8 of it; a train at its sampled speeds.
 std::vector<double> check_speeds(double omega, const RigidFollower& follower);
 
 /// The largest ω in (0, ω_cap] with feasible(ω), for a `feasible` that holds

@@ -57,6 +57,9 @@ DesignEvaluator::DesignEvaluator(const OptimizeStudyConfig& config, std::string 
     constraints_.push_back({"min_contact_force", Sense::at_least, *c.min_contact_force, "N", true});
   if (c.no_separation) constraints_.push_back({"no_separation", Sense::zero, 0.0, "-", true});
   if (c.max_peak_jerk) constraints_.push_back({"max_peak_jerk", Sense::at_most, *c.max_peak_jerk, "m/rad^3", false});
+  if (c.max_spring_force) constraints_.push_back({"max_spring_force", Sense::at_most, *c.max_spring_force, "N", true});
+  if (c.max_seating_velocity)
+    constraints_.push_back({"max_seating_velocity", Sense::at_most, *c.max_seating_velocity, "m/s", true});
   if (c.max_contact_stress)
     constraints_.push_back({"max_contact_stress", Sense::at_most, *c.max_contact_stress, "Pa", false});
 
@@ -181,13 +184,20 @@ void DesignEvaluator::score(DesignEvaluation& e) const {
     return;
   }
 
-  std::vector<double> gap, peak, lowest, fraction, margin;
+  std::vector<double> gap, peak, lowest, fraction, margin, spring, seating;
   for (const SpeedResult& s : e.speeds) {
     const Metrics& m = s.result.metrics;
     gap.push_back(s.mean_gap);
     peak.push_back(m.peak_contact_force);
-    lowest.push_back(m.min_contact_force);
-    fraction.push_back(m.separation_fraction);
+    // A train keeps every link loaded as well (docs/optimize.md "Trains"): its
+    // smallest force is the least of the contact's and the links', and a link
+    // that opens separates.
+    lowest.push_back(m.train && m.train->links ? std::min(m.min_contact_force, m.train->min_link_force)
+                                               : m.min_contact_force);
+    fraction.push_back(m.train ? std::max(m.separation_fraction, m.train->link_separation_fraction)
+                               : m.separation_fraction);
+    spring.push_back(m.train ? m.train->peak_spring_force : 0.0);
+    seating.push_back(m.train ? m.train->max_seating_velocity : 0.0);
     // Smallest contact force, continued below zero by the separation measure,
     // so it keeps a slope on both sides of the jump.
     margin.push_back(m.min_contact_force - norm_.force * s.mean_gap / norm_.mean_gap);
@@ -237,6 +247,12 @@ void DesignEvaluator::score(DesignEvaluation& e) const {
       c.residual = (c.value - limit) / limit;
     } else if (spec.name == "max_peak_jerk") {
       c.value = e.kinematics.peak_jerk;
+      c.residual = (c.value - limit) / limit;
+    } else if (spec.name == "max_spring_force") {
+      c.value = max_of(spring);
+      c.residual = (c.value - limit) / limit;
+    } else if (spec.name == "max_seating_velocity") {
+      c.value = max_of(seating);
       c.residual = (c.value - limit) / limit;
     } else if (spec.name == "max_peak_contact_force") {
       c.value = max_of(peak);

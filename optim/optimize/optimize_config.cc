@@ -111,6 +111,8 @@ void visit(A& a, ConstraintsConfig& c) {
   a.field("max_contact_stress", c.max_contact_stress, positive());
   a.field("max_lift", c.max_lift, positive());
   a.field("face_edge_margin", c.face_edge_margin, non_negative());
+  a.field("max_spring_force", c.max_spring_force, positive());
+  a.field("max_seating_velocity", c.max_seating_velocity, positive());
 }
 
 template <class A>

@@ -91,6 +91,12 @@ struct ConstraintsConfig {
   /// A flat face's contact stays this far inside the face's edge [m]:
   /// |s'| ≤ face_width / 2 − margin (flat follower only).
   std::optional<double> face_edge_margin;
+  /// A train's spring with mass: the force at each spring's frame end
+  /// (surge: coil bind, fatigue) at every operating speed [N] (metric peak_spring_force).
+  std::optional<double> max_spring_force;
+  /// A train with a seat: the speed of a seated body where it reaches its
+  /// seat at every operating speed [m/s] (metric max_seating_velocity).
+  std::optional<double> max_seating_velocity;
 
   bool operator==(const ConstraintsConfig&) const = default;
 };

@@ -18,6 +18,7 @@
 #include "optim/optimize/jump_bound.h"
 #include "optim/optimize/lobe_bound.h"
 #include "optim/optimize/rigid_limits.h"
+#include "optim/optimize/train_rows.h"
 
 namespace camdyn::optim {
 
@@ -26,7 +27,10 @@ namespace {
 constexpr double kRadPerRpm = 2.0 * std::numbers::pi / 60.0;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kBisectionRtol = 1e-4;  // relative width of the bracket on ω
-constexpr int kVerifySamples = 2000;     // per piece, for the margins of built laws
+/// On a train, whose every programme is the response of the whole train at
+/// ten speeds: 1e−3 (a few rpm).
+constexpr double kTrainBisectionRtol = 1e-3;
+constexpr int kVerifySamples = 2000;  // per piece, for the margins of built laws
 
 /// s, s', s'', s''' at one sample angle, affine in the control points:
 /// value[k] = constant[k] + Σ_j coefficient[j][k] c[first + j].
@@ -63,6 +67,7 @@ class SplineFamily {
                const std::string& file)
       : follower_(follower),
         m_(design.control_points),
+        degree_(design.degree),
         monotone_(design.monotone && !space.is_event()),
         first_free_(space.free_offset()),
         spline_size_(space.spline_size()),
@@ -251,7 +256,39 @@ class SplineFamily {
   bool monotone() const { return monotone_; }
 
   /// Worst margin over the pieces that are not designed, at every ω of `omegas` [N].
-  double fixed_margin(const std::vector<double>& omegas) const { return fixed_->worst_margin(follower_, omegas); }
+  /// (A train's rows cover the whole revolution: +inf.)
+  double fixed_margin(const std::vector<double>& omegas) const {
+    return train_ ? kInf : fixed_->worst_margin(follower_, omegas);
+  }
+
+  /// Puts the family on the held train of `model` (optim/optimize/train_rows.h).
+  void attach_train(const Model& model, const TrainRowLimits& limits) {
+    train_ = std::make_shared<TrainRows>(
+        model, *law0_, columns(), [this](double theta, std::vector<LawSample>& out) { column_lift(theta, out); },
+        limits);
+  }
+  TrainRows* train() const { return train_.get(); }
+
+  /// (s, s', s'') of every column's unit lift at cam angle θ [rad] (0 outside its segment).
+  void column_lift(double theta, std::vector<LawSample>& out) const {
+    out.assign(static_cast<std::size_t>(columns()), LawSample{});
+    const std::vector<double> knots = ClampedBSpline::uniform_knots(degree_, spline_size_);
+    for (std::size_t k = 0; k < spans_.size(); ++k) {
+      const PieceSpan& pc = spans_[k];
+      if (theta < pc.start || theta > pc.start + pc.beta) continue;
+      const double x = std::clamp((theta - pc.start) / pc.beta, 1e-12, 1.0 - 1e-12);
+      const int span = find_span(spline_size_, degree_, x, knots);
+      const BasisDerivatives b = basis_derivatives(span, x, degree_, knots);
+      for (int r = 0; r <= degree_; ++r) {
+        const int j = span - degree_ + r - first_free_;
+        if (j < 0 || j >= m_) continue;
+        LawSample& o = out[k * static_cast<std::size_t>(m_) + static_cast<std::size_t>(j)];
+        o.s = pc.lift * b.ders[0][r];
+        o.ds = pc.lift * b.ders[1][r] / pc.beta;
+        o.d2s = pc.lift * b.ders[2][r] / (pc.beta * pc.beta);
+      }
+    }
+  }
 
   /// The programme: maximise t with P − P_min ≥ t at every sample and ω in
   /// `omegas`. Columns: c, then t (the last).
@@ -294,6 +331,10 @@ class SplineFamily {
   void add_peak_rows(LinearProgram& lp, const FamilyOptions& options) const {
     const int z = lp.add_column(-kLpInfinity, kLpInfinity, 1.0);
     const bool force = options.goal == FamilyOptions::Goal::min_peak_force;
+    if (force && train_) {
+      train_->add_peak_rows(lp, options.peak_omega, z);
+      return;
+    }
     const double w = options.peak_omega;
     const std::array<double, 3> a = force
                                         ? std::array<double, 3>{follower_.coefficient_s(), follower_.coefficient_ds(w),
@@ -324,6 +365,7 @@ class SplineFamily {
     const MotionLaw::Piece& pc = law0_->pieces()[designed_[k]];
     const double beta = pc.end - pc.start;
     const double lift = lift_scale_ > 0.0 ? lift_scale_ : pc.lift;  // an event's piece has lift 1 and raw c in h
+    spans_.push_back({pc.start, beta, lift});
     const int n = spline_size_;
     const std::vector<double> knots = ClampedBSpline::uniform_knots(p, n);
     for (int i = 0; i < samples; ++i) {
@@ -382,6 +424,13 @@ class SplineFamily {
 
   RigidFollower follower_;
   int m_ = 0;
+  int degree_ = 5;
+  /// Each designed piece: start [rad], length β [rad], and the lift a column's unit scales [m].
+  struct PieceSpan {
+    double start = 0.0, beta = 0.0, lift = 0.0;
+  };
+  std::vector<PieceSpan> spans_;
+  std::shared_ptr<TrainRows> train_;  ///< on a train: its rows replace the rigid force's
   bool monotone_ = true;
   int first_free_ = 3;       ///< index of the first free control point among the spline's coefficients
   int spline_size_ = 0;      ///< all coefficients of a designed spline
@@ -431,7 +480,8 @@ LinearProgram SplineFamily::margin_program(const std::vector<double>& omegas, co
     add_peak_rows(lp, options);
   if (!lift_area) add_face_and_radius_rows(lp);
   std::vector<std::pair<int, double>> terms;
-  for (const double w : omegas) {
+  if (train_) train_->add_rows(lp, omegas, t);
+  for (const double w : train_ ? std::vector<double>{} : omegas) {
     const std::array<double, 3> a = {follower_.coefficient_s(), follower_.coefficient_ds(w),
                                      follower_.coefficient_d2s(w)};
     for (const AffineSample& s : samples_) {
@@ -475,7 +525,8 @@ LinearProgram SplineFamily::margin_program(const std::vector<double>& omegas, co
   }
   // An event's rows (dense jerk rows, 100 control points) span many decades;
   // the segment designs' programmes are left as they were.
-  if (lift_scale_ > 0.0) lp.equilibrate_rows();
+  // A train's rows, too: their coefficients are responses of the whole train.
+  if (lift_scale_ > 0.0 || train_) lp.equilibrate_rows();
   return lp;
 }
 
@@ -485,25 +536,52 @@ struct MarginSolution {
   std::vector<double> c;
 };
 
+/// With `feasibility` (a tolerance ≥ 0 [N]), a train's row generation stops
+/// as soon as the answer to "is some design's margin ≥ −tolerance" is known:
+/// a programme over some rows with t* below it (no design can do better on
+/// all rows), or a design that meets every row with t = 0; the margin
+/// returned is then only that answer's side of the tolerance.
 MarginSolution solve_margin(const SplineFamily& family, const std::vector<double>& omegas, const FamilyOptions& options,
-                            int& solves) {
-  const LinearProgram lp = family.margin_program(omegas, options);
-  const LpSolution sol = solve(lp);
-  ++solves;
-  if (sol.status == LpStatus::infeasible) return {};  // no design meets the other constraints (e.g. a jerk bound)
-  if (sol.status != LpStatus::optimal)
-    throw NumericalError(std::string("the rigid-model design programme could not be solved (CLP: ") + sol.message +
-                         ")");
-  MarginSolution out;
-  out.margin = sol.x[family.margin_column()];
-  out.c.assign(sol.x.begin(), sol.x.begin() + family.columns());
-  return out;
+                            int& solves, double feasibility = -1.0) {
+  // On a train the rows are generated (optim/optimize/train_rows.h): solve,
+  // activate the angles the solution breaks, solve again until none.
+  constexpr int kMaxRounds = 40;
+  for (int round = 0;; ++round) {
+    const LinearProgram lp = family.margin_program(omegas, options);
+    const LpSolution sol = solve(lp);
+    ++solves;
+    if (sol.status == LpStatus::infeasible) return {};  // no design meets the other constraints (e.g. a jerk bound)
+    if (sol.status != LpStatus::optimal)
+      throw NumericalError(std::string("the rigid-model design programme could not be solved (CLP: ") + sol.message +
+                           ")");
+    MarginSolution out;
+    out.margin = sol.x[family.margin_column()];
+    out.c.assign(sol.x.begin(), sol.x.begin() + family.columns());
+    TrainRows* train = family.train();
+    if (!train) return out;
+    const bool deciding = feasibility >= 0.0 && options.goal == FamilyOptions::Goal::max_margin;
+    if (deciding && out.margin < -feasibility) return out;
+    if (deciding && out.margin >= 0.0 && train->activate_violated(out.c, 0.0, omegas) == 0) return out;
+    int added = train->activate_violated(out.c, out.margin, omegas);
+    if (options.goal == FamilyOptions::Goal::min_peak_force)
+      added += train->activate_peak(out.c, options.peak_omega, sol.x.back());
+    if (added == 0) return out;
+    if (round + 1 == kMaxRounds)
+      throw NumericalError("the train's design programme still breaks rows of the response grid after " +
+                           std::to_string(kMaxRounds) + " rounds of row generation");
+  }
 }
 
 /// The speeds the design programme checks: every operating speed (with the
 /// damper's fractions of each).
 std::vector<double> operating_omegas(const OptimizeStudyConfig& config, const RigidFollower& f) {
   std::vector<double> out;
+  if (f.sampled_speeds > 0) {  // a train: every operating speed, and jump-free up to the top one
+    const double top = *std::max_element(config.operating_rpm.begin(), config.operating_rpm.end()) * kRadPerRpm;
+    out = check_speeds(top, f);
+    for (const double rpm : config.operating_rpm) out.push_back(rpm * kRadPerRpm);
+    return out;
+  }
   for (const double rpm : config.operating_rpm)
     for (const double w : check_speeds(rpm * kRadPerRpm, f)) out.push_back(w);
   return out;
@@ -527,13 +605,13 @@ std::vector<double> lobe_speeds(const OptimizeStudyConfig& config, const RigidFo
 /// The family's highest jump-free speed with `options` [rad/s]; `design`
 /// (if given) receives the solution at the highest feasible speed tried.
 double family_bound(const SplineFamily& family, const RigidFollower& f, const FamilyOptions& options, double hint,
-                    int& solves, MarginSolution* design = nullptr) {
+                    int& solves, MarginSolution* design = nullptr, double growth = 2.0) {
   const double tol = 1e-9 * (std::abs(f.constant()) + 1.0);
   double best_w = -1.0;
   auto feasible = [&](double w) {
     const std::vector<double> omegas = check_speeds(w, f);
     if (family.fixed_margin(omegas) < -tol) return false;
-    MarginSolution sol = solve_margin(family, omegas, options, solves);
+    MarginSolution sol = solve_margin(family, omegas, options, solves, tol);
     if (sol.margin < -tol) return false;
     if (design && w > best_w) {
       best_w = w;
@@ -541,7 +619,8 @@ double family_bound(const SplineFamily& family, const RigidFollower& f, const Fa
     }
     return true;
   };
-  return highest_feasible_speed(feasible, hint, 1e3 * hint, kBisectionRtol);
+  return highest_feasible_speed(feasible, hint, 1e3 * hint, f.sampled_speeds > 0 ? kTrainBisectionRtol : kBisectionRtol,
+                                growth);
 }
 
 /// The jump-free speed of a sampled law [rad/s].
@@ -711,6 +790,62 @@ std::optional<RigidLimitProbe> limit_probe(const SceneConfig& baseline, const Mo
   return RigidLimitProbe(space, g, model.direction, f, std::move(limits), family.sample_angles());
 }
 
+/// The limits of the train's rows: P_min at the contact (the held train's
+/// contact quantity is the normal force, also for an arm) and at every link,
+/// and the spring and seating limits of the constraints.
+TrainRowLimits train_limits(const Certificate& cert, const ConstraintsConfig& c) {
+  TrainRowLimits l;
+  l.contact_floor = cert.min_contact_force;
+  l.link_floor = cert.min_contact_force;
+  l.max_spring_force = c.max_spring_force;
+  l.max_seating_velocity = c.max_seating_velocity;
+  return l;
+}
+
+/// Scans a held train's jump-free speed up to this many times the top operating speed.
+constexpr double kTrainScanFactor = 10.0;
+
+/// (a) on a train: no closed form and no per-segment split (the response
+/// couples the segments), so the bound is the family bound of a rich cubic
+/// spline with no other constraint — 16 free control points per designed
+/// segment, control points free — a lower estimate of ANY law's bound that
+/// rises to it as the spline is refined; the 8-point figure is reported
+/// beside it as the evidence of convergence.
+void any_law_on_train(const SceneConfig& baseline, const OptimizeStudyConfig& config, const Model& model,
+                      const RigidFollower& f, double hint, const std::string& file, Certificate& cert, int& solves) {
+  for (const int points : {8, 16}) {
+    DesignConfig rich = config.design;
+    rich.control_points = points;
+    rich.degree = 3;
+    rich.monotone = false;
+    rich.spring = false;
+    rich.end_deg_range = {};
+    const DesignSpace space(baseline, rich, file);
+    ConstraintsConfig none;
+    none.max_pressure_angle_deg.reset();
+    SplineFamily family(space, rich, f, model.follower, none, config.rigid.samples, file);
+    family.attach_train(model, train_limits(cert, none));
+    // The finer spline starts its bracket from the coarser one's figure.
+    const bool coarse = points == 8;
+    const double start = coarse || !std::isfinite(cert.any_law_coarse_rpm) || cert.any_law_coarse_rpm <= 0.0
+                             ? hint
+                             : cert.any_law_coarse_rpm * kRadPerRpm;
+    const double w =
+        family_bound(family, f, FamilyOptions{false, false, false}, start, solves, nullptr, coarse ? 2.0 : 1.05);
+    (coarse ? cert.any_law_coarse_rpm : cert.any_law_rpm) = w >= 1e3 * start ? kInf : as_rpm(w);
+  }
+  cert.any_law_binding = "the designed segments together on the held train (cubic spline, 16 control points each)";
+}
+
+/// The stage's figures of a built law on a train: its margin at each
+/// operating speed on the held train's dense grid, and its own jump-free speed.
+void verify_on_train(const Model& model, const MotionLaw& law, const TrainRowLimits& limits,
+                     const OptimizeStudyConfig& config, double hint, RigidDesign& d) {
+  for (const double rpm : config.operating_rpm)
+    d.verified_margin.push_back(check_held_train(model, law, rpm * kRadPerRpm, limits).margin);
+  d.jump_free_rpm = as_rpm(held_jump_free_speed(model, law, limits, kTrainScanFactor * hint));
+}
+
 }  // namespace
 
 bool Certificate::all_feasible() const {
@@ -746,20 +881,30 @@ RigidStageResult run_rigid_stage(const SceneConfig& baseline, const OptimizeStud
   Certificate& cert = out.certificate;
   cert.min_contact_force = rigid_min_contact_force(config);
   const Model model = build_model(baseline, file);
-  const RigidFollower f = rigid_follower(model, cert.min_contact_force);
+  RigidFollower f = rigid_follower(model, cert.min_contact_force);
   cert.margin_unit = coordinate_units(model).force;  // a torque about the pivot for an arm
+  const bool on_train = model.train.has_coordinates();
+  if (on_train) f.sampled_speeds = TrainRows::kSampledSpeeds;
+  const TrainRowLimits limits = train_limits(cert, config.constraints);
   SplineFamily family(space, config.design, f, model.follower, config.constraints, config.rigid.samples, file);
+  if (on_train) {
+    cert.model = "held train";
+    family.attach_train(model, limits);
+  }
   if (const std::optional<LineContact> contact = line_contact(baseline.mechanism.contact);
       contact && config.constraints.max_contact_stress)
     family.limit_contact_pressure(*contact, *config.constraints.max_contact_stress, operating_omegas(config, f));
   const double hint = *std::max_element(config.operating_rpm.begin(), config.operating_rpm.end()) * kRadPerRpm;
   cert.available = true;
-  cert.baseline_rpm = as_rpm(law_bound(SampledLaw(*model.law, kVerifySamples), f, hint));
+  cert.baseline_rpm = on_train ? as_rpm(held_jump_free_speed(model, *model.law, limits, kTrainScanFactor * hint))
+                               : as_rpm(law_bound(SampledLaw(*model.law, kVerifySamples), f, hint));
   if (space.is_event()) {
     // The any-law bound bisects each rise and return between its end
     // levels; an event that rises and returns has its own (lift_area_part).
     cert.any_law_rpm = kInf;
     cert.any_law_binding = "not computed for an event design";
+  } else if (on_train) {
+    any_law_on_train(baseline, config, model, f, hint, file, cert, out.lp_solves);
   } else {
     any_law_part(family, f, hint, config.rigid.certificate_grid, cert);
   }
@@ -792,9 +937,18 @@ RigidStageResult run_rigid_stage(const SceneConfig& baseline, const OptimizeStud
     out.run_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return out;
   }
-  const SampledLaw law(build_motion_law(space.scene(d.x).mechanism.cam.motion_law, file), kVerifySamples);
-  for (const double rpm : config.operating_rpm) d.verified_margin.push_back(law.worst_margin(f, rpm * kRadPerRpm));
-  d.jump_free_rpm = as_rpm(law_bound(law, f, hint));
+  const MotionLaw built = build_motion_law(space.scene(d.x).mechanism.cam.motion_law, file);
+  if (on_train) {
+    verify_on_train(model, built, limits, config, hint, d);
+  } else {
+    const SampledLaw law(built, kVerifySamples);
+    for (const double rpm : config.operating_rpm) d.verified_margin.push_back(law.worst_margin(f, rpm * kRadPerRpm));
+    d.jump_free_rpm = as_rpm(law_bound(law, f, hint));
+  }
+  if (on_train) {
+    cert.train_harmonics = family.train()->harmonics();
+    cert.train_truncation = family.train()->truncation();
+  }
   if (config.objective.lift_area > 0.0) lift_area_part(family, f, config, space, d, *model.law, cert);
   out.run_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;

@@ -70,7 +70,15 @@ struct Certificate {
   /// bisections) when an operating speed is infeasible or rigid.explain_bound
   /// is set; empty otherwise.
   std::vector<std::string> family_binding;
-  double baseline_rpm = 0.0;             ///< the baseline law's own rigid jump-free speed at P_min [rpm]
+  double baseline_rpm = 0.0;  ///< the baseline law's own rigid jump-free speed at P_min [rpm]
+  /// The model the margins are of: "rigid one-mass" (docs/model.md §9) or
+  /// "held train" (every contact and link held, optim/optimize/train_rows.h).
+  std::string model = "rigid one-mass";
+  /// On a train: (a) with 8 instead of 16 control points per segment [rpm]
+  /// (any_law_rpm rises to the true bound as the spline is refined).
+  double any_law_coarse_rpm = 0.0;
+  int train_harmonics = 0;               ///< most harmonics of the held train's response used
+  double train_truncation = 0.0;         ///< their estimated truncation, relative to the largest force [-]
   std::vector<SpeedCertificate> speeds;  ///< (c), in operating_rpm order
   LiftAreaCertificate lift_area;
   bool all_feasible() const;

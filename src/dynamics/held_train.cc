@@ -19,15 +19,24 @@ using Complex = std::complex<double>;
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr int kOversampling = 16;  ///< samples of a signal's DFT per grid angle
+constexpr int kOversampling = 4;  ///< samples of a signal's DFT per grid angle
 constexpr int kFewestHarmonics = 16;
-constexpr int kSpeedSteps = 400;  ///< equal steps of the jump-speed scan
+constexpr std::size_t kCachedSpeeds = 64;  ///< responses kept (each holds angles × signals per quantity)
+constexpr int kSpeedSteps = 400;           ///< equal steps of the jump-speed scan
 /// A harmonic whose |U_h| is below this share of the largest adds no resonance to the scan.
 constexpr double kSignificantHarmonic = 1e-3;
 
 /// In-place radix-2 FFT of a power-of-two length: X_k = Σ_j x_j e^{sign 2πi jk/N}.
 void fft(std::vector<Complex>& x, double sign) {
   const std::size_t n = x.size();
+  // The N/2 roots e^{sign 2πi k/N}, made once per length and sign (per thread).
+  thread_local std::map<std::pair<std::size_t, double>, std::vector<Complex>> tables;
+  std::vector<Complex>& roots = tables[{n, sign}];
+  if (roots.size() != n / 2) {
+    roots.resize(n / 2);
+    for (std::size_t k = 0; k < n / 2; ++k)
+      roots[k] = std::polar(1.0, sign * kTwoPi * static_cast<double>(k) / static_cast<double>(n));
+  }
   for (std::size_t i = 1, j = 0; i < n; ++i) {
     std::size_t bit = n >> 1;
     for (; j & bit; bit >>= 1) j ^= bit;
@@ -35,14 +44,12 @@ void fft(std::vector<Complex>& x, double sign) {
     if (i < j) std::swap(x[i], x[j]);
   }
   for (std::size_t len = 2; len <= n; len <<= 1) {
-    const Complex w_len = std::polar(1.0, sign * kTwoPi / static_cast<double>(len));
+    const std::size_t half = len / 2, stride = n / len;
     for (std::size_t i = 0; i < n; i += len) {
-      Complex w = 1.0;
-      for (std::size_t k = 0; k < len / 2; ++k) {
-        const Complex u = x[i + k], v = x[i + k + len / 2] * w;
+      for (std::size_t k = 0; k < half; ++k) {
+        const Complex u = x[i + k], v = x[i + k + half] * roots[k * stride];
         x[i + k] = u + v;
-        x[i + k + len / 2] = u - v;
-        w *= w_len;
+        x[i + k + half] = u - v;
       }
     }
   }
@@ -50,18 +57,16 @@ void fft(std::vector<Complex>& x, double sign) {
 
 bool power_of_two(int n) { return n >= 16 && (n & (n - 1)) == 0; }
 
-/// The part of quantity q that acts on the free coordinates, from a force of
-/// the full linear train (coordinate 0 = the follower, prescribed).
+/// A quantity from a force of the linear train.
 HeldQuantity from_force(const LinearForce& f, HeldQuantity::Kind kind, int body) {
   HeldQuantity q;
   q.kind = kind;
   q.name = f.name;
   q.body = body;
-  q.alpha = f.a[0];
-  q.beta = f.b[0];
-  const Eigen::Index m = f.a.size() - 1;
-  q.a = f.a.tail(m);
-  q.b = f.b.tail(m);
+  q.alpha = f.e;
+  q.beta = f.f;
+  q.a = f.a;
+  q.b = f.b;
   q.constant = f.constant;
   return q;
 }
@@ -78,13 +83,8 @@ void add_seat_quantities(const Model& model, int m, HeldTrain& held) {
     pos.body = vel.body = static_cast<int>(i);
     pos.seat = model.train.elements[static_cast<std::size_t>(body.seat)].offset;
     pos.a = pos.b = vel.a = vel.b = Eigen::VectorXd::Zero(m);
-    if (body.coordinate == 0) {
-      pos.alpha = 1.0;
-      vel.beta = 1.0;
-    } else {
-      pos.a[body.coordinate - 1] = 1.0;
-      vel.b[body.coordinate - 1] = 1.0;
-    }
+    pos.a[body.coordinate] = 1.0;
+    vel.b[body.coordinate] = 1.0;
     held.quantities.push_back(pos);
     held.quantities.push_back(vel);
   }
@@ -103,53 +103,53 @@ int body_named(const Model& model, const std::string& force_name) {
 }  // namespace
 
 HeldTrain held_train(const Model& model) {
-  const LinearTrain full = linear_train_without_contact(model);
-  const Eigen::Index n = full.M.rows(), m = n - 1;
+  const LinearTrain lt = linearised_train(model);
   HeldTrain held;
-  held.M = full.M.bottomRightCorner(m, m);
-  held.C = full.C.bottomRightCorner(m, m);
-  held.K = full.K.bottomRightCorner(m, m);
-  // Rows 1…: M_yy ÿ + C_yy ẏ + K_yy y = f0_y − K_y0 s − C_y0 ṡ (M is diagonal).
-  held.f0 = full.f0.tail(m);
-  held.k_in = -full.K.col(0).tail(m);
-  held.c_in = -full.C.col(0).tail(m);
-  // Row 0: the cam's force P = M₀₀ s̈ + C₀₀ ṡ + K₀₀ s + C_0y ẏ + K_0y y − f0₀.
-  HeldQuantity contact;
-  contact.name = "cam contact";
-  contact.alpha = full.K(0, 0);
-  contact.beta = full.C(0, 0);
-  contact.gamma = full.M(0, 0);
-  contact.a = full.K.row(0).tail(m).transpose();
-  contact.b = full.C.row(0).tail(m).transpose();
-  contact.constant = -full.f0[0];
-  held.quantities.push_back(contact);
-  for (const LinearForce& f : full.held)
-    held.quantities.push_back(from_force(f, HeldQuantity::Kind::link, body_named(model, f.name)));
-  for (const LinearForce& f : full.peaks)
+  held.M = lt.M;
+  held.C = lt.C;
+  held.K = lt.K;
+  held.f0 = lt.f0;
+  held.k_in = lt.k_in;
+  held.c_in = lt.c_in;
+  for (std::size_t i = 0; i < lt.held.size(); ++i)
+    held.quantities.push_back(from_force(lt.held[i], i == 0 ? HeldQuantity::Kind::contact : HeldQuantity::Kind::link,
+                                         i == 0 ? 0 : body_named(model, lt.held[i].name)));
+  for (const LinearForce& f : lt.peaks)
     held.quantities.push_back(from_force(f, HeldQuantity::Kind::spring_end, body_named(model, f.name)));
-  add_seat_quantities(model, static_cast<int>(m), held);
+  add_seat_quantities(model, static_cast<int>(lt.M.rows()), held);
   return held;
 }
 
 GridSignal grid_signal(const std::function<LawSample(double)>& f, int angles) {
   if (!power_of_two(angles))
     throw std::invalid_argument("grid_signal: angles = " + std::to_string(angles) + " is not a power of two ≥ 16");
+  std::vector<LawSample> samples(static_cast<std::size_t>(grid_signal_samples(angles)));
+  for (std::size_t j = 0; j < samples.size(); ++j)
+    samples[j] = f(kTwoPi * static_cast<double>(j) / static_cast<double>(samples.size()));
+  return grid_signal_of_samples(samples, angles);
+}
+
+int grid_signal_samples(int angles) { return kOversampling * angles; }
+
+GridSignal grid_signal_of_samples(const std::vector<LawSample>& samples, int angles) {
+  if (!power_of_two(angles) || static_cast<int>(samples.size()) != grid_signal_samples(angles))
+    throw std::invalid_argument("grid_signal_of_samples: " + std::to_string(samples.size()) + " samples for " +
+                                std::to_string(angles) + " angles");
   GridSignal g;
-  const int samples = kOversampling * angles;
-  std::vector<Complex> x(static_cast<std::size_t>(samples));
-  for (int j = 0; j < samples; ++j) {
-    const LawSample s = f(kTwoPi * j / samples);
-    x[static_cast<std::size_t>(j)] = s.s;
+  std::vector<Complex> x(samples.size());
+  for (std::size_t j = 0; j < samples.size(); ++j) {
+    x[j] = samples[j].s;
     if (j % kOversampling == 0) {
-      g.u.push_back(s.s);
-      g.du.push_back(s.ds);
-      g.d2u.push_back(s.d2s);
+      g.u.push_back(samples[j].s);
+      g.du.push_back(samples[j].ds);
+      g.d2u.push_back(samples[j].d2s);
     }
   }
   fft(x, -1.0);
+  const double n = static_cast<double>(samples.size());
   g.U.resize(static_cast<std::size_t>(angles / 2));
-  g.U[0] = x[0] / static_cast<double>(samples);
-  for (std::size_t h = 1; h < g.U.size(); ++h) g.U[h] = 2.0 * x[h] / static_cast<double>(samples);
+  g.U[0] = x[0] / n;
+  for (std::size_t h = 1; h < g.U.size(); ++h) g.U[h] = 2.0 * x[h] / n;
   return g;
 }
 
@@ -174,6 +174,7 @@ HeldTrainResponse::HeldTrainResponse(HeldTrain train, std::vector<GridSignal> si
 const SpeedResponse& HeldTrainResponse::at(double omega) {
   const auto it = cache_.find(omega);
   if (it != cache_.end()) return it->second;
+  if (cache_.size() >= kCachedSpeeds) cache_.clear();  // a bisection moves on: keep memory bounded
   return cache_.emplace(omega, compute(omega)).first->second;
 }
 
@@ -186,26 +187,30 @@ SpeedResponse HeldTrainResponse::compute(double omega) const {
   out.omega = omega;
   // Transfer of each quantity's y part per unit lift harmonic: T_k(h) = (a + i hω b)·Z(hω)⁻¹ (k_in + i hω c_in).
   std::vector<std::vector<Complex>> T(static_cast<std::size_t>(K), std::vector<Complex>(top + 1, 0.0));
-  for (int k = 0; k < K; ++k)
-    T[k][0] = m > 0 ? train_.quantities[static_cast<std::size_t>(k)].a.dot(y_per_s_) : 0.0;
-  // The rigid parts' scale, for the truncation estimate.
-  double scale = 1e-300;
-  for (int k = 0; k < K; ++k) {
-    const HeldQuantity& q = train_.quantities[static_cast<std::size_t>(k)];
-    for (int j = 0; j < J; ++j)
-      for (int i = 0; i < R; ++i)
-        scale = std::max(scale, std::abs(q.alpha * signals_[j].u[i] + q.beta * omega * signals_[j].du[i] +
-                                         q.gamma * omega * omega * signals_[j].d2u[i]));
-  }
-  auto octave_tail = [&](int from, int to) {  // Σ_{h ∈ (from, to]} |T U| over the worst quantity and signal
-    double worst = 0.0;
-    for (int k = 0; k < K; ++k)
+  for (int k = 0; k < K; ++k) T[k][0] = m > 0 ? train_.quantities[static_cast<std::size_t>(k)].a.dot(y_per_s_) : 0.0;
+  // The truncation estimate: the last octave's Σ |T U| of the worst
+  // quantity and signal, over the largest Σ_h |T U| plus exact part of any.
+  auto octave_tail = [&](int H) {
+    double tail = 0.0, size = 1e-300;
+    for (int k = 0; k < K; ++k) {
+      const HeldQuantity& q = train_.quantities[static_cast<std::size_t>(k)];
       for (int j = 0; j < J; ++j) {
-        double sum = 0.0;
-        for (int h = from + 1; h <= to; ++h) sum += std::abs(T[k][h] * signals_[j].U[h]);
-        worst = std::max(worst, sum);
+        const GridSignal& g = signals_[static_cast<std::size_t>(j)];
+        double last = 0.0, all = std::abs(T[k][0] * g.U[0]);
+        for (int h = 1; h <= H; ++h) {
+          const Complex tu = T[k][h] * g.U[h];
+          const double v = std::abs(tu.real()) + std::abs(tu.imag());  // within √2 of |T U|: an estimate
+          all += v;
+          if (2 * h > H) last += v;
+        }
+        for (int i = 0; i < R; i += 8)
+          all =
+              std::max(all, std::abs(q.alpha * g.u[i] + q.beta * omega * g.du[i] + q.gamma * omega * omega * g.d2u[i]));
+        tail = std::max(tail, last);
+        size = std::max(size, all);
       }
-    return worst;
+    }
+    return tail / size;
   };
   int H = 0;
   if (m > 0) {
@@ -214,33 +219,49 @@ SpeedResponse HeldTrainResponse::compute(double omega) const {
       for (int h = H + 1; h <= target; ++h) {
         const double w = h * omega;  // [rad/s]
         const Eigen::PartialPivLU<Eigen::MatrixXcd> lu(Kc - (w * w) * Mc + Complex(0.0, w) * Cc);
-        const Eigen::VectorXcd X = lu.solve(train_.k_in.cast<Complex>() + Complex(0.0, w) * train_.c_in.cast<Complex>());
+        const Eigen::VectorXcd X =
+            lu.solve(train_.k_in.cast<Complex>() + Complex(0.0, w) * train_.c_in.cast<Complex>());
         for (int k = 0; k < K; ++k) {
           const HeldQuantity& q = train_.quantities[static_cast<std::size_t>(k)];
           T[k][h] = (q.a.cast<Complex>() + Complex(0.0, w) * q.b.cast<Complex>()).cwiseProduct(X).sum();
         }
       }
       H = target;
-      out.truncation = octave_tail(H / 2, H) / scale;
+      out.truncation = octave_tail(H);
       if (out.truncation <= tolerance_ || H == top) break;
     }
   }
   out.harmonics = H;
   out.fixed.assign(static_cast<std::size_t>(K), Eigen::VectorXd::Zero(R));
   out.per_signal.assign(static_cast<std::size_t>(K), Eigen::MatrixXd::Zero(R, J));
+  // Two signals per transform: their spectra made Hermitian, the one plus i
+  // times the other, so that the real and imaginary parts of the inverse are
+  // the two responses.
   std::vector<Complex> spectrum(static_cast<std::size_t>(R));
   for (int k = 0; k < K; ++k) {
     const HeldQuantity& q = train_.quantities[static_cast<std::size_t>(k)];
     out.fixed[k].setConstant(q.constant + (m > 0 ? q.a.dot(y_static_) : 0.0));
-    for (int j = 0; j < J; ++j) {
-      const GridSignal& g = signals_[static_cast<std::size_t>(j)];
+    for (int j = 0; j < J; j += 2) {
+      const int pair = std::min(2, J - j);
       std::fill(spectrum.begin(), spectrum.end(), Complex(0.0));
-      for (int h = 1; h <= H; ++h) spectrum[h] = T[k][h] * g.U[h];
+      for (int p = 0; p < pair; ++p) {
+        const GridSignal& g = signals_[static_cast<std::size_t>(j + p)];
+        const Complex unit = p == 0 ? Complex(1.0, 0.0) : Complex(0.0, 1.0);
+        for (int h = 1; h <= H; ++h) {
+          const Complex y = 0.5 * T[k][h] * g.U[h];
+          spectrum[h] += unit * y;
+          spectrum[R - h] += unit * std::conj(y);
+        }
+      }
       if (H > 0) fft(spectrum, 1.0);
-      const double mean = (T[k][0] * g.U[0]).real();
-      for (int i = 0; i < R; ++i)
-        out.per_signal[k](i, j) = q.alpha * g.u[i] + q.beta * omega * g.du[i] + q.gamma * omega * omega * g.d2u[i] +
-                                  mean + spectrum[i].real();
+      for (int p = 0; p < pair; ++p) {
+        const GridSignal& g = signals_[static_cast<std::size_t>(j + p)];
+        const double mean = (T[k][0] * g.U[0]).real();
+        for (int i = 0; i < R; ++i)
+          out.per_signal[k](i, j + p) = q.alpha * g.u[i] + q.beta * omega * g.du[i] +
+                                        q.gamma * omega * omega * g.d2u[i] + mean +
+                                        (p == 0 ? spectrum[i].real() : spectrum[i].imag());
+      }
     }
   }
   return out;
@@ -275,7 +296,7 @@ double held_train_jump_speed(const HeldTrain& train, const GridSignal& law, doub
   for (int j = 1; j <= kSpeedSteps; ++j) speeds.push_back(omega_max * j / kSpeedSteps);
   if (train.free_coordinates() > 0) {  // undamped natural frequencies over each harmonic: resonances dip
     const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> modes(0.5 * (train.K + train.K.transpose()),
-                                                                           train.M, Eigen::EigenvaluesOnly);
+                                                                          train.M, Eigen::EigenvaluesOnly);
     double largest = 0.0;
     for (std::size_t h = 1; h < law.U.size(); ++h) largest = std::max(largest, std::abs(law.U[h]));
     for (const double lambda : modes.eigenvalues())

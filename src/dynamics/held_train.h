@@ -1,21 +1,19 @@
 // The follower train held (docs/model.md §12, "The held train"): every link
 // held in contact, seats, stops, lash take-up and coil clash left out, and
-// the cam contact held rigid, so that coordinate 0 (the follower) moves with
-// the lift s(θ) and the other coordinates y obey the linear system
-//   M ÿ + C ẏ + K y = f0 + k_in s + c_in ṡ.
-// Every quantity the rigid stage of an optimize study constrains — the cam
-// contact force, each link force, each spring's frame-end force, a seated
-// body's position and velocity — is then
-//   L = α s + β ṡ + γ s̈ + a·y + b·ẏ + constant,
-// linear in the lift. At cam speed ω (θ = ω t) its periodic response to a
-// lift is the exact rigid part α s + β ω s' + γ ω² s'' plus the response of y,
-// a sum over the lift's harmonics of the train's frequency response at h ω.
-// The y part decays with h like the lift's harmonics themselves (the train's
-// elastic elements filter it), so a few hundred harmonics converge it; the
-// count is chosen per speed from a stated tolerance and reported.
-//
-// For one rigid mass (no coordinates of its own) the contact quantity is the
-// rigid force of docs/model.md §9 exactly.
+// the cam contact held as a linear spring and damper at its mean load
+// (dynamics/train_jump_speed.h linearised_train), so that the train's
+// coordinates x obey the linear system
+//   M ẍ + C ẋ + K x = f0 + k_in s + c_in ṡ
+// driven by the lift s(θ). Every quantity the rigid stage of an optimize
+// study constrains — the cam contact force, each link force, each spring's
+// frame-end force, a seated body's position and velocity — is then
+//   L = α s + β ṡ + a·x + b·ẋ + constant,
+// linear in the lift. At cam speed ω (θ = ω t) its periodic response is the
+// exact α s + β ω s' plus a sum over the lift's harmonics of the train's
+// frequency response at h ω, to the harmonic where the last octave adds less
+// than a stated share of the largest force (the contact's own modes included:
+// a stiff contact rings at thousands of hertz, and a law whose jerk jumps
+// excites it). The count is chosen per speed and reported.
 #pragma once
 
 #include <Eigen/Core>
@@ -31,32 +29,32 @@ namespace camdyn {
 
 struct Model;
 
-/// A monitored quantity of the held train: L = α s + β ṡ + γ s̈ + a·y + b·ẏ + constant.
+/// A monitored quantity of the held train: L = α s + β ṡ + γ s̈ + a·x + b·ẋ + constant.
 struct HeldQuantity {
   /// contact: the cam's generalised force on the follower [N | N m] (held > 0);
   /// link: a link's force [N] (held > 0); spring_end: a spring's force at its
   /// frame end [N]; seat_position [m] / seat_velocity [m/s] of a body with a seat.
   enum class Kind { contact, link, spring_end, seat_position, seat_velocity };
   Kind kind = Kind::contact;
-  std::string name;  ///< "cam contact", "link valve", "spring valve", "seat valve"
-  int body = 0;      ///< index into FollowerTrain::bodies
-  double seat = 0.0;                           ///< seat_position: the seat's position p [m]
+  std::string name;                             ///< "cam contact", "link valve", "spring valve", "seat valve"
+  int body = 0;                                 ///< index into FollowerTrain::bodies
+  double seat = 0.0;                            ///< seat_position: the seat's position p [m]
   double alpha = 0.0, beta = 0.0, gamma = 0.0;  ///< per s [unit/m], ṡ [unit s/m], s̈ [unit s²/m]
-  Eigen::VectorXd a, b;                         ///< per y, ẏ
+  Eigen::VectorXd a, b;                         ///< per x, ẋ
   double constant = 0.0;
   bool held() const { return kind == Kind::contact || kind == Kind::link; }
 };
 
 /// The held train of a model.
 struct HeldTrain {
-  Eigen::MatrixXd M, C, K;          ///< of the free coordinates y (m×m) [kg], [N s/m], [N/m]
-  Eigen::VectorXd f0, k_in, c_in;   ///< constant load [N], per s [N/m], per ṡ [N s/m]
+  Eigen::MatrixXd M, C, K;               ///< of the coordinates x (follower first) [kg], [N s/m], [N/m]
+  Eigen::VectorXd f0, k_in, c_in;        ///< constant load [N], per s [N/m], per ṡ [N s/m]
   std::vector<HeldQuantity> quantities;  ///< the contact first, then links, spring ends, seat bodies
   int free_coordinates() const { return static_cast<int>(M.rows()); }
 };
 
-/// The model's held train. A model without a train has no free coordinates
-/// and one quantity, the rigid contact force.
+/// The model's held train. A model without a train has one coordinate (the
+/// follower) and one quantity, the contact force.
 HeldTrain held_train(const Model& model);
 
 /// A lift function on the response grid of R angles θ_i = 2π i / R: exact
@@ -68,9 +66,15 @@ struct GridSignal {
 };
 
 /// The signal of a function θ ↦ (u, u', u'') over one revolution on `angles`
-/// (a power of two, ≥ 16) grid angles; the coefficients from 16 × `angles`
-/// samples (aliasing below 1e−10 of the lift for a law with a continuous s').
+/// (a power of two, ≥ 16) grid angles; the coefficients from 4 × `angles`
+/// samples (the harmonics used stop at angles / 2; aliasing brings in those
+/// above 3.5 × angles, below 1e−10 of the lift for a law with a continuous s').
 GridSignal grid_signal(const std::function<LawSample(double)>& f, int angles);
+/// How many equally spaced samples over a revolution grid_signal takes (4 × `angles`).
+int grid_signal_samples(int angles);
+/// The signal of those samples (θ_j = 2π j / grid_signal_samples(angles)).
+/// Throws std::invalid_argument for a wrong count.
+GridSignal grid_signal_of_samples(const std::vector<LawSample>& samples, int angles);
 
 /// The response of one speed: per quantity k, its values at the grid angles
 /// for the zero lift (`fixed`) and per unit of each signal (`per_signal`).
@@ -90,7 +94,7 @@ struct SpeedResponse {
 class HeldTrainResponse {
  public:
   /// Throws std::invalid_argument for a K that does not hold every coordinate.
-  HeldTrainResponse(HeldTrain train, std::vector<GridSignal> signals, int angles, double tolerance = 1e-5);
+  HeldTrainResponse(HeldTrain train, std::vector<GridSignal> signals, int angles, double tolerance = 1e-4);
   /// The response at ω [rad/s] (computed once per ω, then cached).
   const SpeedResponse& at(double omega);
   const HeldTrain& train() const { return train_; }

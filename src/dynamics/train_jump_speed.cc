@@ -6,6 +6,7 @@
 #include <limits>
 #include <numbers>
 
+#include "dynamics/held_train.h"
 #include "dynamics/rigid_jump_speed.h"
 
 namespace camdyn {
@@ -13,7 +14,7 @@ namespace camdyn {
 namespace {
 
 constexpr double kRpmPerRadPerSecond = 60.0 / (2.0 * std::numbers::pi);
-constexpr int kHarmonics = 48;  ///< of the lift in the train's response
+constexpr int kJumpSpeedAngles = 2048;  ///< of the held train's response grid (dynamics/held_train.h)
 
 /// The train's own elements (links held; seats, stops and clash left out)
 /// and the follower's massless spring, damper and weight into `lt`.
@@ -74,7 +75,7 @@ LinearTrain linear_train_without_contact(const Model& model) {
 }
 
 LinearTrain linearised_train(const Model& model) {
-  const int n = static_cast<int>(model.train.coordinates.size());
+  const int n = std::max(1, static_cast<int>(model.train.coordinates.size()));
   const LinearTrain base = linear_train_without_contact(model);
   const double lever = model.follower.oscillating() ? model.follower.arm_length : 1.0;  // [m/rad | -]
   const ForceLaw& law = model.contact;
@@ -107,11 +108,11 @@ LinearTrain linearised_train(const Model& model) {
 }
 
 double train_jump_speed_rpm(const Model& model) {
-  const LinearTrain lt = linearised_train(model);
   const double rigid_rpm = jump_speed_rpm(model);
   const double limit_rpm = std::isfinite(rigid_rpm) && rigid_rpm > 0.0 ? 20.0 * rigid_rpm : 1e5;
-  const double omega = linear_train_jump_speed(lt, lift_harmonics(*model.law, kHarmonics),
-                                               limit_rpm / kRpmPerRadPerSecond);  // [rad/s]
+  const GridSignal law = grid_signal([&](double theta) { return model.law->eval(theta); }, kJumpSpeedAngles);
+  const double omega =
+      held_train_jump_speed(held_train(model), law, limit_rpm / kRpmPerRadPerSecond, 0.0, 0.0);  // [rad/s]
   return std::isfinite(omega) ? omega * kRpmPerRadPerSecond : std::numeric_limits<double>::infinity();
 }
 

@@ -25,12 +25,14 @@ GridSignal law_signal(const Model& model) {
   return grid_signal([&](double theta) { return model.law->eval(theta); }, kAngles);
 }
 
-TEST(HeldTrain, OneRigidMassIsTheRigidModelForce) {
+// Its contact held as a stiff spring (1e8 N/m), one mass follows the rigid
+// force within (ω/ω_c)² of it at a slow speed.
+TEST(HeldTrain, OneMassIsTheRigidModelForce) {
   test::LinearTrainCase c = test::linear_train_case(0);
   const Model model = build_model(c.scene, "test");
   ASSERT_FALSE(model.train.has_coordinates());
   const HeldTrain held = held_train(model);
-  ASSERT_EQ(held.free_coordinates(), 0);
+  ASSERT_EQ(held.free_coordinates(), 1);
   ASSERT_EQ(held.quantities.size(), 1u);
   const double omega = 150.0;  // [rad/s]
   const std::vector<Eigen::VectorXd> values = held_train_values(held, law_signal(model), omega);
@@ -39,7 +41,7 @@ TEST(HeldTrain, OneRigidMassIsTheRigidModelForce) {
     const LawSample s = model.law->eval(kTwoPi * i / kAngles);
     const double rigid = f.mass * omega * omega * s.d2s + f.damping * omega * s.ds + f.spring.stiffness * s.s +
                          f.spring.preload + model.forces.weight(model.mass);
-    EXPECT_NEAR(values[0][i], rigid, 1e-9 * std::abs(f.spring.preload));
+    EXPECT_NEAR(values[0][i], rigid, 1e-3 * std::abs(f.spring.preload));
   }
 }
 
