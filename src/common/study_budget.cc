@@ -62,6 +62,21 @@ std::string study_rerun_advice() {
   return "run the study again into the same --out (with a larger --max-study-time) to finish it";
 }
 
+std::string budget_that_cut(std::string_view message) {
+  for (const char* budget : {"integrator.max_steps", "integrator.max_wall_time_s", "--max-study-time", "--max-memory"})
+    if (message.find(std::string(budget) + ")") != std::string_view::npos) return budget;
+  return {};
+}
+
+std::string withheld_text(std::size_t cut, std::size_t total, const std::string& runs, const std::string& budgets,
+                          const std::string& conclusion) {
+  std::ostringstream text;
+  text << cut << " of " << total << " " << runs << " were cut short by a budget (" << budgets
+       << ") and say nothing about the physics: " << conclusion
+       << " is withheld; raise that budget (or simplify the runs) and run again";
+  return text.str();
+}
+
 double memory_budget_bytes() { return g_memory_mb.load() * kBytesPerMb; }
 
 std::string memory_budget_text() {

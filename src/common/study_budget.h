@@ -14,7 +14,9 @@
 #pragma once
 
 #include <chrono>
+#include <cstddef>
 #include <string>
+#include <string_view>
 
 namespace camdyn {
 
@@ -59,6 +61,20 @@ std::string study_budget_text();
 /// "run the study again into the same --out (with a larger --max-study-time)
 /// to finish it": what to do after a study stopped on its budget.
 std::string study_rerun_advice();
+
+/// The budget a failed run's message says cut it short: "integrator.max_steps",
+/// "integrator.max_wall_time_s", "--max-study-time" or "--max-memory"; empty
+/// when the run failed for another reason (a run that ran out of a budget
+/// proves nothing about the physics: docs/outputs-and-resume.md, "Budgets").
+/// Keyed to the field each budget message names (dynamics/simulation.cc,
+/// study_budget_text, memory_budget_text).
+std::string budget_that_cut(std::string_view message);
+
+/// "N of M <runs> were cut short by a budget (<budgets>) ...: <conclusion> is
+/// withheld; raise that budget and run again": the message of a study that
+/// exits 3 rather than conclude from runs that did not finish.
+std::string withheld_text(std::size_t cut, std::size_t total, const std::string& runs, const std::string& budgets,
+                          const std::string& conclusion);
 
 /// The memory budget [bytes] (kDefaultMemoryBudgetMb outside a scope).
 double memory_budget_bytes();

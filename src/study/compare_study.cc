@@ -7,12 +7,14 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <iostream>
 #include <limits>
 #include <map>
 #include <optional>
 
 #include "common/errors.h"
+#include "common/study_budget.h"
 #include "dynamics/coordinate_units.h"
 #include "dynamics/simulation.h"
 #include "io/json_archive.h"
@@ -209,6 +211,10 @@ Json run_record(const ComparePlan& plan, std::size_t i, const StudyContext& ctx,
     metrics_json[metric_names[m]] = ok && std::isfinite(values[m]) ? Json(values[m]) : Json(nullptr);
   record["status"] = ok ? "ok" : "failed";
   record["error"] = error;
+  // A run a budget cut short is not a failure of the design: named, so that
+  // the study withholds its ranking (and a resume with a larger budget redoes it).
+  if (const std::string budget = ok ? std::string() : budget_that_cut(error); !budget.empty())
+    record[kBudgetKey] = budget;
   record["metrics"] = metrics_json;
   record["run_time_s"] = run_time;
   if (ok && !overlay.is_null()) record["overlay"] = overlay;
@@ -268,6 +274,15 @@ int run_compare_study(const Json& doc, const StudyContext& ctx) {
   result.design = scene_from_json(plan.bases.front().config, plan.bases.front().source);
   result.config_file = ctx.config_file;
   write_comparison(result, ctx.out_dir);
+  if (state.budget_cut > 0) {
+    // The ranking counts failed runs against a case: not with runs that merely ran out of a budget.
+    std::filesystem::remove(ctx.out_dir / "report.html");  // an earlier run's verdict must not stand
+    std::cerr << "camdyn: error: "
+              << withheld_text(state.budget_cut, plan.points.size(), "runs", state.budgets,
+                               "the comparison's verdict (report.html, the ranking of the cases)")
+              << "; comparison.csv and comparison.json hold the runs\n";
+    return 3;
+  }
   write_compare_report(result, ctx.out_dir);
   print_compare_summary(result, ctx.out_dir);
   return 0;

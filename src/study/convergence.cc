@@ -9,6 +9,7 @@
 
 #include "common/errors.h"
 #include "common/parallel.h"
+#include "common/study_budget.h"
 #include "dynamics/simulation.h"
 
 namespace camdyn {
@@ -128,6 +129,10 @@ std::vector<ConvergenceRun> plan_runs(const ConvergenceStudy& study) {
 /// Runs r and measures it against its scene's reference; a failure is kept in r.
 void measure_run(const ConvergenceStudy& study, const std::vector<std::optional<SimulationResult>>& references,
                  const std::string& config_file, ConvergenceRun& r) {
+  if (study_budget_exhausted()) {  // not started: the study's wall time is used up
+    r.error = study_budget_text() + " before this run";
+    return;
+  }
   const SceneConfig s =
       configure(study.scenes[r.scene], r.method, r.tracking, r.rtol, study.config.atol_factor, r.step);
   try {

@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "common/errors.h"
+#include "common/study_budget.h"
 #include "io/json_writer.h"
 #include "study/convergence.h"
 #include "study/convergence_config.h"
@@ -32,6 +33,16 @@ int run_convergence_study(const Json& doc, const StudyContext& ctx) {
           (missing.empty() ? "" : "; ") + ("the reference run of scene '" + study.config.scenes[k].name + "' failed (" +
                                            result.reference_note[k] + "): " + result.reference_missing[k]);
   if (!missing.empty()) throw NumericalError(missing + "; the runs that finished are written without errors");
+  // Runs the study's wall-time budget cut or never started: the study is not
+  // finished (docs/outputs-and-resume.md, "Budgets").
+  std::size_t cut = 0;
+  for (const ConvergenceRun& r : result.runs) cut += budget_that_cut(r.error) == "--max-study-time" ? 1 : 0;
+  if (cut > 0) {
+    std::cerr << "camdyn: error: " << study_budget_text() << ": " << cut << " of " << result.runs.size()
+              << " runs were cut short or not started; the runs that finished are written. Run the study again "
+                 "with a larger --max-study-time to finish it\n";
+    return 3;
+  }
   return 0;
 }
 

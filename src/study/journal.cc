@@ -32,6 +32,40 @@ void sync_directory(const std::filesystem::path& dir) {
   ::close(fd);
 }
 
+/// The key of a record's checksum.
+constexpr const char* kChecksumKey = "checksum";
+
+/// A record's text as journaled: compact, invalid UTF-8 replaced (say, in an
+/// error message) so that the record is always writable.
+std::string record_text(const Json& record) { return record.dump(-1, ' ', false, Json::error_handler_t::replace); }
+
+/// The checksum of `record` (without its "checksum") in the journal of the
+/// study with fingerprint `hash`: FNV-1a of both, so a record changed by hand
+/// or by a disk, or copied from another study's journal, fails it.
+std::string record_checksum(Json record, const std::string& hash) {
+  record.erase(kChecksumKey);
+  return fingerprint(hash + "\n" + record_text(record));
+}
+
+/// Refuses a journal that is not a regular file (a FIFO would block the
+/// read, a device never end, a directory fail with a raw error): exit 2.
+void require_regular_file(const std::filesystem::path& path) {
+  std::error_code error;
+  const std::filesystem::file_status status = std::filesystem::status(path, error);
+  if (error || status.type() == std::filesystem::file_type::not_found ||
+      status.type() == std::filesystem::file_type::regular)
+    return;
+  const char* kind =
+      status.type() == std::filesystem::file_type::directory ? "a directory"
+      : status.type() == std::filesystem::file_type::fifo    ? "a FIFO (named pipe)"
+      : status.type() == std::filesystem::file_type::character || status.type() == std::filesystem::file_type::block
+          ? "a device"
+          : "not a regular file";
+  throw InputError(path.string(), "",
+                   std::string("the study's journal is ") + kind +
+                       ", not a regular file: remove it or choose another --out (camdyn writes its journal there)");
+}
+
 }  // namespace
 
 std::string fingerprint(std::string_view text) {
@@ -46,7 +80,8 @@ std::string fingerprint(std::string_view text) {
 }
 
 Journal::Journal(std::filesystem::path path, std::string study, std::string hash, std::size_t runs)
-    : path_(std::move(path)) {
+    : path_(std::move(path)), hash_(hash) {
+  require_regular_file(path_);
   std::string content;
   const bool existed = std::filesystem::exists(path_);
   if (existed) {
@@ -83,6 +118,16 @@ Journal::Journal(std::filesystem::path path, std::string study, std::string hash
                 << " is not a run record; that run is done again\n";
       continue;
     }
+    if (!j.contains(kChecksumKey) || !j[kChecksumKey].is_string()) {
+      std::cerr << "camdyn: warning: " << path_.string() << " line " << line_no
+                << " has no checksum (a journal of an earlier camdyn): unverified, so that run is done again\n";
+      continue;
+    }
+    if (j[kChecksumKey].get<std::string>() != record_checksum(j, hash_)) {
+      std::cerr << "camdyn: warning: " << path_.string() << " line " << line_no
+                << " fails its checksum (the record was changed after it was written): that run is done again\n";
+      continue;
+    }
     done_.emplace(j["index"].get<std::size_t>(), j);
   }
 
@@ -113,8 +158,12 @@ Journal::~Journal() {
 }
 
 void Journal::append(const Json& record) {
-  // Invalid UTF-8 (say, in an error message) must not make the record unwritable.
-  write_line(record.dump(-1, ' ', false, Json::error_handler_t::replace));
+  Json checked = record;
+  checked.erase(kChecksumKey);
+  // The checksum of the text as written: invalid UTF-8 already replaced, as a re-read sees it.
+  checked = Json::parse(record_text(checked));
+  checked[kChecksumKey] = record_checksum(checked, hash_);
+  write_line(record_text(checked));
 }
 
 void Journal::write_line(const std::string& text) {

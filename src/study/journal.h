@@ -11,6 +11,13 @@
 // last line without its newline (the process was killed while writing it) is
 // cut off when the journal is opened; a line that does not parse is skipped
 // with a warning, so that run is simply done again.
+//
+// Each record carries "checksum": the FNV-1a fingerprint of the study's hash
+// and the record's compact JSON without it. A record that fails it (changed
+// by hand or by a disk, copied from another study's journal) or has none (a
+// journal of an earlier camdyn) is not trusted: a warning, and that run is
+// done again. The journal must be a regular file: a FIFO, device or
+// directory at its path is refused (InputError, exit 2).
 #pragma once
 
 #include <cstddef>
@@ -31,7 +38,8 @@ class Journal {
  public:
   /// Opens (or creates) the journal at `path` for a study `study` of `runs`
   /// runs with fingerprint `hash`, reading the runs already done. Throws
-  /// InputError(path, "hash", ...) if it belongs to another study, and
+  /// InputError(path, "hash", ...) if it belongs to another study,
+  /// InputError(path, "", ...) if it is not a regular file, and
   /// std::runtime_error if the file cannot be read or written.
   Journal(std::filesystem::path path, std::string study, std::string hash, std::size_t runs);
   ~Journal();
@@ -52,6 +60,7 @@ class Journal {
   void write_line(const std::string& line);
 
   std::filesystem::path path_;
+  std::string hash_;  ///< the study's fingerprint, part of every record's checksum
   int fd_ = -1;
   std::map<std::size_t, Json> done_;
 };

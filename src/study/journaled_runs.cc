@@ -1,10 +1,14 @@
 #include "study/journaled_runs.h"
 
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <iterator>
+#include <limits>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <vector>
 
 #include "common/errors.h"
@@ -22,6 +26,40 @@ namespace {
 constexpr const char* kRunTimeKey = "_progress_run_s";
 /// The status of a run not started because the study's budget was used up.
 constexpr const char* kNotStarted = "not_started";
+
+/// The study's wall-time budget as journaled [s] (null: none).
+Json budget_json(double seconds) { return std::isfinite(seconds) ? Json(seconds) : Json(nullptr); }
+
+/// The budget that cut `record` short ("" when none did).
+std::string record_budget(const Json& record) {
+  const auto it = record.find(kBudgetKey);
+  return it != record.end() && it->is_string() ? it->get<std::string>() : std::string();
+}
+
+/// Whether a budget cut `record` short and that budget is larger now, so
+/// that running it again may finish it: only the study's wall time and
+/// memory can differ between two runs of one study (integrator.max_steps and
+/// max_wall_time_s are part of its fingerprint).
+bool budget_larger_now(const Json& record) {
+  const std::string budget = record_budget(record);
+  if (budget != "--max-study-time" && budget != "--max-memory") return false;
+  const Json then = record.value("study_budget_s", Json(nullptr));
+  const double then_s = then.is_number() ? then.get<double>() : std::numeric_limits<double>::infinity();
+  return budget == "--max-memory" || study_budget_s() > then_s;
+}
+
+/// Counts the records a budget cut short and names their budgets.
+void count_budget_cuts(JournaledRuns& out) {
+  std::set<std::string> names;
+  out.budget_cut = 0;
+  for (const auto& [i, record] : out.records)
+    if (const std::string budget = record_budget(record); !budget.empty()) {
+      ++out.budget_cut;
+      names.insert(budget);
+    }
+  out.budgets.clear();
+  for (const std::string& name : names) out.budgets += (out.budgets.empty() ? "" : ", ") + name;
+}
 
 /// The runs of this invocation: the journal (rank 0) with the records already
 /// done, and the runs still to do (every rank).
@@ -44,6 +82,11 @@ std::optional<int> open_journal(const std::string& study, const std::string& has
       std::filesystem::create_directories(ctx.out_dir);
       state.journal = std::make_unique<Journal>(ctx.out_dir / "journal.jsonl", study, hash, count);
       out.records = state.journal->done();
+      std::size_t rerun = 0;
+      for (auto it = out.records.begin(); it != out.records.end();)
+        it = budget_larger_now(it->second) ? (++rerun, out.records.erase(it)) : std::next(it);
+      if (rerun > 0)
+        std::cerr << "camdyn: " << rerun << " journaled runs were cut short by a smaller budget; they are run again\n";
     } catch (const InputError& e) {
       if (!distributed) throw;
       failure = std::string("2") + e.what();
@@ -102,6 +145,7 @@ void run_pending(const std::string& study, std::size_t count, const std::functio
     }
     const double run_s = record.value(kRunTimeKey, 0.0);
     record.erase(kRunTimeKey);
+    if (!record_budget(record).empty()) record["study_budget_s"] = budget_json(study_budget_s());
     state.journal->append(record);
     out.records[i] = std::move(record);
     progress.finished(failed, run_s);
@@ -135,6 +179,7 @@ std::optional<int> run_journaled(const std::string& study, const std::string& ha
   RunState state;
   if (const std::optional<int> code = open_journal(study, hash, count, ctx, state, out)) return code;
   run_pending(study, count, run, ctx, state, out);
+  count_budget_cuts(out);
   if (state.stopped == 0) return std::nullopt;
   if (mpi::rank() == 0)
     std::cerr << "camdyn: error: " << study_budget_text() << " after " << count - state.stopped << " of " << count

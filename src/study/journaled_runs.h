@@ -20,7 +20,17 @@ struct JournaledRuns {
   std::map<std::size_t, Json> records;  ///< every run's record by index (rank 0), resumed ones included
   std::size_t resumed = 0;              ///< runs found in the journal
   std::size_t resumed_failed = 0;       ///< of which failed (a record whose "status" is not "ok")
+  /// Records (of this run and resumed) that a budget cut short (a non-empty
+  /// "budget" field: see budget_that_cut in common/study_budget.h).
+  std::size_t budget_cut = 0;
+  std::string budgets;  ///< the budgets that cut them, comma-separated
 };
+
+/// The key of a record's budget: the name of the budget that cut (part of) the
+/// run short, absent or empty when none did. run_journaled adds the study's
+/// wall-time budget [s] under "study_budget_s" (null: none), and a resumed
+/// study runs such a record again when the budget that cut it is larger now.
+inline constexpr const char* kBudgetKey = "budget";
 
 /// Runs `run(i)` for every i in [0, count) not yet in `<ctx.out_dir>/journal.jsonl`
 /// (a journal of `study` with fingerprint `hash`); `run` returns the run's

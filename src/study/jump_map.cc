@@ -144,12 +144,21 @@ std::vector<JumpMapPoint> run_jump_map_range(const JumpMapStudy& study, std::siz
   std::vector<JumpMapPoint> points;
   std::optional<SectionPoint> carry;
   for (const std::size_t i : jump_map_range(study, r)) {
+    if (study_budget_exhausted()) {
+      JumpMapPoint p;
+      p.rpm = study.rpm[i];
+      p.error = study_budget_text() + " before this speed";
+      p.budget = "--max-study-time";
+      points.push_back(std::move(p));
+      continue;
+    }
     try {
       points.push_back(run_speed(study, study.rpm[i], file, carry));
     } catch (const std::exception& e) {
       JumpMapPoint p;
       p.rpm = study.rpm[i];
       p.error = e.what();
+      p.budget = budget_that_cut(p.error);
       points.push_back(std::move(p));
       carry.reset();  // the next speed starts afresh
     }
@@ -185,6 +194,7 @@ Json jump_map_point_json(const JumpMapPoint& p) {
   return Json{{"rpm", p.rpm},
               {"ok", p.ok},
               {"error", p.error},
+              {"budget", p.budget},
               {"motion", to_string(p.motion)},
               {"period", p.period},
               {"spectral_radius", p.spectral_radius},
@@ -202,6 +212,7 @@ JumpMapPoint jump_map_point_from_json(const Json& j) {
   p.rpm = j.at("rpm").get<double>();
   p.ok = j.at("ok").get<bool>();
   p.error = j.at("error").get<std::string>();
+  p.budget = j.value("budget", std::string());
   p.motion = parse_enum<MotionKind>(j.at("motion").get<std::string>());
   p.period = j.at("period").get<int>();
   p.spectral_radius = j.at("spectral_radius").get<double>();

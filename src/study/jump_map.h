@@ -51,6 +51,10 @@ struct JumpMapPoint {
   double rpm = 0.0;
   bool ok = false;
   std::string error;
+  /// The budget that cut this speed short (common/study_budget.h:
+  /// budget_that_cut), empty when none did: such a speed says nothing about
+  /// the motion, and a map with one withholds its conclusions.
+  std::string budget;
   MotionKind motion = MotionKind::unresolved;
   int period = 0;                                      ///< of the stable orbit (0 when none)
   double spectral_radius = 0.0;                        ///< of its monodromy matrix
@@ -77,7 +81,9 @@ JumpMapStudy read_jump_map_study(const Json& doc, const StudyContext& ctx);
 std::vector<std::size_t> jump_map_range(const JumpMapStudy& study, std::size_t r);
 
 /// Runs range `r`; one point per speed, in order. Never throws: a speed that
-/// fails is a point with ok false and the error, and the next starts afresh.
+/// fails is a point with ok false and the error, and the next starts afresh;
+/// once the study's budget is used up the remaining speeds are not run (ok
+/// false, budget "--max-study-time").
 std::vector<JumpMapPoint> run_jump_map_range(const JumpMapStudy& study, std::size_t r, const std::string& file);
 
 /// The transitions along the grid (points in rpm order).

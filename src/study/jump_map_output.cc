@@ -11,6 +11,7 @@
 #include <map>
 #include <set>
 
+#include "common/study_budget.h"
 #include "dynamics/coordinate_units.h"
 #include "io/csv_writer.h"
 #include "io/json_writer.h"
@@ -25,10 +26,26 @@ namespace camdyn {
 
 namespace {
 
+/// Range `r` as its journal record: status "budget" (with the budget's
+/// name) when a budget cut one of its speeds short, so that a study stopped
+/// by its wall-time budget does not journal it and a re-run computes the
+/// range again from its start (the continuation as in an uninterrupted run).
 Json range_record(const JumpMapStudy& study, std::size_t r, const std::string& file) {
   Json points = Json::array();
-  for (const JumpMapPoint& p : run_jump_map_range(study, r, file)) points.push_back(jump_map_point_json(p));
-  return Json{{"index", r}, {"status", "ok"}, {"points", points}};
+  std::string budget;
+  for (const JumpMapPoint& p : run_jump_map_range(study, r, file)) {
+    points.push_back(jump_map_point_json(p));
+    if (budget.empty()) budget = p.budget;
+  }
+  Json record{{"index", r}, {"status", budget.empty() ? "ok" : "budget"}, {"points", points}};
+  if (!budget.empty()) record[kBudgetKey] = budget;
+  return record;
+}
+
+/// A speed's status in jump_map.csv.
+std::string point_status(const JumpMapPoint& p) {
+  if (p.ok) return "ok";
+  return p.budget.empty() ? "failed" : "failed: budget";
 }
 
 void write_csvs(const std::filesystem::path& dir, const std::vector<JumpMapPoint>& points) {
@@ -46,7 +63,7 @@ void write_csvs(const std::filesystem::path& dir, const std::vector<JumpMapPoint
     speeds.row({CsvCell(p.rpm), CsvCell(p.ok ? to_string(p.motion) : ""), CsvCell(p.period), CsvCell(p.spectral_radius),
                 CsvCell(p.lyapunov), CsvCell(static_cast<long>(p.impact_speed.size())), CsvCell(fastest),
                 CsvCell(p.separation_fraction), CsvCell(p.max_gap), CsvCell(p.peak_contact_force),
-                CsvCell(p.ok ? "ok" : "failed"), CsvCell(p.error)});
+                CsvCell(point_status(p)), CsvCell(p.error)});
   }
   speeds.commit();
   impacts.commit();
@@ -157,7 +174,23 @@ int run_jump_map_study(const Json& doc, const StudyContext& ctx) {
   std::vector<JumpMapPoint> points;
   for (std::size_t r = 0; r < ranges; ++r)
     for (const Json& j : runs.records.at(r).at("points")) points.push_back(jump_map_point_from_json(j));
-  const std::vector<JumpMapTransition> transitions = jump_map_transitions(points);
+  // Speeds a budget cut short say nothing about the motion: no transition or
+  // verdict rests on them (docs/outputs-and-resume.md, "Budgets").
+  std::size_t cut = 0;
+  std::set<std::string> budget_names;
+  for (const JumpMapPoint& p : points)
+    if (!p.budget.empty()) {
+      ++cut;
+      budget_names.insert(p.budget);
+    }
+  std::string budgets;
+  for (const std::string& name : budget_names) budgets += (budgets.empty() ? "" : ", ") + name;
+  const std::string withheld =
+      cut == 0 ? std::string()
+               : withheld_text(cut, points.size(), "speeds", budgets,
+                               "the jump map's conclusion (its transitions, where the follower leaves the cam)");
+  const std::vector<JumpMapTransition> transitions =
+      withheld.empty() ? jump_map_transitions(points) : std::vector<JumpMapTransition>{};
   const double run_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   Json speeds = Json::array(), changes = Json::array();
   for (const JumpMapPoint& p : points) speeds.push_back(jump_map_point_json(p));
@@ -174,11 +207,18 @@ int run_jump_map_study(const Json& doc, const StudyContext& ctx) {
                          {"camdyn_version", CAMDYN_VERSION},
                          {"rigid_jump_speed_rpm", std::isfinite(jump) ? Json(jump) : Json()},
                          {"damped_rigid_jump_speed_rpm", std::isfinite(damped) ? Json(damped) : Json()},
-                         {"transitions", changes},
+                         {"transitions", withheld.empty() ? changes : Json()},
                          {"speeds", speeds},
+                         {"budget_cut_speeds", cut},
+                         {"conclusion_withheld", withheld.empty() ? Json() : Json(withheld)},
                          {"resumed_ranges", runs.resumed},
                          {"run_time_s", run_time}});
   write_csvs(ctx.out_dir, points);
+  if (!withheld.empty()) {
+    std::filesystem::remove(ctx.out_dir / "report.html");  // an earlier run's verdict must not stand
+    std::cerr << "camdyn: error: " << withheld << "\n";
+    return 3;
+  }
   write_report(ctx.out_dir / "report.html", jump_map_report(study, points, transitions, run_time, ctx.config_file));
   long failed = 0;
   for (const JumpMapPoint& p : points) failed += p.ok ? 0 : 1;

@@ -8,9 +8,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <set>
 
 #include "common/errors.h"
 #include "common/parallel.h"
+#include "common/study_budget.h"
 #include "dynamics/model.h"
 #include "dynamics/rigid_jump_speed.h"
 #include "dynamics/simulation.h"
@@ -28,16 +30,26 @@ const std::vector<std::string> kStudyKeys = {"speed_limit"};
 
 /// The scene's metrics at `rpm`.
 SpeedCheck check_speed(const SpeedLimitStudy& study, double rpm, double min_force, const std::string& file) {
+  SpeedCheck c;
+  c.rpm = rpm;
+  if (study_budget_exhausted()) {  // not started: the study's wall time is used up
+    c.converged = c.ok = false;
+    c.message = study_budget_text();
+    c.budget = "--max-study-time";
+    return c;
+  }
   SceneConfig s = study.scene;
   s.mechanism.cam.rpm = rpm;
   SimulationOptions options;
   options.record_series = false;
   const SimulationResult r =
       study.geometry ? simulate_scene(*study.geometry, s, file, options) : simulate_scene(s, file, options);
-  SpeedCheck c;
-  c.rpm = rpm;
   c.converged = r.solver.termination == Termination::converged;
   c.message = c.converged ? "" : r.solver.message;
+  if (r.solver.termination == Termination::step_budget || r.solver.termination == Termination::wall_time_budget) {
+    c.budget = budget_that_cut(c.message);
+    if (c.budget.empty()) c.budget = std::string(enum_name(r.solver.termination));
+  }
   c.separation_fraction = r.metrics.separation_fraction;
   c.min_contact_force = r.metrics.min_contact_force;
   c.peak_contact_force = r.metrics.peak_contact_force;
@@ -52,6 +64,9 @@ SpeedCheck check_speed(const SpeedLimitStudy& study, double rpm, double min_forc
 
 /// The most speeds the coarse scan may simulate.
 constexpr int kMaxScanSpeeds = 10000;
+/// The finest tolerance_rpm relative to the bracket's speeds [-] (doubles
+/// resolve ~1e-16 of a speed; this leaves room for the simulations' own noise).
+constexpr double kToleranceResolution = 1e-9;
 
 template <class A>
 void visit(A& a, SpeedLimitConfig& c) {
@@ -62,6 +77,13 @@ void visit(A& a, SpeedLimitConfig& c) {
   a.require(c.scan <= kMaxScanSpeeds, "scan",
             "must be at most " + std::to_string(kMaxScanSpeeds) + " speeds, got " + std::to_string(c.scan));
   a.field("tolerance_rpm", c.tolerance_rpm, positive());
+  // Below this the bracket cannot narrow in floating point: the bisection
+  // would run until the study's budget.
+  const double fastest = std::max(c.low_rpm, c.high_rpm.value_or(c.low_rpm));
+  a.require(c.tolerance_rpm >= kToleranceResolution * fastest, "tolerance_rpm",
+            "must be at least " + format_shortest(kToleranceResolution) + " × the bracket's speeds (" +
+                format_number(kToleranceResolution * fastest, 3) + " rpm here), got " +
+                format_shortest(c.tolerance_rpm) + ": no bisection can resolve a speed that finely");
   a.field("min_contact_force", c.min_contact_force, non_negative());
   a.require(!c.high_rpm || *c.high_rpm > c.low_rpm, "high_rpm", "must be above low_rpm");
 }
@@ -104,20 +126,37 @@ SpeedLimitResult run_speed_limit(const SpeedLimitStudy& study, const StudyContex
   const auto failed = std::find_if(scan.begin(), scan.end(), [](const SpeedCheck& s) { return !s.ok; });
   if (failed == scan.end()) {
     r.speed_limit_rpm = hi;
+  } else if (!failed->budget.empty()) {
+    r.withheld = "the first scan speed that did not keep contact, " + format_shortest(failed->rpm) + " rpm";
   } else if (failed == scan.begin()) {
     r.limited = true;
     r.first_failure_rpm = failed->rpm;
   } else {
     // Bisect between the last speed that kept contact and the first that did not.
     double lo = (failed - 1)->rpm, up = failed->rpm;
-    while (up - lo > c.tolerance_rpm) {
+    while (up - lo > c.tolerance_rpm && r.withheld.empty()) {
       const double mid = 0.5 * (lo + up);
+      if (mid <= lo || mid >= up) break;  // the bracket cannot narrow further in floating point
       r.checks.push_back(check_speed(study, mid, c.min_contact_force, ctx.config_file));
+      if (!r.checks.back().budget.empty()) r.withheld = "the bisection's speed " + format_shortest(mid) + " rpm";
       (r.checks.back().ok ? lo : up) = mid;
     }
-    r.limited = true;
+    r.limited = r.withheld.empty();
     r.speed_limit_rpm = lo;
     r.first_failure_rpm = up;
+  }
+  std::set<std::string> budgets;
+  for (const SpeedCheck& check : r.checks)
+    if (!check.budget.empty()) {
+      ++r.budget_cut;
+      budgets.insert(check.budget);
+    }
+  if (!r.withheld.empty()) {
+    std::string names;
+    for (const std::string& name : budgets) names += (names.empty() ? "" : ", ") + name;
+    r.withheld = withheld_text(r.budget_cut, r.checks.size(), "simulated speeds", names,
+                               "the speed limit (it rests on " + r.withheld + ", which was cut short)");
+    r.limited = false;
   }
   r.run_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
@@ -131,16 +170,23 @@ Json speed_limit_json(const SpeedLimitStudy& study, const SpeedLimitResult& r) {
            {"converged", s.converged},
            {"separation_fraction", s.separation_fraction},
            {"min_contact_force", s.min_contact_force},
-           {"peak_contact_force", s.peak_contact_force}};
+           {"peak_contact_force", s.peak_contact_force},
+           {"status", s.ok               ? "ok"
+                      : s.budget.empty() ? "failed"
+                                         : "failed: budget"}};
     if (!s.converged) j["message"] = s.message;
+    if (!s.budget.empty()) j["budget"] = s.budget;
     checks.push_back(j);
   }
+  const bool stands = r.withheld.empty();  // else no limit, no verdict: nulls
   return Json{{"name", study.scene.name},
               {"study", "speed_limit"},
               {"camdyn_version", CAMDYN_VERSION},
-              {"speed_limit_rpm", r.speed_limit_rpm},
-              {"limited", r.limited},
+              {"speed_limit_rpm", stands ? Json(r.speed_limit_rpm) : Json(nullptr)},
+              {"limited", stands ? Json(r.limited) : Json(nullptr)},
               {"first_failure_rpm", r.limited ? Json(r.first_failure_rpm) : Json(nullptr)},
+              {"budget_cut_runs", r.budget_cut},
+              {"conclusion_withheld", stands ? Json(nullptr) : Json(r.withheld)},
               {"tolerance_rpm", study.config.tolerance_rpm},
               {r.train ? "train_jump_speed_rpm" : "rigid_jump_speed_rpm",
                std::isfinite(r.rigid_jump_speed_rpm) ? Json(r.rigid_jump_speed_rpm) : Json()},
@@ -202,6 +248,11 @@ int run_speed_limit_study(const Json& doc, const StudyContext& ctx) {
   const SpeedLimitResult r = run_speed_limit(study, ctx);
   std::filesystem::create_directories(ctx.out_dir);
   write_json_atomic(ctx.out_dir / "speed_limit.json", speed_limit_json(study, r));
+  if (!r.withheld.empty()) {
+    std::filesystem::remove(ctx.out_dir / "report.html");  // an earlier run's verdict must not stand
+    std::fprintf(stderr, "camdyn: error: %s: %s\n", study.scene.name.c_str(), r.withheld.c_str());
+    return 3;
+  }
   write_report(ctx.out_dir / "report.html", speed_limit_report(study, r, ctx.config_file));
   if (r.limited && r.speed_limit_rpm == 0.0)
     std::printf("%s: the follower leaves the cam already at %.6g rpm (the lowest speed checked)\n",

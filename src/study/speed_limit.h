@@ -11,6 +11,7 @@
 // just above the limit does not", which is what a designer can rely on.
 #pragma once
 
+#include <cstddef>
 #include <memory>
 #include <optional>
 #include <string>
@@ -55,6 +56,10 @@ struct SpeedCheck {
   double min_contact_force = 0.0;    ///< [N]
   double peak_contact_force = 0.0;   ///< [N]
   std::string message;               ///< the solver's message when it did not converge
+  /// The budget that cut the run short (common/study_budget.h:
+  /// budget_that_cut), empty when none did: such a run neither keeps
+  /// contact nor separates, and a limit that rests on it is withheld.
+  std::string budget;
 };
 
 struct SpeedLimitResult {
@@ -68,6 +73,10 @@ struct SpeedLimitResult {
   bool train = false;
   std::vector<SpeedCheck> checks;  ///< every simulation, in the order run
   double run_time_s = 0.0;
+  std::size_t budget_cut = 0;  ///< checks a budget cut short
+  /// Why the limit is withheld (a check it rests on was cut short by a
+  /// budget); empty when it stands.
+  std::string withheld;
 };
 
 /// Reads a `speed_limit` study config; throws InputError.
