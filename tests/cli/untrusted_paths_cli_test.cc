@@ -82,8 +82,7 @@ TEST(UntrustedPathsCli, LiftTableAtADeviceOrAFifoExitsTwoWithoutHanging) {
   const fs::path fifo = dir / "table.csv";
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   for (const std::string& file : {std::string("/dev/zero"), fifo.string()}) {
-    const test::Outcome o =
-        run("validate " + kTableStudy + " --set mechanism.cam.motion_law.table.file=" + file, dir);
+    const test::Outcome o = run("validate " + kTableStudy + " --set mechanism.cam.motion_law.table.file=" + file, dir);
     EXPECT_EQ(o.code, 2) << file << ": " << o.err;
     EXPECT_NE(o.err.find("mechanism.cam.motion_law.table.file"), std::string::npos) << o.err;
     EXPECT_NE(o.err.find("regular file"), std::string::npos) << o.err;

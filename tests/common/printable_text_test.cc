@@ -15,7 +15,9 @@ TEST(PrintableText, EscapeSequencesBecomeVisibleEscapes) {
   // Clear screen, set the window title (OSC ... BEL), and a C1 CSI in UTF-8 (U+009B).
   EXPECT_EQ(printable_text("a\x1b[2Jb"), "a\\x1b[2Jb");
   EXPECT_EQ(printable_text("\x1b]0;pwned\x07"), "\\x1b]0;pwned\\x07");
-  EXPECT_EQ(printable_text("x\xc2\x9b" "2Jy"), "x\\u009b2Jy");
+  EXPECT_EQ(printable_text("x\xc2\x9b"
+                           "2Jy"),
+            "x\\u009b2Jy");
   EXPECT_EQ(printable_text(std::string("nul\0cr\rdel\x7f", 11)), "nul\\x00cr\\x0ddel\\x7f");
 }
 
@@ -25,9 +27,13 @@ TEST(PrintableText, PrintableTextNewlinesTabsAndUtf8AreKept) {
 }
 
 TEST(PrintableText, BytesThatAreNotUtf8AndDirectionOverridesAreEscaped) {
-  EXPECT_EQ(printable_text("a\x9b" "b"), "a\\x9bb");            // a lone 8-bit C1 byte
-  EXPECT_EQ(printable_text("a\xe2\x80\xae" "b"), "a\\u202eb");  // RIGHT-TO-LEFT OVERRIDE
-  EXPECT_EQ(printable_text("\xc0\x80"), "\\xc0\\x80");          // an overlong NUL
+  EXPECT_EQ(printable_text("a\x9b"
+                           "b"),
+            "a\\x9bb");  // a lone 8-bit C1 byte
+  EXPECT_EQ(printable_text("a\xe2\x80\xae"
+                           "b"),
+            "a\\u202eb");                               // RIGHT-TO-LEFT OVERRIDE
+  EXPECT_EQ(printable_text("\xc0\x80"), "\\xc0\\x80");  // an overlong NUL
 }
 
 TEST(PrintableText, IsIdempotent) {

@@ -40,7 +40,8 @@ TEST(InputFile, RegularFileAndASymbolicLinkToOneAreReadWhole) {
 
 TEST(InputFile, DevicesAndProcAreRefusedNamingFileAndField) {
   for (const std::string file : {"/dev/zero", "/dev/null", "/proc/self/mem", "/proc/self/status", "/sys/kernel/mm"}) {
-    const InputError error = test::input_error_of([&] { read_input_file(file, "mechanism.cam.motion_law.table.file"); });
+    const InputError error =
+        test::input_error_of([&] { read_input_file(file, "mechanism.cam.motion_law.table.file"); });
     EXPECT_EQ(error.file(), file);
     EXPECT_EQ(error.path(), "mechanism.cam.motion_law.table.file");
     EXPECT_NE(error.reason().find("regular file"), std::string::npos) << error.what();
@@ -90,7 +91,7 @@ TEST(InputFile, TheDefaultLimitIsTheMemoryBudget) {
   const fs::path file = dir / "a.json";
   write(file, "");
   fs::resize_file(file, std::uintmax_t{3} << 20);  // 3 MiB
-  const StudyBudgetScope budget(1e9, 2.0);          // 2 MB
+  const StudyBudgetScope budget(1e9, 2.0);         // 2 MB
   const InputError error = test::input_error_of([&] { read_json_file(file.string()); });
   EXPECT_NE(error.reason().find("--max-memory"), std::string::npos) << error.what();
 }
