@@ -18,6 +18,7 @@
 #include "common/errors.h"
 #include "dynamics/model.h"
 #include "io/dotted_path.h"
+#include "io/input_file.h"
 #include "io/json_archive.h"
 #include "io/suggest.h"
 #include "optim/halton_sequence.h"
@@ -52,6 +53,11 @@ std::string fmt(double x) { return format_shortest(x); }
 /// header), counted without reading the values; 0 if it cannot be opened
 /// (read_csv says why).
 long count_data_rows(const std::string& file) {
+  try {
+    check_input_file(file);  // a regular file within the memory budget (io/input_file.h)
+  } catch (const InputError&) {
+    return 0;
+  }
   std::ifstream in(file, std::ios::binary);
   if (!in) return 0;
   std::vector<char> buffer(std::size_t{1} << 20);

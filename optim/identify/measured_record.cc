@@ -40,7 +40,7 @@ MeasuredRecord read_reference(const ReferenceSpec& reference, double t_end) {
                        "is the time column and cannot also be signal " + signal);
     columns.push_back(file_column);
   }
-  const CsvColumns csv = read_csv(reference.file, columns, 1);
+  const CsvColumns csv = read_csv(reference.file, columns, 1, "reference.file");
   MeasuredRecord rec;
   rec.time = csv.values[0];
   rec.lines = csv.lines;

@@ -21,6 +21,7 @@
 
 #include "cli/run_study.h"
 #include "common/errors.h"
+#include "common/printable_text.h"
 #include "common/study_budget.h"
 #include "dynamics/model.h"
 #include "io/config.h"
@@ -54,15 +55,20 @@ struct ExportArgs {
   double cutter_radius_mm = 0.0;  // 0: no tool path
 };
 
+// Messages carry the user's text (file names, keys, values): printed as data.
+std::string shown(const std::string& text) { return camdyn::printable_text(text); }
+
 int report_input_error(const camdyn::InputError& e, const std::string& config,
                        const std::vector<std::string>& overrides) {
   // A value given with --set is not in the file: name the argument instead.
   const std::optional<std::string> assignment =
       e.file() == "--set" || e.path().empty() ? std::nullopt : camdyn::assignment_setting(overrides, e.path());
-  if (assignment) std::cerr << "camdyn: error: --set " << *assignment << ": " << e.path() << ": " << e.reason() << "\n";
+  if (assignment)
+    std::cerr << "camdyn: error: --set " << shown(*assignment) << ": " << shown(e.path()) << ": " << shown(e.reason())
+              << "\n";
   // Errors raised below the config layer may not know the file: name it here.
   else if (e.file().empty())
-    std::cerr << "camdyn: error: " << config << ": " << e.what() << "\n";
+    std::cerr << "camdyn: error: " << shown(config) << ": " << e.what() << "\n";
   else
     std::cerr << "camdyn: error: " << e.what() << "\n";
   return kExitInput;
@@ -77,12 +83,12 @@ constexpr const char* kMissedEstimate =
     "it with the config, and meanwhile ask for less work (fewer speeds, points or rows)";
 
 int report_out_of_memory(const std::string& config, const char* what) {
-  std::cerr << "camdyn: out of memory: " << config << ": " << what << ": " << kMissedEstimate << "\n";
+  std::cerr << "camdyn: out of memory: " << shown(config) << ": " << what << ": " << kMissedEstimate << "\n";
   return kExitNumerical;  // a budget (the machine's memory) ran out
 }
 
 int report_bug(const char* what) {
-  std::cerr << "camdyn: internal error: " << what << ": " << kBug << "\n";
+  std::cerr << "camdyn: internal error: " << shown(what) << ": " << kBug << "\n";
   return kExitOther;
 }
 
@@ -96,7 +102,7 @@ int with_exit_codes(const std::string& config, const std::vector<std::string>& o
     return report_input_error(e, config, overrides);
   } catch (const camdyn::NumericalError& e) {
     if (!root) return kExitNumerical;
-    std::cerr << "camdyn: numerical failure: " << config << ": " << e.what() << "\n";
+    std::cerr << "camdyn: numerical failure: " << shown(config) << ": " << shown(e.what()) << "\n";
     return kExitNumerical;
   } catch (const std::bad_alloc& e) {
     return report_out_of_memory(config, e.what());
@@ -107,7 +113,7 @@ int with_exit_codes(const std::string& config, const std::vector<std::string>& o
   } catch (const nlohmann::detail::exception& e) {  // a JSON value read as the wrong type
     return report_bug(e.what());
   } catch (const std::exception& e) {  // the environment: a file that cannot be written, MPI
-    std::cerr << "camdyn: error: " << e.what() << "\n";
+    std::cerr << "camdyn: error: " << shown(e.what()) << "\n";
     return kExitOther;
   }
 }
@@ -164,7 +170,8 @@ int run_export(const ExportArgs& args) {
   camdyn::ProfileOptions options;
   if (args.points > 0) options.points = args.points;
   options.chord_tolerance = args.chord_tolerance_mm * 1e-3;
-  if (args.cutter_radius_mm > 0.0) options.cutter_radius = args.cutter_radius_mm * 1e-3;
+  // Any value given (0 is the default): NaN reaches the check and is refused.
+  if (args.cutter_radius_mm != 0.0) options.cutter_radius = args.cutter_radius_mm * 1e-3;
   const camdyn::ProfileOptionNames names{"", "--cutter-radius", "--points", "--chord-tolerance"};
   const camdyn::CamProfile profile = camdyn::sample_cam_profile(model, options, names);
   std::vector<camdyn::ProfileFormat> formats;
@@ -290,7 +297,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "camdyn: out of memory: %s: %s\n", e.what(), kMissedEstimate);
     return kExitNumerical;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "camdyn: internal error: %s\n", e.what());
+    std::fprintf(stderr, "camdyn: internal error: %s\n", shown(e.what()).c_str());
   } catch (...) {
     std::fprintf(stderr, "camdyn: internal error: %s\n", kBug);
   }

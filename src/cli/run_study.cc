@@ -128,6 +128,8 @@ std::string main_output_name(const std::string& study) {
 }
 
 StudyOutcome run_study(const StudyRequest& request) {
+  // From the first file read: a config and what it extends are held to --max-memory too (io/input_file.h).
+  const StudyBudgetScope budget(request.max_study_time_s, request.max_memory_mb);
   StudyContext ctx;
   const Json doc = request_json(request, ctx.source);
   ctx.config_file = request.config_file;
@@ -150,7 +152,6 @@ StudyOutcome run_study(const StudyRequest& request) {
     remove_completion_marker(ctx.out_dir);
   }
   try {
-    const StudyBudgetScope budget(request.max_study_time_s, request.max_memory_mb);
     std::optional<SilencedStdout> silenced;
     if (!request.summary) silenced.emplace();
     outcome.exit_code = dispatch(outcome.study, doc, ctx);

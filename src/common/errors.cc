@@ -2,14 +2,17 @@
 
 #include <utility>
 
+#include "common/printable_text.h"
+
 namespace camdyn {
 
 namespace {
+// The parts come from the user's files: printed as data (common/printable_text.h).
 std::string compose(const std::string& file, const std::string& path, const std::string& reason) {
   std::string message;
   if (!file.empty()) message += file + ": ";
   if (!path.empty()) message += path + ": ";
-  return message + reason;
+  return printable_text(message + reason);
 }
 }  // namespace
 

@@ -17,6 +17,7 @@
 #include "common/study_budget.h"
 #include "io/csv_reader.h"
 #include "io/dotted_path.h"
+#include "io/input_file.h"
 #include "io/json_archive.h"
 #include "io/json_merge.h"
 #include "io/typed_archive.h"
@@ -795,8 +796,10 @@ Json load_with_extends(const std::string& file, std::vector<std::string>& chain)
       for (const std::string& c : chain) cycle += c + " -> ";
       throw InputError(file, "extends", "extends cycle: " + cycle + canonical);
     }
-    if (!fs::is_regular_file(parent, ec)) {
-      throw InputError(file, "extends", "cannot open '" + name + "' (resolved to " + parent + ")");
+    try {
+      check_input_file(parent, "extends");  // a regular file within the memory budget (io/input_file.h)
+    } catch (const InputError& e) {
+      throw InputError(file, "extends", "cannot read '" + name + "' (resolved to " + parent + "): " + e.reason());
     }
     Json base = load_with_extends(parent, chain);
     rebase_paths(base, directory_of(parent));
@@ -880,7 +883,8 @@ SceneConfig scene_from_json(const Json& json, const ConfigSource& source) {
 
 void load_table_rows(TableConfig& table) {
   if (table.file.empty()) return;  // build_motion_law names the missing file
-  const CsvColumns csv = read_csv(table.file, {table.angle_column, table.lift_column});
+  const CsvColumns csv =
+      read_csv(table.file, {table.angle_column, table.lift_column}, 1, "mechanism.cam.motion_law.table.file");
   table.angle_deg = csv[table.angle_column];
   table.lift = csv[table.lift_column];
   table.lines = csv.lines;

@@ -1,13 +1,14 @@
 #include "io/csv_reader.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
-#include <fstream>
 #include <stdexcept>
 #include <string_view>
 
 #include "common/errors.h"
 #include "common/study_budget.h"
+#include "io/input_file.h"
 
 namespace camdyn {
 
@@ -71,9 +72,10 @@ const std::vector<double>& CsvColumns::operator[](const std::string& name) const
   throw std::out_of_range("column '" + name + "' was not read from " + file);
 }
 
-CsvColumns read_csv(const std::string& file, const std::vector<std::string>& columns, std::size_t min_rows) {
-  std::ifstream in(file);
-  if (!in) throw InputError(file, "", "cannot open the file");
+CsvColumns read_csv(const std::string& file, const std::vector<std::string>& columns, std::size_t min_rows,
+                    const std::string& config_field) {
+  // A regular file within the memory budget, or refused before it is read (io/input_file.h).
+  const std::string text = read_input_file(file, config_field);
 
   CsvColumns out;
   out.file = file;
@@ -88,11 +90,12 @@ CsvColumns read_csv(const std::string& file, const std::vector<std::string>& col
   const double row_bytes = 2.0 * static_cast<double>(columns.size() * sizeof(double) + sizeof(int)) + kBuiltBytesPerRow;
   const double max_rows = memory_budget_bytes() / row_bytes;
 
-  std::string raw;
   int line_no = 0;
-  while (std::getline(in, raw)) {
+  for (std::size_t begin = 0; begin < text.size();) {
+    const std::size_t newline = std::min(text.find('\n', begin), text.size());
+    std::string_view line = std::string_view(text).substr(begin, newline - begin);
+    begin = newline + 1;
     ++line_no;
-    std::string_view line = raw;
     if (line_no == 1 && line.starts_with("\xEF\xBB\xBF")) line.remove_prefix(3);  // UTF-8 BOM
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
     line = trim(line);
@@ -138,7 +141,6 @@ CsvColumns read_csv(const std::string& file, const std::vector<std::string>& col
     }
     out.lines.push_back(line_no);
   }
-  if (in.bad()) throw InputError(file, "", "read error");
   if (!have_header) throw InputError(file, "", "no header row (the file is empty or all comments)");
   if (out.rows() < min_rows)
     throw InputError(

@@ -30,6 +30,10 @@ struct CsvColumns {
 /// ("column NAME"), a row with the wrong number of fields, an empty,
 /// non-numeric, NaN or infinite value ("line N"), or fewer than `min_rows`
 /// data rows.
-CsvColumns read_csv(const std::string& file, const std::vector<std::string>& columns, std::size_t min_rows = 1);
+/// The file itself must be a regular file within the memory budget
+/// (io/input_file.h); when it is not, the InputError names `config_field`, the
+/// dotted config path that gave the file.
+CsvColumns read_csv(const std::string& file, const std::vector<std::string>& columns, std::size_t min_rows = 1,
+                    const std::string& config_field = "");
 
 }  // namespace camdyn

@@ -2,12 +2,12 @@
 
 #include <algorithm>
 #include <charconv>
-#include <fstream>
 #include <functional>
 #include <iterator>
 #include <system_error>
 #include <utility>
 
+#include "io/input_file.h"
 #include "io/suggest.h"
 
 namespace camdyn {
@@ -237,14 +237,8 @@ Json parse_json_text(const std::string& text, const std::string& file) {
 Json read_json_file(const std::string& file) {
   std::error_code ec;
   if (fs::is_directory(file, ec)) throw InputError(file, "", "cannot open: it is a directory");
-  std::ifstream in(file, std::ios::binary);
-  if (!in) {
-    const std::string why = fs::exists(file, ec) ? "permission denied?" : "no such file";
-    throw InputError(file, "", "cannot open (" + why + ")");
-  }
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw InputError(file, "", "cannot read the file");
-  return parse_json_text(text, file);
+  // A regular file within the memory budget, or refused before it is read (io/input_file.h).
+  return parse_json_text(read_input_file(file), file);
 }
 
 std::optional<fs::path> find_data_file(const std::string& name, const std::string& dir,

@@ -9,11 +9,13 @@
 #include <cerrno>
 #include <cstring>
 #include <iostream>
+#include <memory>
 #include <stdexcept>
 #include <system_error>
 #include <utility>
 
 #include "common/errors.h"
+#include "io/atomic_file.h"
 #include "io/config.h"
 #include "io/json_writer.h"
 
@@ -40,8 +42,25 @@ std::string holder_of(int fd) {
 bool same_file(int fd, const std::filesystem::path& path) {
   struct stat by_fd {};
   struct stat by_name {};
-  if (::fstat(fd, &by_fd) != 0 || ::stat(path.c_str(), &by_name) != 0) return false;
+  if (::fstat(fd, &by_fd) != 0 || ::lstat(path.c_str(), &by_name) != 0) return false;
   return by_fd.st_dev == by_name.st_dev && by_fd.st_ino == by_name.st_ino;
+}
+
+/// Opens the lock file, never through a link planted in its place (it would
+/// truncate the file the link names): a regular file of one name only.
+int open_lock_file(const std::filesystem::path& file) {
+  const int fd = ::open(file.c_str(), O_RDWR | O_CREAT | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC, 0644);
+  if (fd < 0 && errno == ELOOP) check_output_path(file);  // names the symbolic link (exit 2)
+  if (fd < 0) fail("cannot create the lock file", file, errno);
+  struct stat info {};
+  if (::fstat(fd, &info) != 0 || !S_ISREG(info.st_mode) || info.st_nlink > 1) {
+    ::close(fd);
+    check_output_path(file);  // a FIFO, a device: named (exit 2)
+    throw InputError(file.string(), "",
+                     "has another name (a hard link) or is not a regular file: camdyn never writes through one; "
+                     "remove it or choose another --out");
+  }
+  return fd;
 }
 
 }  // namespace
@@ -54,8 +73,7 @@ OutputLock::OutputLock(std::filesystem::path dir) : dir_(std::move(dir)), file_(
   if (ec)
     throw InputError(dir_.string(), "", "cannot create the output folder: " + ec.message() + "; choose another --out");
   for (int attempt = 0; attempt < 100 && fd_ < 0; ++attempt) {
-    const int fd = ::open(file_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-    if (fd < 0) fail("cannot create the lock file", file_, errno);
+    const int fd = open_lock_file(file_);
     if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
       const int err = errno;
       if (err != EWOULDBLOCK) {
@@ -79,6 +97,7 @@ OutputLock::OutputLock(std::filesystem::path dir) : dir_(std::move(dir)), file_(
   }
   if (fd_ < 0)
     throw std::runtime_error("cannot lock the output folder '" + dir_.string() + "': the lock file keeps changing");
+  root_ = std::make_unique<OutputFolderRoot>(dir_);  // its subfolders must be real folders
   const std::string pid = std::to_string(::getpid()) + "\n";
   if (::ftruncate(fd_, 0) != 0 || ::pwrite(fd_, pid.data(), pid.size(), 0) != static_cast<ssize_t>(pid.size())) {
     const int err = errno;

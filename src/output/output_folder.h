@@ -9,7 +9,10 @@
 #pragma once
 
 #include <filesystem>
+#include <memory>
 #include <string>
+
+#include "io/atomic_file.h"
 
 namespace camdyn {
 
@@ -21,8 +24,9 @@ class OutputLock {
  public:
   /// Creates `dir` if it is missing and locks it. Throws InputError(dir, "",
   /// ...) naming the process that holds the lock, or when the folder cannot
-  /// be created (exit 2); std::runtime_error when the lock file cannot be. Where the file
-  /// system has no flock (some network file systems) it warns and goes on unlocked.
+  /// be created, or when the lock file is a symbolic link, a hard link, a
+  /// FIFO or a device (exit 2; it is never written through); std::runtime_error when the lock file cannot be. Where the
+  /// file system has no flock (some network file systems) it warns and goes on unlocked.
   explicit OutputLock(std::filesystem::path dir);
   /// Removes the lock file, and the folder if this lock created it and
   /// nothing was written into it (a run that stopped at a bad input), then unlocks.
@@ -33,6 +37,7 @@ class OutputLock {
  private:
   std::filesystem::path dir_, file_;
   int fd_ = -1;
+  std::unique_ptr<OutputFolderRoot> root_;
   bool created_dir_ = false;
 };
 

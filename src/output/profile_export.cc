@@ -5,8 +5,11 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <iterator>
 #include <limits>
@@ -26,11 +29,12 @@ namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 constexpr double kRadToDeg = 180.0 / std::numbers::pi;
-constexpr double kMm = 1e3;               // metres to millimetres
-constexpr int kInitialSteps = 360;        // adaptive sampling starts from 1° steps
-constexpr int kMaxHalvings = 30;          // 1° / 2^30: far below any tolerance allowed
-constexpr int kConcaveScanSteps = 7200;   // cam-angle grid on which concave radii are searched
-constexpr double kToleranceMargin = 0.9;  // sagitta sampled at 3 points must stay below 0.9 × tolerance
+constexpr double kMm = 1e3;                     // metres to millimetres
+constexpr int kInitialSteps = 360;              // adaptive sampling starts from 1° steps
+constexpr int kMaxHalvings = 30;                // 1° / 2^30: far below any tolerance allowed
+constexpr int kConcaveScanSteps = 7200;         // cam-angle grid on which concave radii are searched
+constexpr double kToleranceMargin = 0.9;        // sagitta sampled at 3 points must stay below 0.9 × tolerance
+constexpr double kMaxToolToCamRadius = 1000.0;  // a tool radius at most 1000 × the cam's largest radius
 
 Eigen::Vector2d perp(const Eigen::Vector2d& v) { return {-v.y(), v.x()}; }
 double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
@@ -195,9 +199,19 @@ void check_options(const ProfileOptions& options, const ProfileOptionNames& name
     throw InputError(names.file, names.chord_tolerance,
                      "the chord tolerance must be at least " + mm(ProfileOutputConfig::kMinChordToleranceMm / kMm) +
                          " mm, got " + mm(options.chord_tolerance) + " mm");
-  if (options.cutter_radius && !(*options.cutter_radius > 0.0))
+  if (options.cutter_radius && !(std::isfinite(*options.cutter_radius) && *options.cutter_radius > 0.0))
     throw InputError(names.file, names.cutter_radius,
-                     "the tool radius must be > 0, got " + mm(*options.cutter_radius) + " mm");
+                     "the tool radius must be a finite number > 0, got " + mm(*options.cutter_radius) + " mm");
+}
+
+/// A tool far larger than the cam is a slip (metres for millimetres), and its
+/// centre path would overflow the files' number formats.
+void check_tool_size(const ProfileOptions& options, double cam_radius, const ProfileOptionNames& names) {
+  if (!options.cutter_radius || *options.cutter_radius <= kMaxToolToCamRadius * cam_radius) return;
+  throw InputError(names.file, names.cutter_radius,
+                   "the tool radius " + mm(*options.cutter_radius) + " mm is more than " +
+                       std::to_string(static_cast<int>(kMaxToolToCamRadius)) + " times the cam's largest radius, " +
+                       mm(cam_radius) + " mm: give it in mm");
 }
 
 CamProfile describe(const Model& model, const ProfileOptions& options) {
@@ -233,7 +247,13 @@ CamProfile sample_cam_profile(const Model& model, const ProfileOptions& options,
   const ProfileSource source(model, options.cutter_radius);
   // The tool's fit first, on a fine grid: a tool too large makes the offset loop, and the sampling would chase it.
   profile.min_concave_radius = std::numeric_limits<double>::infinity();
-  for (int i = 0; i < kConcaveScanSteps; ++i) note_concave(source.at(kTwoPi * i / kConcaveScanSteps), profile);
+  double cam_radius = 0.0;  // the contour's largest distance from the cam's centre [m]
+  for (int i = 0; i < kConcaveScanSteps; ++i) {
+    const ProfilePoint p = source.at(kTwoPi * i / kConcaveScanSteps);
+    note_concave(p, profile);
+    cam_radius = std::max(cam_radius, p.contour.norm());
+  }
+  check_tool_size(options, cam_radius, names);
   check_tool(options, profile, names);
 
   const int steps = options.points.value_or(kInitialSteps);
@@ -426,20 +446,30 @@ void write_entities(DL_Dxf& dxf, DL_WriterA& dw, const CamProfile& profile, cons
   dw.sectionEnd();
 }
 
-/// A scratch file for dxflib (which writes to a file name), removed on scope exit.
+/// A scratch file for dxflib (which writes to a file name), in a private
+/// folder of its own (mkdtemp, mode 0700) under the system's temporary
+/// folder: never in the output folder, where a planted link could redirect
+/// it. The file and the folder are removed on scope exit.
 class ScratchFile {
  public:
-  explicit ScratchFile(std::filesystem::path path) : path_(std::move(path)) {}
+  explicit ScratchFile(const std::string& name) {
+    std::string pattern = (std::filesystem::temp_directory_path() / "camdyn-dxf-XXXXXX").string();
+    if (::mkdtemp(pattern.data()) == nullptr)
+      throw std::runtime_error("cannot create a scratch folder in '" + std::filesystem::temp_directory_path().string() +
+                               "': " + std::strerror(errno));
+    dir_ = pattern;
+    path_ = dir_ / name;
+  }
   ~ScratchFile() {
     std::error_code ec;
-    std::filesystem::remove(path_, ec);
+    std::filesystem::remove_all(dir_, ec);
   }
   ScratchFile(const ScratchFile&) = delete;
   ScratchFile& operator=(const ScratchFile&) = delete;
   const std::filesystem::path& path() const { return path_; }
 
  private:
-  std::filesystem::path path_;
+  std::filesystem::path dir_, path_;
 };
 
 }  // namespace
@@ -447,7 +477,7 @@ class ScratchFile {
 void write_profile_dxf(const std::filesystem::path& path, const CamProfile& profile, const std::string& name) {
   if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
   // dxflib writes to a file of its own; its content then goes to `path` atomically.
-  ScratchFile scratch(path.string() + ".dxflib." + std::to_string(::getpid()));
+  ScratchFile scratch(path.filename().string());
   const std::vector<std::string> notes = profile_header_lines(profile, name);
   {
     DL_Dxf dxf;

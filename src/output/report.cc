@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "common/parallel.h"
+#include "common/printable_text.h"
 #include "io/atomic_file.h"
 #include "output/curve_decimation.h"
 
@@ -426,7 +427,8 @@ void render_verdict(std::ostringstream& html, const Verdict& verdict) {
 std::string escape_html(std::string_view text) {
   std::string out;
   out.reserve(text.size());
-  for (char c : text) {
+  // Control characters are not text either (nor valid XML in the SVGs): escaped first (common/printable_text.h).
+  for (char c : printable_text(text)) {
     switch (c) {
       case '&':
         out += "&amp;";

@@ -10,6 +10,7 @@
 #include "common/errors.h"
 #include "common/study_budget.h"
 #include "dynamics/metrics.h"
+#include "io/input_file.h"
 #include "io/json_archive.h"
 
 namespace camdyn {
@@ -150,7 +151,15 @@ CompareSpec compare_spec_from_json(const Json& study_part, const std::string& de
     if (!names.insert(one.name).second)
       throw InputError(ctx.config_file, std::string("cases[") + std::to_string(c) + "].name",
                        "case '" + one.name + "' is named twice");
-    if (!one.config.empty()) one.config = absolute_path(one.config, ctx.source.dir);
+    if (!one.config.empty()) {
+      one.config = absolute_path(one.config, ctx.source.dir);
+      const std::string field = std::string("cases[") + std::to_string(c) + "].config";
+      try {
+        check_input_file(one.config, field);  // a regular file within the memory budget (io/input_file.h)
+      } catch (const InputError& e) {
+        throw InputError(ctx.config_file, field, "'" + one.config + "': " + e.reason());
+      }
+    }
   }
   spec.grid = read_axes(study_part, "grid", ctx);
   spec.zip = read_axes(study_part, "zip", ctx);

@@ -243,7 +243,7 @@ TEST_F(PeriodicTableErrors, ClosingRowDifferentFromTheFirst) {
 
 TEST_F(PeriodicTableErrors, MissingFileAndTooFewRows) {
   const std::string missing = ::testing::TempDir() + "camdyn_no_such_table.csv";
-  expect(table(missing), missing, "", "cannot open");
+  expect(table(missing), missing, "mechanism.cam.motion_law.table.file", "cannot open");  // the field that named it
   const std::string f = write("short.csv", "angle_deg,lift\n0,0\n90,1\n180,0\n");
   expect(table(f), f, "column angle_deg", "at least 4");
 }

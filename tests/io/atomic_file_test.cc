@@ -1,6 +1,7 @@
 #include "io/atomic_file.h"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -9,6 +10,9 @@
 #include <iterator>
 #include <stdexcept>
 #include <string>
+
+#include "common/errors.h"
+#include "input_error_of.h"
 
 namespace camdyn {
 namespace {
@@ -123,6 +127,69 @@ TEST_F(AtomicFileTest, StaleTemporaryOfAKilledRunIsRemovedOnTheNextWrite) {
   write_file_atomic(dir_ / "summary.json", "{}");
   EXPECT_FALSE(fs::exists(other));
   EXPECT_EQ(read(path), "t\n");
+}
+
+// Outputs cannot be redirected (docs/outputs-and-resume.md): a link, FIFO or
+// device planted where camdyn writes is an InputError naming it, and the
+// file a link names keeps its bytes.
+TEST_F(AtomicFileTest, SymbolicLinkAtTheTemporaryNameIsRefusedAndItsTargetKept) {
+  fs::create_directories(dir_);
+  const fs::path victim = dir_ / "victim.txt";
+  write_file_atomic(victim, "precious\n");
+  const fs::path path = dir_ / "summary.json";
+  const fs::path planted = dir_ / ("summary.json.tmp." + std::to_string(::getpid()));
+  fs::create_symlink(victim, planted);
+  const InputError error = test::input_error_of([&] { write_file_atomic(path, "{}"); });
+  EXPECT_EQ(error.file(), planted.string());
+  EXPECT_NE(error.reason().find("a symbolic link"), std::string::npos) << error.what();
+  EXPECT_EQ(read(victim), "precious\n");
+  EXPECT_FALSE(fs::exists(path));
+  EXPECT_TRUE(fs::is_symlink(planted));  // not ours to remove
+}
+
+TEST_F(AtomicFileTest, SymbolicLinkFifoOrFolderAtTheFinalNameIsRefused) {
+  fs::create_directories(dir_);
+  const fs::path victim = dir_ / "victim.txt";
+  write_file_atomic(victim, "precious\n");
+  fs::create_symlink(victim, dir_ / "link.json");
+  ASSERT_EQ(::mkfifo((dir_ / "fifo.json").c_str(), 0600), 0);
+  fs::create_directory(dir_ / "folder.json");
+  for (const char* name : {"link.json", "fifo.json", "folder.json"}) {
+    const InputError error = test::input_error_of([&] { write_file_atomic(dir_ / name, "{}"); });
+    EXPECT_EQ(error.file(), (dir_ / name).string());
+  }
+  EXPECT_EQ(read(victim), "precious\n");
+  EXPECT_TRUE(fs::is_symlink(dir_ / "link.json"));
+  EXPECT_EQ(entries(), 4u);  // the victim, the three planted: no temporary left
+}
+
+TEST_F(AtomicFileTest, StaleRegularFileAtTheTemporaryNameIsReplaced) {
+  fs::create_directories(dir_);
+  const fs::path path = dir_ / "out.txt";
+  std::ofstream(dir_ / ("out.txt.tmp." + std::to_string(::getpid()))) << "left by an earlier writer";
+  write_file_atomic(path, "new");
+  EXPECT_EQ(read(path), "new");
+  EXPECT_EQ(entries(), 1u);
+}
+
+TEST_F(AtomicFileTest, SubfolderOfAnOutputFolderThatIsASymbolicLinkIsRefused) {
+  const fs::path elsewhere = dir_ / "elsewhere";
+  const fs::path out = dir_ / "out";
+  fs::create_directories(elsewhere);
+  fs::create_directories(out);
+  fs::create_directory_symlink(elsewhere, out / "orbit");
+  {
+    const OutputFolderRoot root(out);
+    const InputError error = test::input_error_of([&] { write_file_atomic(out / "orbit" / "summary.json", "{}"); });
+    EXPECT_EQ(error.file(), (out / "orbit").string());
+    EXPECT_TRUE(fs::is_empty(elsewhere));
+  }
+  // The output folder itself may be a link (the user named it), and outside a
+  // registered output folder nothing is checked above the file.
+  fs::create_directory_symlink(out, dir_ / "out-link");
+  const OutputFolderRoot root(dir_ / "out-link");
+  write_file_atomic(dir_ / "out-link" / "summary.json", "{}");
+  EXPECT_EQ(read(out / "summary.json"), "{}");
 }
 
 }  // namespace

@@ -184,7 +184,7 @@ INSTANTIATE_TEST_SUITE_P(
                       BadRecord{"non_monotone.csv", "line 12", "must increase"},
                       BadRecord{"nan.csv", "line 8", "not finite"}, BadRecord{"too_few.csv", "line 8", "at least 10"},
                       BadRecord{"beyond_run.csv", "line 6", "after the end of the simulated run"},
-                      BadRecord{"no_such_file.csv", "", "cannot open"}),
+                      BadRecord{"no_such_file.csv", "reference.file", "cannot open"}),
     [](const ::testing::TestParamInfo<BadRecord>& record) {
       return record.param.file.substr(0, record.param.file.find('.'));
     });

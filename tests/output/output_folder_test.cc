@@ -5,6 +5,7 @@
 #include "output/output_folder.h"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -110,6 +111,38 @@ TEST(StaleTemporaries, ThoseOfDeadProcessesAreRemovedOthersKept) {
   EXPECT_TRUE(fs::exists(dir / ("report.html.tmp." + alive)));               // its process is running
   EXPECT_TRUE(fs::exists(dir / "notes.tmp.txt"));                            // not a temporary of ours
   EXPECT_TRUE(fs::exists(dir / "runs" / "deeper" / ("b.csv.tmp." + dead)));  // deeper than one level
+}
+
+// The lock file is never written through a link or a FIFO planted in its
+// place (it would be truncated and get a process id): exit 2, naming it.
+TEST(OutputLock, SymbolicLinkFifoOrHardLinkAtTheLockFileIsRefusedAndTheVictimKept) {
+  const fs::path dir = test::scratch_dir("output_folder", "planted_lock");
+  const fs::path victim = dir / "victim.txt";
+  std::ofstream(victim) << "precious\n";
+  for (const char* kind : {"symlink", "fifo", "hardlink"}) {
+    const fs::path out = dir / kind;
+    fs::create_directories(out);
+    if (std::string(kind) == "symlink") fs::create_symlink(victim, out / kLockFile);
+    if (std::string(kind) == "fifo") {
+      ASSERT_EQ(::mkfifo((out / kLockFile).c_str(), 0600), 0);
+    }
+    if (std::string(kind) == "hardlink") fs::create_hard_link(victim, out / kLockFile);
+    const InputError error = test::input_error_of([&] { const OutputLock lock(out); });
+    EXPECT_EQ(error.file(), (out / kLockFile).string()) << kind << ": " << error.what();
+    EXPECT_EQ(test::read_text(victim), "precious\n") << kind;
+  }
+}
+
+TEST(OutputLock, ItsFolderRefusesSubfoldersThatAreSymbolicLinks) {
+  const fs::path dir = test::scratch_dir("output_folder", "subfolder_link");
+  fs::create_directories(dir / "elsewhere");
+  fs::create_directories(dir / "out");
+  fs::create_directory_symlink(dir / "elsewhere", dir / "out" / "orbit");
+  {
+    const OutputLock lock(dir / "out");
+    test::input_error_of([&] { write_file_atomic(dir / "out" / "orbit" / "timeseries.csv", "t\n"); });
+  }
+  EXPECT_TRUE(fs::is_empty(dir / "elsewhere"));
 }
 
 }  // namespace

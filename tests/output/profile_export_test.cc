@@ -21,6 +21,7 @@
 #include "cli_run.h"
 #include "common/errors.h"
 #include "dynamics/model.h"
+#include "input_error_of.h"
 #include "io/config.h"
 
 namespace camdyn {
@@ -258,6 +259,39 @@ TEST(ProfileExport, ToolRadiusAboveTheSmallestConcaveRadiusIsAnErrorNamingTheOpt
   } catch (const InputError& e) {
     EXPECT_EQ(e.path(), "--cutter-radius");
     EXPECT_NE(e.reason().find("concave radius of curvature"), std::string::npos) << e.what();
+  }
+}
+
+// The flat-face eccentric disc is a circle of radius r_b + e about (0, −e):
+// its largest radius is r_b + 2e = 0.05 m, so a tool may be up to 1000 × that.
+TEST(ProfileExport, ToolRadiusIsBoundedByAThousandTimesTheCamsLargestRadius) {
+  constexpr double e = 0.005, rb = 0.04, largest = rb + 2.0 * e;
+  const Model model = model_of(harmonic_eccentric(e, "ccw", kFlatFace));
+  const ProfileOptionNames names{"", "--cutter-radius"};
+  ProfileOptions options;
+  options.points = 360;
+  options.cutter_radius = 0.99 * 1000.0 * largest;
+  EXPECT_EQ(sample_cam_profile(model, options, names).points.size(), 360u);
+  for (const double radius : {1.01 * 1000.0 * largest, 1e297}) {
+    options.cutter_radius = radius;
+    const InputError error = test::input_error_of([&] { sample_cam_profile(model, options, names); });
+    EXPECT_EQ(error.path(), "--cutter-radius");
+    EXPECT_NE(error.reason().find("more than 1000 times the cam's largest radius, 50 mm"), std::string::npos)
+        << error.what();
+  }
+}
+
+TEST(ProfileExport, ToolRadiusNotAFiniteNumberIsAnErrorNamingTheField) {
+  const Model model = model_of(harmonic_eccentric(0.005, "ccw", kFlatFace));
+  for (const double radius : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+    ProfileOptions options;
+    options.cutter_radius = radius;
+    const InputError error = test::input_error_of([&] {
+      sample_cam_profile(model, options, ProfileOptionNames{"a.json", "outputs.profile.cutter_radius_mm"});
+    });
+    EXPECT_EQ(error.file(), "a.json");
+    EXPECT_EQ(error.path(), "outputs.profile.cutter_radius_mm");
+    EXPECT_NE(error.reason().find("finite number > 0"), std::string::npos) << error.what();
   }
 }
 

@@ -70,6 +70,13 @@ Plot sine_plot() {
   return plot;
 }
 
+// Control characters from the inputs are escaped like the markup
+// (common/printable_text.h): no raw ESC in the page, nor invalid XML in its SVGs.
+TEST(EscapeHtml, ControlCharactersAreWrittenAsVisibleEscapes) {
+  EXPECT_EQ(escape_html("a\x1b]0;t\x07<b>&\"'"), "a\\x1b]0;t\\x07&lt;b&gt;&amp;&quot;&#39;");
+  EXPECT_EQ(escape_html("θ = 90°\n"), "θ = 90°\n");
+}
+
 TEST(Report, GnuplotSvgHasAPath) {
   REQUIRE_GNUPLOT();
   const std::string svg = render_svg(sine_plot());
