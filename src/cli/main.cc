@@ -159,14 +159,12 @@ camdyn::SceneConfig export_scene(const camdyn::Json& doc, const std::string& con
   return camdyn::scene_from_json(scene, camdyn::config_source(config));
 }
 
-// `camdyn export --follower-radius`: the lift a roller of that radius reads on the cam (docs/export.md).
-std::filesystem::path write_follower_lift(const ExportArgs& args, const camdyn::Model& model, const std::string& name,
-                                          const std::filesystem::path& dir) {
-  const camdyn::FollowerLiftTable table = camdyn::follower_lift_table(
-      model, args.follower_radius_mm * 1e-3, args.angle_step_deg * std::numbers::pi / 180.0, "");
-  const std::filesystem::path path = dir / "follower_lift.csv";
-  camdyn::write_follower_lift_csv(path, table, name);
-  return path;
+// `camdyn export --follower-radius`: the lift a roller of that radius reads on the cam (docs/export.md);
+// computed before any file is written, so a radius that does not fit writes nothing.
+std::optional<camdyn::FollowerLiftTable> follower_lift(const ExportArgs& args, const camdyn::Model& model) {
+  if (!(args.follower_radius_mm > 0.0)) return std::nullopt;
+  return camdyn::follower_lift_table(model, args.follower_radius_mm * 1e-3,
+                                     args.angle_step_deg * std::numbers::pi / 180.0, "");
 }
 
 // `camdyn export`: the cam profile as CSV and/or DXF (docs/export.md).
@@ -183,9 +181,12 @@ int run_export(const ExportArgs& args) {
   std::vector<camdyn::ProfileFormat> formats;
   for (const std::string& f : args.formats) formats.push_back(*camdyn::enum_from_name<camdyn::ProfileFormat>(f));
   if (formats.empty()) formats = camdyn::ProfileOutputConfig{}.formats;
+  const std::optional<camdyn::FollowerLiftTable> lift_table = follower_lift(args, model);
   auto written = camdyn::write_profile_files(out_dir(doc, args.out), profile, scene.name, formats);
-  if (args.follower_radius_mm > 0.0)
-    written.push_back(write_follower_lift(args, model, scene.name, out_dir(doc, args.out)));
+  if (lift_table) {
+    written.push_back(out_dir(doc, args.out) / "follower_lift.csv");
+    camdyn::write_follower_lift_csv(written.back(), *lift_table, scene.name);
+  }
   std::printf("%s: cam profile, %zu points, largest chord deviation %.3g mm\n", scene.name.c_str(),
               profile.points.size(), profile.max_chord_error * 1e3);
   for (const auto& path : written)
