@@ -7,9 +7,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <numbers>
 #include <string>
 
+#include "cli_run.h"
 #include "common/errors.h"
 #include "dynamics/model.h"
 #include "io/config.h"
@@ -132,6 +135,22 @@ TEST(ValvetrainSummary, NothingWithoutTheBlock) {
   Report report;
   add_valvetrain_report(scene, model, report);
   EXPECT_TRUE(report.tables.empty());
+}
+
+// `camdyn run` of a scene with the block: summary.json has the object, the report its table.
+TEST(ValvetrainSummary, SimulateRunWritesItIntoSummaryAndReport) {
+  const std::filesystem::path dir = test::scratch_dir("valvetrain_figures_test", "run");
+  const std::filesystem::path config = dir / "valve.json";
+  Json doc = scene_json(R"({"valvetrain": {"checking_heights": [0.001]}})");
+  doc["simulation"] = Json{{"cycles", 2}};
+  std::ofstream(config) << doc.dump();
+  const test::Outcome o = test::run_camdyn({"run", config.string(), "--quiet", "--out", (dir / "out").string()}, dir);
+  ASSERT_EQ(o.code, 0) << o.err;
+  const Json summary = Json::parse(test::read_text(dir / "out" / "summary.json"));
+  ASSERT_TRUE(summary.contains("valvetrain")) << summary.dump();
+  EXPECT_NEAR(summary["valvetrain"]["checking_heights"][0]["opening_cam_deg"].get<double>(), opening_deg(0.001),
+              kAngleDeg);
+  EXPECT_NE(test::read_text(dir / "out" / "report.html").find("Valve lift against crank angle"), std::string::npos);
 }
 
 }  // namespace
