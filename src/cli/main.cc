@@ -14,6 +14,7 @@
 #include <iostream>
 #include <new>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -52,7 +53,9 @@ struct ExportArgs {
   std::vector<std::string> overrides;
   int points = 0;  // 0: by chord tolerance
   double chord_tolerance_mm = camdyn::ProfileOutputConfig::kDefaultChordToleranceMm;
-  double cutter_radius_mm = 0.0;  // 0: no tool path
+  double cutter_radius_mm = 0.0;    // 0: no tool path
+  double follower_radius_mm = 0.0;  // 0: no follower lift table
+  double angle_step_deg = 1.0;      // of the follower lift table
 };
 
 // Messages carry the user's text (file names, keys, values): printed as data.
@@ -162,6 +165,14 @@ camdyn::SceneConfig export_scene(const camdyn::Json& doc, const std::string& con
   return camdyn::scene_from_json(scene, camdyn::config_source(config));
 }
 
+// `camdyn export --follower-radius`: the lift a roller of that radius reads on the cam (docs/export.md);
+// computed before any file is written, so a radius that does not fit writes nothing.
+std::optional<camdyn::FollowerLiftTable> follower_lift(const ExportArgs& args, const camdyn::Model& model) {
+  if (!(args.follower_radius_mm > 0.0)) return std::nullopt;
+  return camdyn::follower_lift_table(model, args.follower_radius_mm * 1e-3,
+                                     args.angle_step_deg * std::numbers::pi / 180.0, "");
+}
+
 // `camdyn export`: the cam profile as CSV and/or DXF (docs/export.md).
 int run_export(const ExportArgs& args) {
   const camdyn::Json doc = camdyn::load_config_json(args.config, args.overrides);
@@ -177,12 +188,29 @@ int run_export(const ExportArgs& args) {
   std::vector<camdyn::ProfileFormat> formats;
   for (const std::string& f : args.formats) formats.push_back(*camdyn::enum_from_name<camdyn::ProfileFormat>(f));
   if (formats.empty()) formats = camdyn::ProfileOutputConfig{}.formats;
-  const auto written = camdyn::write_profile_files(out_dir(doc, args.out), profile, scene.name, formats);
+  const std::optional<camdyn::FollowerLiftTable> lift_table = follower_lift(args, model);
+  auto written = camdyn::write_profile_files(out_dir(doc, args.out), profile, scene.name, formats);
+  if (lift_table) {
+    written.push_back(out_dir(doc, args.out) / "follower_lift.csv");
+    camdyn::write_follower_lift_csv(written.back(), *lift_table, scene.name);
+  }
   std::printf("%s: cam profile, %zu points, largest chord deviation %.3g mm\n", scene.name.c_str(),
               profile.points.size(), profile.max_chord_error * 1e3);
   for (const auto& path : written)
     std::printf("  wrote %s\n", std::filesystem::absolute(path).lexically_normal().c_str());
   return kExitOk;
+}
+
+void add_follower_lift_options(CLI::App& command, ExportArgs& args) {
+  CLI::Option* radius = command
+                            .add_option("--follower-radius", args.follower_radius_mm,
+                                        "Also write follower_lift.csv: the lift a roller of this radius [mm] on the "
+                                        "follower's axis reads on the cam (a grinder or checking fixture)")
+                            ->check(CLI::PositiveNumber);
+  command
+      .add_option("--angle-step-deg", args.angle_step_deg, "Cam-angle increment of follower_lift.csv [deg] (default 1)")
+      ->check(CLI::Range(1e-4, 360.0))
+      ->needs(radius);
 }
 
 void add_export_command(CLI::App& app, ExportArgs& args) {
@@ -207,6 +235,7 @@ void add_export_command(CLI::App& app, ExportArgs& args) {
       ->check(CLI::PositiveNumber);
   command->add_option("--out", args.out, "Output folder (default out/<name>)");
   command->add_option("--set", args.overrides, "Override a field (repeatable)");
+  add_follower_lift_options(*command, args);
 }
 
 constexpr const char* kExitCodesHelp = R"(

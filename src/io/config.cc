@@ -725,8 +725,19 @@ void visit(A& a, ProfileOutputConfig& p) {
 }
 
 template <class A>
+void visit(A& a, ValvetrainOutputConfig& v) {
+  a.field("crank_ratio", v.crank_ratio, positive());
+  a.field("checking_heights", v.checking_heights, non_empty(), positive());
+  a.field("ramp_end_deg", v.ramp_end_deg, closed_open(0, 360));
+  a.require(v.ramp_end_deg.empty() || v.ramp_end_deg.size() == 2, "ramp_end_deg",
+            "give two cam angles [deg], where the opening ramp ends and where the closing ramp starts, got " +
+                std::to_string(v.ramp_end_deg.size()));
+}
+
+template <class A>
 void visit(A& a, OutputsConfig& o) {
   a.field("profile", o.profile);
+  a.field("valvetrain", o.valvetrain);
 }
 
 template <class A>
@@ -741,6 +752,9 @@ void visit(A& a, SceneConfig& s) {
   a.field("simulation", s.simulation);
   a.field("integrator", s.integrator);
   a.field("outputs", s.outputs);
+  a.require(!s.outputs.valvetrain || s.mechanism.follower.motion == FollowerMotion::translating, "outputs.valvetrain",
+            "valvetrain figures are lifts in metres: they need a translating follower (an oscillating arm's lift is "
+            "an angle)");
   check_run_control(a, s);
 }
 

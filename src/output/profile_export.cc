@@ -20,6 +20,8 @@
 #include <system_error>
 
 #include "common/errors.h"
+#include "contact/profile_pair_tracking.h"
+#include "geometry/contour_cam.h"
 #include "io/atomic_file.h"
 #include "io/csv_writer.h"
 
@@ -228,6 +230,7 @@ CamProfile describe(const Model& model, const ProfileOptions& options) {
   profile.requested_points = options.points;
   profile.chord_tolerance = options.points ? 0.0 : options.chord_tolerance;
   profile.cutter_radius = options.cutter_radius;
+  profile.lift = model.law->lift();
   return profile;
 }
 
@@ -315,6 +318,20 @@ std::vector<std::string> profile_header_lines(const CamProfile& profile, const s
   return lines;
 }
 
+std::vector<std::string> design_data_lines(const CamProfile& profile) {
+  std::vector<std::string> lines = {"DESIGN DATA", "base circle radius: " + mm(profile.base_radius) + " mm"};
+  lines.push_back(profile.oscillating ? "lift: " + deg(profile.lift) + " deg (arm angle)"
+                                      : "lift: " + mm(profile.lift) + " mm");
+  std::string follower = "follower: " + profile.follower;
+  if (profile.has_pitch) follower += ", radius " + mm(profile.follower_radius) + " mm";
+  if (!profile.oscillating) follower += ", offset " + mm(profile.offset) + " mm";
+  lines.push_back(follower);
+  lines.push_back(std::string("rotation: ") + (profile.direction > 0 ? "counterclockwise (ccw)" : "clockwise (cw)") +
+                  ", seen from +z");
+  lines.push_back("timing mark: cam angle 0, the start of the motion law under the follower");
+  return lines;
+}
+
 void write_profile_csv(const std::filesystem::path& path, const CamProfile& profile, const std::string& name) {
   std::string text;
   for (const std::string& line : profile_header_lines(profile, name)) text += "# " + line + "\n";
@@ -360,6 +377,9 @@ constexpr const char* kPitchLayer = "PITCH_CURVE";
 constexpr const char* kCutterLayer = "CUTTER_PATH";
 constexpr const char* kNotesLayer = "NOTES";
 constexpr const char* kCentreLayer = "CAM_CENTRE";
+constexpr const char* kBaseCircleLayer = "BASE_CIRCLE";
+constexpr const char* kTimingLayer = "TIMING_MARK";
+constexpr const char* kDesignLayer = "DESIGN_DATA";
 constexpr double kTextHeightMm = 2.5;
 
 DL_Attributes on_layer(const std::string& layer) { return DL_Attributes(layer, 256, -1, "BYLAYER", 1.0); }
@@ -391,7 +411,8 @@ void write_tables(DL_Dxf& dxf, DL_WriterA& dw) {
   dxf.writeLinetype(dw, DL_LinetypeData("CONTINUOUS", "Solid line", 0, 0, 0.0));
   dw.tableEnd();
   const std::pair<const char*, int> layers[] = {{"0", DL_Codes::black}, {kContourLayer, 7}, {kPitchLayer, 5},
-                                                {kCutterLayer, 1},      {kCentreLayer, 3},  {kNotesLayer, 8}};
+                                                {kCutterLayer, 1},      {kCentreLayer, 3},  {kNotesLayer, 8},
+                                                {kBaseCircleLayer, 4},  {kTimingLayer, 1},  {kDesignLayer, 8}};
   dw.tableLayers(static_cast<int>(std::size(layers)));
   for (const auto& [layer, colour] : layers)
     dxf.writeLayer(dw, DL_LayerData(layer, 0), DL_Attributes(std::string(""), colour, 25, "CONTINUOUS", 1.0));
@@ -427,6 +448,33 @@ void write_closed_polyline(DL_Dxf& dxf, DL_WriterA& dw, const CamProfile& profil
   dxf.writePolylineEnd(dw);
 }
 
+void write_text(DL_Dxf& dxf, DL_WriterA& dw, double x, double y, const std::string& text, const char* layer) {
+  dxf.writeText(dw, DL_TextData(x, y, 0.0, x, y, 0.0, kTextHeightMm, 1.0, 0, 0, 0, text, "standard", 0.0),
+                on_layer(layer));
+}
+
+// What a drawing for the shop needs besides the curves: the centre as a cross,
+// the base circle, the timing mark at cam angle 0 and the design data (mm).
+void write_drawing_aids(DL_Dxf& dxf, DL_WriterA& dw, const CamProfile& profile) {
+  const double rb = profile.base_radius * kMm, outer = profile.max_radius * kMm;
+  const double arm = std::max(0.1 * rb, kTextHeightMm);
+  dxf.writeLine(dw, DL_LineData(-arm, 0.0, 0.0, arm, 0.0, 0.0), on_layer(kCentreLayer));
+  dxf.writeLine(dw, DL_LineData(0.0, -arm, 0.0, 0.0, arm, 0.0), on_layer(kCentreLayer));
+  dxf.writeCircle(dw, DL_CircleData(0.0, 0.0, 0.0, rb), on_layer(kBaseCircleLayer));
+  // The mark: from half the base radius out past the cam, through the contour
+  // point that touches the follower at cam angle 0.
+  const Eigen::Vector2d d = profile.points.front().contour.normalized();
+  const Eigen::Vector2d from = 0.5 * rb * d, to = (outer + 2.0 * kTextHeightMm) * d;
+  dxf.writeLine(dw, DL_LineData(from.x(), from.y(), 0.0, to.x(), to.y(), 0.0), on_layer(kTimingLayer));
+  const Eigen::Vector2d label = to + kTextHeightMm * d;
+  write_text(dxf, dw, label.x(), label.y(), "TIMING MARK: cam angle 0", kTimingLayer);
+  double y = outer;
+  for (const std::string& line : design_data_lines(profile)) {
+    write_text(dxf, dw, outer + 4.0 * kTextHeightMm, y, line, kDesignLayer);
+    y -= 1.6 * kTextHeightMm;
+  }
+}
+
 void write_entities(DL_Dxf& dxf, DL_WriterA& dw, const CamProfile& profile, const std::vector<std::string>& notes) {
   dw.sectionEntities();
   write_closed_polyline(dxf, dw, profile, kContourLayer, [](const ProfilePoint& p) { return p.contour; });
@@ -435,6 +483,7 @@ void write_entities(DL_Dxf& dxf, DL_WriterA& dw, const CamProfile& profile, cons
   if (profile.cutter_radius)
     write_closed_polyline(dxf, dw, profile, kCutterLayer, [](const ProfilePoint& p) { return p.cutter; });
   dxf.writePoint(dw, DL_PointData(0.0, 0.0, 0.0), on_layer(kCentreLayer));
+  write_drawing_aids(dxf, dw, profile);
   // The notes below the cam, one line each, left-aligned.
   const double left = -profile.max_radius * kMm;
   double y = -profile.max_radius * kMm - 4.0 * kTextHeightMm;
@@ -497,6 +546,91 @@ void write_profile_dxf(const std::filesystem::path& path, const CamProfile& prof
   const std::string content((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (!in.good() && !in.eof()) throw std::runtime_error("cannot read back '" + scratch.path().string() + "'");
   write_file_atomic(path, content);
+}
+
+// ---------------------------------------------------------------- the lift another follower reads
+
+namespace {
+
+/// A tracked pair profile seen as a plain closed curve (RigidFollowerLift reads r, r', r'').
+class ProfileAsCurve final : public PeriodicCurve {
+ public:
+  explicit ProfileAsCurve(const PairProfile& profile) : profile_(&profile) {}
+  CurvePoint at(double u) const override { return profile_->at(u); }
+
+ private:
+  const PairProfile* profile_;
+};
+
+}  // namespace
+
+FollowerLiftTable follower_lift_table(const Model& model, double radius, double angle_step, const std::string& file,
+                                      const std::string& radius_path, const std::string& step_path) {
+  const FollowerGeometry& f = model.follower;
+  if (f.oscillating())
+    throw InputError(file, radius_path,
+                     "the lift table of another follower is for translating followers; this cam drives an "
+                     "oscillating arm");
+  if (!(radius > 0.0) || !std::isfinite(radius))
+    throw InputError(file, radius_path, "the follower radius must be > 0, got " + mm(radius) + " mm");
+  if (!(angle_step > 0.0) || !(angle_step <= kTwoPi))
+    throw InputError(file, step_path, "the angle step must be in (0, 360] deg, got " + deg(angle_step) + " deg");
+  const double rows = std::ceil(kTwoPi / angle_step - 1e-9);
+  if (rows > ProfileOutputConfig::kMaxPoints)
+    throw InputError(file, step_path,
+                     "the angle step gives more than " + std::to_string(ProfileOutputConfig::kMaxPoints) +
+                         " rows: give a larger step");
+  if (std::abs(f.offset) >= f.base_radius + radius)
+    throw InputError(file, radius_path,
+                     "a roller of radius " + mm(radius) + " mm on the axis at offset " + mm(f.offset) +
+                         " mm does not reach the base circle (radius " + mm(f.base_radius) + " mm)");
+  // The cam as made: the fitted contour, or the synthesised profile moved to the contour.
+  const ClosedCurveProfile tracked(model.profile());
+  const InwardOffsetProfile offset_contour(tracked, f.circle() ? f.radius - model.profile_offset : 0.0);
+  const ProfileAsCurve synthesised(offset_contour);
+  const PeriodicCurve& contour = model.contour ? static_cast<const PeriodicCurve&>(*model.contour) : synthesised;
+  const RigidFollowerLift roller(contour, FollowerContact::circle, radius, f.offset, model.direction, 2048, file,
+                                 radius_path);
+  FollowerLiftTable table;
+  table.follower_radius = radius;
+  table.offset = f.offset;
+  table.base_radius = f.base_radius;
+  table.direction = model.direction;
+  table.design_follower = std::string("translating ") + std::string(f.traits().label);
+  const double base_height = std::sqrt(std::pow(f.base_radius + radius, 2) - f.offset * f.offset);  // [m]
+  for (int k = 0; k < static_cast<int>(rows); ++k) {
+    const double theta = k * angle_step;
+    table.theta.push_back(theta);
+    table.lift.push_back(roller.at(theta).y - base_height);
+  }
+  return table;
+}
+
+void write_follower_lift_csv(const std::filesystem::path& path, const FollowerLiftTable& table,
+                             const std::string& name) {
+  const double base_height =
+      std::sqrt(std::pow(table.base_radius + table.follower_radius, 2) - table.offset * table.offset);
+  const std::vector<std::string> header = {
+      "camdyn follower lift table of '" + name + "' (camdyn " CAMDYN_VERSION ")",
+      "units: millimetres (lift), degrees (cam angle)",
+      "follower: a roller of radius " + mm(table.follower_radius) + " mm on the design's follower axis (x = offset " +
+          mm(table.offset) + " mm, moving along +y); the cam was designed for a " + table.design_follower,
+      "datum: cam angle 0 = the start of the motion law under the follower (the drawing's timing mark); lift 0 = "
+      "the roller on the base circle (radius " +
+          mm(table.base_radius) + " mm), its centre " + mm(base_height) + " mm from the cam's centre",
+      std::string("rotation: the cam turns ") + (table.direction > 0 ? "counterclockwise (ccw)" : "clockwise (cw)") +
+          " seen from +z; the lift at cam angle t is read when the cam has turned by t from angle 0",
+      "lift: the height of the roller's centre above its base-circle height, the roller touching the cam contour"};
+  std::string text;
+  for (const std::string& line : header) text += "# " + line + "\n";
+  text += "cam_angle_deg,lift_mm\n";
+  for (std::size_t i = 0; i < table.theta.size(); ++i) {
+    if (!std::isfinite(table.lift[i])) throw std::logic_error("follower lift " + path.string() + ": non-finite lift");
+    char angle[32];
+    std::snprintf(angle, sizeof angle, "%.12g", table.theta[i] * kRadToDeg);
+    text += std::string(angle) + "," + format_double(table.lift[i] * kMm) + "\n";
+  }
+  write_file_atomic(path, text);
 }
 
 std::vector<std::filesystem::path> write_profile_files(const std::filesystem::path& dir, const CamProfile& profile,

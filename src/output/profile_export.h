@@ -77,6 +77,7 @@ struct CamProfile {
   double min_concave_radius = 0.0;      ///< smallest |ρ| where the contour is concave [m]; inf if convex
   double min_concave_radius_at = 0.0;   ///< cam angle where [rad]
   double max_radius = 0.0;              ///< largest distance of any written point from the centre [m]
+  double lift = 0.0;                    ///< the law's total lift [m] (oscillating: [rad])
 };
 
 /// Samples the cam of `model`. Throws InputError(names.file, names.cutter_radius)
@@ -97,9 +98,42 @@ void write_profile_csv(const std::filesystem::path& path, const CamProfile& prof
 
 /// profile.dxf (AutoCAD 2000, AC1015; $INSUNITS = 4, millimetres): the
 /// contour, pitch curve and cutter path as closed LWPOLYLINEs on layers
-/// CAM_CONTOUR, PITCH_CURVE and CUTTER_PATH, a point at the cam's centre, and
-/// the header lines as 999 comments and as TEXT on layer NOTES below the cam.
+/// CAM_CONTOUR, PITCH_CURVE and CUTTER_PATH, a point and a cross at the cam's
+/// centre (CAM_CENTRE), the base circle (BASE_CIRCLE), the timing mark at cam
+/// angle 0 (TIMING_MARK: a line from the centre through the contour point
+/// that touches the follower at cam angle 0, and its label), the design data
+/// (design_data_lines) as TEXT on layer DESIGN_DATA, and the header lines as
+/// 999 comments and as TEXT on layer NOTES below the cam.
 void write_profile_dxf(const std::filesystem::path& path, const CamProfile& profile, const std::string& name);
+
+/// The design data block of the drawing: base circle radius, lift, follower, rotation.
+std::vector<std::string> design_data_lines(const CamProfile& profile);
+
+/// The lift a different follower would read on the cam as made (a grinder's
+/// or a checking fixture's): a roller of radius R on the same axis (offset)
+/// as the design's follower, on the cam contour, at equal cam-angle steps.
+struct FollowerLiftTable {
+  double follower_radius = 0.0;  ///< R [m]
+  double offset = 0.0;           ///< e [m], the design's
+  double base_radius = 0.0;      ///< r_b [m]: lift 0 is the roller on the base circle
+  int direction = 1;             ///< σ: +1 ccw, −1 cw
+  std::string design_follower;   ///< "translating roller", ...
+  std::vector<double> theta;     ///< cam angle [rad], from 0 in steps of the increment
+  std::vector<double> lift;      ///< the roller centre's height above its base-circle height [m]
+};
+
+/// The lift table of a roller of radius `radius` [m] > 0 at cam-angle steps of
+/// `angle_step` [rad] in (0, 2π]. Throws InputError(names.file, radius_path)
+/// for an oscillating follower (not supported), a radius ≤ 0 or a roller whose
+/// axis misses the cam, and InputError(names.file, step_path) for a bad step.
+FollowerLiftTable follower_lift_table(const Model& model, double radius, double angle_step, const std::string& file,
+                                      const std::string& radius_path = "--follower-radius",
+                                      const std::string& step_path = "--angle-step-deg");
+
+/// follower_lift.csv: "# " header lines naming the datum (cam angle 0, lift 0,
+/// rotation, the follower), then the columns cam_angle_deg, lift_mm.
+void write_follower_lift_csv(const std::filesystem::path& path, const FollowerLiftTable& table,
+                             const std::string& name);
 
 /// The files `formats` asks for, into `dir`: profile.csv and/or profile.dxf.
 /// Returns the paths written.

@@ -488,9 +488,25 @@ struct ProfileOutputConfig {
   bool operator==(const ProfileOutputConfig&) const = default;
 };
 
+/// `outputs.valvetrain`: valvetrain conventions in summary.json and the report
+/// (geometry/valve_timing.h, docs/valvetrain.md).
+struct ValvetrainOutputConfig {
+  double crank_ratio = 2.0;  ///< crank revolutions per cam revolution, > 0 (2: a four-stroke engine) [-]
+  /// Checking heights: lifts above the base circle at which durations are measured [m], each > 0.
+  std::vector<double> checking_heights = {kDefaultCheckingHeight};
+  /// Cam angles [deg] where the opening ramp ends and the closing ramp starts,
+  /// for laws that do not mark their ramps as pieces (a spline or table); empty = from the law's pieces.
+  std::vector<double> ramp_end_deg;
+
+  static constexpr double kDefaultCheckingHeight = 0.001;  ///< 1 mm [m]
+
+  bool operator==(const ValvetrainOutputConfig&) const = default;
+};
+
 /// `outputs`: optional files besides a study's own.
 struct OutputsConfig {
-  std::optional<ProfileOutputConfig> profile;  ///< null (default): no profile files
+  std::optional<ProfileOutputConfig> profile;        ///< null (default): no profile files
+  std::optional<ValvetrainOutputConfig> valvetrain;  ///< null (default): no valvetrain figures
 
   bool operator==(const OutputsConfig&) const = default;
 };
