@@ -135,11 +135,13 @@ std::string study_fingerprint(const ComparePlan& plan) {
   return fingerprint(identity.dump(-1, ' ', false, Json::error_handler_t::replace));
 }
 
-/// Every metric in compare_metric_names() order (the order Metrics' visit lists them).
+/// Every metric in compare_metric_names() order (the order Metrics' visit
+/// lists them); NaN (written as null) where it does not apply.
 std::vector<double> metric_values(const Metrics& m) {
   std::vector<double> values;
-  for_each_metric(
-      m, [&](const char*, const auto& value, const MetricInfo&) { values.push_back(static_cast<double>(value)); });
+  for_each_metric(m, [&](const char*, const auto& value, const MetricInfo&) {
+    values.push_back(metric_value(value).value_or(std::numeric_limits<double>::quiet_NaN()));
+  });
   return values;
 }
 
