@@ -83,7 +83,8 @@ TEST(ContactStress, WithoutAWidthTheContactIsAHertzPointContact) {
   const Evaluation ev = pressed_at(model, 330.0 * kPi / 180.0, 1e-6);
   ASSERT_GT(ev.normal_force, 0.0);
   const double curvature = 1.0 / scene.mechanism.cam.base_radius + 1.0 / scene.mechanism.follower.shape.radius;
-  const double expected = std::cbrt(6.0 * ev.normal_force * kEStar * kEStar * curvature * curvature / (kPi * kPi * kPi));
+  const double expected =
+      std::cbrt(6.0 * ev.normal_force * kEStar * kEStar * curvature * curvature / (kPi * kPi * kPi));
   EXPECT_NEAR(contact_pressure(model, *model.hertz, ev) / expected, 1.0, kClosedForm);
 }
 
@@ -195,8 +196,7 @@ TEST(DriveTorque, MeanDrivePowerBalancesTheDissipationAtSteadyState) {
   auto energy = [&](std::size_t i) {
     const double delta = std::max(0.0, -ts.gap[i]);
     return 0.5 * f.mass * ts.follower_velocity[i] * ts.follower_velocity[i] +
-           0.5 * k * (ts.follower_position[i] + x0) * (ts.follower_position[i] + x0) +
-           K * std::pow(delta, 2.5) / 2.5;
+           0.5 * k * (ts.follower_position[i] + x0) * (ts.follower_position[i] + x0) + K * std::pow(delta, 2.5) / 2.5;
   };
   std::vector<double> damper_power(ts.time.size());
   for (std::size_t i = 0; i < ts.time.size(); ++i)
