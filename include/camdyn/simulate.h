@@ -98,7 +98,9 @@ struct Event {
 struct Result {
   /// summary.json's metrics over the evaluated cycles, by name (SI units;
   /// impact_count as a number; jump_speed_rpm +inf when the law never
-  /// decelerates). Partial when the run did not converge.
+  /// decelerates; peak_contact_stress only with materials and
+  /// max_face_excursion only for a flat face, absent otherwise). Partial when
+  /// the run did not converge.
   std::map<std::string, double> metrics;
   RunSummary solver;
   Columns series;   ///< at the config's output step (empty without record_series)

@@ -146,7 +146,9 @@ class Result:
 
     Attributes:
         metrics: summary.json's metrics by name (SI units; ``impact_count`` as
-            a float; ``jump_speed_rpm`` is ``inf`` when the law never decelerates).
+            a float; ``jump_speed_rpm`` is ``inf`` when the law never decelerates;
+            ``peak_contact_stress`` only with materials and ``max_face_excursion``
+            only for a flat face, absent otherwise).
         solver: how the run ended (``termination``, ``converged``, ``message``)
             and what it cost (``steps``, ``rhs_evaluations``, ...), under
             summary.json's ``solver`` names.

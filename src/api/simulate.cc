@@ -71,7 +71,7 @@ Columns public_columns(const TimeSeries& series) {
 std::map<std::string, double> public_metrics(const Metrics& metrics) {
   std::map<std::string, double> named;
   for_each_metric(metrics, [&](const char* name, const auto& value, const MetricInfo&) {
-    named[name] = static_cast<double>(value);
+    if (const std::optional<double> v = metric_value(value)) named[name] = *v;  // absent where it does not apply
   });
   if (metrics.train) {
     const TrainMetrics& t = *metrics.train;

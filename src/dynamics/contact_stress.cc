@@ -46,4 +46,29 @@ PressurePeak peak_rigid_contact_pressure(const Model& model, const LineContact& 
   return {peak.value, (at < 0.0 ? at + geometry_detail::kTwoPi : at) * 180.0 / std::numbers::pi};
 }
 
+double contact_cam_radius_of_curvature(const Model& model, const Evaluation& ev) {
+  if (model.pair_form == PairForm::general) {
+    if (model.contour) return 1.0 / model.contour->curvature(model.contour_lift->at(ev.theta).u);
+    return model.cam->kinematics(ev.theta).radius_of_curvature;
+  }
+  if (model.contour) return 1.0 / model.contour->curvature(ev.pair.u);
+  return model.cam->kinematics(ev.pair.u).radius_of_curvature;
+}
+
+double contact_pressure(const Model& model, const HertzContact& contact, const Evaluation& ev) {
+  if (!(ev.normal_force > 0.0)) return 0.0;
+  return hertz_pressure(contact, ev.normal_force,
+                        curvature_sum(contact_cam_radius_of_curvature(model, ev), model.follower));
+}
+
+double rigid_contact_pressure(const Model& model, const HertzContact& contact, double theta, double omega) {
+  const double rho = model.contour ? 1.0 / model.contour->curvature(model.contour_lift->at(theta).u)
+                                   : model.cam->kinematics(theta).radius_of_curvature;
+  return hertz_pressure(contact, rigid_normal_force(model, theta, omega), curvature_sum(rho, model.follower));
+}
+
+double rigid_cam_torque(const Model& model, double theta, double omega) {
+  return rigid_normal_force(model, theta, omega) * model.cam->kinematics(theta).g_q * model.law->eval(theta).ds;
+}
+
 }  // namespace camdyn

@@ -45,4 +45,32 @@ struct PressurePeak {
 /// contact (concave negative).
 PressurePeak peak_rigid_contact_pressure(const Model& model, const LineContact& contact, double omega);
 
+/// The cam contour's radius of curvature [m] at the contact of the evaluation
+/// `ev` (> 0 convex; infinite or 0 where straight): a synthesised cam's
+/// contour at the tracked pair's parameter (the cam angle at which the rigid
+/// follower touches that point, so for a translating flat face r_b + s + s''
+/// there), a contour cam's fitted curve at its parameter. The general pair
+/// form (a verification form) takes the rigid contact's at the cam angle.
+/// Allocates nothing.
+double contact_cam_radius_of_curvature(const Model& model, const Evaluation& ev);
+
+/// The Hertz pressure p₀ [Pa] of the evaluation's contact force at its
+/// curvatures (curvature_sum of contact_cam_radius_of_curvature and the
+/// follower's); 0 without a compressive force. Allocates nothing.
+double contact_pressure(const Model& model, const HertzContact& contact, const Evaluation& ev);
+
+/// The rigid model's Hertz pressure p₀ [Pa] at cam angle `theta` [rad] and
+/// speed `omega` [rad/s]: rigid_normal_force at the rigid contact's curvatures.
+double rigid_contact_pressure(const Model& model, const HertzContact& contact, double theta, double omega);
+
+/// The torque [N m] the drive puts on the cam against the contact (positive
+/// driving): −(the contact's generalised force on the cam angle).
+inline double cam_drive_torque(const Evaluation& ev) { return -ev.cam_torque; }
+
+/// The rigid model's drive torque [N m] at cam angle `theta` [rad] and speed
+/// `omega` [rad/s], without friction: by virtual power T ω = P q̇ with
+/// q̇ = ω s'(θ), T = P s'(θ), P the generalised force the follower's
+/// equation of motion needs on its law (rigid_normal_force · ∂g/∂q).
+double rigid_cam_torque(const Model& model, double theta, double omega);
+
 }  // namespace camdyn

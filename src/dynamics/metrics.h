@@ -42,6 +42,18 @@ struct Metrics {
   double max_pressure_angle_deg = 0.0;
   double min_radius_of_curvature = 0.0;  ///< [m]
   double jump_speed_rpm = 0.0;           ///< +inf when the law never decelerates (written as null)
+  /// The drive (docs/model.md §8): the torque the drive puts on the cam
+  /// against the contact, its largest magnitude and its RMS over the window
+  /// [N m], and the power the drive delivers (the motor's with a shaft),
+  /// averaged over the window [W] (NaN without the quadratures: written as null).
+  double peak_cam_torque = 0.0, rms_cam_torque = 0.0;
+  double mean_drive_power = 0.0;
+  /// The largest Hertz pressure of the dynamic contact force [Pa]; only where
+  /// the contact has materials (`contact.stiffness.from_materials`), absent otherwise.
+  std::optional<double> peak_contact_stress;
+  /// The contact point's largest distance from the face centre [m]; only
+  /// for a flat face, absent otherwise.
+  std::optional<double> max_face_excursion;
   /// With a follower train (seats, springs with mass, bodies): its metrics,
   /// written besides the others (not part of `visit`).
   std::optional<TrainMetrics> train;
@@ -50,7 +62,7 @@ struct Metrics {
 /// What a writer needs to know about a metric besides its name and value.
 struct MetricInfo {
   const char* unit;               ///< as the report's table prints it ("–": dimensionless)
-  bool infinite_is_null = false;  ///< +inf is a meaningful value, written to JSON as null
+  bool infinite_is_null = false;  ///< +inf (or NaN: not known) is a meaningful value, written to JSON as null
   /// Measured in the follower coordinate q: `unit` is a translating
   /// follower's, an arm's is rad (coordinate_units.h).
   bool in_coordinate = false;
@@ -75,6 +87,11 @@ void visit(A& a, M& m) {
   a.field("max_pressure_angle_deg", m.max_pressure_angle_deg, MetricInfo{"deg"});
   a.field("min_radius_of_curvature", m.min_radius_of_curvature, MetricInfo{"m"});
   a.field("jump_speed_rpm", m.jump_speed_rpm, MetricInfo{"rpm", true});
+  a.field("peak_cam_torque", m.peak_cam_torque, MetricInfo{"N m"});
+  a.field("rms_cam_torque", m.rms_cam_torque, MetricInfo{"N m"});
+  a.field("mean_drive_power", m.mean_drive_power, MetricInfo{"W", true});
+  a.field("peak_contact_stress", m.peak_contact_stress, MetricInfo{"Pa"});
+  a.field("max_face_excursion", m.max_face_excursion, MetricInfo{"m"});
 }
 
 namespace metrics_detail {
@@ -89,11 +106,22 @@ struct CallbackArchive {
 }  // namespace metrics_detail
 
 /// `visit` for a callable: f(const char* name, T& value, const MetricInfo& info)
-/// with T = long or double (const when `m` is).
+/// with T = long, double or std::optional<double> (const when `m` is; an
+/// optional one is a metric that does not apply to every scene: left out
+/// where empty, see metric_value).
 template <class M, class F>
 void for_each_metric(M& m, F&& f) {
   metrics_detail::CallbackArchive<std::remove_reference_t<F>> a{f};
   visit(a, m);
+}
+
+/// A metric's value as a number, or none where it does not apply (an empty optional).
+template <class T>
+std::optional<double> metric_value(const T& value) {
+  if constexpr (std::is_same_v<T, std::optional<double>>)
+    return value;
+  else
+    return static_cast<double>(value);
 }
 
 /// The metric names in output order.

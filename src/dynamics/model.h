@@ -25,11 +25,13 @@
 
 #include <Eigen/Core>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "contact/force_law.h"
 #include "contact/friction.h"
+#include "contact/hertz_pressure.h"
 #include "contact/point_curve_tracking.h"
 #include "dynamics/cam_geometry.h"
 #include "dynamics/follower_forces.h"
@@ -52,6 +54,9 @@ struct Model : CamGeometry {
   FollowerForces forces;  ///< the return spring, the damper and gravity on q (dynamics/follower_forces.h)
 
   ForceLaw contact;
+  /// The contact's materials where the scene gives them (`contact.stiffness.from_materials`):
+  /// the Hertz pressure of the stress metrics (dynamics/contact_stress.h); none otherwise.
+  std::optional<HertzContact> hertz;
   ContactFriction friction;  ///< sliding friction at the contact, the roller's spin (dynamics/friction_elements.h)
   SupportFriction support;   ///< guide or pivot friction (dynamics/friction_elements.h)
 

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "common/errors.h"
+#include "contact/hertz_pressure.h"
 #include "dynamics/contact_stress.h"
 #include "dynamics/model.h"
 #include "dynamics/plausibility.h"
@@ -94,6 +95,9 @@ void assemble_elements(const SceneConfig& scene, const std::string& file, Model&
   model.forces = follower_forces(scene);
 
   model.contact = build_force_law(scene, fg.base_radius, file);
+  model.hertz.reset();
+  if (const std::optional<MaterialsConfig>& m = mech.contact.from_materials)
+    model.hertz = HertzContact{effective_modulus(m->E1, m->nu1, m->E2, m->nu2), m->width.value_or(0.0)};
   const FrictionConfig& fc = mech.contact.friction;
   model.friction.law = friction_law(fc.mu, fc.regularization_velocity, fc.regularization);
   const bool roller = fg.rolls();

@@ -476,6 +476,7 @@ void forget_quadrature_figures(SimulationResult& result) {
   constexpr double kUnknown = std::numeric_limits<double>::quiet_NaN();
   result.metrics.energy_residual = kUnknown;
   result.metrics.separation_integral = kUnknown;
+  result.metrics.mean_drive_power = kUnknown;
   std::fill(result.series.energy_residual.begin(), result.series.energy_residual.end(), kUnknown);
   std::fill(result.samples.energy_residual.begin(), result.samples.energy_residual.end(), kUnknown);
 }
@@ -516,7 +517,8 @@ Failure run_scene(const RunContext& run) {
     failure = integrate(run, ode, integrator, loop, observer, recorder);
     observer.publish_extremes();
     if (!failure) {
-      observer.finish(run.plan.t_end, loop.q[4] - recorder.separation_integral_at_eval());
+      observer.finish(run.plan.t_end, loop.q[4] - recorder.separation_integral_at_eval(),
+                      loop.q[0] - recorder.drive_work_at_eval());
       recorder.finish();
       if (!run.options.quadratures) forget_quadrature_figures(run.result);
       run.result.error.energy_residual = run.result.metrics.energy_residual;

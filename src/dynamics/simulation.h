@@ -27,6 +27,12 @@ struct TimeSeries {
   /// `<body>_seat_force`, `<body>_stop_force`, `<body>_spring_force` where the body has them.
   std::vector<std::string> train_names;
   std::vector<std::vector<double>> train;
+  /// For the report's plots, not columns of timeseries.csv: the drive torque
+  /// on the cam [N m] (dynamics/contact_stress.h cam_drive_torque), the
+  /// motor's torque with a shaft drive [N m] (the shaft's with a
+  /// constant-speed motor), the Hertz contact stress where the contact has
+  /// materials [Pa]; empty where the run has no such thing.
+  std::vector<double> cam_torque, motor_torque, contact_stress;
 
   /// The columns every run has, in order.
   static std::vector<std::string> column_names();

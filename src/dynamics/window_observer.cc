@@ -68,6 +68,10 @@ void push_row(const Model& model, const Evaluation& ev, TimeSeries& series, doub
   series.friction_force.push_back(ev.friction_force);
   series.contact_offset.push_back(ev.contact_offset);
   series.cam_speed_rpm.push_back(ev.cam_speed * 60.0 / kTwoPi);
+  series.cam_torque.push_back(cam_drive_torque(ev));
+  if (model.drive.shaft())
+    series.motor_torque.push_back(model.drive.torque_motor() ? ev.drive.motor_torque : ev.drive.shaft_torque);
+  if (model.hertz) series.contact_stress.push_back(contact_pressure(model, *model.hertz, ev));
   if (model.train.present()) push_train_row(model.train, ev.train, series);
 }
 

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <vector>
 
+#include "dynamics/contact_stress.h"
 #include "dynamics/rigid_jump_speed.h"
 #include "dynamics/run_plan.h"
 #include "dynamics/simulation.h"
@@ -57,7 +58,10 @@ class WindowObserver {
       qs_ = q0_;
     }
     evaluate_keeping_warm_start(t, ev_);
-    if (!stepped_) start_ = extreme_values(ev_);
+    if (!stepped_) {
+      start_ = extreme_values(ev_);
+      torque_squared_start_ = squared_torque(ev_);
+    }
     fold_extremes(t, extreme_values(ev_));
     fold_train(t, ev_);
     return fold_energy(ev_);
@@ -81,6 +85,7 @@ class WindowObserver {
     if (f_mid) *f_mid = quadrature_integrand(ev_);
     if (every_step_) {
       mid_ = extreme_values(ev_);
+      torque_squared_mid_ = squared_torque(ev_);
       fold_extremes(t_mid, mid_);
       fold_train(t_mid, ev_);
     }
@@ -106,6 +111,7 @@ class WindowObserver {
       fold_extremes(t_probe, extreme_values(probe(t_probe)));
     }
     start_ = end;
+    fold_torque_squared(t, squared_torque(at_end));
     fold_energy(at_end);
   }
 
@@ -118,6 +124,7 @@ class WindowObserver {
     if (every_step_) {
       observe(t);
       start_ = extreme_values(ev_);
+      torque_squared_start_ = squared_torque(ev_);
       if (t >= t_eval_) flight_gap_ = std::max(flight_gap_, largest_gap);
     }
     separated_time_ += std::max(0.0, t - std::max(t0, t_eval_));
@@ -128,10 +135,12 @@ class WindowObserver {
 
   // The metrics that are not extremes (publish_extremes), once the run
   // reached `t_end` [s]; `separation_integral` is ∫ max(g, 0) dt over the
-  // evaluated window [m s].
-  void finish(double t_end, double separation_integral) {
+  // evaluated window [m s], `drive_work` the drive's work over it [J].
+  void finish(double t_end, double separation_integral, double drive_work) {
     const double evaluated = t_end - t_eval_;
     m_.separation_fraction = evaluated > 0.0 ? separated_time_ / evaluated : 0.0;
+    m_.rms_cam_torque = evaluated > 0.0 ? std::sqrt(torque_squared_integral_ / evaluated) : 0.0;
+    m_.mean_drive_power = evaluated > 0.0 ? drive_work / evaluated : 0.0;
     m_.energy_residual = energy_scale_ > 0.0 ? energy_max_dev_ / energy_scale_ : 0.0;
     m_.max_pressure_angle_deg = model_.geometry.max_pressure_angle_deg;
     m_.min_radius_of_curvature = model_.geometry.min_radius_of_curvature;
@@ -148,11 +157,16 @@ class WindowObserver {
     m_.min_contact_force = std::isfinite(best[2]) ? -best[2] : 0.0;
     m_.max_penetration = std::max(0.0, best[3]);
     m_.max_kinematic_error = std::max(0.0, best[4]);
+    if (model_.hertz) m_.peak_contact_stress = std::max(0.0, best[5]);
+    m_.peak_cam_torque = std::max(0.0, best[6]);
+    if (!model_.follower.circle()) m_.max_face_excursion = std::max(0.0, best[7]);
   }
 
   Evaluation& ev() { return ev_; }
   // The separation integral quadrature at the last observation [m s].
   double separation_quadrature() const { return qs_[4]; }
+  // The drive work quadrature at the last observation [J].
+  double drive_work_quadrature() const { return qs_[0]; }
   // Energy deviation [J] → energy residual [-].
   double residual(double deviation) const { return energy_scale_ > 0.0 ? deviation / energy_scale_ : 0.0; }
 
@@ -177,11 +191,27 @@ class WindowObserver {
   // separation nor the least contact force (docs/model.md §12).
   StepExtremes::Values extreme_values(const Evaluation& e) const {
     const double kinematic_error = std::abs(e.y - model_.law->eval(e.theta).s);
-    if (train_.lash(e)) {
-      constexpr double none = -std::numeric_limits<double>::infinity();
-      return {none, e.normal_force, none, e.delta, kinematic_error};
-    }
-    return {e.gap, e.normal_force, -e.normal_force, e.delta, kinematic_error};
+    constexpr double none = -std::numeric_limits<double>::infinity();
+    const double stress = model_.hertz ? contact_pressure(model_, *model_.hertz, e) : none;
+    const double torque = std::abs(cam_drive_torque(e));
+    const double excursion = model_.follower.circle() ? none : std::abs(e.contact_offset);
+    if (train_.lash(e)) return {none, e.normal_force, none, e.delta, kinematic_error, stress, torque, excursion};
+    return {e.gap, e.normal_force, -e.normal_force, e.delta, kinematic_error, stress, torque, excursion};
+  }
+
+  // T² [N² m²] of the drive torque at `e`.
+  static double squared_torque(const Evaluation& e) { return cam_drive_torque(e) * cam_drive_torque(e); }
+
+  // ∫ T² dt over the part of the step [step start, t] in the window, by
+  // Simpson's rule on its start, middle and end (a step across the window's
+  // start: the trapezoid of its middle and end over the part inside).
+  void fold_torque_squared(double t, double torque_squared_end) {
+    const double h = t - step_start_;  // [s]
+    if (step_start_ >= t_eval_)
+      torque_squared_integral_ += h / 6.0 * (torque_squared_start_ + 4.0 * torque_squared_mid_ + torque_squared_end);
+    else if (t > t_eval_)
+      torque_squared_integral_ += (t - t_eval_) * 0.5 * (torque_squared_mid_ + torque_squared_end);
+    torque_squared_start_ = torque_squared_end;
   }
 
   // Folds the extremes' values `x` at t [s] into the window's records.
@@ -228,6 +258,8 @@ class WindowObserver {
   double energy0_ = 0.0, energy_scale_ = 0.0, energy_max_dev_ = 0.0;  // [J]
   bool energy_initialised_ = false;
   double separated_time_ = 0.0;  // within the evaluated window [s]
+  // The drive torque squared at the step's start and middle [N² m²], its integral over the window [N² m² s].
+  double torque_squared_start_ = 0.0, torque_squared_mid_ = 0.0, torque_squared_integral_ = 0.0;
   TrainObserver train_;
 };
 
@@ -269,6 +301,7 @@ class SeriesRecorder {
     if (!eval_start_seen_ && p_.t_eval <= t_hi) {
       observer_.observe(p_.t_eval);
       separation_integral_at_eval_ = observer_.separation_quadrature();
+      drive_work_at_eval_ = observer_.drive_work_quadrature();
       eval_start_seen_ = true;
     }
   }
@@ -280,6 +313,7 @@ class SeriesRecorder {
   }
 
   double separation_integral_at_eval() const { return separation_integral_at_eval_; }  // [m s]
+  double drive_work_at_eval() const { return drive_work_at_eval_; }                    // [J]
 
  private:
   const Model& model_;
@@ -291,6 +325,7 @@ class SeriesRecorder {
   std::size_t next_sample_ = 0;
   std::vector<double> energy_deviation_, sample_energy_deviation_;  // [J]
   double separation_integral_at_eval_ = 0.0;
+  double drive_work_at_eval_ = 0.0;  // [J]
   bool eval_start_seen_;
 };
 

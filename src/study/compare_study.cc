@@ -137,12 +137,26 @@ std::string study_fingerprint(const ComparePlan& plan) {
   return fingerprint(identity.dump(-1, ' ', false, Json::error_handler_t::replace));
 }
 
-/// Every metric in compare_metric_names() order (the order Metrics' visit lists them).
+/// Every metric in compare_metric_names() order (the order Metrics' visit
+/// lists them); NaN (written as null) where it does not apply.
 std::vector<double> metric_values(const Metrics& m) {
   std::vector<double> values;
-  for_each_metric(
-      m, [&](const char*, const auto& value, const MetricInfo&) { values.push_back(static_cast<double>(value)); });
+  for_each_metric(m, [&](const char*, const auto& value, const MetricInfo&) {
+    values.push_back(metric_value(value).value_or(std::numeric_limits<double>::quiet_NaN()));
+  });
   return values;
+}
+
+/// Per metric in compare_metric_names() order: whether it may be empty
+/// without the run having failed (+inf written as null, such as
+/// jump_speed_rpm, or a metric that does not apply to every scene).
+std::vector<bool> metrics_that_may_be_null() {
+  std::vector<bool> nullable;
+  const Metrics none;
+  for_each_metric(none, [&](const char*, const auto& value, const MetricInfo& info) {
+    nullable.push_back(info.infinite_is_null || !metric_value(value));
+  });
+  return nullable;
 }
 
 /// The last simulated cam revolution of a run, sorted by cam angle in [0, 360):
@@ -198,8 +212,9 @@ Json run_record(const ComparePlan& plan, std::size_t i, const StudyContext& ctx,
     if (scene.simulation.steady_state) apply_steady_state(scene, model, r);
     values = metric_values(r.metrics);
     run_time = r.solver.run_time_s;
-    for (std::size_t m = 0; m + 1 < values.size() && error.empty(); ++m)  // jump_speed_rpm may be +inf: empty
-      if (!std::isfinite(values[m])) error = "non-finite metric " + metric_names[m];
+    const std::vector<bool> nullable = metrics_that_may_be_null();
+    for (std::size_t m = 0; m < values.size() && error.empty(); ++m)  // jump_speed_rpm may be +inf: empty
+      if (!std::isfinite(values[m]) && !nullable[m]) error = "non-finite metric " + metric_names[m];
     if (options.record_series) overlay = last_revolution(scene, r);
   } catch (const std::exception& e) {
     error = e.what();

@@ -10,6 +10,7 @@
 #include <type_traits>
 
 #include "common/parallel.h"
+#include "dynamics/contact_stress.h"
 #include "dynamics/coordinate_units.h"
 #include "dynamics/plausibility.h"
 #include "dynamics/rigid_jump_speed.h"
@@ -81,10 +82,14 @@ void add_train_metrics(const TrainMetrics& t, Json& j) {
 Json metrics_json(const Metrics& m) {
   Json j = Json::object();
   for_each_metric(m, [&](const char* name, const auto& value, const MetricInfo& info) {
-    if constexpr (std::is_floating_point_v<std::remove_cvref_t<decltype(value)>>)
+    using T = std::remove_cvref_t<decltype(value)>;
+    if constexpr (std::is_same_v<T, std::optional<double>>) {
+      if (value) j[name] = finite_or_null(*value);  // absent where it does not apply (docs/outputs-and-resume.md)
+    } else if constexpr (std::is_floating_point_v<T>) {
       j[name] = info.infinite_is_null ? finite_or_null(value) : Json(value);
-    else
+    } else {
       j[name] = value;
+    }
   });
   if (m.train) add_train_metrics(*m.train, j);
   return j;
@@ -482,6 +487,80 @@ void add_revolution_plots(const Model& model, const SimulationResult& result, Re
   for (std::size_t i = first_plot; i < report.plots.size(); ++i) report.plots[i].full_resolution = true;
 }
 
+/// A constant line across the revolution at height `y`.
+Series level_line(std::string label, double y) { return {std::move(label), {0.0, 360.0}, {y, y}, "dashes"}; }
+
+/// The rigid model's `f(θ)` at the revolution's points, NaN at the wrap.
+template <class F>
+std::vector<double> rigid_at(const LastRevolution& rev, const TimeSeries& ts, F&& f) {
+  std::vector<double> out(rev.index.size(), std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t j = 0; j < out.size(); ++j)
+    if (rev.index[j] < ts.time.size()) out[j] = f(ts.cam_angle_deg[rev.index[j]] / kRadToDeg);
+  return out;
+}
+
+/// The last revolution's contact stress (with materials: the dynamic Hertz
+/// pressure, the rigid model's and `mechanism.cam.limits.max_contact_stress`),
+/// drive torque (dynamic, rigid and the motor's with a shaft) and, for a flat
+/// face, the contact point's place across it against its half-width
+/// (docs/model.md §8, "Contact stress and drive torque").
+void add_stress_torque_plots(const SceneConfig& scene, const Model& model, const SimulationResult& result,
+                             Report& report) {
+  const TimeSeries& ts = result.series;
+  if (ts.time.empty() || !(model.omega > 0.0)) return;
+  const LastRevolution rev = last_revolution(ts);
+  const auto xrange = std::make_pair(0.0, 360.0);
+  const std::size_t first_plot = report.plots.size();
+  constexpr double kMPa = 1e-6;  // Pa → MPa
+  if (model.hertz) {
+    Plot stress{"Last revolution: contact stress (Hertz) and the rigid model's",
+                "cam angle [deg]",
+                "contact stress [MPa]",
+                {},
+                false,
+                false,
+                xrange};
+    if (ts.contact_stress.size() == ts.time.size())
+      stress.series.push_back({"contact stress", rev.angle, pick(rev, ts.contact_stress, kMPa)});
+    stress.series.push_back(
+        {"rigid model", rev.angle,
+         rigid_at(rev, ts,
+                  [&](double theta) { return kMPa * rigid_contact_pressure(model, *model.hertz, theta, model.omega); }),
+         "dashes"});
+    if (const std::optional<double> limit = scene.mechanism.cam.limits.max_contact_stress)
+      stress.series.push_back(level_line("limit (mechanism.cam.limits.max_contact_stress)", *limit * kMPa));
+    report.plots.push_back(std::move(stress));
+  }
+  Plot torque{"Last revolution: drive torque on the cam and the rigid model's",
+              "cam angle [deg]",
+              "torque [N m]",
+              {},
+              false,
+              false,
+              xrange};
+  if (ts.cam_torque.size() == ts.time.size())
+    torque.series.push_back({"drive torque", rev.angle, pick(rev, ts.cam_torque)});
+  torque.series.push_back({"rigid model", rev.angle,
+                           rigid_at(rev, ts, [&](double t) { return rigid_cam_torque(model, t, model.omega); }),
+                           "dashes"});
+  if (model.drive.shaft() && ts.motor_torque.size() == ts.time.size())
+    torque.series.push_back({"motor", rev.angle, pick(rev, ts.motor_torque)});
+  report.plots.push_back(std::move(torque));
+  if (!model.follower.circle()) {
+    const double half_width = 0.5 * model.follower.face_width * 1e3;  // [mm]
+    report.plots.push_back(Plot{"Last revolution: contact point across the flat face, with the face's half-width",
+                                "cam angle [deg]",
+                                "contact offset from the face centre [mm]",
+                                {{"contact point", rev.angle, pick(rev, ts.contact_offset, 1e3)},
+                                 level_line("face edge (+face_width / 2)", half_width),
+                                 level_line("face edge (−face_width / 2)", -half_width)},
+                                false,
+                                false,
+                                xrange});
+  }
+  for (std::size_t i = first_plot; i < report.plots.size(); ++i) report.plots[i].full_resolution = true;
+}
+
 /// The whole run against time: follower motion (the transient), and for a
 /// drop test the gap and the contact force; then the energy residual.
 void add_run_plots(const Model& model, const SimulationResult& result, Report& report) {
@@ -551,11 +630,13 @@ Report simulation_report(const SceneConfig& scene, const Model& model, const Sim
                 true};
   const CoordinateUnits units = coordinate_units(model);
   for_each_metric(m, [&](const char* name, const auto& value, const MetricInfo& info) {
-    metrics.rows.push_back({name, format(static_cast<double>(value)), info.in_coordinate ? units.position : info.unit});
+    if (const std::optional<double> v = metric_value(value))
+      metrics.rows.push_back({name, format(*v), info.in_coordinate ? units.position : info.unit});
   });
   report.tables.push_back(std::move(metrics));
 
   if (model.omega > 0.0) add_revolution_plots(model, result, report);
+  add_stress_torque_plots(scene, model, result, report);
   add_run_plots(model, result, report);
   add_train_plots(scene, model, result, report);
   // The cam itself: to scale, its pressure angle and curvature with the scene's limits, the law's SVAJ.

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -27,9 +28,10 @@ TEST(Simulate, GivesTheInternalRunToTheBit) {
 
   std::size_t metrics = 0;
   for_each_metric(internal.metrics, [&](const char* name, const auto& value, const MetricInfo&) {
-    ASSERT_EQ(result.metrics.count(name), 1U) << name;
-    EXPECT_TRUE(same_bits(result.metrics.at(name), static_cast<double>(value)))
-        << name << ": " << result.metrics.at(name) << " vs " << value;
+    const std::optional<double> v = metric_value(value);  // none: a metric the scene does not have
+    ASSERT_EQ(result.metrics.count(name), v ? 1U : 0U) << name;
+    if (!v) return;
+    EXPECT_TRUE(same_bits(result.metrics.at(name), *v)) << name << ": " << result.metrics.at(name) << " vs " << *v;
     ++metrics;
   });
   EXPECT_EQ(result.metrics.size(), metrics);
