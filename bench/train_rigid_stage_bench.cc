@@ -4,7 +4,8 @@
 // speeds. Target: the whole stage (certificate, family bound, design,
 // checks) under 2 s; the held train's response at one speed alone.
 //
-//   build/ci/bench/train_rigid_stage_bench --benchmark_out=bench/results/train_rigid_stage.json --benchmark_out_format=json
+//   build/ci/bench/train_rigid_stage_bench --benchmark_out=bench/results/train_rigid_stage.json
+//   --benchmark_out_format=json
 #include <benchmark/benchmark.h>
 
 #include <numbers>

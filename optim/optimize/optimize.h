@@ -84,9 +84,12 @@ struct WindowCheck {
 struct CandidateVerification {
   CandidateKind kind = CandidateKind::baseline;
   bool available = false;
-  std::string reason;                                  ///< why not available
-  DesignEvaluation verified;                           ///< simulation.steady_state set, the scene's settings
-  std::vector<double> separating_rpm;                  ///< operating speeds where it separates on the steady state
+  std::string reason;                  ///< why not available
+  DesignEvaluation verified;           ///< simulation.steady_state set, the scene's settings
+  std::vector<double> separating_rpm;  ///< operating speeds where it separates on the steady state
+  /// On a train, per separating speed: where the train lets go first
+  /// ("cam contact" or "link <body>", TrainMetrics::separates_first) and the cam angle there [deg].
+  std::vector<std::pair<std::string, double>> lets_go;
   CandidateScore score;                                ///< as the choice saw it (the proven speeds included)
   CandidateKind sized_from = CandidateKind::baseline;  ///< spring: the candidate whose law it keeps
 };

@@ -142,7 +142,13 @@ Json rigid_json(const RigidStageResult& r, bool enabled) {
                           {"family_binding", c.family_binding},
                           {"baseline_jump_free_rpm", finite_or_null(c.baseline_rpm)},
                           {"all_feasible", c.all_feasible()},
-                          {"speeds", speeds}};
+                          {"speeds", speeds},
+                          {"model", c.model}};
+  if (c.model == "held train") {
+    j["certificate"]["any_law_coarse_rpm"] = finite_or_null(c.any_law_coarse_rpm);
+    j["certificate"]["train_harmonics"] = c.train_harmonics;
+    j["certificate"]["train_truncation"] = c.train_truncation;
+  }
   if (c.lift_area.available || !c.lift_area.reason.empty()) j["certificate"]["lift_area"] = lift_area_json(c.lift_area);
   const RigidDesign& d = r.design;
   Json dj{{"made", d.have}};

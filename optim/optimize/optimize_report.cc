@@ -1,5 +1,6 @@
 #include "optim/optimize/optimize_report.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -10,6 +11,7 @@
 #include "dynamics/coordinate_units.h"
 #include "dynamics/model.h"
 #include "optim/optimize/rigid_design.h"
+#include "optim/optimize/train_rows.h"
 #include "output/cam_plots.h"
 
 namespace camdyn::optim {
@@ -146,9 +148,39 @@ Verdict optimize_verdict(const OptimizeOutcome& o) {
   return v;
 }
 
+/// On a train: at the top speed, the held train's margin of the contact and
+/// of each link (baseline and optimised), and each spring's frame-end force
+/// against its static one (docs/optimize.md "Trains").
+void add_train_margin_plots(const OptimizeOutcome& o, Report& r) {
+  const double top = *std::max_element(o.config.operating_rpm.begin(), o.config.operating_rpm.end());
+  const double pmin = o.rigid.certificate.min_contact_force;
+  const Model base = build_model(o.baseline.scene, ""), opt = build_model(o.optimized.scene, "");
+  const HeldCurves b = held_train_curves(base, top), p = held_train_curves(opt, top), s = held_train_curves(opt, 0.0);
+  for (std::size_t k = 0; k < p.quantities.size() && k < b.quantities.size(); ++k) {
+    const HeldQuantity& q = p.quantities[k];
+    if (q.held()) {
+      std::vector<double> mb = b.values[k], mp = p.values[k];
+      for (double& x : mb) x -= pmin;
+      for (double& x : mp) x -= pmin;
+      r.plots.push_back(make_plot("Held train: " + q.name + " force margin F − " + format_number(pmin) + " N at " +
+                                      format_number(top) + " rpm (< 0: it lets go)",
+                                  kCamAngleLabel, "margin [N]",
+                                  {{"baseline", b.angles_deg, mb}, {"optimised", p.angles_deg, mp}}));
+    } else if (q.kind == HeldQuantity::Kind::spring_end) {
+      r.plots.push_back(make_plot(
+          "Held train: " + q.name + " force at its frame end, optimised design", kCamAngleLabel, "force [N]",
+          {{"static", s.angles_deg, s.values[k]}, {"at " + format_number(top) + " rpm", p.angles_deg, p.values[k]}}));
+    }
+  }
+}
+
 /// Rigid-model margin P − P_min against cam angle, baseline and optimised, at each operating speed.
 void add_margin_plots(const OptimizeOutcome& o, Report& r) {
   if (!o.rigid.certificate.available) return;
+  if (o.rigid.certificate.model == "held train") {
+    add_train_margin_plots(o, r);
+    return;
+  }
   std::vector<double> angles;
   for (int i = 0; i <= static_cast<int>(360.0 / kLawStepDeg); ++i) angles.push_back(i * kLawStepDeg);
   const double pmin = o.rigid.certificate.min_contact_force;

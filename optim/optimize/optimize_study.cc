@@ -28,10 +28,18 @@ void print_certificate(const OptimizeOutcome& o) {
   }
   const std::string binding = c.binding_text();
   const std::string held = binding.empty() ? "" : " (held by " + binding + ")";
+  const bool train = c.model == "held train";
   std::printf(
-      "  certificate (rigid model, contact force >= %g N): any law %.5g rpm (set by %s); this spline family "
+      "  certificate (%s, %s >= %g N): any law %.5g rpm (set by %s); this spline family "
       "%.5g rpm%s; baseline law %.5g rpm\n",
-      c.min_contact_force, c.any_law_rpm, c.any_law_binding.c_str(), c.family_rpm, held.c_str(), c.baseline_rpm);
+      train ? "held train: every contact and link held" : "rigid model",
+      train ? "contact and link forces" : "contact force", c.min_contact_force, c.any_law_rpm,
+      c.any_law_binding.c_str(), c.family_rpm, held.c_str(), c.baseline_rpm);
+  if (train)
+    std::printf(
+        "  (any law on the held train: a 16-point cubic spline per segment; with 8 points %.5g rpm; up to %d "
+        "harmonics, truncation %.2g of the largest force)\n",
+        c.any_law_coarse_rpm, c.train_harmonics, c.train_truncation);
   for (const SpeedCertificate& s : c.speeds) {
     if (s.feasible)
       std::printf("  %6g rpm: feasible (best rigid margin %.4g %s)\n", s.rpm, s.best_margin, c.margin_unit.c_str());
@@ -76,6 +84,16 @@ void print_selection(const OptimizeOutcome& o) {
     std::string speeds;
     for (double rpm : chosen.separating_rpm) speeds += (speeds.empty() ? "" : ", ") + format_shortest(rpm);
     std::printf("  the answer separates on the steady state at %s rpm\n", speeds.c_str());
+    for (std::size_t i = 0; i < chosen.lets_go.size() && i < chosen.separating_rpm.size(); ++i) {
+      const double rpm = chosen.separating_rpm[i];
+      const bool proven = std::find(o.proven_rpm.begin(), o.proven_rpm.end(), rpm) != o.proven_rpm.end();
+      std::printf("    at %s rpm %s lets go first, at cam angle %.1f deg%s\n", format_shortest(rpm).c_str(),
+                  chosen.lets_go[i].first.empty() ? "the train" : chosen.lets_go[i].first.c_str(),
+                  chosen.lets_go[i].second,
+                  proven ? ": the held train keeps every contact and link loaded there, so it is what the held model "
+                           "leaves out (lash take-up, seat bounce, coil clash, the contact's nonlinearity)"
+                         : "");
+    }
   }
   const char* unit =
       o.optimized_scene.mechanism.follower.motion == FollowerMotion::oscillating ? "N m (torque about the pivot)" : "N";

@@ -472,7 +472,11 @@ LinearProgram SplineFamily::margin_program(const std::vector<double>& omegas, co
   const bool lift_area = options.goal == FamilyOptions::Goal::max_lift_area;
   // A lift-area design is held at the samples only; 1e-3 of the force scale
   // keeps the margin between them (a knot span holds a few samples) ≥ 0.
-  const int t = lp.add_column(max_margin ? -kLpInfinity : (lift_area ? 1e-3 * force_scale : 0.0), 1e3 * force_scale,
+  // On a train the rows sit on a grid of 1024 angles and a design that keeps
+  // its margin at exactly 0 there dips between them: 2e-3 of the train's
+  // force scale is kept clear (docs/optimize.md "Trains").
+  const double floor_t = train_ ? 2e-3 * train_->force_scale() : (lift_area ? 1e-3 * force_scale : 0.0);
+  const int t = lp.add_column(max_margin ? -kLpInfinity : floor_t, std::max(1e3 * force_scale, 10.0 * floor_t),
                               max_margin ? -1.0 : 0.0);
   if (lift_area)
     add_lobe_rows(lp);

@@ -15,10 +15,10 @@ using Kind = HeldQuantity::Kind;
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr int kFirstStride = 128;   ///< a programme starts with every 128th angle
-constexpr int kCheckAngles = 4096;  ///< the dense check's grid
+constexpr int kFirstStride = 128;         ///< a programme starts with every 128th angle
+constexpr int kCheckAngles = 4096;        ///< the dense check's grid
 constexpr std::size_t kRunsPerRound = 4;  ///< rows activated per quantity and speed in one round
-constexpr double kViolation = 1e-7;  ///< a row is broken by more than this share of the force scale
+constexpr double kViolation = 1e-7;       ///< a row is broken by more than this share of the force scale
 
 /// The signals of the response: law0, then each column, on the response grid.
 std::vector<GridSignal> column_signals(const MotionLaw& law0, int columns,
@@ -204,7 +204,8 @@ int TrainRows::activate_runs(std::size_t k, std::size_t n, bool top, const std::
 
 int TrainRows::activate_peak(const std::vector<double>& c, double omega, double z) {
   const SpeedResponse& r = at(omega);
-  return activate_runs(0, kPeakSlot, true, [&](int i) { return value(r, 0, i, c) - z; }, false);
+  return activate_runs(
+      0, kPeakSlot, true, [&](int i) { return value(r, 0, i, c) - z; }, false);
 }
 
 double TrainRows::worst_margin(const std::vector<double>& c, const std::vector<double>& omegas) {
@@ -252,8 +253,24 @@ HeldCheck check_held_train(const Model& model, const MotionLaw& law, double omeg
   return out;
 }
 
-double held_jump_free_speed(const Model& model, const MotionLaw& law, const TrainRowLimits& limits,
-                            double omega_max) {
+HeldCurves held_train_curves(const Model& model, double rpm) {
+  constexpr int kCurveAngles = 1024;
+  const HeldTrain train = held_train(model);
+  const GridSignal signal = grid_signal([&](double theta) { return model.law->eval(theta); }, kCurveAngles);
+  const std::vector<Eigen::VectorXd> v = held_train_values(train, signal, rpm * kTwoPi / 60.0);
+  HeldCurves out;
+  for (int i = 0; i <= kCurveAngles; ++i) out.angles_deg.push_back(360.0 * i / kCurveAngles);
+  for (std::size_t k = 0; k < train.quantities.size(); ++k) {
+    if (train.quantities[k].kind == Kind::seat_position) continue;
+    out.quantities.push_back(train.quantities[k]);
+    std::vector<double> curve(v[k].data(), v[k].data() + v[k].size());
+    curve.push_back(curve.front());  // closes the revolution at 360°
+    out.values.push_back(std::move(curve));
+  }
+  return out;
+}
+
+double held_jump_free_speed(const Model& model, const MotionLaw& law, const TrainRowLimits& limits, double omega_max) {
   const GridSignal signal = grid_signal([&](double theta) { return law.eval(theta); }, TrainRows::kAngles);
   return held_train_jump_speed(held_train(model), signal, omega_max, limits.contact_floor, limits.link_floor, 1e-5);
 }

@@ -36,8 +36,8 @@ namespace camdyn::optim {
 
 /// The limits the train rows hold.
 struct TrainRowLimits {
-  double contact_floor = 0.0;  ///< P_min of the cam contact [N | N m]
-  double link_floor = 0.0;     ///< P_min of every link [N]
+  double contact_floor = 0.0;                  ///< P_min of the cam contact [N | N m]
+  double link_floor = 0.0;                     ///< P_min of every link [N]
   std::optional<double> max_spring_force;      ///< at each spring's frame end [N]
   std::optional<double> max_seating_velocity;  ///< of a seated body where it reaches its seat [m/s]
 };
@@ -82,6 +82,8 @@ class TrainRows {
   static std::vector<double> check_speeds(double omega);
   /// The largest harmonic truncation over the speeds computed so far [-], and the most harmonics used.
   double truncation() const { return truncation_; }
+  /// The largest held force of the zero design at rest [N]: the programmes' force scale.
+  double force_scale() const { return scale_; }
   int harmonics() const { return harmonics_; }
 
  private:
@@ -99,10 +101,10 @@ class TrainRows {
 
   int columns_ = 0;
   TrainRowLimits limits_;
-  std::shared_ptr<HeldTrainResponse> response_;  ///< signals: law0, then each column
+  std::shared_ptr<HeldTrainResponse> response_;               ///< signals: law0, then each column
   std::vector<std::map<std::size_t, std::set<int>>> active_;  ///< per quantity and speed slot, its active angles
-  std::vector<std::set<int>> first_;                ///< per quantity, the angles every slot starts with
-  double scale_ = 1.0;                           ///< force scale [N]
+  std::vector<std::set<int>> first_;                          ///< per quantity, the angles every slot starts with
+  double scale_ = 1.0;                                        ///< force scale [N]
   double truncation_ = 0.0;
   int harmonics_ = 0;
 };
@@ -110,6 +112,15 @@ class TrainRows {
 /// The dense check of a built law on the held train of `model` at ω [rad/s]
 /// (a 2048-angle grid).
 HeldCheck check_held_train(const Model& model, const MotionLaw& law, double omega, const TrainRowLimits& limits);
+
+/// The held train's quantities of a scene's law over one revolution at
+/// `rpm` (for reports): every quantity but the seated bodies' positions.
+struct HeldCurves {
+  std::vector<double> angles_deg;  ///< 0 … 360 [deg]
+  std::vector<HeldQuantity> quantities;
+  std::vector<std::vector<double>> values;  ///< per quantity, at each angle [N | m/s]
+};
+HeldCurves held_train_curves(const Model& model, double rpm);
 
 /// The law's jump-free speed on the held train with the floors of `limits`
 /// [rad/s] (dynamics/held_train.h held_train_jump_speed), up to `omega_max`.

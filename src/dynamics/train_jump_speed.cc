@@ -14,7 +14,7 @@ namespace camdyn {
 namespace {
 
 constexpr double kRpmPerRadPerSecond = 60.0 / (2.0 * std::numbers::pi);
-constexpr int kJumpSpeedAngles = 2048;  ///< of the held train's response grid (dynamics/held_train.h)
+constexpr int kJumpSpeedAngles = 1024;  ///< of the held train's response grid (dynamics/held_train.h)
 
 /// The train's own elements (links held; seats, stops and clash left out)
 /// and the follower's massless spring, damper and weight into `lt`.
