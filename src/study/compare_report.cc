@@ -263,7 +263,9 @@ std::vector<Plot> metric_plots(const CompareResult& r) {
       s.x.push_back(p.values[0].get<double>());
       s.y.push_back(r.outcomes[i].metrics[metric_index(m)]);
     }
-    if (lines.size() > 12) continue;  // too many lines to read: the table has them
+    // No run has it (a metric that does not apply to the scene, e.g. a flat
+    // face's excursion on a roller), or too many lines to read: the table has them.
+    if (lines.empty() || lines.size() > 12) continue;
     for (const std::string& label : order) plot.series.push_back(std::move(lines[label]));
     plots.push_back(std::move(plot));
   }
