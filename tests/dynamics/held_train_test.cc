@@ -13,6 +13,7 @@
 #include <numbers>
 
 #include "dynamics/model.h"
+#include "dynamics/train_jump_speed.h"
 #include "linear_train_case.h"
 
 namespace camdyn {
@@ -77,6 +78,9 @@ TEST_P(HeldTrainHarmonic, ForcesAndJumpSpeedMeetTheClosedForm) {
   }
   const double held_jump = held_train_jump_speed(held, law, 20.0 * jump, 0.0, 0.0);
   EXPECT_NEAR(held_jump, jump, 2e-3 * jump);
+  // The scene's jump_speed_rpm is the same figure (physics §8), within 0.2 % of the closed form.
+  const double jump_rpm = jump * 30.0 / std::numbers::pi;
+  EXPECT_NEAR(model_jump_speed_rpm(model), jump_rpm, 2e-3 * jump_rpm);
 }
 
 INSTANTIATE_TEST_SUITE_P(Chains, HeldTrainHarmonic,
