@@ -187,6 +187,14 @@ Json candidate_json(const CandidateVerification& c, const OptimizeOutcome& o) {
     j["preload"] = e.scene.mechanism.follower.spring.preload;
   }
   j["separating_rpm"] = c.separating_rpm;
+  if (!c.lets_go.empty()) {  // a train: where it lets go first at each separating speed
+    Json lets_go = Json::array();
+    for (std::size_t i = 0; i < c.lets_go.size() && i < c.separating_rpm.size(); ++i)
+      lets_go.push_back(Json{{"rpm", c.separating_rpm[i]},
+                             {"element", c.lets_go[i].first},
+                             {"cam_angle_deg", finite_or_null(c.lets_go[i].second)}});
+    j["lets_go"] = lets_go;
+  }
   Json speeds = Json::array();
   for (const SpeedResult& s : e.speeds)
     speeds.push_back(Json{{"rpm", s.rpm},
