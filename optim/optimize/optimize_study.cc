@@ -97,10 +97,13 @@ void print_selection(const OptimizeOutcome& o) {
   }
   const char* unit =
       o.optimized_scene.mechanism.follower.motion == FollowerMotion::oscillating ? "N m (torque about the pivot)" : "N";
-  std::printf(
-      "  required spring preload %.6g %s at the rate given, to keep the rigid-model force >= %g N up to %g rpm\n",
-      o.required_preload, unit, rigid_min_contact_force(o.config),
-      *std::max_element(o.config.operating_rpm.begin(), o.config.operating_rpm.end()));
+  if (o.rigid.certificate.model == "held train")  // the one-mass sizing does not describe a train
+    std::printf("  required spring preload: not sized on a train (docs/model.md §12: the held train's jump speed)\n");
+  else
+    std::printf(
+        "  required spring preload %.6g %s at the rate given, to keep the rigid-model force >= %g N up to %g rpm\n",
+        o.required_preload, unit, rigid_min_contact_force(o.config),
+        *std::max_element(o.config.operating_rpm.begin(), o.config.operating_rpm.end()));
 }
 
 Json layout_point_json(const LayoutResult& r, const LayoutPoint& p) {
@@ -215,8 +218,10 @@ int run_optimize_study(const Json& doc, const StudyContext& ctx) {
         ss.objective, ss.speeds_on_orbit, ss.speeds, ss.relative_change,
         ss.agrees ? "agrees" : "DIFFERS: the window is not the steady state; set simulation.steady_state");
   if (!b.speeds.empty() && !p.speeds.empty())
-    std::printf("  rigid-model jump speed %.6g -> %.6g rpm\n", b.speeds.front().result.metrics.jump_speed_rpm,
-                p.speeds.front().result.metrics.jump_speed_rpm);
+    std::printf(
+        "  %s %.6g -> %.6g rpm\n",
+        o.rigid.certificate.model == "held train" ? "train jump speed (held, linearised)" : "rigid-model jump speed",
+        b.speeds.front().result.metrics.jump_speed_rpm, p.speeds.front().result.metrics.jump_speed_rpm);
   const auto abs_out = std::filesystem::absolute(ctx.out_dir).lexically_normal();
   std::printf("  optimised config: %s\n", (abs_out / "optimized.json").c_str());
   std::printf("  report: %s\n", (abs_out / "report.html").c_str());
