@@ -58,7 +58,7 @@ bool has_rows(const HeldQuantity& q, const TrainRowLimits& limits) {
 
 TrainRows::TrainRows(const Model& model, const MotionLaw& law0, int columns,
                      const std::function<void(double, std::vector<LawSample>&)>& column_lift, TrainRowLimits limits)
-    : columns_(columns), limits_(std::move(limits)) {
+    : columns_(columns), limits_(limits) {
   // Only the quantities that have rows (and a seated body's position, which places its seating rows).
   HeldTrain held = held_train(model);
   std::vector<HeldQuantity> kept;

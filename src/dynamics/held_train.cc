@@ -245,7 +245,7 @@ SpeedResponse HeldTrainResponse::compute(double omega) const {
       const int pair = std::min(2, J - j);
       std::fill(spectrum.begin(), spectrum.end(), Complex(0.0));
       for (int p = 0; p < pair; ++p) {
-        const GridSignal& g = signals_[static_cast<std::size_t>(j + p)];
+        const GridSignal& g = signals_[static_cast<std::size_t>(j) + static_cast<std::size_t>(p)];
         const Complex unit = p == 0 ? Complex(1.0, 0.0) : Complex(0.0, 1.0);
         for (int h = 1; h <= H; ++h) {
           const Complex y = 0.5 * T[k][h] * g.U[h];
@@ -255,7 +255,7 @@ SpeedResponse HeldTrainResponse::compute(double omega) const {
       }
       if (H > 0) fft(spectrum, 1.0);
       for (int p = 0; p < pair; ++p) {
-        const GridSignal& g = signals_[static_cast<std::size_t>(j + p)];
+        const GridSignal& g = signals_[static_cast<std::size_t>(j) + static_cast<std::size_t>(p)];
         const double mean = (T[k][0] * g.U[0]).real();
         for (int i = 0; i < R; ++i)
           out.per_signal[k](i, j + p) = q.alpha * g.u[i] + q.beta * omega * g.du[i] +
