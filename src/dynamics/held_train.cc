@@ -142,7 +142,6 @@ GridSignal grid_signal_of_samples(const std::vector<LawSample>& samples, int ang
     if (j % kOversampling == 0) {
       g.u.push_back(samples[j].s);
       g.du.push_back(samples[j].ds);
-      g.d2u.push_back(samples[j].d2s);
     }
   }
   fft(x, -1.0);
@@ -203,9 +202,7 @@ SpeedResponse HeldTrainResponse::compute(double omega) const {
           all += v;
           if (2 * h > H) last += v;
         }
-        for (int i = 0; i < R; i += 8)
-          all =
-              std::max(all, std::abs(q.alpha * g.u[i] + q.beta * omega * g.du[i] + q.gamma * omega * omega * g.d2u[i]));
+        for (int i = 0; i < R; i += 8) all = std::max(all, std::abs(q.alpha * g.u[i] + q.beta * omega * g.du[i]));
         tail = std::max(tail, last);
         size = std::max(size, all);
       }
@@ -258,9 +255,8 @@ SpeedResponse HeldTrainResponse::compute(double omega) const {
         const GridSignal& g = signals_[static_cast<std::size_t>(j) + static_cast<std::size_t>(p)];
         const double mean = (T[k][0] * g.U[0]).real();
         for (int i = 0; i < R; ++i)
-          out.per_signal[k](i, j + p) = q.alpha * g.u[i] + q.beta * omega * g.du[i] +
-                                        q.gamma * omega * omega * g.d2u[i] + mean +
-                                        (p == 0 ? spectrum[i].real() : spectrum[i].imag());
+          out.per_signal[k](i, j + p) =
+              q.alpha * g.u[i] + q.beta * omega * g.du[i] + mean + (p == 0 ? spectrum[i].real() : spectrum[i].imag());
       }
     }
   }

@@ -29,18 +29,18 @@ namespace camdyn {
 
 struct Model;
 
-/// A monitored quantity of the held train: L = α s + β ṡ + γ s̈ + a·x + b·ẋ + constant.
+/// A monitored quantity of the held train: L = α s + β ṡ + a·x + b·ẋ + constant.
 struct HeldQuantity {
   /// contact: the cam's generalised force on the follower [N | N m] (held > 0);
   /// link: a link's force [N] (held > 0); spring_end: a spring's force at its
   /// frame end [N]; seat_position [m] / seat_velocity [m/s] of a body with a seat.
   enum class Kind { contact, link, spring_end, seat_position, seat_velocity };
   Kind kind = Kind::contact;
-  std::string name;                             ///< "cam contact", "link valve", "spring valve", "seat valve"
-  int body = 0;                                 ///< index into FollowerTrain::bodies
-  double seat = 0.0;                            ///< seat_position: the seat's position p [m]
-  double alpha = 0.0, beta = 0.0, gamma = 0.0;  ///< per s [unit/m], ṡ [unit s/m], s̈ [unit s²/m]
-  Eigen::VectorXd a, b;                         ///< per x, ẋ
+  std::string name;                ///< "cam contact", "link valve", "spring valve", "seat valve"
+  int body = 0;                    ///< index into FollowerTrain::bodies
+  double seat = 0.0;               ///< seat_position: the seat's position p [m]
+  double alpha = 0.0, beta = 0.0;  ///< per s [unit/m], ṡ [unit s/m]
+  Eigen::VectorXd a, b;            ///< per x, ẋ
   double constant = 0.0;
   bool held() const { return kind == Kind::contact || kind == Kind::link; }
 };
@@ -58,14 +58,14 @@ struct HeldTrain {
 HeldTrain held_train(const Model& model);
 
 /// A lift function on the response grid of R angles θ_i = 2π i / R: exact
-/// u, u', u'' there, and its Fourier coefficients U_0 (the mean) and U_h,
+/// u, u' there, and its Fourier coefficients U_0 (the mean) and U_h,
 /// h = 1 … R/2 − 1, with u = U_0 + Re Σ U_h e^{ihθ}.
 struct GridSignal {
-  std::vector<double> u, du, d2u;       ///< at the grid angles [m], [m/rad], [m/rad²]
+  std::vector<double> u, du;            ///< at the grid angles [m], [m/rad]
   std::vector<std::complex<double>> U;  ///< U_0 … U_{R/2−1} [m]
 };
 
-/// The signal of a function θ ↦ (u, u', u'') over one revolution on `angles`
+/// The signal of a function θ ↦ (u, u', …) over one revolution on `angles`
 /// (a power of two, ≥ 16) grid angles; the coefficients from 4 × `angles`
 /// samples (the harmonics used stop at angles / 2; aliasing brings in those
 /// above 3.5 × angles, below 1e−10 of the lift for a law with a continuous s').
