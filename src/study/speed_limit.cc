@@ -8,6 +8,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <memory>
+#include <optional>
 #include <set>
 
 #include "common/errors.h"
@@ -21,6 +23,7 @@
 #include "io/json_writer.h"
 #include "output/cam_plots.h"
 #include "output/report.h"
+#include "study/speed_limit_journal.h"
 
 namespace camdyn {
 
@@ -116,11 +119,28 @@ SpeedLimitResult run_speed_limit(const SpeedLimitStudy& study, const StudyContex
       c.high_rpm.value_or(std::isfinite(r.rigid_jump_speed_rpm) ? 2.0 * r.rigid_jump_speed_rpm : 10.0 * c.low_rpm);
   const double hi = std::max(high, 1.01 * c.low_rpm);
 
+  // Each finished speed is journaled; a re-run replays it (docs/outputs-and-resume.md).
+  // (None without an output folder: a library caller's in-memory study.)
+  std::unique_ptr<SpeedLimitJournal> journal;
+  if (!ctx.out_dir.empty()) {
+    std::filesystem::create_directories(ctx.out_dir);
+    journal = std::make_unique<SpeedLimitJournal>(study, ctx);
+    r.resumed = journal->found();
+  }
+  if (r.resumed > 0)
+    std::cerr << "camdyn: resuming: " << r.resumed << " simulated speeds already done ("
+              << (ctx.out_dir / "journal.jsonl").string() << "), not simulated again\n";
+  auto check_or_replay = [&](std::size_t index, double rpm) {
+    if (std::optional<SpeedCheck> done = journal ? journal->replay(index, rpm) : std::nullopt) return *done;
+    SpeedCheck fresh = check_speed(study, rpm, c.min_contact_force, ctx.config_file);
+    if (journal) journal->record(index, fresh);
+    return fresh;
+  };
+
   // The scan, in parallel: low_rpm … hi evenly.
   std::vector<SpeedCheck> scan(static_cast<std::size_t>(c.scan));
   parallel_for(scan.size(), ctx.threads(), [&](std::size_t i) {
-    const double rpm = c.low_rpm + (hi - c.low_rpm) * static_cast<double>(i) / (c.scan - 1);
-    scan[i] = check_speed(study, rpm, c.min_contact_force, ctx.config_file);
+    scan[i] = check_or_replay(i, c.low_rpm + (hi - c.low_rpm) * static_cast<double>(i) / (c.scan - 1));
   });
   r.checks = scan;
   const auto failed = std::find_if(scan.begin(), scan.end(), [](const SpeedCheck& s) { return !s.ok; });
@@ -134,10 +154,10 @@ SpeedLimitResult run_speed_limit(const SpeedLimitStudy& study, const StudyContex
   } else {
     // Bisect between the last speed that kept contact and the first that did not.
     double lo = (failed - 1)->rpm, up = failed->rpm;
-    while (up - lo > c.tolerance_rpm && r.withheld.empty()) {
+    for (std::size_t k = 0; up - lo > c.tolerance_rpm && r.withheld.empty() && k < kMaxBisectionSteps; ++k) {
       const double mid = 0.5 * (lo + up);
       if (mid <= lo || mid >= up) break;  // the bracket cannot narrow further in floating point
-      r.checks.push_back(check_speed(study, mid, c.min_contact_force, ctx.config_file));
+      r.checks.push_back(check_or_replay(scan.size() + k, mid));
       if (!r.checks.back().budget.empty()) r.withheld = "the bisection's speed " + format_shortest(mid) + " rpm";
       (r.checks.back().ok ? lo : up) = mid;
     }
@@ -186,6 +206,7 @@ Json speed_limit_json(const SpeedLimitStudy& study, const SpeedLimitResult& r) {
               {"limited", stands ? Json(r.limited) : Json(nullptr)},
               {"first_failure_rpm", r.limited ? Json(r.first_failure_rpm) : Json(nullptr)},
               {"budget_cut_runs", r.budget_cut},
+              {"resumed_checks", r.resumed},
               {"conclusion_withheld", stands ? Json(nullptr) : Json(r.withheld)},
               {"tolerance_rpm", study.config.tolerance_rpm},
               {r.train ? "train_jump_speed_rpm" : "rigid_jump_speed_rpm",

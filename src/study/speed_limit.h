@@ -74,6 +74,7 @@ struct SpeedLimitResult {
   std::vector<SpeedCheck> checks;  ///< every simulation, in the order run
   double run_time_s = 0.0;
   std::size_t budget_cut = 0;  ///< checks a budget cut short
+  std::size_t resumed = 0;     ///< checks found in the journal (replayed, not simulated)
   /// Why the limit is withheld (a check it rests on was cut short by a
   /// budget); empty when it stands.
   std::string withheld;

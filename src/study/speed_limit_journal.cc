@@ -1,0 +1,57 @@
+#include "study/speed_limit_journal.h"
+
+#include <camdyn/version.h>
+
+#include <vector>
+
+#include "io/hex_doubles.h"
+
+namespace camdyn {
+
+namespace {
+
+/// The study's fingerprint: its resolved config (scene, integrator budgets
+/// and speed_limit fields) and the camdyn version.
+std::string study_fingerprint(const SpeedLimitStudy& study) {
+  const Json identity{{"study", study.resolved}, {"camdyn_version", CAMDYN_VERSION}};
+  return fingerprint(identity.dump(-1, ' ', false, Json::error_handler_t::replace));
+}
+
+}  // namespace
+
+SpeedLimitJournal::SpeedLimitJournal(const SpeedLimitStudy& study, const StudyContext& ctx)
+    : journal_(ctx.out_dir / "journal.jsonl", "speed_limit", study_fingerprint(study),
+               static_cast<std::size_t>(study.config.scan) + kMaxBisectionSteps) {}
+
+std::optional<SpeedCheck> SpeedLimitJournal::replay(std::size_t index, double rpm) const {
+  const auto it = journal_.done().find(index);
+  if (it == journal_.done().end()) return std::nullopt;
+  const Json& j = it->second;
+  // rpm [rpm], separation fraction [-], smallest and peak contact force [N], exact.
+  const auto values = doubles_from_hex(j.value("values", std::string()), 4);
+  if (!values || double_bits({(*values)[0]}) != double_bits({rpm})) return std::nullopt;
+  SpeedCheck c;
+  c.rpm = rpm;
+  c.separation_fraction = (*values)[1];
+  c.min_contact_force = (*values)[2];
+  c.peak_contact_force = (*values)[3];
+  c.ok = j.value("in_contact", false);
+  c.converged = j.value("converged", false);
+  c.message = j.value("message", std::string());
+  return c;
+}
+
+void SpeedLimitJournal::record(std::size_t index, const SpeedCheck& check) {
+  if (!check.budget.empty()) return;
+  const Json j{{"index", index},
+               {"status", check.ok ? "ok" : "failed"},
+               {"in_contact", check.ok},
+               {"converged", check.converged},
+               {"message", check.message},
+               {"values", doubles_to_hex({check.rpm, check.separation_fraction, check.min_contact_force,
+                                          check.peak_contact_force})}};
+  const std::lock_guard<std::mutex> lock(mutex_);
+  journal_.append(j);
+}
+
+}  // namespace camdyn
