@@ -137,6 +137,16 @@ std::function<void(const SearchProgress&)> progress_printer(const OptimizeOption
   };
 }
 
+/// Counts `e` in out.budget_cut_evaluations when a budget cut one of its
+/// simulations short (an invalid design for that reason, not a physical answer).
+void note_budget_cut(const DesignEvaluation& e, OptimizeOutcome& out) {
+  if (e.valid) return;
+  const std::string budget = budget_that_cut(e.error);
+  if (budget.empty()) return;
+  ++out.budget_cut_evaluations;
+  out.budget_cut_by.insert(budget);
+}
+
 /// The search loop with the loop settings, from the initial design: fills
 /// out.initial, out.history, out.search, out.loop_time_s and
 /// out.loop_simulations. Throws NumericalError when no design was valid.
@@ -167,6 +177,7 @@ void search_designs(const DesignSpace& space, const DesignEvaluator& evaluator, 
       }
       recorder.journal(x, e, pool.simulations() - sims);
     }
+    note_budget_cut(e, out);
     const bool improved = best.update(e);
     out.history.push_back(history_record(e, static_cast<long>(out.history.size()) + 1, start, kind, best));
     recorder.evaluated(out, space, x, improved);
@@ -188,7 +199,11 @@ void search_designs(const DesignSpace& space, const DesignEvaluator& evaluator, 
   if (options.progress) std::fprintf(stderr, "\n");
   if (out.search.candidates.empty())
     throw NumericalError("the optimiser found no valid design in " + std::to_string(out.search.evaluations) +
-                         " evaluations (stop reason " + out.search.stop_reason + ")");
+                         " evaluations (stop reason " + out.search.stop_reason + ")" +
+                         (out.budget_cut_by.empty() ? std::string()
+                                                    : "; " + std::to_string(out.budget_cut_evaluations) +
+                                                          " of them were cut short by a budget (" +
+                                                          out.budget_cut_names() + "), which proves nothing"));
 }
 
 /// `scene` with the study's geometric constraints that design `e` meets as
@@ -230,6 +245,7 @@ void choose_optimized(const DesignSpace& space, const DesignEvaluator& evaluator
     ++out.candidates_tried;
     const SceneConfig scene = simulate_scene(space.scene(x), top, name, file);
     DesignEvaluation e = evaluator.evaluate(scene, full, true);
+    note_budget_cut(e, out);
     if (e.valid && e.feasible) {
       out.optimized_scene = with_limits(scene, out.constraints, e);
       out.optimized = std::move(e);
@@ -239,8 +255,10 @@ void choose_optimized(const DesignSpace& space, const DesignEvaluator& evaluator
     if (e.valid && !fallback) fallback = Candidate{e, with_limits(scene, out.constraints, e), x};
   }
   if (!fallback)
-    throw NumericalError("none of the " + std::to_string(out.candidates_tried) +
-                         " best designs of the search could be simulated with the scene's settings");
+    throw NumericalError(
+        "none of the " + std::to_string(out.candidates_tried) +
+        " best designs of the search could be simulated with the scene's settings" +
+        (out.budget_cut_by.empty() ? std::string() : " (a budget cut them short: " + out.budget_cut_names() + ")"));
   out.optimized = std::move(fallback->evaluation);
   out.optimized_scene = std::move(fallback->scene);
   out.x_optimized = std::move(fallback->x);
@@ -463,6 +481,29 @@ void size_chosen_spring(const std::string& file, OptimizeOutcome& out) {
 
 }  // namespace
 
+/// out.withheld when the verification of a candidate was cut short by a
+/// budget: the choice among the candidates (and "better than the baseline")
+/// would rest on a run that says nothing about the physics.
+void withhold_on_budget(OptimizeOutcome& out) {
+  std::size_t cut = 0, verified = 0;
+  for (const CandidateVerification& c : out.selection.candidates) {
+    if (!c.available) continue;
+    ++verified;
+    const std::size_t before = out.budget_cut_evaluations;
+    note_budget_cut(c.verified, out);
+    cut += out.budget_cut_evaluations - before;
+  }
+  if (cut > 0)
+    out.withheld = withheld_text(cut, verified, "verifications of the candidates", out.budget_cut_names(),
+                                 "the choice of the answer (and whether it beats the baseline)");
+}
+
+std::string OptimizeOutcome::budget_cut_names() const {
+  std::string names;
+  for (const std::string& name : budget_cut_by) names += (names.empty() ? "" : ", ") + name;
+  return names;
+}
+
 const CandidateVerification& Selection::chosen() const {
   for (const CandidateVerification& c : candidates)
     if (c.kind == choice.chosen) return c;
@@ -548,6 +589,7 @@ OptimizeOutcome run_optimize(const SceneConfig& baseline, const OptimizeStudyCon
   choose_optimized(space, evaluator, full, baseline.name + "-optimized", top_speed(config), file, out);
   say(options, "verifying the baseline, the rigid design and the dynamic result on the steady state");
   select_answer(space, evaluator, full, baseline, baseline.name + "-optimized", top_speed(config), file, out);
+  withhold_on_budget(out);
   size_chosen_spring(file, out);
   say(options, "checking that the objective does not depend on the window");
   out.window_check = check_window(evaluator, out);

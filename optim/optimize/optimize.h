@@ -12,6 +12,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -130,7 +131,17 @@ struct OptimizeOutcome {
   WindowCheck window_check;             ///< the optimised objective over a doubled window (dynamic objectives only)
   int candidates_tried = 0;             ///< designs re-evaluated at the scene settings to find a feasible one
   std::size_t resumed_evaluations = 0;  ///< search evaluations replayed from the journal of an earlier, killed run
-  long resumed_simulations = 0;         ///< their simulations (counted in `simulations`, not run again)
+  /// Evaluations (search, re-evaluation at the scene's settings and
+  /// verification) whose simulations a budget cut short
+  /// (integrator.max_steps, max_wall_time_s, evaluation_max_wall_time_s):
+  /// counted invalid, never a result (docs/optimize.md "Budgets").
+  std::size_t budget_cut_evaluations = 0;
+  std::set<std::string> budget_cut_by;   ///< the budgets that cut them
+  std::string budget_cut_names() const;  ///< budget_cut_by, comma-separated
+  /// Why the answer is withheld (the verification of a candidate the choice
+  /// rests on was cut short by a budget); empty when it stands.
+  std::string withheld;
+  long resumed_simulations = 0;  ///< their simulations (counted in `simulations`, not run again)
 
   SearchResult search;
   std::vector<HistoryRecord> history;
@@ -139,6 +150,12 @@ struct OptimizeOutcome {
   double loop_time_s = 0.0;   ///< wall time of the search loop [s]
   double run_time_s = 0.0;    ///< whole run [s]
 };
+
+/// Sets out.withheld when the verification of a candidate in out.selection
+/// was cut short by a budget (its error names one: common/study_budget.h
+/// budget_that_cut), counting it in out.budget_cut_evaluations: the choice
+/// of the answer would rest on a run that says nothing about the physics.
+void withhold_on_budget(OptimizeOutcome& out);
 
 /// The two halves of an optimize study config.
 struct OptimizeStudy {

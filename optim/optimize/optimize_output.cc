@@ -211,7 +211,8 @@ void add_selection(const OptimizeOutcome& o, Json& r) {
   const Selection& sel = o.selection;
   r["chosen"] = to_string(sel.choice.chosen);
   r["chosen_reason"] = sel.choice.reason;
-  r["verdict"] = sel.good() ? "good" : sel.choice.feasible ? "warning" : "bad";
+  r["verdict"] = !o.withheld.empty() ? Json(nullptr) : sel.good() ? "good" : sel.choice.feasible ? "warning" : "bad";
+  r["conclusion_withheld"] = o.withheld.empty() ? Json(nullptr) : Json(o.withheld);
   Json candidates = Json::object();
   for (const CandidateVerification& c : sel.candidates) candidates[to_string(c.kind)] = candidate_json(c, o);
   r["candidates"] = candidates;
@@ -231,6 +232,10 @@ Json result_json(const OptimizeOutcome& o, const std::string& name, const std::s
   r["stop_reason"] = o.search.stop_reason;
   r["evaluations"] = o.search.evaluations;
   r["invalid_evaluations"] = o.search.invalid_evaluations;
+  r["budget_cut_evaluations"] = o.budget_cut_evaluations;
+  Json budgets = Json::array();
+  for (const std::string& b : o.budget_cut_by) budgets.push_back(b);
+  r["budget_cut_by"] = budgets;
   r["simulations"] = o.simulations;
   r["loop_simulations"] = o.loop_simulations;
   r["run_time_s"] = o.run_time_s;
@@ -335,7 +340,11 @@ void write_optimize_outputs(const std::filesystem::path& dir, const OptimizeOutc
   std::filesystem::create_directories(dir);
   write_json_atomic(dir / "optimized.json", optimized_config_json(o, config_file));
   write_history_csv(dir / "history.csv", o);
-  write_report(dir / "report.html", optimize_report(o, name));
+  // A withheld answer has no verdict to show (docs/optimize.md "Budgets").
+  if (o.withheld.empty())
+    write_report(dir / "report.html", optimize_report(o, name));
+  else
+    std::filesystem::remove(dir / "report.html");
   // outputs.profile: the optimised cam for manufacturing. A tool radius the
   // new contour cannot take costs the profile, not the optimisation's results.
   try {

@@ -188,7 +188,14 @@ int run_optimize_study(const Json& doc, const StudyContext& ctx) {
     std::printf("  resumed: %zu evaluations (%ld simulations) replayed from the journal of an earlier run\n",
                 o.resumed_evaluations, o.resumed_simulations);
 
+  if (!o.withheld.empty()) {
+    std::fprintf(stderr, "camdyn: error: %s: %s\n", baseline.name.c_str(), o.withheld.c_str());
+    return 3;
+  }
   print_certificate(o);
+  if (o.budget_cut_evaluations > 0)
+    std::printf("  %zu evaluations were cut short by a budget (%s): counted invalid designs, not results\n",
+                o.budget_cut_evaluations, o.budget_cut_names().c_str());
   const auto& b = o.baseline;
   const auto& p = o.optimized;
   std::printf("%s: %s, %ld evaluations (%ld invalid), stop reason %s, %.3g s\n", baseline.name.c_str(),

@@ -122,9 +122,7 @@ TEST(SpeedLimitResume, AChangedRecordIsSimulatedAgain) {
   while (std::getline(in, line)) rest += line + "\n";
   const std::size_t at = first.find("\"values\":\"") + 12;  // a hex digit of the speed's bits
   first[at] = first[at] == 'f' ? 'e' : 'f';
-  {
-    std::ofstream(out / "journal.jsonl", std::ios::trunc) << header << "\n" << first << "\n" << rest;
-  }
+  { std::ofstream(out / "journal.jsonl", std::ios::trunc) << header << "\n" << first << "\n" << rest; }
   const camdyn::test::Outcome again = camdyn::test::run_camdyn(args(out), dir, "again");
   ASSERT_EQ(again.code, 0) << again.err;
   EXPECT_NE(again.err.find("fails its checksum"), std::string::npos) << again.err;
