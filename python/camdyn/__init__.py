@@ -146,6 +146,17 @@ def _json_value(path, value):
                                     "a list or a dict") from None
 
 
+def _path(name, value):
+    """A file or folder name (str or os.PathLike) as a str; InputError naming the argument otherwise."""
+    try:
+        path = os.fspath(value)
+    except TypeError:
+        raise _argument_error(name, f"must be a file name (str or os.PathLike), got {type(value).__name__}") from None
+    if isinstance(path, bytes):
+        raise _argument_error(name, "must be a file name as str, got bytes")
+    return path
+
+
 def _overrides(values):
     """--set assignments from a dict {"cam.rpm": 1200} (values as JSON) or strings "cam.rpm=1200"."""
     if values is None:
@@ -154,7 +165,10 @@ def _overrides(values):
         return [f"{key}={_json_value(str(key), value)}" for key, value in values.items()]
     if isinstance(values, str):
         return [values]
-    return [str(v) for v in values]
+    if not isinstance(values, (list, tuple)) or not all(isinstance(v, str) for v in values):
+        raise _argument_error("set", "must be a dict {dotted path: value} or strings 'dotted.path=value', got "
+                                     f"{values!r:.80}")
+    return list(values)
 
 
 def _table(columns, names, as_frame):
@@ -263,12 +277,14 @@ class Scene:
     @classmethod
     def load(cls, path, set=None):
         """Reads a config file as ``camdyn run PATH --set ...`` does (``extends`` resolved)."""
-        return cls(_camdyn._Scene.load(os.fspath(path), _overrides(set)))
+        return cls(_camdyn._Scene.load(_path("path", path), _overrides(set)))
 
     @classmethod
     def from_json(cls, text, base_dir=None, set=None):
         """A scene from a config's JSON text; relative file names resolve against base_dir (default: cwd)."""
-        return cls(_camdyn._Scene.from_json(text, os.fspath(base_dir) if base_dir else "", _overrides(set)))
+        if not isinstance(text, str):
+            raise _argument_error("text", f"must be the config's JSON text as str, got {type(text).__name__}")
+        return cls(_camdyn._Scene.from_json(text, _path("base_dir", base_dir) if base_dir else "", _overrides(set)))
 
     @classmethod
     def from_dict(cls, config, base_dir=None, set=None):
@@ -285,7 +301,11 @@ class Scene:
         if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
             self._impl.set_text(str(path), value if isinstance(value, str) else _json_value(str(path), value))
         else:
-            self._impl.set(str(path), float(value))
+            try:
+                number = float(value)
+            except OverflowError:
+                raise _argument_error(str(path), f"expected a finite number, got {value}") from None
+            self._impl.set(str(path), number)  # NaN and inf are refused there, by name
         return self
 
     @property
@@ -412,13 +432,14 @@ def run_study(config, out=None, jobs=0, set=None, base_dir=None):
     jobs = _integer("jobs", jobs, 0, _camdyn._MAX_JOBS)
     if isinstance(config, dict):
         file, text = "", _json_value("config", config)
-        base = os.fspath(base_dir) if base_dir else ""
+        base = _path("base_dir", base_dir) if base_dir else ""
     else:
-        file, text, base = os.fspath(config), "", ""
+        file, text, base = _path("config", config), "", ""
+    overrides = _overrides(set)
+    folder = _path("out", out) if out is not None else None
     with tempfile.TemporaryDirectory(prefix="camdyn-") as scratch:
-        folder = os.fspath(out) if out is not None else scratch
         # The study's stdout summary names its report: not printed for a folder deleted on return.
-        outcome = _camdyn.run_study(file, text, base, _overrides(set), folder, int(jobs), out is not None)
+        outcome = _camdyn.run_study(file, text, base, overrides, folder if folder is not None else scratch, jobs, out is not None)
         if outcome["exit_code"] != 0:
             raise Error(f"the {outcome['study']} study stopped with exit code {outcome['exit_code']}")
         return _read_main_output(outcome["main_output"])

@@ -114,6 +114,19 @@ def test_a_value_that_is_not_finite_is_named_by_its_path(quickstart, scene, bad)
     assert scene.rpm == 1300  # unchanged
 
 
+def test_a_huge_whole_number_is_named_not_overflowed(scene):
+    reason = argument_error(lambda: scene.set("cam.rpm", 10**400), "cam.rpm")
+    assert "finite" in reason
+
+
+def test_file_names_and_overrides_of_the_wrong_type_are_named(quickstart):
+    argument_error(lambda: camdyn.load(1300), "path")
+    argument_error(lambda: camdyn.load(quickstart, set=1300), "set")
+    argument_error(lambda: camdyn.load(quickstart, set=["cam.rpm=1300", 5]), "set")
+    argument_error(lambda: camdyn.Scene.from_json(b"{}"), "text")
+    argument_error(lambda: camdyn.run_study(3.5), "config")
+
+
 @pytest.mark.parametrize("jobs", [-1, 1.5])
 def test_run_study_jobs_are_checked_before_it_runs(quickstart, tmp_path, jobs):
     argument_error(lambda: camdyn.run_study(quickstart, out=tmp_path / "out", jobs=jobs), "jobs")
