@@ -44,7 +44,10 @@ Scene::Impl::Impl(const Json& document, const Impl& previous)
 void Scene::set(const std::string& path, double value) {
   // JSON has no NaN or inf (they would arrive as null): named as such here.
   if (!std::isfinite(value))
-    throw InputError("", path, "expected a finite number, got " + std::string(std::isnan(value) ? "nan" : "inf"));
+    throw InputError("", path,
+                     "expected a finite number, got " + std::string(std::isnan(value) ? "nan"
+                                                                    : value > 0       ? "inf"
+                                                                                      : "-inf"));
   naming_file(impl_->file, [&] {
     Json document = to_json(impl_->scene);
     set_dotted_field(document, path, Json(value));
