@@ -6,7 +6,8 @@
 //
 // The GIL is released around everything that computes (loading a scene
 // builds its cam, simulating, running a study), so a thread pool simulates
-// in parallel. C++ exceptions become camdyn.InputError (a bad input: the
+// in parallel; a simulation on the main thread still stops on Ctrl-C
+// (signal_check). C++ exceptions become camdyn.InputError (a bad input: the
 // file, the dotted path and the reason as attributes) and camdyn.SolverError
 // (a solver gave up); nothing camdyn throws on purpose arrives as a bare
 // RuntimeError.
@@ -17,6 +18,7 @@
 #include <pybind11/stl.h>
 
 #include <exception>
+#include <functional>
 #include <initializer_list>
 #include <string>
 #include <utility>
@@ -158,15 +160,40 @@ py::dict result_dict(const camdyn::Result& r) {
   return d;
 }
 
+// Thrown by the progress callback when a Python signal handler raised
+// (Ctrl-C: KeyboardInterrupt): it abandons the run, and the Python error,
+// left set on this thread, is raised when simulate returns.
+struct SignalHandlerRaised : std::exception {
+  const char* what() const noexcept override { return "a Python signal handler raised"; }
+};
+
+// The run's progress hook (SimulateOptions::progress, called at most every
+// 0.25 s between integrator steps) on the main thread, the one Python's
+// signal handlers run on: takes the GIL and runs the handlers, so that
+// Ctrl-C stops a long run within about a second instead of when it ends.
+// Other threads run without it (their handlers could not run anyway).
+std::function<void(double)> signal_check() {
+  const py::object main_thread = py::module_::import("threading").attr("main_thread")();
+  if (py::int_(main_thread.attr("ident")).cast<unsigned long>() != PyThread_get_thread_ident()) return {};
+  return [](double) {
+    const py::gil_scoped_acquire acquire;
+    if (PyErr_CheckSignals() != 0) throw SignalHandlerRaised();
+  };
+}
+
 py::dict simulate_dict(const camdyn::Scene& scene, bool record_series, std::vector<double> sample_times, int jobs) {
   camdyn::SimulateOptions options;
   options.record_series = record_series;
   options.sample_times = std::move(sample_times);
   options.jobs = jobs;
+  options.progress = signal_check();
   camdyn::Result result;
-  {
+  try {
     const py::gil_scoped_release release;
     result = camdyn::simulate(scene, options);
+  } catch (const SignalHandlerRaised&) {
+    if (PyErr_Occurred() == nullptr) PyErr_SetNone(PyExc_KeyboardInterrupt);
+    throw py::error_already_set();
   }
   return result_dict(result);
 }
@@ -266,6 +293,9 @@ PYBIND11_MODULE(_camdyn, m) {
   m.attr("__version__") = CAMDYN_VERSION;
   add_exceptions(m);
   py::register_exception_translator(&translate);
+  // The caps the package checks its arguments against before they reach C++.
+  m.attr("_MAX_POINTS_PER_CALL") = camdyn::kMaxPointsPerCall;
+  m.attr("_MAX_JOBS") = camdyn::kMaxJobs;
   add_scene(m);
   m.def(
       "run_study",

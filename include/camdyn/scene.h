@@ -16,6 +16,10 @@ namespace camdyn {
 struct Result;
 struct SimulateOptions;
 
+/// The most points one call computes: Scene::profile's points, Scene::law's
+/// angles, SimulateOptions::sample_times (the cap of `camdyn export --points`).
+inline constexpr int kMaxPointsPerCall = 1'000'000;
+
 /// What the scene's model is made of (summary.json `model`).
 struct ModelInfo {
   std::vector<std::string> states;    ///< the state vector's entries, in order ("follower_position", ...)
@@ -83,10 +87,13 @@ class Scene {
   double jump_speed_rpm() const;
   /// The states and force elements of the model (summary.json `model`).
   ModelInfo model() const;
-  /// The cam's contour and pitch curve at `points` (≥ 3) parameters over one
-  /// turn, u = 2πk / points; throws std::invalid_argument for fewer.
+  /// The cam's contour and pitch curve at `points` (3 … kMaxPointsPerCall)
+  /// parameters over one turn, u = 2πk / points; throws InputError (path
+  /// "points") for other counts.
   CamProfile profile(int points = 360) const;
-  /// The motion law at the given cam angles [deg] (any real angle: the law is periodic).
+  /// The motion law at the given cam angles [deg] (any finite angle: the law
+  /// is periodic); throws InputError (path "angles_deg") for an angle that is
+  /// not finite or more than kMaxPointsPerCall angles.
   LawValues law(const std::vector<double>& angles_deg) const;
 
  private:

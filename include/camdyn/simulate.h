@@ -15,16 +15,26 @@
 
 namespace camdyn {
 
+/// The most threads SimulateOptions::jobs may ask for (each holds a workspace).
+inline constexpr int kMaxJobs = 1024;
+
+/// What simulate() is asked to do. simulate() checks it as the config
+/// loader checks a field: InputError with an empty file(), the field's name
+/// as path() ("sample_times", "jobs") and the reason.
 struct SimulateOptions {
   /// Record the time series (Result::series) at the config's output step.
   bool record_series = true;
-  /// Extra times [s] (ascending, within the run) at which the state is
-  /// sampled from the integrator's dense output into Result::samples.
+  /// Extra times [s] at which the state is sampled from the integrator's
+  /// dense output into Result::samples: finite, ascending (each ≥ the one
+  /// before), within the run [0, Result::end_time], at most kMaxPointsPerCall.
   std::vector<double> sample_times;
-  /// Called now and then with the fraction of simulated time done, in [0, 1].
+  /// Called now and then (at most every 0.25 s of wall time, between
+  /// integrator steps) with the fraction of simulated time done, in [0, 1].
+  /// It may throw to abandon the run: the exception leaves simulate() (the
+  /// Python module stops a run on Ctrl-C so).
   std::function<void(double)> progress;
   /// Threads for simulation.steady_state's orbit search (its Jacobian
-  /// columns); 0: one per core. The numbers do not depend on it.
+  /// columns), 0 … kMaxJobs; 0: one per core. The numbers do not depend on it.
   int jobs = 1;
 };
 
@@ -121,7 +131,8 @@ struct Result {
 /// the metrics over one period of the orbit the run settles on). A solver that gives up or a budget that runs out is
 /// not an exception: result.solver says how the run ended (call
 /// throw_if_failed to make it one). Throws InputError when the follower has
-/// no static equilibrium to start from.
+/// no static equilibrium to start from, or for options out of their range
+/// (SimulateOptions).
 Result simulate(const Scene& scene, const SimulateOptions& options = {});
 
 /// Throws NumericalError(result.solver.message) unless the run converged.

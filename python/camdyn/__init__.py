@@ -9,13 +9,15 @@ dicts and numpy arrays::
     result = scene.simulate()
     print(result.metrics["peak_contact_force"], "N")
 
-Errors: ``camdyn.InputError`` (a bad config: ``file``, ``path``, ``reason``)
-and ``camdyn.SolverError`` (a solver gave up), both ``camdyn.Error``.
-The GIL is released while camdyn computes, so threads simulate in parallel.
+Errors: ``camdyn.InputError`` (a bad config or argument: ``file``, ``path``,
+``reason``) and ``camdyn.SolverError`` (a solver gave up), both ``camdyn.Error``.
+The GIL is released while camdyn computes, so threads simulate in parallel;
+Ctrl-C stops a simulation on the main thread within about a second.
 """
 
 import csv
 import json
+import numbers
 import os
 import tempfile
 
@@ -92,6 +94,36 @@ EVENT_UNITS = {
 }
 
 
+def _argument_error(name, reason):
+    """InputError for a bad argument, as the C++ API raises it: no file, the argument's name as the path."""
+    error = InputError(f"{name}: {reason}")
+    error.file, error.path, error.reason = "", name, reason
+    return error
+
+
+def _integer(name, value, low, high, why=""):
+    """value as an int in [low, high]; InputError naming the argument otherwise."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (numbers.Integral, np.integer)):
+        raise _argument_error(name, f"must be a whole number, got {value!r}")
+    if not low <= value <= high:
+        raise _argument_error(name, f"must be {low} … {high}{why}, got {value}")
+    return int(value)
+
+
+def _numbers(name, values, unit):
+    """values as a 1-d float array, at most the points one call takes (finiteness is checked in C++)."""
+    try:
+        array = np.asarray(values, dtype=float)
+    except (TypeError, ValueError) as e:
+        raise _argument_error(name, f"must be numbers {unit}: {e}") from None
+    if array.ndim > 1:
+        raise _argument_error(name, f"must be a flat sequence of numbers {unit}, got an array of shape {array.shape}")
+    if array.size > _camdyn._MAX_POINTS_PER_CALL:
+        raise _argument_error(name, f"{array.size} values asked for: at most {_camdyn._MAX_POINTS_PER_CALL} in one "
+                                    "call (the cap of camdyn export --points)")
+    return np.ascontiguousarray(array.ravel())
+
+
 def _plain(value):
     """numpy scalars and arrays as the Python numbers and lists JSON takes."""
     if isinstance(value, (np.generic, np.ndarray)):
@@ -103,15 +135,40 @@ def _json(value):
     return json.dumps(value, allow_nan=False, default=_plain)
 
 
+def _json_value(path, value):
+    """A value as JSON, or InputError naming its dotted path (NaN and inf have no JSON form)."""
+    if isinstance(value, (float, np.floating)) and not np.isfinite(value):
+        raise _argument_error(path, f"expected a finite number, got {value}")
+    try:
+        return _json(value)
+    except (TypeError, ValueError) as e:
+        raise _argument_error(path, f"{value!r} cannot be written as JSON ({e}): give a finite number, a string, "
+                                    "a list or a dict") from None
+
+
+def _path(name, value):
+    """A file or folder name (str or os.PathLike) as a str; InputError naming the argument otherwise."""
+    try:
+        path = os.fspath(value)
+    except TypeError:
+        raise _argument_error(name, f"must be a file name (str or os.PathLike), got {type(value).__name__}") from None
+    if isinstance(path, bytes):
+        raise _argument_error(name, "must be a file name as str, got bytes")
+    return path
+
+
 def _overrides(values):
     """--set assignments from a dict {"cam.rpm": 1200} (values as JSON) or strings "cam.rpm=1200"."""
     if values is None:
         return []
     if isinstance(values, dict):
-        return [f"{key}={_json(value)}" for key, value in values.items()]
+        return [f"{key}={_json_value(str(key), value)}" for key, value in values.items()]
     if isinstance(values, str):
         return [values]
-    return [str(v) for v in values]
+    if not isinstance(values, (list, tuple)) or not all(isinstance(v, str) for v in values):
+        raise _argument_error("set", "must be a dict {dotted path: value} or strings 'dotted.path=value', got "
+                                     f"{values!r:.80}")
+    return list(values)
 
 
 def _table(columns, names, as_frame):
@@ -148,7 +205,11 @@ class Result:
         metrics: summary.json's metrics by name (SI units; ``impact_count`` as
             a float; ``jump_speed_rpm`` is ``inf`` when the law never decelerates;
             ``peak_contact_stress`` only with materials and ``max_face_excursion``
-            only for a flat face, absent otherwise).
+            only for a flat face, absent otherwise). None when the run failed
+            (``failed``): a run cut short has no metrics to trust.
+        failed: True when the run did not reach its end (``simulate(check=False)``);
+            ``status`` and ``solver["message"]`` say why.
+        status: how the run ended: ``"converged"``, ``"step_budget"``, ...
         solver: how the run ended (``termination``, ``converged``, ``message``)
             and what it cost (``steps``, ``rhs_evaluations``, ...), under
             summary.json's ``solver`` names.
@@ -168,8 +229,10 @@ class Result:
 
     def __init__(self, raw, model, as_frame):
         names = raw["timeseries_columns"]
-        self.metrics = dict(raw["metrics"])
         self.solver = raw["solver"]
+        # The metrics of a run cut short are over part of the window, or none
+        # of it (all zero): they would read like a good design.
+        self.metrics = dict(raw["metrics"]) if self.solver["converged"] else None
         self.timeseries = _series_table(raw["timeseries"], names, as_frame)
         # Its own columns: a train's are named when its first row is, so a run
         # without a series (series=False) names them only in its samples.
@@ -183,7 +246,17 @@ class Result:
     def converged(self):
         return self.solver["converged"]
 
+    @property
+    def failed(self):
+        return not self.solver["converged"]
+
+    @property
+    def status(self):
+        return self.solver["termination"]
+
     def __repr__(self):
+        if self.failed:
+            return f"<camdyn.Result {self.status} (failed, no metrics): {self.solver['message']}>"
         return (f"<camdyn.Result {self.solver['termination']}: separation_fraction "
                 f"{self.metrics['separation_fraction']:.4g}, peak_contact_force "
                 f"{self.metrics['peak_contact_force']:.6g} N>")
@@ -204,17 +277,19 @@ class Scene:
     @classmethod
     def load(cls, path, set=None):
         """Reads a config file as ``camdyn run PATH --set ...`` does (``extends`` resolved)."""
-        return cls(_camdyn._Scene.load(os.fspath(path), _overrides(set)))
+        return cls(_camdyn._Scene.load(_path("path", path), _overrides(set)))
 
     @classmethod
     def from_json(cls, text, base_dir=None, set=None):
         """A scene from a config's JSON text; relative file names resolve against base_dir (default: cwd)."""
-        return cls(_camdyn._Scene.from_json(text, os.fspath(base_dir) if base_dir else "", _overrides(set)))
+        if not isinstance(text, str):
+            raise _argument_error("text", f"must be the config's JSON text as str, got {type(text).__name__}")
+        return cls(_camdyn._Scene.from_json(text, _path("base_dir", base_dir) if base_dir else "", _overrides(set)))
 
     @classmethod
     def from_dict(cls, config, base_dir=None, set=None):
         """A scene from a config as a dict (as json.load gives it)."""
-        return cls.from_json(_json(config), base_dir, set)
+        return cls.from_json(_json_value("config", config), base_dir, set)
 
     def set(self, path, value):
         """Sets one field by its dotted path ("cam.rpm", "contact.stiffness"),
@@ -224,9 +299,13 @@ class Scene:
         and runs to the bit as a scene loaded with that override. Returns the
         scene, so calls chain."""
         if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
-            self._impl.set_text(str(path), value if isinstance(value, str) else _json(value))
+            self._impl.set_text(str(path), value if isinstance(value, str) else _json_value(str(path), value))
         else:
-            self._impl.set(str(path), float(value))
+            try:
+                number = float(value)
+            except OverflowError:
+                raise _argument_error(str(path), f"expected a finite number, got {value}") from None
+            self._impl.set(str(path), number)  # NaN and inf are refused there, by name
         return self
 
     @property
@@ -253,27 +332,40 @@ class Scene:
         return self._impl.jump_speed_rpm()
 
     def profile(self, points=360):
-        """The cam's outline in the cam frame: ``u`` [rad], ``contour_x/y`` [m], ``pitch_x/y`` [m]."""
-        return self._impl.profile(int(points))
+        """The cam's outline in the cam frame: ``u`` [rad], ``contour_x/y`` [m], ``pitch_x/y`` [m].
+
+        points: 3 … 1,000,000 (the cap of ``camdyn export --points``); InputError otherwise.
+        """
+        return self._impl.profile(_integer("points", points, 3, _camdyn._MAX_POINTS_PER_CALL,
+                                           " (the cap of camdyn export --points)"))
 
     def law(self, angles_deg):
-        """The motion law at cam angles [deg]: ``s`` [m], ``ds`` [m/rad], ``d2s`` [m/rad^2], ``d3s`` [m/rad^3]."""
-        return self._impl.law(np.asarray(angles_deg, dtype=float).ravel())
+        """The motion law at cam angles [deg]: ``s`` [m], ``ds`` [m/rad], ``d2s`` [m/rad^2], ``d3s`` [m/rad^3].
+
+        angles_deg: finite numbers, at most 1,000,000; InputError otherwise.
+        """
+        return self._impl.law(_numbers("angles_deg", angles_deg, "[deg]"))
 
     def simulate(self, *, series=True, sample_times=None, jobs=1, check=True, as_frame=None):
         """Simulates the scene as ``camdyn run`` does and returns a ``Result``.
 
         series: record the time series at the config's output step.
-        sample_times: extra times [s] (ascending) at which the state is sampled (``Result.samples``).
-        jobs: threads for simulation.steady_state's orbit search (0: one per core).
+        sample_times: extra times [s] at which the state is sampled
+            (``Result.samples``): finite, ascending, within the run (0 to
+            ``solver["simulated_time_s"]``), at most 1,000,000.
+        jobs: threads for simulation.steady_state's orbit search (0: one per core; at most 1024).
         check: raise ``SolverError`` (with ``termination`` and the partial
             ``result``) when the run did not converge; with False, read
-            ``result.solver["termination"]`` instead.
+            ``result.failed`` and ``result.status`` instead (its metrics are None).
         as_frame: tables as pandas DataFrames (True), numpy record arrays
             (False), or DataFrames when pandas can be imported (None).
+
+        A bad argument raises ``InputError`` naming it (``path``) before
+        anything runs. Ctrl-C (a Python signal handler that raises) stops a
+        run on the main thread within about a second.
         """
-        times = [] if sample_times is None else [float(t) for t in np.asarray(sample_times, dtype=float).ravel()]
-        raw = self._impl.simulate(bool(series), times, int(jobs))
+        times = [] if sample_times is None else _numbers("sample_times", sample_times, "[s]").tolist()
+        raw = self._impl.simulate(bool(series), times, _integer("jobs", jobs, 0, _camdyn._MAX_JOBS))
         result = Result(raw, self.model, as_frame)
         if check and not result.converged:
             error = SolverError(result.solver["message"] or result.solver["termination"])
@@ -337,15 +429,17 @@ def run_study(config, out=None, jobs=0, set=None, base_dir=None):
     convergence study, work_precision.csv's columns (as strings).
     Raises InputError and SolverError as the CLI exits 2 and 3.
     """
+    jobs = _integer("jobs", jobs, 0, _camdyn._MAX_JOBS)
     if isinstance(config, dict):
-        file, text = "", _json(config)
-        base = os.fspath(base_dir) if base_dir else ""
+        file, text = "", _json_value("config", config)
+        base = _path("base_dir", base_dir) if base_dir else ""
     else:
-        file, text, base = os.fspath(config), "", ""
+        file, text, base = _path("config", config), "", ""
+    overrides = _overrides(set)
+    folder = _path("out", out) if out is not None else None
     with tempfile.TemporaryDirectory(prefix="camdyn-") as scratch:
-        folder = os.fspath(out) if out is not None else scratch
         # The study's stdout summary names its report: not printed for a folder deleted on return.
-        outcome = _camdyn.run_study(file, text, base, _overrides(set), folder, int(jobs), out is not None)
+        outcome = _camdyn.run_study(file, text, base, overrides, folder if folder is not None else scratch, jobs, out is not None)
         if outcome["exit_code"] != 0:
             raise Error(f"the {outcome['study']} study stopped with exit code {outcome['exit_code']}")
         return _read_main_output(outcome["main_output"])

@@ -1,11 +1,13 @@
 #include <camdyn/scene.h>
 
+#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <numbers>
-#include <stdexcept>
+#include <string>
 #include <utility>
 
+#include "api/argument_checks.h"
 #include "api/scene_impl.h"
 #include "common/errors.h"
 #include "dynamics/cam_outline.h"
@@ -40,6 +42,12 @@ Scene::Impl::Impl(const Json& document, const Impl& previous)
       model(model_after_change(scene, previous.scene, previous.model, file)) {}
 
 void Scene::set(const std::string& path, double value) {
+  // JSON has no NaN or inf (they would arrive as null): named as such here.
+  if (!std::isfinite(value))
+    throw InputError("", path,
+                     "expected a finite number, got " + std::string(std::isnan(value) ? "nan"
+                                                                    : value > 0       ? "inf"
+                                                                                      : "-inf"));
   naming_file(impl_->file, [&] {
     Json document = to_json(impl_->scene);
     set_dotted_field(document, path, Json(value));
@@ -85,12 +93,15 @@ ModelInfo Scene::model() const {
 }
 
 CamProfile Scene::profile(int points) const {
-  if (points < 3) throw std::invalid_argument("camdyn::Scene::profile: points must be at least 3");
+  if (points < 3) throw InputError("", "points", "must be at least 3, got " + std::to_string(points));
+  check_point_count("points", static_cast<std::size_t>(points));
   CamOutline o = cam_outline(impl_->model, points);
   return {std::move(o.u), std::move(o.contour_x), std::move(o.contour_y), std::move(o.pitch_x), std::move(o.pitch_y)};
 }
 
 LawValues Scene::law(const std::vector<double>& angles_deg) const {
+  check_point_count("angles_deg", angles_deg.size());
+  check_finite("angles_deg", angles_deg, "[deg]");
   LawValues v;
   for (std::vector<double>* column : {&v.s, &v.ds, &v.d2s, &v.d3s}) column->reserve(angles_deg.size());
   for (const double angle : angles_deg) {

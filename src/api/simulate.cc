@@ -6,9 +6,11 @@
 #include <thread>
 #include <utility>
 
+#include "api/argument_checks.h"
 #include "api/scene_impl.h"
 #include "common/errors.h"
 #include "dynamics/metrics.h"
+#include "dynamics/run_plan.h"
 #include "dynamics/simulation.h"
 #include "study/steady_state.h"
 
@@ -139,9 +141,12 @@ const std::vector<double>& Columns::operator[](std::string_view name) const {
 
 // What simulate_scene (dynamics/simulation.h) does, on the model the scene
 // built when it was loaded: the same run, to the bit; then, as `camdyn run`,
-// the steady state's metrics when the scene asks for them.
+// the steady state's metrics when the scene asks for them. The options are
+// checked first, naming no file: they are arguments, not the config's.
 Result simulate(const Scene& scene, const SimulateOptions& options) {
   const Scene::Impl& impl = *scene.impl_;
+  check_jobs("jobs", options.jobs);
+  check_times_within_run("sample_times", options.sample_times, plan_run(impl.scene, impl.model).t_end);
   SimulationOptions run_options;
   run_options.record_series = options.record_series;
   run_options.sample_times = options.sample_times;

@@ -6,8 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <limits>
 #include <numbers>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -95,6 +95,10 @@ TEST(Scene, SetRefusesWhatTheLoaderRefusesAndLeavesTheSceneAsItWas) {
     EXPECT_NE(std::string(e.what()).find("must be > 0"), std::string::npos) << e.what();
   }
   EXPECT_THROW(scene.set("cam.rpmm", 1000.0), InputError);
+  // NaN has no JSON form (it arrived as null): named as what it is.
+  const InputError nan = test::input_error_of([&] { scene.set("cam.rpm", std::numeric_limits<double>::quiet_NaN()); });
+  EXPECT_EQ(nan.path(), "cam.rpm");
+  EXPECT_EQ(nan.reason(), "expected a finite number, got nan");
   EXPECT_EQ(scene.resolved_json(), resolved);
   scene.set("contact.model", std::string("hertz"));
   EXPECT_NE(scene.resolved_json().find("\"hertz\""), std::string::npos);
@@ -134,7 +138,12 @@ TEST(Scene, ProfileIsTheModelsOutline) {
   EXPECT_EQ(profile.contour_y, outline.contour_y);
   EXPECT_EQ(profile.pitch_x, outline.pitch_x);
   EXPECT_EQ(profile.pitch_y, outline.pitch_y);
-  EXPECT_THROW(scene.profile(2), std::invalid_argument);
+  for (const int points : {2, kMaxPointsPerCall + 1}) {
+    const InputError e = test::input_error_of([&] { scene.profile(points); });
+    EXPECT_EQ(e.path(), "points");
+    EXPECT_EQ(e.file(), "");
+    EXPECT_NE(e.reason().find(std::to_string(points)), std::string::npos) << e.reason();
+  }
 }
 
 TEST(Scene, LawIsTheModelsLawAtAnglesInDegrees) {
@@ -157,6 +166,12 @@ TEST(Scene, LawIsTheModelsLawAtAnglesInDegrees) {
   EXPECT_NEAR(v.s[3], 0.02, 1e-15);
   EXPECT_NEAR(v.s[5], v.s[2], 1e-15);
   EXPECT_NEAR(v.s[6], 0.0, 1e-15);
+  // An angle that is not finite has no place on the cam (its law was zero).
+  const InputError e = test::input_error_of([&] { scene.law({0.0, std::numeric_limits<double>::quiet_NaN()}); });
+  EXPECT_EQ(e.path(), "angles_deg");
+  EXPECT_EQ(e.reason(), "angles_deg[1] is nan: must be a finite number [deg]");
+  EXPECT_EQ(test::input_error_of([&] { scene.law(std::vector<double>(kMaxPointsPerCall + 1, 0.0)); }).path(),
+            "angles_deg");
 }
 
 TEST(Scene, BadConfigNamesFileAndDottedPath) {

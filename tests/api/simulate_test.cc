@@ -4,14 +4,19 @@
 #include <camdyn/simulate.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
+#include <limits>
 #include <optional>
 #include <string>
 #include <thread>
+#include <utility>
+#include <vector>
 
 #include "common/errors.h"
 #include "dynamics/metrics.h"
 #include "dynamics/simulation.h"
+#include "input_error_of.h"
 #include "io/config.h"
 
 namespace camdyn {
@@ -90,6 +95,64 @@ TEST(Simulate, SamplesAtTheRequestedTimes) {
   ASSERT_EQ(result.samples.rows(), 2U);
   EXPECT_EQ(result.samples["time"][0], 0.05);
   EXPECT_EQ(result.samples["time"][1], 0.1);
+}
+
+// The options are checked as config fields are: InputError naming the option
+// (no file) and the offending element, before anything runs.
+TEST(Simulate, SampleTimesMustBeFiniteAscendingAndWithinTheRun) {
+  const Scene scene = Scene::load(kQuickstart);
+  // simulation.cycles = 4 at 1300 rpm [s].
+  const double t_end = 4 * 60.0 / 1300.0;
+  const auto error_for = [&](std::vector<double> times) {
+    SimulateOptions options;
+    options.record_series = false;
+    options.sample_times = std::move(times);
+    return test::input_error_of([&] { simulate(scene, options); });
+  };
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  for (const InputError& e :
+       {error_for({0.01, nan, 0.02}), error_for({0.01, inf}), error_for({0.02, 0.01}), error_for({-0.01}),
+        error_for({0.0, std::nextafter(t_end, 1.0)}), error_for(std::vector<double>(kMaxPointsPerCall + 1, 0.0))}) {
+    EXPECT_EQ(e.path(), "sample_times");
+    EXPECT_EQ(e.file(), "");
+  }
+  EXPECT_EQ(error_for({0.01, nan, 0.02}).reason(), "sample_times[1] is nan: must be a finite number [s]");
+  EXPECT_NE(error_for({0.02, 0.01}).reason().find("must be ascending"), std::string::npos);
+  EXPECT_NE(error_for({-0.01}).reason().find("before the run's start"), std::string::npos);
+  EXPECT_NE(error_for({0.0, std::nextafter(t_end, 1.0)}).reason().find("after the run's end"), std::string::npos);
+  EXPECT_NE(error_for(std::vector<double>(kMaxPointsPerCall + 1, 0.0)).reason().find("at most 1000000"),
+            std::string::npos);
+
+  SimulateOptions whole_run;
+  whole_run.record_series = false;
+  whole_run.sample_times = {0.0, t_end};
+  const Result result = simulate(scene, whole_run);
+  EXPECT_EQ(result.end_time, t_end);
+  EXPECT_EQ(result.samples["time"], whole_run.sample_times);
+}
+
+TEST(Simulate, JobsAreZeroToTheCap) {
+  const Scene scene = Scene::load(kQuickstart);
+  for (const int jobs : {-1, kMaxJobs + 1}) {
+    SimulateOptions options;
+    options.jobs = jobs;
+    EXPECT_EQ(test::input_error_of([&] { simulate(scene, options); }).path(), "jobs") << jobs;
+  }
+}
+
+TEST(Simulate, AProgressHookThatThrowsAbandonsTheRun) {
+  SimulateOptions options;
+  options.record_series = false;
+  struct Stop {};
+  long calls = 0;
+  options.progress = [&](double) {
+    ++calls;
+    throw Stop{};
+  };
+  // Long enough that the hook is called (every 0.25 s of wall time) before it ends.
+  EXPECT_THROW(simulate(Scene::load(kQuickstart, {"simulation.cycles=400"}), options), Stop);
+  EXPECT_EQ(calls, 1);
 }
 
 TEST(Simulate, ABudgetThatRunsOutIsAStatusNotAnException) {
