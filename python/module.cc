@@ -20,6 +20,7 @@
 #include <exception>
 #include <functional>
 #include <initializer_list>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -160,25 +161,20 @@ py::dict result_dict(const camdyn::Result& r) {
   return d;
 }
 
-// Thrown by the progress callback when a Python signal handler raised
-// (Ctrl-C: KeyboardInterrupt): it abandons the run, and the Python error,
-// left set on this thread, is raised when simulate returns.
-struct SignalHandlerRaised : std::exception {
-  const char* what() const noexcept override { return "a Python signal handler raised"; }
-};
-
-// The run's progress hook (SimulateOptions::progress, called at most every
-// 0.25 s between integrator steps) on the main thread, the one Python's
-// signal handlers run on: takes the GIL and runs the handlers, so that
-// Ctrl-C stops a long run within about a second instead of when it ends.
-// Other threads run without it (their handlers could not run anyway).
-std::function<void(double)> signal_check() {
+// Python's signal handlers (Ctrl-C: KeyboardInterrupt) during a long call:
+// on the main thread, the one they run on, the simulation loop polls them at
+// most every 0.25 s (camdyn::InterruptCheck) with the GIL
+// taken. A handler that raises stops every run as a used-up study budget
+// would (a study keeps what finished and can be resumed); the Python error,
+// left set on this thread, is raised when the call returns. Other threads
+// run without it (their handlers could not run anyway).
+std::unique_ptr<camdyn::InterruptCheck> signal_check() {
   const py::object main_thread = py::module_::import("threading").attr("main_thread")();
-  if (py::int_(main_thread.attr("ident")).cast<unsigned long>() != PyThread_get_thread_ident()) return {};
-  return [](double) {
+  if (py::int_(main_thread.attr("ident")).cast<unsigned long>() != PyThread_get_thread_ident()) return nullptr;
+  return std::make_unique<camdyn::InterruptCheck>([] {
     const py::gil_scoped_acquire acquire;
-    if (PyErr_CheckSignals() != 0) throw SignalHandlerRaised();
-  };
+    return PyErr_CheckSignals() != 0;
+  });
 }
 
 py::dict simulate_dict(const camdyn::Scene& scene, bool record_series, std::vector<double> sample_times, int jobs) {
@@ -186,15 +182,13 @@ py::dict simulate_dict(const camdyn::Scene& scene, bool record_series, std::vect
   options.record_series = record_series;
   options.sample_times = std::move(sample_times);
   options.jobs = jobs;
-  options.progress = signal_check();
   camdyn::Result result;
-  try {
+  {
+    const std::unique_ptr<camdyn::InterruptCheck> interrupts = signal_check();
     const py::gil_scoped_release release;
     result = camdyn::simulate(scene, options);
-  } catch (const SignalHandlerRaised&) {
-    if (PyErr_Occurred() == nullptr) PyErr_SetNone(PyExc_KeyboardInterrupt);
-    throw py::error_already_set();
   }
+  if (PyErr_Occurred() != nullptr) throw py::error_already_set();  // a signal handler raised
   return result_dict(result);
 }
 
@@ -234,9 +228,11 @@ py::dict law_dict(const camdyn::Scene& scene, const py::array_t<double, py::arra
 py::dict run_study_dict(const camdyn::StudyRequest& request) {
   camdyn::StudyOutcome outcome;
   {
+    const std::unique_ptr<camdyn::InterruptCheck> interrupts = signal_check();
     const py::gil_scoped_release release;
     outcome = camdyn::run_study(request);
   }
+  if (PyErr_Occurred() != nullptr) throw py::error_already_set();  // a signal handler raised
   py::dict d;
   d["exit_code"] = outcome.exit_code;
   d["study"] = outcome.study;

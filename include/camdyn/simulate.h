@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <functional>
 #include <map>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -137,5 +138,24 @@ Result simulate(const Scene& scene, const SimulateOptions& options = {});
 
 /// Throws NumericalError(result.solver.message) unless the run converged.
 void throw_if_failed(const Result& result);
+
+/// For its lifetime, every simulation and study run on the thread that made
+/// it polls `interrupted` at most every 0.25 s of wall time (between
+/// integrator steps; docs/library.md). Once it returns true, every run stops
+/// as when a study's wall-time budget (--max-study-time) is used up: a
+/// simulation returns early (not converged), a study keeps what its journal
+/// holds and ends with exit code 3. The Python module stops on Ctrl-C this
+/// way. One at a time per process.
+class InterruptCheck {
+ public:
+  explicit InterruptCheck(std::function<bool()> interrupted);
+  ~InterruptCheck();
+  InterruptCheck(const InterruptCheck&) = delete;
+  InterruptCheck& operator=(const InterruptCheck&) = delete;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 }  // namespace camdyn

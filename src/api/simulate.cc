@@ -9,6 +9,7 @@
 #include "api/argument_checks.h"
 #include "api/scene_impl.h"
 #include "common/errors.h"
+#include "common/study_budget.h"
 #include "dynamics/metrics.h"
 #include "dynamics/run_plan.h"
 #include "dynamics/simulation.h"
@@ -163,6 +164,16 @@ Result simulate(const Scene& scene, const SimulateOptions& options) {
   });
   return public_result(std::move(run));
 }
+
+struct InterruptCheck::Impl {
+  explicit Impl(std::function<bool()> interrupted) : scope(std::move(interrupted)) {}
+  InterruptScope scope;  // common/study_budget.h
+};
+
+InterruptCheck::InterruptCheck(std::function<bool()> interrupted)
+    : impl_(std::make_unique<Impl>(std::move(interrupted))) {}
+
+InterruptCheck::~InterruptCheck() = default;
 
 void throw_if_failed(const Result& result) {
   if (!result.solver.converged()) throw NumericalError(result.solver.message);

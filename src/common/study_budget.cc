@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <thread>
 
 namespace camdyn {
 
@@ -18,6 +19,11 @@ constexpr long long kNoDeadline = std::numeric_limits<long long>::max();
 std::atomic<long long> g_deadline_ns{kNoDeadline};
 std::atomic<double> g_seconds{std::numeric_limits<double>::infinity()};
 std::atomic<double> g_memory_mb{kDefaultMemoryBudgetMb};
+
+/// The InterruptScope's check (null: none), its thread, and whether it fired.
+std::atomic<const std::function<bool()>*> g_interrupt_check{nullptr};
+std::thread::id g_interrupt_thread;
+std::atomic<bool> g_interrupted{false};
 
 long long now_ns() {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch()).count();
@@ -42,6 +48,29 @@ StudyBudgetScope::~StudyBudgetScope() {
   g_memory_mb = previous_memory_mb_;
 }
 
+InterruptScope::InterruptScope(std::function<bool()> interrupted)
+    : interrupted_(std::move(interrupted)), previous_deadline_ns_(g_deadline_ns.load()) {
+  g_interrupted = false;
+  g_interrupt_thread = std::this_thread::get_id();
+  g_interrupt_check.store(&interrupted_, std::memory_order_release);
+}
+
+InterruptScope::~InterruptScope() {
+  g_interrupt_check.store(nullptr, std::memory_order_release);
+  if (g_interrupted.exchange(false)) g_deadline_ns = previous_deadline_ns_;
+}
+
+void poll_interrupt() {
+  const std::function<bool()>* check = g_interrupt_check.load(std::memory_order_acquire);
+  if (check == nullptr || std::this_thread::get_id() != g_interrupt_thread || g_interrupted.load()) return;
+  if ((*check)()) {
+    g_interrupted = true;
+    g_deadline_ns = std::numeric_limits<long long>::min();  // used up
+  }
+}
+
+bool study_interrupted() { return g_interrupted.load(); }
+
 bool study_budget_exhausted() { return study_budget_exhausted(Clock::now()); }
 
 bool study_budget_exhausted(Clock::time_point now) {
@@ -54,7 +83,11 @@ double study_budget_s() { return g_seconds.load(); }
 
 std::string study_budget_text() {
   std::ostringstream text;
-  text << "the study's wall-time budget of " << study_budget_s() << " s (camdyn run --max-study-time) is used up";
+  if (g_interrupted.load())  // stopped as on its budget (and named so: budget_that_cut)
+    text << "the study was interrupted by its user, and stopped as when its wall-time budget (camdyn run "
+            "--max-study-time) is used up";
+  else
+    text << "the study's wall-time budget of " << study_budget_s() << " s (camdyn run --max-study-time) is used up";
   return text.str();
 }
 

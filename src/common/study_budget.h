@@ -15,6 +15,7 @@
 
 #include <chrono>
 #include <cstddef>
+#include <functional>
 #include <string>
 #include <string_view>
 
@@ -45,6 +46,31 @@ class StudyBudgetScope {
   long long previous_deadline_ns_;
   double previous_seconds_, previous_memory_mb_;
 };
+
+/// A check for an interrupt by the user (Ctrl-C in the Python module:
+/// docs/python.md), for the scope's lifetime. The simulation loop calls
+/// poll_interrupt() at most every 0.25 s of a run; on the thread that made
+/// the scope it runs `interrupted`, and when that returns true the study's
+/// budget counts as used up: every run stops as on --max-study-time and the
+/// studies keep what finished (journals) and exit 3. The scope restores the
+/// budget when it ends. One at a time, like StudyBudgetScope.
+class InterruptScope {
+ public:
+  explicit InterruptScope(std::function<bool()> interrupted);
+  ~InterruptScope();
+  InterruptScope(const InterruptScope&) = delete;
+  InterruptScope& operator=(const InterruptScope&) = delete;
+
+ private:
+  std::function<bool()> interrupted_;
+  long long previous_deadline_ns_;
+};
+
+/// Runs the InterruptScope's check when called on its thread (else nothing).
+void poll_interrupt();
+
+/// Whether an InterruptScope's check has interrupted the study.
+bool study_interrupted();
 
 /// Whether the study's budget is used up (false without one). Cheap: one
 /// clock read; thread-safe.

@@ -341,9 +341,10 @@ Failure check_budgets(const RunContext& run, const Integrator& integrator, doubl
                                                " s (integrator.max_wall_time_s) exceeded " + where(run.model, t)};
   if (study_budget_exhausted(now))
     return {Termination::wall_time_budget, study_budget_text() + " " + where(run.model, t)};
-  if (run.options.progress && wall - last_progress > 0.25) {
+  if (wall - last_progress > 0.25) {
     last_progress = wall;
-    run.options.progress(t / run.plan.t_end);
+    if (run.options.progress) run.options.progress(t / run.plan.t_end);
+    poll_interrupt();  // Ctrl-C in the Python module (common/study_budget.h)
   }
   return {};
 }

@@ -155,6 +155,42 @@ TEST(Simulate, AProgressHookThatThrowsAbandonsTheRun) {
   EXPECT_EQ(calls, 1);
 }
 
+// An interrupt check that fires stops the run (and its steady-state search)
+// as a used-up study budget would: a status, not an exception; once the
+// check's scope ends, runs go on as before.
+TEST(Simulate, AnInterruptCheckThatFiresStopsTheRunAsABudget) {
+  const Scene scene = Scene::load(kQuickstart, {"simulation.cycles=400", "simulation.steady_state=true"});
+  SimulateOptions options;
+  options.record_series = false;
+  long polls = 0;
+  Result result;
+  {
+    const InterruptCheck check([&] { return ++polls >= 2; });
+    result = simulate(scene, options);
+  }
+  EXPECT_EQ(polls, 2);
+  EXPECT_EQ(result.solver.termination, TerminationStatus::wall_time_budget);
+  EXPECT_NE(result.solver.message.find("interrupted"), std::string::npos) << result.solver.message;
+  const Result after = simulate(Scene::load(kQuickstart), options);
+  EXPECT_TRUE(after.solver.converged()) << after.solver.message;
+}
+
+// The check is polled on the thread that made it only.
+TEST(Simulate, AnInterruptCheckIsNotPolledOnOtherThreads) {
+  long polls = 0;
+  const InterruptCheck check([&] {
+    ++polls;
+    return true;
+  });
+  SimulateOptions options;
+  options.record_series = false;
+  Result result;
+  std::thread worker([&] { result = simulate(Scene::load(kQuickstart, {"simulation.cycles=100"}), options); });
+  worker.join();
+  EXPECT_EQ(polls, 0);
+  EXPECT_TRUE(result.solver.converged()) << result.solver.message;
+}
+
 TEST(Simulate, ABudgetThatRunsOutIsAStatusNotAnException) {
   const Result result = simulate(Scene::load(kQuickstart, {"integrator.max_steps=50"}));
   EXPECT_EQ(result.solver.termination, TerminationStatus::step_budget);

@@ -9,8 +9,8 @@
 
 #include "cli_run.h"
 #include "dynamics/simulation.h"
-#include "optim/optimize/optimize.h"
 #include "io/config.h"
+#include "optim/optimize/optimize.h"
 
 namespace {
 
@@ -69,10 +69,10 @@ TEST(OptimizeBudget, ACandidateThatIsInvalidForThePhysicsDoesNotWithholdIt) {
 // exit 3 saying that a budget cut them, never an answer.
 TEST(OptimizeBudget, ASearchWhoseEvaluationsABudgetCutSaysSo) {
   const fs::path dir = camdyn::test::scratch_dir("optimize_budget", "search");
-  const camdyn::test::Outcome o = camdyn::test::run_camdyn(
-      {"run", kForce, "--out", (dir / "out").string(), "--quiet", "--set",
-       "optimizer.evaluation_max_wall_time_s=1e-9", "--set", "optimizer.max_evaluations=4"},
-      dir);
+  const camdyn::test::Outcome o =
+      camdyn::test::run_camdyn({"run", kForce, "--out", (dir / "out").string(), "--quiet", "--set",
+                                "optimizer.evaluation_max_wall_time_s=1e-9", "--set", "optimizer.max_evaluations=4"},
+                               dir);
   EXPECT_EQ(o.code, 3) << o.err;
   EXPECT_NE(o.err.find("4 of them were cut short by a budget (integrator.max_wall_time_s)"), std::string::npos)
       << o.err;

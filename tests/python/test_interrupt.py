@@ -84,3 +84,26 @@ def test_a_run_on_another_thread_is_not_affected(quickstart):
     worker.start()
     worker.join()
     assert results[0].metrics == scene.simulate(series=False).metrics
+
+
+def test_ctrl_c_stops_a_study_and_keeps_its_journal(quickstart, default_sigint, tmp_path):
+    # A speed_limit study whose speeds each take seconds: Ctrl-C stops it
+    # within the bound (every run stops as on a used-up study budget), the
+    # journal keeps the speeds that finished, and a re-run resumes from it.
+    out = tmp_path / "limit"
+    study = {"study": "speed_limit", "simulation.cycles": 400,
+             "speed_limit": {"low_rpm": 500, "high_rpm": 1600, "scan": 4, "tolerance_rpm": 20}}
+    sent = []
+    timer = send_sigint_after(1.0, sent)
+    started = time.monotonic()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            camdyn.run_study(quickstart, out=str(out), jobs=1, set=study)
+        raised = time.monotonic()
+    finally:
+        timer.cancel()
+    assert sent, "the study ended before the signal was sent"
+    assert raised - sent[0] < BOUND_S, f"stopped {raised - sent[0]:.2f} s after the signal"
+    assert raised - started < 30.0
+    assert not (out / "complete.json").exists()
+    assert (out / "journal.jsonl").exists()
