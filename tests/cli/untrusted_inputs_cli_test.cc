@@ -3,7 +3,9 @@
 // untrusted-input cases"): a compare case config or an identification record
 // that is a FIFO, a study journal that is a FIFO or a planted link, and
 // journal records whose checksum was recomputed around a field of the wrong
-// shape (journal_fuzzer's findings).
+// shape (journal_fuzzer's findings), a train too stiff for double precision
+// and a follower radius far larger than the cam (probe_fields.py, run_fuzzer,
+// export_fuzzer).
 // Each run is bounded by timeout(1): a hang shows as exit 124, not a stuck test.
 #include <gtest/gtest.h>
 #include <sys/stat.h>
@@ -134,6 +136,35 @@ TEST(UntrustedInputsCli, JournalRecordWithAMalformedOverlayStillWritesTheReport)
   const test::Outcome o = run("run " + config.string() + " --quiet --out " + (dir / "out").string(), dir);
   EXPECT_EQ(o.code, 0) << o.err;
   EXPECT_TRUE(fs::exists(dir / "out" / "report.html")) << o.err;
+}
+
+// A follower train whose stiffness matrix loses its rank in floating point
+// (probe_fields.py, run_fuzzer): exit 1 "held train: K is singular" as an
+// internal error before; now exit 2 naming the train.
+TEST(UntrustedInputsCli, TrainWithAnExtremeStiffnessOrRatioExitsTwoNamingTheTrain) {
+  const fs::path dir = test::scratch_dir("untrusted_inputs_cli", "train_extreme");
+  const std::string rocker = kSource + "/studies/valvetrain/pushrod_rocker.json";
+  for (const std::string& set :
+       {std::string("mechanism.train[1].link.ratio=2e9"), std::string("mechanism.train[1].link.stiffness=1e300")}) {
+    const test::Outcome o = run("validate " + rocker + " --set " + set, dir);
+    EXPECT_EQ(o.code, 2) << set << ": " << o.err;
+    EXPECT_NE(o.err.find("mechanism.train: a stiffness or lever ratio of the train is too extreme"), std::string::npos)
+        << o.err;
+  }
+}
+
+// export_fuzzer's finding: a roller of 1e300 mm read a NaN lift and the CSV
+// writer's guard ended the export with exit 1. Now refused before any file
+// is written, as a cutter far larger than the cam is.
+TEST(UntrustedInputsCli, ExportWithAFollowerFarLargerThanTheCamExitsTwoWritingNothing) {
+  const fs::path dir = test::scratch_dir("untrusted_inputs_cli", "export_roller");
+  const test::Outcome o =
+      run("export " + kQuickstart + " --out " + (dir / "out").string() + " --follower-radius 1e300", dir);
+  EXPECT_EQ(o.code, 2) << o.err;
+  EXPECT_NE(o.err.find("--follower-radius: the follower radius 1e+300 mm is more than 1000 times the base radius"),
+            std::string::npos)
+      << o.err;
+  EXPECT_FALSE(fs::exists(dir / "out" / "follower_lift.csv"));
 }
 
 }  // namespace

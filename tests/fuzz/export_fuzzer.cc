@@ -6,7 +6,8 @@
 // radius and angle step of the follower lift table; then the profile is
 // sampled and profile.csv, profile.dxf (dxflib) and follower_lift.csv are
 // written into the process's private scratch folder. Every step must end
-// normally or with a camdyn error (fuzz_support.h).
+// normally or with a camdyn error (fuzz_support.h). Valid sizes are kept
+// below kMaxFuzzedCount (see there).
 #include <fuzzer/FuzzedDataProvider.h>
 
 #include <cmath>
@@ -21,6 +22,7 @@
 #include "fuzz_support.h"
 #include "io/config.h"
 #include "output/profile_export.h"
+#include "scene/scene.h"
 
 namespace {
 
@@ -31,6 +33,17 @@ constexpr const char* kStudies[] = {"studies/quickstart.json",
                                     "studies/followers/oscillating_roller.json",
                                     "studies/followers/oscillating_flat.json",
                                     "studies/contour_cam/measured_roller_cam.json"};
+
+constexpr double kOneDegree = 0.017453292519943295;  // [rad]
+constexpr double kTwoPi = 6.283185307179586;
+// Valid counts (points, lift-table rows) stay below this: on the contour cam
+// the 1,000,000 allowed take 30 s even in the ci build and 16,000 take 35 s
+// under ASan (docs/fuzzing.md, "Findings open"), past libFuzzer's -timeout.
+// Counts past the limit are still fuzzed: they must be refused.
+constexpr int kMaxFuzzedCount = 2000;
+// Valid chord tolerances [m] below kMinFuzzedChord are raised to it, for the same reason.
+constexpr double kMinAllowedChord = camdyn::ProfileOutputConfig::kMinChordToleranceMm * 1e-3;
+constexpr double kMinFuzzedChord = 1e-7;
 
 struct Study {
   std::string file;
@@ -60,14 +73,29 @@ double fuzzed_value(FuzzedDataProvider& in, double nominal) {
   }
 }
 
+// The point count of the profile: a valid one up to kMaxFuzzedCount, or one that is refused.
+int fuzzed_points(FuzzedDataProvider& in) {
+  if (in.ConsumeBool()) return in.ConsumeIntegralInRange(-4, kMaxFuzzedCount);
+  return in.PickValueInArray({0, -1, camdyn::ProfileOutputConfig::kMaxPoints + 1, std::numeric_limits<int>::max(),
+                              std::numeric_limits<int>::min()});
+}
+
+// The lift table's angle step [rad]: valid steps give at most kMaxFuzzedCount rows.
+double fuzzed_angle_step(FuzzedDataProvider& in) {
+  const double step = fuzzed_value(in, kOneDegree);
+  if (!(step > 0.0) || step >= kTwoPi / kMaxFuzzedCount) return step;
+  return in.ConsumeBool() ? kTwoPi / kMaxFuzzedCount : kTwoPi / (2.0 * camdyn::ProfileOutputConfig::kMaxPoints);
+}
+
 void export_profile(const camdyn::Model& model, const std::string& name, FuzzedDataProvider& in) {
   camdyn::ProfileOptions options;
-  if (in.ConsumeBool())
-    options.points = in.ConsumeBool() ? in.ConsumeIntegralInRange(-4, 5000) : in.ConsumeIntegral<int>();
-  options.chord_tolerance = fuzzed_value(in, 1e-6);                      // [m]
+  if (in.ConsumeBool()) options.points = fuzzed_points(in);
+  options.chord_tolerance = fuzzed_value(in, 1e-6);  // [m]
+  if (options.chord_tolerance >= kMinAllowedChord && options.chord_tolerance < kMinFuzzedChord)
+    options.chord_tolerance = kMinFuzzedChord;
   if (in.ConsumeBool()) options.cutter_radius = fuzzed_value(in, 5e-3);  // [m]
   const double follower_radius = fuzzed_value(in, 1e-2);                 // [m]
-  const double angle_step = fuzzed_value(in, 0.0174533);                 // [rad], 1°
+  const double angle_step = fuzzed_angle_step(in);
   const camdyn::fuzz::Scratch& scratch = camdyn::fuzz::Scratch::get();
   camdyn::fuzz::expect_camdyn_errors_only([&] {
     const camdyn::CamProfile profile = camdyn::sample_cam_profile(model, options, camdyn::ProfileOptionNames{});
