@@ -176,7 +176,7 @@ def journal_seeds(camdyn):
 def export_seeds():
     """FuzzedDataProvider bytes: the study index and the first choices are read from the end."""
     seeds = {}
-    for study in range(6):
+    for study in range(5):
         seeds[f"study{study}_nominal.bin"] = bytes([0x40] * 24 + [0x03, 0x05, 0x01, study])
         seeds[f"study{study}_fuzzed.bin"] = bytes(range(48)) + bytes([0x00, study])
     return seeds
