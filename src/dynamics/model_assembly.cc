@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <stdexcept>
 #include <string>
 
 #include "common/errors.h"
@@ -164,7 +165,18 @@ Model assemble_model(const CamGeometry& geometry, const SceneConfig& scene, cons
   model.train = build_follower_train(scene, file, model.layout);
   // A spring with mass is the train's lumped chain, not the follower's massless spring.
   if (model.train.follower_spring_lumped) model.forces.spring = ReturnSpring{};
-  if (model.train.has_coordinates()) model.train_jump_speed_rpm = train_jump_speed_rpm(model);
+  if (model.train.has_coordinates()) {
+    try {
+      model.train_jump_speed_rpm = train_jump_speed_rpm(model);
+    } catch (const std::invalid_argument& e) {
+      // Every coordinate is held by validation; a stiffness matrix that is
+      // still singular lost its rank in floating point (a stiffness of 5e-324
+      // N/m, a lever ratio of 1e300: found by probe_fields.py and run_fuzzer).
+      throw InputError(
+          file, "mechanism.train",
+          std::string("a stiffness or lever ratio of the train is too extreme for double precision: ") + e.what());
+    }
+  }
 
   list_elements(model);
   // Refuses what the solver could not run (docs/warnings.md), naming the field.

@@ -573,6 +573,13 @@ FollowerLiftTable follower_lift_table(const Model& model, double radius, double 
                      "oscillating arm");
   if (!(radius > 0.0) || !std::isfinite(radius))
     throw InputError(file, radius_path, "the follower radius must be > 0, got " + mm(radius) + " mm");
+  // As for a cutter (check_tool_size): a roller far larger than the cam is a
+  // slip, and at 1e297 m its lift lost every digit (NaN; found by export_fuzzer).
+  if (radius > kMaxToolToCamRadius * f.base_radius)
+    throw InputError(file, radius_path,
+                     "the follower radius " + mm(radius) + " mm is more than " +
+                         std::to_string(static_cast<int>(kMaxToolToCamRadius)) + " times the base radius, " +
+                         mm(f.base_radius) + " mm: give it in mm");
   if (!(angle_step > 0.0) || !(angle_step <= kTwoPi))
     throw InputError(file, step_path, "the angle step must be in (0, 360] deg, got " + deg(angle_step) + " deg");
   const double rows = std::ceil(kTwoPi / angle_step - 1e-9);

@@ -241,16 +241,38 @@ double number_or_nan(const Json& j) {
   return j.is_number() ? j.get<double>() : std::numeric_limits<double>::quiet_NaN();
 }
 
+// record[key] if it is a string, else `fallback` (a journal record may have
+// been edited and its checksum recomputed: tests/fuzz/journal_fuzzer.cc).
+std::string string_or(const Json& record, const char* key, const std::string& fallback) {
+  const auto it = record.find(key);
+  return it != record.end() && it->is_string() ? it->get<std::string>() : fallback;
+}
+
+// Whether `overlay` is what last_revolution writes: the three series, numbers
+// of equal count (the report reads them as such).
+bool well_formed_overlay(const Json& overlay) {
+  if (!overlay.is_object() || !overlay.contains("cam_angle_deg") || !overlay["cam_angle_deg"].is_array()) return false;
+  const std::size_t count = overlay["cam_angle_deg"].size();
+  for (const char* key : {"cam_angle_deg", "follower_position", "contact_force"}) {
+    const auto it = overlay.find(key);
+    if (it == overlay.end() || !it->is_array() || it->size() != count ||
+        !std::all_of(it->begin(), it->end(), [](const Json& v) { return v.is_number(); }))
+      return false;
+  }
+  return true;
+}
+
 CompareOutcome outcome_of(const Json& record) {
   CompareOutcome o;
-  o.ok = record.value("status", std::string()) == "ok";
-  o.error = record.value("error", std::string());
+  o.ok = string_or(record, "status", "") == "ok";
+  o.error = string_or(record, "error", "");
   o.run_time_s = number_or_nan(record.value("run_time_s", Json()));
   if (!std::isfinite(o.run_time_s)) o.run_time_s = 0.0;
-  const Json metrics = record.value("metrics", Json::object());
+  Json metrics = record.value("metrics", Json::object());
+  if (!metrics.is_object()) metrics = Json::object();
   for (const std::string& m : compare_metric_names()) o.metrics.push_back(number_or_nan(metrics.value(m, Json())));
-  if (auto it = record.find("overlay"); it != record.end() && it->is_object()) o.overlay = *it;
-  o.coordinate_unit = record.value("coordinate_unit", std::string("m"));  // a journal from before: translating
+  if (auto it = record.find("overlay"); it != record.end() && well_formed_overlay(*it)) o.overlay = *it;
+  o.coordinate_unit = string_or(record, "coordinate_unit", "m");  // a journal from before: translating
   return o;
 }
 

@@ -14,12 +14,22 @@ change: python3 tests/fuzz/make_corpus.py
 * corpus/csv: the lift table and identification records of the tests, and
   short files with all four columns csv_fuzzer reads (angle_deg, lift,
   time, force_N).
+* corpus/journal: the records of the compare study journal_fuzzer resumes
+  (JOURNAL_OVERRIDES, the same as its kOverrides), from a run of
+  `camdyn` (--camdyn, default build/ci/camdyn; skipped when it is not
+  built): all runs, some, a failed and a budget-cut record, the header.
+* corpus/export: byte strings for export_fuzzer (FuzzedDataProvider input),
+  one a committed follower study.
+* corpus/run: the scene seeds run_fuzzer runs, less RUN_LEFT_OUT.
 """
+import argparse
 import json
 import math
 import os
 import pathlib
 import shutil
+import subprocess
+import tempfile
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 OUT = pathlib.Path(__file__).resolve().parent / "corpus"
@@ -123,16 +133,71 @@ def csv_seeds():
     return seeds
 
 
+# Seeds run_fuzzer cannot run within libFuzzer's -timeout: an optimise
+# study's rigid stage and the layout optimisation do not stop on
+# --max-study-time (docs/fuzzing.md, "Findings open"): 4.6 s, 2.0 s and 7.5 s
+# on a budget of 0.05 s in the ci build, over a minute under ASan.
+RUN_LEFT_OUT = {"studies_layout_packaging_arm.json", "valvetrain_optimize_train.json",
+                "studies_optimize_valve_lobe.json"}
+
+JOURNAL_OVERRIDES = [
+    'grid={"mechanism.cam.rpm":[600,1200]}',
+    'cases=[{"name":"cycloidal"},{"name":"polynomial_345","set":["mechanism.cam.motion_law.segments[0].law=polynomial_345"]}]',
+    'overlays=[{"mechanism.cam.rpm":1200}]',
+    "simulation.cycles=2",
+    "simulation.discard_cycles=1",
+    "simulation.output_step_deg=5",
+]
+
+
+def journal_seeds(camdyn):
+    """Seeds for journal_fuzzer from a real run of its study; None without a camdyn binary."""
+    if not os.path.isfile(camdyn):
+        return None
+    with tempfile.TemporaryDirectory() as out:
+        command = [camdyn, "run", str(ROOT / "studies/compare_laws.json"), "--quiet", "--out", out]
+        for s in JOURNAL_OVERRIDES:
+            command += ["--set", s]
+        subprocess.run(command, check=True, capture_output=True)
+        lines = pathlib.Path(out, "journal.jsonl").read_text().splitlines()
+    header, records = lines[0], lines[1:]
+    failed = json.loads(records[0])
+    failed.update({"status": "failed", "error": "integrator.max_steps (1000) reached at t = 0.01 s",
+                   "budget": "integrator.max_steps", "metrics": {m: None for m in failed["metrics"]}})
+    return {
+        "complete.jsonl": "\n".join(records) + "\n",
+        "half.jsonl": "\n".join(records[:2]) + "\n",
+        "failed_and_cut.jsonl": "\n".join([json.dumps(failed, separators=(",", ":"))] + records[1:]) + "\n",
+        "header_and_records.jsonl": "\n".join([header] + records) + "\n",
+        "last_line_cut.jsonl": "\n".join(records)[:-40],
+    }
+
+
+def export_seeds():
+    """FuzzedDataProvider bytes: the study index and the first choices are read from the end."""
+    seeds = {}
+    for study in range(5):
+        seeds[f"study{study}_nominal.bin"] = bytes([0x40] * 24 + [0x03, 0x05, 0x01, study])
+        seeds[f"study{study}_fuzzed.bin"] = bytes(range(48)) + bytes([0x00, study])
+    return seeds
+
+
 def write(folder, files):
     target = OUT / folder
     if target.exists():
         shutil.rmtree(target)
     target.mkdir(parents=True)
-    for name, text in files.items():
-        (target / name).write_text(text)
+    for name, content in files.items():
+        if isinstance(content, bytes):
+            (target / name).write_bytes(content)
+        else:
+            (target / name).write_text(content)
 
 
 def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--camdyn", default=str(ROOT / "build/ci/camdyn"))
+    args = parser.parse_args()
     config, scene = {}, {}
     for path in sources():
         stem = f"{path.parent.name}_{path.stem}"
@@ -148,6 +213,11 @@ def main():
     write("config", config)
     write("scene", scene)
     write("csv", csv_seeds())
+    write("run", {name: text for name, text in scene.items() if name not in RUN_LEFT_OUT})
+    write("export", export_seeds())
+    journal = journal_seeds(args.camdyn)
+    if journal is not None:
+        write("journal", journal)
 
 
 if __name__ == "__main__":
