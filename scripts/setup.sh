@@ -13,7 +13,7 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libsundials-dev libnlopt-cxx-dev libnlopt-dev libceres-dev
   coinor-libclp-dev libdxflib-dev nlohmann-json3-dev libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev
-  gnuplot-nox python3 python3-numpy python3-scipy
+  gnuplot-nox python3 python3-numpy python3-scipy time
   pybind11-dev python3-dev python3-pytest python3-matplotlib
   libopenmpi-dev openmpi-bin chromium
 )
