@@ -11,6 +11,7 @@
 #include <map>
 #include <set>
 
+#include "common/errors.h"
 #include "common/study_budget.h"
 #include "dynamics/coordinate_units.h"
 #include "io/csv_writer.h"
@@ -172,8 +173,15 @@ int run_jump_map_study(const Json& doc, const StudyContext& ctx) {
     return *code;
   if (mpi::rank() != 0) return 0;  // rank 0 writes the outputs
   std::vector<JumpMapPoint> points;
-  for (std::size_t r = 0; r < ranges; ++r)
-    for (const Json& j : runs.records.at(r).at("points")) points.push_back(jump_map_point_from_json(j));
+  for (std::size_t r = 0; r < ranges; ++r) {
+    try {
+      for (const Json& j : runs.records.at(r).at("points")) points.push_back(jump_map_point_from_json(j));
+    } catch (const Json::exception& e) {  // its checksum holds, so it was written so on purpose
+      throw InputError((ctx.out_dir / "journal.jsonl").string(), "",
+                       "the record of speed range " + std::to_string(r) + " is not one camdyn writes (" + e.what() +
+                           "): delete that line or the journal and run again");
+    }
+  }
   // Speeds a budget cut short say nothing about the motion: no transition or
   // verdict rests on them (docs/outputs-and-resume.md, "Budgets").
   std::size_t cut = 0;

@@ -168,4 +168,20 @@ TEST(UntrustedInputsCli, ExportWithAFollowerFarLargerThanTheCamExitsTwoWritingNo
 }
 
 }  // namespace
+// A jump map's range record that passes its checksum but whose points are
+// not what camdyn writes (the checksum recomputed: it is no secret) was read
+// with at() and get(): exit 1. It is an input error naming the journal.
+TEST(UntrustedInputsCli, JumpMapRecordWithAValidChecksumButMalformedPointsExitsTwo) {
+  const fs::path dir = test::scratch_dir("untrusted_inputs_cli", "jump_map_record");
+  const fs::path config = dir / "map.json";
+  std::ofstream(config) << R"({"extends": ")" << kQuickstart << R"(", "name": "map", "study": "jump_map",
+    "jump_map": {"low_rpm": 1000, "high_rpm": 1100, "speeds": 2, "ranges": 1, "transient_revolutions": 3,
+                 "samples": 3}, "periodic": {"max_period": 1, "lyapunov_revolutions": 5}})";
+  forge_journal(config, dir / "out", {Json{{"index", 0}, {"status", "ok"}, {"points", {Json{{"rpm", "fast"}}}}}});
+  const test::Outcome o = run("run " + config.string() + " --quiet --out " + (dir / "out").string(), dir);
+  EXPECT_EQ(o.code, 2) << o.err;
+  EXPECT_NE(o.err.find("journal.jsonl"), std::string::npos) << o.err;
+  EXPECT_NE(o.err.find("speed range 0"), std::string::npos) << o.err;
+}
+
 }  // namespace camdyn
