@@ -93,7 +93,8 @@ Plot diagram(const std::vector<JumpMapPoint>& points, double jump_rpm, const std
     }
   }
   for (auto& [label, s] : by_label) plot.series.push_back(std::move(s));
-  if (std::isfinite(jump_rpm)) plot.series.push_back({jump_name, {jump_rpm, jump_rpm}, {lo, hi}, "lines"});
+  if (std::isfinite(jump_rpm))
+    plot.series.push_back({jump_name, {jump_rpm, jump_rpm}, {lo, hi}, "lines", PlotRole::limit});
   return plot;
 }
 
@@ -168,7 +169,8 @@ int run_jump_map_study(const Json& doc, const StudyContext& ctx) {
   JournaledRuns runs;
   if (const std::optional<int> code = run_journaled(
           "jump_map", fingerprint(dump_json(study.resolved)), ranges,
-          [&](std::size_t r) { return range_record(study, r, ctx.config_file); }, ctx, runs))
+          [&](std::size_t r) { return range_record(study, r, ctx.config_file); }, ctx, runs,
+          [&](std::size_t r) { return static_cast<double>(jump_map_range(study, r).size()); }))
     return *code;
   if (mpi::rank() != 0) return 0;  // rank 0 writes the outputs
   std::vector<JumpMapPoint> points;

@@ -19,8 +19,9 @@ Plot phase_plane(const PeriodicResult& r, const PoincareMap& map) {
          CoordinateUnits::axis(u.velocity_name, u.velocity),
          CoordinateUnits::axis(u.position_name, u.position),
          {}};
-  p.series.push_back({r.analysis.orbit ? "orbit" : "last revolution", s.follower_velocity, s.follower_position});
-  Series section{"Poincaré points (once per revolution)", {}, {}, "points"};
+  p.series.push_back({r.analysis.orbit ? "orbit" : "last revolution", s.follower_velocity, s.follower_position, "lines",
+                      PlotRole::dynamic});
+  Series section{"Poincaré points (once per revolution)", {}, {}, "points", PlotRole::section};
   if (r.analysis.orbit) {
     const double period = map.period();
     for (std::size_t i = 0; i < s.time.size(); ++i) {
@@ -47,11 +48,11 @@ Plot contact_force(const PeriodicResult& r) {
   return Plot{"Contact force over one period",
               "cam angle from the section [deg]",
               "contact force [N]",
-              {{"contact force", angle, s.contact_force}}};
+              {{"contact force", angle, s.contact_force, "lines", PlotRole::dynamic}}};
 }
 
 Plot multipliers(const Orbit& o) {
-  Series circle{"unit circle", {}, {}};
+  Series circle{"unit circle", {}, {}, "lines", PlotRole::limit};
   constexpr int kPoints = 180;
   for (int i = 0; i <= kPoints; ++i) {
     const double phi = 2.0 * std::numbers::pi * i / kPoints;
