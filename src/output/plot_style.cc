@@ -57,9 +57,10 @@ const RoleStyle& role_style(PlotRole role) {
 }
 
 const std::vector<PlotRole>& all_plot_roles() {
-  static const std::vector<PlotRole> roles = {
-      PlotRole::dynamic, PlotRole::rigid,    PlotRole::baseline, PlotRole::optimised, PlotRole::limit,   PlotRole::measured,
-      PlotRole::fitted,  PlotRole::lift_off, PlotRole::impact,   PlotRole::seat,      PlotRole::section};
+  static const std::vector<PlotRole> roles = {PlotRole::dynamic,   PlotRole::rigid,    PlotRole::baseline,
+                                              PlotRole::optimised, PlotRole::limit,    PlotRole::measured,
+                                              PlotRole::fitted,    PlotRole::lift_off, PlotRole::impact,
+                                              PlotRole::seat,      PlotRole::section};
   return roles;
 }
 

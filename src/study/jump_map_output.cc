@@ -10,6 +10,7 @@
 #include <iostream>
 #include <map>
 #include <set>
+#include <string_view>
 
 #include "common/study_budget.h"
 #include "dynamics/coordinate_units.h"
@@ -130,14 +131,22 @@ Report jump_map_report(const JumpMapStudy& study, const std::vector<JumpMapPoint
       Plot{"Jump map: impact speed against cam speed", "cam speed [rpm]", "normal approach speed at impact [m/s]", {}},
       [](const JumpMapPoint& p) { return p.impact_speed; }));
   // The section samples are q: an arm's in rad (coordinate_units.h).
+  // A translating follower's position in µm, mm or m as the largest needs (output/plot_style.h).
   const CoordinateUnits units = coordinate_units(study.scene);
+  LengthUnit unit{1.0, units.position};
+  if (std::string_view(units.position) == "m") {
+    std::vector<const std::vector<double>*> columns;
+    for (const JumpMapPoint& p : points)
+      if (p.ok) columns.push_back(&p.section_position);
+    unit = length_unit(columns);
+  }
   rep.plots.push_back(
       diagram(points, jump, study.jump_speed_name,
               Plot{"Poincaré section: " + std::string(units.position_name) + " once per revolution",
                    "cam speed [rpm]",
-                   CoordinateUnits::axis(std::string(units.position_name) + " at the section", units.position),
+                   CoordinateUnits::axis(std::string(units.position_name) + " at the section", unit.symbol),
                    {}},
-              [](const JumpMapPoint& p) { return p.section_position; }));
+              [&unit](const JumpMapPoint& p) { return unit.of(p.section_position); }));
   rep.plots.push_back(diagram(points, jump, study.jump_speed_name,
                               Plot{"Impact angles", "cam speed [rpm]", "cam angle at impact [deg]", {}},
                               [](const JumpMapPoint& p) { return p.impact_angle_deg; }));
