@@ -64,6 +64,13 @@ const std::vector<PlotRole>& all_plot_roles() {
   return roles;
 }
 
+const std::vector<std::string_view>& series_palette() {
+  // Okabe–Ito: colour-blind safe, reads on screen and in print.
+  static const std::vector<std::string_view> palette = {"#0072b2", "#d55e00", "#009e73", "#cc79a7",
+                                                        "#e69f00", "#56b4e9", "#000000", "#f0e442"};
+  return palette;
+}
+
 std::string gnuplot_with(PlotRole role) {
   const RoleStyle& s = role_style(role);
   if (s.name.empty()) return {};

@@ -46,6 +46,9 @@ const RoleStyle& role_style(PlotRole role);
 /// Every role but `automatic`, in the order of the enum.
 const std::vector<PlotRole>& all_plot_roles();
 
+/// The colours (`#rrggbb`) of series without a role, by their place in the plot, repeating.
+const std::vector<std::string_view>& series_palette();
+
 /// The gnuplot `with` clause of a series in `role`, e.g.
 /// "lines lc rgb '#000000' dashtype 2"; empty for `automatic`.
 std::string gnuplot_with(PlotRole role);

@@ -213,12 +213,12 @@ std::string gnuplot_script(const Plot& plot, std::string_view title, const std::
      << "set terminal svg size 800,450 dynamic enhanced font 'sans,11' background '#ffffff'\n"
      << "set output " << gp_quote(svg.string()) << "\n"
      << "set grid\nset key below\nset border 3\nset tics nomirror\n";
-  // A colour-blind-safe palette that reads on screen and in print.
-  const char* colours[] = {"#0072b2", "#d55e00", "#009e73", "#cc79a7", "#e69f00", "#56b4e9", "#000000", "#f0e442"};
-  for (int i = 0; i < 8; ++i) {
+  // Series without a role: the palette by position (output/plot_style.h).
+  const std::vector<std::string_view>& colours = series_palette();
+  for (std::size_t i = 0; i < colours.size(); ++i) {
     gp << "set linetype " << i + 1 << " lc rgb '" << colours[i] << "' lw 1.5 pt " << i + 1 << " ps 0.6\n";
   }
-  gp << "set linetype cycle 8\n";
+  gp << "set linetype cycle " << colours.size() << "\n";
   // noenhanced everywhere: a user's "cam_angle" must not turn into a subscript.
   if (!title.empty()) gp << "set title " << gp_quote(title) << " noenhanced\n";
   gp << "set xlabel " << gp_quote(plot.xlabel) << " noenhanced\n";

@@ -130,7 +130,7 @@ void run_pending(const std::string& study, std::size_t count, const std::functio
   ProgressMeter progress(study, count, out.resumed, out.resumed_failed, workers, ctx.progress && mpi::rank() == 0,
                          session_work);
   std::mutex mutex;
-  // Each record brings its wall time [s] to rank 0 for the time estimate;
+  // Each record brings its wall time [s] to rank 0 (the meter's run time);
   // it is taken out before the record is journalled.
   auto timed_run = [&run](std::size_t i) {
     if (study_budget_exhausted()) return Json{{"index", i}, {"status", kNotStarted}};

@@ -54,23 +54,21 @@ std::string progress_line(const std::string& what, std::size_t done, std::size_t
   return line + ", " + format_time_left(remaining_s);
 }
 
-double remaining_runs_s(double finished_run_s, std::size_t finished, std::size_t remaining, std::size_t workers) {
-  if (remaining == 0) return 0.0;
-  if (finished == 0) return -1.0;
-  const std::size_t lanes = std::max<std::size_t>(1, std::min(workers, remaining));
-  return finished_run_s / static_cast<double>(finished) * static_cast<double>(remaining) / static_cast<double>(lanes);
-}
-
 double remaining_iterations_s(long done, long max, double elapsed_s) {
   if (done <= 0) return -1.0;
   if (done >= max) return 0.0;
   return elapsed_s / static_cast<double>(done) * static_cast<double>(max - done);
 }
 
-double remaining_work_s(double elapsed_s, double done_work, double session_work) {
-  if (done_work >= session_work) return 0.0;
+double remaining_work_s(double elapsed_s, double done_work, double session_work, std::size_t workers,
+                        std::size_t session_runs, std::size_t runs_left) {
+  if (done_work >= session_work || runs_left == 0) return 0.0;
   if (!(done_work > 0.0) || done_work < kMinWorkForEstimate * session_work || !(elapsed_s > 0.0)) return -1.0;
-  return elapsed_s * (session_work - done_work) / done_work;
+  const auto lanes = [workers](std::size_t runs) {
+    return static_cast<double>(std::max<std::size_t>(1, std::min(std::max<std::size_t>(1, workers), runs)));
+  };
+  const double rate_per_worker = done_work / (elapsed_s * lanes(session_runs));  // [units/s]
+  return (session_work - done_work) / (rate_per_worker * lanes(runs_left));
 }
 
 ProgressMeter::ProgressMeter(std::string what, std::size_t total, std::size_t already_done, std::size_t already_failed,
@@ -79,10 +77,11 @@ ProgressMeter::ProgressMeter(std::string what, std::size_t total, std::size_t al
       total_(total),
       done_(already_done),
       failed_(already_failed),
+      resumed_(already_done),
+      workers_(workers),
       session_work_(session_work >= 0.0 ? session_work : static_cast<double>(total - std::min(total, already_done))),
       enabled_(enabled),
       start_(std::chrono::steady_clock::now()) {
-  (void)workers;  // the throughput over all workers is measured, not modelled
   g_active_meter.store(this);
 }
 
@@ -112,6 +111,7 @@ void ProgressMeter::work_done(double units) {
 void ProgressMeter::set_total(std::size_t total) {
   const std::lock_guard<std::mutex> lock(mutex_);
   total = std::max(total, done_);
+  if (total == total_) return;  // nothing changes (its last line, if any, is drawn)
   session_work_ += static_cast<double>(total) - static_cast<double>(total_);
   total_ = total;
   drawn_s_ = -1.0;
@@ -124,7 +124,9 @@ void ProgressMeter::draw(bool last) {
   // At most five redraws a second; the last run always shows.
   if (!last && drawn_s_ >= 0.0 && elapsed - drawn_s_ < 0.2) return;
   drawn_s_ = elapsed;
-  const double remaining = done_ >= total_ ? 0.0 : remaining_work_s(elapsed, done_work_, session_work_);
+  const double remaining = done_ >= total_ ? 0.0
+                                           : remaining_work_s(elapsed, done_work_, session_work_, workers_,
+                                                              total_ - std::min(total_, resumed_), total_ - done_);
   std::fprintf(stderr, "\r  %s   ", progress_line(what_, done_, total_, failed_, elapsed, remaining).c_str());
   if (last) std::fprintf(stderr, "\n");
   std::fflush(stderr);

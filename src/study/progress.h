@@ -31,16 +31,6 @@ std::string format_time_left(double seconds);
 std::string progress_line(const std::string& what, std::size_t done, std::size_t total, std::size_t failed,
                           double elapsed_s, double remaining_s);
 
-/// Estimated time left [s] for `remaining` runs of a batch on `workers`
-/// parallel workers, from the durations of the runs this session finished:
-/// mean duration × remaining / min(workers, remaining). Each finished run
-/// counts with its own duration: a run stopped by its wall-time budget
-/// counts at its budget (the time it took), one that failed at once at
-/// almost nothing, so neither turns the estimate into the elapsed time of
-/// whatever happened to finish first. -1 when no run finished yet; 0 when
-/// none remain.
-double remaining_runs_s(double finished_run_s, std::size_t finished, std::size_t remaining, std::size_t workers);
-
 /// Estimated time left [s] of a loop that runs at most `max` iterations and
 /// did `done` of them in `elapsed_s`: (max − done) × elapsed / done, an upper
 /// bound when the loop may stop early. -1 when nothing is done yet.
@@ -50,12 +40,17 @@ double remaining_iterations_s(long done, long max, double elapsed_s);
 /// time left is shown (before it, one slow or fast run would decide it).
 inline constexpr double kMinWorkForEstimate = 0.05;
 
-/// Estimated time left [s] from the work finished in this session: `elapsed_s`
-/// × (`session_work` − `done_work`) / `done_work`, the session's throughput
-/// over all its workers (so runs of different sizes and parallel workers
-/// need no model of their own). -1 while `done_work` is below
-/// kMinWorkForEstimate of `session_work` or nothing is done; 0 when nothing remains.
-double remaining_work_s(double elapsed_s, double done_work, double session_work);
+/// Estimated time left [s] from the work finished in this session: the rate
+/// per worker, `done_work` / (`elapsed_s` × the workers busy so far,
+/// min(`workers`, `session_runs`)), applied to the work left on the workers
+/// still busy, min(`workers`, `runs_left`), so that the last runs of a
+/// batch, fewer than the workers, are not counted at the whole batch's pace.
+/// A run stopped by its wall-time budget counts with the time it took, one
+/// that failed at once with almost none; runs of different sizes count by
+/// their work. -1 while `done_work` is below kMinWorkForEstimate of
+/// `session_work` or nothing is done; 0 when nothing remains.
+double remaining_work_s(double elapsed_s, double done_work, double session_work, std::size_t workers,
+                        std::size_t session_runs, std::size_t runs_left);
 
 /// Counts finished runs and redraws the line. Thread-safe.
 class ProgressMeter {
@@ -71,9 +66,10 @@ class ProgressMeter {
   ProgressMeter(const ProgressMeter&) = delete;
   ProgressMeter& operator=(const ProgressMeter&) = delete;
   /// One more run finished (failed or not) after `run_s` seconds of wall
-  /// time, `work` units in all (those it reported with work_done on this
-  /// thread are not counted twice); redraws the line at most five times a
-  /// second, and always the last.
+  /// time (not needed by the estimate, which measures the elapsed time),
+  /// `work` units in all (those it reported with work_done on this thread
+  /// are not counted twice); redraws the line at most five times a second,
+  /// and always the last.
   void finished(bool failed, double run_s, double work = 1.0);
   /// `units` of a running run's work done (e.g. one speed of a jump map's
   /// range); redraws the line like `finished`.
@@ -91,7 +87,7 @@ class ProgressMeter {
  private:
   void draw(bool last);  ///< with mutex_ held
   std::string what_;
-  std::size_t total_, done_, failed_;
+  std::size_t total_, done_, failed_, resumed_, workers_;
   double session_work_;     ///< the work of this session's runs [units]
   double done_work_ = 0.0;  ///< of which done [units]
   double drawn_s_ = -1.0;   ///< elapsed time of the last redraw [s], < 0 before the first

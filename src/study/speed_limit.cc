@@ -131,7 +131,7 @@ SpeedLimitResult run_speed_limit(const SpeedLimitStudy& study, const StudyContex
   parallel_for(scan.size(), ctx.threads(), [&](std::size_t i) {
     const double rpm = c.low_rpm + (hi - c.low_rpm) * static_cast<double>(i) / (c.scan - 1);
     scan[i] = check_speed(study, rpm, c.min_contact_force, ctx.config_file);
-    progress.finished(!scan[i].ok, 0.0);
+    progress.finished(!scan[i].converged, 0.0);  // a speed that separates is an answer, not a failure
   });
   r.checks = scan;
   const auto failed = std::find_if(scan.begin(), scan.end(), [](const SpeedCheck& s) { return !s.ok; });
@@ -149,7 +149,7 @@ SpeedLimitResult run_speed_limit(const SpeedLimitStudy& study, const StudyContex
       const double mid = 0.5 * (lo + up);
       if (mid <= lo || mid >= up) break;  // the bracket cannot narrow further in floating point
       r.checks.push_back(check_speed(study, mid, c.min_contact_force, ctx.config_file));
-      progress.finished(!r.checks.back().ok, 0.0);
+      progress.finished(!r.checks.back().converged, 0.0);
       if (!r.checks.back().budget.empty()) r.withheld = "the bisection's speed " + format_shortest(mid) + " rpm";
       (r.checks.back().ok ? lo : up) = mid;
     }

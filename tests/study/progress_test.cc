@@ -25,27 +25,6 @@ TEST(Progress, Line) {
             "compare: 40/40 runs, 2 failed, 01:40 elapsed, done");
 }
 
-// Runs at 2 s each on 2 workers: 6 left take 3 rounds of 2 s.
-TEST(Progress, RemainingRunsIsMeanDurationTimesRemainingOverWorkers) {
-  EXPECT_DOUBLE_EQ(camdyn::remaining_runs_s(8.0, 4, 6, 2), 6.0);
-  EXPECT_DOUBLE_EQ(camdyn::remaining_runs_s(8.0, 4, 6, 1), 12.0);
-  // Fewer runs left than workers: they run side by side, one duration.
-  EXPECT_DOUBLE_EQ(camdyn::remaining_runs_s(8.0, 4, 1, 8), 2.0);
-  EXPECT_DOUBLE_EQ(camdyn::remaining_runs_s(8.0, 4, 0, 2), 0.0);
-  EXPECT_DOUBLE_EQ(camdyn::remaining_runs_s(0.0, 0, 6, 2), -1.0);  // nothing finished: unknown
-  EXPECT_DOUBLE_EQ(camdyn::remaining_runs_s(8.0, 4, 6, 0), 12.0);  // no worker count: one
-}
-
-// Ten runs of 1 s and one that ran into its 60 s wall-time budget: the
-// budget run counts at its 60 s, once, so 11 more such runs on one worker
-// are expected to take 11 × 70/11 s = 70 s, not the budget each.
-TEST(Progress, RemainingRunsCountsABudgetHitRunAtItsBudget) {
-  const double finished_s = 10 * 1.0 + 60.0;
-  EXPECT_DOUBLE_EQ(camdyn::remaining_runs_s(finished_s, 11, 11, 1), 70.0);
-  // A run that failed at once adds its (near-zero) time, not the elapsed time.
-  EXPECT_NEAR(camdyn::remaining_runs_s(finished_s + 1e-3, 12, 12, 1), 12 * 70.001 / 12, 1e-12);
-}
-
 // A time left is rounded up to what an estimate can tell: 5 s below a
 // minute, 15 s below ten minutes, a minute below an hour, then five minutes.
 TEST(Progress, TimeLeftIsRoundedUpAndSaysWhenItIsNotKnown) {
@@ -59,15 +38,23 @@ TEST(Progress, TimeLeftIsRoundedUpAndSaysWhenItIsNotKnown) {
   EXPECT_EQ(camdyn::format_time_left(std::numeric_limits<double>::quiet_NaN()), "estimating time left");
 }
 
-// The session's throughput: 3 of 12 units in 30 s leave 9 units, 90 s;
-// whatever the workers, the rate over all of them is what was measured.
-TEST(Progress, RemainingWorkIsElapsedTimesWorkLeftOverWorkDone) {
-  EXPECT_DOUBLE_EQ(camdyn::remaining_work_s(30.0, 3.0, 12.0), 90.0);
-  EXPECT_DOUBLE_EQ(camdyn::remaining_work_s(30.0, 12.0, 12.0), 0.0);
-  EXPECT_DOUBLE_EQ(camdyn::remaining_work_s(30.0, 0.0, 12.0), -1.0);  // nothing done: unknown
+// Forty runs of 10 s on 2 workers: at 10 s two are done, 38 left take 190 s.
+// Three such runs: at 10 s one is left, on one worker: 10 s, not 5 s (the
+// pace of two workers). One worker: the rate it measured, 3 of 12 in 30 s.
+TEST(Progress, RemainingWorkIsTheRatePerWorkerOnTheWorkersStillBusy) {
+  EXPECT_DOUBLE_EQ(camdyn::remaining_work_s(10.0, 2.0, 40.0, 2, 40, 38), 190.0);
+  EXPECT_DOUBLE_EQ(camdyn::remaining_work_s(10.0, 2.0, 3.0, 2, 3, 1), 10.0);
+  EXPECT_DOUBLE_EQ(camdyn::remaining_work_s(30.0, 3.0, 12.0, 1, 12, 9), 90.0);
+  // A jump map of two ranges of 4 speeds on 2 workers: at 10 s one range is
+  // done and the other has reported one speed; 3 speeds left on one worker
+  // at 5 speeds per 20 worker-seconds: 12 s.
+  EXPECT_DOUBLE_EQ(camdyn::remaining_work_s(10.0, 5.0, 8.0, 2, 2, 1), 12.0);
+  EXPECT_DOUBLE_EQ(camdyn::remaining_work_s(30.0, 12.0, 12.0, 2, 12, 0), 0.0);
+  EXPECT_DOUBLE_EQ(camdyn::remaining_work_s(30.0, 0.0, 12.0, 2, 12, 12), -1.0);  // nothing done: unknown
   // Below kMinWorkForEstimate of the work, no estimate: one run says too little.
-  EXPECT_DOUBLE_EQ(camdyn::remaining_work_s(30.0, 0.04, 1.0), -1.0);
-  EXPECT_DOUBLE_EQ(camdyn::remaining_work_s(30.0, 0.05, 1.0), 30.0 * 0.95 / 0.05);
+  EXPECT_DOUBLE_EQ(camdyn::remaining_work_s(30.0, 0.04, 1.0, 1, 1, 1), -1.0);
+  EXPECT_NEAR(camdyn::remaining_work_s(30.0, 0.05, 1.0, 1, 1, 1), 570.0, 1e-9);
+  EXPECT_DOUBLE_EQ(camdyn::remaining_work_s(30.0, 3.0, 12.0, 0, 12, 9), 90.0);  // no worker count: one
 }
 
 // A jump map's two ranges of unequal cost: the meter counts the speeds each
