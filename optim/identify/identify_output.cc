@@ -261,7 +261,8 @@ Report identify_report(const IdentifyProblem& problem, const IdentifyResult& res
       plot.title = fit.name + ": " + fit.signals[s] + ", measured and fitted";
       plot.xlabel = "time [ms]";
       plot.ylabel = ylabel;
-      plot.series = {{"measured", t_ms, fit.measured[s], "points"}, {"fitted", t_ms, fit.fitted[s], "lines"}};
+      plot.series = {{"measured", t_ms, fit.measured[s], "points", PlotRole::measured},
+                     {"fitted", t_ms, fit.fitted[s], "lines", PlotRole::fitted}};
       report.plots.push_back(std::move(plot));
       Plot residual;
       residual.title = fit.name + ": " + fit.signals[s] + ", residual (fitted − measured)";

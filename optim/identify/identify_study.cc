@@ -6,11 +6,13 @@
 #include <filesystem>
 #include <functional>
 #include <iostream>
+#include <string>
 
 #include "io/json_writer.h"
 #include "optim/identify/identify.h"
 #include "optim/identify/identify_journal.h"
 #include "optim/identify/identify_output.h"
+#include "study/progress.h"
 
 namespace camdyn::optim {
 
@@ -28,11 +30,13 @@ void say_resumed(const IdentifyJournal& journal) {
 }
 
 /// A progress printer for stderr: the continuation stage (and its smoothing
-/// window), the iteration of the stage and its cost; at most one line per
-/// 0.2 s, and always the first iteration of a stage.
+/// window), the iteration of the stage and its cost, and the time left if
+/// every stage uses all its iterations (study/progress.h); at most one line
+/// per 0.2 s, and always the first iteration of a stage.
 std::function<void(const IdentifyProgress&)> progress_printer(int max_iterations) {
   using Clock = std::chrono::steady_clock;
-  return [max_iterations, last = Clock::time_point{}](const IdentifyProgress& p) mutable {
+  const Clock::time_point t0 = Clock::now();
+  return [max_iterations, t0, last = Clock::time_point{}](const IdentifyProgress& p) mutable {
     const Clock::time_point now = Clock::now();
     if (p.iteration > 0 && now - last < std::chrono::milliseconds(200)) return;
     last = now;
@@ -41,8 +45,12 @@ std::function<void(const IdentifyProgress&)> progress_printer(int max_iterations
       std::snprintf(stage, sizeof stage, "smoothed over %g ms", p.smoothing * 1e3);
     else
       std::snprintf(stage, sizeof stage, "raw signals");
-    std::fprintf(stderr, "\r  identify: stage %d/%d (%s), iteration %d of at most %d, cost %.6g    ", p.stage, p.stages,
-                 stage, p.iteration, max_iterations, p.cost);
+    const long done = static_cast<long>(p.stage - 1) * max_iterations + p.iteration;
+    const double left_s = remaining_iterations_s(done, static_cast<long>(p.stages) * max_iterations,
+                                                 std::chrono::duration<double>(now - t0).count());
+    const std::string eta = left_s < 0.0 ? format_time_left(left_s) : format_time_left(left_s) + " at most";
+    std::fprintf(stderr, "\r  identify: stage %d/%d (%s), iteration %d of at most %d, cost %.6g, %s    ", p.stage,
+                 p.stages, stage, p.iteration, max_iterations, p.cost, eta.c_str());
     std::fflush(stderr);
   };
 }

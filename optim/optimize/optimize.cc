@@ -127,9 +127,10 @@ std::function<void(const SearchProgress&)> progress_printer(const OptimizeOption
     if (now - last_print < 0.2 && p.evaluations < optimizer.max_evaluations) return;
     last_print = now;
     const long max = optimizer.max_evaluations;
-    const std::string eta =
-        p.evaluations >= max ? std::string("done")
-                             : "~" + format_duration(remaining_iterations_s(p.evaluations, max, now)) + " left at most";
+    const double left_s = remaining_iterations_s(p.evaluations, max, now);
+    const std::string eta = p.evaluations >= max ? std::string("done")
+                            : left_s < 0.0       ? format_time_left(left_s)
+                                                 : format_time_left(left_s) + " at most";
     std::fprintf(stderr, "\r  optimize: evaluation %ld of %ld, best objective %.6g (%s), start %d/%d, %.1f/s, %s    ",
                  p.evaluations, max, p.best_objective, p.best_feasible ? "feasible" : "infeasible", p.start + 1,
                  p.starts, p.evaluations_per_second, eta.c_str());

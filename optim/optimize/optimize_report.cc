@@ -34,9 +34,11 @@ Plot make_plot(std::string title, std::string xlabel, std::string ylabel, std::v
 }
 
 /// One column of the last simulated revolution against cam angle in [0, 360).
-Series last_cycle(const SpeedResult& s, const std::vector<double>& column, double scale, std::string label) {
+Series last_cycle(const SpeedResult& s, const std::vector<double>& column, double scale, std::string label,
+                  PlotRole role) {
   Series out;
   out.label = std::move(label);
+  out.role = role;
   const TimeSeries& ts = s.result.series;
   const double period = 60.0 / s.rpm;
   const double from = s.result.end_time - period * (1.0 + 1e-9);
@@ -327,18 +329,20 @@ Table variables_table(const OptimizeOutcome& o) {
 void add_cam_plots(const OptimizeOutcome& o, Report& r) {
   std::vector<Model> models;
   std::vector<std::string> labels;
-  auto add = [&](const SceneConfig& scene, const char* label) {
+  std::vector<PlotRole> roles;
+  auto add = [&](const SceneConfig& scene, const char* label, PlotRole role) {
     try {
       models.push_back(build_model(scene, ""));
       labels.emplace_back(label);
+      roles.push_back(role);
     } catch (const InputError&) {  // a design that cannot be built has no cam to draw
     }
   };
-  add(o.optimized_scene, "optimised");
-  if (o.baseline.valid) add(o.baseline.scene, "baseline");
+  add(o.optimized_scene, "optimised", PlotRole::optimised);
+  if (o.baseline.valid) add(o.baseline.scene, "baseline", PlotRole::baseline);
   if (models.empty()) return;
   std::vector<CamDesign> designs;
-  for (std::size_t i = 0; i < models.size(); ++i) designs.push_back({labels[i], &models[i]});
+  for (std::size_t i = 0; i < models.size(); ++i) designs.push_back({labels[i], &models[i], roles[i]});
   const ConstraintsConfig& c = o.config.constraints;
   const double mark = models.front().geometry.max_pressure_angle_at_deg / kDegPerRad;
   r.plots.push_back(cam_layout_plot(designs, mark));
@@ -355,12 +359,16 @@ void add_dynamics_plots(const OptimizeOutcome& o, Report& r) {
     const SpeedResult* sp = at_rpm(o.optimized, rpm);
     if (!sb || !sp) continue;
     const std::string at = " at " + format_number(rpm) + " rpm (last revolution)";
-    r.plots.push_back(make_plot("Contact force" + at, xlabel, "force [N]",
-                                {last_cycle(*sb, sb->result.series.contact_force, 1.0, "baseline"),
-                                 last_cycle(*sp, sp->result.series.contact_force, 1.0, "optimised")}));
-    r.plots.push_back(make_plot("Gap" + at + " (> 0 separated)", xlabel, "gap [µm]",
-                                {last_cycle(*sb, sb->result.series.gap, 1e6, "baseline"),
-                                 last_cycle(*sp, sp->result.series.gap, 1e6, "optimised")}));
+    r.plots.push_back(
+        make_plot("Contact force" + at, xlabel, "force [N]",
+                  {last_cycle(*sb, sb->result.series.contact_force, 1.0, "baseline", PlotRole::baseline),
+                   last_cycle(*sp, sp->result.series.contact_force, 1.0, "optimised", PlotRole::optimised)}));
+    const Series gap_b = last_cycle(*sb, sb->result.series.gap, 1.0, "baseline", PlotRole::baseline);  // [m]
+    const Series gap_p = last_cycle(*sp, sp->result.series.gap, 1.0, "optimised", PlotRole::optimised);
+    const LengthUnit unit = length_unit({&gap_b.y, &gap_p.y});
+    Plot gap = make_plot("Gap" + at + " (> 0 separated)", xlabel, unit.axis("gap"), {gap_b, gap_p});
+    for (Series& s : gap.series) s.y = unit.of(s.y);
+    r.plots.push_back(std::move(gap));
   }
 }
 

@@ -99,7 +99,9 @@ Series against_angle(std::string label, F f) {
   return s;
 }
 
-Series horizontal(double y, std::string label) { return Series{std::move(label), {0.0, 360.0}, {y, y}, "dashes"}; }
+Series horizontal(double y, std::string label) {
+  return Series{std::move(label), {0.0, 360.0}, {y, y}, "dashes", PlotRole::limit};
+}
 
 Plot against_angle_plot(std::string title, std::string ylabel, std::vector<Series> series) {
   Plot plot;
@@ -126,6 +128,7 @@ Plot cam_layout_plot(const std::vector<CamDesign>& designs, double mark) {
   const std::string suffix = designs.size() > 1 ? " (" + designs.front().label + ")" : "";
   const CamProfile profile = sample_cam_profile(model, options, ProfileOptionNames{});
   plot.series.push_back(closed_curve(profile, &ProfilePoint::contour, turn, "cam contour" + suffix));
+  plot.series.back().role = designs.front().role;
   if (profile.has_pitch)
     plot.series.push_back(closed_curve(profile, &ProfilePoint::pitch, turn, "pitch curve" + suffix, "dashes"));
   plot.series.push_back(circle(Eigen::Vector2d::Zero(), model.follower.base_radius, "base circle", "dashes"));
@@ -140,6 +143,7 @@ Plot cam_layout_plot(const std::vector<CamDesign>& designs, double mark) {
     const CamProfile other = sample_cam_profile(*designs[i].model, options, ProfileOptionNames{});
     plot.series.push_back(closed_curve(other, &ProfilePoint::contour, designs[i].model->direction * mark,
                                        "cam contour (" + designs[i].label + ")"));
+    plot.series.back().role = designs[i].role;
   }
   plot.title = "Cam and follower to scale at cam angle " + angle_text(mark) + " (the cam turns " +
                (model.direction > 0 ? "counterclockwise" : "clockwise") + "; world frame, mm)";
@@ -152,6 +156,7 @@ Plot pressure_angle_plot(const std::vector<CamDesign>& designs, std::optional<do
     series.push_back(
         against_angle("pressure angle" + (designs.size() > 1 ? " (" + d.label + ")" : std::string()),
                       [&](double theta) { return d.model->cam->kinematics(theta).pressure_angle * kRadToDeg; }));
+    series.back().role = d.role;
   }
   if (limit_deg) {
     series.push_back(horizontal(*limit_deg, "limit +" + format_number(*limit_deg, 4) + "°"));
@@ -169,6 +174,7 @@ Plot curvature_plot(const std::vector<CamDesign>& designs, std::optional<double>
     series.push_back(
         against_angle("radius of curvature" + (designs.size() > 1 ? " (" + d.label + ")" : std::string()),
                       [&](double theta) { return d.model->cam->kinematics(theta).radius_of_curvature * kMm; }));
+    series.back().role = d.role;
     for (double y : series.back().y) {
       if (!std::isfinite(y)) continue;
       lo = std::min(lo, y);
@@ -200,6 +206,11 @@ std::vector<Plot> svaj_plots(const std::vector<CamDesign>& designs, double rpm) 
   const bool timed = omega > 0.0;
   // The n-th derivative: with the cam turning, times ωⁿ [m/sⁿ, arm rad/sⁿ];
   // with the cam still, per radian of cam angle [mm/radⁿ, arm deg/radⁿ].
+  double largest_lift = 0.0;  // [m]
+  for (const CamDesign& d : designs)
+    for (int i = 0; i < kCamPlotSamples; ++i)
+      largest_lift = std::max(largest_lift, std::abs(d.model->law->eval(kTwoPi * i / kCamPlotSamples).s));
+  const LengthUnit lift_unit = length_unit(largest_lift);
   const double length = arm ? kRadToDeg : kMm;
   const char* power[] = {"", "", "²", "³"};
   const char* names[] = {"Lift", "Velocity", "Acceleration", "Jerk"};
@@ -207,13 +218,13 @@ std::vector<Plot> svaj_plots(const std::vector<CamDesign>& designs, double rpm) 
   for (int n = 0; n <= 3; ++n) {
     std::string ylabel;
     if (n == 0) {
-      ylabel = arm ? "arm angle [deg]" : "lift [mm]";
+      ylabel = arm ? "arm angle [deg]" : lift_unit.axis("lift");
     } else if (timed) {
       ylabel = std::string(names[n]) + " [" + (arm ? "rad" : "m") + "/s" + power[n] + "]";
     } else {
       ylabel = std::string("d") + power[n] + "s/dθ" + power[n] + " [" + (arm ? "deg" : "mm") + "/rad" + power[n] + "]";
     }
-    const double scale = n == 0 ? length : timed ? std::pow(omega, n) : length;
+    const double scale = n == 0 ? (arm ? kRadToDeg : lift_unit.per_metre) : timed ? std::pow(omega, n) : length;
     std::vector<Series> curves;
     for (const CamDesign& d : designs) {
       const Model& model = *d.model;
@@ -222,6 +233,7 @@ std::vector<Plot> svaj_plots(const std::vector<CamDesign>& designs, double rpm) 
         const double derivative[] = {l.s, l.ds, l.d2s, l.d3s};
         return derivative[n] * scale;
       }));
+      curves.back().role = d.role;
     }
     plots.push_back(against_angle_plot(std::string(names[n]) + " of the follower (motion law)" + (n > 0 ? at : ""),
                                        ylabel, std::move(curves)));

@@ -19,7 +19,8 @@ namespace camdyn {
 /// One cam to draw, with its legend label.
 struct CamDesign {
   std::string label;
-  const Model* model = nullptr;  ///< not owned
+  const Model* model = nullptr;         ///< not owned
+  PlotRole role = PlotRole::automatic;  ///< e.g. baseline / optimised: the same look in every figure
 };
 
 /// Samples per revolution of the curves against cam angle (every 0.5°).
@@ -42,8 +43,8 @@ Plot curvature_plot(const std::vector<CamDesign>& designs, std::optional<double>
 
 /// Lift, velocity, acceleration and jerk of each design's law against cam
 /// angle (one curve per design, labelled when there are several): at `rpm`
-/// in mm, m/s, m/s², m/s³ (oscillating: deg, rad/s, rad/s², rad/s³), or per
-/// radian of cam angle when rpm = 0 (a report over several speeds).
+/// the lift in µm, mm or m as its size needs (output/plot_style.h), m/s, m/s², m/s³ (oscillating: deg, rad/s, rad/s²,
+/// rad/s³), or per radian of cam angle when rpm = 0 (a report over several speeds).
 std::vector<Plot> svaj_plots(const std::vector<CamDesign>& designs, double rpm);
 
 /// The cam plots of one scene: the layout at the angle of the largest

@@ -67,7 +67,7 @@ std::string gp_number(double v) {
 // Non-finite points, and non-positive ones on a log axis, cannot be drawn:
 // they become a break in the line, so that no segment bridges a gap in the data.
 Series drawable_points(const Series& s, bool logx, bool logy) {
-  Series out{s.label, {}, {}, s.style};
+  Series out{s.label, {}, {}, s.style, s.role};
   out.x.reserve(s.x.size());
   out.y.reserve(s.y.size());
   for (std::size_t i = 0; i < s.x.size(); ++i) {
@@ -213,12 +213,12 @@ std::string gnuplot_script(const Plot& plot, std::string_view title, const std::
      << "set terminal svg size 800,450 dynamic enhanced font 'sans,11' background '#ffffff'\n"
      << "set output " << gp_quote(svg.string()) << "\n"
      << "set grid\nset key below\nset border 3\nset tics nomirror\n";
-  // A colour-blind-safe palette that reads on screen and in print.
-  const char* colours[] = {"#0072b2", "#d55e00", "#009e73", "#cc79a7", "#e69f00", "#56b4e9", "#000000", "#f0e442"};
-  for (int i = 0; i < 8; ++i) {
+  // Series without a role: the palette by position (output/plot_style.h).
+  const std::vector<std::string_view>& colours = series_palette();
+  for (std::size_t i = 0; i < colours.size(); ++i) {
     gp << "set linetype " << i + 1 << " lc rgb '" << colours[i] << "' lw 1.5 pt " << i + 1 << " ps 0.6\n";
   }
-  gp << "set linetype cycle 8\n";
+  gp << "set linetype cycle " << colours.size() << "\n";
   // noenhanced everywhere: a user's "cam_angle" must not turn into a subscript.
   if (!title.empty()) gp << "set title " << gp_quote(title) << " noenhanced\n";
   gp << "set xlabel " << gp_quote(plot.xlabel) << " noenhanced\n";
@@ -242,7 +242,8 @@ std::string gnuplot_script(const Plot& plot, std::string_view title, const std::
   for (std::size_t i = 0; i < series.size(); ++i) {
     const std::string& style = series[i]->style;
     const bool known = style == "lines" || style == "points" || style == "linespoints";
-    const std::string with = style == "dashes" ? "lines dashtype 2" : known ? style : "lines";
+    std::string with = gnuplot_with(series[i]->role);
+    if (with.empty()) with = style == "dashes" ? "lines dashtype 2" : known ? style : "lines";
     gp << (i > 0 ? ", \\\n     " : "") << gp_quote(data[i].string()) << " using 1:2 with " << with << " title "
        << gp_quote(series[i]->label) << " noenhanced";
   }
@@ -276,6 +277,21 @@ std::string prefix_svg_ids(const std::string& svg, const std::string& prefix) {
     }
   }
   return out;
+}
+
+// gnuplot draws series i (from 1) in `<g id="gnuplot_plot_i" >`: each
+// series with a role gets `data-role="name"` there, so that a reader (or a
+// test) can tell what a curve shows without going by its colour.
+std::string tag_series_roles(std::string svg, const std::vector<Series>& series) {
+  for (std::size_t i = 0; i < series.size(); ++i) {
+    const std::string_view name = role_style(series[i].role).name;
+    if (name.empty()) continue;
+    const std::string group = "<g id=\"gnuplot_plot_" + std::to_string(i + 1) + "\"";
+    const std::size_t at = svg.find(group);
+    if (at == std::string::npos) continue;
+    svg.insert(at + group.size(), " data-role=\"" + std::string(name) + "\"");
+  }
+  return svg;
 }
 
 bool looks_numeric(const std::string& s) {
@@ -485,7 +501,7 @@ std::vector<Series> plotted_series(const Plot& plot) {
   for (Series& s : drawable) {
     // A line hides what lies between the lowest and highest point of its
     // pixel column; a marker does not, so markers are only capped.
-    const bool markers = s.style == "points" || s.style == "linespoints";
+    const bool markers = s.style == "points" || s.style == "linespoints" || role_style(s.role).point_type > 0;
     Curve c = decimate_per_column(s.x, s.y, plot.full_resolution || markers ? cap : pixels);
     s.x = std::move(c.x);
     s.y = std::move(c.y);
@@ -549,7 +565,7 @@ std::vector<std::string> run_batch(const std::vector<const PreparedPlot*>& batch
     if (const auto t = element.find(default_title); t != std::string::npos) {
       element.replace(t, default_title.size(), "<title>" + escape_html(batch[k]->title) + "</title>");
     }
-    svgs.push_back(std::move(element));
+    svgs.push_back(tag_series_roles(element, batch[k]->series));
   }
   return svgs;
 }

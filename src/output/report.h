@@ -12,6 +12,8 @@
 #include <utility>
 #include <vector>
 
+#include "output/plot_style.h"
+
 namespace camdyn {
 
 /// One curve of a plot; `x` and `y` have the same length. Non-finite points
@@ -20,6 +22,10 @@ struct Series {
   std::string label;
   std::vector<double> x, y;
   std::string style = "lines";  ///< "lines", "points", "linespoints" or "dashes" (a dashed line)
+  /// What the series shows; any role but `automatic` draws it in the role's
+  /// colour and dash or marker (output/plot_style.h) instead of `style` and
+  /// tags its SVG group with `data-role`.
+  PlotRole role = PlotRole::automatic;
 };
 
 struct Plot {

@@ -107,14 +107,17 @@ void add_valvetrain_report(const SceneConfig& scene, const Model& model, Report&
   for (int i = 0; i <= kPlotSamples; ++i) {
     const double cam = 2.0 * std::numbers::pi * i / kPlotSamples;
     lift.x.push_back(cam * kRadToDeg * ratio);
-    lift.y.push_back(lift_above_base(*model.law, cam) * 1e3);
+    lift.y.push_back(lift_above_base(*model.law, cam));  // [m]
   }
-  Plot plot{"Valve lift against crank angle (lift from the base circle)", "crank angle [°]", "lift [mm]", {lift}};
+  const LengthUnit unit = length_unit({&lift.y});
+  lift.y = unit.of(lift.y);
+  Plot plot{"Valve lift against crank angle (lift from the base circle)", "crank angle [°]", unit.axis("lift"), {lift}};
   for (const CheckingHeightTiming& h : timing->heights)
     plot.series.push_back(Series{"checking height " + format_number(h.height * 1e3) + " mm",
                                  {0.0, 360.0 * ratio},
-                                 {h.height * 1e3, h.height * 1e3},
-                                 "dashes"});
+                                 {h.height * unit.per_metre, h.height * unit.per_metre},
+                                 "dashes",
+                                 PlotRole::limit});
   plot.xrange = std::pair(0.0, 360.0 * ratio);
   report.plots.push_back(std::move(plot));
 }

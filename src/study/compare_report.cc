@@ -291,9 +291,10 @@ std::vector<Plot> overlay_plots(const CompareResult& r) {
             return r.points[i].values[s.first] == s.second;
           }))
         shown.push_back(i);
+    const std::string unit = coordinate_unit(r, shown);
     Plot motion{"Follower displacement against cam angle (last revolution), " + at,
                 "cam angle [deg]",
-                CoordinateUnits::axis("follower displacement", coordinate_unit(r, shown)),
+                CoordinateUnits::axis("follower displacement", unit),
                 {},
                 false,
                 false,
@@ -313,6 +314,13 @@ std::vector<Plot> overlay_plots(const CompareResult& r) {
       motion.series.push_back({label, x, o.at("follower_position").get<std::vector<double>>(), "lines"});
     }
     if (force.series.empty()) continue;  // every selected run failed: the failures table says why
+    if (unit == "m") {                   // a length: in µm, mm or m as the largest displacement needs
+      std::vector<const std::vector<double>*> columns;
+      for (const Series& s : motion.series) columns.push_back(&s.y);
+      const LengthUnit length = length_unit(columns);
+      motion.ylabel = length.axis("follower displacement");
+      for (Series& s : motion.series) s.y = length.of(s.y);
+    }
     plots.push_back(std::move(force));
     plots.push_back(std::move(motion));
   }

@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <mutex>
 #include <numbers>
 #include <optional>
 
@@ -11,6 +9,7 @@
 #include "common/parallel.h"
 #include "common/study_budget.h"
 #include "dynamics/simulation.h"
+#include "study/progress.h"
 
 namespace camdyn {
 
@@ -85,20 +84,31 @@ std::optional<SimulationResult> reference_run(SceneConfig s, const std::string& 
   }
 }
 
+/// A run's expected cost for the progress line's estimate [units]: an
+/// adaptive run of relative tolerance `rtol` takes steps ∝ rtol^(−1/5) (an
+/// order-5 method), one unit at 1e-3; a fixed-step run (rtol 0) one unit.
+double expected_work(double rtol) { return rtol > 0.0 ? std::max(1.0, std::pow(1e-3 / rtol, 0.2)) : 1.0; }
+
+/// The reference tolerance of scene k.
+double reference_rtol(const ConvergenceConfig& config, size_t k) {
+  return config.scenes[k].reference_rtol.value_or(config.reference.rtol);
+}
+
 /// The reference run of each scene variant, in parallel.
 std::vector<std::optional<SimulationResult>> reference_runs(const ConvergenceStudy& study, const StudyContext& ctx,
-                                                            int threads, ConvergenceResult& out) {
+                                                            int threads, ConvergenceResult& out,
+                                                            ProgressMeter& progress) {
   const ConvergenceConfig& config = study.config;
   std::vector<std::optional<SimulationResult>> references(study.scenes.size());
   out.reference_missing.assign(study.scenes.size(), "");
   out.reference_note.assign(study.scenes.size(), "");
   parallel_for(study.scenes.size(), threads, [&](size_t k) {
-    const SceneConfig s =
-        configure(study.scenes[k], config.reference.method, config.tracking.front(),
-                  config.scenes[k].reference_rtol.value_or(config.reference.rtol), config.atol_factor, 0.0);
+    const SceneConfig s = configure(study.scenes[k], config.reference.method, config.tracking.front(),
+                                    reference_rtol(config, k), config.atol_factor, 0.0);
     std::string missing;
     references[k] = reference_run(s, ctx.config_file, missing, out.reference_note[k]);
     if (!references[k]) out.reference_missing[k] = missing;
+    progress.finished(!references[k], 0.0, expected_work(reference_rtol(config, k)));
   });
   return references;
 }
@@ -162,19 +172,18 @@ ConvergenceResult run_convergence(const ConvergenceStudy& study, const StudyCont
   ConvergenceResult out;
   out.started = std::chrono::steady_clock::now();
   const int threads = ctx.threads();
-  const std::vector<std::optional<SimulationResult>> references = reference_runs(study, ctx, threads, out);
   out.runs = plan_runs(study);
   std::vector<ConvergenceRun>& runs = out.runs;
-
-  std::mutex progress_mutex;
-  size_t done = 0;
+  // One line for the reference runs and the runs measured against them.
+  double work = 0.0;
+  for (size_t k = 0; k < study.scenes.size(); ++k) work += expected_work(reference_rtol(study.config, k));
+  for (const ConvergenceRun& r : runs) work += expected_work(r.rtol);
+  ProgressMeter progress("convergence", study.scenes.size() + runs.size(), 0, 0, static_cast<size_t>(threads),
+                         ctx.progress, work);
+  const std::vector<std::optional<SimulationResult>> references = reference_runs(study, ctx, threads, out, progress);
   parallel_for(runs.size(), threads, [&](size_t i) {
     measure_run(study, references, ctx.config_file, runs[i]);
-    if (ctx.progress) {
-      const std::lock_guard<std::mutex> lock(progress_mutex);
-      std::fprintf(stderr, "\r  convergence: %zu / %zu runs", ++done, runs.size());
-      if (done == runs.size()) std::fprintf(stderr, "\n");
-    }
+    progress.finished(!runs[i].ok, 0.0, expected_work(runs[i].rtol));
   });
   return out;
 }

@@ -137,13 +137,18 @@ std::optional<int> open_journal(const std::string& study, const std::string& has
 /// Runs the pending runs on threads (one process) or MPI ranks; rank 0
 /// journals each record as it arrives.
 void run_pending(const std::string& study, std::size_t count, const std::function<Json(std::size_t)>& run,
-                 const StudyContext& ctx, RunState& state, JournaledRuns& out) {
+                 const std::function<double(std::size_t)>& run_work, const StudyContext& ctx, RunState& state,
+                 JournaledRuns& out) {
   const bool distributed = mpi::size() > 1;
   const std::size_t workers =
       distributed ? static_cast<std::size_t>(mpi::size()) : static_cast<std::size_t>(ctx.threads());
-  ProgressMeter progress(study, count, out.resumed, out.resumed_failed, workers, ctx.progress && mpi::rank() == 0);
+  const auto work = [&run_work](std::size_t i) { return run_work ? run_work(i) : 1.0; };
+  double session_work = 0.0;  // [the units of run_work]
+  for (const std::size_t i : state.pending) session_work += work(i);
+  ProgressMeter progress(study, count, out.resumed, out.resumed_failed, workers, ctx.progress && mpi::rank() == 0,
+                         session_work);
   std::mutex mutex;
-  // Each record brings its wall time [s] to rank 0 for the time estimate;
+  // Each record brings its wall time [s] to rank 0 (the meter's run time);
   // it is taken out before the record is journalled.
   auto timed_run = [&run](std::size_t i) {
     if (study_budget_exhausted()) return Json{{"index", i}, {"status", kNotStarted}};
@@ -166,7 +171,7 @@ void run_pending(const std::string& study, std::size_t count, const std::functio
     if (!record_budget(record).empty()) record["study_budget_s"] = budget_json(study_budget_s());
     state.journal->append(record);
     out.records[i] = std::move(record);
-    progress.finished(failed, run_s);
+    progress.finished(failed, run_s, work(i));
   };
   try {
     if (distributed) {
@@ -193,10 +198,10 @@ void run_pending(const std::string& study, std::size_t count, const std::functio
 
 std::optional<int> run_journaled(const std::string& study, const std::string& hash, std::size_t count,
                                  const std::function<Json(std::size_t)>& run, const StudyContext& ctx,
-                                 JournaledRuns& out) {
+                                 JournaledRuns& out, const std::function<double(std::size_t)>& run_work) {
   RunState state;
   if (const std::optional<int> code = open_journal(study, hash, count, ctx, state, out)) return code;
-  run_pending(study, count, run, ctx, state, out);
+  run_pending(study, count, run, run_work, ctx, state, out);
   count_budget_cuts(out);
   if (state.stopped == 0) return std::nullopt;
   if (mpi::rank() == 0)

@@ -38,8 +38,12 @@ inline constexpr const char* kBudgetKey = "budget";
 /// throws. Returns an exit code when the study must stop before its runs
 /// (under MPI, rank 0's reason is shared so that every rank stops); throws
 /// otherwise (InputError when the journal belongs to another study).
+/// `run_work(i)`, when given, is run i's size in the units its run reports
+/// with report_work_done (study/progress.h), e.g. the speeds of a jump map's
+/// range; the progress line's time left is estimated from that work rather
+/// than from run counts. Without it every run counts one.
 std::optional<int> run_journaled(const std::string& study, const std::string& hash, std::size_t count,
                                  const std::function<Json(std::size_t)>& run, const StudyContext& ctx,
-                                 JournaledRuns& out);
+                                 JournaledRuns& out, const std::function<double(std::size_t)>& run_work = {});
 
 }  // namespace camdyn

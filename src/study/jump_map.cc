@@ -12,6 +12,7 @@
 #include "dynamics/rigid_jump_speed.h"
 #include "dynamics/train_jump_speed.h"
 #include "io/json_writer.h"
+#include "study/progress.h"
 
 namespace camdyn {
 
@@ -162,6 +163,7 @@ std::vector<JumpMapPoint> run_jump_map_range(const JumpMapStudy& study, std::siz
       points.push_back(std::move(p));
       carry.reset();  // the next speed starts afresh
     }
+    report_work_done(1.0);  // one speed: the unit of the progress line's estimate
   }
   return points;
 }

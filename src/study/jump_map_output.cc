@@ -10,6 +10,7 @@
 #include <iostream>
 #include <map>
 #include <set>
+#include <string_view>
 
 #include "common/errors.h"
 #include "common/study_budget.h"
@@ -94,7 +95,8 @@ Plot diagram(const std::vector<JumpMapPoint>& points, double jump_rpm, const std
     }
   }
   for (auto& [label, s] : by_label) plot.series.push_back(std::move(s));
-  if (std::isfinite(jump_rpm)) plot.series.push_back({jump_name, {jump_rpm, jump_rpm}, {lo, hi}, "lines"});
+  if (std::isfinite(jump_rpm))
+    plot.series.push_back({jump_name, {jump_rpm, jump_rpm}, {lo, hi}, "lines", PlotRole::limit});
   return plot;
 }
 
@@ -130,14 +132,22 @@ Report jump_map_report(const JumpMapStudy& study, const std::vector<JumpMapPoint
       Plot{"Jump map: impact speed against cam speed", "cam speed [rpm]", "normal approach speed at impact [m/s]", {}},
       [](const JumpMapPoint& p) { return p.impact_speed; }));
   // The section samples are q: an arm's in rad (coordinate_units.h).
+  // A translating follower's position in µm, mm or m as the largest needs (output/plot_style.h).
   const CoordinateUnits units = coordinate_units(study.scene);
+  LengthUnit unit{1.0, units.position};
+  if (std::string_view(units.position) == "m") {
+    std::vector<const std::vector<double>*> columns;
+    for (const JumpMapPoint& p : points)
+      if (p.ok) columns.push_back(&p.section_position);
+    unit = length_unit(columns);
+  }
   rep.plots.push_back(
       diagram(points, jump, study.jump_speed_name,
               Plot{"Poincaré section: " + std::string(units.position_name) + " once per revolution",
                    "cam speed [rpm]",
-                   CoordinateUnits::axis(std::string(units.position_name) + " at the section", units.position),
+                   CoordinateUnits::axis(std::string(units.position_name) + " at the section", unit.symbol),
                    {}},
-              [](const JumpMapPoint& p) { return p.section_position; }));
+              [&unit](const JumpMapPoint& p) { return unit.of(p.section_position); }));
   rep.plots.push_back(diagram(points, jump, study.jump_speed_name,
                               Plot{"Impact angles", "cam speed [rpm]", "cam angle at impact [deg]", {}},
                               [](const JumpMapPoint& p) { return p.impact_angle_deg; }));
@@ -169,7 +179,8 @@ int run_jump_map_study(const Json& doc, const StudyContext& ctx) {
   JournaledRuns runs;
   if (const std::optional<int> code = run_journaled(
           "jump_map", fingerprint(dump_json(study.resolved)), ranges,
-          [&](std::size_t r) { return range_record(study, r, ctx.config_file); }, ctx, runs))
+          [&](std::size_t r) { return range_record(study, r, ctx.config_file); }, ctx, runs,
+          [&](std::size_t r) { return static_cast<double>(jump_map_range(study, r).size()); }))
     return *code;
   if (mpi::rank() != 0) return 0;  // rank 0 writes the outputs
   std::vector<JumpMapPoint> points;

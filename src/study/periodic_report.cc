@@ -3,6 +3,7 @@
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <string_view>
 
 #include "dynamics/coordinate_units.h"
 #include "output/cam_plots.h"
@@ -15,25 +16,29 @@ namespace {
 Plot phase_plane(const PeriodicResult& r, const PoincareMap& map) {
   const TimeSeries& s = r.orbit_run.series;
   const CoordinateUnits u = coordinate_units(map.model());
+  // A translating follower's position in µm, mm or m as its size needs; an arm's angle in rad.
+  const bool length = std::string_view(u.position) == "m";
+  const LengthUnit unit = length ? length_unit({&s.follower_position}) : LengthUnit{1.0, u.position};
   Plot p{"Phase plane: follower position against velocity",
          CoordinateUnits::axis(u.velocity_name, u.velocity),
-         CoordinateUnits::axis(u.position_name, u.position),
+         CoordinateUnits::axis(u.position_name, unit.symbol),
          {}};
-  p.series.push_back({r.analysis.orbit ? "orbit" : "last revolution", s.follower_velocity, s.follower_position});
-  Series section{"Poincaré points (once per revolution)", {}, {}, "points"};
+  p.series.push_back({r.analysis.orbit ? "orbit" : "last revolution", s.follower_velocity, unit.of(s.follower_position),
+                      "lines", PlotRole::dynamic});
+  Series section{"Poincaré points (once per revolution)", {}, {}, "points", PlotRole::section};
   if (r.analysis.orbit) {
     const double period = map.period();
     for (std::size_t i = 0; i < s.time.size(); ++i) {
       const double revolutions = s.time[i] / period;
       if (std::abs(revolutions - std::round(revolutions)) < 1e-9) {
         section.x.push_back(s.follower_velocity[i]);
-        section.y.push_back(s.follower_position[i]);
+        section.y.push_back(s.follower_position[i] * unit.per_metre);
       }
     }
   } else if (r.analysis.lyapunov) {
     for (const std::vector<double>& x : r.analysis.lyapunov->section_points) {
       section.x.push_back(x[1]);
-      section.y.push_back(x[0]);
+      section.y.push_back(x[0] * unit.per_metre);
     }
   }
   p.series.push_back(std::move(section));
@@ -47,11 +52,11 @@ Plot contact_force(const PeriodicResult& r) {
   return Plot{"Contact force over one period",
               "cam angle from the section [deg]",
               "contact force [N]",
-              {{"contact force", angle, s.contact_force}}};
+              {{"contact force", angle, s.contact_force, "lines", PlotRole::dynamic}}};
 }
 
 Plot multipliers(const Orbit& o) {
-  Series circle{"unit circle", {}, {}};
+  Series circle{"unit circle", {}, {}, "lines", PlotRole::limit};
   constexpr int kPoints = 180;
   for (int i = 0; i <= kPoints; ++i) {
     const double phi = 2.0 * std::numbers::pi * i / kPoints;

@@ -232,7 +232,8 @@ void add_contour_fit(const Model& model, Report& report) {
       {"law interpolation error", format(model.law_interpolation_error * 1e9), "nm"}};
   report.tables.push_back(std::move(fit));
   constexpr int kCurveSamples = 720;
-  Series curve{"fitted spline", {}, {}, "lines"}, points{"given points", {}, {}, "points"};
+  Series curve{"fitted spline", {}, {}, "lines", PlotRole::fitted},
+      points{"given points", {}, {}, "points", PlotRole::measured};
   for (int i = 0; i <= kCurveSamples; ++i) {
     const Eigen::Vector2d r = cam.at(2.0 * std::numbers::pi * i / kCurveSamples).r;
     curve.x.push_back(r.x() * 1e3);
@@ -244,14 +245,16 @@ void add_contour_fit(const Model& model, Report& report) {
     points.x.push_back(cam.points()[i].x() * 1e3);
     points.y.push_back(cam.points()[i].y() * 1e3);
     residual.x.push_back(static_cast<double>(i));
-    residual.y.push_back(distances[i] * 1e6);
+    residual.y.push_back(distances[i]);  // [m] until the unit is known
   }
   report.plots.push_back(Plot{"Cam contour: given points and fitted spline (cam frame at angle 0)",
                               "x [mm]",
                               "y [mm]",
                               {std::move(curve), std::move(points)}});
+  const LengthUnit unit = length_unit({&residual.y});
+  residual.y = unit.of(residual.y);
   report.plots.push_back(
-      Plot{"Contour fit residual per point", "point index [-]", "residual [µm]", {std::move(residual)}});
+      Plot{"Contour fit residual per point", "point index [-]", unit.axis("residual"), {std::move(residual)}});
 }
 
 }  // namespace
@@ -412,7 +415,8 @@ std::vector<double> pick(const LastRevolution& r, const std::vector<double>& col
 
 /// Lift-off and impact markers of the revolution's events, at height 0.
 std::vector<Series> event_markers(const LastRevolution& r, const std::vector<ContactEvent>& events) {
-  Series lift_off{"lift-off", {}, {}, "points"}, impact{"impact", {}, {}, "points"};
+  Series lift_off{"lift-off", {}, {}, "points", PlotRole::lift_off},
+      impact{"impact", {}, {}, "points", PlotRole::impact};
   for (const ContactEvent& e : events) {
     if (e.cam_angle_deg < r.begin_deg - 1e-9 || (e.onset && !e.impact)) continue;
     Series& s = e.onset ? impact : lift_off;
@@ -436,16 +440,18 @@ void add_revolution_plots(const Model& model, const SimulationResult& result, Re
   const LastRevolution rev = last_revolution(ts);
   const std::vector<Series> markers = event_markers(rev, result.events);
   const bool arm = model.follower.oscillating();  // follower columns in rad: plotted in degrees
-  const double motion_scale = arm ? kRadToDeg : 1e3;
+  const LengthUnit lift = length_unit({&ts.follower_position, &ts.kinematic_position});
+  const double motion_scale = arm ? kRadToDeg : lift.per_metre;
   const auto xrange = std::make_pair(0.0, 360.0);
-  report.plots.push_back(Plot{"Last revolution: follower against the motion law",
-                              "cam angle [deg]",
-                              arm ? "arm angle [deg]" : "displacement [mm]",
-                              {{"follower", rev.angle, pick(rev, ts.follower_position, motion_scale)},
-                               {"motion law", rev.angle, pick(rev, ts.kinematic_position, motion_scale), "dashes"}},
-                              false,
-                              false,
-                              xrange});
+  report.plots.push_back(
+      Plot{"Last revolution: follower against the motion law",
+           "cam angle [deg]",
+           arm ? "arm angle [deg]" : lift.axis("displacement"),
+           {{"follower", rev.angle, pick(rev, ts.follower_position, motion_scale), "lines", PlotRole::dynamic},
+            {"motion law", rev.angle, pick(rev, ts.kinematic_position, motion_scale), "dashes", PlotRole::rigid}},
+           false,
+           false,
+           xrange});
   std::vector<double> rigid(rev.index.size(), std::numeric_limits<double>::quiet_NaN());
   double rigid_lo = 0.0, rigid_hi = 0.0, peak = 0.0;
   for (std::size_t j = 0; j < rigid.size(); ++j) {
@@ -458,7 +464,8 @@ void add_revolution_plots(const Model& model, const SimulationResult& result, Re
   Plot force{"Last revolution: contact force and the rigid-model force",
              "cam angle [deg]",
              "force [N]",
-             {{"contact force", rev.angle, pick(rev, ts.contact_force)}, {"rigid model", rev.angle, rigid, "dashes"}},
+             {{"contact force", rev.angle, pick(rev, ts.contact_force), "lines", PlotRole::dynamic},
+              {"rigid model", rev.angle, rigid, "dashes", PlotRole::rigid}},
              false,
              false,
              xrange};
@@ -473,10 +480,12 @@ void add_revolution_plots(const Model& model, const SimulationResult& result, Re
   } else {
     report.plots.push_back(std::move(force));
   }
+  const std::vector<double> revolution_gap = pick(rev, ts.gap);  // [m]
+  const LengthUnit gap_unit = length_unit({&revolution_gap});
   Plot gap{"Last revolution: gap between follower and cam (> 0 separated, < 0 penetration)",
            "cam angle [deg]",
-           "gap [µm]",
-           {{"gap", rev.angle, pick(rev, ts.gap, 1e6)}},
+           gap_unit.axis("gap"),
+           {{"gap", rev.angle, gap_unit.of(revolution_gap), "lines", PlotRole::dynamic}},
            false,
            false,
            xrange};
@@ -488,7 +497,9 @@ void add_revolution_plots(const Model& model, const SimulationResult& result, Re
 }
 
 /// A constant line across the revolution at height `y`.
-Series level_line(std::string label, double y) { return {std::move(label), {0.0, 360.0}, {y, y}, "dashes"}; }
+Series level_line(std::string label, double y) {
+  return {std::move(label), {0.0, 360.0}, {y, y}, "dashes", PlotRole::limit};
+}
 
 /// The rigid model's `f(θ)` at the revolution's points, NaN at the wrap.
 template <class F>
@@ -521,12 +532,13 @@ void add_stress_torque_plots(const SceneConfig& scene, const Model& model, const
                 false,
                 xrange};
     if (ts.contact_stress.size() == ts.time.size())
-      stress.series.push_back({"contact stress", rev.angle, pick(rev, ts.contact_stress, kMPa)});
+      stress.series.push_back(
+          {"contact stress", rev.angle, pick(rev, ts.contact_stress, kMPa), "lines", PlotRole::dynamic});
     stress.series.push_back(
         {"rigid model", rev.angle,
          rigid_at(rev, ts,
                   [&](double theta) { return kMPa * rigid_contact_pressure(model, *model.hertz, theta, model.omega); }),
-         "dashes"});
+         "dashes", PlotRole::rigid});
     if (const std::optional<double> limit = scene.mechanism.cam.limits.max_contact_stress)
       stress.series.push_back(level_line("limit (mechanism.cam.limits.max_contact_stress)", *limit * kMPa));
     report.plots.push_back(std::move(stress));
@@ -539,10 +551,10 @@ void add_stress_torque_plots(const SceneConfig& scene, const Model& model, const
               false,
               xrange};
   if (ts.cam_torque.size() == ts.time.size())
-    torque.series.push_back({"drive torque", rev.angle, pick(rev, ts.cam_torque)});
+    torque.series.push_back({"drive torque", rev.angle, pick(rev, ts.cam_torque), "lines", PlotRole::dynamic});
   torque.series.push_back({"rigid model", rev.angle,
                            rigid_at(rev, ts, [&](double t) { return rigid_cam_torque(model, t, model.omega); }),
-                           "dashes"});
+                           "dashes", PlotRole::rigid});
   if (model.drive.shaft() && ts.motor_torque.size() == ts.time.size())
     torque.series.push_back({"motor", rev.angle, pick(rev, ts.motor_torque)});
   report.plots.push_back(std::move(torque));
@@ -566,18 +578,24 @@ void add_stress_torque_plots(const SceneConfig& scene, const Model& model, const
 void add_run_plots(const Model& model, const SimulationResult& result, Report& report) {
   const TimeSeries& ts = result.series;
   const bool arm = model.follower.oscillating();
-  const double motion_scale = arm ? kRadToDeg : 1e3;
-  report.plots.push_back(Plot{"Whole run: follower motion against the motion law",
-                              "time [s]",
-                              arm ? "arm angle [deg]" : "displacement [mm]",
-                              {{"follower", ts.time, scaled(ts.follower_position, motion_scale)},
-                               {"motion law", ts.time, scaled(ts.kinematic_position, motion_scale), "dashes"}}});
+  const LengthUnit lift = length_unit({&ts.follower_position, &ts.kinematic_position});
+  const double motion_scale = arm ? kRadToDeg : lift.per_metre;
+  report.plots.push_back(
+      Plot{"Whole run: follower motion against the motion law",
+           "time [s]",
+           arm ? "arm angle [deg]" : lift.axis("displacement"),
+           {{"follower", ts.time, scaled(ts.follower_position, motion_scale), "lines", PlotRole::dynamic},
+            {"motion law", ts.time, scaled(ts.kinematic_position, motion_scale), "dashes", PlotRole::rigid}}});
   if (model.omega <= 0.0) {
+    const LengthUnit gap_unit = length_unit({&ts.gap});
     report.plots.push_back(Plot{"Gap between follower and cam (> 0 separated, < 0 penetration)",
                                 "time [s]",
-                                "gap [µm]",
-                                {{"gap", ts.time, scaled(ts.gap, 1e6)}}});
-    Plot force{"Contact force", "time [s]", "force [N]", {{"contact force", ts.time, ts.contact_force}}};
+                                gap_unit.axis("gap"),
+                                {{"gap", ts.time, gap_unit.of(ts.gap), "lines", PlotRole::dynamic}}});
+    Plot force{"Contact force",
+               "time [s]",
+               "force [N]",
+               {{"contact force", ts.time, ts.contact_force, "lines", PlotRole::dynamic}}};
     if (model.friction.present) force.series.push_back({"friction force", ts.time, ts.friction_force});
     report.plots.push_back(std::move(force));
   } else if (model.friction.present) {

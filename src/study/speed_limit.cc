@@ -23,6 +23,7 @@
 #include "io/json_writer.h"
 #include "output/cam_plots.h"
 #include "output/report.h"
+#include "study/progress.h"
 #include "study/speed_limit_journal.h"
 
 namespace camdyn {
@@ -61,6 +62,13 @@ SpeedCheck check_speed(const SpeedLimitStudy& study, double rpm, double min_forc
   c.ok = c.converged && c.separation_fraction == 0.0 && !link_opens &&
          (min_force <= 0.0 || c.min_contact_force >= min_force);
   return c;
+}
+
+/// The most bisection steps that narrow a bracket `width_rpm` wide to
+/// `tolerance_rpm`: ⌈log2(width / tolerance)⌉, 0 when it is narrow enough.
+std::size_t bisection_steps(double width_rpm, double tolerance_rpm) {
+  if (!(width_rpm > tolerance_rpm) || !(tolerance_rpm > 0.0)) return 0;
+  return static_cast<std::size_t>(std::ceil(std::log2(width_rpm / tolerance_rpm)));
 }
 
 }  // namespace
@@ -139,8 +147,11 @@ SpeedLimitResult run_speed_limit(const SpeedLimitStudy& study, const StudyContex
 
   // The scan, in parallel: low_rpm … hi evenly.
   std::vector<SpeedCheck> scan(static_cast<std::size_t>(c.scan));
+  ProgressMeter progress("speed_limit", scan.size() + bisection_steps((hi - c.low_rpm) / (c.scan - 1), c.tolerance_rpm),
+                         0, 0, static_cast<std::size_t>(ctx.threads()), ctx.progress);
   parallel_for(scan.size(), ctx.threads(), [&](std::size_t i) {
     scan[i] = check_or_replay(i, c.low_rpm + (hi - c.low_rpm) * static_cast<double>(i) / (c.scan - 1));
+    progress.finished(!scan[i].converged, 0.0);  // a speed that separates is an answer, not a failure
   });
   r.checks = scan;
   const auto failed = std::find_if(scan.begin(), scan.end(), [](const SpeedCheck& s) { return !s.ok; });
@@ -158,6 +169,7 @@ SpeedLimitResult run_speed_limit(const SpeedLimitStudy& study, const StudyContex
       const double mid = 0.5 * (lo + up);
       if (mid <= lo || mid >= up) break;  // the bracket cannot narrow further in floating point
       r.checks.push_back(check_or_replay(scan.size() + k, mid));
+      progress.finished(!r.checks.back().converged, 0.0);
       if (!r.checks.back().budget.empty()) r.withheld = "the bisection's speed " + format_shortest(mid) + " rpm";
       (r.checks.back().ok ? lo : up) = mid;
     }
@@ -165,6 +177,7 @@ SpeedLimitResult run_speed_limit(const SpeedLimitStudy& study, const StudyContex
     r.speed_limit_rpm = lo;
     r.first_failure_rpm = up;
   }
+  progress.set_total(r.checks.size());  // no bisection, or one cut short: the line ends here
   std::set<std::string> budgets;
   for (const SpeedCheck& check : r.checks)
     if (!check.budget.empty()) {

@@ -9,8 +9,6 @@ namespace camdyn {
 
 namespace {
 
-constexpr double kMillimetresPerMetre = 1e3;
-
 /// The series' column `name` (the fixed columns or the train's), or null.
 const std::vector<double>* column(const TimeSeries& ts, const std::string& name) {
   if (name == "follower_position") return &ts.follower_position;
@@ -18,16 +16,11 @@ const std::vector<double>* column(const TimeSeries& ts, const std::string& name)
   return it == ts.train_names.end() ? nullptr : &ts.train[static_cast<std::size_t>(it - ts.train_names.begin())];
 }
 
-std::vector<double> scaled_by(const std::vector<double>& v, double k) {
-  std::vector<double> out(v.size());
-  std::transform(v.begin(), v.end(), out.begin(), [k](double x) { return k * x; });
-  return out;
-}
-
 /// Each body's position, and its kinematic lift: the law through the links'
-/// ratios less their lash, held by the seats [mm].
+/// ratios less their lash, held by the seats, in µm, mm or m
+/// as the largest lift needs.
 Plot lift_plot(const Model& model, const TimeSeries& ts) {
-  Plot plot{"Train: each body's lift against its kinematic lift", "time [s]", "lift [mm]", {}};
+  Plot plot{"Train: each body's lift against its kinematic lift", "time [s]", "", {}};
   std::vector<double> kinematic = ts.kinematic_position;
   for (std::size_t i = 0; i < model.train.bodies.size(); ++i) {
     const TrainBody& b = model.train.bodies[i];
@@ -39,9 +32,14 @@ Plot lift_plot(const Model& model, const TimeSeries& ts) {
       for (double& k : kinematic) k = std::max(k, seat);
     }
     if (!x) continue;
-    plot.series.push_back({b.name, ts.time, scaled_by(*x, kMillimetresPerMetre)});
-    plot.series.push_back({b.name + " kinematic", ts.time, scaled_by(kinematic, kMillimetresPerMetre), "dashes"});
+    plot.series.push_back({b.name, ts.time, *x});  // [m] until the unit is known
+    plot.series.push_back({b.name + " kinematic", ts.time, kinematic, "dashes"});
   }
+  std::vector<const std::vector<double>*> columns;
+  for (const Series& s : plot.series) columns.push_back(&s.y);
+  const LengthUnit unit = length_unit(columns);
+  plot.ylabel = unit.axis("lift");
+  for (Series& s : plot.series) s.y = unit.of(s.y);
   return plot;
 }
 
@@ -69,7 +67,7 @@ Plot seat_plot(const Model& model, const TimeSeries& ts) {
   for (const TrainBody& b : model.train.bodies) {
     const std::vector<double>* force = column(ts, b.name + "_seat_force");
     if (!force) continue;
-    Series seatings{b.name + " seatings", {}, {}, "points"};
+    Series seatings{b.name + " seatings", {}, {}, "points", PlotRole::seat};
     for (std::size_t k = 1; k < force->size(); ++k)
       if ((*force)[k - 1] <= 0.0 && (*force)[k] > 0.0) {
         seatings.x.push_back(ts.time[k]);

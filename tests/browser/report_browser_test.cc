@@ -3,8 +3,12 @@
 // banner is the first element of the page's content, every figure holds a
 // non-empty gnuplot SVG (not a placeholder) whose x and y axes both carry a
 // unit, and the cam is drawn to scale (measured on the page) with its
-// pressure angle, radius of curvature and SVAJ. Skips only when Chromium is
-// not installed (scripts/setup.sh installs it).
+// pressure angle, radius of curvature and SVAJ; every series that plays a
+// role (baseline, optimised, rigid, dynamic, limit, measured, fitted) is drawn
+// in that role's one colour and dash, and every event (lift-off, impact,
+// seat, once-per-revolution sample) with its one marker, in every report
+// type (output/plot_style.h). Skips only when Chromium is not installed
+// (scripts/setup.sh installs it).
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -12,11 +16,13 @@
 #include <filesystem>
 #include <fstream>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "cli_run.h"
+#include "output/plot_style.h"
 #include "svg_scale.h"
 
 namespace {
@@ -67,9 +73,10 @@ class ReportInBrowser : public ::testing::Test {
     if (!HasFailure() && !dir_.empty()) fs::remove_all(dir_);
   }
 
-  // Runs `camdyn run config args...` into dir_/name and checks its report.
+  // Runs `camdyn run config args...` into dir_/name and checks its report;
+  // each of `roles` (data-role names) must be drawn in at least one figure.
   void check_report(const std::string& name, const std::string& config, std::vector<std::string> args,
-                    std::size_t min_figures) {
+                    std::size_t min_figures, const std::vector<std::string>& roles = {}) {
     const fs::path out = dir_ / name;
     std::vector<std::string> argv = {"run", config, "--quiet", "--out", out.string()};
     argv.insert(argv.end(), args.begin(), args.end());
@@ -90,10 +97,76 @@ class ReportInBrowser : public ::testing::Test {
       expect_units_on_axes(name + ": figure " + std::to_string(figures), figure);
     }
     EXPECT_GE(figures, min_figures) << name;
+    expect_roles_drawn_alike(name, page.dom, roles);
     expect_verdict_first(name, page.dom);
     last_dom_ = page.dom;
     expect_cam_to_scale(name);
     expect_svaj(name);
+  }
+
+  // How one series with a data-role is drawn, as the page has it.
+  struct RoleLook {
+    std::string role;
+    std::string stroke;  // a line's colour, "rgb(r,g,b)"; empty for a marker
+    bool dashed = false;
+    std::string marker;  // a marker's symbol ("gpPt10"); empty for a line
+    std::string marker_colour;
+  };
+  static std::vector<RoleLook> role_looks(const std::string& dom) {
+    namespace d = camdyn::test::svg_detail;
+    std::vector<RoleLook> looks;
+    for (std::size_t at = dom.find(" data-role=\""); at != std::string::npos; at = dom.find(" data-role=\"", at + 1)) {
+      const std::size_t tag_start = dom.rfind('<', at);
+      RoleLook look;
+      look.role = d::attribute(dom.substr(tag_start, dom.find('>', at) - tag_start), "data-role");
+      // The series' group runs to the next series or the end of its picture.
+      const std::size_t end = std::min(dom.find("gnuplot_plot_", at), dom.find("</svg>", at));
+      const std::string group = dom.substr(at, end - at);
+      const std::size_t use = group.find("<use");
+      if (use != std::string::npos) {
+        const std::string tag = group.substr(use, group.find('>', use) - use);
+        std::string href = d::attribute(tag, "xlink:href");
+        if (href.empty()) href = d::attribute(tag, "href");
+        look.marker = href.substr(std::min(href.size(), href.find("gpPt")));
+        look.marker_colour = d::without_spaces(d::attribute(tag, "color"));
+      } else {
+        for (std::size_t path = group.find("<path"); path != std::string::npos; path = group.find("<path", path + 1)) {
+          const std::string tag = group.substr(path, group.find('>', path) - path);
+          const std::string stroke = d::without_spaces(d::attribute(tag, "stroke"));
+          if (stroke.rfind("rgb(", 0) != 0) continue;
+          look.stroke = stroke;
+          look.dashed = !d::attribute(tag, "stroke-dasharray").empty();
+          break;
+        }
+      }
+      looks.push_back(look);
+    }
+    return looks;
+  }
+
+  // Every series with a role is drawn as output/plot_style.h's table says
+  // (so each role looks the same in every figure of every report type), and
+  // each of `expected` roles appears.
+  static void expect_roles_drawn_alike(const std::string& name, const std::string& dom,
+                                       const std::vector<std::string>& expected) {
+    std::set<std::string> seen;
+    for (const RoleLook& look : role_looks(dom)) {
+      seen.insert(look.role);
+      const camdyn::RoleStyle* style = nullptr;
+      for (const camdyn::PlotRole role : camdyn::all_plot_roles())
+        if (camdyn::role_style(role).name == look.role) style = &camdyn::role_style(role);
+      ASSERT_NE(style, nullptr) << name << ": unknown role " << look.role;
+      const std::string colour = camdyn::test::gnuplot_stroke(std::string(style->colour));
+      if (style->point_type > 0) {
+        EXPECT_EQ(look.marker, "gpPt" + std::to_string(style->point_type - 1)) << name << ": " << look.role;
+        EXPECT_EQ(look.marker_colour, colour) << name << ": " << look.role;
+      } else {
+        EXPECT_EQ(look.stroke, colour) << name << ": " << look.role;
+        EXPECT_EQ(look.dashed, style->dashtype != 1) << name << ": " << look.role;
+        EXPECT_TRUE(look.marker.empty()) << name << ": " << look.role << " drawn with markers";
+      }
+    }
+    for (const std::string& role : expected) EXPECT_TRUE(seen.count(role)) << name << ": no series in role " << role;
   }
 
   // One x and one y axis label, each with its unit in brackets.
@@ -167,7 +240,7 @@ class ReportInBrowser : public ::testing::Test {
       const std::string& y = labels.y[0];
       const std::string unit = y.substr(y.rfind(" [") + 2, y.size() - y.rfind(" [") - 3);
       if (n == 0) {
-        EXPECT_TRUE(unit == "mm" || unit == "deg") << name << ": lift in " << y;
+        EXPECT_TRUE(unit == "µm" || unit == "mm" || unit == "m" || unit == "deg") << name << ": lift in " << y;
       } else {
         const bool timed = f->caption.find(" rpm") != std::string::npos;
         const std::string per = std::string(timed ? "/s" : "/rad") + powers[n];
@@ -193,13 +266,22 @@ TEST_F(ReportInBrowser, HarnessSeesConsoleErrors) {
 }
 
 TEST_F(ReportInBrowser, Simulate) {
-  check_report("simulate", kStudies + "quickstart.json", {"--set", "simulation.cycles=2"}, 3);
+  check_report("simulate", kStudies + "quickstart.json", {"--set", "simulation.cycles=2"}, 3,
+               {"dynamic", "rigid", "lift-off", "impact"});
   EXPECT_NE(last_dom_.find("m/s³"), std::string::npos) << "the SVAJ at the scene's speed";
 }
 
 TEST_F(ReportInBrowser, SimulateContourCam) {
   // 4 time-series plots, the contour against its points, the fit residual.
-  check_report("contour", kStudies + "contour_cam/measured_roller_cam.json", {"--set", "simulation.cycles=2"}, 6);
+  check_report("contour", kStudies + "contour_cam/measured_roller_cam.json", {"--set", "simulation.cycles=2"}, 6,
+               {"measured", "fitted", "dynamic", "rigid"});
+}
+
+TEST_F(ReportInBrowser, SimulateValvetrainWithSeat) {
+  // The train's figures (its seatings marked), the valve lift with its checking heights.
+  check_report("valvetrain", kStudies + "valvetrain/pushrod_rocker.json",
+               {"--set", "simulation.cycles=2", "--set", R"(outputs.valvetrain={"crank_ratio": 2})"}, 6,
+               {"dynamic", "rigid", "seat", "limit"});
 }
 
 TEST_F(ReportInBrowser, Convergence) {
@@ -226,12 +308,12 @@ TEST_F(ReportInBrowser, Compare) {
 
 TEST_F(ReportInBrowser, Optimize) {
   check_report("optimize", kStudies + "optimize_jump.json",
-               {"--set", "optimizer.max_evaluations=4", "--set", "simulation.cycles=2"}, 1);
+               {"--set", "optimizer.max_evaluations=4", "--set", "simulation.cycles=2"}, 1, {"baseline", "optimised"});
 }
 
 TEST_F(ReportInBrowser, Periodic) {
   // The phase plane, the contact force over a period, the multipliers, the Newton residuals.
-  check_report("periodic", kStudies + "periodic/bouncing_ball.json", {}, 4);
+  check_report("periodic", kStudies + "periodic/bouncing_ball.json", {}, 4, {"dynamic", "section", "limit"});
 }
 
 TEST_F(ReportInBrowser, JumpMap) {
@@ -254,7 +336,8 @@ TEST_F(ReportInBrowser, SpeedLimit) {
 }
 
 TEST_F(ReportInBrowser, Identify) {
-  check_report("identify", kStudies + "identify_drop/identify_drop.json", {"--set", "solver.max_iterations=2"}, 1);
+  check_report("identify", kStudies + "identify_drop/identify_drop.json", {"--set", "solver.max_iterations=2"}, 1,
+               {"measured", "fitted"});
 }
 
 }  // namespace

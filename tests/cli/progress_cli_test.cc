@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
+#include <regex>
 #include <string>
 
 #include "cli_run.h"
@@ -55,10 +57,67 @@ TEST(ProgressCli, IdentifyNamesItsContinuationStageAndIteration) {
   EXPECT_TRUE(has(o.out, "identify: stage 1/3 (smoothed over 2 ms), iteration 0 of at most 1, cost ")) << o.out;
   EXPECT_TRUE(has(o.out, "identify: stage 2/3 (smoothed over 0.5 ms), iteration 0 of at most 1, cost ")) << o.out;
   EXPECT_TRUE(has(o.out, "identify: stage 3/3 (raw signals), iteration 0 of at most 1, cost ")) << o.out;
+  // Past the first iteration, the time left if every stage takes all its iterations.
+  EXPECT_TRUE(has(o.out, "iteration 0 of at most 1, cost ")) << o.out;
+  EXPECT_TRUE(std::regex_search(o.out, std::regex("identify: stage [23]/3 [^\r\n]*, ~[0-9]+:[0-9][0-9] left at most")))
+      << o.out;
 
   const Outcome piped = camdyn::test::run_camdyn(camdyn::test::split_args(args), dir, "piped");
   ASSERT_EQ(piped.code, 0) << piped.err;
   EXPECT_FALSE(has(piped.err, "identify: stage")) << piped.err;
+}
+
+// A time left as the progress line writes it, rounded: "~01:15 left".
+const std::regex kTimeLeft("~[0-9]+:[0-9][0-9](:[0-9][0-9])? left");
+
+// The progress of `study` while runs remain: "<study>: k/n runs, ... ~mm:ss left",
+// then its last line, "done".
+void expect_runs_with_time_left(const std::string& study, const std::string& out) {
+  bool with_time = false;
+  const std::string prefix = study + ": ";
+  for (std::size_t at = out.find(prefix); at != std::string::npos; at = out.find(prefix, at + 1)) {
+    const std::string line = out.substr(at, out.find_first_of("\r\n", at) - at);
+    if (line.find(" runs, ") == std::string::npos) continue;
+    with_time = with_time || std::regex_search(line, kTimeLeft);
+  }
+  EXPECT_TRUE(with_time) << study << ": no time left shown\n" << out;
+  EXPECT_TRUE(has(out, " elapsed, done")) << out;
+}
+
+// Every study that runs more than one simulation shows the time left,
+// estimated from the work finished: the scan and bisection of speed_limit,
+// the references and runs of convergence, the runs of compare, the speed
+// ranges of a jump map (docs/config.md, "Commands").
+TEST(ProgressCli, EveryMultiRunStudyShowsTheTimeLeft) {
+  if (!camdyn::test::on_path("script")) GTEST_SKIP() << "util-linux script is not installed";
+  const fs::path dir = camdyn::test::scratch_dir("progress_cli", "multi_run");
+  const std::string quickstart = kStudies + "/quickstart.json";
+  {
+    std::ofstream(dir / "convergence.json") << R"({
+      "extends": ")" << quickstart << R"(", "name": "convergence", "study": "convergence",
+      "simulation": { "cycles": 2, "discard_cycles": 1 },
+      "methods": ["cvode_bdf"], "tolerances": [1e-5, 1e-6], "reference": { "method": "cvode_bdf", "rtol": 1e-8 } })";
+    std::ofstream(dir / "compare.json") << R"({
+      "extends": ")" << quickstart << R"(", "name": "compare", "study": "compare",
+      "simulation": { "cycles": 2, "discard_cycles": 1 }, "grid": { "mechanism.cam.rpm": [1000, 1100, 1200] } })";
+  }
+  const struct {
+    std::string study, args;
+  } runs[] = {
+      {"speed_limit", quickstart + " --set study=speed_limit --set simulation.cycles=2 --set " +
+                          R"('speed_limit={"low_rpm": 1000, "high_rpm": 1300, "scan": 3, "tolerance_rpm": 50}')"},
+      {"convergence", (dir / "convergence.json").string()},
+      {"compare", (dir / "compare.json").string()},
+      {"jump_map", quickstart + " --set study=jump_map --set " +
+                       R"('jump_map={"low_rpm": 1000, "high_rpm": 1300, "speeds": 4, "ranges": 2, )" +
+                       R"("transient_revolutions": 5, "samples": 5}' --set 'periodic={"max_period": 1, )" +
+                       R"("lyapunov_revolutions": 10}')"},
+  };
+  for (const auto& run : runs) {
+    const Outcome o = run_on_terminal("run " + run.args + " --out " + (dir / run.study).string(), dir);
+    ASSERT_EQ(o.code, 0) << run.study << "\n" << o.out;
+    expect_runs_with_time_left(run.study, o.out);
+  }
 }
 
 }  // namespace

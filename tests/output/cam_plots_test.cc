@@ -109,7 +109,7 @@ TEST(CamPlots, SvajHasUnitsAndScalesWithTheCamSpeed) {
   const Model model = roller_cam();
   const std::vector<Plot> timed = svaj_plots({{"cam", &model}}, 1200.0);
   ASSERT_EQ(timed.size(), 4u);
-  EXPECT_EQ(timed[0].ylabel, "lift [mm]");
+  EXPECT_EQ(timed[0].ylabel, "lift [mm]");  // a lift of millimetres (output/plot_style.h)
   EXPECT_EQ(timed[1].ylabel, "Velocity [m/s]");
   EXPECT_EQ(timed[2].ylabel, "Acceleration [m/s²]");
   EXPECT_EQ(timed[3].ylabel, "Jerk [m/s³]");

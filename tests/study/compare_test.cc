@@ -213,7 +213,8 @@ TEST_F(CompareCli, InlineCaseOverlaysAndBestMarks) {
   const std::string html = read_text(dir_ / "out" / "report.html");
   EXPECT_NE(html.find("Contact force against cam angle (last revolution), mechanism.cam.rpm=1300"), std::string::npos);
   EXPECT_NE(html.find("Follower displacement against cam angle"), std::string::npos);
-  EXPECT_NE(html.find("follower displacement [m]"), std::string::npos);  // a translating follower
+  // A translating follower's lift of millimetres, in mm (output/plot_style.h length_unit).
+  EXPECT_NE(html.find("follower displacement [mm]"), std::string::npos);
   EXPECT_NE(html.find("class=\"num best\""), std::string::npos);
   EXPECT_NE(html.find("Best case per metric"), std::string::npos);
   // The overlay runs carry their last revolution in the journal.

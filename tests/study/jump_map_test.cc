@@ -145,8 +145,9 @@ TEST(JumpMap, WorkBeyondTheBudgetsIsRefusedByValidate) {
   }
 }
 
-/// The report's Poincaré section plot for a one-speed map of `kind`'s follower (scenes.h).
-Plot section_plot(const std::string& kind) {
+/// The report's Poincaré section plot for a one-speed map of `kind`'s follower
+/// (scenes.h), its section at `position` [m | rad].
+Plot section_plot(const std::string& kind, double position = 0.1) {
   JumpMapStudy study;
   study.scene = test::follower_scene(kind, 1000.0);
   study.config.low_rpm = 900.0;
@@ -156,7 +157,7 @@ Plot section_plot(const std::string& kind) {
   p.ok = true;
   p.motion = MotionKind::periodic;
   p.period = 1;
-  p.section_position = {0.1, 0.1};
+  p.section_position = {position, position};
   const Report report = jump_map_report(study, {p}, {}, 1.0, "test");
   for (const Plot& plot : report.plots)
     if (plot.title.rfind("Poincaré section", 0) == 0) return plot;
@@ -171,8 +172,17 @@ TEST(JumpMap, ArmsSectionIsLabelledInRad) {
   EXPECT_EQ(plot.title, "Poincaré section: arm angle once per revolution");
 }
 
-TEST(JumpMap, TranslatingFollowersSectionIsLabelledInMetres) {
-  EXPECT_EQ(section_plot("translating_roller").ylabel, "follower position at the section [m]");
+// A translating follower's section is a length, in the unit its size needs
+// (output/plot_style.h): 0.1 m in mm, 2 m in m, 50 µm in µm.
+TEST(JumpMap, TranslatingFollowersSectionIsLabelledInALengthUnitItsSizeNeeds) {
+  const Plot mm = section_plot("translating_roller", 0.1);
+  EXPECT_EQ(mm.ylabel, "follower position at the section [mm]");
+  ASSERT_FALSE(mm.series.empty());
+  EXPECT_DOUBLE_EQ(mm.series.front().y.front(), 100.0);
+  EXPECT_EQ(section_plot("translating_roller", 2.0).ylabel, "follower position at the section [m]");
+  const Plot um = section_plot("translating_roller", 50e-6);
+  EXPECT_EQ(um.ylabel, "follower position at the section [µm]");
+  EXPECT_DOUBLE_EQ(um.series.front().y.front(), 50.0);
 }
 
 }  // namespace
