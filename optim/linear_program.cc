@@ -1,10 +1,14 @@
 #include "optim/linear_program.h"
 
 #include <ClpSimplex.hpp>
+#include <CoinError.hpp>
 #include <CoinPackedMatrix.hpp>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
+#include <string>
+#include <tuple>
 
 namespace camdyn::optim {
 
@@ -108,13 +112,10 @@ const char* to_string(LpStatus status) {
   return "failed";
 }
 
-LpSolution solve(const LinearProgram& lp) {
-  LpSolution out;
-  for (double v : lp.triplet_values())
-    if (!std::isfinite(v)) {
-      out.message = "a coefficient is not finite";
-      return out;
-    }
+namespace {
+
+/// CLP's answer to `lp` into `out` (what solve() returns; CLP may throw).
+void solve_with_clp(const LinearProgram& lp, LpSolution& out) {
   const CoinPackedMatrix matrix(true, lp.triplet_rows().data(), lp.triplet_columns().data(), lp.triplet_values().data(),
                                 static_cast<CoinBigIndex>(lp.triplet_values().size()));
   ClpSimplex model;
@@ -146,7 +147,7 @@ LpSolution solve(const LinearProgram& lp) {
   }
   if (out.status != LpStatus::optimal) {
     out.message = clp_status_text(model);
-    return out;
+    return;
   }
   const double* x = model.primalColumnSolution();
   const double* activity = model.primalRowSolution();
@@ -158,6 +159,55 @@ LpSolution solve(const LinearProgram& lp) {
   if (!(violation <= 1e-7)) {
     out.status = LpStatus::failed;
     out.message = "CLP reported optimal but the solution violates a row or bound by " + std::to_string(violation);
+  }
+}
+
+std::string shortest(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6g", v);
+  return text;
+}
+
+/// The first number CLP cannot take ("" when none): a coefficient or cost
+/// that is not finite, or any of them or a finite bound at or beyond
+/// kClpLargest (CLP reads 1e30 as infinite and asserts on 1e100).
+std::string beyond_clp(const LinearProgram& lp) {
+  constexpr double kClpLargest = 1e29;
+  auto find = [](const std::vector<double>& values, bool infinite_ok, const char* what) -> std::string {
+    for (const double v : values) {
+      if (infinite_ok && std::isinf(v)) continue;
+      if (!std::isfinite(v)) return std::string("a ") + what + " is not finite";
+      if (std::abs(v) >= kClpLargest)
+        return std::string("a ") + what + " of " + shortest(v) + " is beyond what CLP solves (|x| < 1e29)";
+    }
+    return {};
+  };
+  for (const auto& [values, infinite_ok, what] :
+       {std::tuple{&lp.triplet_values(), false, "coefficient"}, std::tuple{&lp.costs(), false, "cost"},
+        std::tuple{&lp.column_lower(), true, "column bound"}, std::tuple{&lp.column_upper(), true, "column bound"},
+        std::tuple{&lp.row_lower(), true, "row bound"}, std::tuple{&lp.row_upper(), true, "row bound"}}) {
+    std::string found = find(*values, infinite_ok, what);
+    if (!found.empty()) return found;
+  }
+  return {};
+}
+
+}  // namespace
+
+LpSolution solve(const LinearProgram& lp) {
+  LpSolution out;
+  out.message = beyond_clp(lp);
+  if (!out.message.empty()) return out;
+  try {
+    solve_with_clp(lp, out);
+  } catch (const CoinError& e) {
+    out = LpSolution{};
+    out.message = "CLP threw: " + e.message();
+  } catch (const std::bad_alloc&) {
+    throw;  // the CLI's out-of-memory message
+  } catch (const std::exception& e) {
+    out = LpSolution{};
+    out.message = std::string("CLP threw: ") + e.what();
   }
   return out;
 }

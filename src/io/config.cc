@@ -306,6 +306,8 @@ void visit(A& a, CamConfig& c) {
   const bool base_given = a.given("base_radius", c.base_radius > 0.0);
   if (base_given) a.field("base_radius", c.base_radius, non_negative());
   a.field("rpm", c.rpm, non_negative());
+  a.require(c.rpm <= kMaxCamRpm, "rpm",
+            "must be at most " + format_shortest(kMaxCamRpm) + " rpm, got " + format_shortest(c.rpm));
   a.field("direction", c.direction);
   a.field("initial_angle_deg", c.initial_angle_deg);
   a.field_or_file("motion_law", c.motion_law, &c.motion_law.source);
