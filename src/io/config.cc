@@ -804,6 +804,9 @@ Json load_with_extends(const std::string& file, std::vector<std::string>& chain)
       throw InputError(file, "extends", "expected a file name, got " + describe_json(*it));
     }
     const std::string name = it->get<std::string>();
+    // The file system would read the name only up to a NUL: another file.
+    if (name.find('\0') != std::string::npos)
+      throw InputError(file, "extends", "a file name cannot hold a NUL character (\\u0000), got " + describe_json(*it));
     const std::string parent = absolute_path(name, directory_of(file));
     const std::string canonical = fs::weakly_canonical(parent, ec).string();
     for (const std::string& seen : chain) {

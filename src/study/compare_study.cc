@@ -122,6 +122,31 @@ ComparePlan plan_study(const Json& doc, const StudyContext& ctx) {
   return plan;
 }
 
+/// Builds every run's scene and model before any run (validate as well as
+/// run): a case none of whose runs can be built is bad input, exit 2 naming
+/// the case and the first run's reason; a case where only some fail keeps
+/// them as failed runs (a sweep may cross the edge of what can be built).
+void check_cases_build(const ComparePlan& plan, const StudyContext& ctx, CamGeometryCache& geometries) {
+  std::vector<std::size_t> runs(plan.spec.cases.size(), 0), failed(plan.spec.cases.size(), 0);
+  std::vector<std::string> first(plan.spec.cases.size());
+  for (const ComparePoint& p : plan.points) {
+    ++runs[p.case_index];
+    try {
+      Json run = plan.bases[p.case_index].config;
+      for (std::size_t k = 0; k < plan.keys.size(); ++k) set_config_value(run, plan.keys[k], p.values[k]);
+      const SceneConfig scene = scene_from_json(run, plan.bases[p.case_index].source);
+      build_model(*geometries.get(scene, ctx.config_file), scene, ctx.config_file);
+    } catch (const InputError& e) {
+      if (failed[p.case_index]++ == 0) first[p.case_index] = e.what();
+    }
+  }
+  for (std::size_t c = 0; c < runs.size(); ++c)
+    if (runs[c] > 0 && failed[c] == runs[c])
+      throw InputError(ctx.config_file, "cases[" + std::to_string(c) + "]",
+                       "case '" + plan.spec.cases[c].name + "': none of its " + std::to_string(runs[c]) +
+                           " runs can be built: " + first[c]);
+}
+
 /// The study's fingerprint: everything that decides what each run computes.
 std::string study_fingerprint(const ComparePlan& plan) {
   Json identity = Json::object();
@@ -258,6 +283,8 @@ CompareOutcome outcome_of(const Json& record) {
 
 int run_compare_study(const Json& doc, const StudyContext& ctx) {
   const ComparePlan plan = plan_study(doc, ctx);
+  CamGeometryCache geometries;  // a grid over speeds or the mechanism's numbers builds each cam once
+  check_cases_build(plan, ctx, geometries);
   if (ctx.validate_only) {
     std::cout << dump_json(doc);
     std::cerr << "camdyn: " << ctx.config_file << " is valid (" << plan.points.size() << " runs)\n";
@@ -265,7 +292,6 @@ int run_compare_study(const Json& doc, const StudyContext& ctx) {
   }
   const auto wall_start = std::chrono::steady_clock::now();
   JournaledRuns state;
-  CamGeometryCache geometries;  // a grid over speeds or the mechanism's numbers builds each cam once
   if (const std::optional<int> code = run_journaled(
           "compare", study_fingerprint(plan), plan.points.size(),
           [&](std::size_t i) { return run_record(plan, i, ctx, geometries); }, ctx, state))

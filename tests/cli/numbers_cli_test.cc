@@ -57,8 +57,7 @@ std::vector<std::string> files_with_non_finite(const fs::path& dir) {
 const std::string kOptimize = kStudies + "optimize_force.json";
 
 TEST(Numbers, OptimizeDerivedSizesAreHeldToTheMemoryBudget) {
-  expect_refused(validate(kOptimize, {"rigid.certificate_grid=1e9"}, "grid"), "rigid.certificate_grid",
-                 "--max-memory");
+  expect_refused(validate(kOptimize, {"rigid.certificate_grid=1e9"}, "grid"), "rigid.certificate_grid", "--max-memory");
   expect_refused(validate(kOptimize, {"rigid.samples=1e9"}, "samples"), "rigid.samples", "--max-memory");
   // A large but affordable size still passes: the estimate refuses only what the budget cannot hold.
   const Outcome small = validate(kOptimize, {"rigid.samples=2000"}, "samples_ok");
@@ -127,9 +126,8 @@ TEST(Numbers, IdentifyRecordSampleBeyondSquaringIsRefusedNamingItsLine) {
   }
   ASSERT_GT(corrupt_line, 0);
   std::ofstream(dir / "record.csv") << text;
-  std::ofstream(dir / "study.json") << nlohmann::json{
-      {"extends", kIdentify},
-      {"reference", {{"file", (dir / "record.csv").string()}}}}.dump();
+  std::ofstream(dir / "study.json")
+      << nlohmann::json{{"extends", kIdentify}, {"reference", {{"file", (dir / "record.csv").string()}}}}.dump();
   const Outcome o = camdyn::test::run_camdyn({"validate", (dir / "study.json").string()}, dir);
   EXPECT_EQ(o.code, 2) << o.err;
   EXPECT_TRUE(contains(o.err, "record.csv: line " + std::to_string(corrupt_line) + ", column force_N: ")) << o.err;
@@ -155,6 +153,32 @@ TEST(Numbers, NanCutterRadiusIsRefused) {
   EXPECT_EQ(o.code, 2) << o.err;
   EXPECT_TRUE(contains(o.err, "--cutter-radius: must be a finite number")) << o.err;
   EXPECT_FALSE(fs::exists(dir / "out" / "profile.csv"));
+}
+
+TEST(Numbers, ExtendsNameWithNulIsRefused) {
+  const fs::path dir = scratch_dir("nul");
+  std::ofstream(dir / "study.json") << R"({"extends": ")" << kStudies << R"(quickstart.json\u0000junk", "name": "x"})";
+  const Outcome o = camdyn::test::run_camdyn({"validate", (dir / "study.json").string()}, dir);
+  expect_refused(o, "extends", "NUL character");
+}
+
+TEST(Numbers, HugeLiftIsBlamedOnTheLiftWithoutNonFiniteNumbers) {
+  const Outcome o = validate(kStudies + "quickstart.json",
+                             {R"(mechanism.cam.motion_law={"segments":[{"type":"rise","law":"cycloidal","end_deg":120,)"
+                              R"("lift":1e308},{"type":"dwell","end_deg":180},{"type":"return","law":"cycloidal",)"
+                              R"("end_deg":300,"lift":1e308},{"type":"dwell","end_deg":360}]})"},
+                             "lift");
+  expect_refused(o, "mechanism.cam.motion_law.segments[0].lift", "did you give millimetres");
+  EXPECT_FALSE(contains(o.err, "inf ")) << o.err;
+  EXPECT_FALSE(contains(o.err, "contact.stiffness")) << o.err;
+}
+
+TEST(Numbers, CompareCaseNoneOfWhoseRunsBuildsIsRefusedAtValidation) {
+  const std::string compare = kStudies + "compare_contact_models.json";
+  expect_refused(validate(compare, {"mechanism.contact.stiffness=1"}, "compare"), "cases[0]",
+                 "none of its 4 runs can be built");
+  const Outcome ok = validate(compare, {}, "compare_ok");
+  EXPECT_EQ(ok.code, 0) << ok.err;
 }
 
 }  // namespace
