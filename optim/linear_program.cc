@@ -14,10 +14,15 @@ namespace camdyn::optim {
 
 namespace {
 
-/// CLP's infinity for a bound that is infinite here.
+/// Beyond this magnitude CLP reads a bound as infinite (1e30) and asserts
+/// on it in places (1e100): a bound past it is made infinite, and a side
+/// that then cannot hold (a lower bound of +1e29 or more) is refused.
+constexpr double kClpLargest = 1e29;
+
+/// CLP's infinity for a bound that is infinite here or beyond kClpLargest.
 double clp_bound(double v) {
-  if (v == kLpInfinity) return COIN_DBL_MAX;
-  if (v == -kLpInfinity) return -COIN_DBL_MAX;
+  if (v >= kClpLargest) return COIN_DBL_MAX;
+  if (v <= -kClpLargest) return -COIN_DBL_MAX;
   return v;
 }
 
@@ -169,24 +174,26 @@ std::string shortest(double v) {
 }
 
 /// The first number CLP cannot take ("" when none): a coefficient or cost
-/// that is not finite, or any of them or a finite bound at or beyond
-/// kClpLargest (CLP reads 1e30 as infinite and asserts on 1e100).
+/// that is not finite or at or beyond kClpLargest, a NaN bound, or a lower
+/// bound at or above +kClpLargest (an upper one at or below −kClpLargest),
+/// which CLP would read as infinite: a side that cannot hold.
 std::string beyond_clp(const LinearProgram& lp) {
-  constexpr double kClpLargest = 1e29;
-  auto find = [](const std::vector<double>& values, bool infinite_ok, const char* what) -> std::string {
+  auto find = [](const std::vector<double>& values, double sign, const char* what) -> std::string {
     for (const double v : values) {
-      if (infinite_ok && std::isinf(v)) continue;
-      if (!std::isfinite(v)) return std::string("a ") + what + " is not finite";
-      if (std::abs(v) >= kClpLargest)
-        return std::string("a ") + what + " of " + shortest(v) + " is beyond what CLP solves (|x| < 1e29)";
+      if (std::isnan(v)) return std::string("a ") + what + " is not a number";
+      // sign 0: a coefficient or cost (finite, below kClpLargest); ±1: a lower
+      // (+1) or upper (−1) bound, refused only on its impossible side.
+      const bool bad = sign == 0.0 ? !(std::abs(v) < kClpLargest) : sign * v >= kClpLargest;
+      if (bad) return std::string("a ") + what + " of " + shortest(v) + " is beyond what CLP solves (|x| < 1e29)";
     }
     return {};
   };
-  for (const auto& [values, infinite_ok, what] :
-       {std::tuple{&lp.triplet_values(), false, "coefficient"}, std::tuple{&lp.costs(), false, "cost"},
-        std::tuple{&lp.column_lower(), true, "column bound"}, std::tuple{&lp.column_upper(), true, "column bound"},
-        std::tuple{&lp.row_lower(), true, "row bound"}, std::tuple{&lp.row_upper(), true, "row bound"}}) {
-    std::string found = find(*values, infinite_ok, what);
+  for (const auto& [values, sign, what] :
+       {std::tuple{&lp.triplet_values(), 0.0, "coefficient"}, std::tuple{&lp.costs(), 0.0, "cost"},
+        std::tuple{&lp.column_lower(), 1.0, "column lower bound"},
+        std::tuple{&lp.column_upper(), -1.0, "column upper bound"}, std::tuple{&lp.row_lower(), 1.0, "row lower bound"},
+        std::tuple{&lp.row_upper(), -1.0, "row upper bound"}}) {
+    std::string found = find(*values, sign, what);
     if (!found.empty()) return found;
   }
   return {};
