@@ -123,28 +123,26 @@ ComparePlan plan_study(const Json& doc, const StudyContext& ctx) {
 }
 
 /// Builds every run's scene and model before any run (validate as well as
-/// run): a case none of whose runs can be built is bad input, exit 2 naming
-/// the case and the first run's reason; a case where only some fail keeps
-/// them as failed runs (a sweep may cross the edge of what can be built).
-void check_cases_build(const ComparePlan& plan, const StudyContext& ctx, CamGeometryCache& geometries) {
-  std::vector<std::size_t> runs(plan.spec.cases.size(), 0), failed(plan.spec.cases.size(), 0);
-  std::vector<std::string> first(plan.spec.cases.size());
+/// run): a study none of whose runs can be built is bad input, exit 2 naming
+/// the first case and its first run's reason; where only some cannot be
+/// built they are kept as failed runs (a comparison may show that a case
+/// cannot be built, and a sweep may cross the edge of what can be).
+void check_some_run_builds(const ComparePlan& plan, const StudyContext& ctx, CamGeometryCache& geometries) {
+  std::string first;
   for (const ComparePoint& p : plan.points) {
-    ++runs[p.case_index];
     try {
       Json run = plan.bases[p.case_index].config;
       for (std::size_t k = 0; k < plan.keys.size(); ++k) set_config_value(run, plan.keys[k], p.values[k]);
       const SceneConfig scene = scene_from_json(run, plan.bases[p.case_index].source);
       build_model(*geometries.get(scene, ctx.config_file), scene, ctx.config_file);
+      return;
     } catch (const InputError& e) {
-      if (failed[p.case_index]++ == 0) first[p.case_index] = e.what();
+      if (first.empty()) first = "case '" + plan.spec.cases[p.case_index].name + "': " + std::string(e.what());
     }
   }
-  for (std::size_t c = 0; c < runs.size(); ++c)
-    if (runs[c] > 0 && failed[c] == runs[c])
-      throw InputError(ctx.config_file, "cases[" + std::to_string(c) + "]",
-                       "case '" + plan.spec.cases[c].name + "': none of its " + std::to_string(runs[c]) +
-                           " runs can be built: " + first[c]);
+  if (!plan.points.empty())
+    throw InputError(ctx.config_file, "cases[" + std::to_string(plan.points.front().case_index) + "]",
+                     "none of the study's " + std::to_string(plan.points.size()) + " runs can be built: " + first);
 }
 
 /// The study's fingerprint: everything that decides what each run computes.
@@ -284,7 +282,7 @@ CompareOutcome outcome_of(const Json& record) {
 int run_compare_study(const Json& doc, const StudyContext& ctx) {
   const ComparePlan plan = plan_study(doc, ctx);
   CamGeometryCache geometries;  // a grid over speeds or the mechanism's numbers builds each cam once
-  check_cases_build(plan, ctx, geometries);
+  check_some_run_builds(plan, ctx, geometries);
   if (ctx.validate_only) {
     std::cout << dump_json(doc);
     std::cerr << "camdyn: " << ctx.config_file << " is valid (" << plan.points.size() << " runs)\n";
