@@ -1,19 +1,28 @@
 #include "optim/linear_program.h"
 
 #include <ClpSimplex.hpp>
+#include <CoinError.hpp>
 #include <CoinPackedMatrix.hpp>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
+#include <string>
+#include <tuple>
 
 namespace camdyn::optim {
 
 namespace {
 
-/// CLP's infinity for a bound that is infinite here.
+/// Beyond this magnitude CLP reads a bound as infinite (1e30) and asserts
+/// on it in places (1e100): a bound past it is made infinite, and a side
+/// that then cannot hold (a lower bound of +1e29 or more) is refused.
+constexpr double kClpLargest = 1e29;
+
+/// CLP's infinity for a bound that is infinite here or beyond kClpLargest.
 double clp_bound(double v) {
-  if (v == kLpInfinity) return COIN_DBL_MAX;
-  if (v == -kLpInfinity) return -COIN_DBL_MAX;
+  if (v >= kClpLargest) return COIN_DBL_MAX;
+  if (v <= -kClpLargest) return -COIN_DBL_MAX;
   return v;
 }
 
@@ -108,13 +117,10 @@ const char* to_string(LpStatus status) {
   return "failed";
 }
 
-LpSolution solve(const LinearProgram& lp) {
-  LpSolution out;
-  for (double v : lp.triplet_values())
-    if (!std::isfinite(v)) {
-      out.message = "a coefficient is not finite";
-      return out;
-    }
+namespace {
+
+/// CLP's answer to `lp` into `out` (what solve() returns; CLP may throw).
+void solve_with_clp(const LinearProgram& lp, LpSolution& out) {
   const CoinPackedMatrix matrix(true, lp.triplet_rows().data(), lp.triplet_columns().data(), lp.triplet_values().data(),
                                 static_cast<CoinBigIndex>(lp.triplet_values().size()));
   ClpSimplex model;
@@ -146,7 +152,7 @@ LpSolution solve(const LinearProgram& lp) {
   }
   if (out.status != LpStatus::optimal) {
     out.message = clp_status_text(model);
-    return out;
+    return;
   }
   const double* x = model.primalColumnSolution();
   const double* activity = model.primalRowSolution();
@@ -158,6 +164,57 @@ LpSolution solve(const LinearProgram& lp) {
   if (!(violation <= 1e-7)) {
     out.status = LpStatus::failed;
     out.message = "CLP reported optimal but the solution violates a row or bound by " + std::to_string(violation);
+  }
+}
+
+std::string shortest(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6g", v);
+  return text;
+}
+
+/// The first number CLP cannot take ("" when none): a coefficient or cost
+/// that is not finite or at or beyond kClpLargest, a NaN bound, or a lower
+/// bound at or above +kClpLargest (an upper one at or below −kClpLargest),
+/// which CLP would read as infinite: a side that cannot hold.
+std::string beyond_clp(const LinearProgram& lp) {
+  auto find = [](const std::vector<double>& values, double sign, const char* what) -> std::string {
+    for (const double v : values) {
+      if (std::isnan(v)) return std::string("a ") + what + " is not a number";
+      // sign 0: a coefficient or cost (finite, below kClpLargest); ±1: a lower
+      // (+1) or upper (−1) bound, refused only on its impossible side.
+      const bool bad = sign == 0.0 ? !(std::abs(v) < kClpLargest) : sign * v >= kClpLargest;
+      if (bad) return std::string("a ") + what + " of " + shortest(v) + " is beyond what CLP solves (|x| < 1e29)";
+    }
+    return {};
+  };
+  for (const auto& [values, sign, what] :
+       {std::tuple{&lp.triplet_values(), 0.0, "coefficient"}, std::tuple{&lp.costs(), 0.0, "cost"},
+        std::tuple{&lp.column_lower(), 1.0, "column lower bound"},
+        std::tuple{&lp.column_upper(), -1.0, "column upper bound"}, std::tuple{&lp.row_lower(), 1.0, "row lower bound"},
+        std::tuple{&lp.row_upper(), -1.0, "row upper bound"}}) {
+    std::string found = find(*values, sign, what);
+    if (!found.empty()) return found;
+  }
+  return {};
+}
+
+}  // namespace
+
+LpSolution solve(const LinearProgram& lp) {
+  LpSolution out;
+  out.message = beyond_clp(lp);
+  if (!out.message.empty()) return out;
+  try {
+    solve_with_clp(lp, out);
+  } catch (const CoinError& e) {
+    out = LpSolution{};
+    out.message = "CLP threw: " + e.message();
+  } catch (const std::bad_alloc&) {
+    throw;  // the CLI's out-of-memory message
+  } catch (const std::exception& e) {
+    out = LpSolution{};
+    out.message = std::string("CLP threw: ") + e.what();
   }
   return out;
 }

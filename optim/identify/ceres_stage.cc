@@ -131,7 +131,10 @@ std::unique_ptr<Stage> solve_stage(const IdentifyProblem& problem, FitSimulator&
   solver_options.callbacks.push_back(&callback);
   solver_options.update_state_every_iteration = true;  // z is the accepted iterate in the callback
   std::string options_error;
-  if (!solver_options.IsValid(&options_error)) throw std::logic_error("Ceres options: " + options_error);
+  // identify_config.cc holds every option to Ceres' ranges; one that still
+  // fails is a bad option of the config (exit 2), not a bug.
+  if (!solver_options.IsValid(&options_error))
+    throw InputError(problem.config_file, "solver", "Ceres refuses the options: " + options_error);
 
   ceres::Solve(solver_options, stage->problem.get(), &stage->summary);
   const FitEvaluator& cost = *stage->evaluator;

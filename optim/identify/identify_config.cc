@@ -70,12 +70,20 @@ void visit(A& a, SolverSpec& s) {
   a.field("max_iterations", s.max_iterations, at_least(1));
   a.field("loss", s.loss, one_of(kLosses));
   a.field("loss_scale", s.loss_scale, positive());
+  a.require(!s.loss_scale || (*s.loss_scale >= kMinLossScale && *s.loss_scale <= kMaxLossScale), "loss_scale",
+            "must be in [" + format_shortest(kMinLossScale) + ", " + format_shortest(kMaxLossScale) +
+                "] (its square must be a finite, normal number), got " + format_shortest(s.loss_scale.value_or(0.0)));
   a.field("function_tolerance", s.function_tolerance, positive());
   a.field("gradient_tolerance", s.gradient_tolerance, positive());
   a.field("parameter_tolerance", s.parameter_tolerance, positive());
   a.field("fd_relative_step", s.fd_relative_step, open_closed(0.0, 0.1));
   a.field("differences", s.differences, one_of(kDifferences));
   a.field("initial_trust_region_radius", s.initial_trust_region_radius, positive());
+  a.require(
+      s.initial_trust_region_radius >= kMinTrustRegionRadius && s.initial_trust_region_radius <= kMaxTrustRegionRadius,
+      "initial_trust_region_radius",
+      "must be in [" + format_shortest(kMinTrustRegionRadius) + ", " + format_shortest(kMaxTrustRegionRadius) +
+          "] (Ceres' own trust-region limits), got " + format_shortest(s.initial_trust_region_radius));
   a.field("smoothing", s.smoothing, positive());
   a.field("max_relative_std_error", s.max_relative_std_error, positive());
   a.field("max_measured_values", s.max_measured_values, at_least(1));

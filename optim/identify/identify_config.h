@@ -46,6 +46,14 @@ struct ParameterSpec {
 };
 
 /// `solver`: Ceres trust-region least squares with finite-difference derivatives.
+/// Ceres' own limits of the trust region (Solver::Options'
+/// min_trust_region_radius and max_trust_region_radius, left at their defaults).
+inline constexpr double kMinTrustRegionRadius = 1e-32;
+inline constexpr double kMaxTrustRegionRadius = 1e16;
+/// The range of solver.loss_scale: its square stays a finite, normal number.
+inline constexpr double kMinLossScale = 1e-100;
+inline constexpr double kMaxLossScale = 1e100;
+
 struct SolverSpec {
   int max_iterations = 100;
   std::string loss = "none";  ///< none, huber, cauchy, soft_l1

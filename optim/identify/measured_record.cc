@@ -65,12 +65,26 @@ MeasuredRecord read_reference(const ReferenceSpec& reference, double t_end) {
   for (std::size_t k = 0; k < reference.signals.size(); ++k) {
     const auto& [signal, file_column] = reference.signals[k];
     const std::vector<double>& y = csv.values[k + 1];
+    // A value whose square (in the RMS and the least-squares cost) is not a
+    // finite number is a corrupt sample, not a measurement.
+    for (std::size_t i = 0; i < y.size(); ++i)
+      if (!(std::abs(y[i]) <= kMaxMeasuredValue))
+        throw InputError(reference.file, "line " + std::to_string(rec.lines[i]) + ", column " + file_column,
+                         "the value " + fmt(y[i]) + " is beyond " + fmt(kMaxMeasuredValue) +
+                             " in magnitude: a corrupt sample (the fit squares it)");
     double sum2 = 0.0;
     for (double v : y) sum2 += v * v;
     const double rms = std::sqrt(sum2 / static_cast<double>(y.size()));
     double weight = 0.0;
     for (const auto& [name, w] : reference.weights)
       if (name == signal) weight = w;
+    const double largest = y.empty() ? 0.0 : std::abs(*std::max_element(y.begin(), y.end(), [](double a, double b) {
+      return std::abs(a) < std::abs(b);
+    }));
+    if (weight != 0.0 && !std::isfinite(weight * largest * weight * largest * static_cast<double>(y.size())))
+      throw InputError(reference.file, "reference.weights." + signal,
+                       "the weight " + fmt(weight) + " times the largest value " + fmt(largest) +
+                           " squared and summed overflows: give a smaller weight");
     if (weight == 0.0) {
       if (!(rms > 0.0))
         throw InputError(reference.file, "column " + file_column,

@@ -24,6 +24,9 @@ struct MeasuredRecord {
 
 /// Fewest samples a record may have: fewer cannot carry a transient.
 inline constexpr std::size_t kMinSamples = 10;
+/// The largest magnitude of a recorded value: its square summed over the
+/// record must stay finite (a larger one is a corrupt sample).
+inline constexpr double kMaxMeasuredValue = 1e100;
 
 /// Reads and checks a reference file: the named columns exist and are numeric
 /// (no NaN), time strictly increases, lies in [0, t_end] (the simulated run,

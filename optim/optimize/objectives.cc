@@ -166,6 +166,23 @@ void DesignEvaluator::peak_contact_stress(const CamGeometry& geometry, DesignEva
   }
 }
 
+namespace {
+
+/// The weights are capped at validation (optimize_config.h); a term that is
+/// itself not finite (a metric that overflowed) makes the design invalid,
+/// naming the term, rather than put inf into the history and the search.
+bool objective_not_finite(DesignEvaluation& e) {
+  if (std::isfinite(e.objective)) return false;
+  std::string which;
+  for (const TermValue& t : e.terms)
+    if (!std::isfinite(t.weight * t.normalised)) which += (which.empty() ? "" : ", ") + t.name;
+  e.valid = false;
+  e.error = "the weighted objective is not finite (term " + which + ")";
+  return true;
+}
+
+}  // namespace
+
 double DesignEvaluator::aggregate(const std::vector<double>& v, bool worst_is_max) const {
   if (v.empty()) return 0.0;
   if (config_.objective.aggregate == "mean")
@@ -224,6 +241,7 @@ void DesignEvaluator::score(DesignEvaluation& e) const {
   // Maximised: baseline area / area, 1 for the baseline, smaller for more area.
   term("lift_area", o.lift_area, e.lift_area, norm_.lift_area / std::max(e.lift_area, 1e-6 * norm_.lift_area),
        std::string(units.position) + " rad");
+  if (objective_not_finite(e)) return score(e);  // scored as invalid
 
   e.feasible = true;
   for (std::size_t i = 0; i < constraints_.size(); ++i) {

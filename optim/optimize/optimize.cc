@@ -58,7 +58,7 @@ Json with_default_rpm(const Json& doc) {
   if (mech == d.end() || !mech->is_object()) return d;
   const auto cam = mech->find("cam");
   if (cam == mech->end() || !cam->is_object() || cam->contains("rpm")) return d;
-  (*cam)["rpm"] = top;
+  (*cam)["rpm"] = std::min(top, kMaxCamRpm);  // a faster one is refused by the study reader, naming operating_rpm
   return d;
 }
 

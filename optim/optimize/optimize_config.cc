@@ -2,9 +2,11 @@
 // (io/json_archive.h); checks between fields use `require`.
 #include "optim/optimize/optimize_config.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
+#include "common/study_budget.h"
 #include "io/json_archive.h"
 
 namespace camdyn::optim {
@@ -31,6 +33,58 @@ void range_field(A& a, std::string_view key, std::optional<std::vector<double>>&
     a.require(range->size() == 2 && (*range)[0] < (*range)[1], key,
               "expected [lower_deg, upper_deg] with lower < upper");
   }
+}
+
+}  // namespace
+
+namespace {
+
+// Memory the derived sizes ask for, estimated from above and held to
+// --max-memory (common/study_budget.h) before anything is allocated.
+
+/// Check speeds per operating speed the rigid stage may hold (a damped
+/// follower's P ≥ P_min is checked at 16 speeds up to it, plus 0).
+constexpr double kCheckSpeedsPerSpeed = 17.0;
+/// Bytes per nonzero of a CLP programme: the triplet here, CLP's row and
+/// column copies and its factorisation, each an index and a double.
+constexpr double kLpBytesPerNonzero = 4.0 * (sizeof(double) + sizeof(int));
+/// Nonzeros per row of the any-law programme (a three-point stencil and t).
+constexpr double kGridNonzerosPerRow = 4.0;
+/// Bytes an evaluation of the search keeps (its history row, journal
+/// record and checkpoint entry), past its design vector [bytes].
+constexpr double kBytesPerEvaluation = 4096.0;
+
+/// "rigid.samples": N would need about M MB ... : memory_budget_text().
+std::string over_budget(const std::string& what, double bytes, const std::string& advice) {
+  return what + " would need about " + format_shortest(std::ceil(bytes / kBytesPerMb)) +
+         " MB in memory: " + memory_budget_text() + ": " + advice;
+}
+
+template <class A>
+void require_sizes_in_memory_budget(A& a, const OptimizeStudyConfig& s) {
+  const double budget = memory_budget_bytes();
+  const double segments = s.design.event ? 1.0 : static_cast<double>(s.design.segments.size());
+  const double speeds = std::max<double>(1.0, static_cast<double>(s.operating_rpm.size()));
+  // The design programme: a dense row per sample, check speed and linear
+  // constraint (pressure angle both ways, monotone, jerk both ways, lift).
+  const double columns = s.design.control_points + 8.0;
+  const double sample_rows = static_cast<double>(s.rigid.samples) * segments * (speeds * kCheckSpeedsPerSpeed + 6.0);
+  const double sample_bytes = sample_rows * columns * kLpBytesPerNonzero;
+  a.require(sample_bytes <= budget, "rigid.samples",
+            over_budget(std::to_string(s.rigid.samples) + " samples per segment", sample_bytes,
+                        "give fewer samples (the default is 121), or raise --max-memory"));
+  // The any-law and lift-area programmes: a column and a row per grid point
+  // and check speed of the top speed's sweep.
+  const double grid_rows = (static_cast<double>(s.rigid.certificate_grid) + 1.0) * segments * kCheckSpeedsPerSpeed;
+  const double grid_bytes = grid_rows * kGridNonzerosPerRow * kLpBytesPerNonzero;
+  a.require(grid_bytes <= budget, "rigid.certificate_grid",
+            over_budget("a certificate grid of " + std::to_string(s.rigid.certificate_grid) + " intervals", grid_bytes,
+                        "give a coarser grid (the default is 300), or raise --max-memory"));
+  const double evaluation_bytes =
+      static_cast<double>(s.optimizer.max_evaluations) * (kBytesPerEvaluation + 2.0 * columns * segments * 8.0);
+  a.require(evaluation_bytes <= budget, "optimizer.max_evaluations",
+            over_budget(std::to_string(s.optimizer.max_evaluations) + " evaluations", evaluation_bytes,
+                        "give fewer, or raise --max-memory"));
 }
 
 }  // namespace
@@ -86,12 +140,20 @@ void visit(A& a, DesignConfig& d) {
 
 template <class A>
 void visit(A& a, ObjectiveConfig& o) {
-  a.field("separation", o.separation, non_negative());
-  a.field("peak_contact_force", o.peak_contact_force, non_negative());
-  a.field("contact_force_margin", o.contact_force_margin, non_negative());
-  a.field("peak_acceleration", o.peak_acceleration, non_negative());
-  a.field("peak_jerk", o.peak_jerk, non_negative());
-  a.field("lift_area", o.lift_area, non_negative());
+  // Each term is normalised (1 at the baseline), so only the weights' ratios
+  // matter; outside [kMinObjectiveWeight, kMaxObjectiveWeight] the weighted
+  // sum overflows to inf or a term underflows to nothing.
+  for (auto [key, weight] :
+       {std::pair{"separation", &o.separation}, std::pair{"peak_contact_force", &o.peak_contact_force},
+        std::pair{"contact_force_margin", &o.contact_force_margin},
+        std::pair{"peak_acceleration", &o.peak_acceleration}, std::pair{"peak_jerk", &o.peak_jerk},
+        std::pair{"lift_area", &o.lift_area}}) {
+    a.field(key, *weight, non_negative());
+    a.require(*weight == 0.0 || (*weight >= kMinObjectiveWeight && *weight <= kMaxObjectiveWeight), key,
+              "must be 0 or in [" + format_shortest(kMinObjectiveWeight) + ", " + format_shortest(kMaxObjectiveWeight) +
+                  "] (the terms are normalised to 1 at the baseline: only the weights' ratios matter), got " +
+                  format_shortest(*weight));
+  }
   a.field("aggregate", o.aggregate, one_of({"worst", "mean"}));
   const double total =
       o.separation + o.peak_contact_force + o.contact_force_margin + o.peak_acceleration + o.peak_jerk + o.lift_area;
@@ -100,19 +162,22 @@ void visit(A& a, ObjectiveConfig& o) {
 
 template <class A>
 void visit(A& a, ConstraintsConfig& c) {
+  // The upper ends are far past any cam (docs/optimize.md "Limits"): a value
+  // beyond them is a slip whose products in the rigid stage's programme
+  // overflow (CLP takes 1e30 for infinite).
   a.field("max_pressure_angle_deg", c.max_pressure_angle_deg, open_closed(0, 90));
-  a.field("min_radius_of_curvature", c.min_radius_of_curvature, positive());
-  a.field("max_peak_contact_force", c.max_peak_contact_force, positive());
+  a.field("min_radius_of_curvature", c.min_radius_of_curvature, open_closed(0, kMaxLengthLimit));
+  a.field("max_peak_contact_force", c.max_peak_contact_force, open_closed(0, kMaxForceLimit));
   // A floor of 0 would hold while the follower separates (the smallest force is
   // then 0): use no_separation for that.
-  a.field("min_contact_force", c.min_contact_force, positive());
+  a.field("min_contact_force", c.min_contact_force, open_closed(0, kMaxForceLimit));
   a.field("no_separation", c.no_separation);
-  a.field("max_peak_jerk", c.max_peak_jerk, positive());
-  a.field("max_contact_stress", c.max_contact_stress, positive());
-  a.field("max_lift", c.max_lift, positive());
-  a.field("face_edge_margin", c.face_edge_margin, non_negative());
-  a.field("max_spring_force", c.max_spring_force, positive());
-  a.field("max_seating_velocity", c.max_seating_velocity, positive());
+  a.field("max_peak_jerk", c.max_peak_jerk, open_closed(0, kMaxJerkLimit));
+  a.field("max_contact_stress", c.max_contact_stress, open_closed(0, kMaxStressLimit));
+  a.field("max_lift", c.max_lift, open_closed(0, kMaxLengthLimit));
+  a.field("face_edge_margin", c.face_edge_margin, closed_open(0, kMaxLengthLimit));
+  a.field("max_spring_force", c.max_spring_force, open_closed(0, kMaxForceLimit));
+  a.field("max_seating_velocity", c.max_seating_velocity, open_closed(0, kMaxSeatingVelocityLimit));
 }
 
 template <class A>
@@ -126,7 +191,7 @@ void visit(A& a, OptimizerConfig& o) {
   a.field("seed", o.seed, non_negative());
   a.field("initial_step", o.initial_step, open_closed(0, 1));
   a.field("gradient_step", o.gradient_step, open_closed(0, 0.1));
-  a.field("evaluation_cycles", o.evaluation_cycles, positive());
+  a.field("evaluation_cycles", o.evaluation_cycles, open_closed(0, kMaxRevolutionsPerRun));
   a.field("evaluation_rtol", o.evaluation_rtol, open_closed(0, 0.1));
   a.field("evaluation_max_wall_time_s", o.evaluation_max_wall_time_s, positive());
   const bool global = o.algorithm.rfind("GN_", 0) == 0;
@@ -142,19 +207,22 @@ void visit(A& a, RigidStageConfig& r) {
   a.field("enabled", r.enabled);
   a.field("samples", r.samples, at_least(11));
   a.field("certificate_grid", r.certificate_grid, at_least(50));
-  a.field("min_contact_force", r.min_contact_force, non_negative());
+  a.field("min_contact_force", r.min_contact_force, closed_open(0, kMaxForceLimit));
   a.field("speed_factor", r.speed_factor, at_least(1.0));
+  a.require(r.speed_factor <= kMaxSpeedFactor, "speed_factor",
+            "must be at most " + format_shortest(kMaxSpeedFactor) + ", got " + format_shortest(r.speed_factor));
   a.field("explain_bound", r.explain_bound);
 }
 
 template <class A>
 void visit(A& a, OptimizeStudyConfig& s) {
   a.field("design", s.design);
-  a.field("operating_rpm", s.operating_rpm, non_empty(), positive());
+  a.field("operating_rpm", s.operating_rpm, non_empty(), open_closed(0, kMaxCamRpm));
   a.field("objective", s.objective);
   a.field("constraints", s.constraints);
   a.field("optimizer", s.optimizer);
   a.field("rigid", s.rigid);
+  require_sizes_in_memory_budget(a, s);
 }
 
 OptimizeStudyConfig optimize_config_from_json(const Json& study_part, const ConfigSource& source) {

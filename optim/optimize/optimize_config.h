@@ -58,6 +58,20 @@ struct DesignConfig {
   bool operator==(const DesignConfig&) const = default;
 };
 
+/// The range of a nonzero objective weight (the terms are normalised, only
+/// ratios matter; beyond it the weighted sum overflows or a term vanishes).
+inline constexpr double kMinObjectiveWeight = 1e-6;
+inline constexpr double kMaxObjectiveWeight = 1e6;
+/// Upper ends of the constraints' limits, far past any cam: a force [N], a
+/// Hertz pressure [Pa], a length [m], a jerk [m/rad³], a seating speed [m/s].
+inline constexpr double kMaxForceLimit = 1e9;
+inline constexpr double kMaxStressLimit = 1e13;
+inline constexpr double kMaxLengthLimit = 10.0;
+inline constexpr double kMaxJerkLimit = 1e9;
+inline constexpr double kMaxSeatingVelocityLimit = 1e3;
+/// The largest rigid.speed_factor (a multiple of the top operating speed).
+inline constexpr double kMaxSpeedFactor = 100.0;
+
 /// `objective`: weights of the normalised terms (0 leaves a term out).
 struct ObjectiveConfig {
   double separation = 1.0;            ///< mean gap while separated, ∫max(g,0)dt / window

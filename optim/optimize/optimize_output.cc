@@ -132,8 +132,13 @@ Json rigid_json(const RigidStageResult& r, bool enabled) {
     return j;
   }
   Json speeds = Json::array();
+  // No design of the family meeting the linear constraints (a pressure-angle
+  // or jerk limit too tight) has no best margin: null, design_exists false.
   for (const SpeedCertificate& s : c.speeds)
-    speeds.push_back(Json{{"rpm", s.rpm}, {"feasible", s.feasible}, {"best_margin", s.best_margin}});
+    speeds.push_back(Json{{"rpm", s.rpm},
+                          {"feasible", s.feasible},
+                          {"best_margin", finite_or_null(s.best_margin)},
+                          {"design_exists", std::isfinite(s.best_margin)}});
   j["certificate"] = Json{{"min_contact_force", c.min_contact_force},
                           {"margin_unit", c.margin_unit},
                           {"any_law_jump_free_rpm", finite_or_null(c.any_law_rpm)},

@@ -1,6 +1,7 @@
 #include "optim/optimize/optimize_study.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -43,6 +44,9 @@ void print_certificate(const OptimizeOutcome& o) {
   for (const SpeedCertificate& s : c.speeds) {
     if (s.feasible)
       std::printf("  %6g rpm: feasible (best rigid margin %.4g %s)\n", s.rpm, s.best_margin, c.margin_unit.c_str());
+    else if (!std::isfinite(s.best_margin))
+      std::printf("  %6g rpm: INFEASIBLE, no design of the family meets the linear constraints%s\n", s.rpm,
+                  held.c_str());
     else
       std::printf("  %6g rpm: INFEASIBLE, above the family's bound %.5g rpm (any law: %.5g rpm)%s\n", s.rpm,
                   c.family_rpm, c.any_law_rpm, held.c_str());

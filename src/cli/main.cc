@@ -26,6 +26,7 @@
 #include "common/study_budget.h"
 #include "dynamics/model.h"
 #include "io/config.h"
+#include "io/json_archive.h"
 #include "output/profile_export.h"
 #include "scene/study_kind.h"
 #include "study/mpi_runner.h"
@@ -127,6 +128,27 @@ std::filesystem::path out_dir(const camdyn::Json& doc, const std::string& out) {
 }
 
 // `camdyn run` and `camdyn validate`: the study the config names
+/// A check of a number option: finite and in (low, high] ([low, high] with
+/// `low_inclusive`). CLI11's own range checks compare, which NaN passes.
+CLI::Validator finite_in(double low, double high, bool low_inclusive = false) {
+  const std::string range = std::string(low_inclusive ? "[" : "(") + camdyn::format_shortest(low) + ", " +
+                            camdyn::format_shortest(high) + "]";
+  return CLI::Validator(
+      [=](const std::string& text) {
+        double x = 0.0;
+        try {
+          std::size_t used = 0;
+          x = std::stod(text, &used);
+          if (used != text.size()) return "expected a number, got '" + text + "'";
+        } catch (const std::exception&) {  // not a number, or beyond a double's range
+          return "must be a finite number in " + range + ", got '" + text + "'";
+        }
+        const bool ok = std::isfinite(x) && (low_inclusive ? x >= low : x > low) && x <= high;
+        return ok ? std::string() : "must be a finite number in " + range + ", got '" + text + "'";
+      },
+      "in " + range);
+}
+
 // (cli/run_study.h, shared with the Python module).
 // --max-memory: `validate` refuses what `run` would refuse, so both take it.
 void add_memory_option(CLI::App& command, RunArgs& args) {
@@ -134,7 +156,7 @@ void add_memory_option(CLI::App& command, RunArgs& args) {
       .add_option("--max-memory", args.max_memory_mb,
                   "Memory budget [MB] (default 2048): a time series or data file that would need more is refused "
                   "(exit 2)")
-      ->check(CLI::PositiveNumber);
+      ->check(finite_in(0.0, 1e9));
 }
 
 int run_study(const RunArgs& args, bool validate_only, bool root) {
@@ -206,10 +228,10 @@ void add_follower_lift_options(CLI::App& command, ExportArgs& args) {
                             .add_option("--follower-radius", args.follower_radius_mm,
                                         "Also write follower_lift.csv: the lift a roller of this radius [mm] on the "
                                         "follower's axis reads on the cam (a grinder or checking fixture)")
-                            ->check(CLI::PositiveNumber);
+                            ->check(finite_in(0.0, 1e4));
   command
       .add_option("--angle-step-deg", args.angle_step_deg, "Cam-angle increment of follower_lift.csv [deg] (default 1)")
-      ->check(CLI::Range(1e-4, 360.0))
+      ->check(finite_in(1e-4, 360.0, true))
       ->needs(radius);
 }
 
@@ -227,12 +249,12 @@ void add_export_command(CLI::App& app, ExportArgs& args) {
   CLI::Option* tolerance = command
                                ->add_option("--chord-tolerance", args.chord_tolerance_mm,
                                             "Largest deviation of the chords from the curves [mm] (default 0.001)")
-                               ->check(CLI::Range(camdyn::ProfileOutputConfig::kMinChordToleranceMm, 1e3));
+                               ->check(finite_in(camdyn::ProfileOutputConfig::kMinChordToleranceMm, 1e3, true));
   points->excludes(tolerance);
   command
       ->add_option("--cutter-radius", args.cutter_radius_mm,
                    "Radius of the cutter or grinding wheel [mm]: also write its centre path")
-      ->check(CLI::PositiveNumber);
+      ->check(finite_in(0.0, 1e4));
   command->add_option("--out", args.out, "Output folder (default out/<name>)");
   command->add_option("--set", args.overrides, "Override a field (repeatable)");
   add_follower_lift_options(*command, args);
@@ -287,7 +309,7 @@ int run_command(int argc, char** argv) {
   run->add_option("--max-study-time", run_args.max_study_time_s,
                   "Wall-time budget of the whole study [s] (default 86400; each run also has "
                   "integrator.max_wall_time_s): past it the study stops, keeps what finished and exits 3")
-      ->check(CLI::PositiveNumber);
+      ->check(finite_in(0.0, 1e12));
   add_memory_option(*run, run_args);
   run->footer(run_footer());
 

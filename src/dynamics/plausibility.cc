@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <limits>
 #include <numbers>
+#include <regex>
 #include <string>
 #include <vector>
 
@@ -418,8 +419,14 @@ std::optional<PlausibilityWarning> unit_slip(const SceneConfig& scene) {
 void rethrow_naming_unit_slip(const SceneConfig& scene, const std::string& file, const InputError& error) {
   const std::optional<PlausibilityWarning> slip = unit_slip(scene);
   if (!slip || slip->field == error.path()) throw error;
-  throw InputError(error.file().empty() ? file : error.file(), slip->field,
-                   slip->message + " (building the cam then failed: " + error.path() + ": " + error.reason() + ")");
+  // A slip so large that the failure downstream is in numbers that overflowed
+  // (inf, nan) says nothing more: the slip alone is the cause.
+  static const std::regex non_finite(R"((^|[^A-Za-z_])-?(inf|nan)([^A-Za-z_]|$))", std::regex::icase);
+  const std::string reason =
+      std::regex_search(error.reason(), non_finite)
+          ? slip->message
+          : slip->message + " (building the cam then failed: " + error.path() + ": " + error.reason() + ")";
+  throw InputError(error.file().empty() ? file : error.file(), slip->field, reason);
 }
 
 ContactLoad contact_load(const Model& model) {

@@ -306,6 +306,8 @@ void visit(A& a, CamConfig& c) {
   const bool base_given = a.given("base_radius", c.base_radius > 0.0);
   if (base_given) a.field("base_radius", c.base_radius, non_negative());
   a.field("rpm", c.rpm, non_negative());
+  a.require(c.rpm <= kMaxCamRpm, "rpm",
+            "must be at most " + format_shortest(kMaxCamRpm) + " rpm, got " + format_shortest(c.rpm));
   a.field("direction", c.direction);
   a.field("initial_angle_deg", c.initial_angle_deg);
   a.field_or_file("motion_law", c.motion_law, &c.motion_law.source);
@@ -802,6 +804,9 @@ Json load_with_extends(const std::string& file, std::vector<std::string>& chain)
       throw InputError(file, "extends", "expected a file name, got " + describe_json(*it));
     }
     const std::string name = it->get<std::string>();
+    // The file system would read the name only up to a NUL: another file.
+    if (name.find('\0') != std::string::npos)
+      throw InputError(file, "extends", "a file name cannot hold a NUL character (\\u0000), got " + describe_json(*it));
     const std::string parent = absolute_path(name, directory_of(file));
     const std::string canonical = fs::weakly_canonical(parent, ec).string();
     for (const std::string& seen : chain) {

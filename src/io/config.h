@@ -24,6 +24,11 @@ void to_json(BasicJson& json, E value) {
   json = std::string(enum_name(value));
 }
 
+/// The fastest cam a speed field accepts [rpm]: beyond it the speed is a
+/// slip (rad/s for rpm, a sweep's end of 1e308) whose products with the
+/// other inputs (ω², ω³ of the rigid-model force) overflow.
+inline constexpr double kMaxCamRpm = 1e6;
+
 // ---------------------------------------------------------------- loading
 
 /// Where a config came from: the file (for error messages and relative paths).

@@ -122,6 +122,29 @@ ComparePlan plan_study(const Json& doc, const StudyContext& ctx) {
   return plan;
 }
 
+/// Builds every run's scene and model before any run (validate as well as
+/// run): a study none of whose runs can be built is bad input, exit 2 naming
+/// the first case and its first run's reason; where only some cannot be
+/// built they are kept as failed runs (a comparison may show that a case
+/// cannot be built, and a sweep may cross the edge of what can be).
+void check_some_run_builds(const ComparePlan& plan, const StudyContext& ctx, CamGeometryCache& geometries) {
+  std::string first;
+  for (const ComparePoint& p : plan.points) {
+    try {
+      Json run = plan.bases[p.case_index].config;
+      for (std::size_t k = 0; k < plan.keys.size(); ++k) set_config_value(run, plan.keys[k], p.values[k]);
+      const SceneConfig scene = scene_from_json(run, plan.bases[p.case_index].source);
+      build_model(*geometries.get(scene, ctx.config_file), scene, ctx.config_file);
+      return;
+    } catch (const InputError& e) {
+      if (first.empty()) first = "case '" + plan.spec.cases[p.case_index].name + "': " + std::string(e.what());
+    }
+  }
+  if (!plan.points.empty())
+    throw InputError(ctx.config_file, "cases[" + std::to_string(plan.points.front().case_index) + "]",
+                     "none of the study's " + std::to_string(plan.points.size()) + " runs can be built: " + first);
+}
+
 /// The study's fingerprint: everything that decides what each run computes.
 std::string study_fingerprint(const ComparePlan& plan) {
   Json identity = Json::object();
@@ -280,6 +303,8 @@ CompareOutcome outcome_of(const Json& record) {
 
 int run_compare_study(const Json& doc, const StudyContext& ctx) {
   const ComparePlan plan = plan_study(doc, ctx);
+  CamGeometryCache geometries;  // a grid over speeds or the mechanism's numbers builds each cam once
+  check_some_run_builds(plan, ctx, geometries);
   if (ctx.validate_only) {
     std::cout << dump_json(doc);
     std::cerr << "camdyn: " << ctx.config_file << " is valid (" << plan.points.size() << " runs)\n";
@@ -287,7 +312,6 @@ int run_compare_study(const Json& doc, const StudyContext& ctx) {
   }
   const auto wall_start = std::chrono::steady_clock::now();
   JournaledRuns state;
-  CamGeometryCache geometries;  // a grid over speeds or the mechanism's numbers builds each cam once
   if (const std::optional<int> code = run_journaled(
           "compare", study_fingerprint(plan), plan.points.size(),
           [&](std::size_t i) { return run_record(plan, i, ctx, geometries); }, ctx, state))

@@ -43,13 +43,17 @@ struct ConvergenceConfig {
   std::vector<ConvergenceScene> scenes = {ConvergenceScene{}};
 };
 
+/// The largest fixed RK4 step [deg of cam angle]: a revolution (a larger
+/// step is a slip, and its step in seconds overflows the run).
+inline constexpr double kMaxRk4StepDeg = 360.0;
+
 template <class A>
 void visit(A& a, ConvergenceScene& v) {
   a.field("name", v.name, non_empty());
   a.field("set", v.set);
   a.field("tolerances", v.tolerances, non_empty(), open_closed(0, 0.1));
   a.field("reference_rtol", v.reference_rtol, open_closed(0, 0.1));
-  a.field("rk4_steps_deg", v.rk4_steps_deg, non_empty(), positive());
+  a.field("rk4_steps_deg", v.rk4_steps_deg, non_empty(), open_closed(0, kMaxRk4StepDeg));
 }
 
 template <class A>
@@ -64,8 +68,8 @@ void visit(A& a, ConvergenceConfig& c) {
   a.field("tolerances", c.tolerances, non_empty(), open_closed(0, 0.1));
   a.field("reference", c.reference);
   a.field("tracking", c.tracking, non_empty());
-  a.field("atol_factor", c.atol_factor, positive());
-  a.field("rk4_steps_deg", c.rk4_steps_deg, non_empty(), positive());
+  a.field("atol_factor", c.atol_factor, open_closed(0, 1));  // a state scale above 1 m is a slip
+  a.field("rk4_steps_deg", c.rk4_steps_deg, non_empty(), open_closed(0, kMaxRk4StepDeg));
   a.field("scenes", c.scenes, non_empty());
 }
 

@@ -73,6 +73,9 @@ std::size_t bisection_steps(double width_rpm, double tolerance_rpm) {
 
 }  // namespace
 
+/// The largest speed_limit.min_contact_force [N]: far past any cam; beyond
+/// it the margin's arithmetic with the spring force loses every digit.
+constexpr double kMaxContactForceFloor = 1e9;
 /// The most speeds the coarse scan may simulate.
 constexpr int kMaxScanSpeeds = 10000;
 /// The finest tolerance_rpm relative to the bracket's speeds [-] (doubles
@@ -81,8 +84,8 @@ constexpr double kToleranceResolution = 1e-9;
 
 template <class A>
 void visit(A& a, SpeedLimitConfig& c) {
-  a.field("low_rpm", c.low_rpm, positive());
-  a.field("high_rpm", c.high_rpm, positive());
+  a.field("low_rpm", c.low_rpm, open_closed(0, kMaxCamRpm));
+  a.field("high_rpm", c.high_rpm, open_closed(0, kMaxCamRpm));
   a.field("scan", c.scan, at_least(2));
   // Each is a simulation: 2e9 of them asked for 16 GB before the first ran.
   a.require(c.scan <= kMaxScanSpeeds, "scan",
@@ -95,7 +98,7 @@ void visit(A& a, SpeedLimitConfig& c) {
             "must be at least " + format_shortest(kToleranceResolution) + " × the bracket's speeds (" +
                 format_number(kToleranceResolution * fastest, 3) + " rpm here), got " +
                 format_shortest(c.tolerance_rpm) + ": no bisection can resolve a speed that finely");
-  a.field("min_contact_force", c.min_contact_force, non_negative());
+  a.field("min_contact_force", c.min_contact_force, closed_open(0, kMaxContactForceFloor));
   a.require(!c.high_rpm || *c.high_rpm > c.low_rpm, "high_rpm", "must be above low_rpm");
 }
 
