@@ -53,6 +53,8 @@ constexpr double kGridNonzerosPerRow = 4.0;
 /// Bytes an evaluation of the search keeps (its history row, journal
 /// record and checkpoint entry), past its design vector [bytes].
 constexpr double kBytesPerEvaluation = 4096.0;
+/// The most operating speeds an optimize study may list.
+constexpr std::size_t kMaxOperatingSpeeds = 100;
 
 /// "rigid.samples": N would need about M MB ... : memory_budget_text().
 std::string over_budget(const std::string& what, double bytes, const std::string& advice) {
@@ -218,6 +220,11 @@ template <class A>
 void visit(A& a, OptimizeStudyConfig& s) {
   a.field("design", s.design);
   a.field("operating_rpm", s.operating_rpm, non_empty(), open_closed(0, kMaxCamRpm));
+  // Each is simulated at every evaluation and checked by the rigid stage at
+  // ten speeds: 5,000 of them kept `validate` busy for minutes.
+  a.require(s.operating_rpm.size() <= kMaxOperatingSpeeds, "operating_rpm",
+            "must list at most " + std::to_string(kMaxOperatingSpeeds) + " speeds (each is simulated at every "
+                "evaluation), got " + std::to_string(s.operating_rpm.size()));
   a.field("objective", s.objective);
   a.field("constraints", s.constraints);
   a.field("optimizer", s.optimizer);
