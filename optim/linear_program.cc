@@ -10,6 +10,9 @@
 #include <string>
 #include <tuple>
 
+#include "common/errors.h"
+#include "common/study_budget.h"
+
 namespace camdyn::optim {
 
 namespace {
@@ -202,6 +205,8 @@ std::string beyond_clp(const LinearProgram& lp) {
 }  // namespace
 
 LpSolution solve(const LinearProgram& lp) {
+  // The rigid stage's programmes are many: the study's wall time caps them (common/study_budget.h).
+  if (study_budget_exhausted()) throw NumericalError(study_budget_text() + " in the rigid stage's linear programmes");
   LpSolution out;
   out.message = beyond_clp(lp);
   if (!out.message.empty()) return out;

@@ -6,6 +6,7 @@
 #include <nlopt.hpp>
 
 #include "common/errors.h"
+#include "common/study_budget.h"
 #include "dynamics/cam_outline.h"
 #include "dynamics/model.h"
 #include "optim/halton_sequence.h"
@@ -82,12 +83,23 @@ struct LayoutSearch {
   long evaluations = 0;
 
   const LayoutPoint& at(const std::vector<double>& x) {
+    // The study's wall time caps the search (common/study_budget.h). Inside
+    // NLopt only its own exceptions pass through: refine() says why it stopped.
+    if (study_budget_exhausted()) {
+      if (in_nlopt) throw nlopt::forced_stop();
+      throw NumericalError(budget_text());
+    }
     last = evaluate(with_values(baseline, vars, x), x, limits, file);
     ++evaluations;
     if (better(last, best)) best = last;
     return last;
   }
   LayoutPoint last;
+  bool in_nlopt = false;  ///< within refine()'s NLopt call
+
+  std::string budget_text() const {
+    return study_budget_text() + " after " + std::to_string(evaluations) + " evaluations of the layout search";
+  }
 };
 
 double objective(unsigned n, const double* x, double* grad, void* data) {
@@ -122,14 +134,19 @@ void refine(LayoutSearch& search, const std::vector<LayoutVariable>& vars, std::
   opt.set_xtol_rel(1e-6);
   opt.set_maxeval(200);
   double f = 0.0;
+  search.in_nlopt = true;
   try {
     const nlopt::result status = opt.optimize(x, f);
+    search.in_nlopt = false;
     if (status < 0) throw NumericalError("layout search: NLopt " + nlopt_result_name(status));
+  } catch (const nlopt::forced_stop&) {
+    throw NumericalError(search.budget_text());
   } catch (const nlopt::roundoff_limited&) {
     // The best point found is kept.
   } catch (const std::invalid_argument& e) {
     throw NumericalError(std::string("layout search: NLopt refused the problem: ") + e.what());
   }
+  search.in_nlopt = false;
 }
 
 }  // namespace
@@ -167,7 +184,7 @@ LayoutResult design_layout(const SceneConfig& baseline, const LayoutConfig& layo
   std::vector<double> x0(n);
   SceneConfig probe = baseline;
   for (std::size_t i = 0; i < n; ++i) x0[i] = *vars[i].field(probe);
-  LayoutSearch search{baseline, vars, limits, file, {}, 0, {}};
+  LayoutSearch search{baseline, vars, limits, file, {}, 0, {}, false};
   r.baseline = search.at(x0);
   search.best = r.baseline;
   // A space-filling design over the ranges finds the feasible region ...

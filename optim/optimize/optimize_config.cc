@@ -219,12 +219,14 @@ void visit(A& a, RigidStageConfig& r) {
 template <class A>
 void visit(A& a, OptimizeStudyConfig& s) {
   a.field("design", s.design);
-  a.field("operating_rpm", s.operating_rpm, non_empty(), open_closed(0, kMaxCamRpm));
+  a.field("operating_rpm", s.operating_rpm, non_empty(), at_least(kMinCamRpm), open_closed(0, kMaxCamRpm));
   // Each is simulated at every evaluation and checked by the rigid stage at
   // ten speeds: 5,000 of them kept `validate` busy for minutes.
   a.require(s.operating_rpm.size() <= kMaxOperatingSpeeds, "operating_rpm",
-            "must list at most " + std::to_string(kMaxOperatingSpeeds) + " speeds (each is simulated at every "
-                "evaluation), got " + std::to_string(s.operating_rpm.size()));
+            "must list at most " + std::to_string(kMaxOperatingSpeeds) +
+                " speeds (each is simulated at every "
+                "evaluation), got " +
+                std::to_string(s.operating_rpm.size()));
   a.field("objective", s.objective);
   a.field("constraints", s.constraints);
   a.field("optimizer", s.optimizer);

@@ -8,6 +8,8 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "common/errors.h"
+#include "common/study_budget.h"
 #include "dynamics/model.h"
 #include "dynamics/train_jump_speed.h"
 
@@ -303,6 +305,9 @@ double held_train_jump_speed(const HeldTrain& train, const GridSignal& law, doub
   }
   double lo = 0.0;
   for (const double w : speeds) {
+    // A study's wall time caps this scan too (a train of many lumps costs
+    // seconds: common/study_budget.h); without a study there is no deadline.
+    if (study_budget_exhausted()) throw NumericalError(study_budget_text() + " in the held train's jump-speed scan");
     if (least_margin(w) > 0.0) {
       lo = w;
       continue;

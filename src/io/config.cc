@@ -308,6 +308,9 @@ void visit(A& a, CamConfig& c) {
   a.field("rpm", c.rpm, non_negative());
   a.require(c.rpm <= kMaxCamRpm, "rpm",
             "must be at most " + format_shortest(kMaxCamRpm) + " rpm, got " + format_shortest(c.rpm));
+  a.require(
+      c.rpm == 0.0 || c.rpm >= kMinCamRpm, "rpm",
+      "must be 0 (a cam at rest) or at least " + format_shortest(kMinCamRpm) + " rpm, got " + format_shortest(c.rpm));
   a.field("direction", c.direction);
   a.field("initial_angle_deg", c.initial_angle_deg);
   a.field_or_file("motion_law", c.motion_law, &c.motion_law.source);

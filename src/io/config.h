@@ -28,6 +28,10 @@ void to_json(BasicJson& json, E value) {
 /// slip (rad/s for rpm, a sweep's end of 1e308) whose products with the
 /// other inputs (ω², ω³ of the rigid-model force) overflow.
 inline constexpr double kMaxCamRpm = 1e6;
+/// The slowest turning cam a speed field accepts [rpm] (0, a cam at rest, is
+/// a scene's own choice): a revolution in about 17 hours. Slower, a run's
+/// time grid outgrows double precision (5e-324 rpm ran without end).
+inline constexpr double kMinCamRpm = 1e-3;
 
 // ---------------------------------------------------------------- loading
 

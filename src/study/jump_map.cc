@@ -23,8 +23,8 @@ constexpr double kBytesPerSample = 256.0;
 
 template <class A>
 void visit(A& a, JumpMapConfig& c) {
-  a.field("low_rpm", c.low_rpm, open_closed(0, kMaxCamRpm));
-  a.field("high_rpm", c.high_rpm, open_closed(0, kMaxCamRpm));
+  a.field("low_rpm", c.low_rpm, at_least(kMinCamRpm), open_closed(0, kMaxCamRpm));
+  a.field("high_rpm", c.high_rpm, at_least(kMinCamRpm), open_closed(0, kMaxCamRpm));
   a.field("speeds", c.speeds, at_least(2));
   a.field("ranges", c.ranges, at_least(1));
   a.field("transient_revolutions", c.transient_revolutions, at_least(1));

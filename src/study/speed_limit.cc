@@ -84,8 +84,8 @@ constexpr double kToleranceResolution = 1e-9;
 
 template <class A>
 void visit(A& a, SpeedLimitConfig& c) {
-  a.field("low_rpm", c.low_rpm, open_closed(0, kMaxCamRpm));
-  a.field("high_rpm", c.high_rpm, open_closed(0, kMaxCamRpm));
+  a.field("low_rpm", c.low_rpm, at_least(kMinCamRpm), open_closed(0, kMaxCamRpm));
+  a.field("high_rpm", c.high_rpm, at_least(kMinCamRpm), open_closed(0, kMaxCamRpm));
   a.field("scan", c.scan, at_least(2));
   // Each is a simulation: 2e9 of them asked for 16 GB before the first ran.
   a.require(c.scan <= kMaxScanSpeeds, "scan",

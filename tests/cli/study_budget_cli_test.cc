@@ -132,4 +132,19 @@ TEST(StudyBudget, ABudgetMustBePositive) {
   EXPECT_TRUE(contains(o.err, "--max-study-time")) << o.err;
 }
 
+// The rigid stage's linear programmes (here on a follower train's held
+// response) and the layout search stop on the study's budget too (they ran
+// seconds past it: probe_fields.py and run_fuzzer).
+TEST(StudyBudget, AnOptimizeOnATrainStopsInItsRigidStage) {
+  const fs::path dir = camdyn::test::scratch_dir("study_budget_cli", "rigid_stage");
+  const Outcome o = run_over_budget(kStudies + "valvetrain/optimize_train.json", {}, dir, 0.3);
+  EXPECT_TRUE(contains(o.err, "rigid stage") || contains(o.err, "held train")) << o.err;
+}
+
+TEST(StudyBudget, ALayoutSearchStops) {
+  const fs::path dir = camdyn::test::scratch_dir("study_budget_cli", "layout");
+  const Outcome o = run_over_budget(kStudies + "layout_packaging_arm.json", {}, dir, 0.2);
+  EXPECT_TRUE(contains(o.err, "layout search")) << o.err;
+}
+
 }  // namespace

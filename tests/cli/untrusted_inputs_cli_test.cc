@@ -155,15 +155,14 @@ TEST(UntrustedInputsCli, TrainWithAnExtremeStiffnessOrRatioExitsTwoNamingTheTrai
 
 // export_fuzzer's finding: a roller of 1e300 mm read a NaN lift and the CSV
 // writer's guard ended the export with exit 1. Now refused before any file
-// is written, as a cutter far larger than the cam is.
+// is written (by the option's own range, and behind it by the export's
+// limit of 1000 × the base radius, as for a cutter).
 TEST(UntrustedInputsCli, ExportWithAFollowerFarLargerThanTheCamExitsTwoWritingNothing) {
   const fs::path dir = test::scratch_dir("untrusted_inputs_cli", "export_roller");
   const test::Outcome o =
       run("export " + kQuickstart + " --out " + (dir / "out").string() + " --follower-radius 1e300", dir);
   EXPECT_EQ(o.code, 2) << o.err;
-  EXPECT_NE(o.err.find("--follower-radius: the follower radius 1e+300 mm is more than 1000 times the base radius"),
-            std::string::npos)
-      << o.err;
+  EXPECT_NE(o.err.find("--follower-radius"), std::string::npos) << o.err;
   EXPECT_FALSE(fs::exists(dir / "out" / "follower_lift.csv"));
 }
 
@@ -176,7 +175,7 @@ TEST(UntrustedInputsCli, JumpMapRecordWithAValidChecksumButMalformedPointsExitsT
   const fs::path config = dir / "map.json";
   std::ofstream(config) << R"({"extends": ")" << kQuickstart << R"(", "name": "map", "study": "jump_map",
     "jump_map": {"low_rpm": 1000, "high_rpm": 1100, "speeds": 2, "ranges": 1, "transient_revolutions": 3,
-                 "samples": 3}, "periodic": {"max_period": 1, "lyapunov_revolutions": 5}})";
+                 "samples": 3}, "periodic": {"max_period": 1, "lyapunov_revolutions": 10}})";
   forge_journal(config, dir / "out", {Json{{"index", 0}, {"status", "ok"}, {"points", {Json{{"rpm", "fast"}}}}}});
   const test::Outcome o = run("run " + config.string() + " --quiet --out " + (dir / "out").string(), dir);
   EXPECT_EQ(o.code, 2) << o.err;
