@@ -58,7 +58,7 @@ PAIR_SEED = 36  # the pairs' RNG seed: the same pairs every time
 # the reason, and optionally "run" (only runs, not validations):
 # reported as expected, not failing the sweep; in --ci not run at all (they
 # are known, and a timeout costs its whole limit).
-# None open (docs/fuzzing.md, "Findings open, and those fixed since"); an entry reads
+# None open (docs/fuzzing.md, "Findings open"); an entry reads
 # (r"studies/layout_.*\.json", r".*", "why, and where it is tracked", "run").
 EXPECTED_FINDINGS = []
 # Top-level keys whose numbers are not fields of one scene (runs of other scenes, plot overlays).
