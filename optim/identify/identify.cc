@@ -16,6 +16,7 @@
 #include <utility>
 
 #include "common/errors.h"
+#include "common/study_budget.h"
 #include "dynamics/model.h"
 #include "io/dotted_path.h"
 #include "io/input_file.h"
@@ -456,6 +457,7 @@ IdentifyResult identify(const IdentifyProblem& problem, const IdentifyOptions& o
       start.poor_fit = assess_fit(r.fits).poor;
       if (r.final_cost < best.final_cost) best = std::move(r);
     } catch (const NumericalError& e) {
+      if (study_budget_exhausted()) throw;  // the study's wall time, not this start, ran out
       start.error = e.what();
     }
     starts.push_back(std::move(start));

@@ -24,6 +24,9 @@ const std::vector<std::string> kDifferences = {"forward", "central"};
 // The keyed maps (signals, weights, set, parameters) have user-chosen keys, which
 // the archive cannot list: `visit` only admits them and read_maps() below checks them.
 
+/// The most starts of a fit (solver.starts).
+constexpr double kMaxFitStarts = 1000;
+
 template <class A>
 void visit(A& a, ReferenceSpec& r) {
   a.path_field("file", r.file, non_empty());
@@ -87,7 +90,8 @@ void visit(A& a, SolverSpec& s) {
   a.field("smoothing", s.smoothing, positive());
   a.field("max_relative_std_error", s.max_relative_std_error, positive());
   a.field("max_measured_values", s.max_measured_values, at_least(1));
-  a.field("starts", s.starts, at_least(1));
+  // Each start is a whole fit: 2e9 of them would run for ever.
+  a.field("starts", s.starts, at_least(1), open_closed(0, kMaxFitStarts));
 }
 
 template <class A>

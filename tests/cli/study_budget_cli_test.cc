@@ -147,4 +147,11 @@ TEST(StudyBudget, ALayoutSearchStops) {
   EXPECT_TRUE(contains(o.err, "layout search")) << o.err;
 }
 
+// A fit of many starts stops on the study's budget too: a start the budget
+// cut is not a failed start to step over (1,000 of them ran on past it).
+TEST(StudyBudget, AnIdentifyOfManyStartsStops) {
+  const fs::path dir = camdyn::test::scratch_dir("study_budget_cli", "identify_starts");
+  run_over_budget(kStudies + "identify_drop/identify_drop.json", {"--set", "solver.starts=1000"}, dir, 1.0);
+}
+
 }  // namespace
