@@ -26,9 +26,10 @@ DOC = ROOT / "docs" / "config.md"
 STUDIES = ROOT / "studies"
 CAMDYN = os.environ.get("CAMDYN_BINARY", str(ROOT / "build" / "ci" / "camdyn"))
 
-# The scene sections every study shares, and where their keys go. The motion
-# law's segment types, the train's bodies and `outputs` have tables of their
-# own shapes; the checked sections are these.
+# The scene sections every study shares, and where their keys go. `outputs`
+# has one table per object (test_the_outputs_tables_match_the_loader); the
+# motion law's segment types and the train's bodies have tables of their own
+# shapes and are not checked here.
 SCENE_SECTIONS = {
     "top level": "",
     "mechanism.cam": "mechanism.cam",
@@ -236,3 +237,37 @@ STUDY_BASE = {
     "periodic": (STUDIES / "periodic" / "bouncing_ball.json", ()),
     "jump_map": (STUDIES / "quickstart.json", ("study=jump_map", 'jump_map={"low_rpm": 1000, "high_rpm": 1300}')),
 }
+
+
+def output_table_keys():
+    """{"profile": [...], "valvetrain": [...]}: the "## `outputs`" section has one table per object,
+    each after the line that introduces it ("`profile`: null (default) or an object; ...")."""
+    tables, current, inside = {}, None, False
+    for line in DOC.read_text(encoding="utf-8").splitlines():
+        heading = HEADING.match(line)
+        if heading:
+            inside = section_name(heading.group(2)) == "outputs"
+            continue
+        if not inside:
+            continue
+        intro = re.match(r"^`(\w+)`: ", line)
+        if intro:
+            current = intro.group(1)
+        elif current and line.startswith("| `"):
+            tables.setdefault(current, []).extend(TICKED.findall(line.split("|")[1]))
+    return tables
+
+
+def test_the_outputs_tables_match_the_loader():
+    """Each object of `outputs` given as {} resolves to its fields with their defaults: those must be the
+    documented ones, and each documented one must be among them."""
+    if not Path(CAMDYN).is_file():
+        pytest.skip(f"no camdyn binary at {CAMDYN}")
+    tables = output_table_keys()
+    assert set(tables) == {"profile", "valvetrain"}, tables
+    run = validate(STUDIES / "quickstart.json", "outputs.profile={}", "outputs.valvetrain={}")
+    assert run.returncode == 0, run.stderr
+    outputs = json.loads(run.stdout)["outputs"]
+    assert set(outputs) == set(tables), f"outputs objects: loader {sorted(outputs)}, docs {sorted(tables)}"
+    for name, keys in tables.items():
+        assert set(outputs[name]) == set(keys), f"outputs.{name}: loader {sorted(outputs[name])}, docs {sorted(keys)}"
