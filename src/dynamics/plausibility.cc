@@ -1,11 +1,11 @@
 #include "dynamics/plausibility.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <numbers>
-#include <regex>
 #include <string>
 #include <vector>
 
@@ -416,14 +416,30 @@ std::optional<PlausibilityWarning> unit_slip(const SceneConfig& scene) {
   return std::nullopt;
 }
 
+namespace {
+
+/// Whether `text` holds "inf" or "nan" (any case) as a word of its own, as
+/// printed for a number that overflowed ("-inf N", "nan m").
+bool names_non_finite(const std::string& text) {
+  auto letter = [](char c) { return std::isalpha(static_cast<unsigned char>(c)) != 0 || c == '_'; };
+  for (std::size_t i = 0; i + 3 <= text.size(); ++i) {
+    std::string word = text.substr(i, 3);
+    for (char& c : word) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    const bool alone = (i == 0 || !letter(text[i - 1])) && (i + 3 == text.size() || !letter(text[i + 3]));
+    if (alone && (word == "inf" || word == "nan")) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
 void rethrow_naming_unit_slip(const SceneConfig& scene, const std::string& file, const InputError& error) {
   const std::optional<PlausibilityWarning> slip = unit_slip(scene);
   if (!slip || slip->field == error.path()) throw error;
   // A slip so large that the failure downstream is in numbers that overflowed
   // (inf, nan) says nothing more: the slip alone is the cause.
-  static const std::regex non_finite(R"((^|[^A-Za-z_])-?(inf|nan)([^A-Za-z_]|$))", std::regex::icase);
   const std::string reason =
-      std::regex_search(error.reason(), non_finite)
+      names_non_finite(error.reason())
           ? slip->message
           : slip->message + " (building the cam then failed: " + error.path() + ": " + error.reason() + ")";
   throw InputError(error.file().empty() ? file : error.file(), slip->field, reason);
