@@ -4,10 +4,10 @@
 // exit 1 or a signal, and no NaN or inf in any output file.
 #include <gtest/gtest.h>
 
+#include <cctype>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -44,12 +44,23 @@ void expect_refused(const Outcome& o, const std::string& path, const std::string
 
 /// The files under `dir` (recursively) that hold a non-finite number as
 /// JSON, CSV or text writes one: nan, inf (not inside a word such as "info").
+/// (A scan by hand: <regex> under GCC 12's sanitizers warns, an error there.)
+bool names_non_finite(const std::string& text) {
+  auto letter = [](char c) { return std::isalpha(static_cast<unsigned char>(c)) != 0 || c == '_'; };
+  std::string lower = text;
+  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  for (const std::string word : {"nan", "inf", "infinity"})
+    for (std::size_t at = lower.find(word); at != std::string::npos; at = lower.find(word, at + 1))
+      if ((at == 0 || !letter(lower[at - 1])) && (at + word.size() == lower.size() || !letter(lower[at + word.size()])))
+        return true;
+  return false;
+}
+
 std::vector<std::string> files_with_non_finite(const fs::path& dir) {
-  const std::regex non_finite(R"((^|[^A-Za-z_])-?(nan|inf|infinity)([^A-Za-z_]|$))", std::regex::icase);
   std::vector<std::string> found;
   for (const auto& entry : fs::recursive_directory_iterator(dir)) {
     if (!entry.is_regular_file() || entry.path().extension() == ".html") continue;
-    if (std::regex_search(read_text(entry.path()), non_finite)) found.push_back(entry.path().string());
+    if (names_non_finite(read_text(entry.path()))) found.push_back(entry.path().string());
   }
   return found;
 }
