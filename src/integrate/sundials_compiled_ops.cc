@@ -5,6 +5,7 @@
 #include <sunmatrix/sunmatrix_band.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 namespace camdyn {
@@ -230,7 +231,13 @@ int band_solve_op(SUNLinearSolver s, SUNMatrix A, N_Vector x, N_Vector b, realty
   return SUNLS_SUCCESS;
 }
 
+std::atomic<bool> compiled_kernels{true};
+
 }  // namespace
+
+bool compiled_kernels_enabled() { return compiled_kernels.load(std::memory_order_relaxed); }
+
+void set_compiled_kernels_enabled(bool on) { compiled_kernels.store(on, std::memory_order_relaxed); }
 
 void use_compiled_vector_ops(N_Vector v) {
   N_Vector_Ops ops = v->ops;

@@ -13,6 +13,12 @@
 
 namespace camdyn {
 
+/// Whether CVODES integrators created from now on use the compiled kernels
+/// (the default), process-wide. Off only to measure or check them against
+/// SUNDIALS' own (bench/stiff_contact_bench.cc, tests/integrate).
+bool compiled_kernels_enabled();
+void set_compiled_kernels_enabled(bool on);
+
 /// Points a serial N_Vector's element-wise operations (linear sum, scale,
 /// const, product, quotient, absolute value, inverse, add constant, weighted
 /// RMS and max norms, minimum) at the compiled copies. Vectors cloned from it

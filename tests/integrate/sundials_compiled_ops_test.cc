@@ -10,11 +10,15 @@
 #include <sunlinsol/sunlinsol_band.h>
 #include <sunmatrix/sunmatrix_band.h>
 
+#include <algorithm>
 #include <bit>
 #include <cstdint>
 #include <random>
 #include <utility>
 #include <vector>
+
+#include "../dynamics/scenes.h"
+#include "dynamics/simulation.h"
 
 namespace camdyn {
 namespace {
@@ -58,7 +62,7 @@ class CompiledOps : public ::testing::Test {
   }
 
   SUNContext context_ = nullptr;
-  N_Vector x_ = nullptr, y_ = nullptr, z_ = nullptr, w_ = nullptr;  // SUNDIALS' kernels
+  N_Vector x_ = nullptr, y_ = nullptr, z_ = nullptr, w_ = nullptr;      // SUNDIALS' kernels
   N_Vector fx_ = nullptr, fy_ = nullptr, fz_ = nullptr, fw_ = nullptr;  // the compiled ones
 };
 
@@ -167,6 +171,59 @@ TEST_F(CompiledOps, BandedFactorAndSolveMatchSundialsToTheBit) {
   EXPECT_EQ(SUNLinSolSetup(fs, fa), SUNLS_LUFACT_FAIL);
   for (SUNLinearSolver v : {s, fs}) SUNLinSolFree(v);
   for (SUNMatrix m : {a, fa, check}) SUNMatDestroy(m);
+}
+
+/// The run with SUNDIALS' own kernels and with the compiled ones.
+std::pair<SimulationResult, SimulationResult> both_ways(const SceneConfig& scene) {
+  set_compiled_kernels_enabled(false);
+  SimulationResult own = simulate_scene(scene, "test");
+  set_compiled_kernels_enabled(true);
+  SimulationResult compiled = simulate_scene(scene, "test");
+  return {std::move(own), std::move(compiled)};
+}
+
+void expect_same_run(const SimulationResult& own, const SimulationResult& compiled) {
+  ASSERT_EQ(own.solver.termination, Termination::converged);
+  ASSERT_EQ(compiled.solver.termination, Termination::converged);
+  EXPECT_EQ(own.solver.counters.steps, compiled.solver.counters.steps);
+  EXPECT_EQ(own.solver.counters.error_test_failures, compiled.solver.counters.error_test_failures);
+  EXPECT_EQ(own.solver.counters.jacobian_evaluations, compiled.solver.counters.jacobian_evaluations);
+  EXPECT_EQ(own.solver.counters.nonlinear_iterations, compiled.solver.counters.nonlinear_iterations);
+  EXPECT_TRUE(same_bits(own.metrics.peak_contact_force, compiled.metrics.peak_contact_force));
+  EXPECT_TRUE(same_bits(own.metrics.min_contact_force, compiled.metrics.min_contact_force));
+  ASSERT_EQ(own.series.time.size(), compiled.series.time.size());
+  for (std::size_t i = 0; i < own.series.time.size(); ++i)
+    ASSERT_TRUE(same_bits(own.series.follower_position[i], compiled.series.follower_position[i])) << i;
+}
+
+// The stiff undamped contact of issue 38 (bench/stiff_contact_bench.cc, a
+// quarter revolution here): a dense 3-state solve at rtol 1e-10.
+TEST(CompiledKernels, StiffUndampedContactRunIsTheSameToTheBit) {
+  SceneConfig scene = test::cycloidal_cam_scene(100.0, ContactModel::hertz);
+  scene.integrator.rtol = 1e-10;
+  scene.integrator.atol = 1e-12;
+  scene.simulation.cycles = 0.25;
+  scene.simulation.discard_cycles = 0;
+  const auto [own, compiled] = both_ways(scene);
+  EXPECT_GT(own.solver.counters.error_test_failures, 0);
+  expect_same_run(own, compiled);
+}
+
+// A spring with mass in 8 coils on a seat: the banded solve.
+TEST(CompiledKernels, EightCoilTrainRunIsTheSameToTheBit) {
+  SceneConfig scene = test::cycloidal_cam_scene(1500.0, ContactModel::hunt_crossley);
+  FollowerConfig& f = scene.mechanism.follower;
+  f.spring.mass = 0.03;
+  f.spring.coils = 8;
+  SeatConfig seat;
+  seat.position = 2e-5;
+  seat.model = ContactModel::hunt_crossley;
+  seat.stiffness = 1e9;
+  f.seat = seat;
+  scene.simulation.cycles = 0.5;
+  scene.simulation.discard_cycles = 0;
+  const auto [own, compiled] = both_ways(scene);
+  expect_same_run(own, compiled);
 }
 
 }  // namespace
