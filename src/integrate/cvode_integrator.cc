@@ -135,6 +135,7 @@ CvodeIntegrator::CvodeIntegrator(OdeSystem& system, const IntegratorOptions& opt
     m.check_created(m.matrix, "the dense Jacobian matrix");
     m.linear_solver = SUNLinSol_Dense(m.y, m.matrix, m.context);
     m.check_created(m.linear_solver, "the dense linear solver");
+    if (compiled) use_compiled_dense_solver(m.linear_solver);
   }
   m.check(CVodeSetLinearSolver(m.mem, m.linear_solver, m.matrix), "CVodeSetLinearSolver");
   if (options.analytic_jacobian && system.has_jacobian())

@@ -2,7 +2,9 @@
 
 #include <nvector/nvector_serial.h>
 #include <sunlinsol/sunlinsol_band.h>
+#include <sunlinsol/sunlinsol_dense.h>
 #include <sunmatrix/sunmatrix_band.h>
+#include <sunmatrix/sunmatrix_dense.h>
 
 #include <algorithm>
 #include <atomic>
@@ -231,6 +233,69 @@ int band_solve_op(SUNLinearSolver s, SUNMatrix A, N_Vector x, N_Vector b, realty
   return SUNLS_SUCCESS;
 }
 
+// The dense LU with partial pivoting and its solve, as SUNDlsMat_denseGETRF /
+// denseGETRS (sundials_dense.c): column k of the m × n matrix is a[k].
+
+sunindextype dense_factor(realtype** a, sunindextype m, sunindextype n, sunindextype* p) {
+  for (sunindextype k = 0; k < n; ++k) {
+    realtype* col_k = a[k];
+    sunindextype l = k;
+    for (sunindextype i = k + 1; i < m; ++i)
+      if (std::fabs(col_k[i]) > std::fabs(col_k[l])) l = i;
+    p[k] = l;
+    if (col_k[l] == 0.0) return k + 1;
+    if (l != k)
+      for (sunindextype i = 0; i < n; ++i) std::swap(a[i][l], a[i][k]);
+    const realtype mult = 1.0 / col_k[k];
+    for (sunindextype i = k + 1; i < m; ++i) col_k[i] *= mult;
+    for (sunindextype j = k + 1; j < n; ++j) {
+      realtype* col_j = a[j];
+      const realtype a_kj = col_j[k];
+      if (a_kj != 0.0)
+        for (sunindextype i = k + 1; i < m; ++i) col_j[i] -= a_kj * col_k[i];
+    }
+  }
+  return 0;
+}
+
+void dense_solve(realtype** a, sunindextype n, const sunindextype* p, realtype* b) {
+  for (sunindextype k = 0; k < n; ++k)
+    if (p[k] != k) std::swap(b[k], b[p[k]]);
+  for (sunindextype k = 0; k < n - 1; ++k) {
+    const realtype* col_k = a[k];
+    for (sunindextype i = k + 1; i < n; ++i) b[i] -= col_k[i] * b[k];
+  }
+  for (sunindextype k = n - 1; k > 0; --k) {
+    const realtype* col_k = a[k];
+    b[k] /= col_k[k];
+    for (sunindextype i = 0; i < k; ++i) b[i] -= col_k[i] * b[k];
+  }
+  b[0] /= a[0][0];
+}
+
+SUNLinearSolverContent_Dense dense_content(SUNLinearSolver s) {
+  return static_cast<SUNLinearSolverContent_Dense>(s->content);
+}
+
+// SUNLinSolSetup_Dense / SUNLinSolSolve_Dense with the kernels above.
+int dense_setup(SUNLinearSolver s, SUNMatrix A) {
+  SUNLinearSolverContent_Dense c = dense_content(s);
+  if (A == nullptr || SUNMatGetID(A) != SUNMATRIX_DENSE) {
+    c->last_flag = SUNLS_ILL_INPUT;
+    return SUNLS_ILL_INPUT;
+  }
+  c->last_flag = dense_factor(SM_COLS_D(A), SM_ROWS_D(A), SM_COLUMNS_D(A), c->pivots);
+  return c->last_flag > 0 ? SUNLS_LUFACT_FAIL : SUNLS_SUCCESS;
+}
+
+int dense_solve_op(SUNLinearSolver s, SUNMatrix A, N_Vector x, N_Vector b, realtype /*tol*/) {
+  SUNLinearSolverContent_Dense c = dense_content(s);
+  scale(1.0, b, x);
+  dense_solve(SM_COLS_D(A), SM_COLUMNS_D(A), c->pivots, NV_DATA_S(x));
+  c->last_flag = SUNLS_SUCCESS;
+  return SUNLS_SUCCESS;
+}
+
 std::atomic<bool> compiled_kernels{true};
 
 }  // namespace
@@ -260,6 +325,11 @@ void use_compiled_vector_ops(N_Vector v) {
 void use_compiled_band_solver(SUNLinearSolver solver) {
   solver->ops->setup = &band_setup;
   solver->ops->solve = &band_solve_op;
+}
+
+void use_compiled_dense_solver(SUNLinearSolver solver) {
+  solver->ops->setup = &dense_setup;
+  solver->ops->solve = &dense_solve_op;
 }
 
 }  // namespace camdyn

@@ -1,10 +1,10 @@
 // Optimised copies of the SUNDIALS kernels a CVODES step spends its time in:
-// the serial N_Vector's element-wise operations and norms, and the banded LU
-// factorisation and solve. The installed SUNDIALS 6.4.1 (Debian's package) is
+// the serial N_Vector's element-wise operations and norms, and the banded and
+// dense LU factorisations and solves. The installed SUNDIALS 6.4.1 (Debian's package) is
 // built without optimisation, so on a short state (a follower train of 10–40
 // states) these kernels cost more than the model's right-hand side
 // (docs/performance.md). Each copy does the same arithmetic in the same order
-// as SUNDIALS' own (nvector_serial.c, sundials_band.c), so that a run's
+// as SUNDIALS' own (nvector_serial.c, sundials_band.c, sundials_dense.c), so that a run's
 // answer is the same to the bit; only the compiler's optimisation differs.
 #pragma once
 
@@ -28,5 +28,9 @@ void use_compiled_vector_ops(N_Vector v);
 /// Points a SUNLinSol_Band solver's setup (LU factorisation) and solve at
 /// the compiled copies of SUNDlsMat_bandGBTRF / bandGBTRS.
 void use_compiled_band_solver(SUNLinearSolver solver);
+
+/// Points a SUNLinSol_Dense solver's setup and solve at the compiled copies
+/// of SUNDlsMat_denseGETRF / denseGETRS.
+void use_compiled_dense_solver(SUNLinearSolver solver);
 
 }  // namespace camdyn

@@ -8,7 +8,9 @@
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
 #include <sunlinsol/sunlinsol_band.h>
+#include <sunlinsol/sunlinsol_dense.h>
 #include <sunmatrix/sunmatrix_band.h>
+#include <sunmatrix/sunmatrix_dense.h>
 
 #include <algorithm>
 #include <bit>
@@ -171,6 +173,39 @@ TEST_F(CompiledOps, BandedFactorAndSolveMatchSundialsToTheBit) {
   EXPECT_EQ(SUNLinSolSetup(fs, fa), SUNLS_LUFACT_FAIL);
   for (SUNLinearSolver v : {s, fs}) SUNLinSolFree(v);
   for (SUNMatrix m : {a, fa, check}) SUNMatDestroy(m);
+}
+
+TEST_F(CompiledOps, DenseFactorAndSolveMatchSundialsToTheBit) {
+  SUNMatrix a = SUNDenseMatrix(kLength, kLength, context_);
+  SUNMatrix fa = SUNDenseMatrix(kLength, kLength, context_);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (sunindextype j = 0; j < kLength; ++j)
+    for (sunindextype i = 0; i < kLength; ++i)
+      SM_ELEMENT_D(a, i, j) = SM_ELEMENT_D(fa, i, j) = (i == j ? 0.1 : 1.0) * u(rng);
+  SUNLinearSolver s = SUNLinSol_Dense(x_, a, context_);
+  SUNLinearSolver fs = SUNLinSol_Dense(fx_, fa, context_);
+  use_compiled_dense_solver(fs);
+  ASSERT_EQ(SUNLinSolSetup(s, a), SUNLS_SUCCESS);
+  ASSERT_EQ(SUNLinSolSetup(fs, fa), SUNLS_SUCCESS);
+  const auto* pivots = static_cast<SUNLinearSolverContent_Dense>(s->content)->pivots;
+  const auto* fpivots = static_cast<SUNLinearSolverContent_Dense>(fs->content)->pivots;
+  int swaps = 0;
+  for (sunindextype k = 0; k < kLength; ++k) {
+    EXPECT_EQ(pivots[k], fpivots[k]);
+    swaps += pivots[k] != k ? 1 : 0;
+  }
+  EXPECT_GT(swaps, 0);
+  for (sunindextype j = 0; j < kLength; ++j)
+    for (sunindextype i = 0; i < kLength; ++i)
+      EXPECT_TRUE(same_bits(SM_ELEMENT_D(a, i, j), SM_ELEMENT_D(fa, i, j))) << i << ", " << j;
+  ASSERT_EQ(SUNLinSolSolve(s, a, z_, y_, 0.0), SUNLS_SUCCESS);
+  ASSERT_EQ(SUNLinSolSolve(fs, fa, fz_, fy_, 0.0), SUNLS_SUCCESS);
+  expect_same(z_, fz_);
+  SUNMatZero(fa);
+  EXPECT_EQ(SUNLinSolSetup(fs, fa), SUNLS_LUFACT_FAIL);
+  for (SUNLinearSolver v : {s, fs}) SUNLinSolFree(v);
+  for (SUNMatrix m : {a, fa}) SUNMatDestroy(m);
 }
 
 /// The run with SUNDIALS' own kernels and with the compiled ones.
