@@ -5,7 +5,9 @@
 // coils. Reports the CPU time per integrator step (total time /
 // solver.counters.steps) and per cam revolution, the steps and evaluations
 // behind them, the per-step cost relative to the massless spring of the same
-// run, and the cost a coil adds to a step.
+// run, and the cost a coil adds to a step: against the massless spring, and
+// as the slope of the least-squares line through the cases with coils (on the
+// 16-coil case), with the largest relative distance of a case from it.
 // The goal of the issue: ≤ 4 µs a step with an 8-coil spring, and a cost
 // linear in the coils.
 //
@@ -14,6 +16,8 @@
 #include <time.h>
 
 #include <algorithm>
+#include <cmath>
+#include <map>
 #include <optional>
 #include <string>
 
@@ -79,6 +83,33 @@ double cpu_seconds() {
 
 /// CPU seconds per step of the massless spring in this run (arg 0), for the peer ratio.
 std::optional<double> massless_step_time;
+/// CPU seconds per step by coils (> 0) of the cases run so far, for the linear fit.
+std::map<int, double> step_times;
+
+/// Least-squares line through `step_times`: the cost a coil adds to a step
+/// [s] (slope), the step without coils [s] (intercept), and the largest
+/// relative distance of a case from the line (small when the cost is linear).
+struct LinearFit {
+  double slope = 0.0, intercept = 0.0, worst_residual = 0.0;
+};
+LinearFit fit_step_times() {
+  const auto n = static_cast<double>(step_times.size());
+  double sx = 0.0, sy = 0.0, sxx = 0.0, sxy = 0.0;
+  for (const auto& [coils, y] : step_times) {
+    const auto x = static_cast<double>(coils);
+    sx += x;
+    sy += y;
+    sxx += x * x;
+    sxy += x * y;
+  }
+  LinearFit f;
+  f.slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
+  f.intercept = (sy - f.slope * sx) / n;
+  for (const auto& [coils, y] : step_times)
+    f.worst_residual =
+        std::max(f.worst_residual, std::abs(y - (f.intercept + f.slope * static_cast<double>(coils))) / y);
+  return f;
+}
 
 void BM_TrainStep(benchmark::State& state) {
   const int coils = static_cast<int>(state.range(0));
@@ -102,7 +133,10 @@ void BM_TrainStep(benchmark::State& state) {
   const double revolutions = scene.simulation.cycles.value_or(1.0);
   const auto steps = static_cast<double>(std::max(1L, counters.steps));
   const double step_time = seconds / static_cast<double>(state.iterations()) / steps;  // [s]
-  if (coils == 0) massless_step_time = step_time;
+  if (coils == 0)
+    massless_step_time = step_time;
+  else
+    step_times[coils] = step_time;  // the last of Google Benchmark's runs of the case
   state.SetLabel(coils == 0 ? "massless spring" : std::to_string(coils) + " coils");
   state.counters["states"] = static_cast<double>(model.layout.size);
   state.counters["steps_per_rev"] = steps / revolutions;
@@ -118,6 +152,14 @@ void BM_TrainStep(benchmark::State& state) {
     state.counters["step_cost_vs_massless"] = step_time / *massless_step_time;
     // The cost a coil adds to a step: constant if the cost is linear in the coils.
     if (coils > 0) state.counters["s_per_step_per_coil"] = (step_time - *massless_step_time) / coils;
+  }
+  // From the third case with coils on (16), the line through them (4, 8, 16
+  // coils: the banded solve; the massless spring is a 3-state dense one).
+  if (step_times.size() >= 3) {
+    const LinearFit fit = fit_step_times();
+    state.counters["fit_s_per_step_per_coil"] = fit.slope;
+    state.counters["fit_s_per_step_no_coils"] = fit.intercept;
+    state.counters["fit_worst_relative_residual"] = fit.worst_residual;
   }
 }
 BENCHMARK(BM_TrainStep)->Arg(0)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond)->MinTime(2.0);

@@ -202,16 +202,31 @@ ElementForce element_force(const TrainElement& e, double d, double d_rate, doubl
 }
 
 /// Compression d and its rate of an element at the state x.
-void compression(const FollowerTrain& t, const TrainElement& e, const double* x, double& d, double& d_rate) {
+void compression(const FollowerTrain&, const TrainElement& e, const double* x, double& d, double& d_rate) {
   d = e.offset;
   d_rate = 0.0;
   if (e.a >= 0) {
-    d += e.ca * x[t.coordinates[static_cast<std::size_t>(e.a)].position];
-    d_rate += e.ca * x[t.coordinates[static_cast<std::size_t>(e.a)].velocity];
+    d += e.ca * x[e.position_a];
+    d_rate += e.ca * x[e.velocity_a];
   }
   if (e.b >= 0) {
-    d += e.cb * x[t.coordinates[static_cast<std::size_t>(e.b)].position];
-    d_rate += e.cb * x[t.coordinates[static_cast<std::size_t>(e.b)].velocity];
+    d += e.cb * x[e.position_b];
+    d_rate += e.cb * x[e.velocity_b];
+  }
+}
+
+/// The state indices and the rest energy of every element (TrainElement's derived fields).
+void derive_element_constants(FollowerTrain& train) {
+  for (TrainElement& e : train.elements) {
+    if (e.a >= 0) {
+      e.position_a = train.coordinates[static_cast<std::size_t>(e.a)].position;
+      e.velocity_a = train.coordinates[static_cast<std::size_t>(e.a)].velocity;
+    }
+    if (e.b >= 0) {
+      e.position_b = train.coordinates[static_cast<std::size_t>(e.b)].position;
+      e.velocity_b = train.coordinates[static_cast<std::size_t>(e.b)].velocity;
+    }
+    e.rest_energy = e.stiffness > 0.0 ? 0.5 * e.preload * e.preload / e.stiffness : 0.0;
   }
 }
 
@@ -220,8 +235,7 @@ void element_energy(const TrainElement& e, double d, double d_rate, double force
   switch (e.law) {
     case TrainElement::Law::spring:
       // From the free length, so that it is never negative (as the follower's spring).
-      out.potential += e.preload * d + 0.5 * e.stiffness * d * d +
-                       (e.stiffness > 0.0 ? 0.5 * e.preload * e.preload / e.stiffness : 0.0);
+      out.potential += e.preload * d + 0.5 * e.stiffness * d * d + e.rest_energy;
       out.power_damper += e.damping * d_rate * d_rate;
       break;
     case TrainElement::Law::one_sided:
@@ -293,6 +307,7 @@ FollowerTrain build_follower_train(const SceneConfig& scene, const std::string& 
     throw InputError(file, "mechanism.train",
                      "at most " + std::to_string(TrainLimits::kMaxBodies - 1) + " bodies after the follower");
   for (std::size_t i = 0; i < mech.train.size(); ++i) add_train_body(b, train, mech.train[i], static_cast<int>(i) + 1);
+  derive_element_constants(train);
   return train;
 }
 
@@ -344,16 +359,23 @@ void evaluate_train(const FollowerTrain& train, const TrainWorkspace& ws, const 
   for (const TrainElement& el : train.elements) {
     double d = 0.0, d_rate = 0.0;
     compression(train, el, x, d, d_rate);
-    const double v0 = el.root >= 0 ? ws.v0[static_cast<std::size_t>(el.root)] : 0.0;
-    const double F = element_force(el, d, d_rate, v0, false).force;
+    double F = 0.0;
+    if (el.law == TrainElement::Law::spring) {
+      // The spring segments of a coil chain, most of a long train's elements:
+      // element_force's and element_energy's spring case, inline.
+      F = el.preload + el.stiffness * d + el.damping * d_rate;
+      e.potential += el.preload * d + 0.5 * el.stiffness * d * d + el.rest_energy;
+      e.power_damper += el.damping * d_rate * d_rate;
+    } else {
+      const auto root = static_cast<std::size_t>(el.root);
+      F = element_force(el, d, d_rate, ws.v0[root], false).force;
+      e.gap[root] = -d;
+      e.gap_rate[root] = -d_rate;
+      element_energy(el, d, d_rate, F, e);
+    }
     if (el.a >= 0) force[static_cast<std::size_t>(el.a)] -= el.ca * F;
     if (el.b >= 0) force[static_cast<std::size_t>(el.b)] -= el.cb * F;
-    if (el.root >= 0) {
-      e.gap[static_cast<std::size_t>(el.root)] = -d;
-      e.gap_rate[static_cast<std::size_t>(el.root)] = -d_rate;
-    }
-    element_energy(el, d, d_rate, F, e);
-    element_outputs(el, d, F, e);
+    if (el.role != TrainRole::spring_segment) element_outputs(el, d, F, e);
   }
   e.follower_force = force[0];
   for (std::size_t c = 1; c < train.coordinates.size(); ++c) {

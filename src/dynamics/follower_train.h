@@ -40,6 +40,12 @@ struct TrainElement {
   double preload = 0.0, stiffness = 0.0, damping = 0.0;  ///< [N], [N/m], [N s/m]
   ForceLaw contact;                                      ///< Law::contact only
   int root = -1;  ///< its root function among the train's (one-sided and contact elements)
+  // Derived once the train is built (build_follower_train), so that an
+  // evaluation reads the state directly: the state indices of x_a, ẋ_a, x_b,
+  // ẋ_b (−1: the frame) and a spring's energy at d = 0 measured from its free
+  // length, F₀² / (2k) [J].
+  int position_a = -1, velocity_a = -1, position_b = -1, velocity_b = -1;
+  double rest_energy = 0.0;
 
   bool gap_root() const { return law != Law::spring; }
 };

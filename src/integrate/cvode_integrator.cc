@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "common/errors.h"
+#include "integrate/sundials_compiled_ops.h"
 #include "integrate/sundials_flag_name.h"
 
 namespace camdyn {
@@ -100,6 +101,12 @@ CvodeIntegrator::CvodeIntegrator(OdeSystem& system, const IntegratorOptions& opt
   m.check_created(m.y, "the state vector");
   m.scratch = N_VNew_Serial(n, m.context);
   m.check_created(m.scratch, "a work vector");
+  // Before CVodeInit, whose vectors are clones of y (sundials_compiled_ops.h).
+  const bool compiled = compiled_kernels_enabled();
+  if (compiled) {
+    use_compiled_vector_ops(m.y);
+    use_compiled_vector_ops(m.scratch);
+  }
   for (sunindextype i = 0; i < n; ++i) NV_Ith_S(m.y, i) = y0[i];
   m.mem = CVodeCreate(options.method == IntegrationMethod::cvode_adams ? CV_ADAMS : CV_BDF, m.context);
   m.check_created(m.mem, "the CVODES solver");
@@ -121,12 +128,14 @@ CvodeIntegrator::CvodeIntegrator(OdeSystem& system, const IntegratorOptions& opt
     m.check_created(m.matrix, "the banded Jacobian matrix");
     m.linear_solver = SUNLinSol_Band(m.y, m.matrix, m.context);
     m.check_created(m.linear_solver, "the banded linear solver");
+    if (compiled) use_compiled_band_solver(m.linear_solver);
     m.dense.assign(static_cast<std::size_t>(n) * static_cast<std::size_t>(n), 0.0);
   } else {
     m.matrix = SUNDenseMatrix(n, n, m.context);
     m.check_created(m.matrix, "the dense Jacobian matrix");
     m.linear_solver = SUNLinSol_Dense(m.y, m.matrix, m.context);
     m.check_created(m.linear_solver, "the dense linear solver");
+    if (compiled) use_compiled_dense_solver(m.linear_solver);
   }
   m.check(CVodeSetLinearSolver(m.mem, m.linear_solver, m.matrix), "CVodeSetLinearSolver");
   if (options.analytic_jacobian && system.has_jacobian())

@@ -19,7 +19,7 @@ namespace {
 long allocations_in_rhs_calls(const Model& model, Workspace& ws, const double* y, double t0 = 0.0,
                               bool jacobian = false) {
   Evaluation ev;
-  double y_dot[StateLayout::kMax], q_dot[Model::kQuadratures], g[2];
+  double y_dot[StateLayout::kMax], q_dot[Model::kQuadratures], g[2 + TrainLimits::kMaxRoots];
   double jac[StateLayout::kMax * StateLayout::kMax];
   const long before = camdyn::test::allocation_count();
   for (int i = 0; i < 100; ++i) {
@@ -88,6 +88,43 @@ TEST(RightHandSide, AllocatesNothingWithTheGeneralPairFormOrAContourCam) {
           << tracking << (contour ? " contour" : " general");
     }
   }
+}
+
+TEST(RightHandSide, AllocatesNothingWithAnEightCoilSpringTrain) {
+  // A bucket tappet whose spring has mass in 8 coils with coil clash, on a
+  // seat, and a valve body behind a one-sided link with its own seat: every
+  // kind of train element, 19 + 2 states.
+  SceneConfig scene = test::follower_scene("translating_flat", 3000.0, ContactModel::hunt_crossley);
+  FollowerConfig& f = scene.mechanism.follower;
+  f.spring.stiffness = 35000.0;
+  f.spring.preload = 250.0;
+  f.spring.mass = 0.045;
+  f.spring.coils = 8;
+  f.spring.clash = CoilClashConfig{0.001, 1e8};
+  SeatConfig seat;
+  seat.position = 0.0002;
+  seat.model = ContactModel::hunt_crossley;
+  seat.stiffness = 5e8;
+  seat.exponent = 1.0;
+  seat.restitution = 0.3;
+  f.seat = seat;
+  TrainBodyConfig valve;
+  valve.name = "valve";
+  valve.mass = 0.03;
+  valve.link.stiffness = 1e8;
+  valve.link.lash = 1e-5;
+  valve.seat = seat;
+  scene.mechanism.train.push_back(valve);
+  const Model model = build_model(scene, "test");
+  ASSERT_GE(model.layout.size, 21);
+  Workspace ws = make_workspace(model);
+  double y[StateLayout::kMax] = {};
+  y[0] = 0.001;
+  y[1] = 0.3;
+  if (model.layout.u) y[*model.layout.u] = 0.8;
+  for (int i = model.layout.core_size; i < model.layout.size; ++i) y[i] = (i % 2 == 0 ? 1e-4 : 0.1) * (i % 3);
+  ws.u_warm = 0.8;
+  EXPECT_EQ(allocations_in_rhs_calls(model, ws, y, 0.0, true), 0);
 }
 
 }  // namespace

@@ -120,5 +120,36 @@ TEST(FollowerTrainRhs, AllocatesNothing) {
   EXPECT_EQ(test::allocation_count() - before, 0);
 }
 
+// A spring with mass lumped in a chain: the Jacobian's half-bandwidth
+// (what the banded solver is given) does not grow with the coils, and every
+// nonzero of the exact Jacobian lies within it.
+TEST(FollowerTrainRhs, CoilChainJacobianStaysInAFixedBand) {
+  int first_band = -1;
+  for (const int coils : {4, 8, 16}) {
+    SceneConfig scene = train_scene();
+    scene.mechanism.train.clear();
+    scene.mechanism.follower.stop.reset();
+    scene.mechanism.follower.spring.coils = coils;
+    const Model model = build_model(scene, "test");
+    Workspace ws = make_workspace(model);
+    const std::vector<double> y = engaged_state(scene, model, ws);
+    const int n = model.layout.size;
+    ASSERT_EQ(n, model.layout.core_size + 2 * coils);
+    const int band = train_jacobian_bandwidth(model.train, model.layout.core_size);
+    if (first_band < 0) first_band = band;
+    EXPECT_EQ(band, first_band) << coils << " coils";
+    // Neighbouring lumps couple positions to velocities two states apart: at least 3.
+    EXPECT_GE(band, 3);
+    std::vector<double> jacobian(static_cast<std::size_t>(n * n));
+    state_jacobian(model, ws, 0.0, y.data(), jacobian.data());
+    int widest = 0;
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+        if (jacobian[static_cast<std::size_t>(i + n * j)] != 0.0) widest = std::max(widest, std::abs(i - j));
+    EXPECT_LE(widest, band) << coils << " coils";
+    EXPECT_EQ(widest, band) << coils << " coils: the band is tight";
+  }
+}
+
 }  // namespace
 }  // namespace camdyn
