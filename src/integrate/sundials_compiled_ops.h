@@ -1,9 +1,10 @@
-// Optimised copies of the SUNDIALS kernels a CVODES step spends its time in:
+// camdyn's own, optimised implementations of the SUNDIALS kernels a CVODES
+// step spends its time in, installed through SUNDIALS' operation tables:
 // the serial N_Vector's element-wise operations and norms, and the banded and
 // dense LU factorisations and solves. The installed SUNDIALS 6.4.1 (Debian's package) is
 // built without optimisation, so on a short state (a follower train of 10–40
 // states) these kernels cost more than the model's right-hand side
-// (docs/performance.md). Each copy does the same arithmetic in the same order
+// (docs/performance.md). Each does the same arithmetic in the same order
 // as SUNDIALS' own (nvector_serial.c, sundials_band.c, sundials_dense.c), so that a run's
 // answer is the same to the bit; only the compiler's optimisation differs.
 #pragma once
@@ -21,7 +22,7 @@ void set_compiled_kernels_enabled(bool on);
 
 /// Points a serial N_Vector's element-wise operations (linear sum, scale,
 /// const, product, quotient, absolute value, inverse, add constant, weighted
-/// RMS and max norms, minimum) at the compiled copies. Vectors cloned from it
+/// RMS and max norms, minimum) at camdyn's implementations. Vectors cloned from it
 /// afterwards (CVodeInit, the linear solver) inherit them.
 void use_compiled_vector_ops(N_Vector v);
 
@@ -29,7 +30,7 @@ void use_compiled_vector_ops(N_Vector v);
 /// the compiled copies of SUNDlsMat_bandGBTRF / bandGBTRS.
 void use_compiled_band_solver(SUNLinearSolver solver);
 
-/// Points a SUNLinSol_Dense solver's setup and solve at the compiled copies
+/// Points a SUNLinSol_Dense solver's setup and solve at camdyn's implementations
 /// of SUNDlsMat_denseGETRF / denseGETRS.
 void use_compiled_dense_solver(SUNLinearSolver solver);
 
