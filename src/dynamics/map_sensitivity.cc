@@ -129,8 +129,8 @@ struct RootPartials {
 // event bookkeeping (as simulation.cc keeps it, so that impacts count alike).
 class SensitivityRun {
  public:
-  SensitivityRun(const PoincareMap& map, Workspace& ws, SensitivityOde& ode, CvodeIntegrator& integrator,
-                 MatrixXd& s, std::vector<double>& y)
+  SensitivityRun(const PoincareMap& map, Workspace& ws, SensitivityOde& ode, CvodeIntegrator& integrator, MatrixXd& s,
+                 std::vector<double>& y)
       : model_(map.model()), ws_(ws), ode_(ode), integrator_(integrator), s_(s), y_(y) {
     const int n = model_.layout.size;
     step_scale_.assign(static_cast<std::size_t>(n), 1.0);
@@ -282,7 +282,8 @@ MatrixXd initial_sensitivities(const PoincareMap& map, Workspace& ws, const std:
   const Model& model = map.model();
   const int n = model.layout.size, m = map.dimension();
   MatrixXd s = MatrixXd::Zero(n, m);
-  for (int j = 0; j < m; ++j) s(map.coordinate_indices()[static_cast<std::size_t>(j)], j) = map.scales()[static_cast<std::size_t>(j)];
+  for (int j = 0; j < m; ++j)
+    s(map.coordinate_indices()[static_cast<std::size_t>(j)], j) = map.scales()[static_cast<std::size_t>(j)];
   if (model.layout.u) {
     MatrixXd jacobian(n, n);
     state_jacobian(model, ws, 0.0, y.data(), jacobian.data());
@@ -344,7 +345,8 @@ void run_sensitivities(const PoincareMap& map, const SectionPoint& p, int k, Wor
   out.jacobian.resize(m, m);
   for (int i = 0; i < m; ++i)
     for (int j = 0; j < m; ++j)
-      out.jacobian(i, j) = s(map.coordinate_indices()[static_cast<std::size_t>(i)], j) / map.scales()[static_cast<std::size_t>(j)];
+      out.jacobian(i, j) =
+          s(map.coordinate_indices()[static_cast<std::size_t>(i)], j) / map.scales()[static_cast<std::size_t>(j)];
   out.impacts = run.impacts();
   out.events = run.events();
   out.steps = integrator.counters().steps;
