@@ -25,6 +25,9 @@ constexpr long kMaxEventsPerRevolution = 200;
 // relative to each state's scale (truncation ~1e-12, rounding ~1e-9 of the
 // partials: g is a difference of positions of the base radius's size).
 constexpr double kRootStep = 1e-6;
+// The step of the differences in an approach speed, relative to it (see
+// SensitivityOde::parameter_rate).
+constexpr double kApproachStep = 1e-3;
 // An event whose crossing speed ∇g·f⁻ + ∂g/∂t is below this fraction of its
 // terms' sizes grazes: the event time is not differentiable there.
 constexpr double kGrazing = 1e-6;
@@ -86,18 +89,24 @@ class SensitivityOde final : public OdeSystem {
   }
 
  private:
-  // rate_ = ∂f/∂v₀_p at (t, y) by central differences: f is rational in v₀,
-  // so a step of 1e-6 v₀ leaves an error of about 1e-12 relative.
+  // rate_ = ∂f/∂v₀_p at (t, y). f is affine in 1/v₀ (the damping laws'
+  // factor 1 + χ δ̇/v₀, carried linearly to every rate), and for f = a + b/v₀
+  // the central difference over ±h is exact once scaled by 1 − (h/v₀)²; so
+  // a wide step (h = 1e-3 v₀) keeps the rounding of f out of the
+  // sensitivities (a step of 1e-6 v₀ put 1e-10 of f's size into them as
+  // noise, and the error test chased it with tiny steps). Only where the
+  // force clamp switches within ±h (|1 + χ δ̇/v₀| < 1e-3, where the force is
+  // nearly zero) is the difference not exact.
   int parameter_rate(double t, const double* y, int p) {
     double& v0 = parameter(p);
-    const double saved = v0, h = 1e-6 * saved;
+    const double saved = v0, h = kApproachStep * saved;
     v0 = saved + h;
     const int up = rhs(t, y, plus_.data());
     v0 = saved - h;
     const int down = rhs(t, y, minus_.data());
     v0 = saved;
     if (up != 0 || down != 0) return 1;
-    rate_ = (plus_ - minus_) / (2.0 * h);
+    rate_ = (plus_ - minus_) * ((1.0 - kApproachStep * kApproachStep) / (2.0 * h));
     return 0;
   }
 
@@ -229,14 +238,14 @@ class SensitivityRun {
     d.g_p = VectorXd::Zero(w.rows());
     for (int p = 0; p < w.rows(); ++p) {
       if (w.row(p).isZero(0.0)) continue;
-      double& v0 = ode_.parameter(p);
-      const double saved = v0, h = 1e-6 * saved;
+      double& v0 = ode_.parameter(p);  // g, too, is affine in 1/v₀ (the clamp switch)
+      const double saved = v0, h = kApproachStep * saved;
       v0 = saved + h;
       const double g_up = sample(t, y_.data()).g[r];
       v0 = saved - h;
       const double g_down = sample(t, y_.data()).g[r];
       v0 = saved;
-      d.g_p[p] = (g_up - g_down) / (2.0 * h);
+      d.g_p[p] = (g_up - g_down) * ((1.0 - kApproachStep * kApproachStep) / (2.0 * h));
     }
     return d;
   }

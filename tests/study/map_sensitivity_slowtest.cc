@@ -34,11 +34,11 @@ using namespace test;  // NOLINT(google-build-using-namespace): the shared refer
 TEST(MapSensitivity, EightCoilValveSpringJacobianMatchesRichardsonDifferences) {
   const std::string file = kSource + "/studies/valvetrain/bucket_tappet.json";
   const MapAt s = map_at(read_tight(file,
-                                   [](Json& doc) {
-                                     doc["mechanism"]["follower"].erase("seat");
-                                     doc["integrator"]["rtol"] = 1e-10;  // see the header comment
-                                     doc["integrator"]["atol"] = 1e-14;
-                                   }),
+                                    [](Json& doc) {
+                                      doc["mechanism"]["follower"].erase("seat");
+                                      doc["integrator"]["rtol"] = 1e-10;  // see the header comment
+                                      doc["integrator"]["atol"] = 1e-14;
+                                    }),
                          2);
   ASSERT_EQ(s.map->dimension(), 18) << "the follower and 8 coil lumps, each a position and a rate";
   constexpr double kTrainReferenceSpread = 1e-3;  // ε/h with ε ≈ 1e-9, h = 1e-5, and a margin of ten
