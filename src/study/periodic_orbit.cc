@@ -58,7 +58,9 @@ class Shooter {
   // central differences; nullopt when those failed.
   std::optional<std::pair<MatrixXd, JacobianMethod>> jacobian(const SectionPoint& p, int k, const SectionPoint& image,
                                                               long impacts) {
-    if (options_.jacobian != JacobianMethod::finite_difference) {
+    const bool sensitivities_pay = map_.dimension() >= options_.sensitivity_min_coordinates;
+    if (options_.jacobian == JacobianMethod::sensitivity ||
+        (options_.jacobian == JacobianMethod::automatic && sensitivities_pay)) {
       if (std::optional<MatrixXd> J = sensitivity(p, k, image, impacts)) {
         ++sensitivity_jacobians_;
         return std::pair{std::move(*J), JacobianMethod::sensitivity};

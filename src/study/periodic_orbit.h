@@ -30,11 +30,13 @@
 namespace camdyn {
 
 /// How the shooting takes the Jacobian of P^k (`periodic.jacobian`, docs/periodic.md):
-/// `automatic` ("auto") by forward sensitivities where they can be trusted, else by
+/// `automatic` ("auto") by forward sensitivities on a map of at least
+/// PeriodicOptions::sensitivity_min_coordinates coordinates where they can be trusted, else by
 /// central differences; `sensitivity` the same, but a sensitivity run that cannot be
 /// trusted stops the study (NumericalError) instead of falling back;
 /// `finite_difference` always by central differences.
 enum class JacobianMethod { automatic, sensitivity, finite_difference };
+
 inline constexpr EnumName<JacobianMethod> kJacobianMethodNames[] = {
     {JacobianMethod::automatic, "auto"},
     {JacobianMethod::sensitivity, "sensitivity"},
@@ -53,6 +55,11 @@ struct PeriodicOptions {
   int settle_revolutions = 1000;
   int threads = 1;
   JacobianMethod jacobian = JacobianMethod::automatic;
+  /// The shortest map on which "auto" takes sensitivities: one sensitivity
+  /// run costs about as much as the 2n runs of central differences at n ≈ 18
+  /// (bench/periodic_bench.cc, BM_MapJacobian*); on shorter maps differences
+  /// are cheaper.
+  int sensitivity_min_coordinates = 16;
   /// Told what the search is doing (period tried, Newton residual).
   std::function<void(const std::string&)> log;
 };

@@ -82,6 +82,7 @@ TEST(MapSensitivity, ShootingWithSensitivitiesFindsTheFiniteDifferenceOrbit) {
 
 // Friction can stick: the sensitivity run does not cover it. "auto" falls
 // back to central differences and says why; "sensitivity" stops instead.
+// "auto" tries sensitivities only on a long map (sensitivity_min_coordinates).
 TEST(MapSensitivity, FrictionFallsBackToFiniteDifferencesAndSaysWhy) {
   const PeriodicStudy study = read_tight(kSource + "/studies/periodic/bouncing_ball.json", [](Json& doc) {
     doc["mechanism"]["contact"]["friction"]["mu"] = 0.05;
@@ -97,6 +98,13 @@ TEST(MapSensitivity, FrictionFallsBackToFiniteDifferencesAndSaysWhy) {
   options.lyapunov_revolutions = 0;
   options.max_period = 1;
   options.max_newton_iterations = 1;
+  // "auto" on this 2-coordinate map takes central differences without trying sensitivities.
+  const PeriodicAnalysis short_map = find_periodic_orbit(*s.map, s.point, options);
+  EXPECT_EQ(short_map.sensitivity_jacobians, 0);
+  EXPECT_GT(short_map.finite_difference_jacobians, 0);
+  EXPECT_TRUE(short_map.jacobian_fallback.empty()) << short_map.jacobian_fallback;
+  // As if the map were long enough for sensitivities: tried, not trusted, and why.
+  options.sensitivity_min_coordinates = 1;
   const PeriodicAnalysis a = find_periodic_orbit(*s.map, s.point, options);
   EXPECT_EQ(a.sensitivity_jacobians, 0);
   EXPECT_GT(a.finite_difference_jacobians, 0);
