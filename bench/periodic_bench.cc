@@ -14,6 +14,14 @@
 //   (det = e*²), so a plain run closes the distance to the orbit by only 5 %
 //   a revolution.
 //
+// The Jacobian of the map (issue 38): forward sensitivities (one CVODES run
+// with the saltation matrices, dynamics/map_sensitivity.h) against central
+// differences (2n map runs) on the bouncing ball (2 states), the quickstart
+// cam (3: its roller leaves the cam and hammers back) and the bucket tappet
+// with its 8-coil valve spring (18), each at a section point two revolutions
+// from its start, one thread. Counters: the map's states, and in the
+// sensitivity benchmark the time ratio finite differences / sensitivities.
+//
 // "Settled" is measured, not guessed: the plain run goes on one revolution
 // at a time from the scene's start until its state at the section is within
 // the shooting's tolerance of the orbit's fixed point (each coordinate
@@ -24,11 +32,13 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <map>
 #include <string>
 #include <vector>
 
+#include "dynamics/map_sensitivity.h"
 #include "dynamics/poincare_map.h"
 #include "io/config.h"
 #include "study/periodic_orbit.h"
@@ -136,6 +146,66 @@ BENCHMARK(BM_PlainRunUntilSettled)->Arg(20)->Unit(benchmark::kMillisecond)->UseR
 
 void BM_PlainRunUntilSettledBouncingBall(benchmark::State& state) { plain_run(state, bouncing_ball()); }
 BENCHMARK(BM_PlainRunUntilSettledBouncingBall)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+
+const std::string kBucketTappet = std::string(CAMDYN_SOURCE_DIR) + "/studies/valvetrain/bucket_tappet.json";
+
+// The Jacobian cases: 0 the bouncing ball, 1 the quickstart, 2 the 8-coil bucket tappet.
+Case& jacobian_case(long which) {
+  static Case quick(kQuickstart, {"integrator.rtol=1e-10"});
+  static Case tappet(kBucketTappet, {});
+  return which == 0 ? bouncing_ball() : which == 1 ? quick : tappet;
+}
+
+SectionPoint two_revolutions_in(Case& c) {
+  Workspace ws = make_workspace(c.model);
+  SimulationOptions options;
+  options.record_series = false;
+  return c.map.point(simulate(c.map.scene_for(2), c.model, ws, options));
+}
+
+// The shooting's central differences, on one thread: 2n map runs.
+bool finite_difference_jacobian(Case& c, const SectionPoint& p, Workspace& ws) {
+  const double h = 10.0 * std::sqrt(c.scene.integrator.rtol);
+  bool ok = true;
+  for (int j = 0; j < c.map.dimension(); ++j)
+    for (const double side : {h, -h}) {
+      SectionPoint q = p;
+      q.x[static_cast<std::size_t>(j)] += side * c.map.scales()[static_cast<std::size_t>(j)];
+      ok = c.map.apply(q, 1, ws).ok && ok;
+    }
+  return ok;
+}
+
+void BM_MapJacobianSensitivity(benchmark::State& state) {
+  Case& c = jacobian_case(state.range(0));
+  const SectionPoint p = two_revolutions_in(c);
+  Workspace ws = make_workspace(c.model);
+  using Clock = std::chrono::steady_clock;
+  const Clock::time_point start = Clock::now();
+  long runs = 0;
+  for (auto _ : state) {
+    const MapJacobian r = sensitivity_jacobian(c.map, p, 1, ws);
+    if (!r.ok) state.SkipWithError(r.reason.c_str());
+    ++runs;
+  }
+  const double sensitivity_s = std::chrono::duration<double>(Clock::now() - start).count() / static_cast<double>(runs);
+  const Clock::time_point fd_start = Clock::now();
+  if (!finite_difference_jacobian(c, p, ws)) state.SkipWithError("a map run failed");
+  const double fd_s = std::chrono::duration<double>(Clock::now() - fd_start).count();
+  state.counters["states"] = c.map.dimension();
+  state.counters["fd_over_sensitivity"] = fd_s / sensitivity_s;
+}
+BENCHMARK(BM_MapJacobianSensitivity)->DenseRange(0, 2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_MapJacobianFiniteDifference(benchmark::State& state) {
+  Case& c = jacobian_case(state.range(0));
+  const SectionPoint p = two_revolutions_in(c);
+  Workspace ws = make_workspace(c.model);
+  for (auto _ : state)
+    if (!finite_difference_jacobian(c, p, ws)) state.SkipWithError("a map run failed");
+  state.counters["states"] = c.map.dimension();
+}
+BENCHMARK(BM_MapJacobianFiniteDifference)->DenseRange(0, 2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 

@@ -51,6 +51,8 @@ class PoincareMap {
   /// A typical size of each coordinate (lift range, its rate at speed ω, …),
   /// which scales residuals and finite-difference steps.
   const std::vector<double>& scales() const { return scales_; }
+  /// The state index of each coordinate (Model::layout), in coordinate order.
+  const std::vector<int>& coordinate_indices() const { return coordinates_; }
 
   /// The section point of a full state reached after `revolutions` revolutions.
   SectionPoint point(const std::vector<double>& state, double approach_speed, double motor_phase,

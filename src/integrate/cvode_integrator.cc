@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <stdexcept>
 #include <vector>
 
 #include "common/errors.h"
@@ -30,6 +31,13 @@ struct CvodeIntegrator::Impl {
   std::string last_message;
   SolverCounters before_reinit;  // counters of earlier integrations (CVodeReInit resets them)
   double t = 0.0;
+  // Forward sensitivities (enable_sensitivities): the vectors CVODES reads
+  // and writes, and the column pointers handed to the system (made once, so
+  // that the sensitivity right-hand side allocates nothing).
+  int sensitivity_count = 0;
+  N_Vector* sensitivity = nullptr;
+  std::vector<const double*> s_columns;
+  std::vector<double*> s_dot_columns;
 
   void check(int flag, const char* call) const {
     if (flag >= 0) return;
@@ -43,6 +51,15 @@ struct CvodeIntegrator::Impl {
 
   static int rhs(realtype t, N_Vector y, N_Vector y_dot, void* data) {
     return static_cast<Impl*>(data)->system->rhs(t, N_VGetArrayPointer(y), N_VGetArrayPointer(y_dot));
+  }
+  static int sensitivity_rhs(int count, realtype t, N_Vector y, N_Vector, N_Vector* s, N_Vector* s_dot, void* data,
+                             N_Vector, N_Vector) {
+    Impl& m = *static_cast<Impl*>(data);
+    for (int j = 0; j < count; ++j) {
+      m.s_columns[static_cast<std::size_t>(j)] = N_VGetArrayPointer(s[j]);
+      m.s_dot_columns[static_cast<std::size_t>(j)] = N_VGetArrayPointer(s_dot[j]);
+    }
+    return m.system->sensitivity_rhs(t, N_VGetArrayPointer(y), count, m.s_columns.data(), m.s_dot_columns.data());
   }
   static int roots(realtype t, N_Vector y, realtype* g, void* data) {
     return static_cast<Impl*>(data)->system->roots(t, N_VGetArrayPointer(y), g);
@@ -82,6 +99,7 @@ struct CvodeIntegrator::Impl {
 
   ~Impl() {
     if (mem) CVodeFree(&mem);
+    if (sensitivity) N_VDestroyVectorArray(sensitivity, sensitivity_count);
     if (linear_solver) SUNLinSolFree(linear_solver);
     if (matrix) SUNMatDestroy(matrix);
     for (N_Vector v : {y, scratch})
@@ -189,6 +207,44 @@ void CvodeIntegrator::reinit(double t, const double* y) {
   m.t = t;
   m.check(CVodeReInit(m.mem, t, m.y), "CVodeReInit");
   t_ = t_prev_ = t;
+}
+
+void CvodeIntegrator::enable_sensitivities(int count, const double* s0) {
+  Impl& m = *impl_;
+  if (m.sensitivity) throw std::logic_error("CvodeIntegrator::enable_sensitivities called twice");
+  const int n = m.system->size();
+  m.sensitivity = N_VCloneVectorArray(count, m.y);
+  m.check_created(m.sensitivity, "the sensitivity vectors");
+  m.sensitivity_count = count;
+  m.s_columns.assign(static_cast<std::size_t>(count), nullptr);
+  m.s_dot_columns.assign(static_cast<std::size_t>(count), nullptr);
+  for (int j = 0; j < count; ++j)
+    std::copy(s0 + static_cast<std::ptrdiff_t>(n) * j, s0 + static_cast<std::ptrdiff_t>(n) * (j + 1),
+              N_VGetArrayPointer(m.sensitivity[j]));
+  m.check(CVodeSensInit(m.mem, count, CV_STAGGERED, &Impl::sensitivity_rhs, m.sensitivity), "CVodeSensInit");
+  m.check(CVodeSensEEtolerances(m.mem), "CVodeSensEEtolerances");
+  m.check(CVodeSetSensErrCon(m.mem, SUNTRUE), "CVodeSetSensErrCon");
+}
+
+void CvodeIntegrator::sensitivities(double* s) const {
+  Impl& m = *impl_;
+  double t_reached = t_;
+  m.check(CVodeGetSens(m.mem, &t_reached, m.sensitivity), "CVodeGetSens");
+  const int n = m.system->size();
+  for (int j = 0; j < m.sensitivity_count; ++j) {
+    const double* column = N_VGetArrayPointer(m.sensitivity[j]);
+    std::copy(column, column + n, s + static_cast<std::ptrdiff_t>(n) * j);
+  }
+}
+
+void CvodeIntegrator::reinit(double t, const double* y, const double* s) {
+  reinit(t, y);
+  Impl& m = *impl_;
+  const int n = m.system->size();
+  for (int j = 0; j < m.sensitivity_count; ++j)
+    std::copy(s + static_cast<std::ptrdiff_t>(n) * j, s + static_cast<std::ptrdiff_t>(n) * (j + 1),
+              N_VGetArrayPointer(m.sensitivity[j]));
+  m.check(CVodeSensReInit(m.mem, CV_STAGGERED, m.sensitivity), "CVodeSensReInit");
 }
 
 SolverCounters CvodeIntegrator::counters() const {

@@ -30,6 +30,18 @@ class CvodeIntegrator final : public Integrator {
   void reinit(double t, const double* y) override;
   SolverCounters counters() const override;
 
+  /// Forward sensitivities by CVODES' staggered corrector: `count` columns
+  /// s_j = ∂y/∂p_j (column-major size() × count in `s0`), driven by the
+  /// system's sensitivity_rhs and error-controlled like the state (CVODES'
+  /// estimated tolerances: scale the columns like the state). Once, before
+  /// the first step.
+  void enable_sensitivities(int count, const double* s0);
+  /// The sensitivities at time(), column-major size() × count.
+  void sensitivities(double* s) const;
+  /// Restarts at (t, y) with the sensitivities `s` (column-major), e.g. after
+  /// an event made them jump.
+  void reinit(double t, const double* y, const double* s);
+
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;

@@ -20,6 +20,14 @@ class OdeSystem {
   /// Half-bandwidth b of ∂f/∂y (∂f_i/∂y_j = 0 for |i − j| > b) when a banded
   /// linear solver pays (a chain of lumped masses); −1: dense.
   virtual int bandwidth() const { return -1; }
+  /// Forward sensitivities (CvodeIntegrator::enable_sensitivities): ṡ_j for
+  /// the `count` columns s_j = ∂y/∂p_j at (t, y), each of size(): ∂f/∂y s_j
+  /// plus whatever else drives them. Return as rhs(); −1 when the system has
+  /// none.
+  virtual int sensitivity_rhs(double /*t*/, const double* /*y*/, int /*count*/, const double* const* /*s*/,
+                              double* const* /*s_dot*/) {
+    return -1;
+  }
 };
 
 /// Solver counters, accumulated over re-initialisations.

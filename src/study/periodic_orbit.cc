@@ -8,6 +8,7 @@
 
 #include "common/errors.h"
 #include "common/parallel.h"
+#include "dynamics/map_sensitivity.h"
 
 namespace camdyn {
 
@@ -51,9 +52,34 @@ class Shooter {
   // Max |a_j| / scale_j.
   double scaled_norm(const VectorXd& a) const { return a.cwiseQuotient(scales_).cwiseAbs().maxCoeff(); }
 
+  // ∂P^k/∂x at p, and how it was taken: by forward sensitivities where the
+  // options allow and the run can be trusted — its end agrees with `image`,
+  // P^k(p) as the map's own run found it with `impacts` impacts — else by
+  // central differences; nullopt when those failed.
+  std::optional<std::pair<MatrixXd, JacobianMethod>> jacobian(const SectionPoint& p, int k, const SectionPoint& image,
+                                                              long impacts) {
+    const bool sensitivities_pay = map_.dimension() >= options_.sensitivity_min_coordinates;
+    if (options_.jacobian == JacobianMethod::sensitivity ||
+        (options_.jacobian == JacobianMethod::automatic && sensitivities_pay)) {
+      if (std::optional<MatrixXd> J = sensitivity(p, k, image, impacts)) {
+        ++sensitivity_jacobians_;
+        return std::pair{std::move(*J), JacobianMethod::sensitivity};
+      }
+      if (options_.jacobian == JacobianMethod::sensitivity)
+        throw NumericalError(
+            "the sensitivity Jacobian of the Poincaré map cannot be trusted (periodic.jacobian = "
+            "\"sensitivity\"): " +
+            fallback_);
+    }
+    std::optional<MatrixXd> J = finite_difference_jacobian(p, k);
+    if (!J) return std::nullopt;
+    ++finite_difference_jacobians_;
+    return std::pair{std::move(*J), JacobianMethod::finite_difference};
+  }
+
   // ∂P^k/∂x at p by central differences, the 2n evaluations in parallel;
   // nullopt when one failed.
-  std::optional<MatrixXd> jacobian(const SectionPoint& p, int k) {
+  std::optional<MatrixXd> finite_difference_jacobian(const SectionPoint& p, int k) {
     const int n = map_.dimension();
     const double h_rel = 10.0 * std::sqrt(std::max(map_.scene().integrator.rtol, 1e-14));
     std::vector<std::optional<SectionPoint>> ends(2 * static_cast<std::size_t>(n));
@@ -73,6 +99,10 @@ class Shooter {
     return J;
   }
 
+  long sensitivity_jacobians() const { return sensitivity_jacobians_; }
+  long finite_difference_jacobians() const { return finite_difference_jacobians_; }
+  const std::string& fallback() const { return fallback_; }
+
   void log(const std::string& line) const {
     if (options_.log) options_.log(line);
   }
@@ -87,8 +117,34 @@ class Shooter {
   const VectorXd scales_;
   std::vector<Workspace> workspaces_;
   std::atomic<long> revolutions_{0}, evaluations_{0};
+  long sensitivity_jacobians_ = 0, finite_difference_jacobians_ = 0;
   std::mutex mutex_;
   std::string failure_;
+  std::string fallback_;  // why the last sensitivity run was not used
+
+  // The sensitivity Jacobian on worker 0's workspace, when its run can be
+  // trusted: it covers the model, ran to the end, and found the map's own end
+  // (within 1e4 rtol of the scales: the two runs differ only by their
+  // integration errors, closed-form against integrated flights) with as many
+  // impacts; otherwise nullopt with the reason in fallback_ (logged when it
+  // changes).
+  std::optional<MatrixXd> sensitivity(const SectionPoint& p, int k, const SectionPoint& image, long impacts) {
+    const MapJacobian r = sensitivity_jacobian(map_, p, k, workspaces_.front());
+    revolutions_ += k;
+    std::string why = r.reason;
+    if (r.ok && r.impacts != impacts)
+      why = format("the sensitivity run found %ld impacts, the map's run %ld", r.impacts, impacts);
+    const double agreement = std::max(1e-6, 1e4 * map_.scene().integrator.rtol);
+    if (r.ok && why.empty()) {
+      const double d = scaled_norm(to_vector(r.end.x) - to_vector(image.x));
+      if (!(d <= agreement))
+        why = format("the sensitivity run ended %.3g (scaled) from the map's run, more than %.3g", d, agreement);
+    }
+    if (why.empty()) return r.jacobian;
+    if (why != fallback_) log("Jacobian by finite differences: " + why);
+    fallback_ = why;
+    return std::nullopt;
+  }
 };
 
 // Newton on P^k(x) − x = 0 from `start`, damped by step halving and, where
@@ -96,17 +152,19 @@ class Shooter {
 std::optional<Orbit> shoot(Shooter& shooter, const SectionPoint& start, int k, const PeriodicOptions& options,
                            std::vector<NewtonStep>& trace) {
   SectionPoint x = start;
-  std::optional<SectionPoint> image = shooter.apply(x, k);
+  long impacts = 0;  // of the run that gave `image`
+  std::optional<SectionPoint> image = shooter.apply(x, k, 0, &impacts);
   const int n = static_cast<int>(x.x.size());
   for (int it = 0; image; ++it) {
     const VectorXd residual = to_vector(image->x) - to_vector(x.x);
     const double norm = shooter.scaled_norm(residual);
     trace.push_back({k, it, norm});
     shooter.log(format("period %d: Newton iteration %d, residual %.3e", k, it, norm));
-    std::optional<MatrixXd> J = shooter.jacobian(x, k);
-    if (!J) return std::nullopt;
+    std::optional<std::pair<MatrixXd, JacobianMethod>> jacobian = shooter.jacobian(x, k, *image, impacts);
+    if (!jacobian) return std::nullopt;
+    const MatrixXd* J = &jacobian->first;
     if (norm <= options.tolerance) {
-      Orbit orbit{k, x, *J, floquet_multipliers(*J), false, it, norm};
+      Orbit orbit{k, x, *J, jacobian->second, floquet_multipliers(*J), false, it, norm};
       orbit.stable = orbit.spectral_radius() < 1.0;
       return orbit;
     }
@@ -122,19 +180,21 @@ std::optional<Orbit> shoot(Shooter& shooter, const SectionPoint& start, int k, c
     for (double t = 1.0; t > 0.2 && !accepted; t *= 0.5) {
       SectionPoint trial = x;
       for (int j = 0; j < n; ++j) trial.x[static_cast<std::size_t>(j)] += t * step[j];
-      std::optional<SectionPoint> trial_image = shooter.apply(trial, k);
+      long trial_impacts = 0;
+      std::optional<SectionPoint> trial_image = shooter.apply(trial, k, 0, &trial_impacts);
       if (!trial_image) continue;
       const double trial_norm = shooter.scaled_norm(to_vector(trial_image->x) - to_vector(trial.x));
       if (trial_norm < norm) {
         x = trial;
         x.approach_speed = trial_image->approach_speed;  // the episode the orbit closes on
         image = trial_image;
+        impacts = trial_impacts;
         accepted = true;
       }
     }
     if (!accepted) {
       x = *image;
-      image = shooter.apply(x, k);
+      image = shooter.apply(x, k, 0, &impacts);
     }
   }
   return std::nullopt;
@@ -217,10 +277,16 @@ void settle_and_shoot(const PoincareMap& map, const std::vector<std::vector<doub
     a.revolutions += shooter.revolutions();
     return;
   }
+  const auto count_jacobians = [&] {
+    a.sensitivity_jacobians += shooter.sensitivity_jacobians();
+    a.finite_difference_jacobians += shooter.finite_difference_jacobians();
+    if (!shooter.fallback().empty()) a.jacobian_fallback = shooter.fallback();
+  };
   shooter.log(format("the motion settled after %zu revolutions and repeats every %d: shooting from there", since, d));
   std::optional<Orbit> orbit = shoot(shooter, last, d, options, a.newton);
   if (orbit) orbit = at_minimal_period(shooter, std::move(*orbit), options, a.newton);
   a.revolutions += shooter.revolutions();
+  count_jacobians();
   if (!orbit || !orbit->stable) return;
   Orbit& minimal = *orbit;
   a.orbit = std::move(minimal);
@@ -275,6 +341,9 @@ PeriodicAnalysis find_periodic_orbit(const PoincareMap& map, const SectionPoint&
   }
   a.revolutions = shooter.revolutions();
   a.map_evaluations = shooter.evaluations();
+  a.sensitivity_jacobians = shooter.sensitivity_jacobians();
+  a.finite_difference_jacobians = shooter.finite_difference_jacobians();
+  a.jacobian_fallback = shooter.fallback();
   a.failure = shooter.failure();
   return a;
 }

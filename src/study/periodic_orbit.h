@@ -4,10 +4,12 @@
 // converges, the largest Lyapunov exponent of the motion.
 //
 // Shooting: Newton on R(x) = P^k(x) − x for k = 1, 2, …, started from the end
-// of a short transient run. The Jacobian of P^k is taken by central
-// differences through the event handling, each column two map evaluations,
-// run in parallel. At a converged orbit that Jacobian (recomputed there) is
-// the monodromy matrix; its eigenvalues are the Floquet multipliers, and the
+// of a short transient run. The Jacobian of P^k is taken by forward
+// sensitivities through the events (dynamics/map_sensitivity.h: one run with
+// the saltation matrices), checked against the map's own run; where they do
+// not apply or cannot be trusted, by central differences through the event
+// handling, each column two map evaluations, run in parallel. At a converged
+// orbit that Jacobian (recomputed there) is the monodromy matrix; its eigenvalues are the Floquet multipliers, and the
 // orbit is stable when they all lie inside the unit circle.
 //
 // Lyapunov exponent (Benettin et al. 1980): a neighbour trajectory a small
@@ -27,6 +29,20 @@
 
 namespace camdyn {
 
+/// How the shooting takes the Jacobian of P^k (`periodic.jacobian`, docs/periodic.md):
+/// `automatic` ("auto") by forward sensitivities on a map of at least
+/// PeriodicOptions::sensitivity_min_coordinates coordinates where they can be trusted, else by
+/// central differences; `sensitivity` the same, but a sensitivity run that cannot be
+/// trusted stops the study (NumericalError) instead of falling back;
+/// `finite_difference` always by central differences.
+enum class JacobianMethod { automatic, sensitivity, finite_difference };
+
+inline constexpr EnumName<JacobianMethod> kJacobianMethodNames[] = {
+    {JacobianMethod::automatic, "auto"},
+    {JacobianMethod::sensitivity, "sensitivity"},
+    {JacobianMethod::finite_difference, "finite_difference"}};
+constexpr std::span<const EnumName<JacobianMethod>> enum_names(JacobianMethod) { return kJacobianMethodNames; }
+
 struct PeriodicOptions {
   int max_period = 8;              ///< longest period k tried [revolutions]
   int transient_revolutions = 4;   ///< run before the first Newton start
@@ -38,6 +54,12 @@ struct PeriodicOptions {
   /// Lyapunov run's included) waiting for the sampled states to repeat.
   int settle_revolutions = 1000;
   int threads = 1;
+  JacobianMethod jacobian = JacobianMethod::automatic;
+  /// The shortest map on which "auto" takes sensitivities: one sensitivity
+  /// run costs about as much as the 2n runs of central differences at n ≈ 18
+  /// (bench/periodic_bench.cc, BM_MapJacobian*); on shorter maps differences
+  /// are cheaper.
+  int sensitivity_min_coordinates = 16;
   /// Told what the search is doing (period tried, Newton residual).
   std::function<void(const std::string&)> log;
 };
@@ -51,9 +73,11 @@ struct NewtonStep {
 
 /// A periodic orbit: x = P^k(x).
 struct Orbit {
-  int period = 0;                                 ///< k [revolutions]
-  SectionPoint fixed_point;                       ///< at the section t = 0 (mod kT)
-  Eigen::MatrixXd monodromy;                      ///< ∂P^k/∂x at the fixed point
+  int period = 0;             ///< k [revolutions]
+  SectionPoint fixed_point;   ///< at the section t = 0 (mod kT)
+  Eigen::MatrixXd monodromy;  ///< ∂P^k/∂x at the fixed point
+  /// How `monodromy` was taken: sensitivity or finite_difference (never automatic).
+  JacobianMethod jacobian_method = JacobianMethod::finite_difference;
   std::vector<std::complex<double>> multipliers;  ///< its eigenvalues, largest modulus first
   bool stable = false;                            ///< every |μ| < 1
   int newton_iterations = 0;
@@ -89,7 +113,10 @@ struct PeriodicAnalysis {
   SectionPoint transient_end;
   long revolutions = 0;  ///< integrated in all, transient included
   long map_evaluations = 0;
-  std::string failure;  ///< the last map evaluation that failed, if any
+  long sensitivity_jacobians = 0;        ///< Jacobians of P^k taken by forward sensitivities
+  long finite_difference_jacobians = 0;  ///< … and by central differences
+  std::string jacobian_fallback;         ///< why the last sensitivity run was not used, if one was not
+  std::string failure;                   ///< the last map evaluation that failed, if any
   /// Revolutions after the orbit search's start until the sampled states
   /// repeated (the orbit then shot from there); -1 when it was not needed.
   long settled_after = -1;

@@ -76,6 +76,7 @@ Json orbit_json(const Orbit& o, const std::vector<std::string>& names) {
               {"stable", o.stable},
               {"fixed_point", section_json(o.fixed_point, names)},
               {"floquet_multipliers", multipliers},
+              {"jacobian_method", to_string(o.jacobian_method)},
               {"spectral_radius", o.spectral_radius()},
               {"newton_iterations", o.newton_iterations},
               {"residual", o.residual}};
@@ -200,6 +201,9 @@ Json periodic_json(const PeriodicStudy& study, const PeriodicResult& r, const st
                 {"revolutions", a.lyapunov->revolutions},
                 {"impacts", a.lyapunov->impacts}};
   const Metrics& m = r.orbit_run.metrics;
+  const Json jacobians{{"sensitivity", a.sensitivity_jacobians},
+                       {"finite_difference", a.finite_difference_jacobians},
+                       {"fallback_reason", a.jacobian_fallback.empty() ? Json() : Json(a.jacobian_fallback)}};
   return Json{{"name", study.scene.name},
               {"study", "periodic"},
               {"camdyn_version", CAMDYN_VERSION},
@@ -223,6 +227,7 @@ Json periodic_json(const PeriodicStudy& study, const PeriodicResult& r, const st
               {"settled_after_revolutions", a.settled_after >= 0 ? Json(a.settled_after) : Json()},
               {"revolutions_integrated", a.revolutions},
               {"map_evaluations", a.map_evaluations},
+              {"jacobians", jacobians},
               {"run_time_s", r.run_time_s}};
 }
 

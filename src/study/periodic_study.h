@@ -43,6 +43,7 @@ void visit(A& a, PeriodicConfig& c) {
   a.field("max_newton_iterations", o.max_newton_iterations, at_least(1));
   a.field("lyapunov_revolutions", o.lyapunov_revolutions, at_least(10));
   a.field("chaos_threshold", o.chaos_threshold, positive());
+  a.field("jacobian", o.jacobian);
   // Work bounds (the shooting on period k integrates k revolutions per map
   // and per Jacobian column): beyond them the study could not finish.
   a.require(o.max_period <= kMaxPeriodTried, "max_period",
