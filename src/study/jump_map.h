@@ -10,12 +10,14 @@
 #pragma once
 
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "dynamics/cam_geometry.h"
 #include "io/config.h"
 #include "output/report.h"
+#include "scene/enum_names.h"
 #include "study/periodic_study.h"
 #include "study/study.h"
 
@@ -29,6 +31,10 @@ struct JumpMapConfig {
   int ranges = 4;                  ///< contiguous ranges run in parallel (continuation within each), ≥ 1
   int transient_revolutions = 20;  ///< followed at each speed before its samples and analysis
   int samples = 30;                ///< Poincaré samples recorded at each speed
+  /// Start a speed from the orbit predicted by its neighbours' stable orbits
+  /// (secant in rpm) and shoot it directly, without the transient; the
+  /// transient path only when that gives no stable orbit of the same period.
+  bool warm_start = true;
 };
 
 struct JumpMapStudy {
@@ -46,10 +52,18 @@ struct JumpMapStudy {
   std::vector<double> rpm;  ///< the grid
 };
 
+/// How a speed's motion was reached: shot from the orbit its neighbours
+/// predicted, or followed past a transient and analysed.
+enum class JumpMapStart { predicted, transient };
+inline constexpr EnumName<JumpMapStart> kJumpMapStartNames[] = {{JumpMapStart::predicted, "predicted"},
+                                                                {JumpMapStart::transient, "transient"}};
+constexpr std::span<const EnumName<JumpMapStart>> enum_names(JumpMapStart) { return kJumpMapStartNames; }
+
 /// What one speed gave.
 struct JumpMapPoint {
   double rpm = 0.0;
   bool ok = false;
+  JumpMapStart start = JumpMapStart::transient;
   std::string error;
   /// The budget that cut this speed short (common/study_budget.h:
   /// budget_that_cut), empty when none did: such a speed says nothing about
