@@ -189,8 +189,10 @@ SectionPoint chord_iterations(const PoincareMap& map, SectionPoint x, const Conv
 
 // The warm start: the chord iterations (period 1) and Newton from the
 // predicted fixed point, periods up to the predicted one; the orbit when it
-// is stable and of that period (else the transient path decides, so the
-// class never rests on the shortcut).
+// is stable and of that period (else the transient path decides: the
+// shortcut only reports a stable orbit the shooting confirmed; where two
+// stable orbits coexist it keeps to the one continued from the neighbours,
+// docs/periodic.md "Warm start").
 std::optional<Orbit> shoot_predicted(const PoincareMap& map, const JumpMapStudy& study, const Continuation& c,
                                      double rpm) {
   PeriodicOptions options = study.periodic.options;
@@ -300,11 +302,12 @@ JumpMapStudy read_jump_map_study(const Json& doc, const StudyContext& ctx) {
   const Json periodic = read_study_fields(part, "periodic", ctx.source, study.periodic);
   study.geometry = build_cam_geometry(study.scene, ctx.config_file);
   const Model model = build_model(*study.geometry, study.scene, ctx.config_file);
-  [[maybe_unused]] const PoincareMap map(study.scene, model, ctx.config_file);  // the drive sets the speed
+  const PoincareMap map(study.scene, model, ctx.config_file);  // the drive sets the speed
   study.rigid_jump_speed_rpm = model_jump_speed_rpm(model);
   study.damped_rigid_jump_speed_rpm =
       model.train.has_coordinates() ? study.rigid_jump_speed_rpm : damped_jump_speed_rpm(model);
   study.jump_speed_name = jump_speed_name(model);
+  study.section_dimension = map.dimension();
   const JumpMapConfig& c = study.config;
   for (int i = 0; i < c.speeds; ++i) study.rpm.push_back(c.low_rpm + (c.high_rpm - c.low_rpm) * i / (c.speeds - 1));
   study.resolved = resolved_study_json(study.scene, "jump_map", Json{{"jump_map", fields}, {"periodic", periodic}});
@@ -317,6 +320,21 @@ std::vector<std::size_t> jump_map_range(const JumpMapStudy& study, std::size_t r
   std::vector<std::size_t> indices;
   for (std::size_t i = r * n / ranges; i < (r + 1) * n / ranges; ++i) indices.push_back(i);
   return indices;
+}
+
+double jump_map_speed_work(const JumpMapStudy& study, std::size_t i) {
+  const double jacobian = 1.0 + 2.0 * study.section_dimension;  // [revolutions]
+  const double rpm = study.rpm.at(i);
+  const bool past_jump = std::isfinite(study.damped_rigid_jump_speed_rpm) && rpm >= study.damped_rigid_jump_speed_rpm;
+  // The first speed of a range has no neighbour to start from: the smallest
+  // range r whose first index r n / ranges (jump_map_range) reaches i.
+  const std::size_t n = study.rpm.size();
+  const std::size_t ranges = std::min(n, static_cast<std::size_t>(study.config.ranges));
+  const std::size_t r = (i * ranges + n - 1) / n;
+  const bool first_of_range = r < ranges && r * n / ranges == i;
+  if (study.config.warm_start && !past_jump && !first_of_range) return jacobian + 3.0;
+  const double transient_path = study.config.transient_revolutions + study.config.samples + 2.0 * jacobian;
+  return past_jump ? transient_path + 2.0 * study.periodic.options.lyapunov_revolutions : transient_path;
 }
 
 std::vector<JumpMapPoint> run_jump_map_range(const JumpMapStudy& study, std::size_t r, const std::string& file) {
@@ -341,7 +359,7 @@ std::vector<JumpMapPoint> run_jump_map_range(const JumpMapStudy& study, std::siz
       points.push_back(std::move(p));
       continuation = Continuation{};  // the next speed starts afresh
     }
-    report_work_done(1.0);  // one speed: the unit of the progress line's estimate
+    report_work_done(jump_map_speed_work(study, i));  // the progress line's unit: expected revolutions
   }
   return points;
 }

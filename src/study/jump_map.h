@@ -49,7 +49,8 @@ struct JumpMapStudy {
   double damped_rigid_jump_speed_rpm = 0.0;  ///< damped_jump_speed_rpm (the damper's c ω s' included) [rpm]
   /// With a follower train both figures are the held train's (docs/model.md §12), so named.
   std::string jump_speed_name = "rigid-model jump speed";
-  std::vector<double> rpm;  ///< the grid
+  std::vector<double> rpm;    ///< the grid
+  int section_dimension = 0;  ///< coordinates of the Poincaré map (dynamics/poincare_map.h)
 };
 
 /// How a speed's motion was reached: shot from the orbit its neighbours
@@ -93,6 +94,16 @@ JumpMapStudy read_jump_map_study(const Json& doc, const StudyContext& ctx);
 
 /// The speeds of range `r` (indices into study.rpm), run in order with continuation.
 std::vector<std::size_t> jump_map_range(const JumpMapStudy& study, std::size_t r);
+
+/// The expected cost of grid speed `i` [revolutions integrated]: the progress
+/// line's unit of work, so that its time left weighs the speeds left by what
+/// they cost, not one a speed. A speed the warm start can shoot (below the
+/// damped rigid jump speed, not the first of its range): one Jacobian of the
+/// map (1 + 2n revolutions, n section coordinates) and 3 more; one on the
+/// transient path: transient_revolutions + samples + two Newton iterations
+/// (2 (1 + 2n)); past the jump speed, where the motion may be chaotic, also
+/// the Lyapunov run's two trajectories (2 lyapunov_revolutions).
+double jump_map_speed_work(const JumpMapStudy& study, std::size_t i);
 
 /// Runs range `r`; one point per speed, in order. Never throws: a speed that
 /// fails is a point with ok false and the error, and the next starts afresh;

@@ -182,7 +182,11 @@ int run_jump_map_study(const Json& doc, const StudyContext& ctx) {
   if (const std::optional<int> code = run_journaled(
           "jump_map", fingerprint(dump_json(study.resolved)), ranges,
           [&](std::size_t r) { return range_record(study, r, ctx.config_file); }, ctx, runs,
-          [&](std::size_t r) { return static_cast<double>(jump_map_range(study, r).size()); }))
+          [&](std::size_t r) {
+            double work = 0.0;  // [expected revolutions]
+            for (const std::size_t i : jump_map_range(study, r)) work += jump_map_speed_work(study, i);
+            return work;
+          }))
     return *code;
   if (mpi::rank() != 0) return 0;  // rank 0 writes the outputs
   std::vector<JumpMapPoint> points;

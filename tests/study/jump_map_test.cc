@@ -185,5 +185,31 @@ TEST(JumpMap, TranslatingFollowersSectionIsLabelledInALengthUnitItsSizeNeeds) {
   EXPECT_DOUBLE_EQ(um.series.front().y.front(), 50.0);
 }
 
+// The progress line's unit is a speed's expected cost in revolutions, so its
+// time left weighs the speeds left (issue 38: a 25-speed map's estimate was
+// 87 s short of its 119 s, the cheap speeds below the jump speed setting the
+// pace for the dear ones above it). 6 speeds in 2 ranges (0–2, 3–5), the
+// damped jump speed at 3.5; a 2-coordinate section: a Jacobian is 5
+// revolutions; transient 20, samples 30, Lyapunov 100.
+TEST(JumpMap, EachSpeedWeighsWhatItIsExpectedToCost) {
+  JumpMapStudy study;
+  study.rpm = {1, 2, 3, 4, 5, 6};
+  study.config.ranges = 2;
+  study.damped_rigid_jump_speed_rpm = 3.5;
+  study.section_dimension = 2;
+  study.periodic.options.lyapunov_revolutions = 100;
+  const double predicted = 5.0 + 3.0, transient = 20.0 + 30.0 + 2.0 * 5.0, past_jump = transient + 200.0;
+  EXPECT_DOUBLE_EQ(jump_map_speed_work(study, 0), transient);  // the first of range 0
+  EXPECT_DOUBLE_EQ(jump_map_speed_work(study, 1), predicted);
+  EXPECT_DOUBLE_EQ(jump_map_speed_work(study, 2), predicted);
+  EXPECT_DOUBLE_EQ(jump_map_speed_work(study, 3), past_jump);  // the first of range 1, past the jump
+  EXPECT_DOUBLE_EQ(jump_map_speed_work(study, 5), past_jump);
+  study.damped_rigid_jump_speed_rpm = 10.0;
+  EXPECT_DOUBLE_EQ(jump_map_speed_work(study, 3), transient);  // the first of range 1
+  EXPECT_DOUBLE_EQ(jump_map_speed_work(study, 4), predicted);
+  study.config.warm_start = false;
+  EXPECT_DOUBLE_EQ(jump_map_speed_work(study, 4), transient);
+}
+
 }  // namespace
 }  // namespace camdyn
