@@ -31,13 +31,18 @@ void visit(A& a, JumpMapConfig& c) {
   a.field("transient_revolutions", c.transient_revolutions, at_least(1));
   a.field("samples", c.samples, at_least(1));
   a.field("warm_start", c.warm_start);
+  a.field("refine", c.refine, at_least(0));
+  a.require(c.refine <= kMaxRefineLevels, "refine",
+            "must be at most " + std::to_string(kMaxRefineLevels) + " levels, got " + std::to_string(c.refine));
   a.require(c.high_rpm > c.low_rpm, "high_rpm", "must be above low_rpm");
   // Work bounds: each speed's run, and the samples of every speed held to the end.
   a.require(static_cast<double>(c.transient_revolutions) + c.samples <= kMaxRevolutionsPerRun, "samples",
             "transient_revolutions + samples asks for " +
                 format_shortest(static_cast<double>(c.transient_revolutions) + c.samples) +
                 " revolutions at each speed (at most " + format_shortest(kMaxRevolutionsPerRun) + ")");
-  const double bytes = static_cast<double>(c.speeds) * (kBytesPerSpeed + kBytesPerSample * c.samples);
+  // Each change between neighbours may add `refine` speeds.
+  const double held = static_cast<double>(c.speeds) + static_cast<double>(c.speeds - 1) * c.refine;
+  const double bytes = held * (kBytesPerSpeed + kBytesPerSample * c.samples);
   a.require(bytes <= memory_budget_bytes(), "speeds",
             std::to_string(c.speeds) + " speeds of " + std::to_string(c.samples) + " samples need about " +
                 format_shortest(std::ceil(bytes / kBytesPerMb)) + " MB: " + memory_budget_text());
@@ -337,8 +342,55 @@ double jump_map_speed_work(const JumpMapStudy& study, std::size_t i) {
   return past_jump ? transient_path + 2.0 * study.periodic.options.lyapunov_revolutions : transient_path;
 }
 
+namespace {
+
+// Two speeds of one class: both ran, the same kind of motion, and the same period.
+bool same_class(const JumpMapPoint& a, const JumpMapPoint& b) {
+  return a.ok == b.ok && a.motion == b.motion && a.period == b.period;
+}
+
+// Between neighbouring grid speeds of different classes, study.config.refine
+// speeds by bisection, each run from the continuation of the speed below
+// it: each halves the bracket of the change. Appended to `points` (marked
+// refined); a speed that fails or the study's budget ends that bracket.
+void refine_range(const JumpMapStudy& study, const std::string& file, std::vector<JumpMapPoint>& points,
+                  const std::vector<Continuation>& after) {
+  const std::size_t grid = points.size();
+  for (std::size_t j = 0; j + 1 < grid; ++j) {
+    if (!points[j].ok || !points[j + 1].ok || same_class(points[j], points[j + 1])) continue;
+    JumpMapPoint below = points[j];
+    const JumpMapPoint above = points[j + 1];
+    Continuation from = after[j];
+    double lo = below.rpm, hi = above.rpm;  // [rpm]
+    for (int level = 0; level < study.config.refine && !study_budget_exhausted(); ++level) {
+      const double mid = 0.5 * (lo + hi);
+      Continuation c = from;
+      JumpMapPoint p;
+      try {
+        p = run_speed(study, mid, file, c);
+      } catch (const std::exception&) {
+        break;  // the bracket stays as the speeds that ran leave it
+      }
+      p.refined = true;
+      points.push_back(p);
+      if (same_class(below, p)) {
+        lo = mid;
+        below = std::move(p);
+        from = std::move(c);
+      } else {
+        hi = mid;
+      }
+    }
+  }
+  std::stable_sort(points.begin(), points.end(),
+                   [](const JumpMapPoint& a, const JumpMapPoint& b) { return a.rpm < b.rpm; });
+}
+
+}  // namespace
+
 std::vector<JumpMapPoint> run_jump_map_range(const JumpMapStudy& study, std::size_t r, const std::string& file) {
   std::vector<JumpMapPoint> points;
+  std::vector<Continuation> after;  // what each grid speed hands on
   Continuation continuation;
   for (const std::size_t i : jump_map_range(study, r)) {
     if (study_budget_exhausted()) {
@@ -347,6 +399,7 @@ std::vector<JumpMapPoint> run_jump_map_range(const JumpMapStudy& study, std::siz
       p.error = study_budget_text() + " before this speed";
       p.budget = "--max-study-time";
       points.push_back(std::move(p));
+      after.push_back(continuation);
       continue;
     }
     try {
@@ -359,8 +412,10 @@ std::vector<JumpMapPoint> run_jump_map_range(const JumpMapStudy& study, std::siz
       points.push_back(std::move(p));
       continuation = Continuation{};  // the next speed starts afresh
     }
+    after.push_back(continuation);
     report_work_done(jump_map_speed_work(study, i));  // the progress line's unit: expected revolutions
   }
+  if (study.config.refine > 0) refine_range(study, file, points, after);
   return points;
 }
 
@@ -392,6 +447,7 @@ Json jump_map_point_json(const JumpMapPoint& p) {
   return Json{{"rpm", p.rpm},
               {"ok", p.ok},
               {"start", to_string(p.start)},
+              {"refined", p.refined},
               {"error", p.error},
               {"budget", p.budget},
               {"motion", to_string(p.motion)},
@@ -413,6 +469,7 @@ JumpMapPoint jump_map_point_from_json(const Json& j) {
   p.error = j.at("error").get<std::string>();
   p.budget = j.value("budget", std::string());
   p.start = parse_enum<JumpMapStart>(j.value("start", std::string("transient")));  // older records: no shortcut
+  p.refined = j.value("refined", false);
   p.motion = parse_enum<MotionKind>(j.at("motion").get<std::string>());
   p.period = j.at("period").get<int>();
   p.spectral_radius = j.at("spectral_radius").get<double>();

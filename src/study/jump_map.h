@@ -35,7 +35,13 @@ struct JumpMapConfig {
   /// (secant in rpm) and shoot it directly, without the transient; the
   /// transient path only when that gives no stable orbit of the same period.
   bool warm_start = true;
+  /// Bisection levels between neighbouring grid speeds whose class (motion
+  /// kind, period) differs: each adds one speed and halves the bracket, ≥ 0.
+  int refine = 1;
 };
+
+/// The most `refine` levels (each halves a bracket: 2^-20 of a grid step is finer than any speed needs).
+inline constexpr int kMaxRefineLevels = 20;
 
 struct JumpMapStudy {
   SceneConfig scene;
@@ -65,6 +71,7 @@ struct JumpMapPoint {
   double rpm = 0.0;
   bool ok = false;
   JumpMapStart start = JumpMapStart::transient;
+  bool refined = false;  ///< inserted between grid speeds of different classes (JumpMapConfig::refine)
   std::string error;
   /// The budget that cut this speed short (common/study_budget.h:
   /// budget_that_cut), empty when none did: such a speed says nothing about

@@ -53,7 +53,7 @@ std::string point_status(const JumpMapPoint& p) {
 void write_csvs(const std::filesystem::path& dir, const std::vector<JumpMapPoint>& points) {
   CsvWriter speeds(dir / "jump_map.csv", {"rpm", "motion", "period", "spectral_radius", "lyapunov_per_revolution",
                                           "impacts", "max_impact_speed", "separation_fraction", "max_gap",
-                                          "peak_contact_force", "status", "error", "start"});
+                                          "peak_contact_force", "status", "error", "start", "refined"});
   CsvWriter impacts(dir / "impacts.csv", {"rpm", "motion", "period", "cam_angle_deg", "approach_speed"});
   for (const JumpMapPoint& p : points) {
     double fastest = 0.0;
@@ -65,7 +65,8 @@ void write_csvs(const std::filesystem::path& dir, const std::vector<JumpMapPoint
     speeds.row({CsvCell(p.rpm), CsvCell(p.ok ? to_string(p.motion) : ""), CsvCell(p.period), CsvCell(p.spectral_radius),
                 CsvCell(p.lyapunov), CsvCell(static_cast<long>(p.impact_speed.size())), CsvCell(fastest),
                 CsvCell(p.separation_fraction), CsvCell(p.max_gap), CsvCell(p.peak_contact_force),
-                CsvCell(point_status(p)), CsvCell(p.error), CsvCell(p.ok ? to_string(p.start) : "")});
+                CsvCell(point_status(p)), CsvCell(p.error), CsvCell(p.ok ? to_string(p.start) : ""),
+                CsvCell(p.refined ? 1L : 0L)});
   }
   speeds.commit();
   impacts.commit();
@@ -157,7 +158,7 @@ Report jump_map_report(const JumpMapStudy& study, const std::vector<JumpMapPoint
   Table table{
       "Speeds", {"rpm", "motion", "impacts", "separation fraction", "max gap [m]", "peak force [N]", "error"}, {}};
   for (const JumpMapPoint& p : points)
-    table.rows.push_back({format_number(p.rpm), p.ok ? motion_label(p) : "failed",
+    table.rows.push_back({format_number(p.rpm) + (p.refined ? " (refined)" : ""), p.ok ? motion_label(p) : "failed",
                           std::to_string(p.impact_speed.size()), format_number(p.separation_fraction),
                           format_number(p.max_gap), format_number(p.peak_contact_force), p.error});
   table.wrap = true;  // the error column

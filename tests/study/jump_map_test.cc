@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
@@ -183,6 +184,55 @@ TEST(JumpMap, TranslatingFollowersSectionIsLabelledInALengthUnitItsSizeNeeds) {
   const Plot um = section_plot("translating_roller", 50e-6);
   EXPECT_EQ(um.ylabel, "follower position at the section [µm]");
   EXPECT_DOUBLE_EQ(um.series.front().y.front(), 50.0);
+}
+
+// Between grid speeds of different classes the map bisects `refine` times:
+// the bouncing ball's period doubling (near 603 rpm, the closed form) lies
+// between the grid speeds 595 and 605 rpm; with refine 2 the change is
+// bracketed to a quarter of that step by two refined speeds inside it, and
+// the grid speeds are not marked refined.
+TEST(JumpMap, AChangeOfClassIsBracketedByBisection) {
+  const fs::path dir = test::scratch_dir("jump_map_test", "refine");
+  const std::string ball = std::string(CAMDYN_SOURCE_DIR) + "/studies/periodic/bouncing_ball_jump_map.json";
+  const test::Outcome r = test::run_camdyn(
+      {"run", ball, "--out", (dir / "out").string(), "--quiet", "--jobs", "1", "--set",
+       R"(jump_map={"low_rpm": 585, "high_rpm": 625, "speeds": 5, "ranges": 1, "samples": 8, "refine": 2})", "--set",
+       R"(periodic={"max_period": 2, "lyapunov_revolutions": 20})"},
+      dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Json j = Json::parse(test::read_text(dir / "out" / "jump_map.json"));
+  const double step = 10.0;  // [rpm]
+  std::vector<double> refined;
+  double previous = 0.0;
+  for (const Json& p : j["speeds"]) {
+    const double rpm = p["rpm"].get<double>();
+    EXPECT_GT(rpm, previous) << "in rpm order";
+    previous = rpm;
+    const bool on_grid = std::abs(std::remainder(rpm - 585.0, step)) < 1e-9;
+    EXPECT_EQ(p["refined"].get<bool>(), !on_grid) << rpm;
+    if (!on_grid) refined.push_back(rpm);
+  }
+  ASSERT_EQ(refined.size(), 2u) << j["speeds"].dump();
+  for (const double rpm : refined) {
+    EXPECT_GT(rpm, 595.0);
+    EXPECT_LT(rpm, 605.0);
+  }
+  ASSERT_FALSE(j["transitions"].empty());
+  for (const Json& t : j["transitions"])
+    EXPECT_LE(t["to_rpm"].get<double>() - t["from_rpm"].get<double>(), step / 4 + 1e-9) << t.dump();
+  EXPECT_EQ(j["speeds"].back()["period"], 2);
+}
+
+TEST(JumpMap, RefineBeyondItsBoundIsNamed) {
+  const fs::path dir = test::scratch_dir("jump_map_test", "refine_bad");
+  for (const char* refine : {"-1", "21"}) {
+    const test::Outcome r =
+        test::run_camdyn({"validate", kQuickstart, "--set", "study=jump_map", "--set",
+                          std::string(R"(jump_map={"low_rpm": 900, "high_rpm": 1000, "refine": )") + refine + "}"},
+                         dir);
+    EXPECT_EQ(r.code, 2) << refine;
+    EXPECT_NE(r.err.find("jump_map.refine"), std::string::npos) << r.err;
+  }
 }
 
 // The progress line's unit is a speed's expected cost in revolutions, so its

@@ -101,14 +101,16 @@ TEST_P(JumpMapWarmStart, ClassifiesEverySpeedAsTheTransientPathDoes) {
 INSTANTIATE_TEST_SUITE_P(
     Scenes, JumpMapWarmStart,
     ::testing::Values(
-        WarmCase{"quickstart_across_the_jump_speed", "studies/quickstart.json",
-                 R"({"low_rpm": 1000, "high_rpm": 1250, "speeds": 6, "ranges": 1, "transient_revolutions": 10,
+        WarmCase{
+            "quickstart_across_the_jump_speed", "studies/quickstart.json",
+            R"({"low_rpm": 1000, "high_rpm": 1250, "speeds": 6, "ranges": 1, "refine": 0, "transient_revolutions": 10,
                      "samples": 10)",
-                 R"({"max_period": 2, "lyapunov_revolutions": 20})", 0.02, 1},
-        WarmCase{"bouncing_ball_across_its_period_doubling", "studies/periodic/bouncing_ball_jump_map.json",
-                 R"({"low_rpm": 585, "high_rpm": 625, "speeds": 6, "ranges": 1, "transient_revolutions": 20,
+            R"({"max_period": 2, "lyapunov_revolutions": 20})", 0.02, 1},
+        WarmCase{
+            "bouncing_ball_across_its_period_doubling", "studies/periodic/bouncing_ball_jump_map.json",
+            R"({"low_rpm": 585, "high_rpm": 625, "speeds": 6, "ranges": 1, "refine": 0, "transient_revolutions": 20,
                      "samples": 8)",
-                 R"({"max_period": 2, "lyapunov_revolutions": 20})", 0.006, 2}),
+            R"({"max_period": 2, "lyapunov_revolutions": 20})", 0.006, 2}),
     [](const ::testing::TestParamInfo<WarmCase>& p) { return std::string(p.param.name); });
 
 }  // namespace
