@@ -103,7 +103,7 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(
         WarmCase{
             "quickstart_across_the_jump_speed", "studies/quickstart.json",
-            R"({"low_rpm": 1000, "high_rpm": 1250, "speeds": 6, "ranges": 1, "refine": 0, "transient_revolutions": 10,
+            R"({"low_rpm": 1000, "high_rpm": 1250, "speeds": 5, "ranges": 1, "refine": 0, "transient_revolutions": 10,
                      "samples": 10)",
             R"({"max_period": 2, "lyapunov_revolutions": 20})", 0.02, 1},
         WarmCase{
