@@ -158,8 +158,8 @@ void fill_from_cycle(JumpMapPoint& p, const SimulationResult& cycle, const Poinc
 // Chord iterations on P^k(x) − x = 0 from `x` with the neighbour's
 // monodromy M in place of this speed's (whose 2n map evaluations a Newton
 // step would cost): x ← x − (M − I)⁻¹ (P^k(x) − x) while the scaled residual
-// falls, at most kChordIterations times. Returns the point of least residual
-// (x itself when nothing helped); the shooting then confirms it.
+// falls, at most kChordIterations map evaluations. Returns the point of least
+// residual evaluated (x itself when nothing helped); the shooting confirms it.
 constexpr int kChordIterations = 4;
 SectionPoint chord_iterations(const PoincareMap& map, SectionPoint x, const ConvergedOrbit& neighbour,
                               double tolerance) {
@@ -169,9 +169,10 @@ SectionPoint chord_iterations(const PoincareMap& map, SectionPoint x, const Conv
   if (!lu.isInvertible()) return x;
   Workspace ws = make_workspace(map.model());
   double best = std::numeric_limits<double>::infinity();
+  SectionPoint kept = x;  // the point of least residual so far
   for (int it = 0; it < kChordIterations; ++it) {
     const MapResult image = map.apply(x, neighbour.period, ws);
-    if (!image.ok) return x;
+    if (!image.ok) return kept;
     Eigen::VectorXd residual(n);
     double norm = 0.0;  // max |R_j| / scale_j [-]
     for (Eigen::Index j = 0; j < n; ++j) {
@@ -179,17 +180,16 @@ SectionPoint chord_iterations(const PoincareMap& map, SectionPoint x, const Conv
       residual[j] = image.end.x[u] - x.x[u];
       norm = std::max(norm, std::abs(residual[j]) / map.scales()[u]);
     }
-    if (!(norm < best)) return x;  // (x is then the last point that lowered it, or the start)
+    if (!(norm < best)) return kept;
     best = norm;
-    if (norm <= tolerance) return x;
+    kept = x;
+    if (norm <= tolerance) return kept;
     const Eigen::VectorXd step = lu.solve(-residual);
-    if (!step.allFinite()) return x;
-    SectionPoint next = x;
-    for (Eigen::Index j = 0; j < n; ++j) next.x[static_cast<std::size_t>(j)] += step[j];
-    next.approach_speed = image.end.approach_speed;
-    x = std::move(next);
+    if (!step.allFinite()) return kept;
+    for (Eigen::Index j = 0; j < n; ++j) x.x[static_cast<std::size_t>(j)] += step[j];
+    x.approach_speed = image.end.approach_speed;
   }
-  return x;
+  return kept;
 }
 
 // The warm start: the chord iterations (period 1) and Newton from the
