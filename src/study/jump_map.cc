@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <optional>
 
@@ -29,13 +30,19 @@ void visit(A& a, JumpMapConfig& c) {
   a.field("ranges", c.ranges, at_least(1));
   a.field("transient_revolutions", c.transient_revolutions, at_least(1));
   a.field("samples", c.samples, at_least(1));
+  a.field("warm_start", c.warm_start);
+  a.field("refine", c.refine, at_least(0));
+  a.require(c.refine <= kMaxRefineLevels, "refine",
+            "must be at most " + std::to_string(kMaxRefineLevels) + " levels, got " + std::to_string(c.refine));
   a.require(c.high_rpm > c.low_rpm, "high_rpm", "must be above low_rpm");
   // Work bounds: each speed's run, and the samples of every speed held to the end.
   a.require(static_cast<double>(c.transient_revolutions) + c.samples <= kMaxRevolutionsPerRun, "samples",
             "transient_revolutions + samples asks for " +
                 format_shortest(static_cast<double>(c.transient_revolutions) + c.samples) +
                 " revolutions at each speed (at most " + format_shortest(kMaxRevolutionsPerRun) + ")");
-  const double bytes = static_cast<double>(c.speeds) * (kBytesPerSpeed + kBytesPerSample * c.samples);
+  // Each change between neighbours may add `refine` speeds.
+  const double held = static_cast<double>(c.speeds) + static_cast<double>(c.speeds - 1) * c.refine;
+  const double bytes = held * (kBytesPerSpeed + kBytesPerSample * c.samples);
   a.require(bytes <= memory_budget_bytes(), "speeds",
             std::to_string(c.speeds) + " speeds of " + std::to_string(c.samples) + " samples need about " +
                 format_shortest(std::ceil(bytes / kBytesPerMb)) + " MB: " + memory_budget_text());
@@ -58,44 +65,58 @@ SimulationResult sample_run(const PoincareMap& map, const SectionPoint& from, in
   return r;
 }
 
-// One speed: the transient from `carry` (the neighbour's end) or from the
-// scene's own start, the periodic analysis, the samples; `carry` becomes
-// this speed's end.
-JumpMapPoint run_speed(const JumpMapStudy& study, double rpm, const std::string& file,
-                       std::optional<SectionPoint>& carry) {
-  SceneConfig scene = study.scene;
-  scene.mechanism.cam.rpm = rpm;
-  const Model model = build_model(study.geometry, scene, file);
-  const PoincareMap map(scene, model, file);
-  Workspace ws = make_workspace(model);
-  const int transient = study.config.transient_revolutions;
-  SectionPoint start;
-  if (carry) {
-    const MapResult r = map.apply(*carry, transient, ws);
-    if (!r.ok) throw NumericalError(r.message);
-    start = r.end;
-  } else {
-    SimulationOptions options;
-    options.record_series = false;
-    options.step_metrics = false;
-    options.quadratures = false;  // the transient's end state is all it gives
-    const SimulationResult r = simulate(map.scene_for(transient), model, ws, options);
-    throw_if_failed(r);
-    start = map.point(r);
+// A stable orbit a speed converged to: what the next speeds predict theirs from.
+struct ConvergedOrbit {
+  double rpm = 0.0;  ///< [rpm]
+  int period = 0;    ///< [revolutions]
+  SectionPoint fixed_point;
+  Eigen::MatrixXd monodromy;  ///< ∂P^k/∂x at fixed_point
+};
+
+// What a range carries from one speed to the next: the motion's end (the
+// transient path's start) and the last stable orbits of one period, oldest
+// first (at most two: the secant's).
+struct Continuation {
+  std::optional<SectionPoint> carry;
+  std::vector<ConvergedOrbit> orbits;
+};
+
+// The fixed point predicted at `rpm`: the secant in rpm through the last two
+// orbits, or the last orbit's own fixed point when there is one.
+SectionPoint predicted_fixed_point(const std::vector<ConvergedOrbit>& orbits, double rpm) {
+  const ConvergedOrbit& last = orbits.back();
+  SectionPoint p = last.fixed_point;
+  if (orbits.size() < 2) return p;
+  const ConvergedOrbit& before = orbits[orbits.size() - 2];
+  const double s = (rpm - last.rpm) / (last.rpm - before.rpm);  // [-]
+  for (std::size_t j = 0; j < p.x.size(); ++j) p.x[j] += s * (last.fixed_point.x[j] - before.fixed_point.x[j]);
+  return p;
+}
+
+// Of the k section points of a period-k orbit, the one nearest `reference`
+// (the previous speed's fixed point, scaled by the map's scales): Newton may
+// land on any of them, and a secant through two different ones predicts
+// nothing.
+SectionPoint nearest_phase(const PoincareMap& map, const SectionPoint& fixed_point, int period,
+                           const SectionPoint& reference, Workspace& ws) {
+  auto distance = [&](const SectionPoint& p) {
+    double d = 0.0;
+    for (std::size_t j = 0; j < p.x.size(); ++j) d = std::max(d, std::abs(p.x[j] - reference.x[j]) / map.scales()[j]);
+    return d;
+  };
+  SectionPoint best = fixed_point, p = fixed_point;
+  for (int j = 1; j < period; ++j) {
+    const MapResult r = map.apply(p, 1, ws);
+    if (!r.ok) return fixed_point;
+    p = r.end;
+    if (distance(p) < distance(best)) best = p;
   }
-  PeriodicOptions options = study.periodic.options;
-  options.threads = 1;  // the ranges run in parallel
-  const PeriodicAnalysis a = analyse_from(map, start, options);
-  const SimulationResult samples = sample_run(map, a.orbit ? a.orbit->fixed_point : start, study.config.samples);
-  JumpMapPoint p;
-  p.rpm = rpm;
-  p.ok = true;
-  p.motion = a.motion;
-  if (a.orbit) {
-    p.period = a.orbit->period;
-    p.spectral_radius = a.orbit->spectral_radius();
-  }
-  if (a.lyapunov) p.lyapunov = a.lyapunov->per_revolution;
+  return best;
+}
+
+// The point's motion, samples and metrics from `samples`, the run from the
+// analysis' orbit or start.
+void fill_from_run(JumpMapPoint& p, const SimulationResult& samples) {
   for (const ContactEvent& e : samples.events)
     if (e.onset && e.impact) {
       p.impact_angle_deg.push_back(std::fmod(e.cam_angle_deg, 360.0));
@@ -106,7 +127,171 @@ JumpMapPoint run_speed(const JumpMapStudy& study, double rpm, const std::string&
   if (samples.metrics.train) p.link_separation_fraction = samples.metrics.train->link_separation_fraction;
   p.max_gap = samples.metrics.max_separation_gap;
   p.peak_contact_force = samples.metrics.peak_contact_force;
-  carry = map.point(samples);
+}
+
+// A periodic orbit's `samples` section samples and their impacts from one
+// period (`cycle`, `period` revolutions from the fixed point), repeated: the
+// same as `samples` revolutions would give, within the shooting tolerance.
+void fill_from_cycle(JumpMapPoint& p, const SimulationResult& cycle, const PoincareMap& map, int period, int samples) {
+  const std::vector<double>& positions = cycle.samples.follower_position;
+  std::vector<std::vector<std::size_t>> impacts_in(static_cast<std::size_t>(period));  // by revolution of the cycle
+  for (std::size_t i = 0; i < cycle.events.size(); ++i) {
+    const ContactEvent& e = cycle.events[i];
+    if (!e.onset || !e.impact) continue;
+    const int revolution = std::clamp(static_cast<int>(std::floor(e.time / map.period())), 0, period - 1);
+    impacts_in[static_cast<std::size_t>(revolution)].push_back(i);
+  }
+  for (int j = 0; j < samples; ++j) {
+    const std::size_t r = static_cast<std::size_t>(j % period);
+    if (r < positions.size()) p.section_position.push_back(positions[r]);
+    for (const std::size_t i : impacts_in[r]) {
+      p.impact_angle_deg.push_back(std::fmod(cycle.events[i].cam_angle_deg, 360.0));
+      p.impact_speed.push_back(cycle.events[i].speed);
+    }
+  }
+  p.separation_fraction = cycle.metrics.separation_fraction;
+  if (cycle.metrics.train) p.link_separation_fraction = cycle.metrics.train->link_separation_fraction;
+  p.max_gap = cycle.metrics.max_separation_gap;
+  p.peak_contact_force = cycle.metrics.peak_contact_force;
+}
+
+// Chord iterations on P^k(x) − x = 0 from `x` with the neighbour's
+// monodromy M in place of this speed's (whose 2n map evaluations a Newton
+// step would cost): x ← x − (M − I)⁻¹ (P^k(x) − x) while the scaled residual
+// falls, at most kChordIterations map evaluations. Returns the point of least
+// residual evaluated (x itself when nothing helped); the shooting confirms it.
+constexpr int kChordIterations = 4;
+SectionPoint chord_iterations(const PoincareMap& map, SectionPoint x, const ConvergedOrbit& neighbour,
+                              double tolerance) {
+  const Eigen::Index n = map.dimension();
+  if (neighbour.monodromy.rows() != n || neighbour.monodromy.cols() != n) return x;
+  const Eigen::FullPivLU<Eigen::MatrixXd> lu(neighbour.monodromy - Eigen::MatrixXd::Identity(n, n));
+  if (!lu.isInvertible()) return x;
+  Workspace ws = make_workspace(map.model());
+  double best = std::numeric_limits<double>::infinity();
+  SectionPoint kept = x;  // the point of least residual so far
+  for (int it = 0; it < kChordIterations; ++it) {
+    const MapResult image = map.apply(x, neighbour.period, ws);
+    if (!image.ok) return kept;
+    Eigen::VectorXd residual(n);
+    double norm = 0.0;  // max |R_j| / scale_j [-]
+    for (Eigen::Index j = 0; j < n; ++j) {
+      const auto u = static_cast<std::size_t>(j);
+      residual[j] = image.end.x[u] - x.x[u];
+      norm = std::max(norm, std::abs(residual[j]) / map.scales()[u]);
+    }
+    if (!(norm < best)) return kept;
+    best = norm;
+    kept = x;
+    if (norm <= tolerance) return kept;
+    const Eigen::VectorXd step = lu.solve(-residual);
+    if (!step.allFinite()) return kept;
+    for (Eigen::Index j = 0; j < n; ++j) x.x[static_cast<std::size_t>(j)] += step[j];
+    x.approach_speed = image.end.approach_speed;
+  }
+  return kept;
+}
+
+// The warm start: the chord iterations (period 1) and Newton from the
+// predicted fixed point, periods up to the predicted one; the orbit when it
+// is stable and of that period (else the transient path decides: the
+// shortcut only reports a stable orbit the shooting confirmed; where two
+// stable orbits coexist it keeps to the one continued from the neighbours,
+// docs/periodic.md "Warm start").
+std::optional<Orbit> shoot_predicted(const PoincareMap& map, const JumpMapStudy& study, const Continuation& c,
+                                     double rpm) {
+  PeriodicOptions options = study.periodic.options;
+  options.threads = 1;  // the ranges run in parallel
+  options.max_period = c.orbits.back().period;
+  options.lyapunov_revolutions = 0;
+  SectionPoint start = predicted_fixed_point(c.orbits, rpm);
+  // A period-k orbit's monodromy is the neighbour's at its own phase only for k = 1.
+  if (options.max_period == 1) start = chord_iterations(map, std::move(start), c.orbits.back(), options.tolerance);
+  const PeriodicAnalysis a = find_periodic_orbit(map, start, options);
+  if (!a.orbit || !a.orbit->stable || a.orbit->period != options.max_period) return std::nullopt;
+  return a.orbit;
+}
+
+// The present path: the transient from the neighbour's end (or from the
+// scene's own start), the periodic analysis, `samples` revolutions from its
+// orbit (or from where the transient ended).
+JumpMapPoint transient_path(const JumpMapStudy& study, const PoincareMap& map, double rpm, Continuation& c,
+                            std::optional<Orbit>& orbit) {
+  Workspace ws = make_workspace(map.model());
+  const int transient = study.config.transient_revolutions;
+  SectionPoint start;
+  if (c.carry) {
+    const MapResult r = map.apply(*c.carry, transient, ws);
+    if (!r.ok) throw NumericalError(r.message);
+    start = r.end;
+  } else {
+    SimulationOptions options;
+    options.record_series = false;
+    options.step_metrics = false;
+    options.quadratures = false;  // the transient's end state is all it gives
+    const SimulationResult r = simulate(map.scene_for(transient), map.model(), ws, options);
+    throw_if_failed(r);
+    start = map.point(r);
+  }
+  PeriodicOptions options = study.periodic.options;
+  options.threads = 1;  // the ranges run in parallel
+  PeriodicAnalysis a = analyse_from(map, start, options);
+  const SimulationResult samples = sample_run(map, a.orbit ? a.orbit->fixed_point : start, study.config.samples);
+  JumpMapPoint p;
+  p.rpm = rpm;
+  p.ok = true;
+  p.start = JumpMapStart::transient;
+  p.motion = a.motion;
+  if (a.orbit) {
+    p.period = a.orbit->period;
+    p.spectral_radius = a.orbit->spectral_radius();
+  }
+  if (a.lyapunov) p.lyapunov = a.lyapunov->per_revolution;
+  fill_from_run(p, samples);
+  c.carry = map.point(samples);
+  orbit = std::move(a.orbit);
+  return p;
+}
+
+// One speed: shot from the predicted orbit when the neighbours converged to a
+// stable one (study.config.warm_start), else (or when that fails) the
+// transient path; `c` carries this speed's end and orbit to the next.
+JumpMapPoint run_speed(const JumpMapStudy& study, double rpm, const std::string& file, Continuation& c) {
+  SceneConfig scene = study.scene;
+  scene.mechanism.cam.rpm = rpm;
+  const Model model = build_model(study.geometry, scene, file);
+  const PoincareMap map(scene, model, file);
+  std::optional<Orbit> orbit;
+  if (study.config.warm_start && !c.orbits.empty()) orbit = shoot_predicted(map, study, c, rpm);
+  JumpMapPoint p;
+  if (orbit) {
+    const SimulationResult cycle = sample_run(map, orbit->fixed_point, orbit->period);
+    p.rpm = rpm;
+    p.ok = true;
+    p.start = JumpMapStart::predicted;
+    p.motion = MotionKind::periodic;
+    p.period = orbit->period;
+    p.spectral_radius = orbit->spectral_radius();
+    fill_from_cycle(p, cycle, map, orbit->period, study.config.samples);
+    c.carry = map.point(cycle);
+  } else {
+    p = transient_path(study, map, rpm, c, orbit);
+  }
+  if (!orbit || !orbit->stable) {
+    c.orbits.clear();
+    return p;
+  }
+  ConvergedOrbit now{rpm, orbit->period, orbit->fixed_point, orbit->monodromy};
+  if (!c.orbits.empty() && c.orbits.back().period == now.period) {
+    if (now.period > 1) {
+      Workspace ws = make_workspace(model);
+      now.fixed_point = nearest_phase(map, now.fixed_point, now.period, c.orbits.back().fixed_point, ws);
+    }
+    if (c.orbits.size() == 2) c.orbits.erase(c.orbits.begin());
+  } else {
+    c.orbits.clear();
+  }
+  c.orbits.push_back(std::move(now));
   return p;
 }
 
@@ -122,11 +307,12 @@ JumpMapStudy read_jump_map_study(const Json& doc, const StudyContext& ctx) {
   const Json periodic = read_study_fields(part, "periodic", ctx.source, study.periodic);
   study.geometry = build_cam_geometry(study.scene, ctx.config_file);
   const Model model = build_model(*study.geometry, study.scene, ctx.config_file);
-  [[maybe_unused]] const PoincareMap map(study.scene, model, ctx.config_file);  // the drive sets the speed
+  const PoincareMap map(study.scene, model, ctx.config_file);  // the drive sets the speed
   study.rigid_jump_speed_rpm = model_jump_speed_rpm(model);
   study.damped_rigid_jump_speed_rpm =
       model.train.has_coordinates() ? study.rigid_jump_speed_rpm : damped_jump_speed_rpm(model);
   study.jump_speed_name = jump_speed_name(model);
+  study.section_dimension = map.dimension();
   const JumpMapConfig& c = study.config;
   for (int i = 0; i < c.speeds; ++i) study.rpm.push_back(c.low_rpm + (c.high_rpm - c.low_rpm) * i / (c.speeds - 1));
   study.resolved = resolved_study_json(study.scene, "jump_map", Json{{"jump_map", fields}, {"periodic", periodic}});
@@ -141,9 +327,71 @@ std::vector<std::size_t> jump_map_range(const JumpMapStudy& study, std::size_t r
   return indices;
 }
 
+double jump_map_speed_work(const JumpMapStudy& study, std::size_t i) {
+  const double jacobian = 1.0 + 2.0 * study.section_dimension;  // [revolutions]
+  const double rpm = study.rpm.at(i);
+  const bool past_jump = std::isfinite(study.damped_rigid_jump_speed_rpm) && rpm >= study.damped_rigid_jump_speed_rpm;
+  // The first speed of a range has no neighbour to start from: the smallest
+  // range r whose first index r n / ranges (jump_map_range) reaches i.
+  const std::size_t n = study.rpm.size();
+  const std::size_t ranges = std::min(n, static_cast<std::size_t>(study.config.ranges));
+  const std::size_t r = (i * ranges + n - 1) / n;
+  const bool first_of_range = r < ranges && r * n / ranges == i;
+  if (study.config.warm_start && !past_jump && !first_of_range) return jacobian + 3.0;
+  const double transient_path = study.config.transient_revolutions + study.config.samples + 2.0 * jacobian;
+  return past_jump ? transient_path + 2.0 * study.periodic.options.lyapunov_revolutions : transient_path;
+}
+
+namespace {
+
+// Two speeds of one class: both ran, the same kind of motion, and the same period.
+bool same_class(const JumpMapPoint& a, const JumpMapPoint& b) {
+  return a.ok == b.ok && a.motion == b.motion && a.period == b.period;
+}
+
+// Between neighbouring grid speeds of different classes, study.config.refine
+// speeds by bisection, each run from the continuation of the speed below
+// it: each halves the bracket of the change. Appended to `points` (marked
+// refined); a speed that fails or the study's budget ends that bracket.
+void refine_range(const JumpMapStudy& study, const std::string& file, std::vector<JumpMapPoint>& points,
+                  const std::vector<Continuation>& after) {
+  const std::size_t grid = points.size();
+  for (std::size_t j = 0; j + 1 < grid; ++j) {
+    if (!points[j].ok || !points[j + 1].ok || same_class(points[j], points[j + 1])) continue;
+    JumpMapPoint below = points[j];
+    const JumpMapPoint above = points[j + 1];
+    Continuation from = after[j];
+    double lo = below.rpm, hi = above.rpm;  // [rpm]
+    for (int level = 0; level < study.config.refine && !study_budget_exhausted(); ++level) {
+      const double mid = 0.5 * (lo + hi);
+      Continuation c = from;
+      JumpMapPoint p;
+      try {
+        p = run_speed(study, mid, file, c);
+      } catch (const std::exception&) {
+        break;  // the bracket stays as the speeds that ran leave it
+      }
+      p.refined = true;
+      points.push_back(p);
+      if (same_class(below, p)) {
+        lo = mid;
+        below = std::move(p);
+        from = std::move(c);
+      } else {
+        hi = mid;
+      }
+    }
+  }
+  std::stable_sort(points.begin(), points.end(),
+                   [](const JumpMapPoint& a, const JumpMapPoint& b) { return a.rpm < b.rpm; });
+}
+
+}  // namespace
+
 std::vector<JumpMapPoint> run_jump_map_range(const JumpMapStudy& study, std::size_t r, const std::string& file) {
   std::vector<JumpMapPoint> points;
-  std::optional<SectionPoint> carry;
+  std::vector<Continuation> after;  // what each grid speed hands on
+  Continuation continuation;
   for (const std::size_t i : jump_map_range(study, r)) {
     if (study_budget_exhausted()) {
       JumpMapPoint p;
@@ -151,20 +399,23 @@ std::vector<JumpMapPoint> run_jump_map_range(const JumpMapStudy& study, std::siz
       p.error = study_budget_text() + " before this speed";
       p.budget = "--max-study-time";
       points.push_back(std::move(p));
+      after.push_back(continuation);
       continue;
     }
     try {
-      points.push_back(run_speed(study, study.rpm[i], file, carry));
+      points.push_back(run_speed(study, study.rpm[i], file, continuation));
     } catch (const std::exception& e) {
       JumpMapPoint p;
       p.rpm = study.rpm[i];
       p.error = e.what();
       p.budget = budget_that_cut(p.error);
       points.push_back(std::move(p));
-      carry.reset();  // the next speed starts afresh
+      continuation = Continuation{};  // the next speed starts afresh
     }
-    report_work_done(1.0);  // one speed: the unit of the progress line's estimate
+    after.push_back(continuation);
+    report_work_done(jump_map_speed_work(study, i));  // the progress line's unit: expected revolutions
   }
+  if (study.config.refine > 0) refine_range(study, file, points, after);
   return points;
 }
 
@@ -195,6 +446,8 @@ std::vector<JumpMapTransition> jump_map_transitions(const std::vector<JumpMapPoi
 Json jump_map_point_json(const JumpMapPoint& p) {
   return Json{{"rpm", p.rpm},
               {"ok", p.ok},
+              {"start", to_string(p.start)},
+              {"refined", p.refined},
               {"error", p.error},
               {"budget", p.budget},
               {"motion", to_string(p.motion)},
@@ -215,6 +468,8 @@ JumpMapPoint jump_map_point_from_json(const Json& j) {
   p.ok = j.at("ok").get<bool>();
   p.error = j.at("error").get<std::string>();
   p.budget = j.value("budget", std::string());
+  p.start = parse_enum<JumpMapStart>(j.value("start", std::string("transient")));  // older records: no shortcut
+  p.refined = j.value("refined", false);
   p.motion = parse_enum<MotionKind>(j.at("motion").get<std::string>());
   p.period = j.at("period").get<int>();
   p.spectral_radius = j.at("spectral_radius").get<double>();

@@ -10,12 +10,14 @@
 #pragma once
 
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "dynamics/cam_geometry.h"
 #include "io/config.h"
 #include "output/report.h"
+#include "scene/enum_names.h"
 #include "study/periodic_study.h"
 #include "study/study.h"
 
@@ -29,7 +31,17 @@ struct JumpMapConfig {
   int ranges = 4;                  ///< contiguous ranges run in parallel (continuation within each), ≥ 1
   int transient_revolutions = 20;  ///< followed at each speed before its samples and analysis
   int samples = 30;                ///< Poincaré samples recorded at each speed
+  /// Start a speed from the orbit predicted by its neighbours' stable orbits
+  /// (secant in rpm) and shoot it directly, without the transient; the
+  /// transient path only when that gives no stable orbit of the same period.
+  bool warm_start = true;
+  /// Bisection levels between neighbouring grid speeds whose class (motion
+  /// kind, period) differs: each adds one speed and halves the bracket, ≥ 0.
+  int refine = 1;
 };
+
+/// The most `refine` levels (each halves a bracket: 2^-20 of a grid step is finer than any speed needs).
+inline constexpr int kMaxRefineLevels = 20;
 
 struct JumpMapStudy {
   SceneConfig scene;
@@ -43,13 +55,23 @@ struct JumpMapStudy {
   double damped_rigid_jump_speed_rpm = 0.0;  ///< damped_jump_speed_rpm (the damper's c ω s' included) [rpm]
   /// With a follower train both figures are the held train's (docs/model.md §12), so named.
   std::string jump_speed_name = "rigid-model jump speed";
-  std::vector<double> rpm;  ///< the grid
+  std::vector<double> rpm;    ///< the grid
+  int section_dimension = 0;  ///< coordinates of the Poincaré map (dynamics/poincare_map.h)
 };
+
+/// How a speed's motion was reached: shot from the orbit its neighbours
+/// predicted, or followed past a transient and analysed.
+enum class JumpMapStart { predicted, transient };
+inline constexpr EnumName<JumpMapStart> kJumpMapStartNames[] = {{JumpMapStart::predicted, "predicted"},
+                                                                {JumpMapStart::transient, "transient"}};
+constexpr std::span<const EnumName<JumpMapStart>> enum_names(JumpMapStart) { return kJumpMapStartNames; }
 
 /// What one speed gave.
 struct JumpMapPoint {
   double rpm = 0.0;
   bool ok = false;
+  JumpMapStart start = JumpMapStart::transient;
+  bool refined = false;  ///< inserted between grid speeds of different classes (JumpMapConfig::refine)
   std::string error;
   /// The budget that cut this speed short (common/study_budget.h:
   /// budget_that_cut), empty when none did: such a speed says nothing about
@@ -79,6 +101,16 @@ JumpMapStudy read_jump_map_study(const Json& doc, const StudyContext& ctx);
 
 /// The speeds of range `r` (indices into study.rpm), run in order with continuation.
 std::vector<std::size_t> jump_map_range(const JumpMapStudy& study, std::size_t r);
+
+/// The expected cost of grid speed `i` [revolutions integrated]: the progress
+/// line's unit of work, so that its time left weighs the speeds left by what
+/// they cost, not one a speed. A speed the warm start can shoot (below the
+/// damped rigid jump speed, not the first of its range): one Jacobian of the
+/// map (1 + 2n revolutions, n section coordinates) and 3 more; one on the
+/// transient path: transient_revolutions + samples + two Newton iterations
+/// (2 (1 + 2n)); past the jump speed, where the motion may be chaotic, also
+/// the Lyapunov run's two trajectories (2 lyapunov_revolutions).
+double jump_map_speed_work(const JumpMapStudy& study, std::size_t i);
 
 /// Runs range `r`; one point per speed, in order. Never throws: a speed that
 /// fails is a point with ok false and the error, and the next starts afresh;

@@ -51,9 +51,9 @@ std::string point_status(const JumpMapPoint& p) {
 }
 
 void write_csvs(const std::filesystem::path& dir, const std::vector<JumpMapPoint>& points) {
-  CsvWriter speeds(dir / "jump_map.csv",
-                   {"rpm", "motion", "period", "spectral_radius", "lyapunov_per_revolution", "impacts",
-                    "max_impact_speed", "separation_fraction", "max_gap", "peak_contact_force", "status", "error"});
+  CsvWriter speeds(dir / "jump_map.csv", {"rpm", "motion", "period", "spectral_radius", "lyapunov_per_revolution",
+                                          "impacts", "max_impact_speed", "separation_fraction", "max_gap",
+                                          "peak_contact_force", "status", "error", "start", "refined"});
   CsvWriter impacts(dir / "impacts.csv", {"rpm", "motion", "period", "cam_angle_deg", "approach_speed"});
   for (const JumpMapPoint& p : points) {
     double fastest = 0.0;
@@ -65,7 +65,8 @@ void write_csvs(const std::filesystem::path& dir, const std::vector<JumpMapPoint
     speeds.row({CsvCell(p.rpm), CsvCell(p.ok ? to_string(p.motion) : ""), CsvCell(p.period), CsvCell(p.spectral_radius),
                 CsvCell(p.lyapunov), CsvCell(static_cast<long>(p.impact_speed.size())), CsvCell(fastest),
                 CsvCell(p.separation_fraction), CsvCell(p.max_gap), CsvCell(p.peak_contact_force),
-                CsvCell(point_status(p)), CsvCell(p.error)});
+                CsvCell(point_status(p)), CsvCell(p.error), CsvCell(p.ok ? to_string(p.start) : ""),
+                CsvCell(p.refined ? 1L : 0L)});
   }
   speeds.commit();
   impacts.commit();
@@ -157,14 +158,16 @@ Report jump_map_report(const JumpMapStudy& study, const std::vector<JumpMapPoint
   Table table{
       "Speeds", {"rpm", "motion", "impacts", "separation fraction", "max gap [m]", "peak force [N]", "error"}, {}};
   for (const JumpMapPoint& p : points)
-    table.rows.push_back({format_number(p.rpm), p.ok ? motion_label(p) : "failed",
+    table.rows.push_back({format_number(p.rpm) + (p.refined ? " (refined)" : ""), p.ok ? motion_label(p) : "failed",
                           std::to_string(p.impact_speed.size()), format_number(p.separation_fraction),
                           format_number(p.max_gap), format_number(p.peak_contact_force), p.error});
   table.wrap = true;  // the error column
   rep.appendix.push_back(table);
   rep.notes.push_back(
-      "Each speed is followed past its transient (starting from its neighbour's motion), then "
-      "sampled once per revolution; its orbit is found by shooting (the periodic study).");
+      "Each speed whose neighbours settled on a stable orbit is shot from the orbit they predict (a secant in "
+      "rpm); the others, and any whose prediction gives no stable orbit of that period, are followed past "
+      "their transient (starting from the neighbour's motion), analysed by shooting (the periodic study) and "
+      "sampled once per revolution. A periodic orbit's samples are its one period repeated.");
   return rep;
 }
 
@@ -180,7 +183,11 @@ int run_jump_map_study(const Json& doc, const StudyContext& ctx) {
   if (const std::optional<int> code = run_journaled(
           "jump_map", fingerprint(dump_json(study.resolved)), ranges,
           [&](std::size_t r) { return range_record(study, r, ctx.config_file); }, ctx, runs,
-          [&](std::size_t r) { return static_cast<double>(jump_map_range(study, r).size()); }))
+          [&](std::size_t r) {
+            double work = 0.0;  // [expected revolutions]
+            for (const std::size_t i : jump_map_range(study, r)) work += jump_map_speed_work(study, i);
+            return work;
+          }))
     return *code;
   if (mpi::rank() != 0) return 0;  // rank 0 writes the outputs
   std::vector<JumpMapPoint> points;
@@ -220,6 +227,8 @@ int run_jump_map_study(const Json& doc, const StudyContext& ctx) {
                        {"from_period", t.from_period},
                        {"to_period", t.to_period}});
   const double jump = study.rigid_jump_speed_rpm, damped = study.damped_rigid_jump_speed_rpm;
+  long predicted = 0;  // speeds shot from their neighbours' orbit, without a transient
+  for (const JumpMapPoint& p : points) predicted += p.ok && p.start == JumpMapStart::predicted ? 1 : 0;
   write_json_atomic(ctx.out_dir / "jump_map.json",
                     Json{{"name", study.scene.name},
                          {"study", "jump_map"},
@@ -229,6 +238,7 @@ int run_jump_map_study(const Json& doc, const StudyContext& ctx) {
                          {"transitions", withheld.empty() ? changes : Json()},
                          {"speeds", speeds},
                          {"budget_cut_speeds", cut},
+                         {"predicted_speeds", predicted},
                          {"conclusion_withheld", withheld.empty() ? Json() : Json(withheld)},
                          {"resumed_ranges", runs.resumed},
                          {"run_time_s", run_time}});
@@ -241,8 +251,8 @@ int run_jump_map_study(const Json& doc, const StudyContext& ctx) {
   write_report(ctx.out_dir / "report.html", jump_map_report(study, points, transitions, run_time, ctx.config_file));
   long failed = 0;
   for (const JumpMapPoint& p : points) failed += p.ok ? 0 : 1;
-  std::printf("%s: %zu speeds (%ld failed), %zu transitions, %.3g s\n", study.scene.name.c_str(), points.size(), failed,
-              transitions.size(), run_time);
+  std::printf("%s: %zu speeds (%ld failed, %ld from a predicted orbit), %zu transitions, %.3g s\n",
+              study.scene.name.c_str(), points.size(), failed, predicted, transitions.size(), run_time);
   for (const JumpMapTransition& t : transitions)
     std::printf("  %s between %.6g and %.6g rpm\n", t.kind.c_str(), t.from_rpm, t.to_rpm);
   std::printf("  report: %s\n", std::filesystem::absolute(ctx.out_dir / "report.html").lexically_normal().c_str());

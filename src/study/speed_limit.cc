@@ -71,6 +71,23 @@ std::size_t bisection_steps(double width_rpm, double tolerance_rpm) {
   return static_cast<std::size_t>(std::ceil(std::log2(width_rpm / tolerance_rpm)));
 }
 
+/// The scan speeds of the first batch: up to and including the first grid
+/// speed above `jump_rpm` (all of them when none is, `threads` when the jump
+/// speed is not finite), at least `threads`.
+std::size_t first_scan_batch(double low_rpm, double high_rpm, int scan, double jump_rpm, std::size_t threads) {
+  const auto speeds = static_cast<std::size_t>(scan);
+  std::size_t reach = threads;
+  if (std::isfinite(jump_rpm)) {
+    reach = speeds;
+    for (std::size_t i = 0; i < speeds; ++i)
+      if (low_rpm + (high_rpm - low_rpm) * static_cast<double>(i) / (scan - 1) > jump_rpm) {
+        reach = i + 1;
+        break;
+      }
+  }
+  return std::clamp<std::size_t>(reach, std::min(speeds, std::max<std::size_t>(1, threads)), speeds);
+}
+
 }  // namespace
 
 /// The largest speed_limit.min_contact_force [N]: far past any cam; beyond
@@ -148,14 +165,34 @@ SpeedLimitResult run_speed_limit(const SpeedLimitStudy& study, const StudyContex
     return fresh;
   };
 
-  // The scan, in parallel: low_rpm … hi evenly.
-  std::vector<SpeedCheck> scan(static_cast<std::size_t>(c.scan));
-  ProgressMeter progress("speed_limit", scan.size() + bisection_steps((hi - c.low_rpm) / (c.scan - 1), c.tolerance_rpm),
-                         0, 0, static_cast<std::size_t>(ctx.threads()), ctx.progress);
-  parallel_for(scan.size(), ctx.threads(), [&](std::size_t i) {
-    scan[i] = check_or_replay(i, c.low_rpm + (hi - c.low_rpm) * static_cast<double>(i) / (c.scan - 1));
-    progress.finished(!scan[i].converged, 0.0);  // a speed that separates is an answer, not a failure
-  });
+  // The scan: low_rpm … hi evenly, in batches from the bottom, in parallel
+  // within a batch. The first batch reaches the first grid speed above the
+  // rigid-model jump speed (where the follower is expected to leave the cam);
+  // the next ones go on `threads` speeds at a time only while every speed so
+  // far kept contact. The speeds above the first that fails cannot change
+  // the answer, so they are not simulated; the grid, and so each speed's
+  // journal record, is the full scan's.
+  const std::size_t threads = static_cast<std::size_t>(ctx.threads());
+  const std::size_t first_batch = first_scan_batch(c.low_rpm, hi, c.scan, r.rigid_jump_speed_rpm, threads);
+  std::vector<SpeedCheck> scan;
+  ProgressMeter progress(
+      "speed_limit",
+      static_cast<std::size_t>(c.scan) + bisection_steps((hi - c.low_rpm) / (c.scan - 1), c.tolerance_rpm), 0, 0,
+      threads, ctx.progress);
+  for (std::size_t from = 0; from < static_cast<std::size_t>(c.scan);) {
+    const std::size_t to =
+        std::min<std::size_t>(static_cast<std::size_t>(c.scan), from == 0 ? first_batch : from + threads);
+    scan.resize(to);
+    parallel_for(to - from, ctx.threads(), [&](std::size_t j) {
+      const std::size_t i = from + j;
+      scan[i] = check_or_replay(i, c.low_rpm + (hi - c.low_rpm) * static_cast<double>(i) / (c.scan - 1));
+      progress.finished(!scan[i].converged, 0.0);  // a speed that separates is an answer, not a failure
+    });
+    if (std::any_of(scan.begin(), scan.end(), [](const SpeedCheck& s) { return !s.ok; })) break;
+    from = to;
+  }
+  r.scan_skipped = static_cast<std::size_t>(c.scan) - scan.size();
+  progress.set_total(scan.size() + bisection_steps((hi - c.low_rpm) / (c.scan - 1), c.tolerance_rpm));
   r.checks = scan;
   const auto failed = std::find_if(scan.begin(), scan.end(), [](const SpeedCheck& s) { return !s.ok; });
   if (failed == scan.end()) {
@@ -223,6 +260,7 @@ Json speed_limit_json(const SpeedLimitStudy& study, const SpeedLimitResult& r) {
               {"first_failure_rpm", r.limited ? Json(r.first_failure_rpm) : Json(nullptr)},
               {"budget_cut_runs", r.budget_cut},
               {"resumed_checks", r.resumed},
+              {"scan_skipped", r.scan_skipped},
               {"conclusion_withheld", stands ? Json(nullptr) : Json(r.withheld)},
               {"tolerance_rpm", study.config.tolerance_rpm},
               {r.train ? "train_jump_speed_rpm" : "rigid_jump_speed_rpm",

@@ -7,6 +7,9 @@
 // on its spring), so the study does not bisect blindly: it simulates a scan
 // of `scan` speeds from `low_rpm` to `high_rpm`, takes the first speed that
 // fails, and bisects between it and the scan speed below to `tolerance_rpm`.
+// The scan runs from the bottom in batches, the first reaching just past the
+// rigid-model jump speed, and stops at the batch where a speed first fails:
+// the speeds above it cannot change the answer.
 // The answer is "every scanned speed up to here keeps contact, and the speed
 // just above the limit does not", which is what a designer can rely on.
 #pragma once
@@ -75,6 +78,8 @@ struct SpeedLimitResult {
   double run_time_s = 0.0;
   std::size_t budget_cut = 0;  ///< checks a budget cut short
   std::size_t resumed = 0;     ///< checks found in the journal (replayed, not simulated)
+  /// Scan speeds above the first that failed, not simulated (they cannot change the answer).
+  std::size_t scan_skipped = 0;
   /// Why the limit is withheld (a check it rests on was cut short by a
   /// budget); empty when it stands.
   std::string withheld;

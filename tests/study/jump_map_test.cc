@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
@@ -183,6 +184,81 @@ TEST(JumpMap, TranslatingFollowersSectionIsLabelledInALengthUnitItsSizeNeeds) {
   const Plot um = section_plot("translating_roller", 50e-6);
   EXPECT_EQ(um.ylabel, "follower position at the section [µm]");
   EXPECT_DOUBLE_EQ(um.series.front().y.front(), 50.0);
+}
+
+// Between grid speeds of different classes the map bisects `refine` times:
+// the bouncing ball's period doubling (near 603 rpm, the closed form) lies
+// between the grid speeds 595 and 605 rpm; with refine 2 the change is
+// bracketed to a quarter of that step by two refined speeds inside it, and
+// the grid speeds are not marked refined.
+TEST(JumpMap, AChangeOfClassIsBracketedByBisection) {
+  const fs::path dir = test::scratch_dir("jump_map_test", "refine");
+  const std::string ball = std::string(CAMDYN_SOURCE_DIR) + "/studies/periodic/bouncing_ball_jump_map.json";
+  const test::Outcome r = test::run_camdyn(
+      {"run", ball, "--out", (dir / "out").string(), "--quiet", "--jobs", "1", "--set",
+       R"(jump_map={"low_rpm": 585, "high_rpm": 625, "speeds": 5, "ranges": 1, "samples": 8, "refine": 2})", "--set",
+       R"(periodic={"max_period": 2, "lyapunov_revolutions": 20})"},
+      dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Json j = Json::parse(test::read_text(dir / "out" / "jump_map.json"));
+  const double step = 10.0;  // [rpm]
+  std::vector<double> refined;
+  double previous = 0.0;
+  for (const Json& p : j["speeds"]) {
+    const double rpm = p["rpm"].get<double>();
+    EXPECT_GT(rpm, previous) << "in rpm order";
+    previous = rpm;
+    const bool on_grid = std::abs(std::remainder(rpm - 585.0, step)) < 1e-9;
+    EXPECT_EQ(p["refined"].get<bool>(), !on_grid) << rpm;
+    if (!on_grid) refined.push_back(rpm);
+  }
+  ASSERT_EQ(refined.size(), 2u) << j["speeds"].dump();
+  for (const double rpm : refined) {
+    EXPECT_GT(rpm, 595.0);
+    EXPECT_LT(rpm, 605.0);
+  }
+  ASSERT_FALSE(j["transitions"].empty());
+  for (const Json& t : j["transitions"])
+    EXPECT_LE(t["to_rpm"].get<double>() - t["from_rpm"].get<double>(), step / 4 + 1e-9) << t.dump();
+  EXPECT_EQ(j["speeds"].back()["period"], 2);
+}
+
+TEST(JumpMap, RefineBeyondItsBoundIsNamed) {
+  const fs::path dir = test::scratch_dir("jump_map_test", "refine_bad");
+  for (const char* refine : {"-1", "21"}) {
+    const test::Outcome r =
+        test::run_camdyn({"validate", kQuickstart, "--set", "study=jump_map", "--set",
+                          std::string(R"(jump_map={"low_rpm": 900, "high_rpm": 1000, "refine": )") + refine + "}"},
+                         dir);
+    EXPECT_EQ(r.code, 2) << refine;
+    EXPECT_NE(r.err.find("jump_map.refine"), std::string::npos) << r.err;
+  }
+}
+
+// The progress line's unit is a speed's expected cost in revolutions, so its
+// time left weighs the speeds left (issue 38: a 25-speed map's estimate was
+// 87 s short of its 119 s, the cheap speeds below the jump speed setting the
+// pace for the dear ones above it). 6 speeds in 2 ranges (0–2, 3–5), the
+// damped jump speed at 3.5; a 2-coordinate section: a Jacobian is 5
+// revolutions; transient 20, samples 30, Lyapunov 100.
+TEST(JumpMap, EachSpeedWeighsWhatItIsExpectedToCost) {
+  JumpMapStudy study;
+  study.rpm = {1, 2, 3, 4, 5, 6};
+  study.config.ranges = 2;
+  study.damped_rigid_jump_speed_rpm = 3.5;
+  study.section_dimension = 2;
+  study.periodic.options.lyapunov_revolutions = 100;
+  const double predicted = 5.0 + 3.0, transient = 20.0 + 30.0 + 2.0 * 5.0, past_jump = transient + 200.0;
+  EXPECT_DOUBLE_EQ(jump_map_speed_work(study, 0), transient);  // the first of range 0
+  EXPECT_DOUBLE_EQ(jump_map_speed_work(study, 1), predicted);
+  EXPECT_DOUBLE_EQ(jump_map_speed_work(study, 2), predicted);
+  EXPECT_DOUBLE_EQ(jump_map_speed_work(study, 3), past_jump);  // the first of range 1, past the jump
+  EXPECT_DOUBLE_EQ(jump_map_speed_work(study, 5), past_jump);
+  study.damped_rigid_jump_speed_rpm = 10.0;
+  EXPECT_DOUBLE_EQ(jump_map_speed_work(study, 3), transient);  // the first of range 1
+  EXPECT_DOUBLE_EQ(jump_map_speed_work(study, 4), predicted);
+  study.config.warm_start = false;
+  EXPECT_DOUBLE_EQ(jump_map_speed_work(study, 4), transient);
 }
 
 }  // namespace
