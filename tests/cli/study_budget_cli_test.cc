@@ -26,6 +26,10 @@ const std::string kStudies = std::string(CAMDYN_SOURCE_DIR) + "/studies/";
 
 /// What a stop on the budget may take beyond the budget [s] (a run checks it every step).
 constexpr double kStopWithin = 5.0;
+/// How much slower a sanitised build runs the studies (ASan, UBSan and the
+/// fuzz preset's coverage): a budget meant to fall inside a stage after the
+/// study's set-up is that much longer there.
+constexpr double kBuildSlowdown = CAMDYN_SANITIZED ? 4.0 : 1.0;
 
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
@@ -80,7 +84,7 @@ TEST(StudyBudget, AnOptimizeKeepsItsEvaluationsAndARerunReplaysThem) {
   const fs::path dir = camdyn::test::scratch_dir("study_budget", "optimize");
   const std::vector<std::string> sets = {"--set", "optimizer.max_evaluations=40", "--set", "simulation.cycles=3",
                                          "--set", "operating_rpm=[1000]",         "--set", "rigid.enabled=false"};
-  const Outcome o = run_over_budget(kStudies + "optimize_force.json", sets, dir, 0.5);
+  const Outcome o = run_over_budget(kStudies + "optimize_force.json", sets, dir, 0.5 * kBuildSlowdown);
   EXPECT_TRUE(contains(o.err, "evaluations of the search")) << o.err;
   const auto records = journal_records(dir / "out" / "journal.jsonl");
   for (const auto& r : records) EXPECT_TRUE(r["valid"].get<bool>()) << r.dump();  // nothing cut short

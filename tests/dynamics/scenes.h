@@ -159,4 +159,16 @@ inline SceneConfig fully_loaded_scene(const std::string& kind, double rpm, Conta
   return scene;
 }
 
+/// A valve seat with Hunt–Crossley contact (linear, n = 1) at `position` [m]
+/// below the train's rest position, of stiffness [N/m] and restitution [-].
+inline SeatConfig hunt_crossley_seat(double position, double stiffness = 5e8, double restitution = 0.3) {
+  SeatConfig seat;
+  seat.position = position;
+  seat.model = ContactModel::hunt_crossley;
+  seat.stiffness = stiffness;
+  seat.exponent = 1.0;
+  seat.restitution = restitution;
+  return seat;
+}
+
 }  // namespace camdyn::test

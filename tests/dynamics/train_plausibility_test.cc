@@ -27,13 +27,7 @@ SceneConfig good_train_scene() {
   FollowerConfig& f = s.mechanism.follower;
   f.spring.mass = 0.02;
   f.spring.coils = 8;
-  SeatConfig seat;
-  seat.position = 2e-4;
-  seat.model = ContactModel::hunt_crossley;
-  seat.stiffness = 5e8;
-  seat.exponent = 1.0;
-  seat.restitution = 0.3;
-  f.seat = seat;
+  f.seat = test::hunt_crossley_seat(2e-4);
   TrainBodyConfig valve;
   valve.name = "valve";
   valve.mass = 0.06;
