@@ -19,8 +19,9 @@ packages=(
 )
 # The test presets also check formatting and run clang-tidy (scripts/check_format.sh, check_tidy.sh).
 [[ "$preset" == release ]] || packages+=(clang-format clang-tidy)
-# The fuzz preset builds the libFuzzer targets with clang 14 (docs/fuzzing.md).
-[[ "$preset" != fuzz ]] || packages+=(clang-14 libfuzzer-14-dev libclang-rt-14-dev)
+# The asan and fuzz presets build with clang 14, the libFuzzer targets among
+# them (docs/fuzzing.md).
+[[ "$preset" != asan && "$preset" != fuzz ]] || packages+=(clang-14 libfuzzer-14-dev libclang-rt-14-dev)
 
 if ! command -v dpkg-query >/dev/null 2>&1; then
   echo "setup: dpkg-query not found; this script supports Debian 12 only." >&2

@@ -377,7 +377,8 @@ TEST(ProfilePairDerivatives, JacobianAndTimeDerivativesMatchFiniteDifferences) {
   const ClosedCurveProfile a(ea), b(eb);
   const MovingScene scene;
   const BodyMotion ma = scene.a(scene.t0), mb = scene.b(scene.t0);
-  for (const auto& [u, v] : {std::pair{0.4, 3.3}, std::pair{1.7, 5.0}, std::pair{-2.0, 0.2}}) {
+  for (const std::pair<double, double>& uv : {std::pair{0.4, 3.3}, std::pair{1.7, 5.0}, std::pair{-2.0, 0.2}}) {
+    const double u = uv.first, v = uv.second;  // (clang 14 cannot capture structured bindings)
     const PairEvaluation p = evaluate_profile_pair(a, b, ma, mb, u, v);
     for (int row = 0; row < 2; ++row) {
       const double scale = row == 0 ? 0.1 : 1.0;  // |f1| ≲ 0.1 m, |f2| ≤ 1
@@ -424,7 +425,7 @@ class ProfilePairTracking : public ::testing::Test {
   void SetUp() override {
     ASSERT_TRUE(global_profile_pair(a, b, s.cam(0), s.roller(0), kPi / 2, -kPi / 2, ws, u, v, pair));
   }
-  const DescendingScene s;
+  const DescendingScene s{};
   const ClosedCurveProfile a{s.ellipse};
   const CircleProfile b{s.rho};
   PairTrackerWorkspace ws{a, b};
