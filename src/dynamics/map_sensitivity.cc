@@ -205,10 +205,10 @@ class SensitivityRun {
     RootSample out;
     const Evaluation& ev = ode_.evaluated(t, y);
     root_functions(model_, ws_, ev, out.g.data());
-    const int base = model_.contact_root_count();
+    const auto base = static_cast<std::size_t>(model_.contact_root_count());
     out.rate[0] = ev.gap_rate;
-    for (int r = 0; r < model_.train.roots; ++r)
-      out.rate[static_cast<std::size_t>(base + r)] = ev.train.gap_rate[static_cast<std::size_t>(r)];
+    for (std::size_t r = 0; r < static_cast<std::size_t>(model_.train.roots); ++r)
+      out.rate[base + r] = ev.train.gap_rate[r];
     return out;
   }
 

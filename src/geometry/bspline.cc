@@ -96,9 +96,82 @@ ClampedBSpline::ClampedBSpline(int degree, std::vector<double> knots, std::vecto
     : degree_(degree), knots_(std::move(knots)), coefficients_(std::move(coefficients)) {
   assert(degree_ >= 1 && degree_ <= kMaxSplineDegree);
   assert(knots_.size() == coefficients_.size() + degree_ + 1);
+  build_pieces();
 }
 
+void ClampedBSpline::build_pieces() {
+  const int p = degree_, n = static_cast<int>(coefficients_.size());
+  if (p < 1 || p > kMaxSplineDegree || static_cast<int>(knots_.size()) != n + p + 1) return;
+  // derivative[k]: the coefficients of the k-th derivative, a spline of
+  // degree p − k on the knots knots_[k .. n + p − k] (a span of zero length
+  // contributes nothing): c'_i = (p − k + 1) (c_{i+1} − c_i) / (u_{i+p+1} − u_{i+k}).
+  std::vector<std::vector<double>> derivative(static_cast<std::size_t>(p) + 1);
+  derivative[0] = coefficients_;
+  for (int k = 1; k <= p; ++k) {
+    const std::vector<double>& c = derivative[static_cast<std::size_t>(k) - 1];
+    std::vector<double>& d = derivative[static_cast<std::size_t>(k)];
+    d.assign(static_cast<std::size_t>(n - k), 0.0);
+    const int q = p - k + 1;  // degree of the spline differentiated
+    for (int i = 0; i < n - k; ++i) {
+      const double width = knots_[i + p + 1] - knots_[i + k];
+      if (width > 0.0) d[i] = q * (c[i + 1] - c[i]) / width;
+    }
+  }
+  const int spans = n - p;
+  pieces_.assign(static_cast<std::size_t>(spans) * static_cast<std::size_t>(p + 1), 0.0);
+  double factorial = 1.0;
+  for (int k = 0; k <= p; ++k) {
+    if (k > 0) factorial *= k;
+    // The k-th derivative at each span's left knot x0: its spline of degree
+    // p − k has the knot vector knots_ less k knots at each end, where the
+    // span's index is span − k.
+    const int degree = p - k;
+    const std::vector<double> knots(knots_.begin() + k, knots_.end() - k);
+    const std::vector<double>& d = derivative[static_cast<std::size_t>(k)];
+    for (int span = p; span < n; ++span) {
+      const double x0 = knots_[span];
+      if (!(knots_[span + 1] > x0)) continue;
+      double value = d[span - p];  // degree 0: the span's constant
+      if (degree > 0) {
+        const BasisDerivatives b = basis_derivatives(span - k, x0, degree, knots);
+        value = 0.0;
+        for (int j = 0; j <= degree; ++j) value += b.ders[0][j] * d[span - p + j];
+      }
+      pieces_[static_cast<std::size_t>(span - p) * static_cast<std::size_t>(p + 1) + static_cast<std::size_t>(k)] =
+          value / factorial;
+    }
+  }
+}
+
+namespace {
+
+/// Value and four derivatives at x0 + t of the polynomial with Taylor
+/// coefficients a[0..p] at x0, by repeated synthetic division (Horner).
+Derivatives4 taylor_derivatives(std::array<double, kMaxSplineDegree + 1> a, int p, double t) {
+  Derivatives4 out{};
+  double factorial = 1.0;
+  for (int d = 0; d <= std::min(p, 4); ++d) {
+    for (int k = p - 1; k >= d; --k) a[k] += t * a[k + 1];
+    if (d > 0) factorial *= d;
+    out[d] = a[d] * factorial;
+  }
+  return out;
+}
+
+}  // namespace
+
 Derivatives4 ClampedBSpline::eval4(double x) const {
+  if (pieces_.empty()) return eval4_de_boor(x);
+  const int n = static_cast<int>(coefficients_.size()), p = degree_;
+  x = std::clamp(x, knots_.front(), knots_.back());
+  const int span = find_span(n, p, x, knots_);
+  std::array<double, kMaxSplineDegree + 1> a{};
+  const double* c = &pieces_[static_cast<std::size_t>(span - p) * static_cast<std::size_t>(p + 1)];
+  std::copy(c, c + p + 1, a.begin());
+  return taylor_derivatives(a, p, x - knots_[span]);
+}
+
+Derivatives4 ClampedBSpline::eval4_de_boor(double x) const {
   const int n = static_cast<int>(coefficients_.size());
   x = std::clamp(x, knots_.front(), knots_.back());
   const int span = find_span(n, degree_, x, knots_);
@@ -260,18 +333,10 @@ Derivatives4 PeriodicBSpline::eval4(double x) const {
       i = find_span(m_ + p, p, y, knots_) - p;
     }
     // Taylor coefficients at y by repeated synthetic division (Horner).
-    std::array<double, kMaxPieceDegree + 1> a{};
+    std::array<double, kMaxSplineDegree + 1> a{};
     const double* c = &pieces_[static_cast<std::size_t>(i) * static_cast<std::size_t>(p + 1)];
     std::copy(c, c + p + 1, a.begin());
-    const double t = y - knots_[p + i];
-    Derivatives4 out{};
-    double factorial = 1.0;
-    for (int d = 0; d <= std::min(p, 4); ++d) {
-      for (int k = p - 1; k >= d; --k) a[k] += t * a[k + 1];
-      if (d > 0) factorial *= d;
-      out[d] = a[d] * factorial;
-    }
-    return out;
+    return taylor_derivatives(a, p, y - knots_[p + i]);
   }
   const int span = find_span(m_ + p, p, y, knots_);
   const BasisDerivatives b = basis_derivatives(span, y, p, knots_);

@@ -52,9 +52,21 @@ class ClampedBSpline {
   const std::vector<double>& knots() const { return knots_; }
   const std::vector<double>& coefficients() const { return coefficients_; }
 
+  /// eval4() by the Cox–de Boor recursion, without the polynomial pieces
+  /// (the reference the pieces are checked against).
+  Derivatives4 eval4_de_boor(double x) const;
+
  private:
+  /// The spline as polynomial pieces, one per knot span: the Taylor
+  /// coefficients at the span's left knot, from the derivative splines'
+  /// values there (every degree up to kMaxSplineDegree), so that eval4() is a
+  /// binary search and a Horner scheme instead of the Cox–de Boor recursion
+  /// (which cost half of a spline cam's simulation).
+  void build_pieces();
+
   int degree_;
   std::vector<double> knots_, coefficients_;
+  std::vector<double> pieces_;  ///< (n − p) spans × (p + 1) Taylor coefficients; an empty span's are 0
 };
 
 /// Periodic scalar B-spline of period T, C^{p−1} everywhere, with m basis

@@ -4,8 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 #include "finite_difference.h"
 #include "tolerance.h"
@@ -93,6 +96,40 @@ TEST(ClampedBSpline, DerivativesMatchFiniteDifferencesAndEndsInterpolate) {
     for (int k = 0; k < 3; ++k) {
       const auto fd = test::central_difference([&](double t) { return s.eval(t)[k]; }, x, h);
       EXPECT_NEAR(d[k + 1], fd.value, fd.tolerance) << "order " << k + 1 << " at x = " << x;
+    }
+  }
+}
+
+// The polynomial pieces eval4() evaluates are the spline the Cox–de Boor
+// recursion evaluates: every degree, uniform and uneven knots, a repeated
+// interior knot (a span of zero length, a kink), at the knots and between,
+// to round-off (1e-11 of each derivative's largest size over the samples:
+// the Taylor form adds a few ulps per term of degree ≤ 9).
+TEST(ClampedBSpline, PolynomialPiecesEqualTheDeBoorRecursion) {
+  for (int p = 1; p <= kMaxSplineDegree; ++p) {
+    for (int layout = 0; layout < 3; ++layout) {
+      const int n = p + 7;
+      std::vector<double> knots = ClampedBSpline::uniform_knots(p, n, -0.3, 1.9);
+      if (layout >= 1)  // uneven interior knots
+        for (int i = p + 1; i < n; ++i) knots[i] += 0.05 * std::sin(3.0 * i);
+      if (layout == 2) knots[p + 3] = knots[p + 2];  // a repeated interior knot
+      std::vector<double> c(static_cast<std::size_t>(n));
+      for (int i = 0; i < n; ++i) c[i] = std::cos(1.3 * i) + 0.1 * i;
+      const ClampedBSpline s(p, knots, c);
+      std::vector<double> xs;
+      for (int i = 0; i <= 400; ++i) xs.push_back(-0.3 + 2.2 * i / 400.0);
+      for (int i = p; i <= n; ++i) xs.push_back(knots[i]);
+      std::array<double, 5> size{};
+      for (double x : xs) {
+        const Derivatives4 r = s.eval4_de_boor(x);
+        for (int k = 0; k < 5; ++k) size[k] = std::max(size[k], std::abs(r[k]));
+      }
+      for (double x : xs) {
+        const Derivatives4 got = s.eval4(x), want = s.eval4_de_boor(x);
+        for (int k = 0; k <= std::min(p, 4); ++k)
+          EXPECT_NEAR(got[k], want[k], 1e-11 * size[k])
+              << "degree " << p << " layout " << layout << " x " << x << " derivative " << k;
+      }
     }
   }
 }
