@@ -202,7 +202,7 @@ ElementForce element_force(const TrainElement& e, double d, double d_rate, doubl
 }
 
 /// Compression d and its rate of an element at the state x.
-void compression(const FollowerTrain&, const TrainElement& e, const double* x, double& d, double& d_rate) {
+void compression(const TrainElement& e, const double* x, double& d, double& d_rate) {
   d = e.offset;
   d_rate = 0.0;
   if (e.a >= 0) {
@@ -358,7 +358,7 @@ void evaluate_train(const FollowerTrain& train, const TrainWorkspace& ws, const 
   e.seated.fill(false);
   for (const TrainElement& el : train.elements) {
     double d = 0.0, d_rate = 0.0;
-    compression(train, el, x, d, d_rate);
+    compression(el, x, d, d_rate);
     double F = 0.0;
     if (el.law == TrainElement::Law::spring) {
       // The spring segments of a coil chain, most of a long train's elements:
@@ -409,7 +409,7 @@ void add_train_jacobian(const FollowerTrain& train, const TrainWorkspace& ws, co
     at(train.coordinates[c].position, train.coordinates[c].velocity) += 1.0;
   for (const TrainElement& el : train.elements) {
     double d = 0.0, d_rate = 0.0;
-    compression(train, el, x, d, d_rate);
+    compression(el, x, d, d_rate);
     const double v0 = el.root >= 0 ? ws.v0[static_cast<std::size_t>(el.root)] : 0.0;
     const ElementForce f = element_force(el, d, d_rate, v0, true);
     const int ends[2] = {el.a, el.b};
@@ -438,7 +438,7 @@ void static_forces(const FollowerTrain& train, const TrainWorkspace& ws, const d
   stiffness.setZero();
   for (const TrainElement& el : train.elements) {
     double d = 0.0, d_rate = 0.0;
-    compression(train, el, x, d, d_rate);
+    compression(el, x, d, d_rate);
     const double v0 = el.root >= 0 ? ws.v0[static_cast<std::size_t>(el.root)] : 1.0;
     const ElementForce f = element_force(el, d, 0.0, v0, true);
     const int ends[2] = {el.a, el.b};

@@ -114,6 +114,14 @@ SectionPoint nearest_phase(const PoincareMap& map, const SectionPoint& fixed_poi
   return best;
 }
 
+// The point's metrics from those of the run over its samples.
+void fill_metrics(JumpMapPoint& p, const Metrics& m) {
+  p.separation_fraction = m.separation_fraction;
+  if (m.train) p.link_separation_fraction = m.train->link_separation_fraction;
+  p.max_gap = m.max_separation_gap;
+  p.peak_contact_force = m.peak_contact_force;
+}
+
 // The point's motion, samples and metrics from `samples`, the run from the
 // analysis' orbit or start.
 void fill_from_run(JumpMapPoint& p, const SimulationResult& samples) {
@@ -123,10 +131,7 @@ void fill_from_run(JumpMapPoint& p, const SimulationResult& samples) {
       p.impact_speed.push_back(e.speed);
     }
   p.section_position = samples.samples.follower_position;
-  p.separation_fraction = samples.metrics.separation_fraction;
-  if (samples.metrics.train) p.link_separation_fraction = samples.metrics.train->link_separation_fraction;
-  p.max_gap = samples.metrics.max_separation_gap;
-  p.peak_contact_force = samples.metrics.peak_contact_force;
+  fill_metrics(p, samples.metrics);
 }
 
 // A periodic orbit's `samples` section samples and their impacts from one
@@ -149,10 +154,7 @@ void fill_from_cycle(JumpMapPoint& p, const SimulationResult& cycle, const Poinc
       p.impact_speed.push_back(cycle.events[i].speed);
     }
   }
-  p.separation_fraction = cycle.metrics.separation_fraction;
-  if (cycle.metrics.train) p.link_separation_fraction = cycle.metrics.train->link_separation_fraction;
-  p.max_gap = cycle.metrics.max_separation_gap;
-  p.peak_contact_force = cycle.metrics.peak_contact_force;
+  fill_metrics(p, cycle.metrics);
 }
 
 // Chord iterations on P^k(x) − x = 0 from `x` with the neighbour's
@@ -319,11 +321,21 @@ JumpMapStudy read_jump_map_study(const Json& doc, const StudyContext& ctx) {
   return study;
 }
 
+namespace {
+
+// The contiguous ranges of the grid: as many as asked, at most one a speed.
+std::size_t range_count(const JumpMapStudy& study) {
+  return std::min(study.rpm.size(), static_cast<std::size_t>(study.config.ranges));
+}
+
+// The index of range r's first speed (r = range_count: one past the last speed).
+std::size_t range_start(const JumpMapStudy& study, std::size_t r) { return r * study.rpm.size() / range_count(study); }
+
+}  // namespace
+
 std::vector<std::size_t> jump_map_range(const JumpMapStudy& study, std::size_t r) {
-  const std::size_t n = study.rpm.size();
-  const std::size_t ranges = std::min(n, static_cast<std::size_t>(study.config.ranges));
   std::vector<std::size_t> indices;
-  for (std::size_t i = r * n / ranges; i < (r + 1) * n / ranges; ++i) indices.push_back(i);
+  for (std::size_t i = range_start(study, r); i < range_start(study, r + 1); ++i) indices.push_back(i);
   return indices;
 }
 
@@ -331,12 +343,9 @@ double jump_map_speed_work(const JumpMapStudy& study, std::size_t i) {
   const double jacobian = 1.0 + 2.0 * study.section_dimension;  // [revolutions]
   const double rpm = study.rpm.at(i);
   const bool past_jump = std::isfinite(study.damped_rigid_jump_speed_rpm) && rpm >= study.damped_rigid_jump_speed_rpm;
-  // The first speed of a range has no neighbour to start from: the smallest
-  // range r whose first index r n / ranges (jump_map_range) reaches i.
-  const std::size_t n = study.rpm.size();
-  const std::size_t ranges = std::min(n, static_cast<std::size_t>(study.config.ranges));
-  const std::size_t r = (i * ranges + n - 1) / n;
-  const bool first_of_range = r < ranges && r * n / ranges == i;
+  // The first speed of a range has no neighbour to start from.
+  bool first_of_range = false;
+  for (std::size_t r = 0; r < range_count(study) && !first_of_range; ++r) first_of_range = range_start(study, r) == i;
   if (study.config.warm_start && !past_jump && !first_of_range) return jacobian + 3.0;
   const double transient_path = study.config.transient_revolutions + study.config.samples + 2.0 * jacobian;
   return past_jump ? transient_path + 2.0 * study.periodic.options.lyapunov_revolutions : transient_path;
