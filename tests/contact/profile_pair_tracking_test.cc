@@ -14,13 +14,13 @@
 #include <tuple>
 #include <vector>
 
-#include "../geometry/finite_difference.h"
-#include "../geometry/law_checks.h"
 #include "allocation_counter.h"
 #include "contact/point_curve_tracking.h"
 #include "geometry/cam_roller.h"
 #include "geometry/motion_law.h"
 #include "test_curves.h"
+#include "tests/geometry/finite_difference.h"
+#include "tests/geometry/law_checks.h"
 #include "tolerance.h"
 
 namespace camdyn {

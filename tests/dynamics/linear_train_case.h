@@ -7,8 +7,8 @@
 #include <algorithm>
 #include <vector>
 
-#include "../dynamics/linear_train_reference.h"
 #include "io/config.h"
+#include "tests/dynamics/linear_train_reference.h"
 
 namespace camdyn::test {
 

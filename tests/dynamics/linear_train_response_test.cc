@@ -16,8 +16,8 @@
 #include <utility>
 #include <vector>
 
-#include "../geometry/law_checks.h"
 #include "linear_train_reference.h"
+#include "tests/geometry/law_checks.h"
 #include "tolerance.h"
 
 namespace camdyn {

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "../dynamics/scenes.h"
 #include "dynamics/simulation.h"
+#include "tests/dynamics/scenes.h"
 #include "tolerance.h"
 
 namespace camdyn {

@@ -19,8 +19,8 @@
 #include <utility>
 #include <vector>
 
-#include "../dynamics/scenes.h"
 #include "dynamics/simulation.h"
+#include "tests/dynamics/scenes.h"
 
 namespace camdyn {
 namespace {

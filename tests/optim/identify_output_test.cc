@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "../dynamics/scenes.h"
+#include "tests/dynamics/scenes.h"
 
 namespace camdyn::optim {
 namespace {

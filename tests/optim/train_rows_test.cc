@@ -11,7 +11,6 @@
 #include <numbers>
 #include <random>
 
-#include "../dynamics/linear_train_case.h"
 #include "dynamics/model.h"
 #include "dynamics/simulation.h"
 #include "io/config.h"
@@ -19,6 +18,7 @@
 #include "optim/optimize/optimize.h"
 #include "optim/optimize/rigid_design.h"
 #include "study/steady_state.h"
+#include "tests/dynamics/linear_train_case.h"
 
 namespace camdyn::optim {
 namespace {

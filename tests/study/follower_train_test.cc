@@ -13,10 +13,10 @@
 #include <numbers>
 #include <vector>
 
-#include "../dynamics/linear_train_case.h"
 #include "dynamics/model.h"
 #include "dynamics/simulation.h"
 #include "study/steady_state.h"
+#include "tests/dynamics/linear_train_case.h"
 
 namespace camdyn {
 namespace {

@@ -12,9 +12,9 @@
 #include <string>
 #include <utility>
 
-#include "../dynamics/scenes.h"
 #include "cli_run.h"
 #include "io/config.h"
+#include "tests/dynamics/scenes.h"
 
 namespace camdyn {
 namespace {

@@ -17,10 +17,10 @@
 #include <utility>
 #include <vector>
 
-#include "../dynamics/scenes.h"
 #include "common/errors.h"
 #include "dynamics/simulation.h"
 #include "output/curve_decimation.h"
+#include "tests/dynamics/scenes.h"
 #include "tolerance.h"
 
 namespace camdyn {

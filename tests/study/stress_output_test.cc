@@ -10,10 +10,10 @@
 #include <limits>
 #include <string>
 
-#include "../dynamics/scenes.h"
 #include "dynamics/model.h"
 #include "dynamics/simulation.h"
 #include "study/simulation_output.h"
+#include "tests/dynamics/scenes.h"
 
 namespace camdyn {
 namespace {
