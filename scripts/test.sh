@@ -2,7 +2,7 @@
 # The CI test run: builds and tests the ci preset (optimised, assertions on,
 # warnings are errors), then the asan preset (clang 14, AddressSanitizer +
 # UBSan): the whole suite, and the six libFuzzer targets built in the same tree,
-# each fuzzed for about 25 s (label fuzz; docs/fuzzing.md). One sanitised
+# each fuzzed for about 15 s (label fuzz; docs/fuzzing.md). One sanitised
 # build serves both, so the library is compiled twice, not three times.
 # Every phase runs even if an earlier one failed, so one report shows all
 # failures; the exit status is non-zero if any phase failed.

@@ -47,7 +47,11 @@ TEST_P(LinearTrainSteadyState, ForcesAndJumpSpeedMatchTheClosedForm) {
   const double jump = test::reference_jump_speed(c.reference, kLift, 1e4) * 60.0 / kTwoPi;  // [rpm]
   ASSERT_TRUE(std::isfinite(jump));
   EXPECT_NEAR(model.train_jump_speed_rpm, jump, 2e-3 * jump);
-  for (double fraction : {0.3, 0.6, 0.9}) {
+  // The sanitised build (20x slower on these long steady runs) checks the
+  // speed nearest the jump speed only; the optimised build checks all three.
+  const std::vector<double> fractions =
+      CAMDYN_SANITIZED ? std::vector<double>{0.9} : std::vector<double>{0.3, 0.6, 0.9};
+  for (double fraction : fractions) {
     const double rpm = fraction * jump;
     const SimulationResult r = steady_run(c.scene, rpm);
     const test::ReferenceResponse ref = test::reference_response(c.reference, kLift, rpm * kTwoPi / 60.0);
