@@ -16,6 +16,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
@@ -102,9 +103,16 @@ inline Complex segment_impedance(const ReferenceSpring& sp, double w) {
   return {k_s, w * c_s};
 }
 
-/// The amplitudes at frequency w [rad/s] for a lift amplitude `lift` [m]; with
-/// `preloads` the F₀ enter (the mean state: w = 0, lift = mean).
-inline Eigen::VectorXcd solve_rows(const ReferenceTrain& t, double w, Complex lift, bool preloads) {
+/// The equations of motion at frequency w [rad/s] as rows A X = rhs: A is the
+/// dynamic stiffness K + i w C − w² M of the coordinates in Layout order.
+struct Rows {
+  Eigen::MatrixXcd A;
+  Eigen::VectorXcd rhs;
+};
+
+/// The rows for a lift amplitude `lift` [m]; with `preloads` the F₀ enter
+/// (the mean state: w = 0, lift = mean).
+inline Rows rows(const ReferenceTrain& t, double w, Complex lift, bool preloads) {
   const Layout L(t);
   Eigen::MatrixXcd A = Eigen::MatrixXcd::Zero(L.size, L.size);
   Eigen::VectorXcd rhs = Eigen::VectorXcd::Zero(L.size);
@@ -150,7 +158,14 @@ inline Eigen::VectorXcd solve_rows(const ReferenceTrain& t, double w, Complex li
       if (j < sp.coils) A(p + j, p + j + 1) = -z_s;
     }
   }
-  return A.partialPivLu().solve(rhs);
+  return {A, rhs};
+}
+
+/// The amplitudes at frequency w [rad/s] for a lift amplitude `lift` [m]; with
+/// `preloads` the F₀ enter (the mean state: w = 0, lift = mean).
+inline Eigen::VectorXcd solve_rows(const ReferenceTrain& t, double w, Complex lift, bool preloads) {
+  const Rows r = rows(t, w, lift, preloads);
+  return r.A.partialPivLu().solve(r.rhs);
 }
 
 /// One force as mean + Re(amplitude e^{iθ}) [N].
@@ -235,6 +250,25 @@ inline double reference_jump_speed(const ReferenceTrain& train, double lift, dou
     return 0.5 * (lo + hi);
   }
   return std::numeric_limits<double>::infinity();
+}
+
+/// The eigenvalues λ of the train's first-order state matrix [[0, I], [−M⁻¹K, −M⁻¹C]]
+/// with every contact and link held [1/s]: K, C and M read off the rows'
+/// dynamic stiffness, which is K + i w C − w² M exactly (K = Re Z(0), C = Im Z(1),
+/// M = K − Re Z(1)). The Poincaré map of the held train is affine, and its
+/// Jacobian over one revolution of period T is exp(A T), whose eigenvalues
+/// (the Floquet multipliers) are exp(λ T).
+inline Eigen::VectorXcd state_matrix_eigenvalues(const ReferenceTrain& train) {
+  const Eigen::MatrixXcd z0 = reference_detail::rows(train, 0.0, 0.0, false).A;
+  const Eigen::MatrixXcd z1 = reference_detail::rows(train, 1.0, 0.0, false).A;
+  const Eigen::MatrixXd K = z0.real(), C = z1.imag(), M = K - z1.real();
+  const Eigen::Index n = K.rows();
+  const Eigen::MatrixXd M_inv = M.inverse();
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(2 * n, 2 * n);
+  A.topRightCorner(n, n).setIdentity();
+  A.bottomLeftCorner(n, n) = -M_inv * K;
+  A.bottomRightCorner(n, n) = -M_inv * C;
+  return Eigen::EigenSolver<Eigen::MatrixXd>(A).eigenvalues();
 }
 
 }  // namespace camdyn::test
