@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <functional>
+#include <map>
 #include <nlopt.hpp>
 #include <numbers>
 #include <optional>
@@ -14,6 +16,7 @@
 #include "dynamics/contact_stress.h"
 #include "dynamics/model.h"
 #include "dynamics/spring_sizing.h"
+#include "io/hex_doubles.h"
 #include "io/json_archive.h"
 #include "optim/optimize/jump_bound.h"
 #include "optim/optimize/optimize_checkpoint.h"
@@ -148,6 +151,59 @@ void note_budget_cut(const DesignEvaluation& e, OptimizeOutcome& out) {
   out.budget_cut_by.insert(budget);
 }
 
+/// The warm starts of the search loop (optimizer.warm_start; optim/simulation_pool.h):
+/// per start, where its last valid evaluation ended at each operating speed.
+/// An evaluation then depends on that start's earlier ones as well as on its
+/// design, so each start's evaluations are remembered by design and a design
+/// asked again by the same start gets its first evaluation back, as the
+/// journal gives it back on resume (optim/optimize/optimize_journal.h): with
+/// or without a journal, killed or not, the search sees the same values.
+class WarmStarts {
+ public:
+  WarmStarts(const OptimizeStudyConfig& config, bool simulated)
+      : on_(config.optimizer.warm_start && simulated), speeds_(config.operating_rpm.size()) {}
+
+  /// Fills e with the evaluation start already made of x; false if none (or warm starts are off).
+  bool recall(const std::vector<double>& x, int start, DesignEvaluation& e) const {
+    if (!on_) return false;
+    const auto hit = seen_.find({start, double_bits(x)});
+    if (hit == seen_.end()) return false;
+    e = hit->second;
+    return true;
+  }
+  /// The settings of start's next evaluation: its warm points, and ask for the end points.
+  void prepare(int start, EvaluationSettings& settings) {
+    if (!on_) return;
+    std::vector<std::optional<SectionPoint>>& points = points_[start];
+    points.resize(speeds_);
+    settings.warm = &points;
+    settings.end_points = true;
+  }
+  /// After each evaluation of the search (simulated, replayed or recalled).
+  void evaluated(const std::vector<double>& x, int start, const DesignEvaluation& e) {
+    if (!on_) return;
+    DesignEvaluation kept;  // what the search and the journal see, without the runs
+    kept.valid = e.valid;
+    kept.error = e.error;
+    kept.objective = e.objective;
+    kept.feasible = e.feasible;
+    kept.constraints = e.constraints;
+    kept.end_points = e.end_points;
+    seen_.try_emplace({start, double_bits(x)}, std::move(kept));
+    if (!e.valid || e.end_points.size() != speeds_) return;
+    std::vector<std::optional<SectionPoint>>& points = points_[start];
+    points.resize(speeds_);
+    for (std::size_t i = 0; i < speeds_; ++i)
+      if (e.end_points[i]) points[i] = e.end_points[i];
+  }
+
+ private:
+  bool on_ = false;
+  std::size_t speeds_ = 0;
+  std::map<int, std::vector<std::optional<SectionPoint>>> points_;
+  std::map<std::pair<int, std::vector<std::uint64_t>>, DesignEvaluation> seen_;
+};
+
 /// The search loop with the loop settings, from the initial design: fills
 /// out.initial, out.history, out.search, out.loop_time_s and
 /// out.loop_simulations. Throws NumericalError when no design was valid.
@@ -163,21 +219,25 @@ void search_designs(const DesignSpace& space, const DesignEvaluator& evaluator, 
   problem.upper = space.upper();
   problem.x0 = out.x_initial;
   problem.constraint_count = static_cast<int>(out.constraints.size());
+  WarmStarts warm(config, out.loop_simulated);
   problem.evaluate = [&](const std::vector<double>& x, int start, PointKind kind) {
     // The outputs cannot be kept, or the study's time is up: stop every start.
     if (recorder.failed() || study_budget_exhausted()) throw nlopt::forced_stop();
     DesignEvaluation e;
-    if (!recorder.replay(x, e)) {
+    if (!warm.recall(x, start, e) && !recorder.replay(x, start, e)) {
       const long sims = pool.simulations();
+      EvaluationSettings settings = loop;
+      warm.prepare(start, settings);
       try {
-        e = evaluator.evaluate(space.scene(x), loop, out.loop_simulated);
+        e = evaluator.evaluate(space.scene(x), settings, out.loop_simulated);
       } catch (const InputError& err) {  // a spline the geometry code refuses
         e.valid = false;
         e.error = err.what();
         evaluator.score(e);
       }
-      recorder.journal(x, e, pool.simulations() - sims);
+      recorder.journal(x, start, e, pool.simulations() - sims);
     }
+    warm.evaluated(x, start, e);
     note_budget_cut(e, out);
     const bool improved = best.update(e);
     out.history.push_back(history_record(e, static_cast<long>(out.history.size()) + 1, start, kind, best));
@@ -197,6 +257,8 @@ void search_designs(const DesignSpace& space, const DesignEvaluator& evaluator, 
   out.loop_time_s = seconds_since(loop_t0);
   out.resumed_simulations = recorder.replayed_simulations();
   out.loop_simulations = pool.simulations() - sims_before + out.resumed_simulations;
+  out.warm_kept = pool.warm_kept();
+  out.warm_rejected = pool.warm_rejected();
   if (options.progress) std::fprintf(stderr, "\n");
   if (out.search.candidates.empty())
     throw NumericalError("the optimiser found no valid design in " + std::to_string(out.search.evaluations) +
