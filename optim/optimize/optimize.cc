@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <functional>
 #include <map>
+#include <memory>
+#include <mutex>
 #include <nlopt.hpp>
 #include <numbers>
 #include <optional>
@@ -204,15 +206,98 @@ class WarmStarts {
   std::map<std::pair<int, std::vector<std::uint64_t>>, DesignEvaluation> seen_;
 };
 
+/// The evaluators of the search's starts. Starts that run one after the
+/// other share the study's pool and evaluator; starts that run at once
+/// (optimizer.starts > 1 and --jobs > 1) each get a SimulationPool and a
+/// DesignEvaluator of their own (a pool runs one batch at a time), with the
+/// study's constraints and normalisation, so an evaluation is the same
+/// whichever thread makes it.
+class StartEvaluators {
+ public:
+  StartEvaluators(const DesignEvaluator& main, SimulationPool& main_pool, const OptimizeStudyConfig& config,
+                  std::string file, int parallel, int threads_each)
+      : main_(main),
+        main_pool_(main_pool),
+        config_(config),
+        file_(std::move(file)),
+        parallel_(parallel),
+        threads_each_(threads_each) {}
+
+  int parallel() const { return parallel_; }
+
+  /// The evaluator and pool of `start` (made on first use; thread-safe).
+  std::pair<const DesignEvaluator*, SimulationPool*> of(int start) {
+    if (parallel_ <= 1) return {&main_, &main_pool_};
+    const std::lock_guard<std::mutex> lock(mutex_);
+    Own& own = own_[start];
+    if (!own.pool) {
+      own.pool = std::make_unique<SimulationPool>(threads_each_, file_);
+      own.evaluator = std::make_unique<DesignEvaluator>(config_, file_, *own.pool);
+      if (own.evaluator->needs_simulation()) own.evaluator->require_no_separation_at(main_.proven_rpm());
+      own.evaluator->set_normalisation(main_.normalisation());
+    }
+    return {own.evaluator.get(), own.pool.get()};
+  }
+  /// Over the starts' own pools (not the study's).
+  long simulations() const { return sum(&SimulationPool::simulations); }
+  long warm_kept() const { return sum(&SimulationPool::warm_kept); }
+  long warm_rejected() const { return sum(&SimulationPool::warm_rejected); }
+
+ private:
+  struct Own {
+    std::unique_ptr<SimulationPool> pool;
+    std::unique_ptr<DesignEvaluator> evaluator;
+  };
+  long sum(long (SimulationPool::*count)() const) const {
+    long n = 0;
+    for (const auto& [start, own] : own_) n += ((*own.pool).*count)();
+    return n;
+  }
+
+  const DesignEvaluator& main_;
+  SimulationPool& main_pool_;
+  const OptimizeStudyConfig& config_;
+  std::string file_;
+  int parallel_ = 1, threads_each_ = 1;
+  std::mutex mutex_;
+  std::map<int, Own> own_;
+};
+
+/// After starts that ran at once: the history in the order of the starts
+/// run one after the other (each start's evaluations in their order), numbered
+/// and with the best so far as that run has them.
+void order_history_by_start(std::vector<HistoryRecord>& history) {
+  std::stable_sort(history.begin(), history.end(),
+                   [](const HistoryRecord& a, const HistoryRecord& b) { return a.start < b.start; });
+  BestSoFar best;
+  for (std::size_t i = 0; i < history.size(); ++i) {
+    HistoryRecord& h = history[i];
+    DesignEvaluation e;
+    e.valid = h.valid;
+    e.objective = h.objective;
+    e.feasible = h.feasible;
+    best.update(e);
+    h.evaluation = static_cast<long>(i) + 1;
+    h.best_objective = best.have ? best.objective : h.objective;
+    h.best_feasible = best.feasible;
+  }
+}
+
 /// The search loop with the loop settings, from the initial design: fills
 /// out.initial, out.history, out.search, out.loop_time_s and
-/// out.loop_simulations. Throws NumericalError when no design was valid.
-void search_designs(const DesignSpace& space, const DesignEvaluator& evaluator, const SimulationPool& pool,
-                    const OptimizeStudyConfig& config, const OptimizeOptions& options, LoopRecorder& recorder,
-                    OptimizeOutcome& out) {
+/// out.loop_simulations; returns the simulations of the starts' own pools
+/// (starts run at once, on --jobs threads). Throws NumericalError when no
+/// design was valid.
+long search_designs(const DesignSpace& space, const DesignEvaluator& evaluator, SimulationPool& pool,
+                    const OptimizeStudyConfig& config, const OptimizeOptions& options, const std::string& file,
+                    LoopRecorder& recorder, OptimizeOutcome& out) {
   const EvaluationSettings loop = loop_settings(config.optimizer);
   out.initial = evaluator.evaluate(space.scene(out.x_initial), loop, out.loop_simulated);
   const long sims_before = pool.simulations();
+  const bool local = config.optimizer.algorithm.rfind("GN_", 0) != 0;
+  const int parallel = local ? std::clamp(options.threads, 1, config.optimizer.starts) : 1;
+  StartEvaluators starts(evaluator, pool, config, file, parallel, std::max(1, options.threads / parallel));
+  std::mutex book;  // the bookkeeping below, shared by the starts
   BestSoFar best;
   SearchProblem problem;
   problem.lower = space.lower();
@@ -220,22 +305,27 @@ void search_designs(const DesignSpace& space, const DesignEvaluator& evaluator, 
   problem.x0 = out.x_initial;
   problem.constraint_count = static_cast<int>(out.constraints.size());
   WarmStarts warm(config, out.loop_simulated);
+  problem.parallel_starts = parallel;
   problem.evaluate = [&](const std::vector<double>& x, int start, PointKind kind) {
+    std::unique_lock<std::mutex> lock(book);
     // The outputs cannot be kept, or the study's time is up: stop every start.
     if (recorder.failed() || study_budget_exhausted()) throw nlopt::forced_stop();
     DesignEvaluation e;
     if (!warm.recall(x, start, e) && !recorder.replay(x, start, e)) {
-      const long sims = pool.simulations();
       EvaluationSettings settings = loop;
       warm.prepare(start, settings);
+      lock.unlock();
+      const auto [own, own_pool] = starts.of(start);
+      const long sims = own_pool->simulations();
       try {
-        e = evaluator.evaluate(space.scene(x), settings, out.loop_simulated);
+        e = own->evaluate(space.scene(x), settings, out.loop_simulated);
       } catch (const InputError& err) {  // a spline the geometry code refuses
         e.valid = false;
         e.error = err.what();
-        evaluator.score(e);
+        own->score(e);
       }
-      recorder.journal(x, start, e, pool.simulations() - sims);
+      lock.lock();
+      recorder.journal(x, start, e, own_pool->simulations() - sims);
     }
     warm.evaluated(x, start, e);
     note_budget_cut(e, out);
@@ -256,9 +346,10 @@ void search_designs(const DesignSpace& space, const DesignEvaluator& evaluator, 
              : "; they are kept in " + recorder.journal_path().string() + ": " + study_rerun_advice()));
   out.loop_time_s = seconds_since(loop_t0);
   out.resumed_simulations = recorder.replayed_simulations();
-  out.loop_simulations = pool.simulations() - sims_before + out.resumed_simulations;
-  out.warm_kept = pool.warm_kept();
-  out.warm_rejected = pool.warm_rejected();
+  if (parallel > 1) order_history_by_start(out.history);
+  out.loop_simulations = pool.simulations() - sims_before + starts.simulations() + out.resumed_simulations;
+  out.warm_kept = pool.warm_kept() + starts.warm_kept();
+  out.warm_rejected = pool.warm_rejected() + starts.warm_rejected();
   if (options.progress) std::fprintf(stderr, "\n");
   if (out.search.candidates.empty())
     throw NumericalError("the optimiser found no valid design in " + std::to_string(out.search.evaluations) +
@@ -267,6 +358,7 @@ void search_designs(const DesignSpace& space, const DesignEvaluator& evaluator, 
                                                     : "; " + std::to_string(out.budget_cut_evaluations) +
                                                           " of them were cut short by a budget (" +
                                                           out.budget_cut_names() + "), which proves nothing"));
+  return starts.simulations();
 }
 
 /// `scene` with the study's geometric constraints that design `e` meets as
@@ -646,7 +738,7 @@ OptimizeOutcome run_optimize(const SceneConfig& baseline, const OptimizeStudyCon
   evaluator.score(out.baseline);
 
   say(options, "searching");
-  search_designs(space, evaluator, pool, config, options, recorder, out);
+  const long start_pool_simulations = search_designs(space, evaluator, pool, config, options, file, recorder, out);
 
   say(options, "re-evaluating the best designs with the scene's settings");
   choose_optimized(space, evaluator, full, baseline.name + "-optimized", top_speed(config), file, out);
@@ -656,7 +748,7 @@ OptimizeOutcome run_optimize(const SceneConfig& baseline, const OptimizeStudyCon
   size_chosen_spring(file, out);
   say(options, "checking that the objective does not depend on the window");
   out.window_check = check_window(evaluator, out);
-  out.simulations = pool.simulations() + out.resumed_simulations;
+  out.simulations = pool.simulations() + start_pool_simulations + out.resumed_simulations;
   out.run_time_s = seconds_since(t0);
   return out;
 }
