@@ -56,29 +56,35 @@ std::optional<SectionPoint> end_point_of(const SceneConfig& scene, const Model& 
 
 }  // namespace
 
-bool SimulationPool::run_warm(Worker& worker, std::size_t job, const SectionPoint& warm, SimulationOutcome& out) {
+SimulationPool::Warm SimulationPool::run_warm(Worker& worker, std::size_t job, const SectionPoint& warm,
+                                              SimulationOutcome& out) {
   const SceneConfig& scene = scenes_[job];
   const int window = window_revolutions(scene);
-  if (window == 0) return false;
+  if (window == 0) return Warm::not_run;
   std::optional<PoincareMap> map;
   try {
     map.emplace(scene, worker.model, "");
   } catch (const InputError&) {
-    return false;
+    return Warm::not_run;
   }
-  if (static_cast<int>(warm.x.size()) != map->dimension()) return false;
+  if (static_cast<int>(warm.x.size()) != map->dimension()) return Warm::not_run;
   SimulationOptions options = options_;
   options.start = std::make_shared<const StartState>(map->start(warm));
   const SceneConfig window_scene = map->scene_for(window);
-  SimulationResult result = simulate(window_scene, worker.model, worker.ws, options);
-  if (!result.solver.converged()) return false;  // the cold run decides
+  SimulationResult result;
+  try {
+    result = simulate(window_scene, worker.model, worker.ws, options);
+  } catch (const std::exception&) {  // no contact pair at the warm start, …: the cold run decides
+    return Warm::rejected;
+  }
+  if (!result.solver.converged()) return Warm::rejected;
   const SectionPoint end = map->point(result);
-  if (!(scaled_distance(*map, warm, end) <= kWarmStartTolerance)) return false;
+  if (!(scaled_distance(*map, warm, end) <= kWarmStartTolerance)) return Warm::rejected;
   apply_steady_state(scene, worker.model, result, SteadyStateSearch::evaluation);
   out.result = std::move(result);
   if (starts_.end_points) out.end_point = end;
   out.warm = true;
-  return true;
+  return Warm::kept;
 }
 
 void SimulationPool::run_job(Worker& worker, std::size_t job) {
@@ -88,12 +94,13 @@ void SimulationPool::run_job(Worker& worker, std::size_t job) {
     worker.model = build_model(geometry_, scene, file_);
     const std::optional<SectionPoint>* warm = job < starts_.warm.size() ? &starts_.warm[job] : nullptr;
     if (warm != nullptr && warm->has_value()) {
-      if (run_warm(worker, job, **warm, out)) {
+      const Warm tried = run_warm(worker, job, **warm, out);
+      if (tried == Warm::kept) {
         ++warm_kept_;
         out.status = SimulationOutcome::Status::ok;
         return;
       }
-      ++warm_rejected_;
+      if (tried == Warm::rejected) ++warm_rejected_;
     }
     out.result = simulate(scene, worker.model, worker.ws, options_);
     throw_if_failed(out.result);

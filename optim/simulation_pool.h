@@ -46,11 +46,14 @@ struct SimulationOutcome {
 };
 
 /// Largest scaled distance max_j |x_j(end) − x_j(start)| / scale_j
-/// (PoincareMap::scales) between the start and the end of a warm window for
-/// its metrics to be kept [-]. Scaled by the lift and its rate at speed, a
-/// residual δ moves the window's metrics by about δ relative; the study calls
-/// an objective settled when it moves by 1e-3 relative over a doubled window
-/// (optimize.h WindowCheck::kTolerance), and this is ten times tighter.
+/// (PoincareMap::scales: the lift, its rate at speed, …) between the start
+/// and the end of a warm window for its metrics to be kept [-]. The shooting
+/// calls an orbit converged at 1e-7 (study/periodic_orbit.h); a loop
+/// evaluation needs its objective only to the study's settling criterion,
+/// 1e-3 relative (optimize.h WindowCheck::kTolerance), and with 1e-4 the kept
+/// windows' objectives are the orbits' within it
+/// (WarmStart.AWarmEvaluationEqualsTheSteadyStateWithinTheSettlingTolerance)
+/// while most windows of a search are kept (design_loop_bench).
 inline constexpr double kWarmStartTolerance = 1e-4;
 
 /// Per job of a batch: the warm start, if any, and whether to report the end point.
@@ -83,8 +86,9 @@ class SimulationPool {
   std::vector<SimulationOutcome> collect();
 
   int threads() const { return threads_; }
-  long simulations() const { return simulations_; }
-  /// Jobs whose warm window was kept, and those that were tried warm but ran cold.
+  long simulations() const { return simulations_ + warm_rejected_; }
+  /// Jobs whose warm window was kept, and those whose warm window was run
+  /// and thrown away (they ran cold after it; simulations() counts both runs).
   long warm_kept() const { return warm_kept_; }
   long warm_rejected() const { return warm_rejected_; }
 
@@ -95,9 +99,11 @@ class SimulationPool {
   };
   void run_batch();
   void run_job(Worker& worker, std::size_t job);
-  /// The warm window of `job` from `warm` into `out`; false (out untouched)
-  /// when it did not return to its start or the scene has no section.
-  bool run_warm(Worker& worker, std::size_t job, const SectionPoint& warm, SimulationOutcome& out);
+  enum class Warm { not_run, kept, rejected };
+  /// The warm window of `job` from `warm` into `out` when kept; not_run (the
+  /// scene has no section or its window is not whole revolutions) and
+  /// rejected (it did not return to its start, or failed) leave out untouched.
+  Warm run_warm(Worker& worker, std::size_t job, const SectionPoint& warm, SimulationOutcome& out);
 
   int threads_;
   std::string file_;
