@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <mutex>
 #include <new>
 #include <nlopt.hpp>
 #include <random>
@@ -11,6 +12,7 @@
 #include <utility>
 
 #include "common/errors.h"
+#include "common/parallel.h"
 
 namespace camdyn::optim {
 
@@ -50,7 +52,17 @@ struct BudgetExhausted : nlopt::forced_stop {};
 struct Entry {
   PointValue value;
   double violation = 0.0;
-  long order = 0;
+  /// (start, evaluation within the start): the evaluation order of the
+  /// starts run one after the other, whatever threads ran them.
+  std::pair<int, long> order;
+};
+
+/// What every start shares: the counters, the evaluated points of all starts
+/// and the progress callback, behind one lock.
+struct SharedPoints {
+  std::mutex mutex;
+  long total = 0, invalid = 0;
+  std::map<std::vector<double>, Entry> all;
 };
 
 /// Callback state of one start: the evaluation cache, finite differences,
@@ -58,16 +70,13 @@ struct Entry {
 class StartRun {
  public:
   StartRun(const SearchProblem& problem, const OptimizerConfig& config, int index, long budget, Clock::time_point t0,
-           long& total, long& invalid, std::map<std::vector<double>, Entry>& all,
-           const std::function<void(const SearchProgress&)>& progress, int starts)
+           SharedPoints& shared, const std::function<void(const SearchProgress&)>& progress, int starts)
       : problem_(problem),
         config_(config),
         index_(index),
         budget_(budget),
         t0_(t0),
-        total_(total),
-        invalid_(invalid),
-        all_(all),
+        shared_(shared),
         progress_(progress),
         starts_(starts) {}
 
@@ -115,17 +124,24 @@ class StartRun {
     if (v.residuals.size() != static_cast<std::size_t>(problem_.constraint_count))
       throw std::logic_error("search: evaluate returned the wrong number of constraint residuals");
     ++evaluations_;
-    ++total_;
-    Entry e{v, 0.0, total_};
-    if (!v.valid) ++invalid_;
+    Entry e{v, 0.0, {index_, evaluations_}};
     for (double r : v.residuals) e.violation += std::max(0.0, r);
     if (v.valid && (!has_best_ || better(e, best_))) {
       has_best_ = true;
       best_ = e;
       best_x_ = x;
     }
-    if (v.valid) all_.emplace(x, e);
-    report();
+    {
+      const std::lock_guard<std::mutex> lock(shared_.mutex);
+      ++shared_.total;
+      if (!v.valid) ++shared_.invalid;
+      // A point two starts evaluated keeps the earlier start's entry, as when they run in turn.
+      if (v.valid) {
+        const auto [it, added] = shared_.all.emplace(x, e);
+        if (!added && e.order < it->second.order) it->second = e;
+      }
+      report();
+    }
     return cache_.emplace(x, std::move(v)).first->second;
   }
 
@@ -150,8 +166,8 @@ class StartRun {
   void report() {
     if (!progress_) return;
     const double elapsed = std::chrono::duration<double>(Clock::now() - t0_).count();
-    progress_({total_, index_, starts_, best_.value.objective, has_best_ && best_.value.feasible,
-               elapsed > 0.0 ? static_cast<double>(total_) / elapsed : 0.0});
+    progress_({shared_.total, index_, starts_, best_.value.objective, has_best_ && best_.value.feasible,
+               elapsed > 0.0 ? static_cast<double>(shared_.total) / elapsed : 0.0});
   }
 
  public:
@@ -169,9 +185,7 @@ class StartRun {
   int index_;
   long budget_;
   Clock::time_point t0_;
-  long& total_;
-  long& invalid_;
-  std::map<std::vector<double>, Entry>& all_;
+  SharedPoints& shared_;
   const std::function<void(const SearchProgress&)>& progress_;
   int starts_;
 
@@ -211,8 +225,9 @@ struct SearchSetup {
   int starts = 1;
   Clock::time_point t0;
   std::vector<double> step;  ///< initial step of each variable (its share of the box)
-  std::map<std::vector<double>, Entry> all;
-  long total = 0, invalid = 0;
+  SharedPoints shared;
+  /// nlopt::srand sets a process-wide seed: one start at a time seeds and builds its optimiser.
+  std::mutex seed_mutex;
 };
 
 /// Sets up the NLopt optimiser of one start (AUGLAG when setup.auglag) with
@@ -254,28 +269,44 @@ void configure_optimizer(nlopt::opt& opt, const SearchProblem& problem, const Op
   }
 }
 
-/// Start s: from x0 for the first, from a random point of the box otherwise;
-/// every NLopt status and exception becomes its stop reason.
-StartResult run_start(const SearchProblem& problem, const OptimizerConfig& config, int s, std::mt19937_64& rng,
+/// The first point of each start: x0 for the first, seeded random points of
+/// the box for the others, drawn in start order before any start runs.
+std::vector<std::vector<double>> start_points(const SearchProblem& problem, const OptimizerConfig& config, int starts) {
+  const std::size_t n = problem.x0.size();
+  std::mt19937_64 rng(static_cast<unsigned long>(config.seed));
+  std::vector<std::vector<double>> points;
+  for (int s = 0; s < starts; ++s) {
+    std::vector<double> x0 = problem.x0;
+    if (s > 0) {
+      for (std::size_t j = 0; j < n; ++j)
+        x0[j] = std::uniform_real_distribution<double>(problem.lower[j], problem.upper[j])(rng);
+    }
+    for (std::size_t j = 0; j < n; ++j) x0[j] = std::clamp(x0[j], problem.lower[j], problem.upper[j]);
+    points.push_back(std::move(x0));
+  }
+  return points;
+}
+
+/// Start s from x0; every NLopt status and exception becomes its stop reason.
+StartResult run_start(const SearchProblem& problem, const OptimizerConfig& config, int s, std::vector<double> x0,
                       SearchSetup& setup, const std::function<void(const SearchProgress&)>& progress) {
   const std::size_t n = problem.x0.size();
   StartResult sr;
   sr.index = s;
-  sr.x0 = problem.x0;
-  if (s > 0) {
-    for (std::size_t j = 0; j < n; ++j)
-      sr.x0[j] = std::uniform_real_distribution<double>(problem.lower[j], problem.upper[j])(rng);
-  }
-  for (std::size_t j = 0; j < n; ++j) sr.x0[j] = std::clamp(sr.x0[j], problem.lower[j], problem.upper[j]);
+  sr.x0 = std::move(x0);
   const int starts = setup.starts;
   const long budget = config.max_evaluations / starts + (s < config.max_evaluations % starts ? 1 : 0);
-  StartRun run(problem, config, s, budget, setup.t0, setup.total, setup.invalid, setup.all, progress, starts);
+  StartRun run(problem, config, s, budget, setup.t0, setup.shared, progress, starts);
 
   try {
+    std::unique_lock<std::mutex> seeding(setup.seed_mutex);
     // Reproducible stochastic algorithms (ISRES, CRS2) for a given seed.
     nlopt::srand(static_cast<unsigned long>(config.seed) + static_cast<unsigned long>(s));
     nlopt::opt opt(setup.auglag ? nlopt::AUGLAG : setup.algorithm, static_cast<unsigned>(n));
     configure_optimizer(opt, problem, config, setup, budget, run);
+    // A global algorithm draws from the seed as it runs: it keeps the lock (it
+    // runs alone: one start); a local one draws nothing and lets the others seed.
+    if (!is_global(config.algorithm)) seeding.unlock();
     std::vector<double> x = sr.x0;
     double f = 0.0;
     const nlopt::result r = opt.optimize(x, f);
@@ -372,16 +403,20 @@ SearchResult run_search(const SearchProblem& problem, const OptimizerConfig& con
   out.algorithm = config.algorithm;
   out.method = setup.auglag ? "AUGLAG(" + config.algorithm + ")" : config.algorithm;
   setup.starts = is_global(config.algorithm) ? 1 : config.starts;
-  std::mt19937_64 rng(static_cast<unsigned long>(config.seed));
   setup.step.resize(n);
   for (std::size_t j = 0; j < n; ++j) setup.step[j] = config.initial_step * (problem.upper[j] - problem.lower[j]);
 
-  for (int s = 0; s < setup.starts; ++s) out.starts.push_back(run_start(problem, config, s, rng, setup, progress));
+  std::vector<std::vector<double>> points = start_points(problem, config, setup.starts);
+  out.starts.resize(static_cast<std::size_t>(setup.starts));
+  const int threads = is_global(config.algorithm) ? 1 : std::max(1, problem.parallel_starts);
+  parallel_for(out.starts.size(), threads, [&](std::size_t s) {
+    out.starts[s] = run_start(problem, config, static_cast<int>(s), std::move(points[s]), setup, progress);
+  });
 
   // The chosen start: the one whose best point is best.
-  rank_candidates(setup.all, out);
-  out.evaluations = setup.total;
-  out.invalid_evaluations = setup.invalid;
+  rank_candidates(setup.shared.all, out);
+  out.evaluations = setup.shared.total;
+  out.invalid_evaluations = setup.shared.invalid;
   out.run_time_s = std::chrono::duration<double>(Clock::now() - setup.t0).count();
   return out;
 }

@@ -11,6 +11,11 @@
 //
 // Local algorithms run from several starts (the given x0, then seeded random
 // points in the box); the evaluation budget is shared evenly between them.
+// The starts may run at once on several threads (SearchProblem::
+// parallel_starts): each start's points, budget and stop are its own, the
+// random starts are drawn before any runs, and evaluated points are ranked
+// by (start, evaluation within the start), so the result is the sequential
+// one's whatever the threads' timing.
 // Every NLopt status and exception becomes a `stop_reason` name; a start that
 // fails keeps what it found and never stops the others. The objective and
 // constraint functions of one point are evaluated once (cached: NLopt asks
@@ -42,12 +47,16 @@ struct SearchProblem {
   std::vector<double> lower, upper;  ///< finite bounds
   std::vector<double> x0;            ///< first start
   int constraint_count = 0;
-  /// Must not throw; `start` is the index of the start that asks.
+  /// Must not throw; `start` is the index of the start that asks. With
+  /// parallel_starts > 1 it is called from several threads at once, never
+  /// twice at once for the same start.
   std::function<PointValue(const std::vector<double>& x, int start, PointKind kind)> evaluate;
+  /// Threads the starts run on (local algorithms with several starts; 1: one after the other).
+  int parallel_starts = 1;
 };
 
 struct SearchProgress {
-  long evaluations = 0;
+  long evaluations = 0;  ///< over all starts so far
   int start = 0, starts = 1;
   double best_objective = 0.0;
   bool best_feasible = false;
@@ -82,6 +91,7 @@ struct SearchResult {
 
 /// Runs the search. Throws InputError only for a problem that cannot be set
 /// up (dimension 0, bounds not ordered); NLopt failures are stop reasons.
+/// `progress` is called under a lock (one call at a time) after each evaluation.
 SearchResult run_search(const SearchProblem& problem, const OptimizerConfig& config,
                         const std::function<void(const SearchProgress&)>& progress = {});
 

@@ -12,10 +12,13 @@
 #include <fstream>
 #include <functional>
 #include <memory>
+#include <mutex>
+#include <optional>
 #include <sstream>
 #include <utility>
 
 #include "common/errors.h"
+#include "common/parallel.h"
 #include "common/study_budget.h"
 #include "dynamics/model.h"
 #include "io/dotted_path.h"
@@ -444,21 +447,41 @@ IdentifyResult identify(const IdentifyProblem& problem, const IdentifyOptions& o
       {to_values(problem, z0), best.identified_values(), best.final_cost, quality.poor, ""}};
   long simulations = best.simulations;
   const int wanted = problem.solver.starts.value_or(quality.poor ? 2 * static_cast<int>(p) + 3 : 1);
+  // The further starts at once on the threads (each its own simulator; the
+  // progress callback one call at a time), then taken in start order, so the
+  // result is the one of the starts run one after the other.
+  const std::size_t further = static_cast<std::size_t>(std::max(0, wanted - 1));
+  const int parallel = std::clamp(options.threads, 1, std::max(1, wanted - 1));
+  std::mutex progress_mutex;
   IdentifyOptions extra = options;
   extra.journal = nullptr;  // the journal resumes the first start
-  for (int k = 1; k < wanted; ++k) {
-    const std::vector<double> z = design_start(problem, k);
-    FitStart start{to_values(problem, z), {}, 0.0, false, ""};
+  extra.threads = std::max(1, options.threads / parallel);
+  if (options.progress && parallel > 1)
+    extra.progress = [&options, &progress_mutex](const IdentifyProgress& at) {
+      const std::lock_guard<std::mutex> lock(progress_mutex);
+      options.progress(at);
+    };
+  std::vector<FitStart> further_starts(further);
+  std::vector<std::optional<IdentifyResult>> results(further);
+  parallel_for(further, parallel, [&](std::size_t i) {
+    const std::vector<double> z = design_start(problem, static_cast<int>(i) + 1);
+    further_starts[i] = FitStart{to_values(problem, z), {}, 0.0, false, ""};
     try {
-      IdentifyResult r = identify_from(problem, extra, z);
+      results[i] = identify_from(problem, extra, z);
+    } catch (const NumericalError& e) {
+      if (study_budget_exhausted()) throw;  // the study's wall time, not this start, ran out
+      further_starts[i].error = e.what();
+    }
+  });
+  for (std::size_t i = 0; i < further; ++i) {
+    FitStart& start = further_starts[i];
+    if (results[i]) {
+      IdentifyResult& r = *results[i];
       simulations += r.simulations;
       start.values = r.identified_values();
       start.final_cost = r.final_cost;
       start.poor_fit = assess_fit(r.fits).poor;
       if (r.final_cost < best.final_cost) best = std::move(r);
-    } catch (const NumericalError& e) {
-      if (study_budget_exhausted()) throw;  // the study's wall time, not this start, ran out
-      start.error = e.what();
     }
     starts.push_back(std::move(start));
   }

@@ -122,7 +122,10 @@ DesignEvaluation DesignEvaluator::evaluate(const SceneConfig& scene, const Evalu
     for (double rpm : config_.operating_rpm) scenes.push_back(at_speed(scene, rpm, settings));
     SimulationOptions options;
     options.record_series = settings.record_series;
-    pool_.submit(geometry, std::move(scenes), std::move(options));
+    JobStarts starts;
+    if (settings.warm != nullptr && settings.warm->size() == scenes.size()) starts.warm = *settings.warm;
+    starts.end_points = settings.end_points;
+    pool_.submit(geometry, std::move(scenes), std::move(options), std::move(starts));
   }
   // The workers simulate while this thread computes the contact stress.
   if (e.valid && config_.constraints.max_contact_stress) {
@@ -146,8 +149,14 @@ DesignEvaluation DesignEvaluator::evaluate(const SceneConfig& scene, const Evalu
       const double window = out.result.end_time - out.result.evaluated_from;
       const double gap = window > 0.0 ? out.result.metrics.separation_integral / window : 0.0;
       e.speeds.push_back({config_.operating_rpm[i], std::max(gap, 0.0), std::move(out.result)});
+      if (settings.end_points) e.end_points.push_back(std::move(out.end_point));
+      if (out.warm) ++e.warm_speeds;
     }
-    if (!e.valid) e.speeds.clear();
+    if (!e.valid) {
+      e.speeds.clear();
+      e.end_points.clear();
+      e.warm_speeds = 0;
+    }
   }
   score(e);
   return e;

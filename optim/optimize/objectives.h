@@ -36,6 +36,10 @@ struct EvaluationSettings {
   std::optional<double> rtol;             ///< replaces integrator.rtol
   std::optional<double> max_wall_time_s;  ///< caps integrator.max_wall_time_s
   bool record_series = false;             ///< keep the time series (for the report)
+  /// Warm starts (optim/simulation_pool.h): one section point (or none) per
+  /// operating speed to start that speed's run from; null or empty: cold.
+  const std::vector<std::optional<SectionPoint>>* warm = nullptr;
+  bool end_points = false;  ///< fill DesignEvaluation::end_points
 };
 
 /// The loop settings of optimizer.evaluation_*.
@@ -85,6 +89,11 @@ struct DesignEvaluation {
   double contact_stress_rpm = 0.0;
   bool simulated = false;
   std::vector<SpeedResult> speeds;  ///< one per operating speed, when simulated
+  /// With EvaluationSettings::end_points and a valid simulated design: where
+  /// each operating speed's run ended on the section (none where it did not),
+  /// the warm starts of the next evaluation.
+  std::vector<std::optional<SectionPoint>> end_points;
+  int warm_speeds = 0;  ///< operating speeds whose warm window was kept
 
   std::vector<TermValue> terms;  ///< the weighted terms
   double objective = 0.0;

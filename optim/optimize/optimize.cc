@@ -2,8 +2,12 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
 #include <nlopt.hpp>
 #include <numbers>
 #include <optional>
@@ -14,6 +18,7 @@
 #include "dynamics/contact_stress.h"
 #include "dynamics/model.h"
 #include "dynamics/spring_sizing.h"
+#include "io/hex_doubles.h"
 #include "io/json_archive.h"
 #include "optim/optimize/jump_bound.h"
 #include "optim/optimize/optimize_checkpoint.h"
@@ -148,36 +153,181 @@ void note_budget_cut(const DesignEvaluation& e, OptimizeOutcome& out) {
   out.budget_cut_by.insert(budget);
 }
 
+/// The warm starts of the search loop (optimizer.warm_start; optim/simulation_pool.h):
+/// per start, where its last valid evaluation ended at each operating speed.
+/// An evaluation then depends on that start's earlier ones as well as on its
+/// design, so each start's evaluations are remembered by design and a design
+/// asked again by the same start gets its first evaluation back, as the
+/// journal gives it back on resume (optim/optimize/optimize_journal.h): with
+/// or without a journal, killed or not, the search sees the same values.
+class WarmStarts {
+ public:
+  WarmStarts(const OptimizeStudyConfig& config, bool simulated)
+      : on_(config.optimizer.warm_start && simulated), speeds_(config.operating_rpm.size()) {}
+
+  /// Fills e with the evaluation start already made of x; false if none (or warm starts are off).
+  bool recall(const std::vector<double>& x, int start, DesignEvaluation& e) const {
+    if (!on_) return false;
+    const auto hit = seen_.find({start, double_bits(x)});
+    if (hit == seen_.end()) return false;
+    e = hit->second;
+    return true;
+  }
+  /// The settings of start's next evaluation: its warm points, and ask for the end points.
+  void prepare(int start, EvaluationSettings& settings) {
+    if (!on_) return;
+    std::vector<std::optional<SectionPoint>>& points = points_[start];
+    points.resize(speeds_);
+    settings.warm = &points;
+    settings.end_points = true;
+  }
+  /// After each evaluation of the search (simulated, replayed or recalled).
+  void evaluated(const std::vector<double>& x, int start, const DesignEvaluation& e) {
+    if (!on_) return;
+    DesignEvaluation kept;  // what the search and the journal see, without the runs
+    kept.valid = e.valid;
+    kept.error = e.error;
+    kept.objective = e.objective;
+    kept.feasible = e.feasible;
+    kept.constraints = e.constraints;
+    kept.end_points = e.end_points;
+    seen_.try_emplace({start, double_bits(x)}, std::move(kept));
+    if (!e.valid || e.end_points.size() != speeds_) return;
+    std::vector<std::optional<SectionPoint>>& points = points_[start];
+    points.resize(speeds_);
+    for (std::size_t i = 0; i < speeds_; ++i)
+      if (e.end_points[i]) points[i] = e.end_points[i];
+  }
+
+ private:
+  bool on_ = false;
+  std::size_t speeds_ = 0;
+  std::map<int, std::vector<std::optional<SectionPoint>>> points_;
+  std::map<std::pair<int, std::vector<std::uint64_t>>, DesignEvaluation> seen_;
+};
+
+/// The evaluators of the search's starts. Starts that run one after the
+/// other share the study's pool and evaluator; starts that run at once
+/// (optimizer.starts > 1 and --jobs > 1) each get a SimulationPool and a
+/// DesignEvaluator of their own (a pool runs one batch at a time), with the
+/// study's constraints and normalisation, so an evaluation is the same
+/// whichever thread makes it.
+class StartEvaluators {
+ public:
+  StartEvaluators(const DesignEvaluator& main, SimulationPool& main_pool, const OptimizeStudyConfig& config,
+                  std::string file, int parallel, int threads_each)
+      : main_(main),
+        main_pool_(main_pool),
+        config_(config),
+        file_(std::move(file)),
+        parallel_(parallel),
+        threads_each_(threads_each) {}
+
+  int parallel() const { return parallel_; }
+
+  /// The evaluator and pool of `start` (made on first use; thread-safe).
+  std::pair<const DesignEvaluator*, SimulationPool*> of(int start) {
+    if (parallel_ <= 1) return {&main_, &main_pool_};
+    const std::lock_guard<std::mutex> lock(mutex_);
+    Own& own = own_[start];
+    if (!own.pool) {
+      own.pool = std::make_unique<SimulationPool>(threads_each_, file_);
+      own.evaluator = std::make_unique<DesignEvaluator>(config_, file_, *own.pool);
+      if (own.evaluator->needs_simulation()) own.evaluator->require_no_separation_at(main_.proven_rpm());
+      own.evaluator->set_normalisation(main_.normalisation());
+    }
+    return {own.evaluator.get(), own.pool.get()};
+  }
+  /// Over the starts' own pools (not the study's).
+  long simulations() const { return sum(&SimulationPool::simulations); }
+  long warm_kept() const { return sum(&SimulationPool::warm_kept); }
+  long warm_rejected() const { return sum(&SimulationPool::warm_rejected); }
+
+ private:
+  struct Own {
+    std::unique_ptr<SimulationPool> pool;
+    std::unique_ptr<DesignEvaluator> evaluator;
+  };
+  long sum(long (SimulationPool::*count)() const) const {
+    long n = 0;
+    for (const auto& [start, own] : own_) n += ((*own.pool).*count)();
+    return n;
+  }
+
+  const DesignEvaluator& main_;
+  SimulationPool& main_pool_;
+  const OptimizeStudyConfig& config_;
+  std::string file_;
+  int parallel_ = 1, threads_each_ = 1;
+  std::mutex mutex_;
+  std::map<int, Own> own_;
+};
+
+/// After starts that ran at once: the history in the order of the starts
+/// run one after the other (each start's evaluations in their order), numbered
+/// and with the best so far as that run has them.
+void order_history_by_start(std::vector<HistoryRecord>& history) {
+  std::stable_sort(history.begin(), history.end(),
+                   [](const HistoryRecord& a, const HistoryRecord& b) { return a.start < b.start; });
+  BestSoFar best;
+  for (std::size_t i = 0; i < history.size(); ++i) {
+    HistoryRecord& h = history[i];
+    DesignEvaluation e;
+    e.valid = h.valid;
+    e.objective = h.objective;
+    e.feasible = h.feasible;
+    best.update(e);
+    h.evaluation = static_cast<long>(i) + 1;
+    h.best_objective = best.have ? best.objective : h.objective;
+    h.best_feasible = best.feasible;
+  }
+}
+
 /// The search loop with the loop settings, from the initial design: fills
 /// out.initial, out.history, out.search, out.loop_time_s and
-/// out.loop_simulations. Throws NumericalError when no design was valid.
-void search_designs(const DesignSpace& space, const DesignEvaluator& evaluator, const SimulationPool& pool,
-                    const OptimizeStudyConfig& config, const OptimizeOptions& options, LoopRecorder& recorder,
-                    OptimizeOutcome& out) {
+/// out.loop_simulations; returns the simulations of the starts' own pools
+/// (starts run at once, on --jobs threads). Throws NumericalError when no
+/// design was valid.
+long search_designs(const DesignSpace& space, const DesignEvaluator& evaluator, SimulationPool& pool,
+                    const OptimizeStudyConfig& config, const OptimizeOptions& options, const std::string& file,
+                    LoopRecorder& recorder, OptimizeOutcome& out) {
   const EvaluationSettings loop = loop_settings(config.optimizer);
   out.initial = evaluator.evaluate(space.scene(out.x_initial), loop, out.loop_simulated);
   const long sims_before = pool.simulations();
+  const bool local = config.optimizer.algorithm.rfind("GN_", 0) != 0;
+  const int parallel = local ? std::clamp(options.threads, 1, config.optimizer.starts) : 1;
+  StartEvaluators starts(evaluator, pool, config, file, parallel, std::max(1, options.threads / parallel));
+  std::mutex book;  // the bookkeeping below, shared by the starts
   BestSoFar best;
   SearchProblem problem;
   problem.lower = space.lower();
   problem.upper = space.upper();
   problem.x0 = out.x_initial;
   problem.constraint_count = static_cast<int>(out.constraints.size());
+  WarmStarts warm(config, out.loop_simulated);
+  problem.parallel_starts = parallel;
   problem.evaluate = [&](const std::vector<double>& x, int start, PointKind kind) {
+    std::unique_lock<std::mutex> lock(book);
     // The outputs cannot be kept, or the study's time is up: stop every start.
     if (recorder.failed() || study_budget_exhausted()) throw nlopt::forced_stop();
     DesignEvaluation e;
-    if (!recorder.replay(x, e)) {
-      const long sims = pool.simulations();
+    if (!warm.recall(x, start, e) && !recorder.replay(x, start, e)) {
+      EvaluationSettings settings = loop;
+      warm.prepare(start, settings);
+      lock.unlock();
+      const auto [own, own_pool] = starts.of(start);
+      const long sims = own_pool->simulations();
       try {
-        e = evaluator.evaluate(space.scene(x), loop, out.loop_simulated);
+        e = own->evaluate(space.scene(x), settings, out.loop_simulated);
       } catch (const InputError& err) {  // a spline the geometry code refuses
         e.valid = false;
         e.error = err.what();
-        evaluator.score(e);
+        own->score(e);
       }
-      recorder.journal(x, e, pool.simulations() - sims);
+      lock.lock();
+      recorder.journal(x, start, e, own_pool->simulations() - sims);
     }
+    warm.evaluated(x, start, e);
     note_budget_cut(e, out);
     const bool improved = best.update(e);
     out.history.push_back(history_record(e, static_cast<long>(out.history.size()) + 1, start, kind, best));
@@ -196,7 +346,10 @@ void search_designs(const DesignSpace& space, const DesignEvaluator& evaluator, 
              : "; they are kept in " + recorder.journal_path().string() + ": " + study_rerun_advice()));
   out.loop_time_s = seconds_since(loop_t0);
   out.resumed_simulations = recorder.replayed_simulations();
-  out.loop_simulations = pool.simulations() - sims_before + out.resumed_simulations;
+  if (parallel > 1) order_history_by_start(out.history);
+  out.loop_simulations = pool.simulations() - sims_before + starts.simulations() + out.resumed_simulations;
+  out.warm_kept = pool.warm_kept() + starts.warm_kept();
+  out.warm_rejected = pool.warm_rejected() + starts.warm_rejected();
   if (options.progress) std::fprintf(stderr, "\n");
   if (out.search.candidates.empty())
     throw NumericalError("the optimiser found no valid design in " + std::to_string(out.search.evaluations) +
@@ -205,6 +358,7 @@ void search_designs(const DesignSpace& space, const DesignEvaluator& evaluator, 
                                                     : "; " + std::to_string(out.budget_cut_evaluations) +
                                                           " of them were cut short by a budget (" +
                                                           out.budget_cut_names() + "), which proves nothing"));
+  return starts.simulations();
 }
 
 /// `scene` with the study's geometric constraints that design `e` meets as
@@ -584,7 +738,7 @@ OptimizeOutcome run_optimize(const SceneConfig& baseline, const OptimizeStudyCon
   evaluator.score(out.baseline);
 
   say(options, "searching");
-  search_designs(space, evaluator, pool, config, options, recorder, out);
+  const long start_pool_simulations = search_designs(space, evaluator, pool, config, options, file, recorder, out);
 
   say(options, "re-evaluating the best designs with the scene's settings");
   choose_optimized(space, evaluator, full, baseline.name + "-optimized", top_speed(config), file, out);
@@ -594,7 +748,7 @@ OptimizeOutcome run_optimize(const SceneConfig& baseline, const OptimizeStudyCon
   size_chosen_spring(file, out);
   say(options, "checking that the objective does not depend on the window");
   out.window_check = check_window(evaluator, out);
-  out.simulations = pool.simulations() + out.resumed_simulations;
+  out.simulations = pool.simulations() + start_pool_simulations + out.resumed_simulations;
   out.run_time_s = seconds_since(t0);
   return out;
 }

@@ -147,8 +147,11 @@ struct OptimizeOutcome {
   std::vector<HistoryRecord> history;
   long simulations = 0;       ///< all simulations of the run
   long loop_simulations = 0;  ///< simulations of the search loop
-  double loop_time_s = 0.0;   ///< wall time of the search loop [s]
-  double run_time_s = 0.0;    ///< whole run [s]
+  /// optimizer.warm_start: loop simulations whose warm window was kept, and
+  /// those tried warm that ran cold after all (optim/simulation_pool.h).
+  long warm_kept = 0, warm_rejected = 0;
+  double loop_time_s = 0.0;  ///< wall time of the search loop [s]
+  double run_time_s = 0.0;   ///< whole run [s]
 };
 
 /// Sets out.withheld when the verification of a candidate in out.selection

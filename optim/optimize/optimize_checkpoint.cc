@@ -23,26 +23,28 @@ LoopRecorder::LoopRecorder(std::filesystem::path dir, const SceneConfig& baselin
     top_rpm_ = *std::max_element(config.operating_rpm.begin(), config.operating_rpm.end());
   if (dir_.empty()) return;
   journal_.emplace(dir_, optimize_fingerprint(baseline, config), static_cast<std::size_t>(space.dimension()),
-                   constraints);
+                   constraints, config.optimizer.warm_start);
 }
 
-bool LoopRecorder::replay(const std::vector<double>& x, DesignEvaluation& e) {
-  const JournaledEvaluation* j = journal_ ? journal_->find(x) : nullptr;
+bool LoopRecorder::replay(const std::vector<double>& x, int start, DesignEvaluation& e) {
+  const JournaledEvaluation* j = journal_ ? journal_->find(x, start) : nullptr;
   if (j == nullptr) return false;
   e.valid = j->valid;
   e.error = j->error;
   e.objective = j->objective;
   e.feasible = j->feasible;
   e.constraints = j->constraints;
+  e.end_points = j->end_points;
   replayed_simulations_ += j->simulations;
   return true;
 }
 
-void LoopRecorder::journal(const std::vector<double>& x, const DesignEvaluation& e, long simulations) {
+void LoopRecorder::journal(const std::vector<double>& x, int start, const DesignEvaluation& e, long simulations) {
   // An evaluation the study's budget cut short is not a result: a re-run evaluates it.
   if (!journal_ || error_ || study_budget_exhausted()) return;
   try {
-    journal_->add(x, JournaledEvaluation{e.valid, e.error, e.objective, e.feasible, e.constraints, simulations});
+    journal_->add(x, JournaledEvaluation{e.valid, e.error, e.objective, e.feasible, e.constraints, simulations, start,
+                                         e.end_points});
   } catch (...) {
     error_ = std::current_exception();
   }

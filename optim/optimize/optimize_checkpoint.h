@@ -30,10 +30,12 @@ class LoopRecorder {
   LoopRecorder(std::filesystem::path dir, const SceneConfig& baseline, const OptimizeStudyConfig& config,
                const DesignSpace& space, std::size_t constraints, std::string file);
 
-  /// Fills e from the journal when it has design x (and counts its simulations); false otherwise.
-  bool replay(const std::vector<double>& x, DesignEvaluation& e);
-  /// Journals the evaluation of x, which took `simulations` simulations.
-  void journal(const std::vector<double>& x, const DesignEvaluation& e, long simulations);
+  /// Fills e from the journal when it has design x (asked by `start`:
+  /// journals of warm-started searches are per start) and counts its
+  /// simulations; false otherwise.
+  bool replay(const std::vector<double>& x, int start, DesignEvaluation& e);
+  /// Journals the evaluation of x by `start`, which took `simulations` simulations.
+  void journal(const std::vector<double>& x, int start, const DesignEvaluation& e, long simulations);
   /// After each evaluation of the search: history.csv at most every
   /// `min_interval` (and always when the best design changed), with the
   /// best design when it changed.

@@ -196,6 +196,7 @@ void visit(A& a, OptimizerConfig& o) {
   a.field("evaluation_cycles", o.evaluation_cycles, open_closed(0, kMaxRevolutionsPerRun));
   a.field("evaluation_rtol", o.evaluation_rtol, open_closed(0, 0.1));
   a.field("evaluation_max_wall_time_s", o.evaluation_max_wall_time_s, positive());
+  a.field("warm_start", o.warm_start);
   const bool global = o.algorithm.rfind("GN_", 0) == 0;
   a.require(!global || o.starts == 1, "starts",
             "multi-start is for local algorithms (LN_*, LD_*); a global algorithm runs once, got " +

@@ -134,6 +134,13 @@ struct OptimizerConfig {
   std::optional<double> evaluation_cycles = 2.0;
   std::optional<double> evaluation_rtol = 1e-7;
   double evaluation_max_wall_time_s = 30.0;  ///< per simulation in the loop [s]; slower designs are invalid
+  /// Each start's evaluation at an operating speed begins where that start's
+  /// last valid evaluation at that speed ended (on the section, the cam phase
+  /// lined up), integrates the evaluated window only, and keeps it when the
+  /// window returns to its start within optim/simulation_pool.h
+  /// kWarmStartTolerance (the motion had settled); otherwise the evaluation
+  /// is run cold as without it (docs/optimize.md "Warm starts").
+  bool warm_start = false;
 
   bool operator==(const OptimizerConfig&) const = default;
 };

@@ -50,6 +50,47 @@ std::optional<JournaledEvaluation> evaluation_of(const Json& record, std::size_t
   return e;
 }
 
+/// "warm_end" of a record: per speed, the section point as hex (coordinates,
+/// approach speed, motor phase) or "" for none.
+Json warm_end_json(const std::vector<std::optional<SectionPoint>>& points) {
+  Json out = Json::array();
+  for (const std::optional<SectionPoint>& p : points) {
+    if (!p) {
+      out.push_back("");
+      continue;
+    }
+    std::vector<double> values = p->x;
+    values.insert(values.end(), {p->approach_speed, p->motor_phase});
+    out.push_back(doubles_to_hex(values));
+  }
+  return out;
+}
+
+/// The section points of "warm_end"; nothing if it is malformed (missing: none).
+std::optional<std::vector<std::optional<SectionPoint>>> warm_end_of(const Json& record) {
+  std::vector<std::optional<SectionPoint>> points;
+  const auto it = record.find("warm_end");
+  if (it == record.end()) return points;
+  if (!it->is_array()) return std::nullopt;
+  constexpr std::size_t kHexDigits = 16;
+  for (const Json& item : *it) {
+    if (!item.is_string()) return std::nullopt;
+    const std::string& text = item.get_ref<const std::string&>();
+    if (text.empty()) {
+      points.emplace_back();
+      continue;
+    }
+    const auto values = doubles_from_hex(text, text.size() / kHexDigits);
+    if (!values || values->size() < 2) return std::nullopt;
+    SectionPoint p;
+    p.x.assign(values->begin(), values->end() - 2);
+    p.approach_speed = (*values)[values->size() - 2];
+    p.motor_phase = values->back();
+    points.push_back(std::move(p));
+  }
+  return points;
+}
+
 }  // namespace
 
 std::string optimize_fingerprint(const SceneConfig& baseline, const OptimizeStudyConfig& config) {
@@ -59,50 +100,61 @@ std::string optimize_fingerprint(const SceneConfig& baseline, const OptimizeStud
 }
 
 OptimizeJournal::OptimizeJournal(const std::filesystem::path& dir, const std::string& fingerprint,
-                                 std::size_t dimension, std::size_t constraints)
+                                 std::size_t dimension, std::size_t constraints, bool per_start)
     : journal_(journal_path(dir), "optimize", fingerprint, kMaxRecords),
       dimension_(dimension),
-      constraint_count_(constraints) {
+      constraint_count_(constraints),
+      per_start_(per_start) {
   for (const auto& [index, record] : journal_.done()) {
     next_index_ = index + 1;
     if (record.value("kind", std::string()) != "evaluation") continue;
     const auto x = hex_field(record, "x", dimension_);
     auto e = evaluation_of(record, constraint_count_);
-    if (!x || !e) {
+    const auto warm_end = warm_end_of(record);
+    if (!x || !e || !warm_end) {
       std::cerr << "camdyn: warning: " << path().string() << ": record " << index
                 << " is not an evaluation of this study; the design is evaluated again\n";
       continue;
     }
-    if (evaluations_.emplace(double_bits(*x), std::move(*e)).second) ++resumed_;
+    e->start = record.value("start", 0);
+    e->end_points = std::move(*warm_end);
+    Key k = key(*x, e->start);
+    if (evaluations_.emplace(std::move(k), std::move(*e)).second) ++resumed_;
   }
 }
 
-const JournaledEvaluation* OptimizeJournal::find(const std::vector<double>& x) const {
-  const auto hit = evaluations_.find(double_bits(x));
+OptimizeJournal::Key OptimizeJournal::key(const std::vector<double>& x, int start) const {
+  Key k = double_bits(x);
+  if (per_start_) k.insert(k.begin(), static_cast<std::uint64_t>(start));
+  return k;
+}
+
+const JournaledEvaluation* OptimizeJournal::find(const std::vector<double>& x, int start) const {
+  const auto hit = evaluations_.find(key(x, start));
   return hit == evaluations_.end() ? nullptr : &hit->second;
 }
 
 void OptimizeJournal::add(const std::vector<double>& x, const JournaledEvaluation& e) {
   if (x.size() != dimension_ || e.constraints.size() != constraint_count_) return;  // not of this study
-  Key key = double_bits(x);
-  if (evaluations_.contains(key)) return;
+  Key k = key(x, e.start);
+  if (evaluations_.contains(k)) return;
   std::vector<double> values;
   Json holds = Json::array();
   for (const ConstraintValue& c : e.constraints) {
     values.insert(values.end(), {c.value, c.margin, c.residual});
     holds.push_back(c.holds);
   }
-  journal_.append(Json{{"index", next_index_++},
-                       {"kind", "evaluation"},
-                       {"x", doubles_to_hex(x)},
-                       {"valid", e.valid},
-                       {"error", e.error},
-                       {"objective", doubles_to_hex({e.objective})},
-                       {"feasible", e.feasible},
-                       {"constraints", doubles_to_hex(values)},
-                       {"holds", std::move(holds)},
-                       {"simulations", e.simulations}});
-  evaluations_.emplace(std::move(key), e);
+  Json record{{"index", next_index_++},    {"kind", "evaluation"},
+              {"x", doubles_to_hex(x)},    {"valid", e.valid},
+              {"error", e.error},          {"objective", doubles_to_hex({e.objective})},
+              {"feasible", e.feasible},    {"constraints", doubles_to_hex(values)},
+              {"holds", std::move(holds)}, {"simulations", e.simulations}};
+  if (per_start_) {
+    record["start"] = e.start;
+    record["warm_end"] = warm_end_json(e.end_points);
+  }
+  journal_.append(record);
+  evaluations_.emplace(std::move(k), e);
 }
 
 }  // namespace camdyn::optim

@@ -7,6 +7,13 @@
 //    "feasible", "constraints": hex (value, margin, residual per constraint),
 //    "holds": [bool per constraint], "simulations"}
 // with every double as the 16 hex digits of its bits (io/hex_doubles.h).
+// With optimizer.warm_start an evaluation depends on where the start's
+// previous evaluations ended as well as on its design, so each record also
+// carries "start" (the index of the start that asked) and "warm_end" (per
+// operating speed, hex of the section point its run ended on,
+// PoincareMap::coordinate_names() then approach speed and motor phase, or ""),
+// and a design is looked up per start: the replay restores the warm states
+// the uninterrupted run had, and the starts never share an evaluation.
 // Resuming is a replay: the search runs again from its start, and every
 // design found in the journal takes its evaluation from there instead of
 // being simulated. The evaluations are deterministic and so is the search
@@ -22,9 +29,11 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "dynamics/poincare_map.h"
 #include "io/config.h"
 #include "optim/optimize/objectives.h"
 #include "optim/optimize/optimize_config.h"
@@ -44,6 +53,8 @@ struct JournaledEvaluation {
   bool feasible = false;
   std::vector<ConstraintValue> constraints;
   long simulations = 0;
+  int start = 0;                                        ///< the start that asked (journaled with warm starts)
+  std::vector<std::optional<SectionPoint>> end_points;  ///< warm starts: where each speed's run ended
 };
 
 class OptimizeJournal {
@@ -52,13 +63,14 @@ class OptimizeJournal {
   /// `dimension` design variables and `constraints` constraints, and reads
   /// the evaluations already done. Throws InputError(journal, "hash", ...)
   /// when it belongs to another study, std::runtime_error on I/O errors.
+  /// `per_start`: designs are looked up per start (warm starts).
   OptimizeJournal(const std::filesystem::path& dir, const std::string& fingerprint, std::size_t dimension,
-                  std::size_t constraints);
+                  std::size_t constraints, bool per_start = false);
 
-  /// The evaluation of design `x` (the same values to the bit) if the
-  /// journal has it, or null.
-  const JournaledEvaluation* find(const std::vector<double>& x) const;
-  /// Journals the evaluation of `x` unless the journal has it already.
+  /// The evaluation of design `x` (the same values to the bit) by `start`
+  /// (any start unless per_start) if the journal has it, or null.
+  const JournaledEvaluation* find(const std::vector<double>& x, int start = 0) const;
+  /// Journals the evaluation of `x` (by e.start) unless the journal has it already.
   void add(const std::vector<double>& x, const JournaledEvaluation& e);
 
   /// Designs the journal held when it was opened.
@@ -67,9 +79,11 @@ class OptimizeJournal {
 
  private:
   using Key = std::vector<std::uint64_t>;
+  Key key(const std::vector<double>& x, int start) const;
 
   Journal journal_;
   std::size_t dimension_ = 0, constraint_count_ = 0;
+  bool per_start_ = false;
   std::map<Key, JournaledEvaluation> evaluations_;
   std::size_t resumed_ = 0;
   std::size_t next_index_ = 0;

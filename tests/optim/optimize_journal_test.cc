@@ -88,6 +88,36 @@ TEST(OptimizeJournal, ALineCutByAKillIsDroppedAndTheOthersKept) {
   EXPECT_EQ(journal.find({2.0}), nullptr);
 }
 
+// optimizer.warm_start: an evaluation depends on its start's earlier ones,
+// so the journal keeps each start's evaluations apart and gives back where
+// each speed's run ended (the warm states of the replayed search), to the bit.
+TEST(OptimizeJournal, AWarmStartedSearchIsJournaledPerStartWithItsEndPoints) {
+  const fs::path dir = test::scratch_dir("optimize_journal", "warm");
+  SectionPoint end;
+  end.x = {1.0 / 3.0, -0.0, 2e-310};
+  end.approach_speed = 0.1 + 0.2;
+  end.motor_phase = -1.0 / 7.0;
+  {
+    OptimizeJournal journal(dir, "f1", 1, 2, true);
+    JournaledEvaluation e = sample_evaluation();
+    e.start = 1;
+    e.end_points = {std::nullopt, end};
+    journal.add({1.0}, e);
+  }
+  const OptimizeJournal journal(dir, "f1", 1, 2, true);
+  EXPECT_EQ(journal.find({1.0}, 0), nullptr);  // start 0 did not evaluate it
+  const JournaledEvaluation* e = journal.find({1.0}, 1);
+  ASSERT_NE(e, nullptr);
+  EXPECT_EQ(e->start, 1);
+  ASSERT_EQ(e->end_points.size(), 2u);
+  EXPECT_FALSE(e->end_points[0].has_value());
+  ASSERT_TRUE(e->end_points[1].has_value());
+  ASSERT_EQ(e->end_points[1]->x.size(), 3u);
+  for (std::size_t j = 0; j < 3; ++j) expect_same_bits(e->end_points[1]->x[j], end.x[j]);
+  expect_same_bits(e->end_points[1]->approach_speed, end.approach_speed);
+  expect_same_bits(e->end_points[1]->motor_phase, end.motor_phase);
+}
+
 TEST(OptimizeJournal, AJournalOfAnotherStudyIsRefused) {
   const fs::path dir = test::scratch_dir("optimize_journal", "other");
   { OptimizeJournal journal(dir, "f1", 1, 0); }
