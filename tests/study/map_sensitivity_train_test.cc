@@ -67,9 +67,8 @@ TEST(MapSensitivity, EightCoilTrainMultipliersAreTheHeldTrainsClosedForm) {
   // Match each closed-form multiplier with the nearest one found, each used once.
   std::vector<std::complex<double>> left(found.begin(), found.end());
   for (const std::complex<double>& m : expected) {
-    const auto nearest = std::min_element(left.begin(), left.end(), [&](const auto& a, const auto& b) {
-      return std::abs(a - m) < std::abs(b - m);
-    });
+    const auto nearest = std::min_element(
+        left.begin(), left.end(), [&](const auto& a, const auto& b) { return std::abs(a - m) < std::abs(b - m); });
     EXPECT_LT(std::abs(*nearest - m), kMultiplierAgreement * radius) << "closed form " << m << ", found " << *nearest;
     left.erase(nearest);
   }
