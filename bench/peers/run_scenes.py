@@ -24,7 +24,7 @@ advancement), extended here to the analytic cycloidal law, the Hertz and
 Lankarani-Nikravesh laws and the follower damper, all from docs/model.md.
 
   /usr/bin/python3 bench/peers/run_scenes.py --json bench/results/peers_scenes.json
-  /usr/bin/python3 bench/peers/run_scenes.py --scenes quickstart,stiff_contact --quick
+  /usr/bin/python3 bench/peers/run_scenes.py --scenes quickstart,stiff_contact --repeat 1
 Exit status: 0 done and agreeing, 1 an agreement check failed, 2 bad input,
 3 a peer failed, 77 scipy missing (CTest counts the test as skipped).
 """
