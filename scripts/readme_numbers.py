@@ -135,6 +135,14 @@ def peer(name: str, field: str) -> float:
     return float(data["peers"][name][field])
 
 
+def peer_scene(scene: str, path: tuple[str, ...]) -> float:
+    """A field of one scene in bench/results/peers_scenes.json (bench/peers/run_scenes.py)."""
+    data = json.loads((ROOT / "bench" / "results" / "peers_scenes.json").read_text())["scenes"][scene]
+    for key in path:
+        data = data[key]
+    return float(data)
+
+
 def law_row(run: Run, law: str) -> list[dict]:
     return [r for r in run.rows("comparison.csv") if r["case"] == law]
 
@@ -314,6 +322,17 @@ NUMBERS = [
     Num("peers.camdyn_run_time_s", "bench", lambda _: peer("camdyn", "run_time_s"), ".2f", "0.005"),
     Num("peers.scipy_wall_s", "bench", lambda _: peer("scipy", "wall_s"), ".1f", "0.05"),
     Num("peers.siconos_wall_s", "bench", lambda _: peer("siconos", "wall_s"), ".1f", "0.05"),
+    # The README's table of every scene of issue 38 (bench/peers/run_scenes.py).
+    *[Num(f"peers_scenes.{scene}.{what}", "bench",
+          (lambda scene, path: lambda _: peer_scene(scene, path))(scene, path), fmt, tol)
+      for scene in ("long_flight", "quickstart", "stiff_contact", "stiff_contact_adams")
+      for what, path, fmt, tol in [("camdyn_wall_s", ("camdyn", "wall_s"), ".2f", "0.005"),
+                                   ("camdyn_cpu_s", ("camdyn", "cpu_s"), ".2f", "0.005"),
+                                   ("camdyn_run_time_s", ("camdyn", "run_time_s"), ".3f", "0.0005"),
+                                   ("scipy_wall_s", ("scipy", "wall_s"), ".1f", "0.05"),
+                                   ("scipy_cpu_s", ("scipy", "cpu_s"), ".1f", "0.05"),
+                                   ("wall_ratio", ("scipy_over_camdyn_wall",), ".0f", "0.5"),
+                                   ("cpu_ratio", ("scipy_over_camdyn_cpu",), ".0f", "0.5")]],
     Num("bench.quickstart_run_s", "bench", lambda _: 1e-3 * bench("simulation.json", "BM_QuickstartCycle/0",
                                                                   "real_time"), ".2f", "0.005"),
     Num("bench.tracking.differential_ms", "bench",

@@ -313,6 +313,11 @@ class Compliant:
     def flight_jac(self, t, x):
         return [[0.0, 1.0], [-self.sc.stiffness / self.sc.mass, 0.0]]
 
+    def accel_bound(self, x_a, x_b):
+        """A bound of |q''| [m/s^2] in flight between the states x_a and x_b."""
+        sc = self.sc
+        return (sc.preload + sc.stiffness * max(abs(x_a[0]), abs(x_b[0]))) / sc.mass
+
     def gap_event(self, t, x):
         bound = self.gap.far_bound(x[0])
         return bound if bound > 0.0 else self.gap.at(x[0], self.sc.omega * t)[0]
@@ -391,7 +396,7 @@ def fly(model, t0, x0, t_end, method):
         dense = solver.dense_output()
         ts.append(solver.t)
         interpolants.append(dense)
-        accel = (sc.preload + sc.stiffness * max(abs(x_old[0]), abs(solver.y[0]))) / sc.mass
+        accel = model.accel_bound(x_old, solver.y)
         closing = max(abs(x_old[1]), abs(solver.y[1])) + accel * (solver.t - t_old) + surface_speed
         tau, g = t_old, gap(t_old, x_old)
         while tau < solver.t:
