@@ -3,6 +3,7 @@
 // row per impact) and report.html with the diagram and the cam.
 #include <camdyn/version.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -143,10 +144,18 @@ Report jump_map_report(const JumpMapStudy& study, const std::vector<JumpMapPoint
                {study.jump_speed_name, format_number(study.damped_rigid_jump_speed_rpm, 5) + " rpm with the damper, " +
                                            format_number(study.rigid_jump_speed_rpm, 5) + " rpm without"},
                {"run time", format_number(run_time, 3) + " s"}};
-  for (const JumpMapTransition& t : transitions)
+  for (const JumpMapTransition& t : transitions) {
+    if (t.kind == "coexistence") {
+      const auto p = std::find_if(points.begin(), points.end(),
+                                  [&](const JumpMapPoint& q) { return q.coexisting && q.rpm == t.from_rpm; });
+      rep.facts.push_back({t.kind, "at " + format_number(t.from_rpm, 5) +
+                                       " rpm: " + (p == points.end() ? std::string() : attractors_text(*p))});
+      continue;
+    }
     rep.facts.push_back({t.kind, "between " + format_number(t.from_rpm, 5) + " and " + format_number(t.to_rpm, 5) +
                                      " rpm (period " + std::to_string(t.from_period) + " → " +
                                      std::to_string(t.to_period) + ")"});
+  }
   const double jump = study.damped_rigid_jump_speed_rpm;
   rep.plots.push_back(diagram(
       points, jump, study.jump_speed_name,
@@ -290,8 +299,12 @@ int run_jump_map_study(const Json& doc, const StudyContext& ctx) {
       "%s: %zu speeds (%ld failed, %ld from a predicted orbit, %ld with coexisting attractors), %zu "
       "transitions, %.3g s\n",
       study.scene.name.c_str(), points.size(), failed, predicted, coexisting, transitions.size(), run_time);
-  for (const JumpMapTransition& t : transitions)
-    std::printf("  %s between %.6g and %.6g rpm\n", t.kind.c_str(), t.from_rpm, t.to_rpm);
+  for (const JumpMapTransition& t : transitions) {
+    if (t.kind == "coexistence")
+      std::printf("  coexisting attractors at %.6g rpm\n", t.from_rpm);
+    else
+      std::printf("  %s between %.6g and %.6g rpm\n", t.kind.c_str(), t.from_rpm, t.to_rpm);
+  }
   std::printf("  report: %s\n", std::filesystem::absolute(ctx.out_dir / "report.html").lexically_normal().c_str());
   return failed == static_cast<long>(points.size()) ? 3 : 0;
 }
