@@ -14,12 +14,13 @@
 // (as `--jobs 2`);
 // the benchmark's time is the warm map's, and the counters give both times,
 // their ratio, the speeds the warm map predicted and the speeds the two maps
-// classify differently (motion kind or period). Where two stable orbits
-// coexist the two can differ: the warm start follows the orbit continued
-// from the neighbours, the transient may fall into the other's basin (the
-// quickstart at 1214.6 rpm: a stable period-1 orbit, |μ| 0.015, continued
-// from 1211 rpm, and a stable period-3 one, |μ| 0.009, that the transient
-// from the neighbour's motion reaches; both neighbours are period 1).
+// classify differently (motion kind or period), and the speeds each marks
+// coexisting (docs/periodic.md "Coexisting attractors"). The two can differ
+// where the shooting sees two orbits: the quickstart at 1214.6 rpm is period 1
+// warm-started (|μ| 0.015, continued from 1211 rpm) and period 3 the
+// transient way (|μ| 0.009), but the period-3 orbit's points lie 1e-6
+// (scaled) from the period-1 orbit's and, integrated on, both have the same
+// impacts every revolution: one motion through the integration noise.
 //
 //   build/release/bench/jump_map_bench --benchmark_out=bench/results/jump_map.json --benchmark_out_format=json
 #include <benchmark/benchmark.h>
@@ -72,10 +73,12 @@ void BM_JumpMap(benchmark::State& state, const std::string& config, const std::s
     state.ResumeTiming();
     warm = run_map(warm_study, path);
   }
-  long predicted = 0, different = 0, failed = 0;
+  long predicted = 0, different = 0, failed = 0, coexisting_warm = 0, coexisting_cold = 0;
   for (std::size_t i = 0; i < warm.points.size(); ++i) {
     const JumpMapPoint &w = warm.points[i], &c = cold.points[i];
     predicted += w.start == JumpMapStart::predicted ? 1 : 0;
+    coexisting_warm += w.coexisting ? 1 : 0;
+    coexisting_cold += c.coexisting ? 1 : 0;
     failed += (w.ok ? 0 : 1) + (c.ok ? 0 : 1);
     if (w.ok != c.ok || w.motion != c.motion || w.period != c.period) ++different;
   }
@@ -86,6 +89,8 @@ void BM_JumpMap(benchmark::State& state, const std::string& config, const std::s
   state.counters["predicted_speeds"] = static_cast<double>(predicted);
   state.counters["failed_speeds"] = static_cast<double>(failed);
   state.counters["classed_differently"] = static_cast<double>(different);
+  state.counters["coexisting_warm"] = static_cast<double>(coexisting_warm);
+  state.counters["coexisting_cold"] = static_cast<double>(coexisting_cold);
 }
 
 BENCHMARK_CAPTURE(BM_JumpMap, quickstart_100_speeds_across_the_jump_speed, "studies/quickstart.json",

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -31,6 +32,7 @@ void visit(A& a, JumpMapConfig& c) {
   a.field("transient_revolutions", c.transient_revolutions, at_least(1));
   a.field("samples", c.samples, at_least(1));
   a.field("warm_start", c.warm_start);
+  a.field("check_coexistence", c.check_coexistence);
   a.field("refine", c.refine, at_least(0));
   a.require(c.refine <= kMaxRefineLevels, "refine",
             "must be at most " + std::to_string(kMaxRefineLevels) + " levels, got " + std::to_string(c.refine));
@@ -363,7 +365,7 @@ bool same_class(const JumpMapPoint& a, const JumpMapPoint& b) {
 // it: each halves the bracket of the change. Appended to `points` (marked
 // refined); a speed that fails or the study's budget ends that bracket.
 void refine_range(const JumpMapStudy& study, const std::string& file, std::vector<JumpMapPoint>& points,
-                  const std::vector<Continuation>& after) {
+                  std::vector<Continuation>& after) {
   const std::size_t grid = points.size();
   for (std::size_t j = 0; j + 1 < grid; ++j) {
     if (!points[j].ok || !points[j + 1].ok || same_class(points[j], points[j + 1])) continue;
@@ -382,6 +384,7 @@ void refine_range(const JumpMapStudy& study, const std::string& file, std::vecto
       }
       p.refined = true;
       points.push_back(p);
+      after.push_back(c);
       if (same_class(below, p)) {
         lo = mid;
         below = std::move(p);
@@ -391,8 +394,202 @@ void refine_range(const JumpMapStudy& study, const std::string& file, std::vecto
       }
     }
   }
-  std::stable_sort(points.begin(), points.end(),
-                   [](const JumpMapPoint& a, const JumpMapPoint& b) { return a.rpm < b.rpm; });
+  // Both in rpm order, the continuations beside their points.
+  std::vector<std::size_t> order(points.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return points[a].rpm < points[b].rpm; });
+  std::vector<JumpMapPoint> sorted_points;
+  std::vector<Continuation> sorted_after;
+  for (const std::size_t i : order) {
+    sorted_points.push_back(std::move(points[i]));
+    sorted_after.push_back(std::move(after[i]));
+  }
+  points = std::move(sorted_points);
+  after = std::move(sorted_after);
+}
+
+// Coexisting attractors (docs/periodic.md "Coexisting attractors").
+
+// The stable orbit point `p` reached along its continuation, as `c` (what it
+// handed on) holds it; null when it reached none.
+const ConvergedOrbit* own_orbit(const JumpMapPoint& p, const Continuation& c) {
+  if (!p.ok || c.orbits.empty() || c.orbits.back().rpm != p.rpm) return nullptr;
+  return &c.orbits.back();
+}
+
+JumpMapAttractor periodic_attractor(int period, const SectionPoint& fixed_point,
+                                    const std::vector<std::complex<double>>& multipliers, JumpMapReach reached,
+                                    MotionKind motion = MotionKind::periodic) {
+  JumpMapAttractor a;
+  a.reached = reached;
+  a.motion = motion;
+  a.period = period;
+  a.fixed_point = fixed_point.x;
+  a.approach_speed = fixed_point.approach_speed;
+  a.spectral_radius = multipliers.empty() ? 0.0 : std::abs(multipliers.front());
+  for (const std::complex<double>& mu : multipliers) {
+    a.multipliers_re.push_back(mu.real());
+    a.multipliers_im.push_back(mu.imag());
+  }
+  return a;
+}
+
+// The k section points of a period-k orbit from its fixed point; empty when
+// one cannot be computed.
+std::vector<std::vector<double>> orbit_phases(const PoincareMap& map, SectionPoint x, int period) {
+  Workspace ws = make_workspace(map.model());
+  std::vector<std::vector<double>> phases{x.x};
+  for (int j = 1; j < period; ++j) {
+    const MapResult r = map.apply(x, 1, ws);
+    if (!r.ok) return {};
+    x = r.end;
+    phases.push_back(x.x);
+  }
+  return phases;
+}
+
+// Whether every point of `of` lies within `near` (scaled) of a point of `in`.
+bool phases_within(const PoincareMap& map, const std::vector<std::vector<double>>& of,
+                   const std::vector<std::vector<double>>& in, double near) {
+  for (const std::vector<double>& x : of) {
+    double least = std::numeric_limits<double>::infinity();  // [-]
+    for (const std::vector<double>& y : in) {
+      double d = 0.0;
+      for (std::size_t i = 0; i < x.size(); ++i) d = std::max(d, std::abs(x[i] - y[i]) / map.scales()[i]);
+      least = std::min(least, d);
+    }
+    if (!(least < near)) return false;
+  }
+  return true;
+}
+
+// Whether `o` is the attractor `a` (a stable orbit): every section point of
+// each within 1e3 shooting tolerances (scaled) of one of the other's, the
+// shooting's own test for an orbit found before (study/periodic_orbit.cc).
+// Of another period too: an orbit of period 2 whose two points both lie that
+// near a period-1 orbit's is the same motion seen through the map's
+// integration noise (the quickstart near 1214.6 rpm: period 1, 2 and 3
+// "orbits" 1e-6 apart with the same impacts every revolution, followed on).
+// A phase that cannot be computed counts as the same: coexistence is only
+// claimed when shown.
+bool same_orbit(const PoincareMap& map, const JumpMapAttractor& a, const Orbit& o, double tolerance) {
+  if (a.period <= 0 || a.fixed_point.size() != o.fixed_point.x.size()) return false;
+  SectionPoint from_a = o.fixed_point;
+  from_a.x = a.fixed_point;
+  from_a.approach_speed = a.approach_speed;
+  const std::vector<std::vector<double>> pa = orbit_phases(map, from_a, a.period),
+                                         po = orbit_phases(map, o.fixed_point, o.period);
+  if (pa.empty() || po.empty()) return true;
+  const double near = 1e3 * tolerance;
+  return phases_within(map, pa, po, near) && phases_within(map, po, pa, near);
+}
+
+// A stable orbit from a transient of transient_revolutions from `carry`, the
+// motion of the speed below, as the transient path (warm_start false) takes
+// it; no Lyapunov run: only a stable orbit counts.
+std::optional<Orbit> transient_orbit(const JumpMapStudy& study, const PoincareMap& map, const SectionPoint& carry) {
+  Workspace ws = make_workspace(map.model());
+  const MapResult r = map.apply(carry, study.config.transient_revolutions, ws);
+  if (!r.ok) throw NumericalError(r.message);
+  PeriodicOptions options = study.periodic.options;
+  options.threads = 1;  // the ranges run in parallel
+  options.lyapunov_revolutions = 0;
+  PeriodicAnalysis a = find_periodic_orbit(map, r.end, options);
+  return std::move(a.orbit);
+}
+
+// The neighbour's stable orbit shot at `rpm`: the warm start's prediction,
+// chord iterations and shooting, but any stable orbit the shooting converges
+// to, of any period up to periodic.max_period, is an attractor of this speed.
+std::optional<Orbit> shoot_across(const PoincareMap& map, const JumpMapStudy& study, const Continuation& c,
+                                  double rpm) {
+  PeriodicOptions options = study.periodic.options;
+  options.threads = 1;  // the ranges run in parallel
+  options.lyapunov_revolutions = 0;
+  SectionPoint start = predicted_fixed_point(c.orbits, rpm);
+  if (c.orbits.back().period == 1) start = chord_iterations(map, std::move(start), c.orbits.back(), options.tolerance);
+  PeriodicAnalysis a = find_periodic_orbit(map, start, options);
+  return std::move(a.orbit);
+}
+
+// A speed next to a change of class: the stable orbits of its neighbours
+// across the change (each with how it would be reached).
+struct AcrossOrbit {
+  ConvergedOrbit orbit;
+  JumpMapReach reached = JumpMapReach::from_below;
+};
+
+// Looks for attractors of speed `p` besides the one its continuation `own`
+// reached: each neighbour's orbit in `across` shot at p's speed (the
+// hysteresis check), and, when p was reached the warm way, the transient
+// path from the motion of the speed below (`below_carry`). Two or more: p is
+// coexisting, with every one listed.
+void look_for_attractors(const JumpMapStudy& study, const std::string& file, JumpMapPoint& p, const Continuation& own,
+                         const std::vector<AcrossOrbit>& across, const std::optional<SectionPoint>& below_carry) {
+  // Only a stable orbit or a chaotic motion is an attractor to set beside a stable orbit.
+  const ConvergedOrbit* own_stable = own_orbit(p, own);
+  if (!own_stable && p.motion != MotionKind::chaotic) return;
+  SceneConfig scene = study.scene;
+  scene.mechanism.cam.rpm = p.rpm;
+  const Model model = build_model(study.geometry, scene, file);
+  const PoincareMap map(scene, model, file);
+  const double tolerance = study.periodic.options.tolerance;
+  std::vector<JumpMapAttractor> found;
+  if (const ConvergedOrbit* o = own_stable) {
+    found.push_back(periodic_attractor(o->period, o->fixed_point, floquet_multipliers(o->monodromy),
+                                       JumpMapReach::continuation, p.motion));
+  } else {
+    JumpMapAttractor a;
+    a.motion = p.motion;
+    a.spectral_radius = p.spectral_radius;
+    found.push_back(std::move(a));
+  }
+  auto add = [&](const std::optional<Orbit>& o, JumpMapReach reached) {
+    if (!o || !o->stable) return;
+    for (const JumpMapAttractor& a : found)
+      if (same_orbit(map, a, *o, tolerance)) return;
+    found.push_back(periodic_attractor(o->period, o->fixed_point, o->multipliers, reached));
+  };
+  for (const AcrossOrbit& a : across) {
+    if (study_budget_exhausted()) return;
+    Continuation c;
+    c.orbits.push_back(a.orbit);
+    add(shoot_across(map, study, c, p.rpm), a.reached);
+  }
+  if (p.start == JumpMapStart::predicted && below_carry && !study_budget_exhausted())
+    add(transient_orbit(study, map, *below_carry), JumpMapReach::transient);
+  if (found.size() < 2) return;
+  p.coexisting = true;
+  p.attractors = std::move(found);
+}
+
+// At every change of class between neighbouring speeds of the range (points
+// in rpm order, `after` what each handed on), the hysteresis check: each
+// side's stable orbit continued one step across, and the transient path where
+// the warm start was used. A check that fails finds nothing.
+void check_coexistence(const JumpMapStudy& study, const std::string& file, std::vector<JumpMapPoint>& points,
+                       const std::vector<Continuation>& after) {
+  std::vector<std::vector<AcrossOrbit>> across(points.size());
+  std::vector<bool> at_change(points.size(), false);
+  for (std::size_t j = 0; j + 1 < points.size(); ++j) {
+    if (!points[j].ok || !points[j + 1].ok || same_class(points[j], points[j + 1])) continue;
+    at_change[j] = at_change[j + 1] = true;
+    if (const ConvergedOrbit* below = own_orbit(points[j], after[j]))
+      across[j + 1].push_back({*below, JumpMapReach::from_below});
+    if (const ConvergedOrbit* above = own_orbit(points[j + 1], after[j + 1]))
+      across[j].push_back({*above, JumpMapReach::from_above});
+  }
+  for (std::size_t j = 0; j < points.size(); ++j) {
+    if (!at_change[j] || study_budget_exhausted()) continue;
+    std::optional<SectionPoint> below_carry;
+    if (j > 0) below_carry = after[j - 1].carry;
+    try {
+      look_for_attractors(study, file, points[j], after[j], across[j], below_carry);
+    } catch (const std::exception&) {
+      // A run that failed shows no attractor: the speed keeps its one class.
+    }
+  }
 }
 
 }  // namespace
@@ -425,6 +622,7 @@ std::vector<JumpMapPoint> run_jump_map_range(const JumpMapStudy& study, std::siz
     report_work_done(jump_map_speed_work(study, i));  // the progress line's unit: expected revolutions
   }
   if (study.config.refine > 0) refine_range(study, file, points, after);
+  if (study.config.check_coexistence) check_coexistence(study, file, points, after);
   return points;
 }
 
@@ -433,6 +631,10 @@ std::vector<JumpMapTransition> jump_map_transitions(const std::vector<JumpMapPoi
   const JumpMapPoint* previous = nullptr;
   for (const JumpMapPoint& p : points) {
     if (!p.ok) continue;
+    if (p.coexisting) {
+      const int first = p.attractors.front().period, second = p.attractors[1].period;
+      t.push_back({"coexistence", p.rpm, p.rpm, first, second});
+    }
     if (previous) {
       const JumpMapPoint& a = *previous;
       const bool left_a = !a.impact_speed.empty() || a.separation_fraction > 0 || a.link_separation_fraction > 0;
@@ -442,6 +644,11 @@ std::vector<JumpMapTransition> jump_map_transitions(const std::vector<JumpMapPoi
       auto add = [&](const char* kind) { t.push_back({kind, a.rpm, p.rpm, pa, pb}); };
       if (!left_a && left_b) add("separation");
       if (left_a && !left_b) add("reattachment");
+      // A coexisting speed has no single class: no change of class is stated to or from it.
+      if (a.coexisting || p.coexisting) {
+        previous = &p;
+        continue;
+      }
       if (pa > 0 && pb > 0 && pa != pb)
         add(pb == 2 * pa ? "period_doubling" : pb == pa + 1 ? "period_adding" : "period_change");
       if (a.motion != MotionKind::chaotic && p.motion == MotionKind::chaotic) add("chaos_onset");
@@ -453,6 +660,15 @@ std::vector<JumpMapTransition> jump_map_transitions(const std::vector<JumpMapPoi
 }
 
 Json jump_map_point_json(const JumpMapPoint& p) {
+  Json attractors = Json::array();
+  for (const JumpMapAttractor& a : p.attractors)
+    attractors.push_back(Json{{"reached", to_string(a.reached)},
+                              {"motion", to_string(a.motion)},
+                              {"period", a.period},
+                              {"spectral_radius", a.spectral_radius},
+                              {"fixed_point", a.fixed_point},
+                              {"approach_speed", a.approach_speed},
+                              {"floquet_multipliers", Json{{"re", a.multipliers_re}, {"im", a.multipliers_im}}}});
   return Json{{"rpm", p.rpm},
               {"ok", p.ok},
               {"start", to_string(p.start)},
@@ -468,7 +684,9 @@ Json jump_map_point_json(const JumpMapPoint& p) {
               {"section_position", p.section_position},
               {"separation_fraction", p.separation_fraction},
               {"max_gap", p.max_gap},
-              {"peak_contact_force", p.peak_contact_force}};
+              {"peak_contact_force", p.peak_contact_force},
+              {"coexisting", p.coexisting},
+              {"attractors", attractors}};
 }
 
 JumpMapPoint jump_map_point_from_json(const Json& j) {
@@ -489,6 +707,20 @@ JumpMapPoint jump_map_point_from_json(const Json& j) {
   p.separation_fraction = j.at("separation_fraction").get<double>();
   p.max_gap = j.at("max_gap").get<double>();
   p.peak_contact_force = j.at("peak_contact_force").get<double>();
+  p.coexisting = j.at("coexisting").get<bool>();
+  for (const Json& a : j.at("attractors")) {
+    JumpMapAttractor attractor;
+    attractor.reached = parse_enum<JumpMapReach>(a.at("reached").get<std::string>());
+    attractor.motion = parse_enum<MotionKind>(a.at("motion").get<std::string>());
+    attractor.period = a.at("period").get<int>();
+    attractor.spectral_radius = a.at("spectral_radius").get<double>();
+    attractor.fixed_point = a.at("fixed_point").get<std::vector<double>>();
+    attractor.approach_speed = a.at("approach_speed").get<double>();
+    attractor.multipliers_re = a.at("floquet_multipliers").at("re").get<std::vector<double>>();
+    attractor.multipliers_im = a.at("floquet_multipliers").at("im").get<std::vector<double>>();
+    p.attractors.push_back(std::move(attractor));
+  }
+  if (p.coexisting) static_cast<void>(j.at("attractors").at(1));  // throws: a coexisting speed lists two or more
   return p;
 }
 

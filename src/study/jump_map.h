@@ -6,7 +6,9 @@
 // speed's orbit (natural-parameter continuation) within a contiguous range of
 // speeds; the ranges run in parallel, journalled like a compare study's runs
 // (resume, --jobs, MPI). From the sequence it marks where the follower first
-// leaves the cam, period doublings, other period changes and chaotic bands.
+// leaves the cam, period doublings, other period changes and chaotic bands;
+// at each change of class it looks for the other side's attractor, and a
+// speed where two coexist is marked so, without a single class.
 #pragma once
 
 #include <memory>
@@ -35,6 +37,11 @@ struct JumpMapConfig {
   /// (secant in rpm) and shoot it directly, without the transient; the
   /// transient path only when that gives no stable orbit of the same period.
   bool warm_start = true;
+  /// Where the class changes between neighbouring speeds, shoot from each
+  /// side's stable orbit one step across, and follow the transient path at a
+  /// speed the warm start reached: two attractors mark the speed
+  /// `coexisting` (docs/periodic.md "Coexisting attractors").
+  bool check_coexistence = true;
   /// Bisection levels between neighbouring grid speeds whose class (motion
   /// kind, period) differs: each adds one speed and halves the bracket, ≥ 0.
   int refine = 1;
@@ -66,6 +73,29 @@ inline constexpr EnumName<JumpMapStart> kJumpMapStartNames[] = {{JumpMapStart::p
                                                                 {JumpMapStart::transient, "transient"}};
 constexpr std::span<const EnumName<JumpMapStart>> enum_names(JumpMapStart) { return kJumpMapStartNames; }
 
+/// How an attractor of a speed was reached: along the range's continuation
+/// (the point's own motion), by shooting from the stable orbit of the speed
+/// below or above it across a change of class (the hysteresis check), or, at
+/// a speed the warm start reached, by the transient path from the motion of
+/// the speed below (what `"warm_start": false` would have followed).
+enum class JumpMapReach { continuation, from_below, from_above, transient };
+inline constexpr EnumName<JumpMapReach> kJumpMapReachNames[] = {{JumpMapReach::continuation, "continuation"},
+                                                                {JumpMapReach::from_below, "from_below"},
+                                                                {JumpMapReach::from_above, "from_above"},
+                                                                {JumpMapReach::transient, "transient"}};
+constexpr std::span<const EnumName<JumpMapReach>> enum_names(JumpMapReach) { return kJumpMapReachNames; }
+
+/// One attractor found at a speed (JumpMapPoint::attractors).
+struct JumpMapAttractor {
+  JumpMapReach reached = JumpMapReach::continuation;
+  MotionKind motion = MotionKind::periodic;            ///< periodic, or the continuation's own motion (e.g. chaotic)
+  int period = 0;                                      ///< of the stable orbit (0 when not periodic)
+  double spectral_radius = 0.0;                        ///< largest |Floquet multiplier| (< 1: stable)
+  std::vector<double> fixed_point;                     ///< the orbit's section point, the map's coordinates [SI]
+  double approach_speed = 0.0;                         ///< v₀ of the contact episode in progress there [m/s]
+  std::vector<double> multipliers_re, multipliers_im;  ///< Floquet multipliers, largest modulus first
+};
+
 /// What one speed gave.
 struct JumpMapPoint {
   double rpm = 0.0;
@@ -87,11 +117,20 @@ struct JumpMapPoint {
   double link_separation_fraction = 0.0;               ///< a follower train's links open, over the samples
   double max_gap = 0.0;                                ///< [m]
   double peak_contact_force = 0.0;                     ///< [N]
+  /// Two different attractors were found at this speed (a stable orbit of
+  /// another period, or of the same period with fixed points apart, or a
+  /// stable orbit beside a motion that found none): the speed has no single
+  /// class. `motion`, `period` and the samples stay those reached along the
+  /// continuation; `attractors` lists every one found, that one first.
+  bool coexisting = false;
+  std::vector<JumpMapAttractor> attractors;  ///< empty unless coexisting
 };
 
 /// A change of character between two neighbouring grid speeds.
 struct JumpMapTransition {
-  std::string kind;  ///< separation, period_doubling, period_adding, period_change, chaos_onset, chaos_end
+  /// separation, reattachment, period_doubling, period_adding, period_change, chaos_onset, chaos_end, or
+  /// coexistence (a speed with two attractors: no change of class is stated to or from it)
+  std::string kind;
   double from_rpm = 0.0, to_rpm = 0.0;
   int from_period = 0, to_period = 0;  ///< 0: not periodic
 };

@@ -3,6 +3,7 @@
 // row per impact) and report.html with the diagram and the cam.
 #include <camdyn/version.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -28,6 +29,11 @@ namespace camdyn {
 
 namespace {
 
+/// The meaning of a range's record: 2 since a speed carries `coexisting` and
+/// its `attractors` (a record of 1 was never checked for them). Part of the
+/// journal's fingerprint, so an older journal is refused, not misread.
+constexpr int kRangeRecordFormat = 2;
+
 /// Range `r` as its journal record: status "budget" (with the budget's
 /// name) when a budget cut one of its speeds short, so that a study stopped
 /// by its wall-time budget does not journal it and a re-run computes the
@@ -50,10 +56,24 @@ std::string point_status(const JumpMapPoint& p) {
   return p.budget.empty() ? "failed" : "failed: budget";
 }
 
+// An attractor's class: its period, or its kind of motion.
+std::string attractor_label(const JumpMapAttractor& a) {
+  return a.motion == MotionKind::periodic ? "period " + std::to_string(a.period) : to_string(a.motion);
+}
+
+// A coexisting speed's attractors, "period 1 (continuation); period 3 (from_below)"; empty for any other.
+std::string attractors_text(const JumpMapPoint& p) {
+  std::string text;
+  for (const JumpMapAttractor& a : p.attractors)
+    text += (text.empty() ? "" : "; ") + attractor_label(a) + " (" + to_string(a.reached) + ")";
+  return text;
+}
+
 void write_csvs(const std::filesystem::path& dir, const std::vector<JumpMapPoint>& points) {
-  CsvWriter speeds(dir / "jump_map.csv", {"rpm", "motion", "period", "spectral_radius", "lyapunov_per_revolution",
-                                          "impacts", "max_impact_speed", "separation_fraction", "max_gap",
-                                          "peak_contact_force", "status", "error", "start", "refined"});
+  CsvWriter speeds(dir / "jump_map.csv",
+                   {"rpm", "motion", "period", "spectral_radius", "lyapunov_per_revolution", "impacts",
+                    "max_impact_speed", "separation_fraction", "max_gap", "peak_contact_force", "status", "error",
+                    "start", "refined", "coexisting", "attractors"});
   CsvWriter impacts(dir / "impacts.csv", {"rpm", "motion", "period", "cam_angle_deg", "approach_speed"});
   for (const JumpMapPoint& p : points) {
     double fastest = 0.0;
@@ -66,7 +86,7 @@ void write_csvs(const std::filesystem::path& dir, const std::vector<JumpMapPoint
                 CsvCell(p.lyapunov), CsvCell(static_cast<long>(p.impact_speed.size())), CsvCell(fastest),
                 CsvCell(p.separation_fraction), CsvCell(p.max_gap), CsvCell(p.peak_contact_force),
                 CsvCell(point_status(p)), CsvCell(p.error), CsvCell(p.ok ? to_string(p.start) : ""),
-                CsvCell(p.refined ? 1L : 0L)});
+                CsvCell(p.refined ? 1L : 0L), CsvCell(p.coexisting ? 1L : 0L), CsvCell(attractors_text(p))});
   }
   speeds.commit();
   impacts.commit();
@@ -74,6 +94,7 @@ void write_csvs(const std::filesystem::path& dir, const std::vector<JumpMapPoint
 
 // The class a speed is drawn in: its period, or its kind of motion.
 std::string motion_label(const JumpMapPoint& p) {
+  if (p.coexisting) return "coexisting attractors";
   if (p.motion == MotionKind::periodic) return "period " + std::to_string(p.period);
   return to_string(p.motion);
 }
@@ -123,10 +144,18 @@ Report jump_map_report(const JumpMapStudy& study, const std::vector<JumpMapPoint
                {study.jump_speed_name, format_number(study.damped_rigid_jump_speed_rpm, 5) + " rpm with the damper, " +
                                            format_number(study.rigid_jump_speed_rpm, 5) + " rpm without"},
                {"run time", format_number(run_time, 3) + " s"}};
-  for (const JumpMapTransition& t : transitions)
+  for (const JumpMapTransition& t : transitions) {
+    if (t.kind == "coexistence") {
+      const auto p = std::find_if(points.begin(), points.end(),
+                                  [&](const JumpMapPoint& q) { return q.coexisting && q.rpm == t.from_rpm; });
+      rep.facts.push_back({t.kind, "at " + format_number(t.from_rpm, 5) +
+                                       " rpm: " + (p == points.end() ? std::string() : attractors_text(*p))});
+      continue;
+    }
     rep.facts.push_back({t.kind, "between " + format_number(t.from_rpm, 5) + " and " + format_number(t.to_rpm, 5) +
                                      " rpm (period " + std::to_string(t.from_period) + " → " +
                                      std::to_string(t.to_period) + ")"});
+  }
   const double jump = study.damped_rigid_jump_speed_rpm;
   rep.plots.push_back(diagram(
       points, jump, study.jump_speed_name,
@@ -158,7 +187,10 @@ Report jump_map_report(const JumpMapStudy& study, const std::vector<JumpMapPoint
   Table table{
       "Speeds", {"rpm", "motion", "impacts", "separation fraction", "max gap [m]", "peak force [N]", "error"}, {}};
   for (const JumpMapPoint& p : points)
-    table.rows.push_back({format_number(p.rpm) + (p.refined ? " (refined)" : ""), p.ok ? motion_label(p) : "failed",
+    table.rows.push_back({format_number(p.rpm) + (p.refined ? " (refined)" : ""),
+                          !p.ok          ? "failed"
+                          : p.coexisting ? "coexisting: " + attractors_text(p)
+                                         : motion_label(p),
                           std::to_string(p.impact_speed.size()), format_number(p.separation_fraction),
                           format_number(p.max_gap), format_number(p.peak_contact_force), p.error});
   table.wrap = true;  // the error column
@@ -168,6 +200,12 @@ Report jump_map_report(const JumpMapStudy& study, const std::vector<JumpMapPoint
       "rpm); the others, and any whose prediction gives no stable orbit of that period, are followed past "
       "their transient (starting from the neighbour's motion), analysed by shooting (the periodic study) and "
       "sampled once per revolution. A periodic orbit's samples are its one period repeated.");
+  rep.notes.push_back(
+      "Where the class changes between neighbouring speeds, each side's stable orbit is continued one step "
+      "across and a speed reached from a predicted orbit is also followed from the scene's own start. A speed "
+      "where two different attractors were found is drawn as \"coexisting attractors\" (its samples: the "
+      "attractor reached along the continuation) and has no single class: the table lists every attractor "
+      "and how it was reached.");
   return rep;
 }
 
@@ -181,8 +219,9 @@ int run_jump_map_study(const Json& doc, const StudyContext& ctx) {
   const std::size_t ranges = std::min(study.rpm.size(), static_cast<std::size_t>(study.config.ranges));
   JournaledRuns runs;
   if (const std::optional<int> code = run_journaled(
-          "jump_map", fingerprint(dump_json(study.resolved)), ranges,
-          [&](std::size_t r) { return range_record(study, r, ctx.config_file); }, ctx, runs,
+          "jump_map",
+          fingerprint(dump_json(study.resolved) + "\nrange record format " + std::to_string(kRangeRecordFormat)),
+          ranges, [&](std::size_t r) { return range_record(study, r, ctx.config_file); }, ctx, runs,
           [&](std::size_t r) {
             double work = 0.0;  // [expected revolutions]
             for (const std::size_t i : jump_map_range(study, r)) work += jump_map_speed_work(study, i);
@@ -227,8 +266,12 @@ int run_jump_map_study(const Json& doc, const StudyContext& ctx) {
                        {"from_period", t.from_period},
                        {"to_period", t.to_period}});
   const double jump = study.rigid_jump_speed_rpm, damped = study.damped_rigid_jump_speed_rpm;
-  long predicted = 0;  // speeds shot from their neighbours' orbit, without a transient
-  for (const JumpMapPoint& p : points) predicted += p.ok && p.start == JumpMapStart::predicted ? 1 : 0;
+  long predicted = 0;   // speeds shot from their neighbours' orbit, without a transient
+  long coexisting = 0;  // speeds with two attractors or more: no single class
+  for (const JumpMapPoint& p : points) {
+    predicted += p.ok && p.start == JumpMapStart::predicted ? 1 : 0;
+    coexisting += p.ok && p.coexisting ? 1 : 0;
+  }
   write_json_atomic(ctx.out_dir / "jump_map.json",
                     Json{{"name", study.scene.name},
                          {"study", "jump_map"},
@@ -239,6 +282,7 @@ int run_jump_map_study(const Json& doc, const StudyContext& ctx) {
                          {"speeds", speeds},
                          {"budget_cut_speeds", cut},
                          {"predicted_speeds", predicted},
+                         {"coexisting_speeds", coexisting},
                          {"conclusion_withheld", withheld.empty() ? Json() : Json(withheld)},
                          {"resumed_ranges", runs.resumed},
                          {"run_time_s", run_time}});
@@ -251,10 +295,16 @@ int run_jump_map_study(const Json& doc, const StudyContext& ctx) {
   write_report(ctx.out_dir / "report.html", jump_map_report(study, points, transitions, run_time, ctx.config_file));
   long failed = 0;
   for (const JumpMapPoint& p : points) failed += p.ok ? 0 : 1;
-  std::printf("%s: %zu speeds (%ld failed, %ld from a predicted orbit), %zu transitions, %.3g s\n",
-              study.scene.name.c_str(), points.size(), failed, predicted, transitions.size(), run_time);
-  for (const JumpMapTransition& t : transitions)
-    std::printf("  %s between %.6g and %.6g rpm\n", t.kind.c_str(), t.from_rpm, t.to_rpm);
+  std::printf(
+      "%s: %zu speeds (%ld failed, %ld from a predicted orbit, %ld with coexisting attractors), %zu "
+      "transitions, %.3g s\n",
+      study.scene.name.c_str(), points.size(), failed, predicted, coexisting, transitions.size(), run_time);
+  for (const JumpMapTransition& t : transitions) {
+    if (t.kind == "coexistence")
+      std::printf("  coexisting attractors at %.6g rpm\n", t.from_rpm);
+    else
+      std::printf("  %s between %.6g and %.6g rpm\n", t.kind.c_str(), t.from_rpm, t.to_rpm);
+  }
   std::printf("  report: %s\n", std::filesystem::absolute(ctx.out_dir / "report.html").lexically_normal().c_str());
   return failed == static_cast<long>(points.size()) ? 3 : 0;
 }

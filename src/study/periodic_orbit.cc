@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <mutex>
 
 #include "common/errors.h"
@@ -147,19 +148,36 @@ class Shooter {
   }
 };
 
+// Iterations without a new least residual after which the shooting of a
+// period gives up: Newton converging (or a stable orbit followed) lowers its
+// best residual every iteration or two; on a chaotic motion it wanders, and
+// each further iteration costs a Jacobian (2n map runs).
+constexpr int kStagnantIterations = 4;
+
 // Newton on P^k(x) − x = 0 from `start`, damped by step halving and, where
-// no step helps, by following the motion; the converged orbit, or nullopt.
+// no step helps, by following the motion; the converged orbit, or nullopt
+// (also when the residual stagnates, kStagnantIterations).
 std::optional<Orbit> shoot(Shooter& shooter, const SectionPoint& start, int k, const PeriodicOptions& options,
                            std::vector<NewtonStep>& trace) {
   SectionPoint x = start;
   long impacts = 0;  // of the run that gave `image`
   std::optional<SectionPoint> image = shooter.apply(x, k, 0, &impacts);
   const int n = static_cast<int>(x.x.size());
+  double least = std::numeric_limits<double>::infinity();  // least residual so far [-]
+  int least_at = 0;                                        // its iteration
   for (int it = 0; image; ++it) {
     const VectorXd residual = to_vector(image->x) - to_vector(x.x);
     const double norm = shooter.scaled_norm(residual);
     trace.push_back({k, it, norm});
     shooter.log(format("period %d: Newton iteration %d, residual %.3e", k, it, norm));
+    if (norm < least) {
+      least = norm;
+      least_at = it;
+    } else if (it - least_at >= kStagnantIterations) {
+      shooter.log(format("period %d: the residual has not fallen below %.3e in %d iterations: giving up", k, least,
+                         kStagnantIterations));
+      return std::nullopt;
+    }
     std::optional<std::pair<MatrixXd, JacobianMethod>> jacobian = shooter.jacobian(x, k, *image, impacts);
     if (!jacobian) return std::nullopt;
     const MatrixXd* J = &jacobian->first;
