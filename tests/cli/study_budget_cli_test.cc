@@ -82,8 +82,8 @@ TEST(StudyBudget, ACompareKeepsItsFinishedRunsAndARerunFinishesIt) {
 
 TEST(StudyBudget, AnOptimizeKeepsItsEvaluationsAndARerunReplaysThem) {
   const fs::path dir = camdyn::test::scratch_dir("study_budget", "optimize");
-  const std::vector<std::string> sets = {"--set", "optimizer.max_evaluations=40", "--set", "simulation.cycles=3",
-                                         "--set", "operating_rpm=[1000]",         "--set", "rigid.enabled=false"};
+  const std::vector<std::string> sets = {"--set", "optimizer.max_evaluations=120", "--set", "simulation.cycles=3",
+                                         "--set", "operating_rpm=[1000]",          "--set", "rigid.enabled=false"};
   const Outcome o = run_over_budget(kStudies + "optimize_force.json", sets, dir, 0.5 * kBuildSlowdown);
   EXPECT_TRUE(contains(o.err, "evaluations of the search")) << o.err;
   const auto records = journal_records(dir / "out" / "journal.jsonl");
