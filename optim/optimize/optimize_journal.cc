@@ -110,7 +110,7 @@ OptimizeJournal::OptimizeJournal(const std::filesystem::path& dir, const std::st
     if (record.value("kind", std::string()) != "evaluation") continue;
     const auto x = hex_field(record, "x", dimension_);
     auto e = evaluation_of(record, constraint_count_);
-    const auto warm_end = warm_end_of(record);
+    auto warm_end = warm_end_of(record);
     if (!x || !e || !warm_end) {
       std::cerr << "camdyn: warning: " << path().string() << ": record " << index
                 << " is not an evaluation of this study; the design is evaluated again\n";
