@@ -218,13 +218,46 @@ std::optional<Orbit> shoot(Shooter& shooter, const SectionPoint& start, int k, c
   return std::nullopt;
 }
 
+// The orbit of period k as one of period d when each of its k/d phases
+// x, P^d(x), P^2d(x), … returns within `near` after d revolutions: the same
+// motion seen through the map's noise (a chattering motion's map is rough on
+// the scale of the shooting tolerance, and Newton on P^d may wander there).
+// Its monodromy is the Jacobian of P^d at x. Kept only when it says what the
+// period-k orbit says about stability; nullopt otherwise.
+std::optional<Orbit> repeating_every(Shooter& shooter, const Orbit& orbit, int d, double near) {
+  SectionPoint x = orbit.fixed_point;
+  std::optional<SectionPoint> first_image;
+  long first_impacts = 0;
+  for (int j = 0; j < orbit.period / d; ++j) {
+    long impacts = 0;
+    const std::optional<SectionPoint> image = shooter.apply(x, d, 0, &impacts);
+    if (!image || shooter.scaled_norm(to_vector(image->x) - to_vector(x.x)) > near) return std::nullopt;
+    if (j == 0) {
+      first_image = image;
+      first_impacts = impacts;
+    }
+    x = *image;
+  }
+  const std::optional<std::pair<MatrixXd, JacobianMethod>> jacobian =
+      shooter.jacobian(orbit.fixed_point, d, *first_image, first_impacts);
+  if (!jacobian) return std::nullopt;
+  const double residual = shooter.scaled_norm(to_vector(first_image->x) - to_vector(orbit.fixed_point.x));
+  Orbit o{d,     orbit.fixed_point,       jacobian->first, jacobian->second, floquet_multipliers(jacobian->first),
+          false, orbit.newton_iterations, residual};
+  o.stable = o.spectral_radius() < 1.0;
+  if (o.stable != orbit.stable) return std::nullopt;
+  return o;
+}
+
 // The orbit at its minimal period: for every divisor d of k, smallest first,
 // where P^d nearly returns the fixed point of P^k (within 1e3 times the
 // shooting tolerance: Newton's tolerance on P^k allows |P^d(x) − x| a few
 // times larger when a multiplier of P^d is near −1), Newton on P^d from
 // there; when it converges to the same point, the orbit is reported at period
 // d with that map's monodromy and multipliers (those of P^k are their k/d-th
-// powers).
+// powers). When Newton on P^d does not get there but every phase of the
+// orbit repeats every d revolutions (repeating_every), it is reported at
+// period d too.
 Orbit at_minimal_period(Shooter& shooter, Orbit orbit, const PeriodicOptions& options, std::vector<NewtonStep>& trace) {
   const double near = 1e3 * options.tolerance;
   for (int d = 1; d < orbit.period; ++d) {
@@ -233,7 +266,8 @@ Orbit at_minimal_period(Shooter& shooter, Orbit orbit, const PeriodicOptions& op
     if (!image || shooter.scaled_norm(to_vector(image->x) - to_vector(orbit.fixed_point.x)) > near) continue;
     std::optional<Orbit> minimal = shoot(shooter, orbit.fixed_point, d, options, trace);
     if (!minimal || shooter.scaled_norm(to_vector(minimal->fixed_point.x) - to_vector(orbit.fixed_point.x)) > near)
-      continue;
+      minimal = repeating_every(shooter, orbit, d, near);
+    if (!minimal) continue;
     shooter.log(format("period %d: the orbit repeats every %d revolution%s: reported at period %d", orbit.period, d,
                        d == 1 ? "" : "s", d));
     return *minimal;
