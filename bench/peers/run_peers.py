@@ -675,6 +675,16 @@ def check_impacts(a, b, count):
     return failures, rows
 
 
+
+def write_json_atomically(path, value):
+    """Writes `value` as indented JSON to `path` through a temporary file, so a
+    killed run never leaves a partial file."""
+    tmp = path + ".tmp"
+    with open(tmp, "w", encoding="utf-8") as f:
+        json.dump(value, f, indent=2)
+        f.write("\n")
+    os.replace(tmp, path)
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--camdyn", default=os.path.join(ROOT, "build", "release", "camdyn"), help="camdyn binary")
@@ -762,11 +772,7 @@ def main():
             print(f"check: the first {args.check} impacts agree (angle within {ANGLE_TOL_DEG} deg, "
                   f"speed within {SPEED_TOL_REL:.1%})")
     if args.json:
-        tmp = args.json + ".tmp"
-        with open(tmp, "w", encoding="utf-8") as f:
-            json.dump(out, f, indent=2)
-            f.write("\n")
-        os.replace(tmp, args.json)
+        write_json_atomically(args.json, out)
     return status
 
 

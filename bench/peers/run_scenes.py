@@ -497,11 +497,7 @@ def main():
             "agreement": {"ok": not failures, "rows": rows, "failures": failures}}
     out["machine"]["load_avg_end"] = list(os.getloadavg())
     if args.json:
-        tmp = args.json + ".tmp"
-        with open(tmp, "w", encoding="utf-8") as f:
-            json.dump(out, f, indent=2)
-            f.write("\n")
-        os.replace(tmp, args.json)
+        rp.write_json_atomically(args.json, out)
     return status
 
 

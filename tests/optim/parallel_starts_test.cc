@@ -25,18 +25,7 @@ namespace fs = std::filesystem;
 /// Three starts of COBYLA on the quickstart mechanism's splines against the
 /// peak contact force at two speeds (the search alone: no rigid stage).
 Study three_starts(bool warm) {
-  Study s = study_from(R"({
-    "mechanism": {
-      "cam": { "base_radius": 0.04, "rpm": 900, "motion_law": "profiles/cycloidal_rise_return.json" },
-      "follower": { "shape": { "type": "roller", "radius": 0.01 }, "mass": 0.3,
-                    "spring": { "stiffness": 5000, "preload": 40 }, "damping": 5 },
-      "contact": { "stiffness": 1e10 } },
-    "simulation": { "cycles": 2, "discard_cycles": 1, "output_step_deg": 1 },
-    "integrator": { "rtol": 1e-7 },
-    "design": { "segments": ["rise", "return"], "control_points": 5, "degree": 5 },
-    "operating_rpm": [700, 900],
-    "objective": { "separation": 0, "peak_contact_force": 1 },
-    "constraints": { "min_contact_force": 2 },
+  Study s = study_from("{" + quickstart_force_design_fields() + R"(
     "rigid": { "enabled": false },
     "optimizer": { "algorithm": "LN_COBYLA", "max_evaluations": 24, "starts": 3, "seed": 7 } })");
   s.config.optimizer.warm_start = warm;

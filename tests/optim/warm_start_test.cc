@@ -31,21 +31,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// The quickstart mechanism (cycloidal rise/return, 20 mm) with the loop's
-/// two revolutions, its splines designed against the peak contact force at two speeds.
+/// The quickstart mechanism's splines against the peak contact force (optimize_study_text.h).
 Study force_study(int max_evaluations) {
-  return study_from(R"({
-    "mechanism": {
-      "cam": { "base_radius": 0.04, "rpm": 900, "motion_law": "profiles/cycloidal_rise_return.json" },
-      "follower": { "shape": { "type": "roller", "radius": 0.01 }, "mass": 0.3,
-                    "spring": { "stiffness": 5000, "preload": 40 }, "damping": 5 },
-      "contact": { "stiffness": 1e10 } },
-    "simulation": { "cycles": 2, "discard_cycles": 1, "output_step_deg": 1 },
-    "integrator": { "rtol": 1e-7 },
-    "design": { "segments": ["rise", "return"], "control_points": 5, "degree": 5 },
-    "operating_rpm": [700, 900],
-    "objective": { "separation": 0, "peak_contact_force": 1 },
-    "constraints": { "min_contact_force": 2 },
+  return study_from("{" + quickstart_force_design_fields() + R"(
     "optimizer": { "algorithm": "LN_COBYLA", "max_evaluations": )" +
                     std::to_string(max_evaluations) + R"(, "warm_start": true } })");
 }
