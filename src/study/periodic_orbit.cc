@@ -224,24 +224,20 @@ std::optional<Orbit> shoot(Shooter& shooter, const SectionPoint& start, int k, c
 // the scale of the shooting tolerance, and Newton on P^d may wander there).
 // Its monodromy is the Jacobian of P^d at x. Kept only when it says what the
 // period-k orbit says about stability; nullopt otherwise.
-std::optional<Orbit> repeating_every(Shooter& shooter, const Orbit& orbit, int d, double near) {
-  SectionPoint x = orbit.fixed_point;
-  std::optional<SectionPoint> first_image;
-  long first_impacts = 0;
-  for (int j = 0; j < orbit.period / d; ++j) {
-    long impacts = 0;
-    const std::optional<SectionPoint> image = shooter.apply(x, d, 0, &impacts);
+// `first_image` is P^d of the fixed point, within `near` of it, and
+// `first_impacts` that run's impacts (at_minimal_period has them).
+std::optional<Orbit> repeating_every(Shooter& shooter, const Orbit& orbit, int d, double near,
+                                     const SectionPoint& first_image, long first_impacts) {
+  SectionPoint x = first_image;
+  for (int j = 1; j < orbit.period / d; ++j) {
+    const std::optional<SectionPoint> image = shooter.apply(x, d);
     if (!image || shooter.scaled_norm(to_vector(image->x) - to_vector(x.x)) > near) return std::nullopt;
-    if (j == 0) {
-      first_image = image;
-      first_impacts = impacts;
-    }
     x = *image;
   }
   const std::optional<std::pair<MatrixXd, JacobianMethod>> jacobian =
-      shooter.jacobian(orbit.fixed_point, d, *first_image, first_impacts);
+      shooter.jacobian(orbit.fixed_point, d, first_image, first_impacts);
   if (!jacobian) return std::nullopt;
-  const double residual = shooter.scaled_norm(to_vector(first_image->x) - to_vector(orbit.fixed_point.x));
+  const double residual = shooter.scaled_norm(to_vector(first_image.x) - to_vector(orbit.fixed_point.x));
   Orbit o{d,     orbit.fixed_point,       jacobian->first, jacobian->second, floquet_multipliers(jacobian->first),
           false, orbit.newton_iterations, residual};
   o.stable = o.spectral_radius() < 1.0;
@@ -262,11 +258,12 @@ Orbit at_minimal_period(Shooter& shooter, Orbit orbit, const PeriodicOptions& op
   const double near = 1e3 * options.tolerance;
   for (int d = 1; d < orbit.period; ++d) {
     if (orbit.period % d != 0) continue;
-    const std::optional<SectionPoint> image = shooter.apply(orbit.fixed_point, d);
+    long impacts = 0;
+    const std::optional<SectionPoint> image = shooter.apply(orbit.fixed_point, d, 0, &impacts);
     if (!image || shooter.scaled_norm(to_vector(image->x) - to_vector(orbit.fixed_point.x)) > near) continue;
     std::optional<Orbit> minimal = shoot(shooter, orbit.fixed_point, d, options, trace);
     if (!minimal || shooter.scaled_norm(to_vector(minimal->fixed_point.x) - to_vector(orbit.fixed_point.x)) > near)
-      minimal = repeating_every(shooter, orbit, d, near);
+      minimal = repeating_every(shooter, orbit, d, near, *image, impacts);
     if (!minimal) continue;
     shooter.log(format("period %d: the orbit repeats every %d revolution%s: reported at period %d", orbit.period, d,
                        d == 1 ? "" : "s", d));
