@@ -197,16 +197,19 @@ SectionPoint chord_iterations(const PoincareMap& map, SectionPoint x, const Conv
 }
 
 // The warm start: the chord iterations (period 1) and Newton from the
-// predicted fixed point, periods up to the predicted one; the orbit when it
-// is stable and of that period (else the transient path decides: the
+// predicted fixed point at the predicted period only (past a period
+// doubling, shooting period 1 first found the unstable orbit the
+// neighbours' doubled from, at the cost of a period-1 search per speed); the
+// orbit when it is stable and that is its minimal period (else the transient path decides: the
 // shortcut only reports a stable orbit the shooting confirmed; where two
 // stable orbits coexist it keeps to the one continued from the neighbours,
 // docs/periodic.md "Warm start").
 std::optional<Orbit> shoot_predicted(const PoincareMap& map, const JumpMapStudy& study, const Continuation& c,
                                      double rpm) {
   PeriodicOptions options = study.periodic.options;
-  options.threads = 1;  // the ranges run in parallel
+  options.threads = study.threads_per_speed;
   options.max_period = c.orbits.back().period;
+  options.min_period = options.max_period;
   options.lyapunov_revolutions = 0;
   SectionPoint start = predicted_fixed_point(c.orbits, rpm);
   // A period-k orbit's monodromy is the neighbour's at its own phase only for k = 1.
@@ -238,7 +241,7 @@ JumpMapPoint transient_path(const JumpMapStudy& study, const PoincareMap& map, d
     start = map.point(r);
   }
   PeriodicOptions options = study.periodic.options;
-  options.threads = 1;  // the ranges run in parallel
+  options.threads = study.threads_per_speed;
   PeriodicAnalysis a = analyse_from(map, start, options);
   const SimulationResult samples = sample_run(map, a.orbit ? a.orbit->fixed_point : start, study.config.samples);
   JumpMapPoint p;
@@ -317,6 +320,7 @@ JumpMapStudy read_jump_map_study(const Json& doc, const StudyContext& ctx) {
       model.train.has_coordinates() ? study.rigid_jump_speed_rpm : damped_jump_speed_rpm(model);
   study.jump_speed_name = jump_speed_name(model);
   study.section_dimension = map.dimension();
+  study.threads_per_speed = ctx.threads();
   const JumpMapConfig& c = study.config;
   for (int i = 0; i < c.speeds; ++i) study.rpm.push_back(c.low_rpm + (c.high_rpm - c.low_rpm) * i / (c.speeds - 1));
   study.resolved = resolved_study_json(study.scene, "jump_map", Json{{"jump_map", fields}, {"periodic", periodic}});
@@ -493,7 +497,7 @@ std::optional<Orbit> transient_orbit(const JumpMapStudy& study, const PoincareMa
   const MapResult r = map.apply(carry, study.config.transient_revolutions, ws);
   if (!r.ok) throw NumericalError(r.message);
   PeriodicOptions options = study.periodic.options;
-  options.threads = 1;  // the ranges run in parallel
+  options.threads = study.threads_per_speed;
   options.lyapunov_revolutions = 0;
   PeriodicAnalysis a = find_periodic_orbit(map, r.end, options);
   return std::move(a.orbit);
@@ -505,7 +509,7 @@ std::optional<Orbit> transient_orbit(const JumpMapStudy& study, const PoincareMa
 std::optional<Orbit> shoot_across(const PoincareMap& map, const JumpMapStudy& study, const Continuation& c,
                                   double rpm) {
   PeriodicOptions options = study.periodic.options;
-  options.threads = 1;  // the ranges run in parallel
+  options.threads = study.threads_per_speed;
   options.lyapunov_revolutions = 0;
   SectionPoint start = predicted_fixed_point(c.orbits, rpm);
   if (c.orbits.back().period == 1) start = chord_iterations(map, std::move(start), c.orbits.back(), options.tolerance);

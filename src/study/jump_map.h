@@ -64,6 +64,10 @@ struct JumpMapStudy {
   std::string jump_speed_name = "rigid-model jump speed";
   std::vector<double> rpm;    ///< the grid
   int section_dimension = 0;  ///< coordinates of the Poincaré map (dynamics/poincare_map.h)
+  /// Threads each speed's Jacobian columns and Lyapunov pair run on (the
+  /// study's --jobs): while several ranges run they share the cores; a range
+  /// left running alone uses them all. The answers do not depend on it.
+  int threads_per_speed = 1;
 };
 
 /// How a speed's motion was reached: shot from the orbit its neighbours

@@ -361,7 +361,7 @@ PeriodicAnalysis find_periodic_orbit(const PoincareMap& map, const SectionPoint&
   std::vector<Orbit> found;
   SectionPoint from = start;
   bool moved_on = false;  // the start was moved once already
-  for (int k = 1; k <= options.max_period && !a.orbit; ++k) {
+  for (int k = std::max(1, options.min_period); k <= options.max_period && !a.orbit; ++k) {
     std::optional<Orbit> orbit = shoot(shooter, from, k, options, a.newton);
     if (orbit) orbit = at_minimal_period(shooter, std::move(*orbit), options, a.newton);
     if (orbit && known(shooter, *orbit, found, options.tolerance) && !moved_on) {

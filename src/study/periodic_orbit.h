@@ -45,6 +45,7 @@ constexpr std::span<const EnumName<JacobianMethod>> enum_names(JacobianMethod) {
 
 struct PeriodicOptions {
   int max_period = 8;              ///< longest period k tried [revolutions]
+  int min_period = 1;              ///< shortest period k tried [revolutions]
   int transient_revolutions = 4;   ///< run before the first Newton start
   int max_newton_iterations = 15;  ///< per period
   double tolerance = 1e-7;         ///< max |R_j| / scale_j at a converged orbit [-]

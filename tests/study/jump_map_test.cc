@@ -95,6 +95,34 @@ TEST(JumpMap, ChaoticBandsHoldOnlyImpactsThatApproach) {
   EXPECT_GT(impacts, 100u);
 }
 
+// Each speed's Jacobian columns and Lyapunov pair run on the --jobs threads
+// (a range left running alone uses every core), so the map must not depend on
+// --jobs: the ball from period 2 into its chaotic band (Lyapunov runs, failed
+// shooting, a warm-started speed), one range, with 1 and with 2 threads, to the bit.
+TEST(JumpMap, SpeedsAreTheSameWhateverTheThreads) {
+  const fs::path dir = test::scratch_dir("jump_map_test", "threads");
+  const std::string ball = std::string(CAMDYN_SOURCE_DIR) + "/studies/periodic/bouncing_ball_jump_map.json";
+  std::string speeds[2];
+  for (int jobs = 1; jobs <= 2; ++jobs) {
+    const fs::path out = dir / ("jobs" + std::to_string(jobs));
+    const test::Outcome r = test::run_camdyn(
+        {"run", ball, "--out", out.string(), "--quiet", "--jobs", std::to_string(jobs), "--set",
+         R"(jump_map={"low_rpm": 640, "high_rpm": 690, "speeds": 4, "ranges": 1, "transient_revolutions": 10,
+            "samples": 10})",
+         "--set", R"(periodic={"max_period": 2, "lyapunov_revolutions": 20})"},
+        dir);
+    ASSERT_EQ(r.code, 0) << r.err;
+    const Json j = Json::parse(test::read_text(out / "jump_map.json"));
+    speeds[jobs - 1] = j["speeds"].dump();
+    if (jobs == 1) {
+      bool chaotic = false;
+      for (const Json& p : j["speeds"]) chaotic = chaotic || p["motion"] == "chaotic";
+      EXPECT_TRUE(chaotic) << "the case must reach the chaotic band: " << speeds[0];
+    }
+  }
+  EXPECT_EQ(speeds[0], speeds[1]);
+}
+
 JumpMapPoint point(double rpm, MotionKind motion, int period, int impacts) {
   JumpMapPoint p;
   p.rpm = rpm;
