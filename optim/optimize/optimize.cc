@@ -356,7 +356,8 @@ void order_history_by_start(std::vector<HistoryRecord>& history) {
 /// The search loop with the loop settings, from the initial design: fills
 /// out.initial, out.history, out.search, out.loop_time_s and
 /// out.loop_simulations; returns the simulations of the starts' own pools
-/// (starts run at once, on --jobs threads). Throws NumericalError when no
+/// (starts run at once, on --jobs threads) and, on rank 0, of the other
+/// ranks' starts (over MPI ranks). Throws NumericalError when no
 /// design was valid.
 long search_designs(const DesignSpace& space, const DesignEvaluator& evaluator, SimulationPool& pool,
                     const OptimizeStudyConfig& config, const OptimizeOptions& options, const std::string& file,
@@ -450,7 +451,7 @@ long search_designs(const DesignSpace& space, const DesignEvaluator& evaluator, 
                                                     : "; " + std::to_string(out.budget_cut_evaluations) +
                                                           " of them were cut short by a budget (" +
                                                           out.budget_cut_names() + "), which proves nothing"));
-  return starts.simulations();
+  return starts.simulations() + rank_starts.taken_simulations;
 }
 
 /// `scene` with the study's geometric constraints that design `e` meets as
