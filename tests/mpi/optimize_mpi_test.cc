@@ -40,7 +40,7 @@ fs::path write_study(const fs::path& dir) {
   std::string fields = quickstart_force_design_fields();
   const std::string relative = "\"profiles/";
   fields.replace(fields.find(relative), relative.size(), "\"" + std::string(CAMDYN_SOURCE_DIR) + "/profiles/");
-  const fs::path study = dir / "study.json";
+  fs::path study = dir / "study.json";
   std::ofstream(study) << R"({ "name": "mpi_optimize", "study": "optimize",)" << fields << R"(
     "rigid": { "enabled": false },
     "optimizer": { "algorithm": "LN_COBYLA", "max_evaluations": 24, "starts": 3, "seed": 7 } })";
