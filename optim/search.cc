@@ -3,16 +3,21 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iostream>
 #include <map>
 #include <mutex>
 #include <new>
 #include <nlopt.hpp>
+#include <numeric>
 #include <random>
 #include <stdexcept>
 #include <utility>
 
 #include "common/errors.h"
 #include "common/parallel.h"
+#include "io/config.h"
+#include "io/hex_doubles.h"
+#include "study/mpi_runner.h"
 
 namespace camdyn::optim {
 
@@ -289,14 +294,15 @@ std::vector<std::vector<double>> start_points(const SearchProblem& problem, cons
 
 /// Start s from x0; every NLopt status and exception becomes its stop reason.
 StartResult run_start(const SearchProblem& problem, const OptimizerConfig& config, int s, std::vector<double> x0,
-                      SearchSetup& setup, const std::function<void(const SearchProgress&)>& progress) {
+                      SearchSetup& setup, SharedPoints& shared,
+                      const std::function<void(const SearchProgress&)>& progress) {
   const std::size_t n = problem.x0.size();
   StartResult sr;
   sr.index = s;
   sr.x0 = std::move(x0);
   const int starts = setup.starts;
   const long budget = config.max_evaluations / starts + (s < config.max_evaluations % starts ? 1 : 0);
-  StartRun run(problem, config, s, budget, setup.t0, setup.shared, progress, starts);
+  StartRun run(problem, config, s, budget, setup.t0, shared, progress, starts);
 
   try {
     std::unique_lock<std::mutex> seeding(setup.seed_mutex);
@@ -359,7 +365,112 @@ void rank_candidates(const std::map<std::vector<double>, Entry>& all, SearchResu
   }
 }
 
+/// The record of start `sr`, run on a rank other than 0, for rank 0: its
+/// result, its counters and its valid points (`shared` holds this start's
+/// only), every double as hex; `caller` is SearchProblem::start_record's text.
+std::string start_record_text(const StartResult& sr, const SharedPoints& shared, std::string caller) {
+  Json points = Json::array();
+  for (const auto& [x, e] : shared.all) {
+    std::vector<double> values{e.value.objective, e.violation};
+    values.insert(values.end(), e.value.residuals.begin(), e.value.residuals.end());
+    points.push_back(Json{{"x", doubles_to_hex(x)},
+                          {"values", doubles_to_hex(values)},
+                          {"feasible", e.value.feasible},
+                          {"evaluation", e.order.second}});
+  }
+  const Json record{{"start", sr.index},
+                    {"x0", doubles_to_hex(sr.x0)},
+                    {"stop_reason", sr.stop_reason},
+                    {"message", sr.message},
+                    {"evaluations", sr.evaluations},
+                    {"found", sr.found},
+                    {"best_x", doubles_to_hex(sr.best_x)},
+                    {"best", doubles_to_hex({sr.best_objective})},
+                    {"best_feasible", sr.best_feasible},
+                    {"total", shared.total},
+                    {"invalid", shared.invalid},
+                    {"points", std::move(points)},
+                    {"caller", std::move(caller)}};
+  return record.dump(-1, ' ', false, Json::error_handler_t::replace);
+}
+
+/// `count` doubles from the hex field `key` of a start record; throws if malformed.
+std::vector<double> hex_of(const Json& record, const char* key, std::size_t count) {
+  const auto values = doubles_from_hex(record.at(key).get_ref<const std::string&>(), count);
+  if (!values) throw std::runtime_error(std::string("search: a start record's \"") + key + "\" is malformed");
+  return *values;
+}
+
+/// Rank 0: a start record of another rank into the search's result and points
+/// (a point two starts evaluated keeps the earlier start's entry, as in one process).
+void take_start_record(const std::string& text, const SearchProblem& problem, SharedPoints& shared, SearchResult& out) {
+  const Json record = Json::parse(text);
+  const std::size_t n = problem.x0.size(), m = static_cast<std::size_t>(problem.constraint_count);
+  StartResult sr;
+  sr.index = record.at("start").get<int>();
+  if (sr.index < 0 || static_cast<std::size_t>(sr.index) >= out.starts.size())
+    throw std::runtime_error("search: a start record names no start of this search");
+  sr.x0 = hex_of(record, "x0", n);
+  sr.stop_reason = record.at("stop_reason").get<std::string>();
+  sr.message = record.at("message").get<std::string>();
+  sr.evaluations = record.at("evaluations").get<long>();
+  sr.found = record.at("found").get<bool>();
+  if (sr.found) sr.best_x = hex_of(record, "best_x", n);
+  sr.best_objective = hex_of(record, "best", 1).front();
+  sr.best_feasible = record.at("best_feasible").get<bool>();
+  shared.total += record.at("total").get<long>();
+  shared.invalid += record.at("invalid").get<long>();
+  for (const Json& point : record.at("points")) {
+    const std::vector<double> values = hex_of(point, "values", 2 + m);
+    Entry e;
+    e.value.objective = values[0];
+    e.violation = values[1];
+    e.value.residuals.assign(values.begin() + 2, values.end());
+    e.value.feasible = point.at("feasible").get<bool>();
+    e.order = {sr.index, point.at("evaluation").get<long>()};
+    const auto [it, added] = shared.all.emplace(hex_of(point, "x", n), e);
+    if (!added && e.order < it->second.order) it->second = e;
+  }
+  if (problem.take_start_record) problem.take_start_record(sr.index, record.at("caller").get<std::string>());
+  out.starts[static_cast<std::size_t>(sr.index)] = std::move(sr);
+}
+
+/// The starts spread over the MPI ranks (start s on rank s mod N, one at a
+/// time): rank 0 runs its own into setup.shared and takes the others' records.
+/// A failure on any rank ends every rank (exit 1): the others would wait for it.
+void run_starts_over_ranks(const SearchProblem& problem, const OptimizerConfig& config,
+                           std::vector<std::vector<double>>& points, SearchSetup& setup,
+                           const std::function<void(const SearchProgress&)>& progress, SearchResult& out) {
+  const bool root = mpi::rank() == 0;
+  std::vector<std::size_t> indices(out.starts.size());
+  std::iota(indices.begin(), indices.end(), std::size_t{0});
+  try {
+    mpi::distribute_runs(
+        indices,
+        [&](std::size_t s) {
+          const int start = static_cast<int>(s);
+          if (root) {
+            out.starts[s] = run_start(problem, config, start, std::move(points[s]), setup, setup.shared, progress);
+            return std::string();  // already in place
+          }
+          SharedPoints own;
+          out.starts[s] = run_start(problem, config, start, std::move(points[s]), setup, own, progress);
+          return start_record_text(out.starts[s], own, problem.start_record ? problem.start_record(start) : "");
+        },
+        [&](const std::string& text) {
+          if (!text.empty()) take_start_record(text, problem, setup.shared, out);
+        });
+  } catch (const std::exception& e) {
+    std::cerr << "camdyn: error: rank " << mpi::rank() << ": " << e.what() << "\n";
+    mpi::abort_all(1);
+  }
+}
+
 }  // namespace
+
+bool starts_over_ranks(const OptimizerConfig& config) {
+  return !is_global(config.algorithm) && config.starts > 1 && mpi::size() > 1;
+}
 
 std::string nlopt_result_name(int code) {
   switch (code) {
@@ -408,10 +519,16 @@ SearchResult run_search(const SearchProblem& problem, const OptimizerConfig& con
 
   std::vector<std::vector<double>> points = start_points(problem, config, setup.starts);
   out.starts.resize(static_cast<std::size_t>(setup.starts));
-  const int threads = is_global(config.algorithm) ? 1 : std::max(1, problem.parallel_starts);
-  parallel_for(out.starts.size(), threads, [&](std::size_t s) {
-    out.starts[s] = run_start(problem, config, static_cast<int>(s), std::move(points[s]), setup, progress);
-  });
+  if (problem.over_ranks && starts_over_ranks(config)) {
+    run_starts_over_ranks(problem, config, points, setup, progress, out);
+    if (mpi::rank() != 0) return out;  // rank 0 ranks the points
+  } else {
+    const int threads = is_global(config.algorithm) ? 1 : std::max(1, problem.parallel_starts);
+    parallel_for(out.starts.size(), threads, [&](std::size_t s) {
+      out.starts[s] =
+          run_start(problem, config, static_cast<int>(s), std::move(points[s]), setup, setup.shared, progress);
+    });
+  }
 
   // The chosen start: the one whose best point is best.
   rank_candidates(setup.shared.all, out);

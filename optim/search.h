@@ -16,6 +16,11 @@
 // random starts are drawn before any runs, and evaluated points are ranked
 // by (start, evaluation within the start), so the result is the sequential
 // one's whatever the threads' timing.
+// Under MPI (SearchProblem::over_ranks, docs/optimize.md "MPI ranks") the
+// starts spread over the ranks instead: start s runs on rank s mod N, and
+// each start's result and evaluated points travel to rank 0 as text (every
+// double as the hex of its bits, io/hex_doubles.h), which ranks them as the
+// one process would: the same result, to the bit, on rank 0.
 // Every NLopt status and exception becomes a `stop_reason` name; a start that
 // fails keeps what it found and never stops the others. The objective and
 // constraint functions of one point are evaluated once (cached: NLopt asks
@@ -53,6 +58,17 @@ struct SearchProblem {
   std::function<PointValue(const std::vector<double>& x, int start, PointKind kind)> evaluate;
   /// Threads the starts run on (local algorithms with several starts; 1: one after the other).
   int parallel_starts = 1;
+  /// Spread the starts over the MPI ranks when starts_over_ranks(config)
+  /// (study/mpi_runner.h; collective: every rank calls run_search). The
+  /// result is then complete on rank 0 only; the other ranks get their own
+  /// starts' results and no candidates.
+  bool over_ranks = false;
+  /// Over ranks, on the rank (not 0) that ran start `start`, right after it:
+  /// what the caller keeps of that start (its evaluations), as text.
+  std::function<std::string(int start)> start_record;
+  /// Over ranks, on rank 0: the text start_record gave for a start run on
+  /// another rank, before the search ranks its points (in arrival order).
+  std::function<void(int start, const std::string& record)> take_start_record;
 };
 
 struct SearchProgress {
@@ -94,6 +110,10 @@ struct SearchResult {
 /// `progress` is called under a lock (one call at a time) after each evaluation.
 SearchResult run_search(const SearchProblem& problem, const OptimizerConfig& config,
                         const std::function<void(const SearchProgress&)>& progress = {});
+
+/// Whether run_search spreads the starts over the MPI ranks when the
+/// problem asks it to: a local algorithm with several starts, and several ranks.
+bool starts_over_ranks(const OptimizerConfig& config);
 
 /// NLopt's result code as a stop reason: "success", "stopval_reached",
 /// "ftol_reached", "xtol_reached", "maxeval_reached", "maxtime_reached",

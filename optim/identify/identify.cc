@@ -4,17 +4,22 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <cstring>
 #include <exception>
 #include <fstream>
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <numeric>
 #include <optional>
 #include <sstream>
+#include <stdexcept>
+#include <string>
 #include <utility>
 
 #include "common/errors.h"
@@ -22,6 +27,7 @@
 #include "common/study_budget.h"
 #include "dynamics/model.h"
 #include "io/dotted_path.h"
+#include "io/hex_doubles.h"
 #include "io/input_file.h"
 #include "io/json_archive.h"
 #include "io/suggest.h"
@@ -33,6 +39,7 @@
 #include "optim/identify/identify_journal.h"
 #include "optim/identify/identify_statistics.h"
 #include "optim/identify/optimum_statistics.h"
+#include "study/mpi_runner.h"
 #include "study/study.h"
 
 namespace camdyn::optim {
@@ -436,22 +443,130 @@ void flag_poor_fit(const FitQuality& q, IdentifyResult& result) {
 
 }  // namespace
 
+namespace {
+
+/// The further starts of a multi-start fit (start k ≥ 1 of the design), in
+/// start order: each one's FitStart and simulations, and the fits run here.
+struct FurtherStarts {
+  explicit FurtherStarts(std::size_t count) : starts(count), simulations(count, 0), results(count) {}
+  std::vector<FitStart> starts;
+  std::vector<long> simulations;                       ///< of a start that converged (a failed one counts none)
+  std::vector<std::optional<IdentifyResult>> results;  ///< the fits run in this process
+};
+
+/// Further start `k` ≥ 1 into `further` (index k − 1); a failure is that
+/// start's error unless the study's time ran out.
+void run_further_start(const IdentifyProblem& problem, const IdentifyOptions& extra, int k, FurtherStarts& further) {
+  const std::size_t i = static_cast<std::size_t>(k) - 1;
+  const std::vector<double> z = design_start(problem, k);
+  FitStart& start = further.starts[i];
+  start = FitStart{to_values(problem, z), {}, 0.0, false, ""};
+  try {
+    further.results[i] = identify_from(problem, extra, z);
+  } catch (const NumericalError& e) {
+    if (study_budget_exhausted()) throw;  // the study's wall time, not this start, ran out
+    start.error = e.what();
+  }
+  if (!further.results[i]) return;
+  const IdentifyResult& r = *further.results[i];
+  further.simulations[i] = r.simulations;
+  start.values = r.identified_values();
+  start.final_cost = r.final_cost;
+  start.poor_fit = assess_fit(r.fits).poor;
+}
+
+/// What rank 0 needs of a further start run on another rank, as text (doubles as hex, io/hex_doubles.h).
+std::string further_start_text(int k, const FurtherStarts& further) {
+  const std::size_t i = static_cast<std::size_t>(k) - 1;
+  const FitStart& start = further.starts[i];
+  const Json record{{"start", k},
+                    {"values", doubles_to_hex(start.values)},
+                    {"final_cost", doubles_to_hex({start.final_cost})},
+                    {"poor_fit", start.poor_fit},
+                    {"error", start.error},
+                    {"simulations", further.simulations[i]}};
+  return record.dump(-1, ' ', false, Json::error_handler_t::replace);
+}
+
+/// Rank 0: a further start of another rank into `further` (its fit stays there).
+void take_further_start(const IdentifyProblem& problem, const std::string& text, FurtherStarts& further) {
+  const Json record = Json::parse(text);
+  const int k = record.at("start").get<int>();
+  if (k < 1 || static_cast<std::size_t>(k) > further.starts.size())
+    throw std::runtime_error("identify: a rank's start record names no start of this fit");
+  const std::size_t i = static_cast<std::size_t>(k) - 1;
+  const std::string& values = record.at("values").get_ref<const std::string&>();
+  const auto v = doubles_from_hex(values, values.empty() ? 0 : problem.parameters.size());
+  const auto cost = doubles_from_hex(record.at("final_cost").get_ref<const std::string&>(), 1);
+  if (!v || !cost) throw std::runtime_error("identify: a rank's start record is malformed");
+  FitStart& start = further.starts[i];
+  start = FitStart{to_values(problem, design_start(problem, k)), *v, cost->front(), record.at("poor_fit").get<bool>(),
+                   record.at("error").get<std::string>()};
+  further.simulations[i] = record.at("simulations").get<long>();
+}
+
+/// The fit of further start `i` (index k − 1), the best one, whose cost is
+/// `cost`: run in this process, or else on another rank and fitted again
+/// here (the fit is deterministic: the same to the bit, checked by its cost).
+IdentifyResult chosen_fit(const IdentifyProblem& problem, const IdentifyOptions& extra, std::size_t i, double cost,
+                          FurtherStarts& further) {
+  if (further.results[i]) return std::move(*further.results[i]);
+  IdentifyResult r = identify_from(problem, extra, design_start(problem, static_cast<int>(i) + 1));
+  if (std::bit_cast<std::uint64_t>(r.final_cost) != std::bit_cast<std::uint64_t>(cost))
+    throw std::runtime_error("identify: start " + std::to_string(i + 1) +
+                             " fitted again on rank 0 did not end where it ended on its rank");
+  return r;
+}
+
+/// The starts over the MPI ranks (docs/optimize.md "MPI ranks"): start k on
+/// rank k mod N, start 0 (`first`, if not run yet) on rank 0; rank 0 gets
+/// every further start's record.
+void run_starts_over_ranks(const IdentifyProblem& problem, const IdentifyOptions& extra, int wanted,
+                           const std::function<void()>& first, FurtherStarts& further) {
+  std::vector<std::size_t> indices(static_cast<std::size_t>(wanted));
+  std::iota(indices.begin(), indices.end(), std::size_t{0});
+  mpi::distribute_runs(
+      indices,
+      [&](std::size_t k) {
+        if (k == 0) {
+          first();
+          return std::string();
+        }
+        run_further_start(problem, extra, static_cast<int>(k), further);
+        return mpi::rank() == 0 ? std::string() : further_start_text(static_cast<int>(k), further);
+      },
+      [&](const std::string& text) {
+        if (!text.empty()) take_further_start(problem, text, further);
+      });
+}
+
+}  // namespace
+
 IdentifyResult identify(const IdentifyProblem& problem, const IdentifyOptions& options) {
   const auto wall_start = std::chrono::steady_clock::now();
   const std::size_t p = problem.parameters.size();
   std::vector<double> z0(p);
   for (std::size_t i = 0; i < p; ++i) z0[i] = to_scaled(problem.parameters[i], problem.parameters[i].initial);
-  IdentifyResult best = identify_from(problem, options, z0);
-  FitQuality quality = assess_fit(best.fits);
-  std::vector<FitStart> starts = {
-      {to_values(problem, z0), best.identified_values(), best.final_cost, quality.poor, ""}};
-  long simulations = best.simulations;
-  const int wanted = problem.solver.starts.value_or(quality.poor ? 2 * static_cast<int>(p) + 3 : 1);
+  const bool ranks = options.over_ranks && mpi::size() > 1;
+  const bool root = mpi::rank() == 0;
+  std::optional<IdentifyResult> first_fit;
+  const auto first = [&] {
+    if (!first_fit) first_fit = identify_from(problem, options, z0);
+  };
+  // The starts wanted: the config's, or more when the first start's fit is poor.
+  int wanted = problem.solver.starts.value_or(0);
+  if (!problem.solver.starts) {
+    if (root) {
+      first();
+      wanted = assess_fit(first_fit->fits).poor ? 2 * static_cast<int>(p) + 3 : 1;
+    }
+    if (ranks) wanted = std::stoi(mpi::broadcast(std::to_string(wanted)));
+  }
   // The further starts at once on the threads (each its own simulator; the
-  // progress callback one call at a time), then taken in start order, so the
-  // result is the one of the starts run one after the other.
-  const std::size_t further = static_cast<std::size_t>(std::max(0, wanted - 1));
-  const int parallel = std::clamp(options.threads, 1, std::max(1, wanted - 1));
+  // progress callback one call at a time), or over the MPI ranks, then taken
+  // in start order, so the result is the one of the starts run one after the other.
+  const std::size_t count = static_cast<std::size_t>(std::max(0, wanted - 1));
+  const int parallel = ranks ? 1 : std::clamp(options.threads, 1, std::max(1, wanted - 1));
   std::mutex progress_mutex;
   IdentifyOptions extra = options;
   extra.journal = nullptr;  // the journal resumes the first start
@@ -461,30 +576,34 @@ IdentifyResult identify(const IdentifyProblem& problem, const IdentifyOptions& o
       const std::lock_guard<std::mutex> lock(progress_mutex);
       options.progress(at);
     };
-  std::vector<FitStart> further_starts(further);
-  std::vector<std::optional<IdentifyResult>> results(further);
-  parallel_for(further, parallel, [&](std::size_t i) {
-    const std::vector<double> z = design_start(problem, static_cast<int>(i) + 1);
-    further_starts[i] = FitStart{to_values(problem, z), {}, 0.0, false, ""};
-    try {
-      results[i] = identify_from(problem, extra, z);
-    } catch (const NumericalError& e) {
-      if (study_budget_exhausted()) throw;  // the study's wall time, not this start, ran out
-      further_starts[i].error = e.what();
-    }
-  });
-  for (std::size_t i = 0; i < further; ++i) {
-    FitStart& start = further_starts[i];
-    if (results[i]) {
-      IdentifyResult& r = *results[i];
-      simulations += r.simulations;
-      start.values = r.identified_values();
-      start.final_cost = r.final_cost;
-      start.poor_fit = assess_fit(r.fits).poor;
-      if (r.final_cost < best.final_cost) best = std::move(r);
+  FurtherStarts further(count);
+  if (ranks) {
+    run_starts_over_ranks(problem, extra, std::max(wanted, 1), first, further);
+    if (!root) return IdentifyResult{};  // rank 0 has every start's record
+  } else {
+    first();
+    parallel_for(count, parallel,
+                 [&](std::size_t i) { run_further_start(problem, extra, static_cast<int>(i) + 1, further); });
+  }
+  IdentifyResult& best = *first_fit;
+  FitQuality quality = assess_fit(best.fits);
+  std::vector<FitStart> starts = {
+      {to_values(problem, z0), best.identified_values(), best.final_cost, quality.poor, ""}};
+  long simulations = best.simulations;
+  std::optional<std::size_t> winner;  // the further start whose fit is best, if any
+  double best_cost = best.final_cost;
+  for (std::size_t i = 0; i < count; ++i) {
+    FitStart& start = further.starts[i];
+    if (!start.values.empty()) {  // converged
+      simulations += further.simulations[i];
+      if (start.final_cost < best_cost) {
+        best_cost = start.final_cost;
+        winner = i;
+      }
     }
     starts.push_back(std::move(start));
   }
+  if (winner) best = chosen_fit(problem, extra, *winner, best_cost, further);
   quality = assess_fit(best.fits);
   best.starts = std::move(starts);
   best.simulations = simulations;

@@ -185,6 +185,10 @@ struct IdentifyOptions {
   /// Where simulations, accepted iterates and stages are journaled, and the
   /// simulations of a killed run are taken from (null: no journal).
   IdentifyJournal* journal = nullptr;
+  /// Spread the starts over the MPI ranks (docs/optimize.md "MPI ranks";
+  /// collective: every rank calls identify()): start k on rank k mod N. Rank
+  /// 0 returns the fit; the other ranks return an empty result.
+  bool over_ranks = false;
 };
 
 /// Runs the fit. Throws NumericalError (exit 3) when the solver fails (no

@@ -6,12 +6,14 @@
 #include <filesystem>
 #include <functional>
 #include <iostream>
+#include <optional>
 #include <string>
 
 #include "io/json_writer.h"
 #include "optim/identify/identify.h"
 #include "optim/identify/identify_journal.h"
 #include "optim/identify/identify_output.h"
+#include "study/mpi_runner.h"
 #include "study/progress.h"
 
 namespace camdyn::optim {
@@ -70,13 +72,25 @@ int run_identify_study(const Json& doc, const StudyContext& ctx) {
     return 0;
   }
 
-  IdentifyJournal journal(ctx.out_dir, problem);
-  say_resumed(journal);
+  // Under MPI the starts spread over the ranks (docs/optimize.md "MPI ranks"); one start runs on rank 0 alone.
+  const bool root = mpi::rank() == 0;
+  const bool over_ranks = mpi::size() > 1 && problem.solver.starts.value_or(2) > 1;
+  if (mpi::size() > 1 && !over_ranks) {
+    if (!root) return 0;
+    std::cerr << "camdyn: note: solver.starts is 1: this identify study runs on rank 0 alone\n";
+  }
+  std::optional<IdentifyJournal> journal;  // rank 0 alone journals and writes
+  if (root) {
+    journal.emplace(ctx.out_dir, problem);
+    say_resumed(*journal);
+  }
   IdentifyOptions options;
   options.threads = ctx.threads();
-  options.journal = &journal;
-  if (ctx.progress) options.progress = progress_printer(problem.solver.max_iterations);
+  options.journal = journal ? &*journal : nullptr;
+  options.over_ranks = over_ranks;
+  if (ctx.progress && root) options.progress = progress_printer(problem.solver.max_iterations);
   const IdentifyResult result = identify(problem, options);
+  if (!root) return 0;
   if (ctx.progress) std::fprintf(stderr, "\n");
   write_identify_outputs(ctx.out_dir, problem, result, resolved);
 
@@ -85,7 +99,7 @@ int run_identify_study(const Json& doc, const StudyContext& ctx) {
               result.termination.c_str(), result.simulations, result.reused_points, result.run_time_s);
   if (result.resumed_simulations > 0)
     std::printf("  resumed: %ld of the simulations taken from %s\n", result.resumed_simulations,
-                journal.path().c_str());
+                journal->path().c_str());
   for (const ParameterEstimate& p : result.parameters) {
     if (p.std_error)
       std::printf("  %-28s %.8g ± %.3g (%.3g %%)\n", p.name.c_str(), p.value, *p.std_error,

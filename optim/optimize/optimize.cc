@@ -11,6 +11,8 @@
 #include <nlopt.hpp>
 #include <numbers>
 #include <optional>
+#include <stdexcept>
+#include <string>
 #include <utility>
 
 #include "common/errors.h"
@@ -22,6 +24,7 @@
 #include "io/json_archive.h"
 #include "optim/optimize/jump_bound.h"
 #include "optim/optimize/optimize_checkpoint.h"
+#include "study/mpi_runner.h"
 #include "study/progress.h"
 #include "study/study.h"
 
@@ -263,6 +266,73 @@ class StartEvaluators {
   std::map<int, Own> own_;
 };
 
+/// The search's starts spread over the MPI ranks (OptimizeOptions::over_ranks,
+/// docs/optimize.md "MPI ranks"). On a rank other than 0 each evaluation of
+/// its starts is kept as a journal record (optim/optimize/optimize_journal.h,
+/// doubles as hex) with its point kind and whether it was simulated, and
+/// each start's records go to rank 0 with the simulations and warm-start
+/// counts of the rank's pool over that start (its starts run one at a time);
+/// rank 0 books them as if its own loop had made them.
+class RankStarts {
+ public:
+  RankStarts(const SimulationPool& pool, std::size_t dimension, std::size_t constraints)
+      : pool_(pool),
+        dimension_(dimension),
+        constraints_(constraints),
+        simulations_(pool.simulations()),
+        warm_kept_(pool.warm_kept()),
+        warm_rejected_(pool.warm_rejected()) {}
+
+  /// A rank other than 0: evaluation e of x by `start`, `simulations` simulations (−1: not simulated here).
+  void evaluated(const std::vector<double>& x, int start, PointKind kind, const DesignEvaluation& e, long simulations) {
+    Json record = evaluation_record(x,
+                                    JournaledEvaluation{e.valid, e.error, e.objective, e.feasible, e.constraints,
+                                                        std::max(0L, simulations), start, e.end_points},
+                                    true);
+    record["gradient"] = kind == PointKind::gradient;
+    record["simulated"] = simulations >= 0;
+    records_[start].push_back(std::move(record));
+  }
+  /// A rank other than 0, after start `start`: its records and the pool's counts since the start before.
+  std::string record(int start) {
+    const Json text{{"evaluations", std::move(records_[start])},
+                    {"simulations", pool_.simulations() - simulations_},
+                    {"warm_kept", pool_.warm_kept() - warm_kept_},
+                    {"warm_rejected", pool_.warm_rejected() - warm_rejected_}};
+    records_.erase(start);
+    simulations_ = pool_.simulations();
+    warm_kept_ = pool_.warm_kept();
+    warm_rejected_ = pool_.warm_rejected();
+    return text.dump(-1, ' ', false, Json::error_handler_t::replace);
+  }
+  /// Rank 0: the records of start `start`, each to `book(x, kind, e, simulations or −1)` in order.
+  void take(int start, const std::string& text,
+            const std::function<void(const std::vector<double>&, PointKind, const DesignEvaluation&, long)>& book) {
+    const Json taken = Json::parse(text);
+    for (const Json& record : taken.at("evaluations")) {
+      auto evaluation = evaluation_from_record(record, dimension_, constraints_);
+      if (!evaluation || evaluation->second.start != start)
+        throw std::runtime_error("optimize: a rank's evaluation record is malformed");
+      const JournaledEvaluation& j = evaluation->second;
+      DesignEvaluation e;
+      fill_evaluation(j, e);
+      book(evaluation->first, record.at("gradient").get<bool>() ? PointKind::gradient : PointKind::nlopt, e,
+           record.at("simulated").get<bool>() ? j.simulations : -1);
+    }
+    taken_simulations += taken.at("simulations").get<long>();
+    taken_warm_kept += taken.at("warm_kept").get<long>();
+    taken_warm_rejected += taken.at("warm_rejected").get<long>();
+  }
+
+  long taken_simulations = 0, taken_warm_kept = 0, taken_warm_rejected = 0;  ///< rank 0: over the others' starts
+
+ private:
+  const SimulationPool& pool_;
+  std::size_t dimension_ = 0, constraints_ = 0;
+  long simulations_ = 0, warm_kept_ = 0, warm_rejected_ = 0;  ///< the pool's counts when the start began
+  std::map<int, Json> records_;
+};
+
 /// After starts that ran at once: the history in the order of the starts
 /// run one after the other (each start's evaluations in their order), numbered
 /// and with the best so far as that run has them.
@@ -286,7 +356,8 @@ void order_history_by_start(std::vector<HistoryRecord>& history) {
 /// The search loop with the loop settings, from the initial design: fills
 /// out.initial, out.history, out.search, out.loop_time_s and
 /// out.loop_simulations; returns the simulations of the starts' own pools
-/// (starts run at once, on --jobs threads). Throws NumericalError when no
+/// (starts run at once, on --jobs threads) and, on rank 0, of the other
+/// ranks' starts (over MPI ranks). Throws NumericalError when no
 /// design was valid.
 long search_designs(const DesignSpace& space, const DesignEvaluator& evaluator, SimulationPool& pool,
                     const OptimizeStudyConfig& config, const OptimizeOptions& options, const std::string& file,
@@ -295,10 +366,21 @@ long search_designs(const DesignSpace& space, const DesignEvaluator& evaluator, 
   out.initial = evaluator.evaluate(space.scene(out.x_initial), loop, out.loop_simulated);
   const long sims_before = pool.simulations();
   const bool local = config.optimizer.algorithm.rfind("GN_", 0) != 0;
-  const int parallel = local ? std::clamp(options.threads, 1, config.optimizer.starts) : 1;
+  const bool ranks = options.over_ranks && starts_over_ranks(config.optimizer);
+  // Over MPI ranks each rank runs its starts one at a time, their simulations on its threads.
+  const int parallel = local && !ranks ? std::clamp(options.threads, 1, config.optimizer.starts) : 1;
   StartEvaluators starts(evaluator, pool, config, file, parallel, std::max(1, options.threads / parallel));
-  std::mutex book;  // the bookkeeping below, shared by the starts
+  RankStarts rank_starts(pool, static_cast<std::size_t>(space.dimension()), out.constraints.size());
+  const bool helper = ranks && mpi::rank() != 0;  // a rank that sends its starts to rank 0
+  std::mutex book;                                // the bookkeeping below, shared by the starts
   BestSoFar best;
+  // After each evaluation of the search, of this process's starts or (rank 0) another rank's.
+  const auto keep = [&](const std::vector<double>& x, int start, PointKind kind, const DesignEvaluation& e) {
+    note_budget_cut(e, out);
+    const bool improved = best.update(e);
+    out.history.push_back(history_record(e, static_cast<long>(out.history.size()) + 1, start, kind, best));
+    recorder.evaluated(out, space, x, improved);
+  };
   SearchProblem problem;
   problem.lower = space.lower();
   problem.upper = space.upper();
@@ -311,6 +393,7 @@ long search_designs(const DesignSpace& space, const DesignEvaluator& evaluator, 
     // The outputs cannot be kept, or the study's time is up: stop every start.
     if (recorder.failed() || study_budget_exhausted()) throw nlopt::forced_stop();
     DesignEvaluation e;
+    long simulated = -1;  // the simulations of an evaluation made here
     if (!warm.recall(x, start, e) && !recorder.replay(x, start, e)) {
       EvaluationSettings settings = loop;
       warm.prepare(start, settings);
@@ -325,18 +408,27 @@ long search_designs(const DesignSpace& space, const DesignEvaluator& evaluator, 
         own->score(e);
       }
       lock.lock();
-      recorder.journal(x, start, e, own_pool->simulations() - sims);
+      simulated = own_pool->simulations() - sims;
+      recorder.journal(x, start, e, simulated);
     }
     warm.evaluated(x, start, e);
-    note_budget_cut(e, out);
-    const bool improved = best.update(e);
-    out.history.push_back(history_record(e, static_cast<long>(out.history.size()) + 1, start, kind, best));
-    recorder.evaluated(out, space, x, improved);
+    if (helper) rank_starts.evaluated(x, start, kind, e, simulated);
+    keep(x, start, kind, e);
     if (recorder.failed()) throw nlopt::forced_stop();
     return point_value(e);
   };
+  problem.over_ranks = ranks;
+  problem.start_record = [&](int start) { return rank_starts.record(start); };
+  problem.take_start_record = [&](int start, const std::string& text) {
+    rank_starts.take(start, text,
+                     [&](const std::vector<double>& x, PointKind kind, const DesignEvaluation& e, long sims) {
+                       if (sims >= 0) recorder.journal(x, start, e, sims);
+                       keep(x, start, kind, e);
+                     });
+  };
   const auto loop_t0 = Clock::now();
   out.search = run_search(problem, config.optimizer, progress_printer(options, config.optimizer, loop_t0));
+  if (helper) return 0;  // rank 0 has the search's result
   recorder.rethrow();
   if (study_budget_exhausted())
     throw NumericalError(
@@ -346,10 +438,11 @@ long search_designs(const DesignSpace& space, const DesignEvaluator& evaluator, 
              : "; they are kept in " + recorder.journal_path().string() + ": " + study_rerun_advice()));
   out.loop_time_s = seconds_since(loop_t0);
   out.resumed_simulations = recorder.replayed_simulations();
-  if (parallel > 1) order_history_by_start(out.history);
-  out.loop_simulations = pool.simulations() - sims_before + starts.simulations() + out.resumed_simulations;
-  out.warm_kept = pool.warm_kept() + starts.warm_kept();
-  out.warm_rejected = pool.warm_rejected() + starts.warm_rejected();
+  if (parallel > 1 || ranks) order_history_by_start(out.history);
+  out.loop_simulations =
+      pool.simulations() - sims_before + starts.simulations() + out.resumed_simulations + rank_starts.taken_simulations;
+  out.warm_kept = pool.warm_kept() + starts.warm_kept() + rank_starts.taken_warm_kept;
+  out.warm_rejected = pool.warm_rejected() + starts.warm_rejected() + rank_starts.taken_warm_rejected;
   if (options.progress) std::fprintf(stderr, "\n");
   if (out.search.candidates.empty())
     throw NumericalError("the optimiser found no valid design in " + std::to_string(out.search.evaluations) +
@@ -358,7 +451,7 @@ long search_designs(const DesignSpace& space, const DesignEvaluator& evaluator, 
                                                     : "; " + std::to_string(out.budget_cut_evaluations) +
                                                           " of them were cut short by a budget (" +
                                                           out.budget_cut_names() + "), which proves nothing"));
-  return starts.simulations();
+  return starts.simulations() + rank_starts.taken_simulations;
 }
 
 /// `scene` with the study's geometric constraints that design `e` meets as
@@ -739,6 +832,7 @@ OptimizeOutcome run_optimize(const SceneConfig& baseline, const OptimizeStudyCon
 
   say(options, "searching");
   const long start_pool_simulations = search_designs(space, evaluator, pool, config, options, file, recorder, out);
+  if (options.over_ranks && mpi::rank() != 0) return out;  // rank 0 has every start's result
 
   say(options, "re-evaluating the best designs with the scene's settings");
   choose_optimized(space, evaluator, full, baseline.name + "-optimized", top_speed(config), file, out);

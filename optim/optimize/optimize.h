@@ -46,6 +46,11 @@ struct OptimizeOptions {
   /// Where history.csv, best_design.json and the journal are kept while
   /// the search runs, and a killed run's journal is replayed from (empty: none).
   std::filesystem::path checkpoint_dir;
+  /// Spread the search's starts over the MPI ranks (optim/search.h
+  /// starts_over_ranks; docs/optimize.md "MPI ranks"): collective, every
+  /// rank calls run_optimize; a rank other than 0 stops after the search
+  /// (its outcome is incomplete), rank 0 carries on with every start's result.
+  bool over_ranks = false;
 };
 
 /// The objective on each speed's periodic steady state (study/steady_state.h)

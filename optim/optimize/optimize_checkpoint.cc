@@ -29,12 +29,7 @@ LoopRecorder::LoopRecorder(std::filesystem::path dir, const SceneConfig& baselin
 bool LoopRecorder::replay(const std::vector<double>& x, int start, DesignEvaluation& e) {
   const JournaledEvaluation* j = journal_ ? journal_->find(x, start) : nullptr;
   if (j == nullptr) return false;
-  e.valid = j->valid;
-  e.error = j->error;
-  e.objective = j->objective;
-  e.feasible = j->feasible;
-  e.constraints = j->constraints;
-  e.end_points = j->end_points;
+  fill_evaluation(*j, e);
   replayed_simulations_ += j->simulations;
   return true;
 }

@@ -93,6 +93,50 @@ std::optional<std::vector<std::optional<SectionPoint>>> warm_end_of(const Json& 
 
 }  // namespace
 
+void fill_evaluation(const JournaledEvaluation& j, DesignEvaluation& e) {
+  e.valid = j.valid;
+  e.error = j.error;
+  e.objective = j.objective;
+  e.feasible = j.feasible;
+  e.constraints = j.constraints;
+  e.end_points = j.end_points;
+}
+
+Json evaluation_record(const std::vector<double>& x, const JournaledEvaluation& e, bool per_start) {
+  std::vector<double> values;
+  Json holds = Json::array();
+  for (const ConstraintValue& c : e.constraints) {
+    values.insert(values.end(), {c.value, c.margin, c.residual});
+    holds.push_back(c.holds);
+  }
+  Json record{{"kind", "evaluation"},
+              {"x", doubles_to_hex(x)},
+              {"valid", e.valid},
+              {"error", e.error},
+              {"objective", doubles_to_hex({e.objective})},
+              {"feasible", e.feasible},
+              {"constraints", doubles_to_hex(values)},
+              {"holds", std::move(holds)},
+              {"simulations", e.simulations}};
+  if (per_start) {
+    record["start"] = e.start;
+    record["warm_end"] = warm_end_json(e.end_points);
+  }
+  return record;
+}
+
+std::optional<std::pair<std::vector<double>, JournaledEvaluation>> evaluation_from_record(const Json& record,
+                                                                                          std::size_t dimension,
+                                                                                          std::size_t constraints) {
+  auto x = hex_field(record, "x", dimension);
+  auto e = evaluation_of(record, constraints);
+  auto warm_end = warm_end_of(record);
+  if (!x || !e || !warm_end) return std::nullopt;
+  e->start = record.value("start", 0);
+  e->end_points = std::move(*warm_end);
+  return std::make_pair(std::move(*x), std::move(*e));
+}
+
 std::string optimize_fingerprint(const SceneConfig& baseline, const OptimizeStudyConfig& config) {
   const Json identity{
       {"camdyn_version", CAMDYN_VERSION}, {"baseline", to_json(baseline)}, {"optimize", to_json(config)}};
@@ -108,18 +152,14 @@ OptimizeJournal::OptimizeJournal(const std::filesystem::path& dir, const std::st
   for (const auto& [index, record] : journal_.done()) {
     next_index_ = index + 1;
     if (record.value("kind", std::string()) != "evaluation") continue;
-    const auto x = hex_field(record, "x", dimension_);
-    auto e = evaluation_of(record, constraint_count_);
-    auto warm_end = warm_end_of(record);
-    if (!x || !e || !warm_end) {
+    auto evaluation = evaluation_from_record(record, dimension_, constraint_count_);
+    if (!evaluation) {
       std::cerr << "camdyn: warning: " << path().string() << ": record " << index
                 << " is not an evaluation of this study; the design is evaluated again\n";
       continue;
     }
-    e->start = record.value("start", 0);
-    e->end_points = std::move(*warm_end);
-    Key k = key(*x, e->start);
-    if (evaluations_.emplace(std::move(k), std::move(*e)).second) ++resumed_;
+    Key k = key(evaluation->first, evaluation->second.start);
+    if (evaluations_.emplace(std::move(k), std::move(evaluation->second)).second) ++resumed_;
   }
 }
 
@@ -138,21 +178,8 @@ void OptimizeJournal::add(const std::vector<double>& x, const JournaledEvaluatio
   if (x.size() != dimension_ || e.constraints.size() != constraint_count_) return;  // not of this study
   Key k = key(x, e.start);
   if (evaluations_.contains(k)) return;
-  std::vector<double> values;
-  Json holds = Json::array();
-  for (const ConstraintValue& c : e.constraints) {
-    values.insert(values.end(), {c.value, c.margin, c.residual});
-    holds.push_back(c.holds);
-  }
-  Json record{{"index", next_index_++},    {"kind", "evaluation"},
-              {"x", doubles_to_hex(x)},    {"valid", e.valid},
-              {"error", e.error},          {"objective", doubles_to_hex({e.objective})},
-              {"feasible", e.feasible},    {"constraints", doubles_to_hex(values)},
-              {"holds", std::move(holds)}, {"simulations", e.simulations}};
-  if (per_start_) {
-    record["start"] = e.start;
-    record["warm_end"] = warm_end_json(e.end_points);
-  }
+  Json record{{"index", next_index_++}};
+  record.update(evaluation_record(x, e, per_start_));
   journal_.append(record);
   evaluations_.emplace(std::move(k), e);
 }

@@ -31,6 +31,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "dynamics/poincare_map.h"
@@ -56,6 +57,20 @@ struct JournaledEvaluation {
   int start = 0;                                        ///< the start that asked (journaled with warm starts)
   std::vector<std::optional<SectionPoint>> end_points;  ///< warm starts: where each speed's run ended
 };
+
+/// What the search loop uses of a journaled evaluation, into `e` (its runs left as they are).
+void fill_evaluation(const JournaledEvaluation& j, DesignEvaluation& e);
+
+/// The journal record of the evaluation of design `x` (without its "index");
+/// `per_start`: with "start" and "warm_end". Also what a rank sends rank 0 of
+/// each evaluation of its starts (optim/optimize/optimize.cc, MPI ranks).
+Json evaluation_record(const std::vector<double>& x, const JournaledEvaluation& e, bool per_start);
+
+/// The design and evaluation of a record of evaluation_record, checked
+/// against the study's sizes; nothing if it does not fit.
+std::optional<std::pair<std::vector<double>, JournaledEvaluation>> evaluation_from_record(const Json& record,
+                                                                                          std::size_t dimension,
+                                                                                          std::size_t constraints);
 
 class OptimizeJournal {
  public:

@@ -14,7 +14,9 @@
 #include "optim/optimize/optimize_checkpoint.h"
 #include "optim/optimize/optimize_config.h"
 #include "optim/optimize/optimize_output.h"
+#include "optim/search.h"
 #include "output/report.h"
+#include "study/mpi_runner.h"
 
 namespace camdyn::optim {
 
@@ -172,20 +174,32 @@ int run_optimize_study(const Json& doc, const StudyContext& ctx) {
   const OptimizeStudy study = read_optimize_study(doc, ctx.source);
   const SceneConfig& baseline = study.baseline;
   const OptimizeStudyConfig& config = study.config;
+  // Under MPI the search's starts spread over the ranks; a study without
+  // several starts of a local algorithm runs on rank 0 alone (docs/optimize.md "MPI ranks").
+  const bool over_ranks = !config.design.layout && !ctx.validate_only && starts_over_ranks(config.optimizer);
+  if (mpi::size() > 1 && !ctx.validate_only && !over_ranks) {
+    if (mpi::rank() != 0) return 0;
+    std::cerr << "camdyn: note: only the starts of a local algorithm (optimizer.starts > 1) use the MPI ranks; "
+                 "this optimize study runs on rank 0 alone\n";
+  }
   if (config.design.layout) return run_layout_study(study, ctx);
   check_optimize(baseline, config, ctx.config_file);
   if (ctx.validate_only) {
+    if (mpi::rank() != 0) return 0;
     std::cout << dump_json(resolved_study_json(baseline, "optimize", to_json(config)));
     std::cerr << "camdyn: " << ctx.config_file << " is valid (optimize: " << config.operating_rpm.size()
               << " operating speeds, " << config.optimizer.algorithm << ")\n";
     return 0;
   }
 
+  const bool root = mpi::rank() == 0;
   OptimizeOptions options;
   options.threads = ctx.threads();
-  options.progress = ctx.progress;
-  options.checkpoint_dir = ctx.out_dir;
+  options.progress = ctx.progress && root;
+  if (root) options.checkpoint_dir = ctx.out_dir;  // rank 0 alone journals and writes
+  options.over_ranks = over_ranks;
   const OptimizeOutcome o = run_optimize(baseline, config, ctx.config_file, options);
+  if (!root) return 0;
   write_optimize_outputs(ctx.out_dir, o, baseline.name, ctx.config_file);
   remove_checkpoint(ctx.out_dir);
   if (o.resumed_evaluations > 0)

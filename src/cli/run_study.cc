@@ -39,6 +39,9 @@ struct StudyRunner {
   /// Runs on every MPI rank (it spreads its runs over them or keeps them in
   /// step); the others run on rank 0 alone.
   bool every_rank = false;
+  /// Its ranks wait for each other's results as it runs (the starts of
+  /// optimize and identify): under MPI, a failure on one rank ends them all.
+  bool in_step = false;
 };
 
 // The runners table: one case per registered study (scene/study_kind.h). A
@@ -48,9 +51,9 @@ StudyRunner runner_of(StudyKind kind) {
     case StudyKind::simulate:
       return {run_simulate_study};
     case StudyKind::optimize:
-      return {optim::run_optimize_study};
+      return {optim::run_optimize_study, true, true};
     case StudyKind::identify:
-      return {optim::run_identify_study};
+      return {optim::run_identify_study, true, true};
     case StudyKind::compare:
       return {run_compare_study, true};
     case StudyKind::convergence:
@@ -71,15 +74,37 @@ StudyKind study_kind(const std::string& study) {
   return enum_from_name<StudyKind>(study).value_or(StudyKind::simulate);
 }
 
+/// Runs a study whose ranks wait for each other: an exception on any rank
+/// ends every rank (mpi::abort_all) with the exit code main() would give it
+/// (docs/config.md "Exit codes"), after that rank says why.
+int run_in_step(const StudyRunner& runner, const Json& doc, const StudyContext& ctx) {
+  if (mpi::size() == 1) return runner.run(doc, ctx);
+  int code = 1;
+  try {
+    return runner.run(doc, ctx);
+  } catch (const InputError& e) {
+    code = 2;
+    std::cerr << "camdyn: error: rank " << mpi::rank() << ": " << e.what() << "\n";
+  } catch (const NumericalError& e) {
+    code = 3;
+    std::cerr << "camdyn: numerical failure: rank " << mpi::rank() << ": " << e.what() << "\n";
+  } catch (const std::exception& e) {
+    std::cerr << "camdyn: error: rank " << mpi::rank() << ": " << e.what() << "\n";
+  }
+  mpi::abort_all(code);
+}
+
 int dispatch(const std::string& study, const Json& doc, const StudyContext& ctx) {
   const StudyRunner runner = runner_of(study_kind(study));
+  if (runner.in_step) return run_in_step(runner, doc, ctx);
   if (runner.every_rank) return runner.run(doc, ctx);
   const bool root = mpi::rank() == 0;
   if (mpi::size() > 1 && !ctx.validate_only) {
-    // Only compare studies are spread over ranks; the others run on rank 0.
+    // Only compare, convergence, jump map, optimize and identify studies use the ranks; the others run on rank 0.
     if (!root) return kExitOk;
-    std::cerr << "camdyn: note: only compare studies use the MPI ranks; this " << study
-              << " study runs on rank 0 alone\n";
+    std::cerr << "camdyn: note: only compare, convergence, jump_map, optimize and identify studies use the MPI "
+                 "ranks; this "
+              << study << " study runs on rank 0 alone\n";
   }
   return runner.run(doc, ctx);
 }
