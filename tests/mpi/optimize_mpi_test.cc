@@ -10,9 +10,9 @@
 #include <fstream>
 #include <string>
 
-#include "../optim/optimize_study_text.h"
 #include "cli_run.h"
 #include "io/config.h"
+#include "optimize_study_text.h"
 
 namespace camdyn::optim {
 namespace {
