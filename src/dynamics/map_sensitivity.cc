@@ -283,16 +283,16 @@ class SensitivityRun {
   long impacts_ = 0, events_ = 0;
 };
 
-// Φ(0) for the coordinates, scaled: column j is the start's change for a
-// change of scale_j in coordinate j; the pair parameter u, which the start
+// Φ(0) for the seeds: column c is the start's change for the change
+// seeds.col(c) of the coordinates [SI]; the pair parameter u, which the start
 // finds from q (f(u, q, θ) = 0), follows it by ∂u/∂q = −f_q/f_u, which is
 // ∂u̇/∂q̇ of the state Jacobian (u̇ = (−α f − f_q q̇ − f_θ θ̇)/f_u).
-MatrixXd initial_sensitivities(const PoincareMap& map, Workspace& ws, const std::vector<double>& y) {
+MatrixXd initial_sensitivities(const PoincareMap& map, Workspace& ws, const std::vector<double>& y,
+                               const MatrixXd& seeds) {
   const Model& model = map.model();
   const int n = model.layout.size, m = map.dimension();
-  MatrixXd s = MatrixXd::Zero(n, m);
-  for (int j = 0; j < m; ++j)
-    s(map.coordinate_indices()[static_cast<std::size_t>(j)], j) = map.scales()[static_cast<std::size_t>(j)];
+  MatrixXd s = MatrixXd::Zero(n, seeds.cols());
+  for (int j = 0; j < m; ++j) s.row(map.coordinate_indices()[static_cast<std::size_t>(j)]) = seeds.row(j);
   if (model.layout.u) {
     MatrixXd jacobian(n, n);
     state_jacobian(model, ws, 0.0, y.data(), jacobian.data());
@@ -302,8 +302,10 @@ MatrixXd initial_sensitivities(const PoincareMap& map, Workspace& ws, const std:
   return s;
 }
 
-// The run itself; fills `out` (ok only at its end).
-void run_sensitivities(const PoincareMap& map, const SectionPoint& p, int k, Workspace& ws, MapJacobian& out) {
+// The run itself, its sensitivities started from `seeds` (dimension() × c):
+// fills `out` (ok only at its end) with (∂P^k/∂x) seeds.
+void run_sensitivities(const PoincareMap& map, const SectionPoint& p, int k, const MatrixXd& seeds, Workspace& ws,
+                       MapJacobian& out) {
   const Model& model = map.model();
   const SceneConfig scene = map.scene_for(k);
   const RunPlan plan = plan_run(scene, model);
@@ -314,13 +316,14 @@ void run_sensitivities(const PoincareMap& map, const SectionPoint& p, int k, Wor
     out.reason = f.message;
     return;
   }
-  MatrixXd s = initial_sensitivities(map, ws, y);
-  SensitivityOde ode(model, ws, m);
+  MatrixXd s = initial_sensitivities(map, ws, y, seeds);
+  const int c = static_cast<int>(seeds.cols());
+  SensitivityOde ode(model, ws, c);
   IntegratorOptions options = integrator_options(scene.integrator, plan);
   options.method = IntegrationMethod::cvode_bdf;
   options.analytic_jacobian = true;
   CvodeIntegrator integrator(ode, options, 0.0, y.data());
-  integrator.enable_sensitivities(m, s.data());
+  integrator.enable_sensitivities(c, s.data());
   SensitivityRun run(map, ws, ode, integrator, s, y);
   const double drift_tolerance = std::max(1e-9, 10.0 * scene.integrator.rtol);  // [rad], as the simulation's
   double t = 0.0;
@@ -351,11 +354,8 @@ void run_sensitivities(const PoincareMap& map, const SectionPoint& p, int k, Wor
   }
   integrator.sensitivities(s.data());
   out.end = map.point(y, ws.v0, ws.motor_phase, k);
-  out.jacobian.resize(m, m);
-  for (int i = 0; i < m; ++i)
-    for (int j = 0; j < m; ++j)
-      out.jacobian(i, j) =
-          s(map.coordinate_indices()[static_cast<std::size_t>(i)], j) / map.scales()[static_cast<std::size_t>(j)];
+  out.jacobian.resize(m, c);
+  for (int i = 0; i < m; ++i) out.jacobian.row(i) = s.row(map.coordinate_indices()[static_cast<std::size_t>(i)]);
   out.impacts = run.impacts();
   out.events = run.events();
   out.steps = integrator.counters().steps;
@@ -374,17 +374,36 @@ std::string sensitivity_unsupported(const PoincareMap& map) {
   return {};
 }
 
-MapJacobian sensitivity_jacobian(const PoincareMap& map, const SectionPoint& p, int k, Workspace& ws) {
+namespace {
+
+// One run from `seeds`, or why none can be trusted.
+MapJacobian seeded_run(const PoincareMap& map, const SectionPoint& p, int k, const MatrixXd& seeds, Workspace& ws) {
   MapJacobian out;
   out.reason = sensitivity_unsupported(map);
   if (!out.reason.empty()) return out;
   try {
-    run_sensitivities(map, p, k, ws, out);
+    run_sensitivities(map, p, k, seeds, ws, out);
   } catch (const NumericalError& e) {  // CVODES gave up
     out.ok = false;
     out.reason = e.what();
   }
   return out;
+}
+
+}  // namespace
+
+MapJacobian sensitivity_jacobian(const PoincareMap& map, const SectionPoint& p, int k, Workspace& ws) {
+  // Column j seeded with scale_j (the sensitivities of the state's size, as
+  // the error control weighs them), then divided by it.
+  const VectorXd scales = Eigen::Map<const VectorXd>(map.scales().data(), map.dimension());
+  MapJacobian out = seeded_run(map, p, k, MatrixXd(scales.asDiagonal()), ws);
+  if (out.ok) out.jacobian.array().rowwise() /= scales.transpose().array();
+  return out;
+}
+
+MapJacobian sensitivity_product(const PoincareMap& map, const SectionPoint& p, int k, const MatrixXd& directions,
+                                Workspace& ws) {
+  return seeded_run(map, p, k, directions, ws);
 }
 
 }  // namespace camdyn

@@ -27,13 +27,15 @@ namespace camdyn {
 
 /// One sensitivity run of P^k.
 struct MapJacobian {
-  bool ok = false;           ///< the Jacobian can be trusted
-  std::string reason;        ///< why not (empty when ok)
-  Eigen::MatrixXd jacobian;  ///< ∂P^k/∂x, dimension() × dimension(), coordinates as PoincareMap [SI]
-  SectionPoint end;          ///< P^k(x) as this run found it
-  long impacts = 0;          ///< contact onsets after a separation (as MapResult counts them)
-  long events = 0;           ///< roots located
-  long steps = 0;            ///< integrator steps
+  bool ok = false;     ///< the Jacobian can be trusted
+  std::string reason;  ///< why not (empty when ok)
+  /// ∂P^k/∂x, dimension() × dimension(), coordinates as PoincareMap [SI]
+  /// (sensitivity_product: (∂P^k/∂x) D, dimension() × D's columns).
+  Eigen::MatrixXd jacobian;
+  SectionPoint end;  ///< P^k(x) as this run found it
+  long impacts = 0;  ///< contact onsets after a separation (as MapResult counts them)
+  long events = 0;   ///< roots located
+  long steps = 0;    ///< integrator steps
 };
 
 /// Why the sensitivity Jacobian does not cover this map's model; empty when it does.
@@ -42,5 +44,13 @@ std::string sensitivity_unsupported(const PoincareMap& map);
 /// ∂P^k/∂x at p by forward sensitivities, on `ws` (one per thread). Never
 /// throws for a run that fails: `ok` false and `reason` say so.
 MapJacobian sensitivity_jacobian(const PoincareMap& map, const SectionPoint& p, int k, Workspace& ws);
+
+/// (∂P^k/∂x) D at p for the directions D (dimension() × c, each column a
+/// change of the coordinates [SI], of about their scales' size, which the
+/// error control assumes) by one run with c sensitivities instead of
+/// dimension(): the tangent of a Lyapunov estimate is one column. As
+/// sensitivity_jacobian otherwise.
+MapJacobian sensitivity_product(const PoincareMap& map, const SectionPoint& p, int k, const Eigen::MatrixXd& directions,
+                                Workspace& ws);
 
 }  // namespace camdyn

@@ -253,7 +253,10 @@ JumpMapPoint transient_path(const JumpMapStudy& study, const PoincareMap& map, d
     p.period = a.orbit->period;
     p.spectral_radius = a.orbit->spectral_radius();
   }
-  if (a.lyapunov) p.lyapunov = a.lyapunov->per_revolution;
+  if (a.lyapunov) {
+    p.lyapunov = a.lyapunov->per_revolution;
+    p.lyapunov_fallback_revolutions = a.lyapunov->fallback_revolutions;
+  }
   fill_from_run(p, samples);
   c.carry = map.point(samples);
   orbit = std::move(a.orbit);
@@ -683,6 +686,7 @@ Json jump_map_point_json(const JumpMapPoint& p) {
               {"period", p.period},
               {"spectral_radius", p.spectral_radius},
               {"lyapunov", p.lyapunov},
+              {"lyapunov_fallback_revolutions", p.lyapunov_fallback_revolutions},
               {"impact_angle_deg", p.impact_angle_deg},
               {"impact_speed", p.impact_speed},
               {"section_position", p.section_position},
@@ -705,6 +709,7 @@ JumpMapPoint jump_map_point_from_json(const Json& j) {
   p.period = j.at("period").get<int>();
   p.spectral_radius = j.at("spectral_radius").get<double>();
   p.lyapunov = j.at("lyapunov").get<double>();
+  p.lyapunov_fallback_revolutions = j.value("lyapunov_fallback_revolutions", 0L);  // older records: none
   p.impact_angle_deg = j.at("impact_angle_deg").get<std::vector<double>>();
   p.impact_speed = j.at("impact_speed").get<std::vector<double>>();
   p.section_position = j.at("section_position").get<std::vector<double>>();

@@ -112,9 +112,12 @@ struct JumpMapPoint {
   /// the motion, and a map with one withholds its conclusions.
   std::string budget;
   MotionKind motion = MotionKind::unresolved;
-  int period = 0;                                      ///< of the stable orbit (0 when none)
-  double spectral_radius = 0.0;                        ///< of its monodromy matrix
-  double lyapunov = 0.0;                               ///< per revolution, when estimated
+  int period = 0;                ///< of the stable orbit (0 when none)
+  double spectral_radius = 0.0;  ///< of its monodromy matrix
+  double lyapunov = 0.0;         ///< per revolution, when estimated
+  /// Of the Lyapunov estimate's revolutions, those its sensitivity tangent
+  /// could not take and a neighbour trajectory took (LyapunovEstimate).
+  long lyapunov_fallback_revolutions = 0;
   std::vector<double> impact_angle_deg, impact_speed;  ///< every impact of the samples [deg], [m/s]
   std::vector<double> section_position;                ///< follower coordinate at each sample [m | rad]
   double separation_fraction = 0.0;                    ///< over the samples

@@ -397,45 +397,6 @@ PeriodicAnalysis find_periodic_orbit(const PoincareMap& map, const SectionPoint&
   return a;
 }
 
-LyapunovEstimate estimate_lyapunov(const PoincareMap& map, const SectionPoint& start, const PeriodicOptions& options,
-                                   long* revolutions) {
-  PeriodicOptions two = options;
-  two.threads = std::min(2, std::max(1, options.threads));
-  Shooter shooter(map, two);
-  const double d0 = std::max(1e-7, 1e3 * map.scene().integrator.rtol);  // scaled distance [-]
-  const VectorXd& scales = shooter.scales();
-  const int n = map.dimension();
-  SectionPoint x = start, neighbour = start;
-  for (int j = 0; j < n; ++j) neighbour.x[static_cast<std::size_t>(j)] += d0 * scales[j];
-  LyapunovEstimate e;
-  double sum = 0.0;
-  for (int r = 0; r < options.lyapunov_revolutions; ++r) {
-    std::optional<SectionPoint> ends[2];
-    long impacts = 0;
-    parallel_for_workers(2, two.threads, [&](int w, std::size_t i) {
-      ends[i] = i == 0 ? shooter.apply(x, 1, w, &impacts) : shooter.apply(neighbour, 1, w);
-    });
-    if (!ends[0] || !ends[1])
-      throw NumericalError("the Lyapunov run failed after " + std::to_string(r) + " revolutions: " + shooter.failure());
-    const VectorXd difference = to_vector(ends[1]->x) - to_vector(ends[0]->x);
-    const double d = std::max(shooter.scaled_norm(difference), 1e-300);
-    sum += std::log(d / d0);
-    e.impacts += impacts;
-    ++e.revolutions;
-    x = *ends[0];
-    e.section_points.push_back(x.x);
-    e.last = x;
-    neighbour = x;
-    const VectorXd pulled = to_vector(x.x) + difference * (d0 / d);
-    for (int j = 0; j < n; ++j) neighbour.x[static_cast<std::size_t>(j)] = pulled[j];
-    neighbour.approach_speed = ends[1]->approach_speed;
-  }
-  e.per_revolution = sum / static_cast<double>(e.revolutions);
-  e.per_impact = e.impacts > 0 ? sum / static_cast<double>(e.impacts) : 0.0;
-  if (revolutions) *revolutions += shooter.revolutions();
-  return e;
-}
-
 PeriodicAnalysis analyse_from(const PoincareMap& map, const SectionPoint& start, const PeriodicOptions& options) {
   PeriodicAnalysis a = find_periodic_orbit(map, start, options);
   if (a.orbit || options.lyapunov_revolutions <= 0) return a;

@@ -12,10 +12,11 @@
 // orbit that Jacobian (recomputed there) is the monodromy matrix; its eigenvalues are the Floquet multipliers, and the
 // orbit is stable when they all lie inside the unit circle.
 //
-// Lyapunov exponent (Benettin et al. 1980): a neighbour trajectory a small
-// distance d₀ away, advanced one revolution at a time beside the reference
-// and pulled back to d₀ each revolution; λ is the mean of ln(d / d₀) per
-// revolution (and per impact).
+// Lyapunov exponent (study/lyapunov.cc): a tangent carried one revolution
+// at a time and renormalised each revolution; λ is the mean of the log of its
+// stretch per revolution (and per impact). The stretch is taken by forward
+// sensitivities (the tangent-linear method, Müller 1995) or by a neighbour
+// trajectory a small distance d₀ away (Benettin et al. 1980).
 #pragma once
 
 #include <Eigen/Dense>
@@ -91,6 +92,16 @@ struct LyapunovEstimate {
   double per_impact = 0.0;      ///< λ per impact (0 without impacts)
   long revolutions = 0;
   long impacts = 0;
+  /// How the tangent was stretched: `sensitivity` (by forward sensitivities,
+  /// revolution by revolution where they can be trusted) or
+  /// `finite_difference` (by a neighbour trajectory every revolution).
+  JacobianMethod method = JacobianMethod::finite_difference;
+  long sensitivity_revolutions = 0;  ///< stretched by sensitivities
+  /// Stretched by the neighbour because the sensitivity run could not be
+  /// trusted there (0 when `method` is finite_difference).
+  long fallback_revolutions = 0;
+  std::string fallback_reason;    ///< the last such revolution's reason
+  std::vector<double> stretches;  ///< ln of each revolution's stretch [-], in order (their mean is λ)
   std::vector<std::vector<double>> section_points;  ///< the reference trajectory's x, once per revolution
   SectionPoint last;                                ///< the reference trajectory's last section point
 };
@@ -134,7 +145,14 @@ PeriodicAnalysis analyse_from(const PoincareMap& map, const SectionPoint& start,
 /// orbit search, and the Lyapunov run when no stable orbit converged.
 PeriodicAnalysis analyse_steady_state(const PoincareMap& map, const PeriodicOptions& options);
 
-/// λ of the motion from `start` over options.lyapunov_revolutions revolutions.
+/// Whether estimate_lyapunov stretches its tangent by forward sensitivities:
+/// only for `sensitivity`. "auto" takes the neighbour trajectory: its two map
+/// runs cost 2.7 to 4 times less than one sensitivity run with the single
+/// tangent column, on 2 and on 18 coordinates alike (bench/lyapunov_bench.cc).
+bool lyapunov_by_sensitivities(const PoincareMap& map, const PeriodicOptions& options);
+
+/// λ of the motion from `start` over options.lyapunov_revolutions revolutions
+/// (study/lyapunov.cc); `revolutions` (when given) grows by those integrated.
 LyapunovEstimate estimate_lyapunov(const PoincareMap& map, const SectionPoint& start, const PeriodicOptions& options,
                                    long* revolutions = nullptr);
 

@@ -199,7 +199,11 @@ Json periodic_json(const PeriodicStudy& study, const PeriodicResult& r, const st
     lyapunov = {{"per_revolution", a.lyapunov->per_revolution},
                 {"per_impact", a.lyapunov->per_impact},
                 {"revolutions", a.lyapunov->revolutions},
-                {"impacts", a.lyapunov->impacts}};
+                {"impacts", a.lyapunov->impacts},
+                {"method", to_string(a.lyapunov->method)},
+                {"sensitivity_revolutions", a.lyapunov->sensitivity_revolutions},
+                {"fallback_revolutions", a.lyapunov->fallback_revolutions},
+                {"fallback_reason", a.lyapunov->fallback_reason.empty() ? Json() : Json(a.lyapunov->fallback_reason)}};
   const Metrics& m = r.orbit_run.metrics;
   const Json jacobians{{"sensitivity", a.sensitivity_jacobians},
                        {"finite_difference", a.finite_difference_jacobians},

@@ -1,0 +1,146 @@
+// The largest Lyapunov exponent of the Poincaré map (docs/periodic.md, "How",
+// the Lyapunov exponent): a tangent w of unit scaled norm (max |w_j| / scale_j)
+// carried along the motion one revolution at a time, and λ the mean of
+// ln |P′(x) w| per revolution, w renormalised each revolution. Each
+// revolution stretches w either
+// * by forward sensitivities (dynamics/map_sensitivity.h, sensitivity_product):
+//   one run with a single sensitivity column gives both P(x) and P′(x) w,
+//   with the saltation matrices at the events — the tangent-linear form of
+//   Benettin's method for motions with impacts (Müller 1995); or
+// * by a neighbour trajectory (Benettin et al. 1980): P(x) and P(x + d₀ w)
+//   by two map runs (in parallel when two threads are allowed), their
+//   difference over d₀ for P′(x) w.
+// The sensitivities are taken where lyapunov_by_sensitivities says so (only
+// when `periodic.jacobian` is "sensitivity": they cost more); a revolution whose sensitivity run
+// cannot be trusted (a grazing event, accumulating impacts, …) is stretched
+// by the neighbour instead, and counted.
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <string>
+
+#include "common/errors.h"
+#include "common/parallel.h"
+#include "dynamics/map_sensitivity.h"
+#include "study/periodic_orbit.h"
+
+namespace camdyn {
+
+namespace {
+
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+VectorXd to_vector(const std::vector<double>& x) { return Eigen::Map<const VectorXd>(x.data(), std::ssize(x)); }
+
+// The run's state between revolutions, and its bookkeeping.
+class TangentRun {
+ public:
+  TangentRun(const PoincareMap& map, const SectionPoint& start, const PeriodicOptions& options, bool sensitivities)
+      : map_(map),
+        options_(options),
+        threads_(std::min(2, std::max(1, options.threads))),
+        sensitivities_(sensitivities),
+        scales_(to_vector(map.scales())),
+        d0_(std::max(1e-7, 1e3 * map.scene().integrator.rtol)),
+        x_(start),
+        w_(scales_),
+        neighbour_speed_(start.approach_speed) {
+    for (int i = 0; i < threads_; ++i) workspaces_.push_back(make_workspace(map.model()));
+  }
+
+  // One revolution: its stretch added to the estimate, x and w moved on.
+  void advance(LyapunovEstimate& e) {
+    const std::optional<double> by_tangent = sensitivities_ ? tangent_step(e) : std::nullopt;
+    const double stretch = by_tangent ? *by_tangent : neighbour_step(e);
+    e.stretches.push_back(stretch);
+    ++e.revolutions;
+    e.section_points.push_back(x_.x);
+    e.last = x_;
+  }
+
+  long revolutions() const { return revolutions_; }
+
+ private:
+  // ln |P′(x) w| by one sensitivity run, or nullopt (counted as a fallback)
+  // when it cannot be trusted.
+  std::optional<double> tangent_step(LyapunovEstimate& e) {
+    const MapJacobian r = sensitivity_product(map_, x_, 1, w_, workspaces_.front());
+    ++revolutions_;
+    const double d = r.ok ? scaled_norm(r.jacobian.col(0)) : 0.0;
+    if (!(d > 0.0 && std::isfinite(d))) {
+      const std::string why = r.ok ? "the tangent vanished" : r.reason;
+      if (why != e.fallback_reason && options_.log)
+        options_.log("Lyapunov: a revolution by a neighbour trajectory: " + why);
+      e.fallback_reason = why;
+      ++e.fallback_revolutions;
+      return std::nullopt;
+    }
+    w_ = r.jacobian.col(0) / d;
+    x_ = r.end;
+    neighbour_speed_ = x_.approach_speed;
+    e.impacts += r.impacts;
+    ++e.sensitivity_revolutions;
+    return std::log(d);
+  }
+
+  // ln(d / d₀) of the neighbour x + d₀ w after one revolution.
+  double neighbour_step(LyapunovEstimate& e) {
+    SectionPoint neighbour = x_;
+    neighbour.approach_speed = neighbour_speed_;
+    for (std::size_t j = 0; j < neighbour.x.size(); ++j)
+      neighbour.x[j] += d0_ * w_[static_cast<Eigen::Index>(j)];
+    MapResult ends[2];
+    parallel_for_workers(2, threads_, [&](int w, std::size_t i) {
+      ends[i] = map_.apply(i == 0 ? x_ : neighbour, 1, workspaces_[static_cast<std::size_t>(w)]);
+    });
+    revolutions_ += 2;
+    for (const MapResult& end : ends)
+      if (!end.ok)
+        throw NumericalError("the Lyapunov run failed after " + std::to_string(e.revolutions) +
+                             " revolutions: " + end.message);
+    const VectorXd difference = to_vector(ends[1].end.x) - to_vector(ends[0].end.x);
+    const double d = std::max(scaled_norm(difference), 1e-300);
+    w_ = difference / d;
+    x_ = ends[0].end;
+    neighbour_speed_ = ends[1].end.approach_speed;
+    e.impacts += ends[0].impacts;
+    return std::log(d / d0_);
+  }
+
+  double scaled_norm(const VectorXd& a) const { return a.cwiseQuotient(scales_).cwiseAbs().maxCoeff(); }
+
+  const PoincareMap& map_;
+  const PeriodicOptions& options_;
+  const int threads_;
+  const bool sensitivities_;
+  const VectorXd scales_;
+  const double d0_;  // the neighbour's scaled distance [-]
+  std::vector<Workspace> workspaces_;
+  SectionPoint x_;
+  VectorXd w_;              // the tangent [SI], scaled norm 1
+  double neighbour_speed_;  // the neighbour's approach speed [m/s]
+  long revolutions_ = 0;    // integrated, both trajectories'
+};
+
+}  // namespace
+
+bool lyapunov_by_sensitivities(const PoincareMap& /*map*/, const PeriodicOptions& options) {
+  return options.jacobian == JacobianMethod::sensitivity;
+}
+
+LyapunovEstimate estimate_lyapunov(const PoincareMap& map, const SectionPoint& start, const PeriodicOptions& options,
+                                   long* revolutions) {
+  LyapunovEstimate e;
+  e.method = lyapunov_by_sensitivities(map, options) ? JacobianMethod::sensitivity : JacobianMethod::finite_difference;
+  TangentRun run(map, start, options, e.method == JacobianMethod::sensitivity);
+  for (int r = 0; r < options.lyapunov_revolutions; ++r) run.advance(e);
+  double sum = 0.0;
+  for (const double s : e.stretches) sum += s;
+  e.per_revolution = sum / static_cast<double>(e.revolutions);
+  e.per_impact = e.impacts > 0 ? sum / static_cast<double>(e.impacts) : 0.0;
+  if (revolutions) *revolutions += run.revolutions();
+  return e;
+}
+
+}  // namespace camdyn

@@ -1,0 +1,182 @@
+// The Lyapunov estimate with its tangent stretched by forward sensitivities
+// (study/lyapunov.cc) against independent references:
+// * the directional sensitivity run J·D against the whole sensitivity
+//   Jacobian times D;
+// * on Holmes' bouncing ball's stable period-1 orbit (a complex pair of
+//   multipliers, |μ| = ρ): the tangent's λ over R revolutions against ln ρ of
+//   the monodromy matrix the shooting took by central differences. Where
+//   M = ρ T Rot T⁻¹ (T real: the real and imaginary parts of an
+//   eigenvector), |M^R w| / |w| lies within ρ^R [1/κ, κ], κ = ‖T‖ ‖T⁻¹‖ in
+//   the scaled max-norm the estimate measures with, so |λ_R − ln ρ| ≤ ln κ / R,
+//   plus the difference between the two Jacobians (central differences at
+//   10 √rtol agree with the sensitivities to about 1e-4, map_sensitivity_test.cc);
+// * on the chaotic bouncing ball: λ by the tangent and by the neighbour
+//   trajectory (the two-trajectory method, an independent estimate along a
+//   trajectory that soon differs) agree within four standard errors of
+//   their difference, each standard error by batch means over the
+//   revolutions' stretches, and both are above chaos_threshold;
+// * a model the sensitivities do not cover (friction): every revolution
+//   falls back to the neighbour, counted and with the reason, and the
+//   estimate is the two-trajectory one; "auto" takes the neighbour (as on
+//   every map: it is the cheaper, bench/lyapunov_bench.cc).
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <complex>
+#include <string>
+#include <vector>
+
+#include "map_jacobian_reference.h"
+#include "study/periodic_orbit.h"
+
+namespace camdyn {
+namespace {
+
+using namespace test;  // NOLINT(google-build-using-namespace): the shared reference
+
+const std::string kBall = kSource + "/studies/periodic/bouncing_ball.json";
+const std::string kChaotic = kSource + "/studies/periodic/bouncing_ball_chaotic.json";
+
+// The max-norm condition number ‖T‖∞ ‖T⁻¹‖∞ (the norm induced by the max-norm is the largest row sum).
+double max_norm_condition(const MatrixXd& T) {
+  const auto norm = [](const MatrixXd& A) { return A.cwiseAbs().rowwise().sum().maxCoeff(); };
+  return norm(T) * norm(T.inverse());
+}
+
+TEST(Lyapunov, DirectionalSensitivitiesAreTheJacobianTimesTheDirections) {
+  const MapAt s = map_at(read_tight(kBall), 4);
+  Workspace ws = make_workspace(s.model);
+  const MapJacobian whole = sensitivity_jacobian(*s.map, s.point, 1, ws);
+  ASSERT_TRUE(whole.ok) << whole.reason;
+  const VectorXd scales = to_vector(s.map->scales());
+  MatrixXd D(2, 2);
+  D << 0.3 * scales[0], -scales[0], scales[1], 0.5 * scales[1];
+  const MapJacobian product = sensitivity_product(*s.map, s.point, 1, D, ws);
+  ASSERT_TRUE(product.ok) << product.reason;
+  ASSERT_EQ(product.jacobian.cols(), 2);
+  // The same run with other seeds: the same end, and J·D to the integration
+  // tolerance (the error control weighs other columns; header of
+  // map_jacobian_reference.h: two integrations agree to 1e-5 of ‖J‖ at rtol 1e-10, better at 1e-12).
+  EXPECT_EQ(product.impacts, whole.impacts);
+  const MatrixXd expected = whole.jacobian * D;
+  EXPECT_LT((scales.cwiseInverse().asDiagonal() * (product.jacobian - expected)).norm(),
+            kReferenceSpread * (scales.cwiseInverse().asDiagonal() * expected).norm())
+      << product.jacobian << "\nexpected\n"
+      << expected;
+}
+
+TEST(Lyapunov, OnAStableOrbitTheTangentTendsToTheLogOfTheSpectralRadius) {
+  const PeriodicStudy study = read_tight(kBall);
+  const MapAt s = map_at(study, 4);
+  PeriodicOptions options = study.config.options;
+  options.lyapunov_revolutions = 0;
+  options.jacobian = JacobianMethod::finite_difference;  // the reference owes nothing to sensitivities
+  const PeriodicAnalysis shot = find_periodic_orbit(*s.map, s.point, options);
+  ASSERT_TRUE(shot.orbit && shot.orbit->stable && shot.orbit->period == 1);
+  const std::vector<std::complex<double>>& mu = shot.orbit->multipliers;
+  ASSERT_EQ(mu.size(), 2u);
+  ASSERT_GT(std::abs(mu[0].imag()), 1e-3) << "the scene is meant to have a complex pair";
+  const double rho = shot.orbit->spectral_radius();
+  // κ of the real basis T = [Re v, Im v] of the scaled monodromy matrix.
+  const Eigen::EigenSolver<MatrixXd> eigen(scaled(*s.map, shot.orbit->monodromy));
+  ASSERT_EQ(eigen.info(), Eigen::Success);
+  MatrixXd T(2, 2);
+  T << eigen.eigenvectors().col(0).real(), eigen.eigenvectors().col(0).imag();
+  const double kappa = max_norm_condition(T);
+
+  constexpr int kR = 60;
+  options.lyapunov_revolutions = kR;
+  options.jacobian = JacobianMethod::sensitivity;
+  const LyapunovEstimate e = estimate_lyapunov(*s.map, shot.orbit->fixed_point, options);
+  EXPECT_EQ(e.method, JacobianMethod::sensitivity);
+  EXPECT_EQ(e.sensitivity_revolutions, kR);
+  EXPECT_EQ(e.fallback_revolutions, 0) << e.fallback_reason;
+  EXPECT_EQ(e.impacts, kR);  // one a revolution
+  constexpr double kJacobians = 1e-3;  // the two Jacobians' ln ρ: 1e-4 of |μ| ≈ 0.5, with margin
+  EXPECT_NEAR(e.per_revolution, std::log(rho), std::log(kappa) / kR + kJacobians) << "κ " << kappa;
+  // The reference trajectory is the sensitivity runs' own: each ends within
+  // the runs' agreement a = 1e-6 of the map's (docs/periodic.md), and the
+  // orbit contracts by ρ a revolution (within κ): it stays within κ a / (1 − ρ).
+  const double distance = (to_vector(e.last.x) - to_vector(shot.orbit->fixed_point.x))
+                              .cwiseQuotient(to_vector(s.map->scales()))
+                              .cwiseAbs()
+                              .maxCoeff();
+  EXPECT_LT(distance, kappa * 1e-6 / (1 - rho));
+}
+
+// λ's standard error by batch means (kBatches batches of consecutive revolutions).
+double standard_error(const std::vector<double>& stretches) {
+  constexpr int kBatches = 10;
+  const std::size_t per = stretches.size() / kBatches;
+  std::vector<double> means;
+  for (int b = 0; b < kBatches; ++b) {
+    double sum = 0.0;
+    for (std::size_t i = 0; i < per; ++i) sum += stretches[static_cast<std::size_t>(b) * per + i];
+    means.push_back(sum / static_cast<double>(per));
+  }
+  double mean = 0.0, variance = 0.0;
+  for (const double m : means) mean += m / kBatches;
+  for (const double m : means) variance += (m - mean) * (m - mean) / (kBatches - 1);
+  return std::sqrt(variance / kBatches);
+}
+
+TEST(Lyapunov, OnTheChaoticBallTheTangentAgreesWithTheNeighbourTrajectory) {
+  const PeriodicStudy study = read_tight(kChaotic, [](Json& doc) {
+    doc["integrator"]["rtol"] = 1e-10;  // the study's own
+    doc["integrator"]["atol"] = 1e-13;
+  });
+  const MapAt s = map_at(study, study.config.options.transient_revolutions);
+  const PeriodicOptions& options = study.config.options;
+  const auto estimate = [&](JacobianMethod method) {
+    PeriodicOptions o = options;
+    o.threads = 2;
+    o.jacobian = method;
+    return estimate_lyapunov(*s.map, s.point, o);
+  };
+  const LyapunovEstimate tangent = estimate(JacobianMethod::sensitivity);
+  const LyapunovEstimate neighbour = estimate(JacobianMethod::finite_difference);
+  EXPECT_EQ(tangent.method, JacobianMethod::sensitivity);
+  EXPECT_EQ(neighbour.method, JacobianMethod::finite_difference);
+  EXPECT_EQ(neighbour.fallback_revolutions, 0);
+  EXPECT_EQ(tangent.sensitivity_revolutions + tangent.fallback_revolutions, tangent.revolutions);
+  EXPECT_GT(tangent.sensitivity_revolutions, tangent.revolutions / 2) << tangent.fallback_reason;
+  EXPECT_GT(tangent.per_revolution, options.chaos_threshold);
+  EXPECT_GT(neighbour.per_revolution, options.chaos_threshold);
+  const double se = std::hypot(standard_error(tangent.stretches), standard_error(neighbour.stretches));
+  EXPECT_NEAR(tangent.per_revolution, neighbour.per_revolution, 4 * se)
+      << "tangent " << tangent.per_revolution << ", neighbour " << neighbour.per_revolution;
+}
+
+TEST(Lyapunov, WithoutSensitivitiesEveryRevolutionFallsBackAndIsCounted) {
+  const PeriodicStudy study = read_tight(kBall, [](Json& doc) {
+    doc["mechanism"]["contact"]["friction"]["mu"] = 0.05;
+    doc["integrator"]["rtol"] = 1e-10;
+    doc["integrator"]["atol"] = 1e-13;
+  });
+  const MapAt s = map_at(study, 4);
+  ASSERT_FALSE(sensitivity_unsupported(*s.map).empty());
+  PeriodicOptions options = study.config.options;
+  options.lyapunov_revolutions = 10;
+  options.jacobian = JacobianMethod::sensitivity;
+  const LyapunovEstimate forced = estimate_lyapunov(*s.map, s.point, options);
+  EXPECT_EQ(forced.method, JacobianMethod::sensitivity);
+  EXPECT_EQ(forced.fallback_revolutions, 10);
+  EXPECT_EQ(forced.sensitivity_revolutions, 0);
+  EXPECT_NE(forced.fallback_reason.find("friction"), std::string::npos) << forced.fallback_reason;
+  options.jacobian = JacobianMethod::finite_difference;
+  const LyapunovEstimate neighbour = estimate_lyapunov(*s.map, s.point, options);
+  EXPECT_EQ(neighbour.fallback_revolutions, 0);
+  // Every revolution the same neighbour step from the same state: the same λ.
+  EXPECT_EQ(forced.per_revolution, neighbour.per_revolution);
+  EXPECT_EQ(forced.impacts, neighbour.impacts);
+  options.jacobian = JacobianMethod::automatic;
+  EXPECT_FALSE(lyapunov_by_sensitivities(*s.map, options));
+  const LyapunovEstimate automatic = estimate_lyapunov(*s.map, s.point, options);
+  EXPECT_EQ(automatic.method, JacobianMethod::finite_difference);
+  EXPECT_EQ(automatic.fallback_revolutions, 0);
+  EXPECT_EQ(automatic.per_revolution, neighbour.per_revolution);
+}
+
+}  // namespace
+}  // namespace camdyn
