@@ -9,7 +9,8 @@
 // SUNDIALS kernels (arg 1, the default) and with SUNDIALS' own (arg 0): the
 // same run to the bit, so the counters and forces agree and only the time
 // differs (docs/performance.md). BM_StiffUndampedContactAdams: the same with
-// integrator.method "cvode_adams".
+// integrator.method "cvode_adams"; BM_StiffUndampedContactErk/q: "arkode_erk"
+// with integrator.order q.
 //
 //   build/ci/bench/stiff_contact_bench --benchmark_out=bench/results/stiff_contact.json --benchmark_out_format=json
 #include <benchmark/benchmark.h>
@@ -93,6 +94,19 @@ void BM_StiffUndampedContactAdams(benchmark::State& state) {
   run_and_report(state, scene, "cvode_adams, compiled kernels");
 }
 BENCHMARK(BM_StiffUndampedContactAdams)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+
+/// The same scene with ARKODE's explicit Runge–Kutta pair of order
+/// state.range(0) (integrator.method "arkode_erk", integrator.order; compiled
+/// kernels): the step is set by accuracy alone, where a high order takes
+/// long steps (docs/performance.md).
+void BM_StiffUndampedContactErk(benchmark::State& state) {
+  camdyn::SceneConfig scene = stiff_undamped_contact();
+  scene.integrator.method = camdyn::IntegrationMethod::arkode_erk;
+  scene.integrator.order = static_cast<int>(state.range(0));
+  const std::string label = "arkode_erk order " + std::to_string(state.range(0)) + ", compiled kernels";
+  run_and_report(state, scene, label.c_str());
+}
+BENCHMARK(BM_StiffUndampedContactErk)->Arg(4)->Arg(5)->Arg(6)->Arg(8)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 
 }  // namespace
 

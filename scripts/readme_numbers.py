@@ -325,7 +325,7 @@ NUMBERS = [
     # The README's table of every scene of issue 38 (bench/peers/run_scenes.py).
     *[Num(f"peers_scenes.{scene}.{what}", "bench",
           (lambda scene, path: lambda _: peer_scene(scene, path))(scene, path), fmt, tol)
-      for scene in ("long_flight", "quickstart", "stiff_contact", "stiff_contact_adams")
+      for scene in ("long_flight", "quickstart", "stiff_contact", "stiff_contact_adams", "stiff_contact_erk")
       for what, path, fmt, tol in [("camdyn_wall_s", ("camdyn", "wall_s"), ".2f", "0.005"),
                                    ("camdyn_cpu_s", ("camdyn", "cpu_s"), ".2f", "0.005"),
                                    ("camdyn_run_time_s", ("camdyn", "run_time_s"), ".3f", "0.0005"),

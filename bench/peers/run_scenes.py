@@ -9,7 +9,9 @@ in one run (issue 38, item 4):
                  hammers back)
   stiff_contact  studies/peers/stiff_contact.json (the quickstart mechanism at
                  100 rpm on an undamped Hertz contact, no damper, rtol 1e-10:
-                 bench/stiff_contact_bench.cc's scene)
+                 bench/stiff_contact_bench.cc's scene); stiff_contact_adams
+                 and stiff_contact_erk: the same with camdyn's
+                 integrator.method cvode_adams, resp. arkode_erk of order 8
 
 For each scene: camdyn's wall time as a user sees it (the release CLI with
 every default output, process start included; the median of --repeat runs)
@@ -348,7 +350,10 @@ def run_camdyn(binary, scene, repeat, overrides):
                 if row["kind"] == "onset" and row["impact"] == "1":
                     impacts.append((float(row["time"]), float(row["cam_angle_deg"]), float(row["speed"])))
     solver, metrics = summary["solver"], summary["metrics"]
-    method = {"cvode_bdf": "CVODE BDF", "cvode_adams": "CVODE Adams"}.get(solver.get("method"), solver.get("method"))
+    method = {"cvode_bdf": "CVODE BDF", "cvode_adams": "CVODE Adams", "arkode_erk": "ARKODE ERK",
+              "arkode_dirk": "ARKODE DIRK"}.get(solver.get("method"), solver.get("method"))
+    order = [o.split("=", 1)[1] for o in overrides if o.startswith("integrator.order=")]
+    method += f" order {order[-1]}" if order else ""
     return {"model": f"compliant {scene.contact_model}, {method}, {solver.get('tracking')} tracking",
             "overrides": overrides,
             "wall_s": statistics.median(walls), "wall_s_runs": walls,
@@ -429,8 +434,11 @@ SCENES = {
     "stiff_contact": ("studies/peers/stiff_contact.json", "DOP853", [], None),
     "stiff_contact_adams": ("studies/peers/stiff_contact.json", "DOP853", ["integrator.method=cvode_adams"],
                             "stiff_contact"),
+    "stiff_contact_erk": ("studies/peers/stiff_contact.json", "DOP853",
+                          ["integrator.method=arkode_erk", "integrator.order=8"], "stiff_contact"),
 }
 CHECKS["stiff_contact_adams"] = CHECKS["stiff_contact"]
+CHECKS["stiff_contact_erk"] = CHECKS["stiff_contact"]
 
 
 def main():

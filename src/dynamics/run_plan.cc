@@ -51,6 +51,7 @@ RunPlan plan_run(const SceneConfig& scene, const Model& model) {
 IntegratorOptions integrator_options(const IntegratorConfig& ic, const RunPlan& p) {
   IntegratorOptions io;
   io.method = ic.method;
+  io.order = ic.order.value_or(0);
   io.rtol = ic.rtol;
   io.atol = ic.atol;
   io.max_step = p.max_step;

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "common/errors.h"
+#include "integrate/sundials_compiled_ops.h"
 #include "integrate/sundials_flag_name.h"
 
 namespace camdyn {
@@ -91,6 +92,12 @@ ArkodeIntegrator::ArkodeIntegrator(OdeSystem& system, const IntegratorOptions& o
   m.check_created(m.y, "the state vector");
   m.scratch = N_VNew_Serial(size, m.context);
   m.check_created(m.scratch, "a work vector");
+  // Before ARKStepCreate, whose vectors are clones of y (sundials_compiled_ops.h).
+  const bool compiled = compiled_kernels_enabled();
+  if (compiled) {
+    use_compiled_vector_ops(m.y);
+    use_compiled_vector_ops(m.scratch);
+  }
   for (sunindextype i = 0; i < size; ++i) NV_Ith_S(m.y, i) = y0[i];
   m.mem = m.implicit ? ARKStepCreate(nullptr, &Impl::rhs, t0, m.y, m.context)
                      : ARKStepCreate(&Impl::rhs, nullptr, t0, m.y, m.context);
@@ -100,11 +107,17 @@ ArkodeIntegrator::ArkodeIntegrator(OdeSystem& system, const IntegratorOptions& o
   m.check(ARKStepSStolerances(m.mem, options.rtol, options.atol), "ARKStepSStolerances");
   m.check(ARKStepSetMaxNumSteps(m.mem, options.max_steps_per_call), "ARKStepSetMaxNumSteps");
   if (options.max_step > 0.0) m.check(ARKStepSetMaxStep(m.mem, options.max_step), "ARKStepSetMaxStep");
+  // ARKODE's default table of that order (integrator.order): a higher order
+  // pays where accuracy, not stability, sets the step, as on an undamped
+  // contact vibration followed at a tight tolerance (docs/performance.md
+  // "A stiff undamped contact").
+  if (options.order > 0) m.check(ARKStepSetOrder(m.mem, options.order), "ARKStepSetOrder");
   if (m.implicit) {
     m.matrix = SUNDenseMatrix(size, size, m.context);
     m.check_created(m.matrix, "the dense Jacobian matrix");
     m.linear_solver = SUNLinSol_Dense(m.y, m.matrix, m.context);
     m.check_created(m.linear_solver, "the dense linear solver");
+    if (compiled) use_compiled_dense_solver(m.linear_solver);
     m.check(ARKStepSetLinearSolver(m.mem, m.linear_solver, m.matrix), "ARKStepSetLinearSolver");
     // The contact makes the implicit stages strongly nonlinear: the default
     // trivial predictor and 3 Newton iterations made the step collapse (10×

@@ -17,6 +17,7 @@ namespace camdyn {
 
 struct IntegratorOptions {
   IntegrationMethod method = IntegrationMethod::cvode_bdf;
+  int order = 0;  ///< arkode_erk / arkode_dirk: the Runge–Kutta order (kErkOrders, kDirkOrders), 0: ARKODE's default
   double rtol = 1e-8;
   double atol = 1e-12;            ///< state absolute tolerance
   double max_step = 0.0;          ///< [s], 0: unlimited

@@ -1,5 +1,5 @@
-// camdyn's own, optimised implementations of the SUNDIALS kernels a CVODES
-// step spends its time in, installed through SUNDIALS' operation tables:
+// camdyn's own, optimised implementations of the SUNDIALS kernels a CVODES or
+// ARKODE step spends its time in, installed through SUNDIALS' operation tables:
 // the serial N_Vector's element-wise operations and norms, and the banded and
 // dense LU factorisations and solves. The installed SUNDIALS 6.4.1 (Debian's package) is
 // built without optimisation, so on a short state (a follower train of 10–40
@@ -14,7 +14,7 @@
 
 namespace camdyn {
 
-/// Whether CVODES integrators created from now on use the compiled kernels
+/// Whether CVODES and ARKODE integrators created from now on use the compiled kernels
 /// (the default), process-wide. Off only to measure or check them against
 /// SUNDIALS' own (bench/stiff_contact_bench.cc, tests/integrate).
 bool compiled_kernels_enabled();
@@ -23,7 +23,7 @@ void set_compiled_kernels_enabled(bool on);
 /// Points a serial N_Vector's element-wise operations (linear sum, scale,
 /// const, product, quotient, absolute value, inverse, add constant, weighted
 /// RMS and max norms, minimum) at camdyn's implementations. Vectors cloned from it
-/// afterwards (CVodeInit, the linear solver) inherit them.
+/// afterwards (CVodeInit, ARKStepCreate, the linear solver) inherit them.
 void use_compiled_vector_ops(N_Vector v);
 
 /// Points a SUNLinSol_Band solver's setup (LU factorisation) and solve at

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -107,6 +108,25 @@ Check damping_unused_by(ContactModel model) {
   check.number = [model](double /*c*/) -> std::string {
     return "only model " + law_words(ForceForm::viscous) + " uses 'damping' (model '" + to_string(model) +
            "' derives it from 'restitution'); set it to null";
+  };
+  return check;
+}
+
+/// `integrator.order`: one of the orders of ARKODE's tables for `method`
+/// (kErkOrders, kDirkOrders); the other methods take none (docs/config.md).
+Check runge_kutta_order(IntegrationMethod method) {
+  const bool erk = method == IntegrationMethod::arkode_erk;
+  const std::span<const int> orders = erk ? std::span<const int>(kErkOrders) : std::span<const int>(kDirkOrders);
+  std::string list;
+  for (const int q : orders) list += (list.empty() ? "" : ", ") + std::to_string(q);
+  Check check;
+  check.expected = "one of " + list + " or null";
+  check.number = [method, orders, list](double q) -> std::string {
+    if (method != IntegrationMethod::arkode_erk && method != IntegrationMethod::arkode_dirk)
+      return "only methods 'arkode_erk' and 'arkode_dirk' take an order (method is '" + to_string(method) +
+             "'); set it to null";
+    if (std::find(orders.begin(), orders.end(), q) != orders.end()) return "";
+    return "method '" + to_string(method) + "' has orders " + list + ", got " + format_shortest(q);
   };
   return check;
 }
@@ -649,6 +669,7 @@ void visit(A& a, SimulationConfig& s) {
 template <class A>
 void visit(A& a, IntegratorConfig& i) {
   a.field("method", i.method);
+  a.field("order", i.order, runge_kutta_order(i.method));
   a.field("rtol", i.rtol, open_closed(0, 0.1));
   a.field("atol", i.atol, positive());
   a.field("max_step", i.max_step, positive());

@@ -449,8 +449,14 @@ struct SimulationConfig {
   bool operator==(const SimulationConfig&) const = default;
 };
 
+/// The Runge–Kutta orders `integrator.order` offers (ARKStepSetOrder picks
+/// ARKODE's default table of that order; docs/config.md "integrator").
+inline constexpr int kErkOrders[] = {2, 3, 4, 5, 6, 8};
+inline constexpr int kDirkOrders[] = {2, 3, 4, 5};
+
 struct IntegratorConfig {
   IntegrationMethod method = IntegrationMethod::cvode_bdf;  ///< rk4 needs `step`
+  std::optional<int> order;                                 ///< arkode_erk / arkode_dirk; null: ARKODE's default, 4
   double rtol = 1e-8;                                       ///< relative tolerance, in (0, 0.1]
   double atol = 1e-12;                                      ///< absolute tolerance, > 0
   std::optional<double> max_step;                           ///< [s]

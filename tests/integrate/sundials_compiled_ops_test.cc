@@ -231,17 +231,38 @@ void expect_same_run(const SimulationResult& own, const SimulationResult& compil
     ASSERT_TRUE(same_bits(own.series.follower_position[i], compiled.series.follower_position[i])) << i;
 }
 
-// The stiff undamped contact of issue 38 (bench/stiff_contact_bench.cc, a
-// quarter revolution here): a dense 3-state solve at rtol 1e-10.
-TEST(CompiledKernels, StiffUndampedContactRunIsTheSameToTheBit) {
+// The stiff undamped contact of issue 38 (bench/stiff_contact_bench.cc) for
+// `cycles` revolutions at rtol 1e-10.
+SceneConfig stiff_undamped_contact(double cycles) {
   SceneConfig scene = test::cycloidal_cam_scene(100.0, ContactModel::hertz);
   scene.integrator.rtol = 1e-10;
   scene.integrator.atol = 1e-12;
-  scene.simulation.cycles = 0.25;
+  scene.simulation.cycles = cycles;
   scene.simulation.discard_cycles = 0;
-  const auto [own, compiled] = both_ways(scene);
+  return scene;
+}
+
+// A quarter revolution of the stiff contact: a dense 3-state solve.
+TEST(CompiledKernels, StiffUndampedContactRunIsTheSameToTheBit) {
+  const auto [own, compiled] = both_ways(stiff_undamped_contact(0.25));
   EXPECT_GT(own.solver.counters.error_test_failures, 0);
   expect_same_run(own, compiled);
+}
+
+// The same scene with ARKODE (the compiled kernels are installed in its
+// vectors and its dense solver too): the order-8 explicit pair and the
+// default implicit one, a sixteenth of a revolution.
+TEST(CompiledKernels, ArkodeRunsAreTheSameToTheBit) {
+  SceneConfig scene = stiff_undamped_contact(0.0625);
+  scene.integrator.method = IntegrationMethod::arkode_erk;
+  scene.integrator.order = 8;
+  const auto erk = both_ways(scene);
+  expect_same_run(erk.first, erk.second);
+  scene.integrator.method = IntegrationMethod::arkode_dirk;
+  scene.integrator.order.reset();
+  const auto dirk = both_ways(scene);
+  EXPECT_GT(dirk.first.solver.counters.jacobian_evaluations, 0);
+  expect_same_run(dirk.first, dirk.second);
 }
 
 // A spring with mass in 8 coils on a seat: the banded solve.

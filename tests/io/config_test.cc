@@ -619,6 +619,37 @@ TEST(Config, MissingRequiredFieldsSayWhatIsExpected) {
   EXPECT_NE(law.reason().find("exactly one of"), std::string::npos);
 }
 
+// integrator.order (docs/config.md): one of ARKODE's orders for an arkode
+// method, refused with any other method; null or absent is the default table.
+TEST(Config, IntegratorOrderIsOneOfTheMethodsOrders) {
+  const auto with = [](const std::string& method, const Json& order) {
+    Json doc = minimal_scene();
+    doc["integrator"] = Json{{"method", method}, {"order", order}};
+    return doc;
+  };
+  const auto reason = [](const Json& doc) {
+    const InputError e = expect_input_error([&] { scene_from_json(doc, {"s.json", "/"}); });
+    EXPECT_EQ(e.path(), "integrator.order");
+    return e.reason();
+  };
+  for (const int q : kErkOrders) {
+    const SceneConfig s = scene_from_json(with("arkode_erk", q), {"s.json", "/"});
+    EXPECT_EQ(s.integrator.order, q);
+    expect_round_trip(s);
+  }
+  for (const int q : kDirkOrders)
+    EXPECT_EQ(scene_from_json(with("arkode_dirk", q), {"s.json", "/"}).integrator.order, q);
+  EXPECT_FALSE(scene_from_json(with("arkode_erk", nullptr), {"s.json", "/"}).integrator.order.has_value());
+  EXPECT_FALSE(scene_from_json(minimal_scene(), {"s.json", "/"}).integrator.order.has_value());
+
+  EXPECT_EQ(reason(with("arkode_erk", 7)), "method 'arkode_erk' has orders 2, 3, 4, 5, 6, 8, got 7");
+  EXPECT_EQ(reason(with("arkode_dirk", 6)), "method 'arkode_dirk' has orders 2, 3, 4, 5, got 6");
+  EXPECT_EQ(reason(with("arkode_erk", 5.5)), "expected an integer, got 5.5");
+  for (const char* method : {"cvode_bdf", "cvode_adams"})
+    EXPECT_EQ(reason(with(method, 5)), "only methods 'arkode_erk' and 'arkode_dirk' take an order (method is '" +
+                                           std::string(method) + "'); set it to null");
+}
+
 TEST(Config, NumbersAndIntegersAreTypeChecked) {
   Json doc = minimal_scene();
   doc["mechanism"]["cam"]["rpm"] = 1500;      // an integer is a fine double
