@@ -18,6 +18,8 @@ namespace {
 /// The scene with the run's integrator settings and tracking mode.
 SceneConfig configure(SceneConfig scene, IntegrationMethod method, Tracking tracking, double rtol, double atol_factor,
                       double step) {
+  // The scene's integrator.order is its own method's: another method runs at its default order.
+  if (method != scene.integrator.method) scene.integrator.order.reset();
   scene.integrator.method = method;
   scene.mechanism.contact.tracking = tracking;
   if (method == IntegrationMethod::rk4) {

@@ -88,8 +88,7 @@ class TangentRun {
   double neighbour_step(LyapunovEstimate& e) {
     SectionPoint neighbour = x_;
     neighbour.approach_speed = neighbour_speed_;
-    for (std::size_t j = 0; j < neighbour.x.size(); ++j)
-      neighbour.x[j] += d0_ * w_[static_cast<Eigen::Index>(j)];
+    for (std::size_t j = 0; j < neighbour.x.size(); ++j) neighbour.x[j] += d0_ * w_[static_cast<Eigen::Index>(j)];
     MapResult ends[2];
     parallel_for_workers(2, threads_, [&](int w, std::size_t i) {
       ends[i] = map_.apply(i == 0 ? x_ : neighbour, 1, workspaces_[static_cast<std::size_t>(w)]);

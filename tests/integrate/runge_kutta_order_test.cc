@@ -100,14 +100,12 @@ TEST_P(RungeKuttaOrder, FollowsAHarmonicOscillatorToItsTolerance) {
   EXPECT_GT(b.counters.steps, a.counters.steps);
 }
 
-INSTANTIATE_TEST_SUITE_P(Erk, RungeKuttaOrder,
-                         ::testing::Values(MethodOrder{IntegrationMethod::arkode_erk, 2},
-                                           MethodOrder{IntegrationMethod::arkode_erk, 3},
-                                           MethodOrder{IntegrationMethod::arkode_erk, 4},
-                                           MethodOrder{IntegrationMethod::arkode_erk, 5},
-                                           MethodOrder{IntegrationMethod::arkode_erk, 6},
-                                           MethodOrder{IntegrationMethod::arkode_erk, 8}),
-                         name_of);
+INSTANTIATE_TEST_SUITE_P(
+    Erk, RungeKuttaOrder,
+    ::testing::Values(MethodOrder{IntegrationMethod::arkode_erk, 2}, MethodOrder{IntegrationMethod::arkode_erk, 3},
+                      MethodOrder{IntegrationMethod::arkode_erk, 4}, MethodOrder{IntegrationMethod::arkode_erk, 5},
+                      MethodOrder{IntegrationMethod::arkode_erk, 6}, MethodOrder{IntegrationMethod::arkode_erk, 8}),
+    name_of);
 INSTANTIATE_TEST_SUITE_P(Dirk, RungeKuttaOrder,
                          ::testing::Values(MethodOrder{IntegrationMethod::arkode_dirk, 2},
                                            MethodOrder{IntegrationMethod::arkode_dirk, 3},

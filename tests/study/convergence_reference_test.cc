@@ -49,5 +49,38 @@ TEST(ConvergenceReference, AMissingReferenceKeepsTheFinishedRunsAndExitsThree) {
   EXPECT_NE(html.find("reference run of scene &#39;base&#39; missing"), std::string::npos);
 }
 
+// A scene set to arkode_erk at order 8 (integrator.order): the study's other
+// methods run at their own default order (issue 38: the DIRK run inherited
+// the order 8 it does not offer and failed).
+TEST(ConvergenceReference, TheScenesOrderStaysWithItsMethod) {
+  const fs::path dir = test::scratch_dir("convergence_reference_test", "order");
+  const test::Outcome r = test::run_camdyn({"run",
+                                            kQuickstart,
+                                            "--out",
+                                            (dir / "out").string(),
+                                            "--quiet",
+                                            "--set",
+                                            "study=convergence",
+                                            "--set",
+                                            R"(methods=["arkode_erk", "arkode_dirk"])",
+                                            "--set",
+                                            "tolerances=[1e-4]",
+                                            "--set",
+                                            R"(tracking=["differential"])",
+                                            "--set",
+                                            R"(reference={"method": "cvode_bdf", "rtol": 1e-10})",
+                                            "--set",
+                                            R"(simulation={"cycles": 2, "discard_cycles": 1})",
+                                            "--set",
+                                            "integrator.method=arkode_erk",
+                                            "--set",
+                                            "integrator.order=8"},
+                                           dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string csv = test::read_text(dir / "out" / "work_precision.csv");
+  EXPECT_EQ(csv.find("failed"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("arkode_dirk"), std::string::npos) << csv;
+}
+
 }  // namespace
 }  // namespace camdyn

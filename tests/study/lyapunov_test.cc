@@ -92,7 +92,7 @@ TEST(Lyapunov, OnAStableOrbitTheTangentTendsToTheLogOfTheSpectralRadius) {
   EXPECT_EQ(e.method, JacobianMethod::sensitivity);
   EXPECT_EQ(e.sensitivity_revolutions, kR);
   EXPECT_EQ(e.fallback_revolutions, 0) << e.fallback_reason;
-  EXPECT_EQ(e.impacts, kR);  // one a revolution
+  EXPECT_EQ(e.impacts, kR);            // one a revolution
   constexpr double kJacobians = 1e-3;  // the two Jacobians' ln ρ: 1e-4 of |μ| ≈ 0.5, with margin
   EXPECT_NEAR(e.per_revolution, std::log(rho), std::log(kappa) / kR + kJacobians) << "κ " << kappa;
   // The reference trajectory is the sensitivity runs' own: each ends within
