@@ -18,8 +18,6 @@ namespace {
 /// Relative cost and step tolerance of the smoothed continuation stages.
 constexpr double kStageTolerance = 1e-4;
 
-std::string fmt(double x) { return format_shortest(x); }
-
 /// One measured sample as a Ceres residual block, so that a robust loss acts
 /// on each sample (Ceres applies it to the squared norm of a whole block).
 /// All blocks share the evaluator, which simulates once per point.
@@ -157,7 +155,7 @@ std::unique_ptr<Stage> solve_stage(const IdentifyProblem& problem, FitSimulator&
     }
     throw NumericalError(
         "identification failed (" + std::string(ceres::TerminationTypeToString(stage->summary.termination_type)) +
-        (smoothing > 0.0 ? ", stage smoothed over " + fmt(smoothing) + " s" : std::string()) + "): " + why);
+        (smoothing > 0.0 ? ", stage smoothed over " + format_shortest(smoothing) + " s" : std::string()) + "): " + why);
   }
   return stage;
 }

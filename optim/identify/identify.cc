@@ -22,6 +22,7 @@
 #include <string>
 #include <utility>
 
+#include "common/constants.h"
 #include "common/errors.h"
 #include "common/parallel.h"
 #include "common/study_budget.h"
@@ -46,8 +47,6 @@ namespace camdyn::optim {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
 /// Simulated run length of a scene [s] (as simulate() plans it).
 double run_end(const SceneConfig& scene) {
   if (scene.simulation.duration) return *scene.simulation.duration;
@@ -55,8 +54,6 @@ double run_end(const SceneConfig& scene) {
   const double cycles = scene.simulation.cycles.value_or(SimulationConfig::kDefaultCycles);
   return rpm > 0.0 ? cycles * 60.0 / rpm : 0.0;
 }
-
-std::string fmt(double x) { return format_shortest(x); }
 
 // ---------------------------------------------------------------- problem set-up
 
@@ -168,11 +165,11 @@ IdentifyProblem prepare_identify(const SceneConfig& scene, const IdentifySpec& s
     p.upper = ps.upper.value_or(kInf);
     if (p.log_scale && !(p.initial > 0.0))
       throw InputError(source.file, at + ".initial",
-                       "must be > 0 with log_scale, the scene has " + fmt(p.initial) + ": give 'initial'");
+                       "must be > 0 with log_scale, the scene has " + format_shortest(p.initial) + ": give 'initial'");
     if (p.initial < p.lower || p.initial > p.upper)
       throw InputError(source.file, at + ".initial",
-                       "the scene's value " + fmt(p.initial) + " is outside [lower, upper] = [" + fmt(p.lower) + ", " +
-                           fmt(p.upper) + "]: give 'initial'");
+                       "the scene's value " + format_shortest(p.initial) + " is outside [lower, upper] = [" +
+                           format_shortest(p.lower) + ", " + format_shortest(p.upper) + "]: give 'initial'");
     p.scale = std::abs(p.initial) > 0.0                          ? std::abs(p.initial)
               : std::isfinite(p.lower) && std::isfinite(p.upper) ? p.upper - p.lower
                                                                  : 1.0;
@@ -342,10 +339,10 @@ void record_fits(const IdentifyProblem& problem, FitSimulator& simulator, const 
       fit.rms_error.push_back(std::sqrt(e2 / static_cast<double>(fit.time.size())));
       // A misfit well above the measurement noise means the model cannot reproduce the record.
       if (fit.noise[s] > 0.0 && fit.rms_error.back() > 3.0 * fit.noise[s])
-        result.warnings.push_back("experiment '" + e.name + "', " + fit.signals[s] + ": RMS misfit " +
-                                  fmt(fit.rms_error.back()) +
-                                  " is more than three times the noise estimated from the record (" +
-                                  fmt(fit.noise[s]) + "): the model or its fixed parameters may not match the data");
+        result.warnings.push_back(
+            "experiment '" + e.name + "', " + fit.signals[s] + ": RMS misfit " + format_shortest(fit.rms_error.back()) +
+            " is more than three times the noise estimated from the record (" + format_shortest(fit.noise[s]) +
+            "): the model or its fixed parameters may not match the data");
     }
     result.fits.push_back(std::move(fit));
   }
@@ -434,11 +431,12 @@ void flag_poor_fit(const FitQuality& q, IdentifyResult& result) {
     e.identifiable = false;
   }
   for (auto& row : result.correlation) std::fill(row.begin(), row.end(), std::nullopt);
-  result.warnings.insert(result.warnings.begin(),
-                         "poor_fit: local minimum likely: the misfit variance of " + q.where + " is " +
-                             fmt(q.worst_ratio) + " times the noise variance estimated from the record (critical " +
-                             fmt(q.critical) + " at the 0.1 % level); no standard error is reported, and the " +
-                             std::to_string(result.starts.size()) + " start(s) are listed");
+  result.warnings.insert(result.warnings.begin(), "poor_fit: local minimum likely: the misfit variance of " + q.where +
+                                                      " is " + format_shortest(q.worst_ratio) +
+                                                      " times the noise variance estimated from the record (critical " +
+                                                      format_shortest(q.critical) +
+                                                      " at the 0.1 % level); no standard error is reported, and the " +
+                                                      std::to_string(result.starts.size()) + " start(s) are listed");
 }
 
 }  // namespace

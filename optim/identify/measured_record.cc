@@ -11,11 +11,7 @@
 
 namespace camdyn::optim {
 
-namespace {
-
-std::string fmt(double x) { return format_shortest(x); }
-
-}  // namespace
+namespace {}  // namespace
 
 double estimate_noise(const std::vector<double>& y) {
   if (y.size() < 3) return 0.0;
@@ -52,15 +48,16 @@ MeasuredRecord read_reference(const ReferenceSpec& reference, double t_end) {
     const std::string line = "line " + std::to_string(rec.lines[i]);
     if (i > 0 && !(rec.time[i] > rec.time[i - 1]))
       throw InputError(reference.file, line,
-                       "time (column " + reference.time_column + ") must increase: " + fmt(rec.time[i]) +
-                           " s follows " + fmt(rec.time[i - 1]) + " s on line " + std::to_string(rec.lines[i - 1]));
+                       "time (column " + reference.time_column + ") must increase: " + format_shortest(rec.time[i]) +
+                           " s follows " + format_shortest(rec.time[i - 1]) + " s on line " +
+                           std::to_string(rec.lines[i - 1]));
     if (rec.time[i] < 0.0)
       throw InputError(reference.file, line,
-                       "time " + fmt(rec.time[i]) + " s is before the start of the simulation (0 s)");
+                       "time " + format_shortest(rec.time[i]) + " s is before the start of the simulation (0 s)");
     if (rec.time[i] > t_end * (1.0 + 1e-12))
       throw InputError(reference.file, line,
-                       "time " + fmt(rec.time[i]) + " s is after the end of the simulated run (" + fmt(t_end) +
-                           " s): lengthen simulation.duration or simulation.cycles");
+                       "time " + format_shortest(rec.time[i]) + " s is after the end of the simulated run (" +
+                           format_shortest(t_end) + " s): lengthen simulation.duration or simulation.cycles");
   }
   for (std::size_t k = 0; k < reference.signals.size(); ++k) {
     const auto& [signal, file_column] = reference.signals[k];
@@ -70,7 +67,7 @@ MeasuredRecord read_reference(const ReferenceSpec& reference, double t_end) {
     for (std::size_t i = 0; i < y.size(); ++i)
       if (!(std::abs(y[i]) <= kMaxMeasuredValue))
         throw InputError(reference.file, "line " + std::to_string(rec.lines[i]) + ", column " + file_column,
-                         "the value " + fmt(y[i]) + " is beyond " + fmt(kMaxMeasuredValue) +
+                         "the value " + format_shortest(y[i]) + " is beyond " + format_shortest(kMaxMeasuredValue) +
                              " in magnitude: a corrupt sample (the fit squares it)");
     double sum2 = 0.0;
     for (double v : y) sum2 += v * v;
@@ -83,8 +80,8 @@ MeasuredRecord read_reference(const ReferenceSpec& reference, double t_end) {
     }));
     if (weight != 0.0 && !std::isfinite(weight * largest * weight * largest * static_cast<double>(y.size())))
       throw InputError(reference.file, "reference.weights." + signal,
-                       "the weight " + fmt(weight) + " times the largest value " + fmt(largest) +
-                           " squared and summed overflows: give a smaller weight");
+                       "the weight " + format_shortest(weight) + " times the largest value " +
+                           format_shortest(largest) + " squared and summed overflows: give a smaller weight");
     if (weight == 0.0) {
       if (!(rms > 0.0))
         throw InputError(reference.file, "column " + file_column,

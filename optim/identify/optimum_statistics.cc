@@ -14,8 +14,6 @@ namespace camdyn::optim {
 
 namespace {
 
-std::string fmt(double x) { return format_shortest(x); }
-
 std::string percent(double x) {
   std::ostringstream s;
   s.precision(3);
@@ -170,7 +168,7 @@ void record_estimates(const IdentifyProblem& problem, const std::vector<double>&
     if (est.at_bound)
       result.warnings.push_back(par.name + " ended on its " +
                                 (std::isfinite(lo) && z[i] - lo <= tol ? std::string("lower") : std::string("upper")) +
-                                " bound (" + fmt(o.values[i]) +
+                                " bound (" + format_shortest(o.values[i]) +
                                 "): the optimum may lie beyond it and its standard error is not meaningful");
     result.parameters.push_back(est);
   }

@@ -7,6 +7,7 @@
 #include <numbers>
 #include <utility>
 
+#include "common/constants.h"
 #include "common/errors.h"
 #include "geometry/bspline.h"
 #include "geometry/event_spline.h"
@@ -95,8 +96,8 @@ std::vector<double> fit_control_points(const NormalisedRise& target, const Norma
 /// How well the fitted law reproduces the baseline law on the designed
 /// segments: largest lift error and largest acceleration error relative to
 /// the segment's peak acceleration.
-FitQuality measure_fit(const MotionLaw& base_law, const MotionLaw& fitted, const std::vector<std::size_t>& segments) {
-  FitQuality fit;
+BaselineFit measure_fit(const MotionLaw& base_law, const MotionLaw& fitted, const std::vector<std::size_t>& segments) {
+  BaselineFit fit;
   for (const std::size_t index : segments) {
     const NormalisedRise& target = *base_law.pieces()[index].shape;
     const NormalisedRise& got = *fitted.pieces()[index].shape;
@@ -395,8 +396,6 @@ SceneConfig DesignSpace::scene(const std::vector<double>& x) const {
 // ---------------------------------------------------------------- event design
 
 namespace {
-
-constexpr double kDegToRad = std::numbers::pi / 180.0;
 
 /// Least-squares free control points of `basis` so that the event spline
 /// follows `target` on the span in value, slope and curvature (each order

@@ -36,8 +36,9 @@ struct DesignVariable {
   double upper = 1.0;
 };
 
-/// How closely the initial design (least-squares fit) reproduces the baseline law.
-struct FitQuality {
+/// How closely the initial design (least-squares fit) reproduces the baseline law
+/// (a type of its own: identify's FitQuality, optim/identify/fit_quality.h, is another).
+struct BaselineFit {
   double max_lift_error = 0.0;          ///< max |f_fit − f_base| over designed segments, share of the lift [-]
   double max_acceleration_error = 0.0;  ///< max |f''_fit − f''_base| / max |f''_base| [-]
 };
@@ -58,7 +59,7 @@ class DesignSpace {
   /// control points fitted by least squares to the baseline law (value and
   /// its first two derivatives), end angles at their baseline values.
   const std::vector<double>& initial() const { return initial_; }
-  const FitQuality& fit_quality() const { return fit_; }
+  const BaselineFit& fit_quality() const { return fit_; }
 
   /// The baseline scene with the designed segments replaced by the spline
   /// segments of design `x` (dimension() values within the bounds).
@@ -148,7 +149,7 @@ class DesignSpace {
   std::vector<Designed> designed_;
   std::vector<DesignVariable> variables_;
   std::vector<double> initial_;
-  FitQuality fit_;
+  BaselineFit fit_;
   bool levels_vary_ = false;  ///< the boundary levels depend on the end angles
   std::vector<Levels> fixed_levels_;
 };

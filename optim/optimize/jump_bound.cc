@@ -6,15 +6,13 @@
 #include <limits>
 #include <numbers>
 
+#include "common/constants.h"
 #include "common/errors.h"
 #include "dynamics/model.h"
 
 namespace camdyn::optim {
 
 namespace {
-
-constexpr double kDeg = 180.0 / std::numbers::pi;
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 /// One rise or return piece as the any-law programme samples it.
 struct PieceGrid {
@@ -191,8 +189,8 @@ std::vector<SegmentJumpBound> any_law_jump_bounds(const MotionLaw& law, const Ri
     auto feasible = [&](double w) { return piece_margin(g, follower, check_speeds(w, follower)) >= -1e-9 * scale; };
     SegmentJumpBound b;
     b.piece = index;
-    b.start_deg = pc.start * kDeg;
-    b.end_deg = pc.end * kDeg;
+    b.start_deg = pc.start * kRadToDeg;
+    b.end_deg = pc.end * kRadToDeg;
     b.lift = pc.lift;
     const auto same = std::find_if(solved.begin(), solved.end(),
                                    [&](const PieceGrid& o) { return same_bound(o, g, follower.damping == 0.0); });

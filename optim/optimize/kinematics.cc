@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "common/constants.h"
+
 namespace camdyn::optim {
 
 LawKinematics law_kinematics(const MotionLaw& law, const std::vector<SegmentConfig>& segments, int samples) {
@@ -21,8 +23,7 @@ LawKinematics law_kinematics(const MotionLaw& law, const std::vector<SegmentConf
     k.peak_acceleration = std::max(k.peak_acceleration, h * f2 / (beta * beta));
     k.peak_jerk = std::max(k.peak_jerk, h * f3 / (beta * beta * beta));
     if (i < segments.size() && segments.size() == pieces.size()) {
-      constexpr double kDeg = 180.0 / std::numbers::pi;
-      k.segments.push_back({i, to_string(segments[i].type), pc.start * kDeg, pc.end * kDeg, h, f1, f2, f3});
+      k.segments.push_back({i, to_string(segments[i].type), pc.start * kRadToDeg, pc.end * kRadToDeg, h, f1, f2, f3});
     }
   }
   return k;

@@ -114,7 +114,7 @@ struct OptimizeOutcome {
   OptimizeStudyConfig config;
   std::vector<DesignVariable> variables;
   std::vector<double> x_initial, x_optimized;
-  FitQuality fit;
+  BaselineFit fit;
   std::vector<ConstraintSpec> constraints;
   Normalisation normalisation;
   bool loop_simulated = false;  ///< the loop ran simulations (else kinematics and geometry only)

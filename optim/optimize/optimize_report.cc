@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "common/constants.h"
 #include "common/errors.h"
 #include "dynamics/coordinate_units.h"
 #include "dynamics/model.h"
@@ -18,7 +19,6 @@ namespace camdyn::optim {
 
 namespace {
 
-constexpr double kBreak = std::numeric_limits<double>::quiet_NaN();
 constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 constexpr double kLawStepDeg = 0.25;
 constexpr const char* kCamAngleLabel = "cam angle [deg]";

@@ -7,6 +7,7 @@
 #include <limits>
 #include <numbers>
 
+#include "common/constants.h"
 #include "common/errors.h"
 #include "dynamics/contact_stress.h"
 #include "dynamics/coordinate_units.h"
@@ -25,7 +26,6 @@ namespace camdyn::optim {
 namespace {
 
 constexpr double kRadPerRpm = 2.0 * std::numbers::pi / 60.0;
-constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kBisectionRtol = 1e-4;  // relative width of the bracket on ω
 /// On a train, whose every programme is the response of the whole train at
 /// ten speeds: 1e−3 (a few rpm).

@@ -5,6 +5,7 @@
 #include <memory>
 #include <numbers>
 
+#include "common/constants.h"
 #include "common/errors.h"
 #include "contact/hertz_pressure.h"
 #include "geometry/cam_synthesis.h"
@@ -14,7 +15,6 @@ namespace camdyn::optim {
 
 namespace {
 
-constexpr double kDegToRad = std::numbers::pi / 180.0;
 constexpr double kStep = 1e-6;     // forward-difference step in a control point (normalised lift)
 constexpr double kTarget = 0.996;  // a cut holds its ratio here: 0.4 % clear of the limit
 constexpr double kNear = 0.67;     // cuts only where the ratio at c0 is above this

@@ -5,6 +5,7 @@
 #include <limits>
 #include <numbers>
 
+#include "common/constants.h"
 #include "dynamics/model.h"
 
 namespace camdyn::optim {
@@ -13,8 +14,6 @@ namespace {
 
 using Kind = HeldQuantity::Kind;
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
-constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr int kFirstStride = 128;         ///< a programme starts with every 128th angle
 constexpr int kCheckAngles = 4096;        ///< the dense check's grid
 constexpr std::size_t kRunsPerRound = 4;  ///< rows activated per quantity and speed in one round

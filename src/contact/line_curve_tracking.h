@@ -14,6 +14,7 @@
 #include <Eigen/Core>
 #include <cmath>
 
+#include "common/constants.h"
 #include "contact/point_curve_tracking.h"
 #include "geometry/planar_curve.h"
 
@@ -61,7 +62,6 @@ bool newton_track_line(const Profile& profile, const Eigen::Vector2d& p, const E
 template <class Profile>
 bool global_line_pair(const Profile& profile, const Eigen::Vector2d& p, const Eigen::Vector2d& m, double u_ref,
                       double& u, TrackedPair& pair, int samples = 720) {
-  constexpr double kTwoPi = 6.283185307179586;
   double best_u = u_ref, best = INFINITY;
   for (int i = 0; i < samples; ++i) {
     const double x = u_ref - kTwoPi / 2 + kTwoPi * i / samples;

@@ -16,6 +16,7 @@
 #include <Eigen/Core>
 #include <cmath>
 
+#include "common/constants.h"
 #include "geometry/planar_curve.h"
 
 namespace camdyn {
@@ -86,7 +87,6 @@ bool newton_track(const Profile& profile, const Eigen::Vector2d& c, double& u, T
 template <class Profile>
 bool global_pair(const Profile& profile, const Eigen::Vector2d& c, double u_ref, double& u, TrackedPair& pair,
                  double offset_radius = 0.0, int samples = 720) {
-  constexpr double kTwoPi = 6.283185307179586;
   double best_u = u_ref, best_distance = INFINITY;
   for (int i = 0; i < samples; ++i) {
     const double x = u_ref - kTwoPi / 2 + kTwoPi * i / samples;

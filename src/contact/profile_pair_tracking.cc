@@ -6,16 +6,14 @@
 #include <cmath>
 #include <limits>
 
+#include "common/constants.h"
+#include "geometry/vec2.h"
+
 namespace camdyn {
 
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
-
-double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
-
 /// J·v: v turned by +90°.
-Eigen::Vector2d perp(const Eigen::Vector2d& v) { return {-v.y(), v.x()}; }
 
 /// x reduced to (−π, π].
 double wrap_pi(double x) {

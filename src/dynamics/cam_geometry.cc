@@ -5,6 +5,7 @@
 #include <numbers>
 #include <vector>
 
+#include "common/constants.h"
 #include "common/errors.h"
 #include "dynamics/plausibility.h"
 #include "geometry/check_text.h"
@@ -13,8 +14,6 @@
 namespace camdyn {
 
 namespace {
-
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 std::atomic<long> geometry_builds{0};
 

@@ -38,12 +38,12 @@ PressurePeak peak_rigid_contact_pressure(const Model& model, const LineContact& 
   constexpr int kSamples = 3600;
   std::vector<double> us(kSamples), ps(kSamples);
   for (int i = 0; i < kSamples; ++i) {
-    us[i] = geometry_detail::kTwoPi * i / kSamples;
+    us[i] = kTwoPi * i / kSamples;
     ps[i] = pressure(us[i]);
   }
   const geometry_detail::Extremum peak = geometry_detail::refine_max(pressure, us, ps);
-  const double at = std::fmod(peak.u, geometry_detail::kTwoPi);
-  return {peak.value, (at < 0.0 ? at + geometry_detail::kTwoPi : at) * 180.0 / std::numbers::pi};
+  const double at = std::fmod(peak.u, kTwoPi);
+  return {peak.value, (at < 0.0 ? at + kTwoPi : at) * 180.0 / std::numbers::pi};
 }
 
 double contact_cam_radius_of_curvature(const Model& model, const Evaluation& ev) {

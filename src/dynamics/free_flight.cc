@@ -5,11 +5,12 @@
 #include <cmath>
 #include <numbers>
 
+#include "common/constants.h"
+
 namespace camdyn {
 
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 constexpr double kDegree = std::numbers::pi / 180.0;
 constexpr double kNearDeg = 0.5;       // interval near the cam [deg of cam rotation]
 constexpr double kFarDeg = 5.0;        // longest interval [deg]

@@ -8,6 +8,7 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "common/constants.h"
 #include "common/errors.h"
 #include "common/study_budget.h"
 #include "dynamics/model.h"
@@ -19,8 +20,6 @@ namespace {
 
 using Complex = std::complex<double>;
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
-constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr int kOversampling = 4;  ///< samples of a signal's DFT per grid angle
 constexpr int kFewestHarmonics = 16;
 constexpr std::size_t kCachedSpeeds = 64;  ///< responses kept (each holds angles × signals per quantity)

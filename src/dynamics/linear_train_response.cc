@@ -10,14 +10,14 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "common/constants.h"
+
 namespace camdyn {
 
 namespace {
 
 using Complex = std::complex<double>;
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
-constexpr double kInf = std::numeric_limits<double>::infinity();
 /// Fewest lift samples of the DFT, and samples per harmonic.
 constexpr int kMinLiftSamples = 1024, kLiftSamplesPerHarmonic = 8;
 /// Fewest angles of the extremum grid, and angles per harmonic (16 per period of the highest one).

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "common/constants.h"
 #include "common/errors.h"
 #include "contact/hertz_pressure.h"
 #include "dynamics/contact_stress.h"
@@ -20,8 +21,6 @@
 namespace camdyn {
 
 namespace {
-
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 /// `cam_radius` [m]: the cam's radius for stiffness from materials (its base radius).
 ForceLaw build_force_law(const SceneConfig& scene, double cam_radius, const std::string& file) {

@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "common/constants.h"
 #include "common/errors.h"
 #include "io/typed_archive.h"
 #include "scene/contact_law_form.h"
@@ -14,8 +15,6 @@
 namespace camdyn {
 
 namespace {
-
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 /// A field of the parameter block: its path in a config (docs/config.md)
 /// and its member.

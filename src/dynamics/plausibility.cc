@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "common/constants.h"
 #include "common/errors.h"
 #include "contact/force_law.h"
 #include "dynamics/coordinate_units.h"
@@ -18,9 +19,6 @@
 namespace camdyn {
 
 namespace {
-
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
-constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 
 /// Lengths above this are almost surely given in millimetres [m].
 constexpr double kMaxPlausibleLength = 1.0;

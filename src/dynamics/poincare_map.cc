@@ -5,13 +5,12 @@
 #include <memory>
 #include <numbers>
 
+#include "common/constants.h"
 #include "common/errors.h"
 
 namespace camdyn {
 
 namespace {
-
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 // The range of the law's lift over a revolution [m | rad], never below a
 // thousandth of the base radius (so a cam with no lift still has a scale).

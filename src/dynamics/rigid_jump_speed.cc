@@ -6,11 +6,11 @@
 #include <numbers>
 #include <vector>
 
+#include "common/constants.h"
+
 namespace camdyn {
 
 namespace {
-
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 /// What the rigid-model force needs at one cam angle, none of it depending
 /// on the cam speed.

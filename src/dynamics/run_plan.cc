@@ -4,14 +4,11 @@
 #include <numbers>
 #include <sstream>
 
+#include "common/constants.h"
+
 namespace camdyn {
 
-namespace {
-
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
-constexpr double kRadToDeg = 180.0 / std::numbers::pi;
-
-}  // namespace
+namespace {}  // namespace
 
 std::string where(const Model& model, double t) {
   std::ostringstream s;

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "common/constants.h"
 #include "dynamics/state_layout.h"
 #include "scene/scene.h"
 
@@ -112,7 +113,6 @@ struct ShaftDrive {
 
 /// The drive of a scene's cam.
 inline ShaftDrive shaft_drive(const DriveConfig& dc) {
-  constexpr double kTwoPi = 2.0 * std::numbers::pi;
   ShaftDrive d;
   if (dc.type != Drive::shaft) return d;
   d.kind = Drive::shaft;

@@ -11,6 +11,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "common/constants.h"
 #include "common/errors.h"
 #include "common/study_budget.h"
 #include "dynamics/contact_events.h"
@@ -25,7 +26,6 @@ namespace camdyn {
 
 namespace {
 
-constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 constexpr int kMaxState = StateLayout::kMax;
 
 using State = RunState;

@@ -6,11 +6,12 @@
 #include <limits>
 #include <numbers>
 
+#include "common/constants.h"
+
 namespace camdyn {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 /// Below this share of the law's lift, s counts as zero for the rate (the rate cannot help there).
 constexpr double kZeroLift = 1e-12;
 

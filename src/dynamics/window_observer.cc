@@ -2,14 +2,11 @@
 
 #include <numbers>
 
+#include "common/constants.h"
+
 namespace camdyn {
 
-namespace {
-
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
-constexpr double kRadToDeg = 180.0 / std::numbers::pi;
-
-}  // namespace
+namespace {}  // namespace
 
 namespace {
 

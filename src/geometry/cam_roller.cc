@@ -8,9 +8,11 @@
 #include <numbers>
 #include <vector>
 
+#include "common/constants.h"
 #include "common/errors.h"
 #include "geometry/check_text.h"
 #include "geometry/extremum.h"
+#include "geometry/vec2.h"
 
 namespace camdyn {
 
@@ -19,12 +21,7 @@ using geometry_detail::refine_max;
 
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
-
 /// J·v: v turned by +90°.
-Eigen::Vector2d perp(const Eigen::Vector2d& v) { return {-v.y(), v.x()}; }
-
-double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
 
 Eigen::Matrix2d rotation(double angle) {
   const double c = std::cos(angle), s = std::sin(angle);

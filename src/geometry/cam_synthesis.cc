@@ -8,9 +8,11 @@
 #include <numbers>
 #include <vector>
 
+#include "common/constants.h"
 #include "common/errors.h"
 #include "geometry/check_text.h"
 #include "geometry/extremum.h"
+#include "geometry/vec2.h"
 
 namespace camdyn {
 
@@ -18,8 +20,6 @@ using geometry_detail::Extremum;
 using geometry_detail::refine_max;
 
 namespace {
-
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 /// A function of θ and its first three θ-derivatives (truncated Taylor arithmetic).
 struct Jet {
@@ -51,13 +51,6 @@ Jet reciprocal(const Jet& x) {
 struct JetVec {
   Jet x, y;
 };
-
-Eigen::Vector2d perp(const Eigen::Vector2d& v) { return {-v.y(), v.x()}; }
-double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
-Eigen::Vector2d rotate(const Eigen::Vector2d& v, double angle) {
-  const double c = std::cos(angle), s = std::sin(angle);
-  return {c * v.x() - s * v.y(), s * v.x() + c * v.y()};
-}
 
 using check_text::num;
 using check_text::sibling;

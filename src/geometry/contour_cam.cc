@@ -7,26 +7,21 @@
 #include <cstdio>
 #include <numbers>
 
+#include "common/constants.h"
 #include "common/errors.h"
 #include "geometry/bspline.h"
+#include "geometry/check_text.h"
+#include "geometry/vec2.h"
 
 namespace camdyn {
 
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 constexpr double kInvPhi = 0.6180339887498949;  // golden section
 
-std::string num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
-
-double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
+using check_text::num;
 
 /// J·v: v turned by +90°.
-Eigen::Vector2d perp(const Eigen::Vector2d& v) { return {-v.y(), v.x()}; }
 
 /// Polar angle of p in [0, 360) [deg].
 double polar_deg(const Eigen::Vector2d& p) {

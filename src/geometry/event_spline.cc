@@ -6,6 +6,7 @@
 #include <numbers>
 #include <utility>
 
+#include "common/constants.h"
 #include "geometry/bspline.h"
 
 namespace camdyn {
@@ -51,7 +52,6 @@ int event_join_order(int degree) { return degree >= 4 ? 3 : 2; }
 
 std::array<double, 4> join_values(const MotionLaw& law, double theta, bool from_left) {
   const std::vector<MotionLaw::Piece>& pieces = law.pieces();
-  constexpr double kTwoPi = 2.0 * std::numbers::pi;
   const MotionLaw::Piece* pc = &pieces.front();
   double t = theta;
   if (from_left) {

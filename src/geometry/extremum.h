@@ -8,9 +8,9 @@
 #include <limits>
 #include <vector>
 
-namespace camdyn::geometry_detail {
+#include "common/constants.h"
 
-inline constexpr double kTwoPi = 6.283185307179586;
+namespace camdyn::geometry_detail {
 
 struct Extremum {
   double u = 0.0, value = -std::numeric_limits<double>::infinity();

@@ -5,16 +5,13 @@
 #include <numbers>
 
 #include "common/errors.h"
+#include "geometry/check_text.h"
 
 namespace camdyn {
 
 namespace {
 
-std::string num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
+using check_text::num;
 
 /// The candidate with the larger y of `point(psi)`.
 template <class Point>

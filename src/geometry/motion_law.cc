@@ -10,6 +10,7 @@
 #include <numbers>
 #include <utility>
 
+#include "common/constants.h"
 #include "common/errors.h"
 #include "geometry/bspline.h"
 #include "geometry/event_spline.h"
@@ -18,12 +19,9 @@ namespace camdyn {
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
-
 double deg_to_rad(double deg) { return deg * (kPi / 180.0); }
 
-std::string num(double v) {
+std::string num10(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.10g", v);
   return buf;
@@ -241,15 +239,16 @@ constexpr double kMinSegmentSpanDeg = 1e-6;
 void read_segment_span(const SegmentConfig& sc, bool last, const std::string& file, const std::string& at,
                        double& prev_end_deg, Segment& seg) {
   if (!std::isfinite(sc.end_deg) || sc.end_deg <= prev_end_deg)
-    throw InputError(file, at + ".end_deg",
-                     num(sc.end_deg) + " must be greater than where the segment starts (" + num(prev_end_deg) + "°)");
-  if (sc.end_deg > 360.0) throw InputError(file, at + ".end_deg", num(sc.end_deg) + " is beyond 360°");
+    throw InputError(
+        file, at + ".end_deg",
+        num10(sc.end_deg) + " must be greater than where the segment starts (" + num10(prev_end_deg) + "°)");
+  if (sc.end_deg > 360.0) throw InputError(file, at + ".end_deg", num10(sc.end_deg) + " is beyond 360°");
   // A span too short to turn through: its law's derivatives (1/span^k) overflow,
   // and a denormal span vanishes in radians.
   if (sc.end_deg - prev_end_deg < kMinSegmentSpanDeg)
     throw InputError(file, at + ".end_deg",
-                     "the segment spans " + num(sc.end_deg - prev_end_deg) + "° (from " + num(prev_end_deg) + "° to " +
-                         num(sc.end_deg) + "°): at least " + num(kMinSegmentSpanDeg) + "° is needed");
+                     "the segment spans " + num10(sc.end_deg - prev_end_deg) + "° (from " + num10(prev_end_deg) +
+                         "° to " + num10(sc.end_deg) + "°): at least " + num10(kMinSegmentSpanDeg) + "° is needed");
   seg.start = deg_to_rad(prev_end_deg);
   seg.end = last ? kTwoPi : deg_to_rad(sc.end_deg);
   prev_end_deg = sc.end_deg;
@@ -280,7 +279,7 @@ void read_segment_lift(const SegmentConfig& sc, const std::string& file, const s
     throw InputError(file, lift_path, "mixes lift and lift_deg segments in one law");
   totals.in_deg = in_deg;
   const double given = in_deg ? *sc.lift_deg : *sc.lift;
-  if (!std::isfinite(given) || given <= 0.0) throw InputError(file, lift_path, num(given) + " must be > 0");
+  if (!std::isfinite(given) || given <= 0.0) throw InputError(file, lift_path, num10(given) + " must be > 0");
   const double lift = in_deg ? deg_to_rad(given) : given;
   const bool rise = sc.type == SegmentType::rise;
   (rise ? totals.rise : totals.ret) += lift;
@@ -346,13 +345,13 @@ std::vector<Segment> read_segments(const std::vector<SegmentConfig>& configs, co
   if (configs.empty()) throw InputError(file, segs_path, "no segments");
   if (prev_end_deg != 360.0)
     throw InputError(file, indexed(segs_path, configs.size() - 1) + ".end_deg",
-                     "the last segment ends at " + num(prev_end_deg) +
+                     "the last segment ends at " + num10(prev_end_deg) +
                          "°: segments must cover the whole turn, ending at exactly 360");
   if (std::abs(totals.rise - totals.ret) > 1e-12 * std::max(totals.rise, totals.ret)) {
     const double unit = totals.in_deg == 1 ? kPi / 180.0 : 1.0;  // report in the given unit
     throw InputError(file, segs_path,
-                     "lift mismatch: the rises add up to " + num(totals.rise / unit) + " but the returns to " +
-                         num(totals.ret / unit) + (totals.in_deg == 1 ? "°" : " m") +
+                     "lift mismatch: the rises add up to " + num10(totals.rise / unit) + " but the returns to " +
+                         num10(totals.ret / unit) + (totals.in_deg == 1 ? "°" : " m") +
                          "; the law must close over a turn");
   }
   return segs;
@@ -430,9 +429,9 @@ MotionLaw periodic_law(int degree, const std::vector<double>& knots_deg, const s
                     std::to_string(degree + 1));
   for (int j = 0; j < m; ++j) {
     const double k = knots_deg[j];
-    if (!std::isfinite(k) || k < 0.0 || k >= 360.0) throw error("knots", j, num(k) + "° is outside [0, 360)");
+    if (!std::isfinite(k) || k < 0.0 || k >= 360.0) throw error("knots", j, num10(k) + "° is outside [0, 360)");
     if (j > 0 && k <= knots_deg[j - 1])
-      throw error("knots", j, num(k) + "° must be greater than the previous knot (" + num(knots_deg[j - 1]) + "°)");
+      throw error("knots", j, num10(k) + "° must be greater than the previous knot (" + num10(knots_deg[j - 1]) + "°)");
     if (!std::isfinite(lift[j])) throw error("lift", j, "must be finite");
   }
   std::vector<double> sites(m);
@@ -475,8 +474,8 @@ MotionLaw law_from_table(const TableConfig& tc, const std::string& file, const s
     const double scale = std::max(std::abs(lifts.front()), std::abs(lifts.back()));
     if (std::abs(lifts.back() - lifts.front()) > 1e-12 * scale)
       throw InputError(tc.file, "line " + std::to_string(tc.lines.back()),
-                       "the row at 360° must repeat the row at 0° (" + tc.lift_column + " " + num(lifts.back()) +
-                           " ≠ " + num(lifts.front()) + ")");
+                       "the row at 360° must repeat the row at 0° (" + tc.lift_column + " " + num10(lifts.back()) +
+                           " ≠ " + num10(lifts.front()) + ")");
     angles.pop_back();
     lifts.pop_back();
   }
@@ -494,7 +493,7 @@ MotionLaw law_with_event(const MotionLaw& law, const EventSplineConfig& ec, cons
   check_degree(ec.degree, file, at + ".degree");
   if (!(ec.from_deg >= 0.0 && ec.to_deg > ec.from_deg && ec.to_deg <= 360.0))
     throw InputError(file, at,
-                     "needs 0 <= from_deg < to_deg <= 360, got " + num(ec.from_deg) + " and " + num(ec.to_deg));
+                     "needs 0 <= from_deg < to_deg <= 360, got " + num10(ec.from_deg) + " and " + num10(ec.to_deg));
   const int free = static_cast<int>(ec.control_points.size());
   const int order = event_join_order(ec.degree);
   if (free + 2 * (order + 1) < ec.degree + 1 || free < 1)

@@ -4,11 +4,12 @@
 #include <cmath>
 #include <numbers>
 
+#include "common/constants.h"
+
 namespace camdyn {
 
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 constexpr int kGridSteps = 7200;     // 0.05° brackets: an excursion across a height narrower than this may be missed
 constexpr int kMaxBisections = 200;  // more than enough to reach adjacent doubles
 /// A law dwelling at full lift: grid points within this fraction of the lift of the maximum form a plateau [-].

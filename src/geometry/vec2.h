@@ -52,6 +52,15 @@ template <class S, class C>
 Vec2<S> rotate(const Vec2<S>& a, const C& c, const C& s) {
   return {c * a.x - s * a.y, s * a.x + c * a.y};
 }
+/// J v for a double vector: v turned by +90°.
+inline Eigen::Vector2d perp(const Eigen::Vector2d& v) { return {-v.y(), v.x()}; }
+/// a × b (z-component) of double vectors.
+inline double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
+/// v turned by `angle` [rad].
+inline Eigen::Vector2d rotate(const Eigen::Vector2d& v, double angle) {
+  const double c = std::cos(angle), s = std::sin(angle);
+  return {c * v.x() - s * v.y(), s * v.x() + c * v.y()};
+}
 /// The value of a scalar (dual numbers overload it in their namespace).
 inline double value(double x) { return x; }
 template <class S>

@@ -6,22 +6,15 @@
 #include <numbers>
 #include <utility>
 
+#include "common/constants.h"
+#include "geometry/vec2.h"
 #include "output/profile_export.h"
 
 namespace camdyn {
 
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
-constexpr double kRadToDeg = 180.0 / std::numbers::pi;
-constexpr double kMm = 1e3;  // m → mm
-constexpr double kBreak = std::numeric_limits<double>::quiet_NaN();
 constexpr const char* kCamAngle = "cam angle [deg]";
-
-Eigen::Vector2d rotate(const Eigen::Vector2d& v, double angle) {
-  const double c = std::cos(angle), s = std::sin(angle);
-  return {c * v.x() - s * v.y(), s * v.x() + c * v.y()};
-}
 
 void add_point(Series& s, const Eigen::Vector2d& p_m) {
   s.x.push_back(p_m.x() * kMm);

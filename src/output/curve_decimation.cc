@@ -6,10 +6,10 @@
 #include <stdexcept>
 #include <string>
 
+#include "common/constants.h"
+
 namespace camdyn {
 namespace {
-
-constexpr double kBreak = std::numeric_limits<double>::quiet_NaN();
 
 bool is_point(double x, double y) { return std::isfinite(x) && std::isfinite(y); }
 

@@ -19,9 +19,11 @@
 #include <stdexcept>
 #include <system_error>
 
+#include "common/constants.h"
 #include "common/errors.h"
 #include "contact/profile_pair_tracking.h"
 #include "geometry/contour_cam.h"
+#include "geometry/vec2.h"
 #include "io/atomic_file.h"
 #include "io/csv_writer.h"
 
@@ -29,21 +31,11 @@ namespace camdyn {
 
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
-constexpr double kRadToDeg = 180.0 / std::numbers::pi;
-constexpr double kMm = 1e3;                     // metres to millimetres
 constexpr int kInitialSteps = 360;              // adaptive sampling starts from 1° steps
 constexpr int kMaxHalvings = 30;                // 1° / 2^30: far below any tolerance allowed
 constexpr int kConcaveScanSteps = 7200;         // cam-angle grid on which concave radii are searched
 constexpr double kToleranceMargin = 0.9;        // sagitta sampled at 3 points must stay below 0.9 × tolerance
 constexpr double kMaxToolToCamRadius = 1000.0;  // a tool radius at most 1000 × the cam's largest radius
-
-Eigen::Vector2d perp(const Eigen::Vector2d& v) { return {-v.y(), v.x()}; }
-double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
-Eigen::Vector2d rotate(const Eigen::Vector2d& v, double angle) {
-  const double c = std::cos(angle), s = std::sin(angle);
-  return {c * v.x() - s * v.y(), s * v.x() + c * v.y()};
-}
 
 std::string mm(double metres, int digits = 6) {
   char buffer[64];

@@ -25,6 +25,7 @@
 #include <thread>
 #include <vector>
 
+#include "common/constants.h"
 #include "common/parallel.h"
 #include "common/printable_text.h"
 #include "io/atomic_file.h"
@@ -34,8 +35,6 @@ extern char** environ;  // NOLINT: POSIX, passed on to gnuplot
 
 namespace camdyn {
 namespace {
-
-constexpr double kBreak = std::numeric_limits<double>::quiet_NaN();
 
 bool is_break(double x, double y) { return std::isnan(x) || std::isnan(y); }
 

@@ -5,12 +5,12 @@
 #include <utility>
 #include <vector>
 
+#include "common/constants.h"
+
 namespace camdyn {
 
 namespace {
 
-constexpr double kRadToDeg = 180.0 / std::numbers::pi;
-constexpr double kDegToRad = std::numbers::pi / 180.0;
 constexpr int kPlotSamples = 1440;  // points of the lift-against-crank-angle plot over one cam turn
 
 Json ramp_json(const std::optional<RampEnd>& ramp, double ratio, double omega) {

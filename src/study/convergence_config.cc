@@ -7,15 +7,15 @@ namespace camdyn {
 
 namespace {
 
-const std::vector<std::string> kStudyKeys = {"methods",     "tolerances",    "reference", "tracking",
-                                             "atol_factor", "rk4_steps_deg", "scenes"};
+const std::vector<std::string> kConvergenceKeys = {"methods",     "tolerances",    "reference", "tracking",
+                                                   "atol_factor", "rk4_steps_deg", "scenes"};
 
 }  // namespace
 
 ConvergenceStudy read_convergence_study(const Json& doc, const StudyContext& ctx) {
   ConvergenceStudy study;
   Json study_json;
-  study.base = scene_from_study_json(doc, ctx.source, kStudyKeys, study_json);
+  study.base = scene_from_study_json(doc, ctx.source, kConvergenceKeys, study_json);
   ConvergenceConfig& config = study.config;
   JsonReader reader(study_json, "", ctx.source);
   visit(reader, config);

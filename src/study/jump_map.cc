@@ -52,7 +52,7 @@ void visit(A& a, JumpMapConfig& c) {
 
 namespace {
 
-const std::vector<std::string> kStudyKeys = {"jump_map", "periodic"};
+const std::vector<std::string> kJumpMapKeys = {"jump_map", "periodic"};
 
 // The section samples after the transient: `samples` revolutions from `from`,
 // the state sampled once per revolution, the metrics over every step.
@@ -310,7 +310,7 @@ JumpMapPoint run_speed(const JumpMapStudy& study, double rpm, const std::string&
 JumpMapStudy read_jump_map_study(const Json& doc, const StudyContext& ctx) {
   JumpMapStudy study;
   Json part;
-  study.scene = scene_from_study_json(doc, ctx.source, kStudyKeys, part);
+  study.scene = scene_from_study_json(doc, ctx.source, kJumpMapKeys, part);
   const Json fields = read_study_fields(part, "jump_map", ctx.source, study.config);
   study.periodic.options.lyapunov_revolutions = 100;  // per speed: a shorter default than the periodic study's
   study.periodic.options.settle_revolutions = 300;    // likewise: a contracting speed is followed 200 more

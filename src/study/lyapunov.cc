@@ -31,8 +31,6 @@ namespace {
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
-VectorXd to_vector(const std::vector<double>& x) { return Eigen::Map<const VectorXd>(x.data(), std::ssize(x)); }
-
 // The run's state between revolutions, and its bookkeeping.
 class TangentRun {
  public:

@@ -18,8 +18,6 @@ namespace {
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
-VectorXd to_vector(const std::vector<double>& x) { return Eigen::Map<const VectorXd>(x.data(), std::ssize(x)); }
-
 std::string format(const char* fmt, auto... args) {
   char buffer[256];
   std::snprintf(buffer, sizeof buffer, fmt, args...);

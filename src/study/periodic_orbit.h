@@ -44,6 +44,11 @@ inline constexpr EnumName<JacobianMethod> kJacobianMethodNames[] = {
     {JacobianMethod::finite_difference, "finite_difference"}};
 constexpr std::span<const EnumName<JacobianMethod>> enum_names(JacobianMethod) { return kJacobianMethodNames; }
 
+/// A state (a section point's coordinates) as an Eigen vector.
+inline Eigen::VectorXd to_vector(const std::vector<double>& x) {
+  return Eigen::Map<const Eigen::VectorXd>(x.data(), std::ssize(x));
+}
+
 struct PeriodicOptions {
   int max_period = 8;              ///< longest period k tried [revolutions]
   int min_period = 1;              ///< shortest period k tried [revolutions]

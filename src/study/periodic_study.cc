@@ -24,7 +24,7 @@ namespace camdyn {
 
 namespace {
 
-const std::vector<std::string> kStudyKeys = {"periodic"};
+const std::vector<std::string> kPeriodicKeys = {"periodic"};
 
 // One period of the orbit from its fixed point (or `revolutions` from `p`),
 // with the series and the metrics over every step.
@@ -87,7 +87,7 @@ Json orbit_json(const Orbit& o, const std::vector<std::string>& names) {
 PeriodicStudy read_periodic_study(const Json& doc, const StudyContext& ctx) {
   PeriodicStudy study;
   Json part;
-  study.scene = scene_from_study_json(doc, ctx.source, kStudyKeys, part);
+  study.scene = scene_from_study_json(doc, ctx.source, kPeriodicKeys, part);
   const Json fields = read_study_fields(part, "periodic", ctx.source, study.config);
   study.geometry = build_cam_geometry(study.scene, ctx.config_file);
   const Model model = build_model(study.geometry, study.scene, ctx.config_file);  // the contact law is checked here

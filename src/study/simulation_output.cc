@@ -9,6 +9,7 @@
 #include <numbers>
 #include <type_traits>
 
+#include "common/constants.h"
 #include "common/parallel.h"
 #include "dynamics/contact_stress.h"
 #include "dynamics/coordinate_units.h"
@@ -26,8 +27,6 @@
 namespace camdyn {
 
 namespace {
-
-constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 
 Json finite_or_null(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
 

@@ -30,7 +30,7 @@ namespace camdyn {
 
 namespace {
 
-const std::vector<std::string> kStudyKeys = {"speed_limit"};
+const std::vector<std::string> kSpeedLimitKeys = {"speed_limit"};
 
 /// The scene's metrics at `rpm`.
 SpeedCheck check_speed(const SpeedLimitStudy& study, double rpm, double min_force, const std::string& file) {
@@ -122,7 +122,7 @@ void visit(A& a, SpeedLimitConfig& c) {
 SpeedLimitStudy read_speed_limit_study(const Json& doc, const StudyContext& ctx) {
   SpeedLimitStudy study;
   Json part;
-  study.scene = scene_from_study_json(doc, ctx.source, kStudyKeys, part);
+  study.scene = scene_from_study_json(doc, ctx.source, kSpeedLimitKeys, part);
   const Json fields = read_study_fields(part, "speed_limit", ctx.source, study.config);
   // The geometry and contact law are checked here, before any run.
   study.geometry = build_cam_geometry(study.scene, ctx.config_file);

@@ -10,9 +10,9 @@
 #include <string>
 #include <type_traits>
 
-namespace {
+#include "study_paths.h"
 
-const std::string kQuickstart = std::string(CAMDYN_SOURCE_DIR) + "/studies/quickstart.json";
+namespace {
 
 TEST(PublicHeaders, VersionComesFromTheProjectVersion) {
   EXPECT_STREQ(camdyn::kVersion, CAMDYN_VERSION);

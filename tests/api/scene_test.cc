@@ -21,14 +21,13 @@
 #include "io/json_archive.h"
 #include "io/json_writer.h"
 #include "study/simulation_output.h"
+#include "study_paths.h"
 
 namespace camdyn {
 namespace {
 
 namespace fs = std::filesystem;
 
-const std::string kStudies = std::string(CAMDYN_SOURCE_DIR) + "/studies";
-const std::string kQuickstart = kStudies + "/quickstart.json";
 const fs::path kCorpusDir = fs::path(CAMDYN_TEST_DATA_DIR) / "bad_configs";
 
 TEST(Scene, LoadsWhatTheCliLoads) {
@@ -106,10 +105,10 @@ TEST(Scene, SetRefusesWhatTheLoaderRefusesAndLeavesTheSceneAsItWas) {
 
 TEST(Scene, FromJsonReadsTheResolvedConfigBack) {
   const Scene scene = Scene::load(kQuickstart, {"cam.rpm=1100"});
-  const Scene again = Scene::from_json(scene.resolved_json(), kStudies);
+  const Scene again = Scene::from_json(scene.resolved_json(), kStudiesDir);
   EXPECT_EQ(again.resolved_json(), scene.resolved_json());
   EXPECT_EQ(again.jump_speed_rpm(), scene.jump_speed_rpm());
-  EXPECT_EQ(Scene::from_json(scene.resolved_json(), kStudies, {"cam.rpm=900"}).rpm(), 900.0);
+  EXPECT_EQ(Scene::from_json(scene.resolved_json(), kStudiesDir, {"cam.rpm=900"}).rpm(), 900.0);
 }
 
 TEST(Scene, FromJsonResolvesRelativeFilesAgainstBaseDir) {

@@ -18,11 +18,10 @@
 #include "dynamics/simulation.h"
 #include "input_error_of.h"
 #include "io/config.h"
+#include "study_paths.h"
 
 namespace camdyn {
 namespace {
-
-const std::string kQuickstart = std::string(CAMDYN_SOURCE_DIR) + "/studies/quickstart.json";
 
 /// The same double, bit for bit (EXPECT_EQ would also take -0.0 for 0.0).
 bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }

@@ -23,6 +23,7 @@
 
 #include "cli_run.h"
 #include "output/plot_style.h"
+#include "study_paths.h"
 #include "svg_scale.h"
 
 namespace {
@@ -254,8 +255,6 @@ class ReportInBrowser : public ::testing::Test {
   std::string chromium_;
   fs::path dir_;
 };
-
-const std::string kStudies = std::string(CAMDYN_SOURCE_DIR) + "/studies/";
 
 // The harness itself: a page with a script error must be caught.
 TEST_F(ReportInBrowser, HarnessSeesConsoleErrors) {

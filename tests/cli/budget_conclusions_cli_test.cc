@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "cli_run.h"
+#include "study_paths.h"
 
 namespace {
 
@@ -31,10 +32,6 @@ namespace fs = std::filesystem;
 using Json = nlohmann::json;
 using camdyn::test::Outcome;
 using camdyn::test::read_text;
-
-const std::string kQuickstart = std::string(CAMDYN_SOURCE_DIR) + "/studies/quickstart.json";
-
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 /// Runs `camdyn args` but kills it after `limit_s` (a hang is a failure, not a stuck test).
 Outcome run_with_timeout(const std::vector<std::string>& args, const fs::path& dir, double limit_s) {

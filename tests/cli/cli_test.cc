@@ -15,6 +15,7 @@
 
 #include "cli_run.h"
 #include "scene/study_kind.h"
+#include "study_paths.h"
 
 namespace {
 
@@ -23,14 +24,11 @@ namespace fs = std::filesystem;
 using camdyn::test::Outcome;
 using camdyn::test::read_text;
 
-fs::path scratch_dir(const std::string& name) { return camdyn::test::scratch_dir("cli_test", name); }
+fs::path cli_dir(const std::string& name) { return camdyn::test::scratch_dir("cli_test", name); }
 
 Outcome run_cli(const std::string& args) {
-  return camdyn::test::run_camdyn(camdyn::test::split_args(args), scratch_dir("io"));
+  return camdyn::test::run_camdyn(camdyn::test::split_args(args), cli_dir("io"));
 }
-
-const std::string kData = CAMDYN_TEST_DATA_DIR;
-const std::string kQuickstart = std::string(CAMDYN_SOURCE_DIR) + "/studies/quickstart.json";
 
 TEST(Cli, VersionAndHelpSucceed) {
   EXPECT_EQ(run_cli("--version").code, 0);
@@ -44,17 +42,17 @@ TEST(Cli, UsageErrorIsExitTwo) {
   EXPECT_EQ(run_cli("run").code, 2);
   EXPECT_EQ(run_cli("frobnicate x.json").code, 2);
   // An empty --out used to write into the default folder silently.
-  const Outcome empty_out = camdyn::test::run_camdyn({"run", kQuickstart, "--out", ""}, scratch_dir("empty_out"));
+  const Outcome empty_out = camdyn::test::run_camdyn({"run", kQuickstart, "--out", ""}, cli_dir("empty_out"));
   EXPECT_EQ(empty_out.code, 2);
   EXPECT_NE(empty_out.err.find("--out: the folder name is empty"), std::string::npos) << empty_out.err;
 }
 
 // Every bad config of the corpus: exit 2, the file and the field named.
 TEST(Cli, BadConfigCorpusGivesExitTwoNamingFileAndField) {
-  const auto expected = nlohmann::json::parse(read_text(kData + "/bad_configs/expected.json"));
+  const auto expected = nlohmann::json::parse(read_text(kTestData + "/bad_configs/expected.json"));
   int count = 0;
   for (const auto& [file, want] : expected["files"].items()) {
-    const std::string path = kData + "/bad_configs/" + file;
+    const std::string path = kTestData + "/bad_configs/" + file;
     const Outcome o = run_cli("validate " + path);
     EXPECT_EQ(o.code, 2) << file << ": " << o.err;
     EXPECT_NE(o.err.find(want["path"].get<std::string>()), std::string::npos) << file << ": " << o.err;
@@ -68,7 +66,7 @@ TEST(Cli, BadConfigCorpusGivesExitTwoNamingFileAndField) {
 }
 
 TEST(Cli, GeometryErrorsNameTheCamAngle) {
-  const Outcome o = run_cli("validate " + kData + "/bad_configs/undercut.json");
+  const Outcome o = run_cli("validate " + kTestData + "/bad_configs/undercut.json");
   EXPECT_EQ(o.code, 2);
   EXPECT_NE(o.err.find("at cam angle"), std::string::npos) << o.err;
 }
@@ -89,7 +87,7 @@ TEST(Cli, ValidatePrintsTheResolvedConfig) {
 }
 
 TEST(Cli, RunWritesEveryOutputWithoutNaN) {
-  const fs::path out = scratch_dir("run");
+  const fs::path out = cli_dir("run");
   const Outcome o = run_cli("run " + kQuickstart + " --quiet --out " + out.string() +
                             " --set simulation.cycles=2 --set mechanism.contact.tracking=newton");
   ASSERT_EQ(o.code, 0) << o.err;
@@ -130,7 +128,7 @@ TEST(Cli, RunWritesEveryOutputWithoutNaN) {
 }
 
 TEST(Cli, StepBudgetExceededIsExitThreeWithTimeAndAngle) {
-  const fs::path out = scratch_dir("budget");
+  const fs::path out = cli_dir("budget");
   const Outcome o = run_cli("run " + kQuickstart + " --quiet --out " + out.string() + " --set integrator.max_steps=50");
   EXPECT_EQ(o.code, 3) << o.err;
   EXPECT_NE(o.err.find("step budget"), std::string::npos) << o.err;
@@ -152,7 +150,7 @@ TEST(Cli, BadOverrideValueNamesTheSetArgumentNotTheFile) {
   EXPECT_EQ(o.err.find("quickstart.json"), std::string::npos) << o.err;
   // A short path and a value inside an object set whole are traced back too.
   const Outcome nested = camdyn::test::run_camdyn(
-      {"validate", kQuickstart, "--set", R"(follower.spring={"stiffness": -5, "preload": 40})"}, scratch_dir("nested"));
+      {"validate", kQuickstart, "--set", R"(follower.spring={"stiffness": -5, "preload": 40})"}, cli_dir("nested"));
   EXPECT_EQ(nested.code, 2);
   EXPECT_NE(nested.err.find("--set follower.spring={"), std::string::npos) << nested.err;
   EXPECT_NE(nested.err.find("mechanism.follower.spring.stiffness"), std::string::npos) << nested.err;
@@ -162,10 +160,10 @@ TEST(Cli, BadOverrideValueNamesTheSetArgumentNotTheFile) {
 
 // The full simulate example (docs/config.md, "Top level (every study)": a return without a lift) runs as written.
 TEST(Cli, InterfaceSpecExampleRuns) {
-  const fs::path out = scratch_dir("interface_example") / "out";
-  const Outcome o = camdyn::test::run_camdyn({"run", kData + "/spec/interface_simulate.json", "--quiet", "--out",
+  const fs::path out = cli_dir("interface_example") / "out";
+  const Outcome o = camdyn::test::run_camdyn({"run", kTestData + "/spec/interface_simulate.json", "--quiet", "--out",
                                               out.string(), "--set", "simulation.cycles=2"},
-                                             scratch_dir("interface_example"));
+                                             cli_dir("interface_example"));
   EXPECT_EQ(o.code, 0) << o.err;
   EXPECT_TRUE(fs::exists(out / "summary.json"));
 }
@@ -195,7 +193,7 @@ TEST(Cli, EveryRegisteredStudyValidatesItsExample) {
     const std::vector<std::string> example_args = camdyn::test::split_args(std::string(study.example_args));
     for (std::size_t i = 0; i + 1 < example_args.size(); ++i)
       if (example_args[i] == "--set") args.insert(args.end(), {"--set", example_args[i + 1]});
-    const Outcome o = camdyn::test::run_camdyn(args, scratch_dir("registry"), std::string(study.name));
+    const Outcome o = camdyn::test::run_camdyn(args, cli_dir("registry"), std::string(study.name));
     ASSERT_EQ(o.code, 0) << study.name << ": " << o.err;
     const auto resolved = nlohmann::json::parse(o.out, nullptr, false);
     ASSERT_TRUE(resolved.is_object()) << study.name << ": " << o.out;
@@ -206,7 +204,7 @@ TEST(Cli, EveryRegisteredStudyValidatesItsExample) {
 // ---------------------------------------------------------------- export
 
 TEST(Cli, ExportWritesTheProfileAsCsvAndDxf) {
-  const fs::path out = scratch_dir("export");
+  const fs::path out = cli_dir("export");
   const Outcome o =
       run_cli("export " + kQuickstart + " --out " + out.string() + " --chord-tolerance 0.01 --cutter-radius 4");
   ASSERT_EQ(o.code, 0) << o.err;
@@ -222,21 +220,21 @@ TEST(Cli, ExportWritesTheProfileAsCsvAndDxf) {
 }
 
 TEST(Cli, ExportBadFormatIsExitTwoNamingTheOption) {
-  const Outcome o = run_cli("export " + kQuickstart + " --format svg --out " + scratch_dir("format").string());
+  const Outcome o = run_cli("export " + kQuickstart + " --format svg --out " + cli_dir("format").string());
   EXPECT_EQ(o.code, 2);
   EXPECT_NE(o.err.find("--format"), std::string::npos) << o.err;
 }
 
 TEST(Cli, ExportPointsWithChordToleranceIsExitTwo) {
   const Outcome o =
-      run_cli("export " + kQuickstart + " --points 100 --chord-tolerance 0.01 --out " + scratch_dir("both").string());
+      run_cli("export " + kQuickstart + " --points 100 --chord-tolerance 0.01 --out " + cli_dir("both").string());
   EXPECT_EQ(o.code, 2);
   EXPECT_NE(o.err.find("--points"), std::string::npos) << o.err;
 }
 
 // A tool that cannot reach into the hollow flank of a steep cam: exit 2, the option named.
 TEST(Cli, ExportToolRadiusAboveTheConcaveRadiusIsExitTwoNamingTheOption) {
-  const fs::path dir = scratch_dir("concave");
+  const fs::path dir = cli_dir("concave");
   const fs::path config = dir / "steep.json";
   std::ofstream(config) << R"({"name": "steep", "mechanism": {
       "cam": {"base_radius": 0.02, "rpm": 600, "motion_law": {"segments": [
@@ -253,7 +251,7 @@ TEST(Cli, ExportToolRadiusAboveTheConcaveRadiusIsExitTwoNamingTheOption) {
 }
 
 TEST(Cli, RunWritesTheProfileWhenTheConfigAsksForIt) {
-  const fs::path out = scratch_dir("run_profile");
+  const fs::path out = cli_dir("run_profile");
   const Outcome o = run_cli("run " + kQuickstart + " --quiet --out " + out.string() +
                             " --set simulation.cycles=2 --set outputs.profile.formats=[\"csv\"]");
   ASSERT_EQ(o.code, 0) << o.err;

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "cli_run.h"
+#include "study_paths.h"
 
 namespace {
 
@@ -19,26 +20,21 @@ namespace fs = std::filesystem;
 using camdyn::test::Outcome;
 using camdyn::test::read_text;
 
-const std::string kData = CAMDYN_TEST_DATA_DIR;
-const std::string kStudies = std::string(CAMDYN_SOURCE_DIR) + "/studies/";
-
-fs::path scratch_dir(const std::string& name) { return camdyn::test::scratch_dir("guards_test", name); }
+fs::path guards_dir(const std::string& name) { return camdyn::test::scratch_dir("guards_test", name); }
 
 /// The interface's promise for a runaway config: it ends in under this [s].
 constexpr double kRunawayDeadline = 10.0;
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
-
 // Issue 19 items 5, 6 and 12: each ends in well under 10 s, exit 2, naming
 // the field and the reason.
 TEST(Guards, RunawayConfigsEndQuicklyNamingTheField) {
-  const auto expected = nlohmann::json::parse(read_text(kData + "/runaway/expected.json"));
+  const auto expected = nlohmann::json::parse(read_text(kTestData + "/runaway/expected.json"));
   int count = 0;
   for (const auto& [file, want] : expected["files"].items()) {
-    const fs::path out = scratch_dir("runaway") / file;
+    const fs::path out = guards_dir("runaway") / file;
     const auto start = std::chrono::steady_clock::now();
-    const Outcome o = camdyn::test::run_camdyn({"run", kData + "/runaway/" + file, "--quiet", "--out", out.string()},
-                                               scratch_dir("runaway_io"));
+    const Outcome o = camdyn::test::run_camdyn(
+        {"run", kTestData + "/runaway/" + file, "--quiet", "--out", out.string()}, guards_dir("runaway_io"));
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     EXPECT_LT(seconds, kRunawayDeadline) << file;
     EXPECT_EQ(o.code, want["code"].get<int>()) << file << ": " << o.err;
@@ -52,10 +48,10 @@ TEST(Guards, RunawayConfigsEndQuicklyNamingTheField) {
 // Issue 17 item 4: each slip gives the warning (exit 0) or the error (exit 2)
 // that names the field really at fault.
 TEST(Guards, UnitSlipsNameTheRealCause) {
-  const auto expected = nlohmann::json::parse(read_text(kData + "/unit_slip/expected.json"));
+  const auto expected = nlohmann::json::parse(read_text(kTestData + "/unit_slip/expected.json"));
   int count = 0;
   for (const auto& [file, want] : expected["files"].items()) {
-    const Outcome o = camdyn::test::run_camdyn({"validate", kData + "/unit_slip/" + file}, scratch_dir("slip_io"));
+    const Outcome o = camdyn::test::run_camdyn({"validate", kTestData + "/unit_slip/" + file}, guards_dir("slip_io"));
     const std::string path = want["path"].get<std::string>();
     const std::string message = want["message"].get<std::string>();
     ASSERT_EQ(o.code, want["code"].get<int>()) << file << ": " << o.err;
@@ -75,7 +71,7 @@ TEST(Guards, UnitSlipsNameTheRealCause) {
 }
 
 TEST(Guards, ValidatePrintsTheDesignCheck) {
-  const Outcome o = camdyn::test::run_camdyn({"validate", kStudies + "quickstart.json"}, scratch_dir("design"));
+  const Outcome o = camdyn::test::run_camdyn({"validate", kStudies + "quickstart.json"}, guards_dir("design"));
   ASSERT_EQ(o.code, 0) << o.err;
   EXPECT_TRUE(contains(o.err, "design check: rigid-model jump speed 1174 rpm")) << o.err;
   EXPECT_TRUE(contains(o.err, "max pressure angle")) << o.err;
@@ -90,11 +86,11 @@ struct RunWithWarnings {
 
 RunWithWarnings run_study(const std::string& name, const std::vector<std::string>& extra,
                           const std::string& study = "quickstart.json") {
-  const fs::path out = scratch_dir(name);
+  const fs::path out = guards_dir(name);
   std::vector<std::string> args = {"run", kStudies + study, "--quiet", "--out", out.string()};
   args.insert(args.end(), extra.begin(), extra.end());
   RunWithWarnings r;
-  r.outcome = camdyn::test::run_camdyn(args, scratch_dir(name + "_io"));
+  r.outcome = camdyn::test::run_camdyn(args, guards_dir(name + "_io"));
   const std::string text = read_text(out / "summary.json");
   if (!text.empty()) r.summary = nlohmann::json::parse(text);
   return r;

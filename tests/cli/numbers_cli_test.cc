@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "cli_run.h"
+#include "study_paths.h"
 
 namespace {
 
@@ -21,17 +22,13 @@ namespace fs = std::filesystem;
 using camdyn::test::Outcome;
 using camdyn::test::read_text;
 
-const std::string kStudies = std::string(CAMDYN_SOURCE_DIR) + "/studies/";
-
-fs::path scratch_dir(const std::string& name) { return camdyn::test::scratch_dir("numbers_cli_test", name); }
-
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+fs::path numbers_dir(const std::string& name) { return camdyn::test::scratch_dir("numbers_cli_test", name); }
 
 /// `camdyn validate CONFIG --set S...`.
 Outcome validate(const std::string& config, const std::vector<std::string>& sets, const std::string& tag) {
   std::vector<std::string> args = {"validate", config};
   for (const std::string& s : sets) args.insert(args.end(), {"--set", s});
-  return camdyn::test::run_camdyn(args, scratch_dir(tag));
+  return camdyn::test::run_camdyn(args, numbers_dir(tag));
 }
 
 /// Exit 2 with "camdyn: error: ", the dotted path and the reason's words.
@@ -88,11 +85,11 @@ TEST(Numbers, OptimizeLimitsAndWeightsPastAnyCamAreRefused) {
 /// An optimize run of one evaluation at one speed whose rigid-stage programme
 /// has no design at all (`limit`): a physical answer, exit 0, no NaN or inf.
 void expect_infeasible_family_reported(const std::string& limit, const std::string& tag) {
-  const fs::path out = scratch_dir(tag) / "out";
+  const fs::path out = numbers_dir(tag) / "out";
   const Outcome o = camdyn::test::run_camdyn(
       {"run", kOptimize, "--quiet", "--out", out.string(), "--set", "optimizer.max_evaluations=1", "--set",
        "operating_rpm=[900]", "--set", "design.end_deg_range={}", "--set", limit},
-      scratch_dir(tag + "_io"));
+      numbers_dir(tag + "_io"));
   ASSERT_EQ(o.code, 0) << o.err;
   EXPECT_FALSE(contains(o.err, "internal error")) << o.err;
   EXPECT_TRUE(files_with_non_finite(out).empty()) << files_with_non_finite(out).front();
@@ -121,7 +118,7 @@ TEST(Numbers, IdentifyCeresOptionsOutsideCeresRangesAreRefused) {
 }
 
 TEST(Numbers, IdentifyRecordSampleBeyondSquaringIsRefusedNamingItsLine) {
-  const fs::path dir = scratch_dir("record");
+  const fs::path dir = numbers_dir("record");
   const std::string csv_in = read_text(kStudies + "identify_drop/drop_h005_50khz.csv");
   // The 5th data row's force becomes 1e300 N.
   std::istringstream in(csv_in);
@@ -158,7 +155,7 @@ TEST(Numbers, StudySpeedsAndStepsPastAnyCamAreRefused) {
 }
 
 TEST(Numbers, NanCutterRadiusIsRefused) {
-  const fs::path dir = scratch_dir("cutter");
+  const fs::path dir = numbers_dir("cutter");
   const Outcome o = camdyn::test::run_camdyn(
       {"export", kStudies + "quickstart.json", "--cutter-radius", "nan", "--out", (dir / "out").string()}, dir);
   EXPECT_EQ(o.code, 2) << o.err;
@@ -167,7 +164,7 @@ TEST(Numbers, NanCutterRadiusIsRefused) {
 }
 
 TEST(Numbers, ExtendsNameWithNulIsRefused) {
-  const fs::path dir = scratch_dir("nul");
+  const fs::path dir = numbers_dir("nul");
   std::ofstream(dir / "study.json") << R"({"extends": ")" << kStudies << R"(quickstart.json\u0000junk", "name": "x"})";
   const Outcome o = camdyn::test::run_camdyn({"validate", (dir / "study.json").string()}, dir);
   expect_refused(o, "extends", "NUL character");

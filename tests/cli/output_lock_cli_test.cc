@@ -10,16 +10,16 @@
 
 #include "cli_run.h"
 #include "output/output_folder.h"
+#include "study_paths.h"
 
 namespace camdyn {
 namespace {
 
 namespace fs = std::filesystem;
 
-const std::string kQuickstart = std::string(CAMDYN_SOURCE_DIR) + "/studies/quickstart.json";
 const std::string kShort = "--set simulation.cycles=2 --set simulation.discard_cycles=1";
 
-test::Outcome run(const std::string& args, const fs::path& dir) {
+test::Outcome run_locked(const std::string& args, const fs::path& dir) {
   return test::run_camdyn(test::split_args(args), dir);
 }
 
@@ -28,13 +28,13 @@ TEST(OutputLockCli, RunIntoAFolderAnotherProcessHoldsExitsTwoNamingIt) {
   const fs::path out = dir / "out";
   {
     const OutputLock held(out);  // this test process is "the other run"
-    const test::Outcome o = run("run " + kQuickstart + " --quiet " + kShort + " --out " + out.string(), dir);
+    const test::Outcome o = run_locked("run " + kQuickstart + " --quiet " + kShort + " --out " + out.string(), dir);
     EXPECT_EQ(o.code, 2) << o.err;
     EXPECT_NE(o.err.find("in use by camdyn process " + std::to_string(::getpid())), std::string::npos) << o.err;
     EXPECT_NE(o.err.find(out.string()), std::string::npos) << o.err;
     EXPECT_FALSE(fs::exists(out / "summary.json"));  // it wrote nothing
   }
-  const test::Outcome o = run("run " + kQuickstart + " --quiet " + kShort + " --out " + out.string(), dir);
+  const test::Outcome o = run_locked("run " + kQuickstart + " --quiet " + kShort + " --out " + out.string(), dir);
   EXPECT_EQ(o.code, 0) << o.err;
   EXPECT_TRUE(fs::exists(out / kCompleteFile));
   EXPECT_FALSE(fs::exists(out / kLockFile));
@@ -43,12 +43,12 @@ TEST(OutputLockCli, RunIntoAFolderAnotherProcessHoldsExitsTwoNamingIt) {
 TEST(OutputLockCli, CompletionMarkerOnlyAfterAFinishedRun) {
   const fs::path dir = test::scratch_dir("output_lock_cli", "marker");
   const fs::path out = dir / "out";
-  EXPECT_EQ(run("run " + kQuickstart + " --quiet " + kShort + " --out " + out.string(), dir).code, 0);
+  EXPECT_EQ(run_locked("run " + kQuickstart + " --quiet " + kShort + " --out " + out.string(), dir).code, 0);
   ASSERT_TRUE(fs::exists(out / kCompleteFile));
   // A run that fails (here on its input) leaves the folder unfinished: the
   // marker of the run before is gone, whatever else is left.
-  const test::Outcome failed =
-      run("run " + kQuickstart + " --quiet " + kShort + " --set mechanism.cam.rpm=-1 --out " + out.string(), dir);
+  const test::Outcome failed = run_locked(
+      "run " + kQuickstart + " --quiet " + kShort + " --set mechanism.cam.rpm=-1 --out " + out.string(), dir);
   EXPECT_EQ(failed.code, 2) << failed.err;
   EXPECT_FALSE(fs::exists(out / kCompleteFile));
   EXPECT_FALSE(fs::exists(out / kLockFile));

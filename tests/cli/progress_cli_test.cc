@@ -9,6 +9,7 @@
 #include <string>
 
 #include "cli_run.h"
+#include "study_paths.h"
 
 namespace {
 
@@ -37,8 +38,6 @@ namespace fs = std::filesystem;
 
 using camdyn::test::Outcome;
 
-const std::string kStudies = std::string(CAMDYN_SOURCE_DIR) + "/studies";
-
 /// Runs `camdyn ARGS` on a pseudo-terminal; stdout and stderr come back
 /// together in `out`, with the carriage returns of the redrawn lines.
 Outcome run_on_terminal(const std::string& args, const fs::path& dir) {
@@ -51,7 +50,7 @@ bool has(const std::string& text, const std::string& part) { return text.find(pa
 TEST(ProgressCli, OptimiseShowsEvaluationOfMaxBestObjectiveAndTimeLeft) {
   if (!camdyn::test::on_path("script")) GTEST_SKIP() << "util-linux script is not installed";
   const fs::path dir = camdyn::test::scratch_dir("progress_cli", "optimise");
-  const std::string args = "run " + kStudies + "/optimize_jump.json --out " + (dir / "out").string() +
+  const std::string args = "run " + kStudiesDir + "/optimize_jump.json --out " + (dir / "out").string() +
                            " --set optimizer.max_evaluations=3 --set optimizer.evaluation_cycles=2";
   const Outcome o = run_on_terminal(args, dir);
   ASSERT_EQ(o.code, 0) << o.out;
@@ -71,7 +70,7 @@ TEST(ProgressCli, IdentifyNamesItsContinuationStageAndIteration) {
   if (!camdyn::test::on_path("script")) GTEST_SKIP() << "util-linux script is not installed";
   const fs::path dir = camdyn::test::scratch_dir("progress_cli", "identify");
   // Two smoothed stages (2 ms, 0.5 ms) then the raw signals; one iteration each keeps it short.
-  const std::string args = "run " + kStudies + "/identify_cam_rig/identify_cam_rig.json --out " +
+  const std::string args = "run " + kStudiesDir + "/identify_cam_rig/identify_cam_rig.json --out " +
                            (dir / "out").string() + " --set solver.max_iterations=1";
   const Outcome o = run_on_terminal(args, dir);
   ASSERT_EQ(o.code, 0) << o.out;
@@ -115,7 +114,7 @@ void expect_runs_with_time_left(const std::string& study, const std::string& out
 TEST(ProgressCli, EveryMultiRunStudyShowsTheTimeLeft) {
   if (!camdyn::test::on_path("script")) GTEST_SKIP() << "util-linux script is not installed";
   const fs::path dir = camdyn::test::scratch_dir("progress_cli", "multi_run");
-  const std::string quickstart = kStudies + "/quickstart.json";
+  const std::string quickstart = kStudiesDir + "/quickstart.json";
   {
     std::ofstream(dir / "convergence.json") << R"({
       "extends": ")" << quickstart << R"(", "name": "convergence", "study": "convergence",

@@ -16,14 +16,13 @@
 #include <vector>
 
 #include "cli_run.h"
+#include "study_paths.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 using Json = nlohmann::json;
 using camdyn::test::read_text;
-
-const std::string kQuickstart = std::string(CAMDYN_SOURCE_DIR) + "/studies/quickstart.json";
 
 /// A scan of 4 speeds, of which 3 are simulated (500 … 1600 rpm: the first
 /// batch reaches 1233 rpm, the first grid speed above the rigid-model jump

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "cli_run.h"
+#include "study_paths.h"
 
 namespace {
 
@@ -22,16 +23,12 @@ namespace fs = std::filesystem;
 using camdyn::test::Outcome;
 using camdyn::test::read_text;
 
-const std::string kStudies = std::string(CAMDYN_SOURCE_DIR) + "/studies/";
-
 /// What a stop on the budget may take beyond the budget [s] (a run checks it every step).
 constexpr double kStopWithin = 5.0;
 /// How much slower a sanitised build runs the studies (ASan, UBSan and the
 /// fuzz preset's coverage): a budget meant to fall inside a stage after the
 /// study's set-up is that much longer there.
 constexpr double kBuildSlowdown = CAMDYN_SANITIZED ? 4.0 : 1.0;
-
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 /// The records of a journal (its lines after the header).
 std::vector<nlohmann::json> journal_records(const fs::path& path) {

@@ -18,19 +18,18 @@
 #include "cli_run.h"
 #include "io/config.h"
 #include "study/journal.h"
+#include "study_paths.h"
 
 namespace camdyn {
 namespace {
 
 namespace fs = std::filesystem;
 
-const std::string kSource = CAMDYN_SOURCE_DIR;
-const std::string kQuickstart = kSource + "/studies/quickstart.json";
 const std::string kIdentify = std::string(CAMDYN_TEST_DATA_DIR) + "/identify/single.json";
-constexpr const char* kTimeLimitS = "30";
+constexpr const char* kInputTimeLimitS = "30";
 
-test::Outcome run(const std::string& args, const fs::path& dir) {
-  std::vector<std::string> argv = {"timeout", kTimeLimitS, CAMDYN_BINARY};
+test::Outcome run_input(const std::string& args, const fs::path& dir) {
+  std::vector<std::string> argv = {"timeout", kInputTimeLimitS, CAMDYN_BINARY};
   for (const std::string& a : test::split_args(args)) argv.push_back(a);
   return test::run_process(argv, dir, "camdyn");
 }
@@ -50,7 +49,7 @@ fs::path small_compare(const fs::path& dir) {
 // already used up, which writes the header only.
 void forge_journal(const fs::path& config, const fs::path& out, const std::vector<Json>& records) {
   const test::Outcome first =
-      run("run " + config.string() + " --quiet --max-study-time 1e-9 --out " + out.string(), out.parent_path());
+      run_input("run " + config.string() + " --quiet --max-study-time 1e-9 --out " + out.string(), out.parent_path());
   ASSERT_EQ(first.code, 3) << first.err;
   const std::string text = test::read_text(out / "journal.jsonl");
   const std::string header_line = text.substr(0, text.find('\n'));
@@ -69,7 +68,7 @@ TEST(UntrustedInputsCli, CompareCaseConfigAtAFifoExitsTwoWithoutHanging) {
   std::ofstream(dir / "compare.json") << R"({"extends": ")" << kQuickstart
                                       << R"(", "study": "compare", "cases": [{"name": "z", "config": ")"
                                       << (dir / "case.json").string() << R"("}]})";
-  const test::Outcome o = run("validate " + (dir / "compare.json").string(), dir);
+  const test::Outcome o = run_input("validate " + (dir / "compare.json").string(), dir);
   EXPECT_EQ(o.code, 2) << o.err;
   EXPECT_NE(o.err.find("cases[0].config"), std::string::npos) << o.err;
 }
@@ -79,7 +78,7 @@ TEST(UntrustedInputsCli, IdentificationRecordAtAFifoOrADeviceExitsTwoWithoutHang
   const fs::path fifo = dir / "record.csv";
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   for (const std::string& file : {std::string("/dev/zero"), fifo.string()}) {
-    const test::Outcome o = run("validate " + kIdentify + " --set reference.file=" + file, dir);
+    const test::Outcome o = run_input("validate " + kIdentify + " --set reference.file=" + file, dir);
     EXPECT_EQ(o.code, 2) << file << ": " << o.err;
     EXPECT_NE(o.err.find("reference.file"), std::string::npos) << o.err;
     EXPECT_NE(o.err.find("regular file"), std::string::npos) << o.err;
@@ -90,7 +89,8 @@ TEST(UntrustedInputsCli, JournalThatIsAFifoExitsTwoWithoutHanging) {
   const fs::path dir = test::scratch_dir("untrusted_inputs_cli", "journal_fifo");
   fs::create_directories(dir / "out");
   ASSERT_EQ(::mkfifo((dir / "out" / "journal.jsonl").c_str(), 0600), 0);
-  const test::Outcome o = run("run " + small_compare(dir).string() + " --quiet --out " + (dir / "out").string(), dir);
+  const test::Outcome o =
+      run_input("run " + small_compare(dir).string() + " --quiet --out " + (dir / "out").string(), dir);
   EXPECT_EQ(o.code, 2) << o.err;
   EXPECT_NE(o.err.find("journal.jsonl"), std::string::npos) << o.err;
   EXPECT_NE(o.err.find("FIFO"), std::string::npos) << o.err;
@@ -102,7 +102,8 @@ TEST(UntrustedInputsCli, JournalThatIsASymbolicLinkExitsTwoAndTheVictimIsUnchang
   std::ofstream(victim) << "precious\n";
   fs::create_directories(dir / "out");
   fs::create_symlink(victim, dir / "out" / "journal.jsonl");
-  const test::Outcome o = run("run " + small_compare(dir).string() + " --quiet --out " + (dir / "out").string(), dir);
+  const test::Outcome o =
+      run_input("run " + small_compare(dir).string() + " --quiet --out " + (dir / "out").string(), dir);
   EXPECT_EQ(o.code, 2) << o.err;
   EXPECT_NE(o.err.find("journal.jsonl"), std::string::npos) << o.err;
   EXPECT_EQ(test::read_text(victim), "precious\n");
@@ -116,7 +117,7 @@ TEST(UntrustedInputsCli, JournalRecordWithAValidChecksumButNoStatusTextIsRunAgai
   const fs::path dir = test::scratch_dir("untrusted_inputs_cli", "journal_status");
   const fs::path config = small_compare(dir);
   forge_journal(config, dir / "out", {Json{{"index", 0}, {"status", 5}, {"error", ""}, {"metrics", Json::object()}}});
-  const test::Outcome o = run("run " + config.string() + " --quiet --out " + (dir / "out").string(), dir);
+  const test::Outcome o = run_input("run " + config.string() + " --quiet --out " + (dir / "out").string(), dir);
   EXPECT_EQ(o.code, 0) << o.err;
   EXPECT_NE(o.err.find("the record of run 0 has no status; that run is done again"), std::string::npos) << o.err;
   const std::string csv = test::read_text(dir / "out" / "comparison.csv");
@@ -133,7 +134,7 @@ TEST(UntrustedInputsCli, JournalRecordWithAMalformedOverlayStillWritesTheReport)
   forge_journal(
       config, dir / "out",
       {Json{{"index", 1}, {"status", "ok"}, {"error", ""}, {"metrics", Json::object()}, {"overlay", overlay}}});
-  const test::Outcome o = run("run " + config.string() + " --quiet --out " + (dir / "out").string(), dir);
+  const test::Outcome o = run_input("run " + config.string() + " --quiet --out " + (dir / "out").string(), dir);
   EXPECT_EQ(o.code, 0) << o.err;
   EXPECT_TRUE(fs::exists(dir / "out" / "report.html")) << o.err;
 }
@@ -146,7 +147,7 @@ TEST(UntrustedInputsCli, TrainWithAnExtremeStiffnessOrRatioExitsTwoNamingTheTrai
   const std::string rocker = kSource + "/studies/valvetrain/pushrod_rocker.json";
   for (const std::string& set :
        {std::string("mechanism.train[1].link.ratio=2e9"), std::string("mechanism.train[1].link.stiffness=1e300")}) {
-    const test::Outcome o = run("validate " + rocker + " --set " + set, dir);
+    const test::Outcome o = run_input("validate " + rocker + " --set " + set, dir);
     EXPECT_EQ(o.code, 2) << set << ": " << o.err;
     EXPECT_NE(o.err.find("mechanism.train: a stiffness or lever ratio of the train is too extreme"), std::string::npos)
         << o.err;
@@ -160,7 +161,7 @@ TEST(UntrustedInputsCli, TrainWithAnExtremeStiffnessOrRatioExitsTwoNamingTheTrai
 TEST(UntrustedInputsCli, ExportWithAFollowerFarLargerThanTheCamExitsTwoWritingNothing) {
   const fs::path dir = test::scratch_dir("untrusted_inputs_cli", "export_roller");
   const test::Outcome o =
-      run("export " + kQuickstart + " --out " + (dir / "out").string() + " --follower-radius 1e300", dir);
+      run_input("export " + kQuickstart + " --out " + (dir / "out").string() + " --follower-radius 1e300", dir);
   EXPECT_EQ(o.code, 2) << o.err;
   EXPECT_NE(o.err.find("--follower-radius"), std::string::npos) << o.err;
   EXPECT_FALSE(fs::exists(dir / "out" / "follower_lift.csv"));
@@ -177,7 +178,7 @@ TEST(UntrustedInputsCli, JumpMapRecordWithAValidChecksumButMalformedPointsExitsT
     "jump_map": {"low_rpm": 1000, "high_rpm": 1100, "speeds": 2, "ranges": 1, "transient_revolutions": 3,
                  "samples": 3}, "periodic": {"max_period": 1, "lyapunov_revolutions": 10}})";
   forge_journal(config, dir / "out", {Json{{"index", 0}, {"status", "ok"}, {"points", {Json{{"rpm", "fast"}}}}}});
-  const test::Outcome o = run("run " + config.string() + " --quiet --out " + (dir / "out").string(), dir);
+  const test::Outcome o = run_input("run " + config.string() + " --quiet --out " + (dir / "out").string(), dir);
   EXPECT_EQ(o.code, 2) << o.err;
   EXPECT_NE(o.err.find("journal.jsonl"), std::string::npos) << o.err;
   EXPECT_NE(o.err.find("speed range 0"), std::string::npos) << o.err;

@@ -9,12 +9,12 @@
 #include <cmath>
 #include <numbers>
 
+#include "common/constants.h"
 #include "tolerance.h"
 
 namespace camdyn {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 using test::kRoundoff;  // a few operations on O(1) ratios
 
 TEST(HertzPressure, EffectiveModulusOfSteelOnSteel) {

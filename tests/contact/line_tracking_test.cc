@@ -14,7 +14,7 @@ namespace {
 
 // The shared test ellipse, semi-axes 50 and 30 mm (counter-clockwise), star-shaped about the origin.
 using test::Ellipse;
-constexpr double kSemiA = 0.05, kSemiB = 0.03;
+constexpr double kLineSemiA = 0.05, kLineSemiB = 0.03;
 
 /// A face whose normal m (towards the ellipse) makes angle `angle` with −y, at distance `h` above the ellipse.
 struct Face {
@@ -28,7 +28,7 @@ Face face(const Ellipse& e, double angle, double h) {
 }
 
 TEST(LineTracking, ResidualDerivativeMatchesFiniteDifference) {
-  const Ellipse e(kSemiA, kSemiB);
+  const Ellipse e(kLineSemiA, kLineSemiB);
   const Face f = face(e, 0.3, 0.01);
   for (double u : {0.1, 0.7, 2.0, 4.0}) {
     const double h = 1e-6;
@@ -38,7 +38,7 @@ TEST(LineTracking, ResidualDerivativeMatchesFiniteDifference) {
 }
 
 TEST(LineTracking, NewtonAndGlobalFindTheSupportPointAndTheExactGap) {
-  const Ellipse e(kSemiA, kSemiB);
+  const Ellipse e(kLineSemiA, kLineSemiB);
   for (double angle : {0.0, 0.4, -1.0, 2.5}) {
     for (double h : {0.01, 1e-6, -2e-5}) {  // apart, nearly touching, interfering
       const Face f = face(e, angle, h);
@@ -58,7 +58,7 @@ TEST(LineTracking, NewtonAndGlobalFindTheSupportPointAndTheExactGap) {
 }
 
 TEST(LineTracking, NewtonRejectsTheFarSideOfTheProfile) {
-  const Ellipse e(kSemiA, kSemiB);
+  const Ellipse e(kLineSemiA, kLineSemiB);
   const Face f = face(e, 0.0, 0.01);  // face above the ellipse: the support point is at u = π/2
   double u = -std::numbers::pi / 2;   // the bottom: a maximum of m·r, not a support point
   TrackedPair pair;

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "allocation_counter.h"
+#include "common/constants.h"
 #include "contact/point_curve_tracking.h"
 #include "geometry/cam_roller.h"
 #include "geometry/motion_law.h"
@@ -25,9 +26,6 @@
 
 namespace camdyn {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 // Tolerance levels.
 // Closed-form gaps: both sides are computed to a few ulps of the body size (0.1 m).

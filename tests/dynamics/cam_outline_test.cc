@@ -10,11 +10,11 @@
 
 #include "dynamics/model.h"
 #include "io/config.h"
+#include "study_paths.h"
 
 namespace camdyn {
 namespace {
 
-const std::string kStudies = std::string(CAMDYN_SOURCE_DIR) + "/studies";
 /// Offsetting a curve by ρ ~ 1e-2 m along a unit normal computed in double
 /// precision: the distance is ρ to a few ulps of the coordinates (~1e-17 m each).
 constexpr double kOffsetTolerance = 1e-15;
@@ -22,7 +22,7 @@ constexpr double kOffsetTolerance = 1e-15;
 Model model_of(const std::string& file) { return build_model(load_scene(file), file); }
 
 TEST(CamOutline, RollerContourIsTheRollerRadiusInsideThePitchCurve) {
-  const std::string file = kStudies + "/quickstart.json";
+  const std::string file = kStudiesDir + "/quickstart.json";
   const Model model = model_of(file);
   const CamOutline o = cam_outline(model, 720);
   ASSERT_EQ(o.u.size(), 720U);
@@ -41,7 +41,7 @@ TEST(CamOutline, RollerContourIsTheRollerRadiusInsideThePitchCurve) {
 }
 
 TEST(CamOutline, ContourCamKeepsItsFittedContour) {
-  const std::string file = kStudies + "/contour_cam/measured_roller_cam.json";
+  const std::string file = kStudiesDir + "/contour_cam/measured_roller_cam.json";
   const Model model = model_of(file);
   const CamOutline o = cam_outline(model, 90);
   const double rho = model.follower.radius;
@@ -54,7 +54,7 @@ TEST(CamOutline, ContourCamKeepsItsFittedContour) {
 }
 
 TEST(CamOutline, FlatFaceHasNoPitchCurve) {
-  const std::string file = kStudies + "/followers/translating_flat.json";
+  const std::string file = kStudiesDir + "/followers/translating_flat.json";
   const Model model = model_of(file);
   const CamOutline o = cam_outline(model, 36);
   EXPECT_EQ(o.contour_x.size(), 36U);

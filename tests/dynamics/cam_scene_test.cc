@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "common/constants.h"
 #include "dynamics/simulation.h"
 #include "geometry/motion_law.h"
 #include "scenes.h"
@@ -16,8 +17,6 @@
 
 namespace camdyn {
 namespace {
-
-constexpr double kTwoPi = 2 * std::numbers::pi;
 
 // Independent rigid-model quantities for the test scene (no offset, ccw).
 struct Rigid {

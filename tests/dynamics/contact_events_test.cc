@@ -14,11 +14,10 @@
 
 #include "dynamics/simulation.h"
 #include "io/config.h"
+#include "study_paths.h"
 
 namespace camdyn {
 namespace {
-
-const std::string kStudies = std::string(CAMDYN_SOURCE_DIR) + "/studies";
 
 TEST(ContactEvents, AnImpactNeedsASeparationBeforeAndAnApproach) {
   EXPECT_TRUE(classify_onset(true, 0.3).impact);
@@ -70,7 +69,7 @@ void expect_events_mean_what_they_say(const SimulationResult& r, bool started_of
 TEST(ContactEvents, EveryStudyRunCountsOnlyImpacts) {
   // Every committed simulate study (the scenes the others are built on).
   int studies = 0;
-  for (const auto& entry : std::filesystem::recursive_directory_iterator(kStudies)) {
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(kStudiesDir)) {
     if (entry.path().extension() != ".json") continue;
     const Json doc = Json::parse(std::ifstream(entry.path()), nullptr, false);
     if (doc.is_discarded() || !doc.is_object() || !doc.contains("mechanism") || doc.contains("extends") ||
@@ -90,7 +89,7 @@ TEST(ContactEvents, EveryStudyRunCountsOnlyImpacts) {
 TEST(ContactEvents, AnArmSettlingThroughManyImpactsCountsOnlyImpacts) {
   // A packaging arm on a weak spring at 850 rpm: it leaves the cam on the
   // return and comes back through a long sequence of ever smaller impacts.
-  const std::string file = kStudies + "/followers/oscillating_roller.json";
+  const std::string file = kStudiesDir + "/followers/oscillating_roller.json";
   const SceneConfig scene = load_scene(
       file,
       {"mechanism.cam.rpm=850", "mechanism.follower.spring={\"stiffness\": 20, \"preload\": 2}",

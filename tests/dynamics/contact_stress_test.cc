@@ -12,13 +12,13 @@
 #include <numbers>
 #include <string>
 
+#include "common/constants.h"
 #include "common/errors.h"
 #include "scenes.h"
 
 namespace camdyn {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 constexpr double kE = 210e9, kNu = 0.3, kWidth = 0.012;  // steel on steel, 12 mm wide [Pa, -, m]
 // The independent 0.005° grid misses a peak by ½ |p''/p| Δθ² (Δθ² ≈ 8e-9 rad²,
 // |p''/p| below 100 /rad² here); golden section finds it to ~1e-10.

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "common/constants.h"
 #include "common/errors.h"
 #include "contact/profile_pair_tracking.h"
 #include "dynamics/rigid_jump_speed.h"
@@ -23,8 +24,6 @@
 
 namespace camdyn {
 namespace {
-
-constexpr double kTwoPi = 2 * std::numbers::pi;
 
 constexpr double kDiscRadius = 0.03, kEccentricity = 0.004;  // test::use_eccentric_disc_contour's
 

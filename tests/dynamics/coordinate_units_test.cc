@@ -14,8 +14,8 @@ namespace camdyn {
 namespace {
 
 /// The test cams' lift: 20 mm, or 12° for an arm (tests/dynamics/scenes.h).
-constexpr double kLift = 0.02;                                // [m]
-constexpr double kArmLift = 12.0 * std::numbers::pi / 180.0;  // [rad]
+constexpr double kUnitsLift = 0.02;                                // [m]
+constexpr double kUnitsArmLift = 12.0 * std::numbers::pi / 180.0;  // [rad]
 /// A lift built from segments is the sum of their rises, exact up to rounding.
 constexpr double kLiftRounding = 1e-14;
 
@@ -30,7 +30,7 @@ TEST(CoordinateUnits, TranslatingFollowerIsInMetresAndNewtons) {
   EXPECT_STREQ(u.position_name, "follower position");
   EXPECT_EQ(u.per_cam_radian(3, true), "m/rad^3");
   EXPECT_EQ(u.per_cam_radian(2), "m/rad²");
-  EXPECT_NEAR(coordinate_lift(model), kLift, kLiftRounding);
+  EXPECT_NEAR(coordinate_lift(model), kUnitsLift, kLiftRounding);
 }
 
 TEST(CoordinateUnits, OscillatingArmIsInRadiansAndNewtonMetres) {
@@ -44,7 +44,7 @@ TEST(CoordinateUnits, OscillatingArmIsInRadiansAndNewtonMetres) {
   EXPECT_STREQ(u.position_name, "arm angle");
   EXPECT_EQ(u.per_cam_radian(3, true), "rad/rad^3");
   // The lift is the arm's rotation in rad, not the arc its roller travels.
-  EXPECT_NEAR(coordinate_lift(model), kArmLift, kLiftRounding);
+  EXPECT_NEAR(coordinate_lift(model), kUnitsArmLift, kLiftRounding);
 }
 
 TEST(CoordinateUnits, SceneAndModelAgree) {

@@ -12,6 +12,7 @@
 #include <sstream>
 #include <string>
 
+#include "common/constants.h"
 #include "dynamics/rigid_jump_speed.h"
 #include "dynamics/simulation.h"
 #include "geometry/motion_law.h"
@@ -20,8 +21,6 @@
 
 namespace camdyn {
 namespace {
-
-constexpr double kTwoPi = 2 * std::numbers::pi;
 
 using test::Rigid;
 

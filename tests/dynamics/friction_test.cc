@@ -8,6 +8,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "common/constants.h"
 #include "dynamics/simulation.h"
 #include "geometry/motion_law.h"
 #include "rigid_follower.h"
@@ -16,8 +17,6 @@
 
 namespace camdyn {
 namespace {
-
-constexpr double kTwoPi = 2 * std::numbers::pi;
 
 TEST(Friction, FlatFaceSlipIsTheCamSurfaceSpeedAndFrictionIsMuTimesNormalForce) {
   // A translating flat face touches the cam at its support point, height

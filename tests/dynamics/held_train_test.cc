@@ -12,6 +12,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "common/constants.h"
 #include "dynamics/model.h"
 #include "dynamics/train_jump_speed.h"
 #include "linear_train_case.h"
@@ -19,11 +20,10 @@
 namespace camdyn {
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
-constexpr int kAngles = 512;
+constexpr int kGridAngles = 512;
 
 GridSignal law_signal(const Model& model) {
-  return grid_signal([&](double theta) { return model.law->eval(theta); }, kAngles);
+  return grid_signal([&](double theta) { return model.law->eval(theta); }, kGridAngles);
 }
 
 // Its contact held as a stiff spring (1e8 N/m), one mass follows the rigid
@@ -38,8 +38,8 @@ TEST(HeldTrain, OneMassIsTheRigidModelForce) {
   const double omega = 150.0;  // [rad/s]
   const std::vector<Eigen::VectorXd> values = held_train_values(held, law_signal(model), omega);
   const FollowerConfig& f = c.scene.mechanism.follower;
-  for (int i = 0; i < kAngles; i += 7) {
-    const LawSample s = model.law->eval(kTwoPi * i / kAngles);
+  for (int i = 0; i < kGridAngles; i += 7) {
+    const LawSample s = model.law->eval(kTwoPi * i / kGridAngles);
     const double rigid = f.mass * omega * omega * s.d2s + f.damping * omega * s.ds + f.spring.stiffness * s.s +
                          f.spring.preload + model.forces.weight(model.mass);
     EXPECT_NEAR(values[0][i], rigid, 1e-3 * std::abs(f.spring.preload));
@@ -94,7 +94,7 @@ INSTANTIATE_TEST_SUITE_P(Chains, HeldTrainHarmonic,
 TEST(HeldTrain, HarmonicsConvergeToTheStatedTolerance) {
   const test::LinearTrainCase c = test::linear_train_case(2, false, 8);
   const Model model = build_model(c.scene, "test");
-  HeldTrainResponse response(held_train(model), {law_signal(model)}, kAngles, 1e-6);
+  HeldTrainResponse response(held_train(model), {law_signal(model)}, kGridAngles, 1e-6);
   const SpeedResponse& r = response.at(300.0);
   EXPECT_LE(r.truncation, 1e-6);
   EXPECT_GE(r.harmonics, 16);

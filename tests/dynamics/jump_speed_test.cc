@@ -12,12 +12,11 @@
 #include "dynamics/model.h"
 #include "dynamics/rigid_jump_speed.h"
 #include "io/config.h"
+#include "study_paths.h"
 #include "tolerance.h"
 
 namespace camdyn {
 namespace {
-
-const std::string kQuickstart = std::string(CAMDYN_SOURCE_DIR) + "/studies/quickstart.json";
 
 // min over θ (on a fine grid) of the positive root of m s'' ω² + c s' ω + hold = 0 [rpm].
 double closed_form_rpm(const Model& model) {

@@ -16,6 +16,7 @@
 #include <utility>
 #include <vector>
 
+#include "common/constants.h"
 #include "linear_train_reference.h"
 #include "tests/geometry/law_checks.h"
 #include "tolerance.h"
@@ -24,7 +25,6 @@ namespace camdyn {
 namespace {
 
 using Complex = std::complex<double>;
-constexpr double kPi = std::numbers::pi;
 
 /// A response solved two ways (a linear solve each, extremes refined to round-off): relative to the force.
 constexpr double kSameResponse = test::kAmplifiedRoundoff;

@@ -11,6 +11,7 @@
 #include <numbers>
 #include <optional>
 
+#include "common/constants.h"
 #include "dynamics/model.h"
 #include "dynamics/rigid_jump_speed.h"
 #include "scenes.h"
@@ -19,18 +20,17 @@
 namespace camdyn {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-constexpr double kLift = 0.02;  // h [m]
-constexpr double kMass = 0.3;   // M [kg]
-constexpr double kRate = 5000;  // k [N/m]
-constexpr double kPmin = 50.0;  // P_min [N]
-constexpr double kOmega = 150;  // ω [rad/s] (1432 rpm)
+constexpr double kSizingLift = 0.02;  // h [m]
+constexpr double kMass = 0.3;         // M [kg]
+constexpr double kRate = 5000;        // k [N/m]
+constexpr double kPmin = 50.0;        // P_min [N]
+constexpr double kOmega = 150;        // ω [rad/s] (1432 rpm)
 
 MotionLaw law_of(SegmentLaw law, double rise_end_deg, double return_start_deg, double return_end_deg) {
   MotionLawConfig c;
-  c.segments = {{SegmentType::rise, law, rise_end_deg, kLift, std::nullopt, 5, {}},
+  c.segments = {{SegmentType::rise, law, rise_end_deg, kSizingLift, std::nullopt, 5, {}},
                 {SegmentType::dwell, SegmentLaw::none, return_start_deg, std::nullopt, std::nullopt, 5, {}},
-                {SegmentType::return_, law, return_end_deg, kLift, std::nullopt, 5, {}},
+                {SegmentType::return_, law, return_end_deg, kSizingLift, std::nullopt, 5, {}},
                 {SegmentType::dwell, SegmentLaw::none, 360.0, std::nullopt, std::nullopt, 5, {}}};
   return build_motion_law(c, "test.json");
 }
@@ -53,9 +53,9 @@ double cycloidal_preload_reference(double beta, double omega) {
   for (int i = 0; i <= kGrid; ++i) {
     const double x = static_cast<double>(i) / kGrid;
     for (const double sign : {1.0, -1.0}) {  // rise, and the return as its mirror
-      const double s = sign > 0 ? kLift * (x - std::sin(2 * kPi * x) / (2 * kPi))
-                                : kLift * (1 - x + std::sin(2 * kPi * x) / (2 * kPi));
-      const double d2s = sign * kLift * 2 * kPi / (beta * beta) * std::sin(2 * kPi * x);
+      const double s = sign > 0 ? kSizingLift * (x - std::sin(2 * kPi * x) / (2 * kPi))
+                                : kSizingLift * (1 - x + std::sin(2 * kPi * x) / (2 * kPi));
+      const double d2s = sign * kSizingLift * 2 * kPi / (beta * beta) * std::sin(2 * kPi * x);
       best = std::max(best, -kMass * omega * omega * d2s - kRate * s);
     }
   }
@@ -81,13 +81,13 @@ TEST(SpringSizing, HarmonicPreloadAndRateMatchTheirClosedForms) {
   const double inertia = kMass * kOmega * kOmega * kPi * kPi / (2 * beta * beta);  // [N/m]
   ASSERT_GT(inertia, kRate);  // the spring alone does not hold the follower
   const SpringSizing s = size_spring(law, undamped_load(kRate), kOmega);
-  const double expected = kPmin + kLift * (inertia - kRate);
+  const double expected = kPmin + kSizingLift * (inertia - kRate);
   EXPECT_NEAR(s.required_preload, expected, test::kConverged * expected);
   EXPECT_NEAR(s.preload_at_deg, 120.0, 1e-6);
   // With F₀ ≥ P_min the rate is set at the top: k h + F₀ = P_min + inertia h.
   const double preload = 80.0;
   const SpringSizing r = size_spring(law, undamped_load(kRate, preload), kOmega);
-  const double rate = inertia + (kPmin - preload) / kLift;
+  const double rate = inertia + (kPmin - preload) / kSizingLift;
   EXPECT_NEAR(r.required_stiffness, rate, test::kConverged * rate);
   // Below the speed where the spring holds it, P_min alone is needed (the dwells).
   const SpringSizing slow = size_spring(law, undamped_load(kRate), 0.5 * kOmega * std::sqrt(kRate / inertia));

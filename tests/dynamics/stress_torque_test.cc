@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "allocation_counter.h"
+#include "common/constants.h"
 #include "contact/hertz_pressure.h"
 #include "dynamics/contact_stress.h"
 #include "dynamics/simulation.h"
@@ -21,7 +22,6 @@
 namespace camdyn {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 constexpr double kE = 210e9, kNu = 0.3, kWidth = 0.012;  // steel on steel, 12 mm wide [Pa, -, m]
 const double kEStar = 1.0 / (2.0 * (1.0 - kNu * kNu) / kE);
 

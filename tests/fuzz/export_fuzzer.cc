@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "common/constants.h"
 #include "dynamics/model.h"
 #include "fuzz_support.h"
 #include "io/config.h"
@@ -25,6 +26,8 @@
 #include "scene/scene.h"
 
 namespace {
+
+using camdyn::kTwoPi;
 
 // Relative to the source tree (CAMDYN_SOURCE_DIR).
 // Not the contour cam (studies/contour_cam): each of its profile points is a
@@ -35,7 +38,6 @@ constexpr const char* kStudies[] = {
     "studies/followers/oscillating_roller.json", "studies/followers/oscillating_flat.json"};
 
 constexpr double kOneDegree = 0.017453292519943295;  // [rad]
-constexpr double kTwoPi = 6.283185307179586;
 // Valid counts (points, lift-table rows) stay below this: the 1,000,000
 // allowed take seconds under ASan, past libFuzzer's -timeout on a busy
 // machine. Counts past the limit are still fuzzed: they must be refused.

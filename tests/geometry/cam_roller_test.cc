@@ -7,6 +7,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "common/constants.h"
 #include "law_checks.h"
 #include "tolerance.h"
 
@@ -17,8 +18,6 @@ using test::dwell;
 using test::kDeg;
 using test::segment;
 using test::segments;
-
-constexpr double kTwoPi = 2 * std::numbers::pi;
 
 MotionLaw standard_law() {
   return test::build(segments({segment("rise", "cycloidal", 120, 0.02), dwell(180),

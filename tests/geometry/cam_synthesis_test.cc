@@ -12,6 +12,7 @@
 #include <string>
 
 #include "allocation_counter.h"
+#include "common/constants.h"
 #include "common/errors.h"
 #include "law_checks.h"
 #include "tolerance.h"
@@ -23,8 +24,6 @@ using test::dwell;
 using test::kDeg;
 using test::segment;
 using test::segments;
-
-constexpr double kTwoPi = 2 * std::numbers::pi;
 
 std::shared_ptr<const MotionLaw> law_of(double lift, double rise_end = 120, double dwell_end = 180,
                                         double return_end = 300) {

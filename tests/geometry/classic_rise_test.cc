@@ -6,6 +6,7 @@
 #include <numbers>
 #include <string>
 
+#include "common/constants.h"
 #include "finite_difference.h"
 #include "geometry/motion_law.h"
 #include "law_checks.h"
@@ -13,8 +14,6 @@
 
 namespace camdyn {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 struct ClassicCase {
   std::string name;

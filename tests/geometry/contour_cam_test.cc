@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "allocation_counter.h"
+#include "common/constants.h"
 #include "common/errors.h"
 #include "finite_difference.h"
 #include "geometry/cam_roller.h"
@@ -26,8 +27,6 @@
 namespace camdyn {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-constexpr double kTwoPi = 2 * std::numbers::pi;
 const std::string kFile = "scene.json";
 const std::string kPath = "mechanism.cam.motion_law.contour";
 const std::string kPoints = "mechanism.cam.motion_law.contour.points";

@@ -8,6 +8,7 @@
 #include <limits>
 #include <numbers>
 
+#include "common/constants.h"
 #include "law_checks.h"
 #include "tolerance.h"
 
@@ -21,7 +22,6 @@ using test::kLawPath;
 using test::segment;
 using test::segments;
 
-constexpr double kTwoPi = 2 * std::numbers::pi;
 const std::string kSegs = kLawPath + ".segments";
 
 /// Rise 0–120°, dwell to 180°, return 180–300°, dwell to 360° with one law.

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "common/constants.h"
 #include "geometry/motion_law.h"
 #include "io/config.h"
 #include "law_checks.h"
@@ -23,8 +24,6 @@ namespace camdyn {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kPi = std::numbers::pi;
-constexpr double kTwoPi = 2 * std::numbers::pi;
 
 const fs::path kProfiles = fs::path(CAMDYN_SOURCE_DIR) / "profiles";
 

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <numbers>
 
+#include "common/constants.h"
 #include "io/config.h"  // load_table_rows
 #include "law_checks.h"
 #include "tolerance.h"
@@ -21,8 +22,6 @@ using test::kDeg;
 using test::kLawPath;
 using test::segment;
 using test::segments;
-
-constexpr double kTwoPi = 2 * std::numbers::pi;
 
 SegmentConfig spline(const std::string& type, double end_deg, double lift, std::vector<double> control_points,
                      int degree = 5) {

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "common/constants.h"
 #include "common/errors.h"
 #include "geometry/bspline.h"
 #include "geometry/motion_law.h"
@@ -16,8 +17,6 @@
 
 namespace camdyn {
 namespace {
-
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 /// A smooth periodic lift [m] of θ [rad] and its first two derivatives.
 struct Source {

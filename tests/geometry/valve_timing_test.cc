@@ -8,6 +8,7 @@
 #include <numbers>
 #include <vector>
 
+#include "common/constants.h"
 #include "law_checks.h"
 
 namespace camdyn {
@@ -19,7 +20,6 @@ using test::kDeg;
 using test::segment;
 using test::segments;
 
-constexpr double kPi = std::numbers::pi;
 // Crossings are bisected on the law to adjacent doubles; the law's own
 // rounding (|s| ≈ 1e-2 m, slope ≥ 1e-5 m/rad near the crossings tested) moves them by < 1e-12 rad.
 constexpr double kCrossing = 1e-10;  // [rad]

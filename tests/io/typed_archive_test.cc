@@ -14,13 +14,13 @@
 #include "common/errors.h"
 #include "input_error_of.h"
 #include "io/config.h"
+#include "study_paths.h"
 
 namespace camdyn {
 namespace {
 
 using test::input_error_of;
 
-const std::string kQuickstart = std::string(CAMDYN_SOURCE_DIR) + "/studies/quickstart.json";
 const std::string kOscillating = std::string(CAMDYN_SOURCE_DIR) + "/studies/followers/oscillating_roller.json";
 const std::string kShaftDrive = std::string(CAMDYN_SOURCE_DIR) + "/studies/followers/shaft_drive.json";
 

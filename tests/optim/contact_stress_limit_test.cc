@@ -20,18 +20,19 @@
 #include "optim/optimize/design.h"
 #include "optim/optimize/optimize.h"
 #include "optim/optimize/rigid_design.h"
+#include "study_paths.h"
 
 namespace camdyn::optim {
 namespace {
 
-const std::string kFile = std::string(CAMDYN_SOURCE_DIR) + "/studies/optimize_jump.json";
 const std::string kSteel =
     "mechanism.contact.stiffness={\"from_materials\": {\"E1\": 2.1e11, \"nu1\": 0.3, \"E2\": 2.1e11, \"nu2\": 0.3, "
     "\"width\": 0.012}}";
 
 OptimizeStudy study(std::vector<std::string> overrides) {
   overrides.insert(overrides.begin(), {kSteel, "mechanism.contact.exponent=1", "objective={\"separation\": 1}"});
-  return read_optimize_study(load_config_json(kFile, overrides), ConfigSource{kFile, CAMDYN_SOURCE_DIR "/studies"});
+  return read_optimize_study(load_config_json(kOptimizeJump, overrides),
+                             ConfigSource{kOptimizeJump, CAMDYN_SOURCE_DIR "/studies"});
 }
 
 /// The highest rigid-model pressure of design x over the study's operating speeds [Pa].
@@ -78,7 +79,7 @@ TEST(ContactStressLimit, OptimizedConfigCarriesTheLimitAndValidateChecksIt) {
                                          "--set", "objective={\"separation\":1}",
                                          "--set", "constraints.max_contact_stress=" + limit_text,
                                          "--set", "optimizer.max_evaluations=12"};
-  std::vector<std::string> args = {"run", kFile, "--out", (dir / "out").string(), "--jobs", "2", "--quiet"};
+  std::vector<std::string> args = {"run", kOptimizeJump, "--out", (dir / "out").string(), "--jobs", "2", "--quiet"};
   args.insert(args.end(), sets.begin(), sets.end());
   const test::Outcome run = test::run_camdyn(args, dir);
   ASSERT_EQ(run.code, 0) << run.err;
@@ -99,7 +100,7 @@ TEST(ContactStressLimit, OptimizedConfigCarriesTheLimitAndValidateChecksIt) {
 }
 
 TEST(ContactStressLimit, NeedsLineContactMaterials) {
-  const std::string file = kFile;
+  const std::string file = kOptimizeJump;
   const OptimizeStudy s = read_optimize_study(load_config_json(file, {"constraints.max_contact_stress=1e9"}),
                                               ConfigSource{file, CAMDYN_SOURCE_DIR "/studies"});
   try {

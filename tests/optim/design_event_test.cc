@@ -15,15 +15,16 @@
 #include "io/json_archive.h"
 #include "optim/optimize/design.h"
 #include "optim/optimize/optimize.h"
+#include "study_paths.h"
 
 namespace camdyn::optim {
 namespace {
 
 constexpr double kRad = std::numbers::pi / 180.0;
-const std::string kFile = std::string(CAMDYN_SOURCE_DIR) + "/studies/optimize_jump.json";
 
 OptimizeStudy jump_study(std::vector<std::string> overrides) {
-  return read_optimize_study(load_config_json(kFile, overrides), ConfigSource{kFile, CAMDYN_SOURCE_DIR "/studies"});
+  return read_optimize_study(load_config_json(kOptimizeJump, overrides),
+                             ConfigSource{kOptimizeJump, CAMDYN_SOURCE_DIR "/studies"});
 }
 
 // optimize_jump.json's baseline: 3-4-5 rise 0-120, dwell, return 180-300,
@@ -32,15 +33,15 @@ TEST(DesignEvent, StartsFromTheBaselineAndKeepsTheRestBitForBit) {
   const OptimizeStudy s =
       jump_study({"design={\"event\": {\"from_deg\": 0, \"to_deg\": 300}, \"control_points\": 30, "
                   "\"degree\": 5, \"monotone\": false}"});
-  const DesignSpace space(s.baseline, s.config.design, kFile);
+  const DesignSpace space(s.baseline, s.config.design, kOptimizeJump);
   ASSERT_TRUE(space.is_event());
   EXPECT_EQ(space.dimension(), 30);
   // A 30-point quintic follows the 3-4-5 lobe (and its dwell) to well under
   // 1 % of the lift; its acceleration, which jumps in s''' at the segment
   // ends, to a few percent.
   EXPECT_LT(space.fit_quality().max_lift_error, 1e-2);
-  const MotionLaw base = build_motion_law(s.baseline.mechanism.cam.motion_law, kFile);
-  const MotionLaw start = build_motion_law(space.scene(space.initial()).mechanism.cam.motion_law, kFile);
+  const MotionLaw base = build_motion_law(s.baseline.mechanism.cam.motion_law, kOptimizeJump);
+  const MotionLaw start = build_motion_law(space.scene(space.initial()).mechanism.cam.motion_law, kOptimizeJump);
   for (int i = 0; i < 6000; ++i) {
     const double theta = (300.0 + 0.01 * i) * kRad;
     ASSERT_EQ(base.eval(theta).s, start.eval(theta).s);
@@ -56,10 +57,10 @@ TEST(DesignEvent, HasAFreeNoseWhereARiseRunsIntoTheReturn) {
   const OptimizeStudy s =
       jump_study({"design={\"event\": {\"from_deg\": 0, \"to_deg\": 300}, \"control_points\": 8, "
                   "\"degree\": 5, \"monotone\": false}"});
-  const DesignSpace space(s.baseline, s.config.design, kFile);
+  const DesignSpace space(s.baseline, s.config.design, kOptimizeJump);
   std::vector<double> c;
   for (int j = 0; j < 8; ++j) c.push_back(std::sin(std::numbers::pi * (j + 1) / 9.0));
-  const MotionLaw law = build_motion_law(space.scene_with_control_points(c).mechanism.cam.motion_law, kFile);
+  const MotionLaw law = build_motion_law(space.scene_with_control_points(c).mechanism.cam.motion_law, kOptimizeJump);
   double top = 0.0, top_theta = 0.0;
   for (int i = 0; i <= 3000; ++i) {
     const double theta = 0.1 * i * kRad;

@@ -24,7 +24,7 @@ namespace {
 const std::string kCamRig = std::string(CAMDYN_SOURCE_DIR) + "/studies/identify_cam_rig/identify_cam_rig.json";
 const std::string kDrop = std::string(CAMDYN_SOURCE_DIR) + "/studies/identify_drop/identify_drop.json";
 
-IdentifyProblem load(const std::string& file, const std::vector<std::string>& overrides = {}) {
+IdentifyProblem load_fit_problem(const std::string& file, const std::vector<std::string>& overrides = {}) {
   return load_identify_problem(load_config_json(file, overrides), config_source(file));
 }
 
@@ -41,7 +41,7 @@ std::vector<std::vector<double>> trial_values(const IdentifyProblem& problem) {
 
 TEST(FitScene, ValuesSetInPlaceGiveTheRunsOfTheRebuiltSceneBitForBit) {
   for (const std::string& file : {kCamRig, kDrop}) {
-    const IdentifyProblem problem = load(file);
+    const IdentifyProblem problem = load_fit_problem(file);
     for (const FitExperiment& e : problem.experiments) {
       FitScene scene(e, problem.parameters, problem.source);
       FitScene rebuilt(e, problem.parameters, problem.source, /*from_json=*/true);
@@ -64,7 +64,7 @@ TEST(FitScene, ValuesSetInPlaceGiveTheRunsOfTheRebuiltSceneBitForBit) {
 }
 
 TEST(FitScene, ParameterBlockPathsAreBoundToTypedFieldsOthersFallBack) {
-  SceneConfig scene = load(kCamRig).experiments[0].scene;
+  SceneConfig scene = load_fit_problem(kCamRig).experiments[0].scene;
   for (const char* path : {"mechanism.contact.stiffness", "mechanism.contact.restitution", "mechanism.contact.exponent",
                            "mechanism.follower.damping", "mechanism.follower.spring.stiffness",
                            "mechanism.follower.mass", "mechanism.contact.friction.mu"}) {
@@ -79,7 +79,8 @@ TEST(FitScene, ParameterBlockPathsAreBoundToTypedFieldsOthersFallBack) {
 }
 
 TEST(FitScene, GeometryIsRebuiltFromTheTypedSceneAndOtherPathsFromJson) {
-  const IdentifyProblem geometry = load(kCamRig, {"parameters.cam.base_radius={\"lower\": 0.035, \"upper\": 0.045}"});
+  const IdentifyProblem geometry =
+      load_fit_problem(kCamRig, {"parameters.cam.base_radius={\"lower\": 0.035, \"upper\": 0.045}"});
   FitScene typed(geometry.experiments[0], geometry.parameters, geometry.source);
   std::vector<double> values{1e10, 15.0, 0.04};  // unchanged: nothing is rebuilt
   typed.set(values);
@@ -101,7 +102,7 @@ TEST(FitScene, GeometryIsRebuiltFromTheTypedSceneAndOtherPathsFromJson) {
 }
 
 TEST(FitScene, SettingParametersAndAssemblingResidualsAllocatesNothing) {
-  const IdentifyProblem problem = load(kCamRig);
+  const IdentifyProblem problem = load_fit_problem(kCamRig);
   std::vector<FitScene> scenes;
   scenes.reserve(problem.experiments.size());
   std::vector<FitRun> runs;

@@ -19,16 +19,14 @@
 #include "io/config.h"
 #include "optim/identify/identify.h"
 #include "optim/identify/identify_journal.h"
+#include "study_paths.h"
 
 namespace camdyn::optim {
 namespace {
 
 namespace fs = std::filesystem;
 
-const std::string kData = std::string(CAMDYN_TEST_DATA_DIR) + "/identify/";
-const std::string kDropStudy = std::string(CAMDYN_SOURCE_DIR) + "/studies/identify_drop/";
-
-IdentifyProblem load(const std::string& file, const std::vector<std::string>& overrides = {}) {
+IdentifyProblem load_resumed(const std::string& file, const std::vector<std::string>& overrides = {}) {
   const Json doc = load_config_json(file, overrides);
   return load_identify_problem(doc, config_source(file));
 }
@@ -81,10 +79,11 @@ class IdentifyResume : public ::testing::Test {
   void SetUp() override {
     dir_ = test::scratch_dir("identify_resume", ::testing::UnitTest::GetInstance()->current_test_info()->name());
     write_clean_record(dir_ / "clean.csv");
-    problem_ = load(kData + "single.json", {"reference.file=" + (dir_ / "clean.csv").string(),
-                                            "parameters.contact.exponent={\"initial\": 1.5, \"lower\": 1.0, "
-                                            "\"upper\": 2.5}",
-                                            "solver.smoothing=[2e-5]"});
+    problem_ =
+        load_resumed(kIdentifyData + "single.json", {"reference.file=" + (dir_ / "clean.csv").string(),
+                                                     "parameters.contact.exponent={\"initial\": 1.5, \"lower\": 1.0, "
+                                                     "\"upper\": 2.5}",
+                                                     "solver.smoothing=[2e-5]"});
   }
   void TearDown() override { fs::remove_all(dir_); }
 
@@ -144,8 +143,8 @@ TEST_F(IdentifyResume, RunCutAnywhereResumesToTheUninterruptedFitToTheBit) {
 
 TEST_F(IdentifyResume, JournalOfAChangedStudyIsRefused) {
   fit(dir_ / "full");
-  const IdentifyProblem changed =
-      load(kData + "single.json", {"reference.file=" + (dir_ / "clean.csv").string(), "solver.smoothing=[3e-5]"});
+  const IdentifyProblem changed = load_resumed(
+      kIdentifyData + "single.json", {"reference.file=" + (dir_ / "clean.csv").string(), "solver.smoothing=[3e-5]"});
   const InputError e = test::input_error_of([&] { const IdentifyJournal journal(dir_ / "full", changed); });
   EXPECT_EQ(e.path(), "hash");
   EXPECT_NE(e.reason().find("different identify study"), std::string::npos) << e.reason();
@@ -153,17 +152,19 @@ TEST_F(IdentifyResume, JournalOfAChangedStudyIsRefused) {
 
 TEST_F(IdentifyResume, ChangedRecordChangesTheFingerprint) {
   std::ofstream(dir_ / "clean.csv", std::ios::app) << "6e-4,0\n";
-  const IdentifyProblem changed = load(kData + "single.json", {"reference.file=" + (dir_ / "clean.csv").string(),
-                                                               "parameters.contact.exponent={\"initial\": 1.5, "
-                                                               "\"lower\": 1.0, \"upper\": 2.5}",
-                                                               "solver.smoothing=[2e-5]"});
+  const IdentifyProblem changed =
+      load_resumed(kIdentifyData + "single.json", {"reference.file=" + (dir_ / "clean.csv").string(),
+                                                   "parameters.contact.exponent={\"initial\": 1.5, "
+                                                   "\"lower\": 1.0, \"upper\": 2.5}",
+                                                   "solver.smoothing=[2e-5]"});
   EXPECT_NE(changed.fingerprint, problem_.fingerprint);
-  EXPECT_EQ(load(kData + "single.json", {"reference.file=" + (dir_ / "clean.csv").string(),
-                                         "parameters.contact.exponent={\"initial\": 1.5, \"lower\": 1.0, "
-                                         "\"upper\": 2.5}",
-                                         "solver.smoothing=[2e-5]"})
-                .fingerprint,
-            changed.fingerprint);
+  EXPECT_EQ(
+      load_resumed(kIdentifyData + "single.json", {"reference.file=" + (dir_ / "clean.csv").string(),
+                                                   "parameters.contact.exponent={\"initial\": 1.5, \"lower\": 1.0, "
+                                                   "\"upper\": 2.5}",
+                                                   "solver.smoothing=[2e-5]"})
+          .fingerprint,
+      changed.fingerprint);
 }
 
 // Issue 19 item 7: a record of 10 million samples validated in 2 s, then the
@@ -183,8 +184,8 @@ TEST(IdentifyRecordSize, TenMillionSamplesAreRefusedBeforeTheyAreRead) {
     }();
     for (int i = 0; i < 100; ++i) out << rows;
   }
-  const InputError e =
-      test::input_error_of([&] { load(kData + "single.json", {"reference.file=" + (dir / "big.csv").string()}); });
+  const InputError e = test::input_error_of(
+      [&] { load_resumed(kIdentifyData + "single.json", {"reference.file=" + (dir / "big.csv").string()}); });
   EXPECT_EQ(e.path(), "reference.file");
   EXPECT_NE(e.reason().find("10000000 samples"), std::string::npos) << e.reason();
   EXPECT_NE(e.reason().find("solver.max_measured_values = 500000"), std::string::npos) << e.reason();
@@ -194,11 +195,11 @@ TEST(IdentifyRecordSize, TenMillionSamplesAreRefusedBeforeTheyAreRead) {
 
 TEST(IdentifyRecordSize, LimitCountsEveryExperimentAndNamesTheOneOverIt) {
   // identify_drop: four records of 800 samples; the limit falls in the third.
-  const InputError e =
-      test::input_error_of([] { load(kDropStudy + "identify_drop.json", {"solver.max_measured_values=2000"}); });
+  const InputError e = test::input_error_of(
+      [] { load_resumed(kDropStudy + "identify_drop.json", {"solver.max_measured_values=2000"}); });
   EXPECT_EQ(e.path(), "experiments[2].reference.file");
   EXPECT_NE(e.reason().find("2400 measured values in all"), std::string::npos) << e.reason();
-  EXPECT_NO_THROW(load(kDropStudy + "identify_drop.json", {"solver.max_measured_values=3201"}));
+  EXPECT_NO_THROW(load_resumed(kDropStudy + "identify_drop.json", {"solver.max_measured_values=3201"}));
 }
 
 }  // namespace

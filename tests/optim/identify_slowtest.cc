@@ -10,12 +10,11 @@
 
 #include "io/config.h"
 #include "optim/identify/identify.h"
+#include "study_paths.h"
 #include "tolerance.h"
 
 namespace camdyn::optim {
 namespace {
-
-const std::string kStudies = std::string(CAMDYN_SOURCE_DIR) + "/studies/";
 
 IdentifyResult fit(const std::string& file, const std::vector<std::string>& overrides = {}) {
   const Json doc = load_config_json(file, overrides);

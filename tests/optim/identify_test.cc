@@ -25,6 +25,7 @@
 #include "io/csv_reader.h"
 #include "io/json_archive.h"
 #include "optim/identify/identify_output.h"
+#include "study_paths.h"
 #include "tolerance.h"
 
 namespace camdyn::optim {
@@ -32,15 +33,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const std::string kData = std::string(CAMDYN_TEST_DATA_DIR) + "/identify/";
-const std::string kDropStudy = std::string(CAMDYN_SOURCE_DIR) + "/studies/identify_drop/";
-
 // The truth generate.py simulated the drop records with.
 constexpr double kTrueStiffness = 2.5e9;  // [N/m^n]
 constexpr double kTrueExponent = 1.45;
 constexpr double kTrueRestitution = 0.7;
 
-IdentifyProblem load(const std::string& file, const std::vector<std::string>& overrides = {}) {
+IdentifyProblem load_problem(const std::string& file, const std::vector<std::string>& overrides = {}) {
   const Json doc = load_config_json(file, overrides);
   return load_identify_problem(doc, config_source(file));
 }
@@ -89,63 +87,68 @@ void write_clean_record(const SceneConfig& truth, const fs::path& file, double s
 // ---------------------------------------------------------------- config
 
 TEST(IdentifyConfig, UnknownSolverKeyIsSuggested) {
-  const InputError e = test::input_error_of([] { load(kData + "single.json", {"solver.max_iteration=5"}); });
+  const InputError e =
+      test::input_error_of([] { load_problem(kIdentifyData + "single.json", {"solver.max_iteration=5"}); });
   EXPECT_EQ(e.path(), "solver.max_iteration");
   EXPECT_NE(e.reason().find("did you mean 'max_iterations'"), std::string::npos) << e.what();
 }
 
 TEST(IdentifyConfig, MisspeltStudyKeyIsSuggested) {
-  const InputError e = test::input_error_of([] { load(kData + "single.json", {"experiment=[]"}); });
+  const InputError e = test::input_error_of([] { load_problem(kIdentifyData + "single.json", {"experiment=[]"}); });
   EXPECT_EQ(e.path(), "experiment");
   EXPECT_NE(e.reason().find("did you mean 'experiments'"), std::string::npos) << e.what();
 }
 
 TEST(IdentifyConfig, ParameterMustBeANumericFieldOfTheScene) {
-  InputError e = test::input_error_of([] { load(kData + "single.json", {"parameters.contact.stifness.initial=1e9"}); });
+  InputError e = test::input_error_of(
+      [] { load_problem(kIdentifyData + "single.json", {"parameters.contact.stifness.initial=1e9"}); });
   EXPECT_EQ(e.path(), "parameters.contact.stifness");
   EXPECT_NE(e.reason().find("did you mean 'stiffness'"), std::string::npos) << e.what();
-  e = test::input_error_of([] { load(kData + "single.json", {"parameters.contact.model.initial=1"}); });
+  e = test::input_error_of([] { load_problem(kIdentifyData + "single.json", {"parameters.contact.model.initial=1"}); });
   EXPECT_NE(e.reason().find("not a numeric field"), std::string::npos) << e.what();
 }
 
 TEST(IdentifyConfig, BoundsAreChecked) {
-  InputError e = test::input_error_of([] { load(kData + "single.json", {"parameters.contact.stiffness.lower=-1"}); });
+  InputError e = test::input_error_of(
+      [] { load_problem(kIdentifyData + "single.json", {"parameters.contact.stiffness.lower=-1"}); });
   EXPECT_EQ(e.path(), "parameters.contact.stiffness.lower");  // log scale needs > 0
-  e = test::input_error_of([] { load(kData + "single.json", {"parameters.contact.stiffness.upper=1e6"}); });
+  e = test::input_error_of(
+      [] { load_problem(kIdentifyData + "single.json", {"parameters.contact.stiffness.upper=1e6"}); });
   EXPECT_EQ(e.path(), "parameters.contact.stiffness.upper");  // below lower
   // A bound the scene itself rejects is caught before the solver can step onto it.
   e = test::input_error_of([] {
-    load(kData + "single.json",
-         {"parameters.contact.restitution.initial=0.5", "parameters.contact.restitution.upper=1.5"});
+    load_problem(kIdentifyData + "single.json",
+                 {"parameters.contact.restitution.initial=0.5", "parameters.contact.restitution.upper=1.5"});
   });
   EXPECT_EQ(e.path(), "parameters.contact.restitution.upper");
   EXPECT_NE(e.reason().find("restitution"), std::string::npos) << e.what();
 }
 
 TEST(IdentifyConfig, ReferenceSignalsAreTimeseriesColumns) {
-  const InputError e =
-      test::input_error_of([] { load(kData + "single.json", {"reference.signals={\"contact_forse\": \"force_N\"}"}); });
+  const InputError e = test::input_error_of(
+      [] { load_problem(kIdentifyData + "single.json", {"reference.signals={\"contact_forse\": \"force_N\"}"}); });
   EXPECT_EQ(e.path(), "reference.signals.contact_forse");
   EXPECT_NE(e.reason().find("did you mean 'contact_force'"), std::string::npos) << e.what();
 }
 
 TEST(IdentifyConfig, ReferenceAndExperimentsExcludeEachOther) {
   const InputError e = test::input_error_of([] {
-    load(kData + "single.json",
-         {"experiments=[{\"reference\": {\"file\": \"good.csv\", \"signals\": {\"contact_force\": \"force_N\"}}}]"});
+    load_problem(
+        kIdentifyData + "single.json",
+        {"experiments=[{\"reference\": {\"file\": \"good.csv\", \"signals\": {\"contact_force\": \"force_N\"}}}]"});
   });
   EXPECT_NE(e.reason().find("exactly one of 'reference'"), std::string::npos) << e.what();
 }
 
 TEST(IdentifyConfig, ExperimentCannotSetASharedParameter) {
   const InputError e = test::input_error_of(
-      [] { load(kDropStudy + "identify_drop.json", {"experiments[0].set.contact.stiffness=1e9"}); });
+      [] { load_problem(kDropStudy + "identify_drop.json", {"experiments[0].set.contact.stiffness=1e9"}); });
   EXPECT_EQ(e.path(), "experiments[0].set.contact.stiffness");
 }
 
 TEST(IdentifyConfig, SetOverridesParameterFieldsByDottedPath) {
   // --set parameters.contact.stiffness.initial=... arrives nested; it refines the entry.
-  const IdentifyProblem p = load(kData + "single.json", {"parameters.contact.stiffness.initial=3e9"});
+  const IdentifyProblem p = load_problem(kIdentifyData + "single.json", {"parameters.contact.stiffness.initial=3e9"});
   ASSERT_EQ(p.parameters.size(), 1u);
   EXPECT_EQ(p.parameters[0].path, "mechanism.contact.stiffness");
   EXPECT_DOUBLE_EQ(p.parameters[0].initial, 3e9);
@@ -154,7 +157,7 @@ TEST(IdentifyConfig, SetOverridesParameterFieldsByDottedPath) {
 }
 
 TEST(IdentifyConfig, ExperimentsGetTheirOwnScenes) {
-  const IdentifyProblem p = load(kDropStudy + "identify_drop.json");
+  const IdentifyProblem p = load_problem(kDropStudy + "identify_drop.json");
   ASSERT_EQ(p.experiments.size(), 4u);
   EXPECT_DOUBLE_EQ(p.experiments[0].scene.mechanism.follower.initial.velocity, -0.313209);
   EXPECT_DOUBLE_EQ(p.experiments[3].scene.mechanism.follower.initial.velocity, -2.50567);
@@ -172,7 +175,8 @@ class IdentifyBadData : public ::testing::TestWithParam<BadRecord> {};
 
 TEST_P(IdentifyBadData, IsAnInputErrorNamingFileAndLine) {
   const BadRecord& bad = GetParam();
-  const InputError e = test::input_error_of([&] { load(kData + "single.json", {"reference.file=" + bad.file}); });
+  const InputError e =
+      test::input_error_of([&] { load_problem(kIdentifyData + "single.json", {"reference.file=" + bad.file}); });
   EXPECT_NE(e.file().find(bad.file), std::string::npos) << e.what();
   EXPECT_EQ(e.path(), bad.where) << e.what();
   EXPECT_NE(e.reason().find(bad.reason), std::string::npos) << e.what();
@@ -192,18 +196,18 @@ INSTANTIATE_TEST_SUITE_P(
 TEST(IdentifyData, BadRecordOnTheCommandLineExitsWithTwoNamingFileAndLine) {
   const fs::path dir = temp_dir("cli_bad");
   std::string err;
-  EXPECT_EQ(
-      run_cli("run " + kData + "single.json --set reference.file=nan.csv --out " + (dir / "out").string(), dir, &err),
-      2);
+  EXPECT_EQ(run_cli("run " + kIdentifyData + "single.json --set reference.file=nan.csv --out " + (dir / "out").string(),
+                    dir, &err),
+            2);
   EXPECT_NE(err.find("nan.csv: line 8"), std::string::npos) << err;
   EXPECT_FALSE(fs::exists(dir / "out" / "identified.json"));
   fs::remove_all(dir);
 }
 
 TEST(IdentifyData, DefaultWeightIsOneOverTheSignalRms) {
-  const IdentifyProblem p = load(kData + "single.json");
+  const IdentifyProblem p = load_problem(kIdentifyData + "single.json");
   const MeasuredRecord& rec = p.experiments[0].record;
-  const CsvColumns csv = read_csv(kData + "good.csv", {"force_N"});
+  const CsvColumns csv = read_csv(kIdentifyData + "good.csv", {"force_N"});
   double sum2 = 0.0;
   for (double f : csv.values[0]) sum2 += f * f;
   EXPECT_NEAR(rec.weights[0], 1.0 / std::sqrt(sum2 / static_cast<double>(csv.rows())), test::kAmplifiedRoundoff);
@@ -232,8 +236,9 @@ TEST(IdentifyFit, NoiseFreeRecordIsRecoveredToTheSolverTolerance) {
   truth.mechanism.contact.exponent = 1.4;
   write_clean_record(truth, dir / "clean.csv");
   const IdentifyProblem p =
-      load(kData + "single.json", {"reference.file=" + (dir / "clean.csv").string(),
-                                   "parameters.contact.exponent={\"initial\": 1.5, \"lower\": 1.0, \"upper\": 2.5}"});
+      load_problem(kIdentifyData + "single.json",
+                   {"reference.file=" + (dir / "clean.csv").string(),
+                    "parameters.contact.exponent={\"initial\": 1.5, \"lower\": 1.0, \"upper\": 2.5}"});
   IdentifyOptions opt;
   opt.threads = 2;
   const IdentifyResult r = identify(p, opt);
@@ -260,8 +265,9 @@ TEST(IdentifyFit, ForwardAndCentralDifferencesLandOnTheSameOptimum) {
   const std::string record = "reference.file=" + (dir / "clean.csv").string();
   IdentifyOptions opt;
   opt.threads = 2;
-  const IdentifyResult forward = identify(load(kData + "single.json", {record}), opt);
-  const IdentifyResult central = identify(load(kData + "single.json", {record, "solver.differences=central"}), opt);
+  const IdentifyResult forward = identify(load_problem(kIdentifyData + "single.json", {record}), opt);
+  const IdentifyResult central =
+      identify(load_problem(kIdentifyData + "single.json", {record, "solver.differences=central"}), opt);
   EXPECT_NEAR(estimate(forward, "contact.stiffness").value / 3e9 - 1.0, 0.0, 1e-4);
   EXPECT_NEAR(estimate(central, "contact.stiffness").value / 3e9 - 1.0, 0.0, 1e-4);
   // The covariance is by central differences in both.
@@ -280,8 +286,8 @@ TEST(IdentifyFit, PointsSimulatedBeforeAreReusedAcrossStages) {
   SceneConfig truth = load_scene(kDropStudy + "rig.json");
   truth.mechanism.contact.stiffness = 3e9;
   write_clean_record(truth, dir / "clean.csv");
-  const IdentifyProblem p =
-      load(kData + "single.json", {"reference.file=" + (dir / "clean.csv").string(), "solver.smoothing=[2e-5]"});
+  const IdentifyProblem p = load_problem(kIdentifyData + "single.json",
+                                         {"reference.file=" + (dir / "clean.csv").string(), "solver.smoothing=[2e-5]"});
   const IdentifyResult r = identify(p, IdentifyOptions{});
   const long points_per_jacobian = 2 * static_cast<long>(p.parameters.size()) + 1;
   EXPECT_GE(r.reused_points, points_per_jacobian);  // at least the second stage's start
@@ -362,9 +368,9 @@ TEST_F(IdentifyDropStudy, ConvergesToTheSameAnswerFromTenfoldStiffnessAndLowRest
   ASSERT_EQ(exit_code_, 0);
   IdentifyOptions opt;
   opt.threads = 2;
-  const IdentifyResult far = identify(load(kDropStudy + "identify_drop.json",
-                                           {"parameters.contact.stiffness.initial=2.5e10",   // 10 × the truth
-                                            "parameters.contact.restitution.initial=0.4"}),  // 0.3 below it
+  const IdentifyResult far = identify(load_problem(kDropStudy + "identify_drop.json",
+                                                   {"parameters.contact.stiffness.initial=2.5e10",   // 10 × the truth
+                                                    "parameters.contact.restitution.initial=0.4"}),  // 0.3 below it
                                       opt);
   for (const char* name : {"contact.stiffness", "contact.exponent", "contact.restitution"}) {
     SCOPED_TRACE(name);
@@ -376,7 +382,7 @@ TEST_F(IdentifyDropStudy, ConvergesToTheSameAnswerFromTenfoldStiffnessAndLowRest
 }
 
 TEST(IdentifyFit, StiffnessAndExponentFromOneCoarseLowSpeedDropAreNotIdentifiable) {
-  const IdentifyResult r = identify(load(kDropStudy + "identify_single_drop.json"), {2, {}});
+  const IdentifyResult r = identify(load_problem(kDropStudy + "identify_single_drop.json"), {2, {}});
   EXPECT_FALSE(r.identifiable);
   const std::string warnings = joined(r.warnings);
   EXPECT_NE(warnings.find("not identifiable"), std::string::npos) << warnings;
@@ -394,10 +400,10 @@ TEST(IdentifyFit, ParameterWithoutEffectIsNotIdentifiableAndHasNoStdError) {
   // The restitution damping uses the approach speed (0.31 m/s), not the
   // 0.01 m/s floor: reference_velocity has no effect on this drop.
   const IdentifyProblem p =
-      load(kData + "single.json",
-           {"reference.file=" + kDropStudy + "drop_h005.csv", "mechanism.follower.initial.velocity=-0.313209",
-            "mechanism.contact.exponent=1.45", "mechanism.contact.restitution=0.7",
-            "parameters.contact.reference_velocity={\"initial\": 0.01, \"lower\": 0.001, \"upper\": 0.1}"});
+      load_problem(kIdentifyData + "single.json",
+                   {"reference.file=" + kDropStudy + "drop_h005.csv", "mechanism.follower.initial.velocity=-0.313209",
+                    "mechanism.contact.exponent=1.45", "mechanism.contact.restitution=0.7",
+                    "parameters.contact.reference_velocity={\"initial\": 0.01, \"lower\": 0.001, \"upper\": 0.1}"});
   const IdentifyResult r = identify(p, {2, {}});
   EXPECT_FALSE(r.identifiable);
   const ParameterEstimate& v = estimate(r, "contact.reference_velocity");
@@ -440,8 +446,8 @@ TEST(IdentifyFit, RobustLossResistsOutliers) {
                                          "mechanism.contact.exponent=1.45", "mechanism.contact.restitution=0.7"};
   std::vector<std::string> robust = base;
   robust.push_back("solver.loss=cauchy");
-  const IdentifyResult plain = identify(load(kData + "single.json", base), {2, {}});
-  const IdentifyResult cauchy = identify(load(kData + "single.json", robust), {2, {}});
+  const IdentifyResult plain = identify(load_problem(kIdentifyData + "single.json", base), {2, {}});
+  const IdentifyResult cauchy = identify(load_problem(kIdentifyData + "single.json", robust), {2, {}});
   const double plain_error = std::abs(estimate(plain, "contact.stiffness").value / kTrueStiffness - 1.0);
   const double cauchy_error = std::abs(estimate(cauchy, "contact.stiffness").value / kTrueStiffness - 1.0);
   EXPECT_LT(cauchy_error, 0.5 * plain_error);
@@ -451,7 +457,7 @@ TEST(IdentifyFit, RobustLossResistsOutliers) {
 }
 
 TEST(IdentifyFit, IntegratorFailureIsANumericalError) {
-  const IdentifyProblem p = load(kData + "single.json", {"integrator.max_steps=20"});
+  const IdentifyProblem p = load_problem(kIdentifyData + "single.json", {"integrator.max_steps=20"});
   EXPECT_THROW(identify(p, {1, {}}), NumericalError);
 }
 

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "common/constants.h"
 #include "geometry/motion_law.h"
 #include "optim/linear_program.h"
 #include "tolerance.h"
@@ -20,7 +21,6 @@
 namespace camdyn::optim {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 constexpr int kGrid = 600;
 // The extremal law has a velocity step at the start and the central
 // differences smear it over one interval: the bound's relative error is

@@ -13,16 +13,15 @@
 #include <string>
 
 #include "cli_run.h"
+#include "common/constants.h"
 #include "common/errors.h"
 #include "io/config.h"
+#include "study_paths.h"
 
 namespace camdyn::optim {
 namespace {
 
 namespace fs = std::filesystem;
-
-constexpr double kPi = std::numbers::pi;
-const std::string kQuickstart = std::string(CAMDYN_SOURCE_DIR) + "/studies/quickstart.json";
 
 TEST(LayoutDesign, SmallestBaseRadiusForAPressureAngleIsTheClosedForm) {
   const SceneConfig scene = load_scene(kQuickstart);

@@ -11,6 +11,7 @@
 #include "dynamics/simulation.h"
 #include "io/config.h"
 #include "optim/optimize/optimize.h"
+#include "study_paths.h"
 
 namespace {
 
@@ -20,7 +21,6 @@ using camdyn::optim::CandidateVerification;
 using camdyn::optim::OptimizeOutcome;
 
 const std::string kForce = std::string(CAMDYN_SOURCE_DIR) + "/studies/optimize_force.json";
-const std::string kQuickstart = std::string(CAMDYN_SOURCE_DIR) + "/studies/quickstart.json";
 
 /// The error a real simulation gives when integrator.max_steps cuts it short.
 std::string step_budget_error() {

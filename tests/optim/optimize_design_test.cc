@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "common/constants.h"
 #include "common/errors.h"
 #include "geometry/motion_law.h"
 #include "io/json_archive.h"
@@ -22,7 +23,6 @@
 namespace camdyn::optim {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 // Sampling 4000 points per piece puts the sample next to any extremum within
 // 1/8000 of the segment: the coefficient is low by at most ~f⁗·h²/8 ≈ 1e-7 relative.
 constexpr double kSampledPeak = 1e-6;

@@ -91,8 +91,8 @@ TEST(Optimize, PeakAccelerationCoefficientBeatsClassicLawsAndRespectsTheBound) {
   const SegmentKinematics& rise = o.optimized.kinematics.segments[0];
   ASSERT_EQ(rise.type, "rise");
   // Coefficients are sampled peaks, 4000 points per piece: ≲ 1e-7 relative.
-  constexpr double kSampledPeak = 1e-6;
-  EXPECT_NEAR(o.baseline.kinematics.segments[0].acceleration_coefficient, 2.0 * std::numbers::pi, kSampledPeak);
+  constexpr double kSampledAcceleration = 1e-6;
+  EXPECT_NEAR(o.baseline.kinematics.segments[0].acceleration_coefficient, 2.0 * std::numbers::pi, kSampledAcceleration);
   EXPECT_LT(rise.acceleration_coefficient, 10.0 / std::sqrt(3.0));  // 5.7735, the 3-4-5 polynomial
   EXPECT_GT(rise.acceleration_coefficient, 4.0);
   // The return (180° long) stays well below, so the rise sets the peak.

@@ -29,17 +29,17 @@ namespace camdyn::optim {
 namespace {
 
 constexpr double kRad = std::numbers::pi / 180.0;
-const std::string kFile = std::string(CAMDYN_SOURCE_DIR) + "/studies/optimize_valve_lobe.json";
+const std::string kValveLobe = std::string(CAMDYN_SOURCE_DIR) + "/studies/optimize_valve_lobe.json";
 
 OptimizeStudy valve_study() {
-  return read_optimize_study(load_config_json(kFile, {}), ConfigSource{kFile, CAMDYN_SOURCE_DIR "/studies"});
+  return read_optimize_study(load_config_json(kValveLobe, {}), ConfigSource{kValveLobe, CAMDYN_SOURCE_DIR "/studies"});
 }
 
 /// The study, its design space and its rigid stage, run once for all tests.
 struct Stage {
   OptimizeStudy study = valve_study();
-  DesignSpace space{study.baseline, study.config.design, kFile};
-  RigidStageResult result = run_rigid_stage(study.baseline, study.config, space, kFile);
+  DesignSpace space{study.baseline, study.config.design, kValveLobe};
+  RigidStageResult result = run_rigid_stage(study.baseline, study.config, space, kValveLobe);
   SceneConfig design_scene() const { return space.scene(result.design.x); }
 };
 
@@ -48,7 +48,7 @@ const Stage& stage() {
   return s;
 }
 
-MotionLaw law_of(const SceneConfig& scene) { return build_motion_law(scene.mechanism.cam.motion_law, kFile); }
+MotionLaw law_of(const SceneConfig& scene) { return build_motion_law(scene.mechanism.cam.motion_law, kValveLobe); }
 
 TEST(LiftAreaDesign, KeepsTheRampsAndTheBaseCircleBitForBit) {
   const Stage& s = stage();
@@ -106,7 +106,7 @@ TEST(LiftAreaDesign, HonoursEveryConstraintOnAFineGridIndependentlyOfTheProgramm
   EXPECT_LE(worst_jerk, *c.constraints.max_peak_jerk * (1 + 1e-6));
   EXPECT_LE(highest, *c.constraints.max_lift * (1 + 1e-6));
   // Hertz pressure by the dynamics code (every 0.1°, refined), at each operating speed.
-  const Model model = build_model(scene, kFile);
+  const Model model = build_model(scene, kValveLobe);
   const LineContact contact = *line_contact(scene.mechanism.contact);
   for (const double rpm : c.operating_rpm)
     EXPECT_LE(peak_rigid_contact_pressure(model, contact, rpm * std::numbers::pi / 30.0).pressure,
@@ -183,7 +183,7 @@ TEST(LiftAreaDesign, StaysInContactWhenSimulatedUpToTheRedLine) {
   double lowest = 1e300;
   for (int rpm = 250; rpm <= 3500; rpm += 250) {
     scene.mechanism.cam.rpm = rpm;
-    const SimulationResult r = simulate_scene(scene, kFile);
+    const SimulationResult r = simulate_scene(scene, kValveLobe);
     EXPECT_EQ(r.metrics.separation_fraction, 0.0) << rpm << " rpm";
     EXPECT_EQ(r.metrics.impact_count, 0) << rpm << " rpm";
     EXPECT_GE(r.metrics.min_contact_force, 0.99 * 50.0) << rpm << " rpm";

@@ -12,6 +12,7 @@
 #include <numbers>
 #include <string>
 
+#include "common/constants.h"
 #include "dynamics/model.h"
 #include "dynamics/rigid_jump_speed.h"
 #include "geometry/motion_law.h"
@@ -23,7 +24,6 @@
 namespace camdyn::optim {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 // Bisection stops at a bracket 1e-4 wide; dense sampling of a built law finds
 // its minimum to ~1e-6 relative.
 constexpr double kBisection = 2e-4;

@@ -22,12 +22,12 @@
 namespace camdyn::optim {
 namespace {
 
-const std::string kFile = std::string(CAMDYN_SOURCE_DIR) + "/studies/followers/oscillating_roller.json";
+const std::string kOscillatingRoller = std::string(CAMDYN_SOURCE_DIR) + "/studies/followers/oscillating_roller.json";
 
 /// The oscillating roller as an optimize study at 1200 and 1600 rpm, steel
 /// line contact, with `constraints` as given.
 OptimizeStudy arm_study(const Json& constraints) {
-  Json doc = load_config_json(kFile);
+  Json doc = load_config_json(kOscillatingRoller);
   doc["study"] = "optimize";
   doc["mechanism"]["cam"].erase("rpm");
   doc["mechanism"]["contact"]["stiffness"] =
@@ -39,7 +39,7 @@ OptimizeStudy arm_study(const Json& constraints) {
   Json c = Json{{"max_pressure_angle_deg", nullptr}};
   for (const auto& [key, value] : constraints.items()) c[key] = value;
   doc["constraints"] = c;
-  return read_optimize_study(doc, ConfigSource{kFile, CAMDYN_SOURCE_DIR "/studies/followers"});
+  return read_optimize_study(doc, ConfigSource{kOscillatingRoller, CAMDYN_SOURCE_DIR "/studies/followers"});
 }
 
 struct DesignFigures {
@@ -49,7 +49,7 @@ struct DesignFigures {
 DesignFigures figures(const OptimizeStudy& s, const DesignSpace& space, const RigidDesign& d) {
   SceneConfig scene = space.scene(d.x);
   scene.mechanism.cam.rpm = 1600;
-  const Model model = build_model(scene, kFile);
+  const Model model = build_model(scene, kOscillatingRoller);
   DesignFigures out{model.geometry.max_pressure_angle_deg, model.geometry.min_radius_of_curvature, 0.0};
   const LineContact contact = *line_contact(scene.mechanism.contact);
   for (const double rpm : s.config.operating_rpm)
@@ -60,8 +60,8 @@ DesignFigures figures(const OptimizeStudy& s, const DesignSpace& space, const Ri
 
 TEST(RigidLimits, ArmLimitsHoldAfterTightening) {
   const OptimizeStudy free = arm_study(Json::object());
-  const DesignSpace space(free.baseline, free.config.design, kFile);
-  const RigidStageResult a = run_rigid_stage(free.baseline, free.config, space, kFile);
+  const DesignSpace space(free.baseline, free.config.design, kOscillatingRoller);
+  const RigidStageResult a = run_rigid_stage(free.baseline, free.config, space, kOscillatingRoller);
   ASSERT_TRUE(a.design.have);
   const DesignFigures unlimited = figures(free, space, a.design);
   struct Case {
@@ -78,7 +78,7 @@ TEST(RigidLimits, ArmLimitsHoldAfterTightening) {
   for (const Case& c : cases) {
     SCOPED_TRACE(c.key);
     const OptimizeStudy limited = arm_study(Json{{c.key, c.limit}});
-    const RigidStageResult b = run_rigid_stage(limited.baseline, limited.config, space, kFile);
+    const RigidStageResult b = run_rigid_stage(limited.baseline, limited.config, space, kOscillatingRoller);
     ASSERT_TRUE(b.design.have);
     const double value = figures(limited, space, b.design).*c.figure;
     if (c.at_most)

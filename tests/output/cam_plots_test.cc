@@ -10,6 +10,7 @@
 
 #include "cli_run.h"
 #include "dynamics/model.h"
+#include "gnuplot.h"
 #include "io/config.h"
 #include "svg_scale.h"
 
@@ -19,14 +20,6 @@ namespace {
 // A round shape drawn to scale is as wide as it is high to within the
 // rounding of gnuplot's coordinates (2 decimals) and of the line's ends.
 constexpr double kPixelTolerance = 1.0;  // [px]
-
-bool gnuplot_available() {
-  static const bool available = test::runs_ok({"gnuplot", "--version"});
-  return available;
-}
-
-#define REQUIRE_GNUPLOT() \
-  if (!gnuplot_available()) GTEST_SKIP() << "gnuplot is not installed"
 
 Model roller_cam(const std::string& limits = "{}", const std::string& speed = R"("rpm": 1200)",
                  const std::string& simulation = "{}") {

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "cli_run.h"
+#include "gnuplot.h"
 #include "output/curve_decimation.h"
 
 namespace camdyn {
@@ -22,11 +23,6 @@ std::size_t count(const std::string& text, const std::string& what) {
   std::size_t n = 0;
   for (auto p = text.find(what); p != std::string::npos; p = text.find(what, p + 1)) ++n;
   return n;
-}
-
-bool gnuplot_available() {
-  static const bool available = test::runs_ok({"gnuplot", "--version"});
-  return available;
 }
 
 Plot make_plot(std::string title, std::string xlabel, std::string ylabel) {
@@ -55,9 +51,6 @@ Table make_table(std::string title, std::vector<std::string> columns, std::vecto
   t.sortable = sortable;
   return t;
 }
-
-#define REQUIRE_GNUPLOT() \
-  if (!gnuplot_available()) GTEST_SKIP() << "gnuplot is not installed"
 
 Plot sine_plot() {
   Plot plot = make_plot("Follower lift", "cam angle [deg]", "lift [m]");

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "cli_run.h"
+#include "common/constants.h"
 #include "common/errors.h"
 #include "dynamics/model.h"
 #include "io/config.h"
@@ -20,7 +21,6 @@
 namespace camdyn {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 constexpr double kAngleDeg = 1e-8;  // [deg]: crossings are bisected to rounding (geometry/valve_timing.h)
 constexpr double kPeakDeg = 1e-5;   // [deg]: a cycloid's flat end hides the root of ds/dθ over ~5e-9 rad
 

@@ -9,13 +9,12 @@
 #include <vector>
 
 #include "cli_run.h"
+#include "study_paths.h"
 
 namespace camdyn {
 namespace {
 
 namespace fs = std::filesystem;
-
-const std::string kQuickstart = std::string(CAMDYN_SOURCE_DIR) + "/studies/quickstart.json";
 
 // One cvode_bdf run at rtol 1e-3 (about 900 steps) against a reference at
 // rtol 1e-12, under a step budget of `max_steps`.

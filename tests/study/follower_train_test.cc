@@ -13,6 +13,7 @@
 #include <numbers>
 #include <vector>
 
+#include "common/constants.h"
 #include "dynamics/model.h"
 #include "dynamics/simulation.h"
 #include "study/steady_state.h"
@@ -21,7 +22,6 @@
 namespace camdyn {
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 using test::kLift;
 using test::linear_train_case;
 using test::LinearTrainCase;

@@ -14,14 +14,13 @@
 
 #include "cli_run.h"
 #include "io/config.h"
+#include "study_paths.h"
 #include "tests/dynamics/scenes.h"
 
 namespace camdyn {
 namespace {
 
 namespace fs = std::filesystem;
-
-const std::string kQuickstart = std::string(CAMDYN_SOURCE_DIR) + "/studies/quickstart.json";
 
 std::vector<std::string> jump_map_args(const fs::path& out) {
   return {"run",

@@ -29,14 +29,12 @@
 
 #include "map_jacobian_reference.h"
 #include "study/periodic_orbit.h"
+#include "study_paths.h"
 
 namespace camdyn {
 namespace {
 
 using namespace test;  // NOLINT(google-build-using-namespace): the shared reference
-
-const std::string kBall = kSource + "/studies/periodic/bouncing_ball.json";
-const std::string kChaotic = kSource + "/studies/periodic/bouncing_ball_chaotic.json";
 
 // The max-norm condition number ‖T‖∞ ‖T⁻¹‖∞ (the norm induced by the max-norm is the largest row sum).
 double max_norm_condition(const MatrixXd& T) {
@@ -45,7 +43,7 @@ double max_norm_condition(const MatrixXd& T) {
 }
 
 TEST(Lyapunov, DirectionalSensitivitiesAreTheJacobianTimesTheDirections) {
-  const MapAt s = map_at(read_tight(kBall), 4);
+  const MapAt s = map_at(read_tight(kBouncingBall), 4);
   Workspace ws = make_workspace(s.model);
   const MapJacobian whole = sensitivity_jacobian(*s.map, s.point, 1, ws);
   ASSERT_TRUE(whole.ok) << whole.reason;
@@ -67,7 +65,7 @@ TEST(Lyapunov, DirectionalSensitivitiesAreTheJacobianTimesTheDirections) {
 }
 
 TEST(Lyapunov, OnAStableOrbitTheTangentTendsToTheLogOfTheSpectralRadius) {
-  const PeriodicStudy study = read_tight(kBall);
+  const PeriodicStudy study = read_tight(kBouncingBall);
   const MapAt s = map_at(study, 4);
   PeriodicOptions options = study.config.options;
   options.lyapunov_revolutions = 0;
@@ -122,7 +120,7 @@ double standard_error(const std::vector<double>& stretches) {
 }
 
 TEST(Lyapunov, OnTheChaoticBallTheTangentAgreesWithTheNeighbourTrajectory) {
-  const PeriodicStudy study = read_tight(kChaotic, [](Json& doc) {
+  const PeriodicStudy study = read_tight(kChaoticBall, [](Json& doc) {
     doc["integrator"]["rtol"] = 1e-10;  // the study's own
     doc["integrator"]["atol"] = 1e-13;
   });
@@ -149,7 +147,7 @@ TEST(Lyapunov, OnTheChaoticBallTheTangentAgreesWithTheNeighbourTrajectory) {
 }
 
 TEST(Lyapunov, WithoutSensitivitiesEveryRevolutionFallsBackAndIsCounted) {
-  const PeriodicStudy study = read_tight(kBall, [](Json& doc) {
+  const PeriodicStudy study = read_tight(kBouncingBall, [](Json& doc) {
     doc["mechanism"]["contact"]["friction"]["mu"] = 0.05;
     doc["integrator"]["rtol"] = 1e-10;
     doc["integrator"]["atol"] = 1e-13;

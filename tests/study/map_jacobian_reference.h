@@ -33,13 +33,12 @@
 #include "dynamics/map_sensitivity.h"
 #include "io/config.h"
 #include "study/periodic_study.h"
+#include "study_paths.h"
 
 namespace camdyn::test {
 
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
-
-inline const std::string kSource = std::string(CAMDYN_SOURCE_DIR);
 
 // Tolerance levels (see the header comment).
 constexpr double kJacobianAgreement = 1e-6;  // ‖J_sens − R‖_F / ‖R‖_F beyond the reference's own error
@@ -78,8 +77,6 @@ inline MapAt map_at(const PeriodicStudy& study, int revolutions) {
   s.point = s.map->point(transient);
   return s;
 }
-
-inline VectorXd to_vector(const std::vector<double>& x) { return Eigen::Map<const VectorXd>(x.data(), std::ssize(x)); }
 
 // D(h): central differences of P^k in scaled coordinates.
 inline MatrixXd central(const PoincareMap& map, const SectionPoint& p, int k, double h) {

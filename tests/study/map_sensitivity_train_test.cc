@@ -25,6 +25,7 @@
 #include <numbers>
 #include <vector>
 
+#include "common/constants.h"
 #include "dynamics/map_sensitivity.h"
 #include "dynamics/poincare_map.h"
 #include "dynamics/simulation.h"
@@ -33,7 +34,6 @@
 namespace camdyn {
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 constexpr double kMultiplierAgreement = 1e-6;  // of the spectral radius (see the header comment)
 
 TEST(MapSensitivity, EightCoilTrainMultipliersAreTheHeldTrainsClosedForm) {

@@ -16,6 +16,7 @@
 #include <numbers>
 #include <string>
 
+#include "common/constants.h"
 #include "common/errors.h"
 #include "contact/force_law.h"
 #include "dynamics/model.h"
@@ -23,13 +24,11 @@
 #include "restitution.h"
 #include "study/periodic_study.h"
 #include "study/steady_state.h"
+#include "study_paths.h"
 #include "tolerance.h"
 
 namespace camdyn {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
-const std::string kBouncingBall = std::string(CAMDYN_SOURCE_DIR) + "/studies/periodic/bouncing_ball.json";
 
 PeriodicStudy read_study(const std::string& file, const std::vector<std::string>& overrides = {}) {
   StudyContext ctx;
@@ -346,10 +345,8 @@ TEST(PeriodicOrbit, StableOrbitIntegratedFiftyPeriodsStaysOnIt) {
     EXPECT_NEAR(later.end.x[j], p.x[j], 10 * tolerance * map.scales()[j]) << map.coordinate_names()[j];
 }
 
-const std::string kChaotic = std::string(CAMDYN_SOURCE_DIR) + "/studies/periodic/bouncing_ball_chaotic.json";
-
 TEST(PeriodicOrbit, ChaoticSpeedHasAPositiveLyapunovExponentStableToTenPercent) {
-  const PeriodicStudy study = read_study(kChaotic);
+  const PeriodicStudy study = read_study(kChaoticBall);
   const Model model = build_model(study.scene, "test");
   const PoincareMap map(study.scene, model, "test");
   Workspace ws = make_workspace(model);
@@ -370,7 +367,7 @@ TEST(PeriodicOrbit, ChaoticSpeedHasAPositiveLyapunovExponentStableToTenPercent) 
 }
 
 TEST(PeriodicOrbit, ChaoticStudyIsClassifiedChaotic) {
-  PeriodicStudy study = read_study(kChaotic);
+  PeriodicStudy study = read_study(kChaoticBall);
   study.config.options.max_period = 2;  // shorter: no orbit of period ≤ 6 converges either (the study's own setting)
   const PeriodicResult r = run_study(study);
   EXPECT_FALSE(r.analysis.orbit);
@@ -421,7 +418,7 @@ TEST(SteadyState, MetricsOverOnePeriodOfTheStableOrbit) {
 }
 
 TEST(SteadyState, ChaoticRunKeepsTheWindowAndSaysWhy) {
-  PeriodicStudy study = read_study(kChaotic);
+  PeriodicStudy study = read_study(kChaoticBall);
   study.scene.simulation.steady_state = true;
   const Model model = build_model(study.scene, "test");
   Workspace ws = make_workspace(model);
@@ -470,7 +467,7 @@ TEST(SteadyState, ASettledRunCostsOneRevolutionAndMatchesTheShooting) {
 // Optimize evaluations do not classify a motion without an orbit (no
 // Lyapunov run): the window's metrics stay and the motion is unresolved.
 TEST(SteadyState, AnEvaluationSearchDoesNotClassifyChaos) {
-  PeriodicStudy study = read_study(kChaotic);
+  PeriodicStudy study = read_study(kChaoticBall);
   study.scene.simulation.steady_state = true;
   const Model model = build_model(study.scene, "test");
   Workspace ws = make_workspace(model);

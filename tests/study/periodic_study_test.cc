@@ -9,13 +9,12 @@
 
 #include "cli_run.h"
 #include "io/config.h"
+#include "study_paths.h"
 
 namespace camdyn {
 namespace {
 
 namespace fs = std::filesystem;
-
-const std::string kBouncingBall = std::string(CAMDYN_SOURCE_DIR) + "/studies/periodic/bouncing_ball.json";
 
 TEST(PeriodicStudy, WritesTheOrbitItsMultipliersAndAReport) {
   const fs::path dir = test::scratch_dir("periodic_study_test", "run");

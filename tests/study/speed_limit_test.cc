@@ -15,14 +15,13 @@
 #include "dynamics/model.h"
 #include "io/config.h"
 #include "optim/optimize/jump_bound.h"
+#include "study_paths.h"
 
 namespace camdyn {
 namespace {
 
 namespace fs = std::filesystem;
 using test::read_text;
-
-const std::string kQuickstart = std::string(CAMDYN_SOURCE_DIR) + "/studies/quickstart.json";
 
 /// Runs the quickstart as a speed_limit study with `extra` settings; returns speed_limit.json.
 Json run_limit(const std::string& name, const std::vector<std::string>& extra) {

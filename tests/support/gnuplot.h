@@ -1,0 +1,20 @@
+// Whether gnuplot runs, for the tests that draw a figure (scripts/setup.sh
+// installs it): one definition for every test file (a unity build compiles
+// a test executable's files as one).
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include "cli_run.h"
+
+namespace camdyn::test {
+
+inline bool gnuplot_available() {
+  static const bool available = runs_ok({"gnuplot", "--version"});
+  return available;
+}
+
+}  // namespace camdyn::test
+
+#define REQUIRE_GNUPLOT() \
+  if (!camdyn::test::gnuplot_available()) GTEST_SKIP() << "gnuplot is not installed"
