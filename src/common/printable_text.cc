@@ -7,7 +7,7 @@ namespace camdyn {
 namespace {
 
 void append_escape(std::string& out, const char* format, unsigned value) {
-  char buf[8];
+  char buf[16];  // "\\u" and up to six hex digits: room to spare
   std::snprintf(buf, sizeof buf, format, value);
   out += buf;
 }
