@@ -11,8 +11,6 @@
 
 namespace camdyn::optim {
 
-namespace {}  // namespace
-
 double estimate_noise(const std::vector<double>& y) {
   if (y.size() < 3) return 0.0;
   std::vector<double> d(y.size() - 1);

@@ -8,8 +8,6 @@
 
 namespace camdyn {
 
-namespace {}  // namespace
-
 std::string where(const Model& model, double t) {
   std::ostringstream s;
   s << "at t = " << t << " s, cam angle " << std::fmod(model.theta(t) * kRadToDeg, 360.0) << " deg";

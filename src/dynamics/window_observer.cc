@@ -6,8 +6,6 @@
 
 namespace camdyn {
 
-namespace {}  // namespace
-
 namespace {
 
 /// Calls f(name, value) for each train column of the evaluation, in order.
