@@ -103,7 +103,8 @@ void find_lobe_centre(const MotionLaw& law, const std::vector<double>& grid, Val
     const auto j = static_cast<long>(i) + k;
     const long m = static_cast<long>(n);
     const long wrapped = ((j % m) + m) % m;
-    return grid[static_cast<std::size_t>(wrapped)] + kTwoPi * static_cast<double>((j - wrapped) / m);
+    const long turns = (j - wrapped) / m;  // exact: j − wrapped is a multiple of m
+    return grid[static_cast<std::size_t>(wrapped)] + kTwoPi * static_cast<double>(turns);
   };
   int left = 0, right = 0;
   while (left > -static_cast<int>(n) && on_top(at(best, left - 1))) --left;

@@ -264,13 +264,6 @@ double number_or_nan(const Json& j) {
   return j.is_number() ? j.get<double>() : std::numeric_limits<double>::quiet_NaN();
 }
 
-// record[key] if it is a string, else `fallback` (a journal record may have
-// been edited and its checksum recomputed: tests/fuzz/journal_fuzzer.cc).
-std::string string_or(const Json& record, const char* key, const std::string& fallback) {
-  const auto it = record.find(key);
-  return it != record.end() && it->is_string() ? it->get<std::string>() : fallback;
-}
-
 // Whether `overlay` is what last_revolution writes: the three series, numbers
 // of equal count (the report reads them as such).
 bool well_formed_overlay(const Json& overlay) {

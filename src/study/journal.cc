@@ -80,8 +80,13 @@ std::string fingerprint(std::string_view text) {
   return buf;
 }
 
-Journal::Journal(std::filesystem::path path, std::string study, std::string hash, std::size_t runs)
-    : path_(std::move(path)), hash_(hash) {
+std::string string_or(const Json& record, const char* key, const std::string& fallback) {
+  const auto it = record.find(key);
+  return it != record.end() && it->is_string() ? it->get<std::string>() : fallback;
+}
+
+Journal::Journal(std::filesystem::path path, const std::string& study, std::string hash, std::size_t runs)
+    : path_(std::move(path)), hash_(std::move(hash)) {
   require_regular_file(path_);
   // An output and an input: never through a planted link (io/atomic_file.h), within the memory budget.
   check_output_path(path_);
@@ -99,14 +104,16 @@ Journal::Journal(std::filesystem::path path, std::string study, std::string hash
     if (line_no == 1) {
       if (j.is_discarded() || !j.is_object() || !j.contains("camdyn_journal"))
         throw InputError(path_.string(), "", "is not a camdyn journal; delete it or choose another --out");
-      const bool same = j.value("study", std::string()) == study && j.value("hash", std::string()) == hash &&
-                        j.value("runs", std::size_t{0}) == runs;
+      // A header edited by hand may hold any type: compare what is there, never convert it.
+      const bool runs_match =
+          j.contains("runs") && j["runs"].is_number_unsigned() && j["runs"].get<std::size_t>() == runs;
+      const bool same = string_or(j, "study", "?") == study && string_or(j, "hash", "?") == hash_ && runs_match;
       if (!same)
         throw InputError(path_.string(), "hash",
                          "this output folder holds the journal of a different " + study +
                              " study (the study, a case config or an override changed since; journal "
                              "fingerprint " +
-                             j.value("hash", std::string("?")) + ", now " + hash +
+                             string_or(j, "hash", "?") + ", now " + hash_ +
                              "): delete the journal or choose another --out to start afresh");
       continue;
     }
@@ -145,7 +152,7 @@ Journal::Journal(std::filesystem::path path, std::string study, std::string hash
     Json header = Json::object();
     header["camdyn_journal"] = kJournalVersion;
     header["study"] = study;
-    header["hash"] = hash;
+    header["hash"] = hash_;
     header["runs"] = runs;
     write_line(header.dump());
   }

@@ -34,6 +34,11 @@ namespace camdyn {
 /// 64-bit FNV-1a hash of `text` as 16 lower-case hex digits (a fingerprint, not cryptographic).
 std::string fingerprint(std::string_view text);
 
+/// record[key] if it is a string, else `fallback`: a journal read back may
+/// have been edited (its checksum recomputed, or its header changed by hand),
+/// so a field is compared, never converted (tests/fuzz/journal_fuzzer.cc).
+std::string string_or(const Json& record, const char* key, const std::string& fallback);
+
 class Journal {
  public:
   /// Opens (or creates) the journal at `path` for a study `study` of `runs`
@@ -41,7 +46,7 @@ class Journal {
   /// InputError(path, "hash", ...) if it belongs to another study,
   /// InputError(path, "", ...) if it is not a regular file, and
   /// std::runtime_error if the file cannot be read or written.
-  Journal(std::filesystem::path path, std::string study, std::string hash, std::size_t runs);
+  Journal(std::filesystem::path path, const std::string& study, std::string hash, std::size_t runs);
   ~Journal();
   Journal(const Journal&) = delete;
   Journal& operator=(const Journal&) = delete;

@@ -126,7 +126,7 @@ std::optional<int> open_journal(const std::string& study, const std::string& has
     }
   }
   for (const auto& [i, record] : out.records)
-    if (record.value("status", std::string()) != "ok") ++out.resumed_failed;
+    if (string_or(record, "status", "") != "ok") ++out.resumed_failed;
   out.resumed = count - state.pending.size();
   if (root && out.resumed > 0)
     std::cerr << "camdyn: resuming: " << out.resumed << " of " << count << " runs already done ("

@@ -27,17 +27,24 @@ std::optional<SpeedCheck> SpeedLimitJournal::replay(std::size_t index, double rp
   const auto it = journal_.done().find(index);
   if (it == journal_.done().end()) return std::nullopt;
   const Json& j = it->second;
+  // A record of another shape (a journal changed by hand) is run again, never converted.
+  const auto is = [&j](const char* key, bool (Json::*kind)() const noexcept) {
+    return j.contains(key) && (j[key].*kind)();
+  };
+  if (!is("values", &Json::is_string) || !is("in_contact", &Json::is_boolean) || !is("converged", &Json::is_boolean) ||
+      !is("message", &Json::is_string))
+    return std::nullopt;
   // rpm [rpm], separation fraction [-], smallest and peak contact force [N], exact.
-  const auto values = doubles_from_hex(j.value("values", std::string()), 4);
+  const auto values = doubles_from_hex(j["values"].get<std::string>(), 4);
   if (!values || double_bits({(*values)[0]}) != double_bits({rpm})) return std::nullopt;
   SpeedCheck c;
   c.rpm = rpm;
   c.separation_fraction = (*values)[1];
   c.min_contact_force = (*values)[2];
   c.peak_contact_force = (*values)[3];
-  c.ok = j.value("in_contact", false);
-  c.converged = j.value("converged", false);
-  c.message = j.value("message", std::string());
+  c.ok = j["in_contact"].get<bool>();
+  c.converged = j["converged"].get<bool>();
+  c.message = j["message"].get<std::string>();
   return c;
 }
 

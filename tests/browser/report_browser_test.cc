@@ -23,6 +23,7 @@
 
 #include "cli_run.h"
 #include "output/plot_style.h"
+#include "required_tool.h"
 #include "study_paths.h"
 #include "svg_scale.h"
 
@@ -65,7 +66,7 @@ class ReportInBrowser : public ::testing::Test {
  protected:
   void SetUp() override {
     chromium_ = find_chromium();
-    if (chromium_.empty()) GTEST_SKIP() << "chromium is not installed (scripts/setup.sh installs it)";
+    REQUIRE_TOOL(!chromium_.empty(), "chromium");
     dir_ = fs::temp_directory_path() / ("camdyn_browser_" + std::to_string(::getpid()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);

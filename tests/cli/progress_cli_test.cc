@@ -9,6 +9,7 @@
 #include <string>
 
 #include "cli_run.h"
+#include "required_tool.h"
 #include "study_paths.h"
 
 namespace {
@@ -48,7 +49,7 @@ Outcome run_on_terminal(const std::string& args, const fs::path& dir) {
 bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 TEST(ProgressCli, OptimiseShowsEvaluationOfMaxBestObjectiveAndTimeLeft) {
-  if (!camdyn::test::on_path("script")) GTEST_SKIP() << "util-linux script is not installed";
+  REQUIRE_TOOL(camdyn::test::on_path("script"), "util-linux's script");
   const fs::path dir = camdyn::test::scratch_dir("progress_cli", "optimise");
   const std::string args = "run " + kStudiesDir + "/optimize_jump.json --out " + (dir / "out").string() +
                            " --set optimizer.max_evaluations=3 --set optimizer.evaluation_cycles=2";
@@ -67,7 +68,7 @@ TEST(ProgressCli, OptimiseShowsEvaluationOfMaxBestObjectiveAndTimeLeft) {
 }
 
 TEST(ProgressCli, IdentifyNamesItsContinuationStageAndIteration) {
-  if (!camdyn::test::on_path("script")) GTEST_SKIP() << "util-linux script is not installed";
+  REQUIRE_TOOL(camdyn::test::on_path("script"), "util-linux's script");
   const fs::path dir = camdyn::test::scratch_dir("progress_cli", "identify");
   // Two smoothed stages (2 ms, 0.5 ms) then the raw signals; one iteration each keeps it short.
   const std::string args = "run " + kStudiesDir + "/identify_cam_rig/identify_cam_rig.json --out " +
@@ -112,7 +113,7 @@ void expect_runs_with_time_left(const std::string& study, const std::string& out
 // the references and runs of convergence, the runs of compare, the speed
 // ranges of a jump map (docs/config.md, "Commands").
 TEST(ProgressCli, EveryMultiRunStudyShowsTheTimeLeft) {
-  if (!camdyn::test::on_path("script")) GTEST_SKIP() << "util-linux script is not installed";
+  REQUIRE_TOOL(camdyn::test::on_path("script"), "util-linux's script");
   const fs::path dir = camdyn::test::scratch_dir("progress_cli", "multi_run");
   const std::string quickstart = kStudiesDir + "/quickstart.json";
   {

@@ -110,6 +110,23 @@ TEST(UntrustedInputsCli, JournalThatIsASymbolicLinkExitsTwoAndTheVictimIsUnchang
   EXPECT_TRUE(fs::is_symlink(dir / "out" / "journal.jsonl"));
 }
 
+// A journal header edited by hand whose study, hash or run count is of
+// another type (journal_fuzzer's finding: read with Json::value, nlohmann's
+// type_error 302, exit 1): exit 2 naming the journal, as any other study's.
+TEST(UntrustedInputsCli, JournalHeaderWithFieldsOfAnotherTypeExitsTwo) {
+  const fs::path dir = test::scratch_dir("untrusted_inputs_cli", "journal_header_types");
+  const fs::path config = small_compare(dir);
+  for (const std::string& header : {std::string(R"({"camdyn_journal":1,"study":5,"hash":"x","runs":4})"),
+                                    std::string(R"({"camdyn_journal":1,"study":"compare","hash":[1],"runs":-4})")}) {
+    fs::create_directories(dir / "out");
+    std::ofstream(dir / "out" / "journal.jsonl") << header << "\n";
+    const test::Outcome o = run_input("run " + config.string() + " --quiet --out " + (dir / "out").string(), dir);
+    EXPECT_EQ(o.code, 2) << header << ": " << o.err;
+    EXPECT_NE(o.err.find("journal.jsonl"), std::string::npos) << o.err;
+    EXPECT_NE(o.err.find("journal of a different compare study"), std::string::npos) << o.err;
+  }
+}
+
 // A record that passes its checksum but whose "status" is a number (edited,
 // then the FNV-1a checksum recomputed: it is no secret) was trusted and then
 // read as a string: exit 1. That run is now done again.

@@ -147,7 +147,7 @@ TEST(LinearTrainLift, SeriesReproducesACycloidalLaw) {
   for (int k = K + 1; k < 100000; ++k) tail += 4 * jump / (kPi * std::pow(k, 4));
   const double kTruncation = tail / h;
   for (double deg = 0; deg < 360; deg += 7.5) {
-    const double th = deg * test::kDeg;
+    const double th = deg * kDegToRad;
     double s = lift.mean;
     for (std::size_t k = 0; k < lift.S.size(); ++k)
       s += (lift.S[k] * std::polar(1.0, static_cast<double>(k + 1) * th)).real();

@@ -15,7 +15,6 @@ namespace camdyn {
 namespace {
 
 using test::dwell;
-using test::kDeg;
 using test::segment;
 using test::segments;
 
@@ -51,7 +50,7 @@ TEST_P(CamVariant, DwellPitchCurveIsACircleOfRadiusBasePlusRoller) {
   const MotionLaw law = dwell_law();
   const TranslatingRollerCam cam = make_cam(law, GetParam().offset, GetParam().sigma);
   for (int i = 0; i < 36; ++i) {
-    const double u = i * 10 * kDeg;
+    const double u = i * 10 * kDegToRad;
     EXPECT_NEAR(cam.pitch(u).r.norm(), 0.05, kLengthTol);
     EXPECT_NEAR(cam.contour(u).norm(), 0.04, kLengthTol);
     EXPECT_NEAR(cam.pitch_radius_of_curvature(u), 0.05, test::kAmplifiedRoundoff * test::kLengthScale);
@@ -85,7 +84,7 @@ TEST_P(CamVariant, ContourIsTheInnerOffsetByTheRollerRadius) {
   const MotionLaw law = standard_law();
   const TranslatingRollerCam cam = make_cam(law, GetParam().offset, GetParam().sigma);
   for (int i = 0; i < 72; ++i) {
-    const double u = i * 5 * kDeg;
+    const double u = i * 5 * kDegToRad;
     const CurvePoint p = cam.pitch(u);
     const Eigen::Vector2d c = cam.contour(u);
     EXPECT_NEAR((p.r - c).norm(), cam.roller_radius, kLengthTol);
@@ -101,7 +100,7 @@ TEST_P(CamVariant, PressureAngleMatchesTheClosedForm) {
   const int sg = GetParam().sigma;
   const TranslatingRollerCam cam = make_cam(law, e, sg);
   for (int i = 0; i < 72; ++i) {
-    const double th = i * 5 * kDeg;
+    const double th = i * 5 * kDegToRad;
     const LawSample l = law.eval(th);
     EXPECT_NEAR(cam.pressure_angle(th), sg * std::atan((l.ds - sg * e) / (cam.y0() + l.s)), test::kRoundoff)
         << "θ = " << th;
@@ -116,7 +115,7 @@ TEST(CamCurvature, IsTheCurveFormulaInPolarFormWithoutOffset) {
   for (const int sigma : {+1, -1}) {
     const TranslatingRollerCam cam = make_cam(law, 0.0, sigma);
     for (int i = 0; i < 72; ++i) {
-      const double u = (i + 0.5) * 5 * kDeg;
+      const double u = (i + 0.5) * 5 * kDegToRad;
       const LawSample l = law.eval(u);
       const double r = cam.y0() + l.s;
       const double kappa = (r * r + 2 * l.ds * l.ds - r * l.d2s) / std::pow(r * r + l.ds * l.ds, 1.5);
@@ -143,10 +142,10 @@ TEST(CheckCam, ReportMatchesADenseScan) {
   constexpr double kGridMiss = 1e-7, kGridMissDeg = 0.01;
   for (int i = 0; i < n; ++i) {
     const double u = kTwoPi * i / n;
-    const double phi = std::abs(cam.pressure_angle(u)) / kDeg;
+    const double phi = std::abs(cam.pressure_angle(u)) / kDegToRad;
     if (phi > max_phi) {
       max_phi = phi;
-      at_phi = u / kDeg;
+      at_phi = u / kDegToRad;
     }
     min_rho = std::min(min_rho, std::abs(cam.pitch_radius_of_curvature(u) - cam.roller_radius));
   }
@@ -163,7 +162,7 @@ TEST(CheckCam, BaseCircleDwellHasContourRadiusEqualToBaseRadius) {
   const MotionLaw law = dwell_law();
   const CamGeometryReport r = check_cam(make_cam(law, 0.005, -1), "scene.json");
   EXPECT_NEAR(r.min_radius_of_curvature, 0.04, test::kAmplifiedRoundoff * test::kLengthScale);
-  EXPECT_NEAR(r.max_pressure_angle_deg, std::atan(0.005 / std::sqrt(0.05 * 0.05 - 0.005 * 0.005)) / kDeg,
+  EXPECT_NEAR(r.max_pressure_angle_deg, std::atan(0.005 / std::sqrt(0.05 * 0.05 - 0.005 * 0.005)) / kDegToRad,
               test::kAmplifiedRoundoff * 10);
 }
 

@@ -21,7 +21,6 @@ namespace camdyn {
 namespace {
 
 using test::dwell;
-using test::kDeg;
 using test::segment;
 using test::segments;
 
@@ -48,7 +47,7 @@ FollowerConfig follower(const std::string& motion, const std::string& shape) {
 }
 
 SynthesisedCam make(const std::string& motion, const std::string& shape, int sigma = 1) {
-  const double lift = motion == "oscillating" ? 12 * kDeg : 0.02;
+  const double lift = motion == "oscillating" ? 12 * kDegToRad : 0.02;
   return SynthesisedCam(law_of(lift), make_follower_geometry(follower(motion, shape), 0.04, "scene.json"), sigma);
 }
 
@@ -63,7 +62,7 @@ class EveryFollower : public ::testing::TestWithParam<Kind> {};
 TEST_P(EveryFollower, ProfileDerivativesMatchFiniteDifferences) {
   const SynthesisedCam cam = make(GetParam().motion, GetParam().shape, GetParam().sigma);
   for (double deg : {10.0, 47.0, 100.0, 150.0, 200.0, 245.0, 290.0, 330.0}) {
-    const double u = deg * kDeg;
+    const double u = deg * kDegToRad;
     const CurvePoint p = cam.at(u);
     const Eigen::Vector2d d[3] = {p.dr, p.d2r, p.d3r};
     for (int k = 0; k < 3; ++k)
@@ -97,7 +96,7 @@ TEST_P(EveryFollower, ChecksPassForTheStandardDesignAndReportTheGeometry) {
   // touches the profile at u = θ (circle: the centre on the centre curve;
   // flat: the face line through the contour point, its normal along the contour's).
   for (double deg : {30.0, 150.0, 250.0}) {
-    const double theta = deg * kDeg;
+    const double theta = deg * kDegToRad;
     const SynthesisedCam::Kinematics k = cam.kinematics(theta);
     const double sg = GetParam().sigma;
     const Eigen::Vector2d r_world = Eigen::Rotation2Dd(sg * theta) * cam.at(theta).r;
@@ -127,7 +126,7 @@ TEST(CamSynthesis, TranslatingRollerCentreCurveIsThePitchCurve) {
   roller.offset = 0.004;
   const SynthesisedCam cam = make("translating", "roller");
   for (int i = 0; i < 72; ++i) {
-    const double u = i * 5 * kDeg;
+    const double u = i * 5 * kDegToRad;
     EXPECT_NEAR((cam.at(u).r - roller.pitch(u).r).norm(), 0.0, test::kExact * test::kLengthScale);
     EXPECT_NEAR((cam.at(u).d3r - roller.pitch(u).d3r).norm(), 0.0, test::kRoundoff);
     EXPECT_NEAR(cam.kinematics(u).pressure_angle, roller.pressure_angle(u), test::kRoundoff);
@@ -140,7 +139,7 @@ TEST(CamSynthesis, TranslatingFlatContourIsSPrimeAcrossAndBasePlusSUp) {
   for (int sigma : {1, -1}) {
     const SynthesisedCam cam = make("translating", "flat", sigma);
     for (int i = 0; i < 36; ++i) {
-      const double theta = i * 10 * kDeg + 0.1;
+      const double theta = i * 10 * kDegToRad + 0.1;
       const LawSample s = cam.law().eval(theta);
       const SynthesisedCam::Kinematics k = cam.kinematics(theta);
       EXPECT_NEAR(k.contact.x(), sigma * s.ds, test::kRoundoff * test::kLengthScale);
@@ -158,14 +157,15 @@ TEST(CamSynthesis, OscillatingRollerCentreIsOnTheArmCircle) {
   const FollowerGeometry& f = cam.follower();
   const Eigen::Vector2d pivot(0.1, 0.06);
   for (int i = 0; i < 36; ++i) {
-    const double theta = i * 10 * kDeg;
+    const double theta = i * 10 * kDegToRad;
     const Eigen::Vector2d c = Eigen::Rotation2Dd(theta) * cam.at(theta).r;  // centre, world
     EXPECT_NEAR((c - pivot).norm(), 0.08, test::kRoundoff * test::kLengthScale);
     const double psi = std::atan2(c.y() - pivot.y(), c.x() - pivot.x());
     EXPECT_NEAR(std::remainder(psi - f.psi0 - f.kappa * cam.law().eval(theta).s, kTwoPi), 0.0,
                 test::kRoundoff * kTwoPi);
   }
-  EXPECT_NEAR(cam.at(330 * kDeg).r.norm(), 0.05, test::kRoundoff * test::kLengthScale);  // on the base-circle dwell
+  EXPECT_NEAR(cam.at(330 * kDegToRad).r.norm(), 0.05,
+              test::kRoundoff * test::kLengthScale);  // on the base-circle dwell
 }
 
 TEST(CamSynthesis, FlatFaceCuspNamesTheMinimumBaseRadius) {
@@ -229,8 +229,8 @@ TEST(CamSynthesis, EvaluatingTheProfileAllocatesNothing) {
     double sink = 0.0;
     const long before = test::allocation_count();
     for (int i = 0; i < 360; ++i) {
-      const CurvePoint p = cam.at(i * kDeg);
-      sink += p.d3r.x() + cam.kinematics(i * kDeg).g_q;
+      const CurvePoint p = cam.at(i * kDegToRad);
+      sink += p.d3r.x() + cam.kinematics(i * kDegToRad).g_q;
     }
     EXPECT_EQ(test::allocation_count() - before, 0) << k.motion << " " << k.shape;
     EXPECT_TRUE(std::isfinite(sink));

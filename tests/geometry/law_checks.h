@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "common/constants.h"
 #include "common/errors.h"
 #include "finite_difference.h"
 #include "geometry/motion_law.h"
@@ -18,7 +19,6 @@
 
 namespace camdyn::test {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
 inline const std::string kConfigFile = "scene.json";
 inline const std::string kLawPath = "mechanism.cam.motion_law";
 

@@ -17,7 +17,6 @@ namespace {
 
 using test::build;
 using test::dwell;
-using test::kDeg;
 using test::kLawPath;
 using test::segment;
 using test::segments;
@@ -33,16 +32,16 @@ class SegmentLaw : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(SegmentLaw, IsC2AcrossSegmentBoundaries) {
   const MotionLaw law = build(rise_dwell_return(GetParam()));
-  for (double deg : {0.0, 120.0, 180.0, 300.0}) test::expect_c2_at(law, deg * kDeg, std::to_string(deg) + "°");
+  for (double deg : {0.0, 120.0, 180.0, 300.0}) test::expect_c2_at(law, deg * kDegToRad, std::to_string(deg) + "°");
 }
 
 TEST_P(SegmentLaw, ReachesTheLiftAndStartsAtZero) {
   const MotionLaw law = build(rise_dwell_return(GetParam()));
   EXPECT_EQ(law.eval(0.0).s, 0.0);
-  EXPECT_NEAR(law.eval(150 * kDeg).s, 0.02, test::kExact * 0.02);  // dwell level, exact up to rounding
+  EXPECT_NEAR(law.eval(150 * kDegToRad).s, 0.02, test::kExact * 0.02);  // dwell level, exact up to rounding
   EXPECT_NEAR(law.lift(), 0.02, test::kExact * 0.02);
   EXPECT_NEAR(law.min_s(), 0.0, test::kExact * 0.02);
-  EXPECT_EQ(law.eval(330 * kDeg).s, 0.0);
+  EXPECT_EQ(law.eval(330 * kDegToRad).s, 0.0);
 }
 
 TEST_P(SegmentLaw, IsPeriodicForNegativeAndLargeAngles) {
@@ -66,7 +65,7 @@ TEST_P(SegmentLaw, IsPeriodicForNegativeAndLargeAngles) {
 
 TEST_P(SegmentLaw, DerivativesMatchFiniteDifferences) {
   const MotionLaw law = build(rise_dwell_return(GetParam()));
-  test::expect_derivatives_match_fd(law, {0.0, 120 * kDeg, 180 * kDeg, 300 * kDeg, kTwoPi});
+  test::expect_derivatives_match_fd(law, {0.0, 120 * kDegToRad, 180 * kDegToRad, 300 * kDegToRad, kTwoPi});
 }
 
 INSTANTIATE_TEST_SUITE_P(C2Laws, SegmentLaw,
@@ -78,7 +77,7 @@ TEST(SegmentLawHarmonic, AccelerationJumpsAtADwell) {
   const MotionLaw law = build(rise_dwell_return("harmonic"));
   constexpr double delta = 1e-9;  // [rad]
   const double jump = law.eval(delta).d2s - law.eval(-delta).d2s;
-  const double expected = 0.02 * std::numbers::pi * std::numbers::pi / 2 / std::pow(120 * kDeg, 2);
+  const double expected = 0.02 * std::numbers::pi * std::numbers::pi / 2 / std::pow(120 * kDegToRad, 2);
   // s'' moves by O(δ·|s'''|) = O(δ²) relative on either side (s''' = 0 at the dwell end).
   EXPECT_NEAR(jump, expected, delta * expected);
 }
@@ -86,8 +85,8 @@ TEST(SegmentLawHarmonic, AccelerationJumpsAtADwell) {
 TEST(SegmentLawBuild, StartingWithAReturnShiftsTheBaseToZero) {
   const MotionLaw law = build(segments({dwell(30), segment("return", "cycloidal", 150, 0.01), dwell(200),
                                         segment("rise", "polynomial_345", 360, 0.01)}));
-  EXPECT_NEAR(law.eval(10 * kDeg).s, 0.01, test::kExact * 0.01);
-  EXPECT_NEAR(law.eval(170 * kDeg).s, 0.0, test::kExact * 0.01);
+  EXPECT_NEAR(law.eval(10 * kDegToRad).s, 0.01, test::kExact * 0.01);
+  EXPECT_NEAR(law.eval(170 * kDegToRad).s, 0.0, test::kExact * 0.01);
   EXPECT_NEAR(law.min_s(), 0.0, test::kExact * 0.01);
   EXPECT_NEAR(law.max_s(), 0.01, test::kExact * 0.01);
 }
@@ -106,7 +105,7 @@ TEST(SegmentLawBuild, OscillatingLiftDegIsInRadians) {
   SegmentConfig ret = segment("return", "cycloidal", 270);
   ret.lift_deg = 20.0;
   const MotionLaw law = build(segments({rise, dwell(180), ret, dwell(360)}));
-  EXPECT_NEAR(law.eval(135 * kDeg).s, 20 * kDeg, test::kEps * 20 * kDeg);  // one rounding
+  EXPECT_NEAR(law.eval(135 * kDegToRad).s, 20 * kDegToRad, test::kEps * 20 * kDegToRad);  // one rounding
 }
 
 TEST(SegmentLawBuild, SingleDwellIsAConstantLaw) {

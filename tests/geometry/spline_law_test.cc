@@ -18,7 +18,6 @@ namespace {
 
 using test::build;
 using test::dwell;
-using test::kDeg;
 using test::kLawPath;
 using test::segment;
 using test::segments;
@@ -36,9 +35,9 @@ SegmentConfig spline(const std::string& type, double end_deg, double lift, std::
 TEST(SplineSegment, IsC2BetweenDwells) {
   const MotionLaw law = build(segments(
       {dwell(30), spline("rise", 150, 0.02, {0.1, 0.5, 0.9}), dwell(200), segment("return", "cycloidal", 360, 0.02)}));
-  for (double deg : {30.0, 150.0}) test::expect_c2_at(law, deg * kDeg, std::to_string(deg) + "°");
-  EXPECT_NEAR(law.eval(30 * kDeg).s, 0.0, test::kEps * 0.02);
-  EXPECT_NEAR(law.eval(150 * kDeg).s, 0.02, test::kExact * 0.02);
+  for (double deg : {30.0, 150.0}) test::expect_c2_at(law, deg * kDegToRad, std::to_string(deg) + "°");
+  EXPECT_NEAR(law.eval(30 * kDegToRad).s, 0.0, test::kEps * 0.02);
+  EXPECT_NEAR(law.eval(150 * kDegToRad).s, 0.02, test::kExact * 0.02);
 }
 
 TEST(SplineSegment, IsC2WithHarmonicAndCycloidalNeighbours) {
@@ -46,20 +45,21 @@ TEST(SplineSegment, IsC2WithHarmonicAndCycloidalNeighbours) {
   const MotionLaw law =
       build(segments({segment("rise", "harmonic", 60, 0.01), spline("rise", 150, 0.01, {0.3, 0.6}), dwell(200),
                       spline("return", 300, 0.01, {0.2, 0.5, 0.8}, 7), segment("return", "cycloidal", 360, 0.01)}));
-  const double a60 = law.eval(60 * kDeg).d2s;
+  const double a60 = law.eval(60 * kDegToRad).d2s;
   EXPECT_LT(a60, -0.01);  // the boundary acceleration is really nonzero
-  for (double deg : {60.0, 150.0, 200.0, 300.0}) test::expect_c2_at(law, deg * kDeg, std::to_string(deg) + "°");
-  test::expect_derivatives_match_fd(law, {0.0, 60 * kDeg, 150 * kDeg, 200 * kDeg, 300 * kDeg, kTwoPi});
+  for (double deg : {60.0, 150.0, 200.0, 300.0}) test::expect_c2_at(law, deg * kDegToRad, std::to_string(deg) + "°");
+  test::expect_derivatives_match_fd(law,
+                                    {0.0, 60 * kDegToRad, 150 * kDegToRad, 200 * kDegToRad, 300 * kDegToRad, kTwoPi});
 }
 
 TEST(SplineSegment, AdjacentSplinesMeetAtRest) {
   // A spline next to a spline uses zero velocity and acceleration at their boundary.
   const MotionLaw law = build(segments({spline("rise", 120, 0.01, {0.5}, 3), spline("return", 360, 0.01, {0.4, 0.6})}));
   for (double deg : {0.0, 120.0}) {
-    const LawSample l = law.eval(deg * kDeg);
+    const LawSample l = law.eval(deg * kDegToRad);
     EXPECT_NEAR(l.ds, 0.0, test::kRoundoff * 0.01) << deg;
     EXPECT_NEAR(l.d2s, 0.0, test::kRoundoff * 0.01) << deg;
-    test::expect_c2_at(law, deg * kDeg, std::to_string(deg) + "°");
+    test::expect_c2_at(law, deg * kDegToRad, std::to_string(deg) + "°");
   }
 }
 
@@ -74,16 +74,16 @@ TEST_P(SplineSegmentDegree, LinearRampControlPointsGiveAMonotoneRise) {
                                         segment("return", "polynomial_345", 360, 0.015)}));
   double max_ds = 0.0, min_ds = 0.0;
   for (int i = 0; i <= 9000; ++i) {
-    const double ds = law.eval((20 + 90.0 * i / 9000) * kDeg).ds;
+    const double ds = law.eval((20 + 90.0 * i / 9000) * kDegToRad).ds;
     max_ds = std::max(max_ds, ds);
     min_ds = std::min(min_ds, ds);
   }
   EXPECT_GT(max_ds, 0.0);
   EXPECT_GE(min_ds, -test::kExact * max_ds);  // rounding only
-  EXPECT_NEAR(law.eval(110 * kDeg).s, 0.015, test::kExact * 0.015);
-  test::expect_c2_at(law, 20 * kDeg, "20°");
-  test::expect_c2_at(law, 110 * kDeg, "110°");
-  test::expect_derivatives_match_fd(law, {0.0, 20 * kDeg, 110 * kDeg, 200 * kDeg, kTwoPi});
+  EXPECT_NEAR(law.eval(110 * kDegToRad).s, 0.015, test::kExact * 0.015);
+  test::expect_c2_at(law, 20 * kDegToRad, "20°");
+  test::expect_c2_at(law, 110 * kDegToRad, "110°");
+  test::expect_derivatives_match_fd(law, {0.0, 20 * kDegToRad, 110 * kDegToRad, 200 * kDegToRad, kTwoPi});
 }
 
 INSTANTIATE_TEST_SUITE_P(Degrees, SplineSegmentDegree, ::testing::Values(3, 5, 7));
@@ -91,9 +91,9 @@ INSTANTIATE_TEST_SUITE_P(Degrees, SplineSegmentDegree, ::testing::Values(3, 5, 7
 TEST(SplineSegment, WorksWithOnlyTheBoundaryControlPoints) {
   const MotionLaw law =
       build(segments({spline("rise", 90, 0.01, {}), dwell(180), segment("return", "modified_sine", 360, 0.01)}));
-  EXPECT_NEAR(law.eval(90 * kDeg).s, 0.01, test::kExact * 0.01);
-  EXPECT_NEAR(law.eval(45 * kDeg).s, 0.005, test::kExact * 0.01);  // degree 5 Bézier 0,0,0,1,1,1 is symmetric
-  test::expect_c2_at(law, 90 * kDeg, "90°");
+  EXPECT_NEAR(law.eval(90 * kDegToRad).s, 0.01, test::kExact * 0.01);
+  EXPECT_NEAR(law.eval(45 * kDegToRad).s, 0.005, test::kExact * 0.01);  // degree 5 Bézier 0,0,0,1,1,1 is symmetric
+  test::expect_c2_at(law, 90 * kDegToRad, "90°");
 }
 
 TEST(SplineSegment, TooFewControlPointsForTheDegree) {
@@ -149,7 +149,7 @@ TEST_P(PeriodicSpline, InterpolatesTheKnotsExactly) {
   const MotionLaw l = law();
   // The 12×12 collocation system is well conditioned: residuals are a few ulps of 0.01 m.
   for (std::size_t j = 0; j < knots().size(); ++j)
-    EXPECT_NEAR(l.eval(knots()[j] * kDeg).s, lifts()[j], test::kAmplifiedRoundoff * 0.01) << knots()[j] << "°";
+    EXPECT_NEAR(l.eval(knots()[j] * kDegToRad).s, lifts()[j], test::kAmplifiedRoundoff * 0.01) << knots()[j] << "°";
 }
 
 TEST_P(PeriodicSpline, IsPeriodicAndSmoothAtItsBreakpoints) {
@@ -159,7 +159,7 @@ TEST_P(PeriodicSpline, IsPeriodicAndSmoothAtItsBreakpoints) {
     EXPECT_NEAR(l.eval(th - 2 * kTwoPi).ds, l.eval(th).ds, test::kRoundoff * test::kLengthScale);
   }
   // s, s', s'' continuous (degree − 1 ≥ 2) ...
-  for (double b : breakpoints_deg()) test::expect_c2_at(l, b * kDeg, std::to_string(b) + "°");
+  for (double b : breakpoints_deg()) test::expect_c2_at(l, b * kDegToRad, std::to_string(b) + "°");
   if (GetParam().degree < 5) return;
   // ... and s''' too for degree ≥ 5 (degree − 1 ≥ 4 > 3): a continuous s''' changes by
   // at most 2δ·max|s''''| across a breakpoint; max|s''''| is bounded by the
@@ -171,13 +171,13 @@ TEST_P(PeriodicSpline, IsPeriodicAndSmoothAtItsBreakpoints) {
   }
   constexpr double delta = 1e-8;
   for (double b : breakpoints_deg())
-    EXPECT_NEAR(l.eval(b * kDeg - delta).d3s, l.eval(b * kDeg + delta).d3s, 2 * delta * 2 * lip)
+    EXPECT_NEAR(l.eval(b * kDegToRad - delta).d3s, l.eval(b * kDegToRad + delta).d3s, 2 * delta * 2 * lip)
         << "s''' at " << b << "°";
 }
 
 TEST_P(PeriodicSpline, DerivativesMatchFiniteDifferences) {
   std::vector<double> breaks;
-  for (double b : breakpoints_deg()) breaks.push_back(b * kDeg);
+  for (double b : breakpoints_deg()) breaks.push_back(b * kDegToRad);
   breaks.push_back(kTwoPi);
   test::expect_derivatives_match_fd(law(), breaks);
 }
@@ -197,7 +197,7 @@ TEST(PeriodicTable, GivesTheSameLawAsTheInlineSpline) {
   const MotionLaw inline_law = build(periodic(5, kKnotsDeg, kLifts));
   // Same numbers in, same arithmetic: equal to rounding.
   for (int i = 0; i < 720; ++i) {
-    const double th = i * 0.5 * kDeg;
+    const double th = i * 0.5 * kDegToRad;
     EXPECT_NEAR(from_table.eval(th).s, inline_law.eval(th).s, test::kExact * 0.01);
     EXPECT_NEAR(from_table.eval(th).d2s, inline_law.eval(th).d2s, test::kRoundoff * test::kLengthScale);
   }

@@ -16,7 +16,6 @@ namespace {
 
 using test::build;
 using test::dwell;
-using test::kDeg;
 using test::segment;
 using test::segments;
 
@@ -60,7 +59,7 @@ TEST(ValveTiming, DurationAtCheckingHeightsMatchesTheClosedFormCycloid) {
   const std::vector<double> heights = {0.0002, 0.001, 0.005, 0.0099};
   const ValveTiming timing = valve_timing(law, heights);
   ASSERT_EQ(timing.heights.size(), heights.size());
-  const double rise_start = 30 * kDeg, rise = 100 * kDeg, ret_end = 250 * kDeg, ret = 120 * kDeg;
+  const double rise_start = 30 * kDegToRad, rise = 100 * kDegToRad, ret_end = 250 * kDegToRad, ret = 120 * kDegToRad;
   for (std::size_t i = 0; i < heights.size(); ++i) {
     const double h = heights[i];
     const double opening = cycloid_crossing(rise_start, rise, lift, h);
@@ -76,7 +75,7 @@ TEST(ValveTiming, DurationAtCheckingHeightsMatchesTheClosedFormCycloid) {
     EXPECT_NEAR(t.midpoint, 0.5 * (opening + closing), kCrossing) << h;
   }
   EXPECT_NEAR(timing.max_lift, lift, kLift);
-  EXPECT_NEAR(timing.lobe_centre, 130 * kDeg, kPeak);
+  EXPECT_NEAR(timing.lobe_centre, 130 * kDegToRad, kPeak);
   EXPECT_FALSE(timing.opening_ramp.has_value());  // one rise piece: no ramp
   EXPECT_FALSE(timing.closing_ramp.has_value());
 }
@@ -89,8 +88,8 @@ TEST(ValveTiming, EventAcrossCamAngleZeroIsOneIntervalPastTwoPi) {
   const ValveTiming timing = valve_timing(law, std::vector<double>{h});
   const CheckingHeightTiming& t = timing.heights.front();
   ASSERT_EQ(t.intervals.size(), 1u);
-  const double opening = cycloid_crossing(300 * kDeg, 60 * kDeg, lift, h);
-  const double closing = 2 * kPi + 60 * kDeg - cycloid_crossing(0.0, 60 * kDeg, lift, h);
+  const double opening = cycloid_crossing(300 * kDegToRad, 60 * kDegToRad, lift, h);
+  const double closing = 2 * kPi + 60 * kDegToRad - cycloid_crossing(0.0, 60 * kDegToRad, lift, h);
   EXPECT_NEAR(t.event->opening, opening, kCrossing);
   EXPECT_NEAR(t.event->closing, closing, kCrossing);
   EXPECT_GT(t.event->closing, 2 * kPi);
@@ -112,7 +111,7 @@ TEST(ValveTiming, LobeCentreOfADwellAtFullLiftIsItsMiddle) {
   const MotionLaw law = build(segments(
       {segment("rise", "cycloidal", 90, 0.005), dwell(180), segment("return", "cycloidal", 270, 0.005), dwell(360)}));
   const ValveTiming timing = valve_timing(law, std::vector<double>{0.001});
-  EXPECT_NEAR(timing.lobe_centre, 135 * kDeg, kPeak);
+  EXPECT_NEAR(timing.lobe_centre, 135 * kDegToRad, kPeak);
   EXPECT_NEAR(timing.max_lift, 0.005, kLift);
 }
 
@@ -127,16 +126,16 @@ TEST(ValveTiming, RampsMarkedAsPiecesGiveTheirEndsHeightAndVelocity) {
   const ValveTiming timing = valve_timing(law, std::vector<double>{0.001});
   ASSERT_TRUE(timing.opening_ramp.has_value());
   ASSERT_TRUE(timing.closing_ramp.has_value());
-  EXPECT_NEAR(timing.opening_ramp->angle, 20 * kDeg, kCrossing);
+  EXPECT_NEAR(timing.opening_ramp->angle, 20 * kDegToRad, kCrossing);
   EXPECT_NEAR(timing.opening_ramp->height, ramp, kLift);
   EXPECT_NEAR(timing.opening_ramp->velocity, 0.0, kLift);
-  EXPECT_NEAR(timing.closing_ramp->angle, 180 * kDeg, kCrossing);
+  EXPECT_NEAR(timing.closing_ramp->angle, 180 * kDegToRad, kCrossing);
   EXPECT_NEAR(timing.closing_ramp->height, ramp, kLift);
   EXPECT_NEAR(timing.closing_ramp->velocity, 0.0, kLift);
   // Half the ramp height is reached on the ramps.
   const ValveTiming half = valve_timing(law, std::vector<double>{0.5 * ramp});
-  EXPECT_NEAR(half.heights.front().event->opening, 10 * kDeg, kCrossing);
-  EXPECT_NEAR(half.heights.front().event->closing, 190 * kDeg, kCrossing);
+  EXPECT_NEAR(half.heights.front().event->opening, 10 * kDegToRad, kCrossing);
+  EXPECT_NEAR(half.heights.front().event->closing, 190 * kDegToRad, kCrossing);
 }
 
 // Ramp ends named by angle: the lift and ds/dθ of the closed-form cycloid there.
@@ -144,14 +143,14 @@ TEST(ValveTiming, RampEndsGivenByAngleReadTheLawThere) {
   constexpr double lift = 0.01;
   const MotionLaw law = build(segments(
       {dwell(30), segment("rise", "cycloidal", 130, lift), segment("return", "cycloidal", 250, lift), dwell(360)}));
-  const ValveTiming timing = valve_timing(law, std::vector<double>{0.001}, std::pair(40 * kDeg, 240 * kDeg));
-  const double beta = 100 * kDeg, x = 0.1;
+  const ValveTiming timing = valve_timing(law, std::vector<double>{0.001}, std::pair(40 * kDegToRad, 240 * kDegToRad));
+  const double beta = 100 * kDegToRad, x = 0.1;
   ASSERT_TRUE(timing.opening_ramp.has_value());
-  EXPECT_NEAR(timing.opening_ramp->height, cycloid(40 * kDeg, 30 * kDeg, beta, lift), kLift);
+  EXPECT_NEAR(timing.opening_ramp->height, cycloid(40 * kDegToRad, 30 * kDegToRad, beta, lift), kLift);
   EXPECT_NEAR(timing.opening_ramp->velocity, lift / beta * (1.0 - std::cos(2.0 * kPi * x)), 1e-12);
   ASSERT_TRUE(timing.closing_ramp.has_value());
   EXPECT_LT(timing.closing_ramp->velocity, 0.0);
-  EXPECT_NEAR(timing.closing_ramp->height, cycloid(10 * kDeg, 0.0, 120 * kDeg, lift), kLift);
+  EXPECT_NEAR(timing.closing_ramp->height, cycloid(10 * kDegToRad, 0.0, 120 * kDegToRad, lift), kLift);
 }
 
 }  // namespace

@@ -10,12 +10,12 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <numbers>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "cli_run.h"
+#include "common/constants.h"
 #include "common/errors.h"
 #include "dynamics/model.h"
 #include "io/config.h"
@@ -29,7 +29,6 @@ namespace fs = std::filesystem;
 // Tolerance levels.
 constexpr double kExactGeometry = 1e-9;  // [m], the issue's acceptance level for the lift a follower reads
 constexpr double kDxfDigits = 1e-9;      // [mm], dxflib prints 16 decimals
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 fs::path scratch(const std::string& name) { return test::scratch_dir("manufacturing_export_test", name); }
 
@@ -109,10 +108,10 @@ INSTANTIATE_TEST_SUITE_P(BothDirections, DrawingAids, ::testing::Values("ccw", "
 // A roller of the design's radius on the design's axis reads the design's law.
 TEST(FollowerLift, DesignRollerRadiusReproducesTheDesignLift) {
   const Model model = model_of(eccentric_mechanism(kE, "ccw", kRoller));
-  const FollowerLiftTable table = follower_lift_table(model, 0.01, 1.0 * kDeg, "test.json");
+  const FollowerLiftTable table = follower_lift_table(model, 0.01, 1.0 * kDegToRad, "test.json");
   ASSERT_EQ(table.theta.size(), 360u);
   for (std::size_t i = 0; i < table.theta.size(); ++i) {
-    EXPECT_NEAR(table.theta[i], static_cast<double>(i) * kDeg, 1e-12);
+    EXPECT_NEAR(table.theta[i], static_cast<double>(i) * kDegToRad, 1e-12);
     EXPECT_NEAR(table.lift[i], model.law->eval(table.theta[i]).s, kExactGeometry) << "at " << i << "°";
   }
 }
@@ -125,14 +124,14 @@ TEST(FollowerLift, RollerOnTheFlatFaceDiscReadsTheClosedFormLift) {
   for (const char* direction : {"ccw", "cw"}) {
     const Model model = model_of(eccentric_mechanism(kE, direction, kFlatFace));
     for (const double radius : {0.002, 0.015}) {
-      const FollowerLiftTable table = follower_lift_table(model, radius, 2.5 * kDeg, "test.json");
+      const FollowerLiftTable table = follower_lift_table(model, radius, 2.5 * kDegToRad, "test.json");
       ASSERT_EQ(table.theta.size(), 144u);
       double largest_difference = 0.0;
       for (std::size_t i = 0; i < table.theta.size(); ++i) {
         const double th = table.theta[i];
         const double want = -kE * std::cos(th) +
                             std::sqrt(std::pow(kRb + kE + radius, 2) - std::pow(kE * std::sin(th), 2)) - (kRb + radius);
-        EXPECT_NEAR(table.lift[i], want, kExactGeometry) << direction << " R " << radius << " at " << th / kDeg;
+        EXPECT_NEAR(table.lift[i], want, kExactGeometry) << direction << " R " << radius << " at " << th / kDegToRad;
         largest_difference = std::max(largest_difference, std::abs(table.lift[i] - kE * (1.0 - std::cos(th))));
       }
       // e² R / (2 (r_b + e)(r_b + e + R))-sized at 90°: microns, far above the geometry's rounding.
@@ -143,7 +142,7 @@ TEST(FollowerLift, RollerOnTheFlatFaceDiscReadsTheClosedFormLift) {
 
 TEST(FollowerLift, CsvHeaderNamesTheDatumAndTheRowsReadBack) {
   const Model model = model_of(eccentric_mechanism(kE, "cw", kRoller));
-  const FollowerLiftTable table = follower_lift_table(model, 0.006, 5.0 * kDeg, "test.json");
+  const FollowerLiftTable table = follower_lift_table(model, 0.006, 5.0 * kDegToRad, "test.json");
   const fs::path path = scratch("csv") / "follower_lift.csv";
   write_follower_lift_csv(path, table, "disc");
   std::ifstream in(path);
@@ -184,9 +183,9 @@ TEST(FollowerLift, BadRadiusOrStepIsAnInputErrorNamingTheOption) {
     }
     return std::string("no error");
   };
-  EXPECT_EQ(path_of(-0.001, kDeg), "--follower-radius");
+  EXPECT_EQ(path_of(-0.001, kDegToRad), "--follower-radius");
   EXPECT_EQ(path_of(0.01, 0.0), "--angle-step-deg");
-  EXPECT_EQ(path_of(0.01, 400 * kDeg), "--angle-step-deg");
+  EXPECT_EQ(path_of(0.01, 400 * kDegToRad), "--angle-step-deg");
 }
 
 TEST(FollowerLift, ExportCommandWritesTheTableAndRefusesABadStepWithExitTwo) {

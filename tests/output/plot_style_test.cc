@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "cli_run.h"
+#include "gnuplot.h"
 #include "output/report.h"
 
 namespace camdyn {
@@ -81,7 +82,7 @@ TEST(PlotRoles, EveryRoleHasItsOwnNameAndLook) {
 // group, in the role's colour (and dash), whatever the series' own style and
 // its place in the plot; a series without a role carries none.
 TEST(PlotRoles, SvgSeriesAreTaggedAndDrawnInTheirRolesColour) {
-  if (!test::runs_ok({"gnuplot", "--version"})) GTEST_SKIP() << "gnuplot is not installed";
+  REQUIRE_GNUPLOT();
   Plot plot;
   plot.xlabel = "cam angle [deg]";
   plot.ylabel = "force [N]";

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "cli_run.h"
+#include "required_tool.h"
 
 namespace camdyn::test {
 
@@ -16,5 +17,4 @@ inline bool gnuplot_available() {
 
 }  // namespace camdyn::test
 
-#define REQUIRE_GNUPLOT() \
-  if (!camdyn::test::gnuplot_available()) GTEST_SKIP() << "gnuplot is not installed"
+#define REQUIRE_GNUPLOT() REQUIRE_TOOL(camdyn::test::gnuplot_available(), "gnuplot")
