@@ -15,7 +15,8 @@
 // the benchmark's time is the warm map's, and the counters give both times,
 // their ratio, the speeds the warm map predicted and the speeds the two maps
 // classify differently (motion kind or period), and the speeds each marks
-// coexisting (docs/periodic.md "Coexisting attractors"). The two can differ
+// coexisting (docs/periodic.md "Coexisting attractors"), and the warm map's
+// slowest and fastest range (how evenly the ranges share the work). The two can differ
 // where the shooting sees two orbits: the quickstart at 1214.6 rpm is period 1
 // warm-started (|μ| 0.015, continued from 1211 rpm) and period 3 the
 // transient way (|μ| 0.009), but the period-3 orbit's points lie 1e-6
@@ -25,6 +26,7 @@
 //   build/release/bench/jump_map_bench --benchmark_out=bench/results/jump_map.json --benchmark_out_format=json
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <chrono>
 #include <string>
 #include <vector>
@@ -48,16 +50,23 @@ JumpMapStudy read_map(const std::string& config, const std::string& jump_map, bo
 }
 
 struct MapRun {
-  std::vector<JumpMapPoint> points;  ///< in rpm order
-  double seconds = 0.0;              ///< wall time [s]
+  std::vector<JumpMapPoint> points;   ///< in rpm order
+  double seconds = 0.0;               ///< wall time [s]
+  std::vector<double> range_seconds;  ///< each range's wall time [s]: how evenly the ranges share the work
 };
 
 MapRun run_map(const JumpMapStudy& study, const std::string& file) {
   const std::size_t ranges = std::min(study.rpm.size(), static_cast<std::size_t>(study.config.ranges));
   std::vector<std::vector<JumpMapPoint>> by_range(ranges);
+  std::vector<double> range_seconds(ranges, 0.0);
   const auto t0 = std::chrono::steady_clock::now();
-  parallel_for_workers(ranges, kWorkers, [&](int, std::size_t r) { by_range[r] = run_jump_map_range(study, r, file); });
+  parallel_for_workers(ranges, kWorkers, [&](int, std::size_t r) {
+    const auto start = std::chrono::steady_clock::now();
+    by_range[r] = run_jump_map_range(study, r, file);
+    range_seconds[r] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  });
   MapRun run;
+  run.range_seconds = range_seconds;
   run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   for (auto& points : by_range) run.points.insert(run.points.end(), points.begin(), points.end());
   return run;
@@ -86,6 +95,8 @@ void BM_JumpMap(benchmark::State& state, const std::string& config, const std::s
   state.counters["cold_s"] = cold.seconds;
   state.counters["warm_s"] = warm.seconds;
   state.counters["cold_over_warm"] = cold.seconds / warm.seconds;
+  state.counters["warm_slowest_range_s"] = *std::max_element(warm.range_seconds.begin(), warm.range_seconds.end());
+  state.counters["warm_fastest_range_s"] = *std::min_element(warm.range_seconds.begin(), warm.range_seconds.end());
   state.counters["predicted_speeds"] = static_cast<double>(predicted);
   state.counters["failed_speeds"] = static_cast<double>(failed);
   state.counters["classed_differently"] = static_cast<double>(different);
