@@ -58,15 +58,14 @@ struct MapRun {
 MapRun run_map(const JumpMapStudy& study, const std::string& file) {
   const std::size_t ranges = std::min(study.rpm.size(), static_cast<std::size_t>(study.config.ranges));
   std::vector<std::vector<JumpMapPoint>> by_range(ranges);
-  std::vector<double> range_seconds(ranges, 0.0);
+  MapRun run;
+  run.range_seconds.assign(ranges, 0.0);
   const auto t0 = std::chrono::steady_clock::now();
   parallel_for_workers(ranges, kWorkers, [&](int, std::size_t r) {
     const auto start = std::chrono::steady_clock::now();
     by_range[r] = run_jump_map_range(study, r, file);
-    range_seconds[r] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    run.range_seconds[r] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   });
-  MapRun run;
-  run.range_seconds = range_seconds;
   run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   for (auto& points : by_range) run.points.insert(run.points.end(), points.begin(), points.end());
   return run;
