@@ -14,7 +14,7 @@ packages=(
   libeigen3-dev libsundials-dev libnlopt-cxx-dev libnlopt-dev libceres-dev
   coinor-libclp-dev libdxflib-dev nlohmann-json3-dev libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev
   gnuplot-nox python3 python3-numpy python3-scipy time
-  pybind11-dev python3-dev python3-pytest python3-matplotlib
+  pybind11-dev python3-dev python3-pytest python3-matplotlib python3-pandas
   libopenmpi-dev openmpi-bin chromium
 )
 # The test presets also check formatting and run clang-tidy (scripts/check_format.sh, check_tidy.sh).

@@ -24,6 +24,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -67,6 +68,10 @@ struct Model : CamGeometry {
   /// The jump speed of the held, linearised train [rpm] (dynamics/train_jump_speed.h),
   /// for a train with coordinates of its own; speed-independent, so made once.
   double train_jump_speed_rpm = 0.0;
+  /// jump_speed_rpm(*this) [rpm], made when the model is assembled and again
+  /// by set_parameters (NaN: not made, model_jump_speed_rpm makes it): every
+  /// run's metrics carry it, and a Poincaré map's runs are one revolution.
+  double rigid_jump_speed_rpm = std::numeric_limits<double>::quiet_NaN();
 
   Tracking tracking = Tracking::differential;
   double tracking_gain = 0.0;      ///< α of ḟ = −α f [1/s]

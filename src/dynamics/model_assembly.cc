@@ -14,6 +14,7 @@
 #include "dynamics/contact_stress.h"
 #include "dynamics/model.h"
 #include "dynamics/plausibility.h"
+#include "dynamics/rigid_jump_speed.h"
 #include "dynamics/train_jump_speed.h"
 #include "geometry/check_text.h"
 #include "scene/follower_shape.h"
@@ -177,6 +178,7 @@ Model assemble_model(const CamGeometry& geometry, const SceneConfig& scene, cons
     }
   }
 
+  model.rigid_jump_speed_rpm = jump_speed_rpm(model);
   list_elements(model);
   // Refuses what the solver could not run (docs/warnings.md), naming the field.
   check_plausibility(scene, model, file);

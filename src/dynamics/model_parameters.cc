@@ -9,6 +9,7 @@
 
 #include "common/constants.h"
 #include "common/errors.h"
+#include "dynamics/rigid_jump_speed.h"
 #include "io/typed_archive.h"
 #include "scene/contact_law_form.h"
 
@@ -213,6 +214,7 @@ void set_parameters(Model& model, const ModelParameters& p, const std::string& f
       model.drive.motor_inertia = p.motor_inertia;
     }
   }
+  model.rigid_jump_speed_rpm = jump_speed_rpm(model);  // the mass, spring and weight may have changed
   if (element_flags(model) != elements_before) list_elements(model);
 }
 

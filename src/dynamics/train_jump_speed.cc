@@ -117,7 +117,8 @@ double train_jump_speed_rpm(const Model& model) {
 }
 
 double model_jump_speed_rpm(const Model& model) {
-  return model.train.has_coordinates() ? model.train_jump_speed_rpm : jump_speed_rpm(model);
+  if (model.train.has_coordinates()) return model.train_jump_speed_rpm;
+  return std::isnan(model.rigid_jump_speed_rpm) ? jump_speed_rpm(model) : model.rigid_jump_speed_rpm;
 }
 
 const char* jump_speed_name(const Model& model) {

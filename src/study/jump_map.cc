@@ -315,6 +315,7 @@ JumpMapStudy read_jump_map_study(const Json& doc, const StudyContext& ctx) {
   study.periodic.options.lyapunov_revolutions = 100;  // per speed: a shorter default than the periodic study's
   study.periodic.options.settle_revolutions = 300;    // likewise: a contracting speed is followed 200 more
   const Json periodic = read_study_fields(part, "periodic", ctx.source, study.periodic);
+  study.periodic.options.stable_orbits_only = true;  // a speed's class needs its stable orbit only
   study.geometry = build_cam_geometry(study.scene, ctx.config_file);
   const Model model = build_model(*study.geometry, study.scene, ctx.config_file);
   const PoincareMap map(study.scene, model, ctx.config_file);  // the drive sets the speed

@@ -152,11 +152,20 @@ class Shooter {
 // each further iteration costs a Jacobian (2n map runs).
 constexpr int kStagnantIterations = 4;
 
+// The largest |multiplier| above which an orbit Newton is near (within 1e3
+// times the shooting tolerance) is unstable beyond doubt: a multiplier moves
+// by about the distance to the orbit times the map's curvature, orders of
+// magnitude less than this margin on a smooth map
+// (PeriodicOptions::stable_orbits_only).
+constexpr double kClearlyUnstableRadius = 1.2;
+
 // Newton on P^k(x) − x = 0 from `start`, damped by step halving and, where
 // no step helps, by following the motion; the converged orbit, or nullopt
-// (also when the residual stagnates, kStagnantIterations).
+// (also when the residual stagnates, kStagnantIterations, and, with
+// options.stable_orbits_only, near a clearly unstable orbit: then its last
+// iterate goes to `unstable_near` when given).
 std::optional<Orbit> shoot(Shooter& shooter, const SectionPoint& start, int k, const PeriodicOptions& options,
-                           std::vector<NewtonStep>& trace) {
+                           std::vector<NewtonStep>& trace, SectionPoint* unstable_near = nullptr) {
   SectionPoint x = start;
   long impacts = 0;  // of the run that gave `image`
   std::optional<SectionPoint> image = shooter.apply(x, k, 0, &impacts);
@@ -185,6 +194,17 @@ std::optional<Orbit> shoot(Shooter& shooter, const SectionPoint& start, int k, c
       return orbit;
     }
     if (it >= options.max_newton_iterations || !std::isfinite(norm)) return std::nullopt;
+    if (options.stable_orbits_only && norm <= 1e3 * options.tolerance) {
+      const double radius = std::abs(floquet_multipliers(*J).front());
+      if (radius > kClearlyUnstableRadius) {
+        shooter.log(
+            format("period %d: within %.3e of an orbit whose largest |multiplier| is %.4g: unstable, not "
+                   "refined further",
+                   k, norm, radius));
+        if (unstable_near) *unstable_near = x;
+        return std::nullopt;
+      }
+    }
     const VectorXd step = (*J - MatrixXd::Identity(n, n)).fullPivLu().solve(-residual);
     if (!step.allFinite()) return std::nullopt;
     // Halve the step until the residual falls (at most twice), keeping the
@@ -280,6 +300,18 @@ bool known(const Shooter& shooter, const Orbit& orbit, const std::vector<Orbit>&
   return false;
 }
 
+// Whether P^d returns x within 1e3 times the shooting tolerance for a
+// divisor d < k of k: x is near an orbit of the shorter period d (as in
+// at_minimal_period).
+bool of_shorter_period(Shooter& shooter, const SectionPoint& x, int k, const PeriodicOptions& options) {
+  for (int d = 1; d < k; ++d) {
+    if (k % d != 0) continue;
+    const std::optional<SectionPoint> image = shooter.apply(x, d);
+    if (image && shooter.scaled_norm(to_vector(image->x) - to_vector(x.x)) <= 1e3 * options.tolerance) return true;
+  }
+  return false;
+}
+
 // The smallest period d ≤ options.max_period with which the last sampled
 // states repeat (every |x_n − x_{n−d}| within the shooting tolerance over the
 // last 2d + 2 samples), and in `since` the first sample from which they do;
@@ -360,16 +392,20 @@ PeriodicAnalysis find_periodic_orbit(const PoincareMap& map, const SectionPoint&
   SectionPoint from = start;
   bool moved_on = false;  // the start was moved once already
   for (int k = std::max(1, options.min_period); k <= options.max_period && !a.orbit; ++k) {
-    std::optional<Orbit> orbit = shoot(shooter, from, k, options, a.newton);
+    SectionPoint unstable_near;
+    std::optional<Orbit> orbit = shoot(shooter, from, k, options, a.newton, &unstable_near);
     if (orbit) orbit = at_minimal_period(shooter, std::move(*orbit), options, a.newton);
-    if (orbit && known(shooter, *orbit, found, options.tolerance) && !moved_on) {
-      // Newton went back to a repelling orbit found before: the start is still
-      // near it. Follow the motion further, away from it, and try k again.
+    // Newton went back to a repelling orbit found before (or, stopped near a
+    // clearly unstable orbit, to one of a shorter period): the start is still
+    // near it. Follow the motion further, away from it, and try k again.
+    const bool returned =
+        !moved_on && (orbit ? known(shooter, *orbit, found, options.tolerance)
+                            : !unstable_near.x.empty() && of_shorter_period(shooter, unstable_near, k, options));
+    if (returned) {
       const int revolutions = 4 * options.transient_revolutions;
-      shooter.log(
-          format("period %d: converged to the orbit found before; following the motion %d more "
-                 "revolutions and trying again",
-                 k, revolutions));
+      shooter.log(format("period %d: %s; following the motion %d more revolutions and trying again", k,
+                         orbit ? "converged to the orbit found before" : "near an orbit of a shorter period",
+                         revolutions));
       moved_on = true;
       if (std::optional<SectionPoint> later = shooter.apply(from, revolutions)) from = *later;
       --k;

@@ -10,6 +10,7 @@
 
 #include "common/errors.h"
 #include "dynamics/model.h"
+#include "dynamics/rigid_jump_speed.h"
 #include "dynamics/simulation.h"
 #include "io/config.h"
 #include "scenes.h"
@@ -29,6 +30,7 @@ void expect_identical(const SimulationResult& a, const SimulationResult& b, cons
   EXPECT_EQ(a.metrics.max_penetration, b.metrics.max_penetration) << what;
   EXPECT_EQ(a.metrics.energy_residual, b.metrics.energy_residual) << what;
   EXPECT_EQ(a.metrics.impact_count, b.metrics.impact_count) << what;
+  EXPECT_EQ(a.metrics.jump_speed_rpm, b.metrics.jump_speed_rpm) << what;
   EXPECT_EQ(a.solver.counters.steps, b.solver.counters.steps) << what;
   EXPECT_EQ(a.solver.tracking_resets, b.solver.tracking_resets) << what;
   EXPECT_EQ(a.events.size(), b.events.size()) << what;
@@ -77,6 +79,9 @@ void expect_in_place_equals_built(const SceneConfig& base, const std::string& wh
   EXPECT_EQ(in_place.contact.chi(), built.contact.chi()) << what;
   EXPECT_EQ(in_place.drive.no_load_speed, built.drive.no_load_speed) << what;
   EXPECT_EQ(in_place.elements, built.elements) << what;
+  // The jump speed made once per model is renewed with the mass and spring it depends on.
+  EXPECT_EQ(in_place.rigid_jump_speed_rpm, built.rigid_jump_speed_rpm) << what;
+  EXPECT_EQ(built.rigid_jump_speed_rpm, jump_speed_rpm(built)) << what;
   Workspace fresh;
   expect_identical(simulate(changed, in_place, ws), simulate(changed, built, fresh), what);
 }

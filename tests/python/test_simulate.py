@@ -112,8 +112,7 @@ def test_samples_at_given_times(quickstart):
     assert list(result.samples.time) == [0.01, 0.02]
 
 
-def test_tables_are_pandas_frames_when_pandas_is_importable(quickstart):
-    pandas = pytest.importorskip("pandas")
+def test_tables_are_pandas_frames_when_pandas_is_importable(quickstart, pandas):
     result = camdyn.load(quickstart).simulate(series=True)
     assert isinstance(result.timeseries, pandas.DataFrame)
     assert list(result.timeseries.columns) == list(camdyn.TIMESERIES_UNITS)

@@ -58,6 +58,7 @@ struct BallOrbit {
   double impact_angle_deg = 0.0, take_off_speed = 0.0;
   double section_position = 0.0, section_velocity = 0.0;  // at θ = 0 (mod 360°), in flight
   bool stable = false;
+  double spectral_radius = 0.0;  // largest |Floquet multiplier|
 };
 
 BallOrbit ball_orbit(const SceneConfig& scene) {
@@ -75,12 +76,16 @@ BallOrbit ball_orbit(const SceneConfig& scene) {
   o.section_velocity = V - g * tau;
   const double trace = 1 + e * e + (1 + e) * (1 + e) * a / g;
   o.stable = std::abs(trace) < 1 + e * e;
+  // μ² − trace μ + e² = 0: a complex pair of modulus e, or two real roots.
+  const double discriminant = trace * trace - 4 * e * e;
+  o.spectral_radius = discriminant < 0 ? e : (std::abs(trace) + std::sqrt(discriminant)) / 2;
   return o;
 }
 
 // The study at `rpm`, started in flight on the closed-form orbit's section point.
-PeriodicResult run_ball(double rpm, BallOrbit& expected) {
+PeriodicResult run_ball(double rpm, BallOrbit& expected, bool stable_orbits_only = false) {
   PeriodicStudy study = read_study(kBouncingBall);
+  study.config.options.stable_orbits_only = stable_orbits_only;
   study.scene.mechanism.cam.rpm = rpm;
   expected = ball_orbit(study.scene);
   study.scene.mechanism.follower.initial.position = expected.section_position;
@@ -126,6 +131,36 @@ TEST(PeriodicOrbit, BouncingBallPastThePeriodDoublingIsUnstable) {
   // It loses stability by period doubling: the largest multiplier is real and below −1.
   EXPECT_LT(orbit->multipliers.front().real(), -1.0);
   EXPECT_NEAR(orbit->multipliers.front().imag(), 0.0, test::kAmplifiedRoundoff);
+}
+
+// Seeking stable orbits only (the jump map's search, docs/periodic.md
+// "Unstable orbits"): past the period doubling, where the closed form puts
+// the period-1 orbit's largest |multiplier| above the 1.2 of that stop,
+// Newton stops near it instead of refining it, so it is not reported; the
+// search costs fewer revolutions and ends on the same stable orbit. On the
+// stable side the same stable orbit is found either way.
+TEST(PeriodicOrbit, SeekingStableOrbitsOnlyStopsNearAClearlyUnstableOrbit) {
+  BallOrbit expected;
+  const PeriodicResult refined = run_ball(640, expected);
+  ASSERT_GT(expected.spectral_radius, 1.2) << "the scene is meant to be clearly unstable";
+  const PeriodicResult stopped = run_ball(640, expected, true);
+  const Orbit* orbit = period_one(refined);
+  ASSERT_NE(orbit, nullptr);
+  EXPECT_NEAR(orbit->spectral_radius() / expected.spectral_radius, 1.0, 0.05);
+  EXPECT_EQ(period_one(stopped), nullptr);
+  // Past the doubling the ball settles on a stable orbit (of period 4 here): the same one either way.
+  ASSERT_TRUE(stopped.analysis.orbit && refined.analysis.orbit);
+  EXPECT_EQ(stopped.analysis.orbit->period, refined.analysis.orbit->period);
+  EXPECT_EQ(stopped.analysis.orbit->fixed_point.x, refined.analysis.orbit->fixed_point.x);
+  EXPECT_LT(stopped.analysis.revolutions, refined.analysis.revolutions);
+  EXPECT_EQ(stopped.analysis.motion, refined.analysis.motion);
+
+  const PeriodicResult stable = run_ball(570, expected), stable_only = run_ball(570, expected, true);
+  ASSERT_TRUE(expected.stable);
+  ASSERT_TRUE(stable.analysis.orbit && stable_only.analysis.orbit);
+  EXPECT_EQ(stable_only.analysis.orbit->period, 1);
+  const SectionPoint &a = stable.analysis.orbit->fixed_point, &b = stable_only.analysis.orbit->fixed_point;
+  for (std::size_t j = 0; j < a.x.size(); ++j) EXPECT_EQ(a.x[j], b.x[j]) << "coordinate " << j;
 }
 
 // The long-flight cam (studies/peers/long_flight.json) at 700 rpm settles on a
