@@ -330,8 +330,7 @@ Failure check_contact(const Model& model, const Evaluation& ev, double t) {
 // every 0.25 s of wall time, the last report's time in `last_progress` [s]).
 Failure check_budgets(const RunContext& run, const Integrator& integrator, double t, double& last_progress) {
   const IntegratorConfig& ic = run.scene.integrator;
-  const SolverCounters c = integrator.counters();
-  if (c.steps > ic.max_steps)
+  if (integrator.steps() > ic.max_steps)
     return {Termination::step_budget, "step budget of " + std::to_string(ic.max_steps) +
                                           " steps (integrator.max_steps) exceeded " + where(run.model, t)};
   const Clock::time_point now = Clock::now();

@@ -36,13 +36,11 @@ Jet operator*(const Jet& a, const Jet& b) {  // Leibniz
 Jet compose(const Jet& x, double f0, double f1, double f2, double f3) {
   return {f0, f1 * x.d1, f2 * x.d1 * x.d1 + f1 * x.d2, f3 * x.d1 * x.d1 * x.d1 + 3.0 * f2 * x.d1 * x.d2 + f1 * x.d3};
 }
-Jet cos(const Jet& x) {
+/// cos x and sin x of a jet, from one sine and cosine of its value.
+void cos_sin(const Jet& x, Jet& cos_x, Jet& sin_x) {
   const double c = std::cos(x.v), s = std::sin(x.v);
-  return compose(x, c, -s, -c, s);
-}
-Jet sin(const Jet& x) {
-  const double c = std::cos(x.v), s = std::sin(x.v);
-  return compose(x, s, c, -s, -c);
+  cos_x = compose(x, c, -s, -c, s);
+  sin_x = compose(x, s, c, -s, -c);
 }
 Jet reciprocal(const Jet& x) {
   const double r = 1.0 / x.v;
@@ -66,7 +64,8 @@ JetVec world_path(const MotionLaw& law, const FollowerGeometry& f, int sigma, do
     return {static_cast<double>(sigma) * ds, f.base_radius + s};
   }
   const Jet psi = f.psi0 + static_cast<double>(f.kappa) * s;
-  const Jet c = cos(psi), sn = sin(psi);
+  Jet c, sn;
+  cos_sin(psi, c, sn);
   if (f.circle()) return {A.x() + f.arm_length * c, A.y() + f.arm_length * sn};
   const Jet along = A.x() * c + A.y() * sn;  // d·A
   const Jet mu = -1.0 * along * reciprocal(1.0 + static_cast<double>(-sigma * f.kappa) * ds);
@@ -85,7 +84,8 @@ CurvePoint SynthesisedCam::at(double u) const {
   const double sg = direction_;
   const Eigen::Vector2d q(w.x.v, w.y.v), q1(w.x.d1, w.y.d1), q2(w.x.d2, w.y.d2), q3(w.x.d3, w.y.d3);
   // r = R(−σu) q with dR(−σu)/du = −σ R J: r^(k) = R (d/du − σJ)^k q.
-  const double c = std::cos(sg * u), s = std::sin(-sg * u);
+  // sin(−σu) = −sin(σu) exactly (glibc's sine is odd to the bit): one sincos.
+  const double c = std::cos(sg * u), s = -std::sin(sg * u);
   auto rot = [&](const Eigen::Vector2d& v) { return Eigen::Vector2d(c * v.x() - s * v.y(), s * v.x() + c * v.y()); };
   CurvePoint p;
   p.r = rot(q);

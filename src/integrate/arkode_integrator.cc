@@ -184,4 +184,10 @@ SolverCounters ArkodeIntegrator::counters() const {
   return c;
 }
 
+long ArkodeIntegrator::steps() const {
+  long v = 0;
+  impl_->check(ARKStepGetNumSteps(impl_->mem, &v), "ARKStepGetNumSteps");
+  return v + impl_->before_reinit.steps;
+}
+
 }  // namespace camdyn

@@ -25,6 +25,7 @@ class ArkodeIntegrator final : public Integrator {
   void root_info(int* directions) const override;
   void reinit(double t, const double* y) override;
   SolverCounters counters() const override;
+  long steps() const override;
 
  private:
   struct Impl;

@@ -253,4 +253,10 @@ SolverCounters CvodeIntegrator::counters() const {
   return c;
 }
 
+long CvodeIntegrator::steps() const {
+  long v = 0;
+  impl_->check(CVodeGetNumSteps(impl_->mem, &v), "CVodeGetNumSteps");
+  return v + impl_->before_reinit.steps;
+}
+
 }  // namespace camdyn

@@ -29,6 +29,7 @@ class CvodeIntegrator final : public Integrator {
   void root_info(int* directions) const override;
   void reinit(double t, const double* y) override;
   SolverCounters counters() const override;
+  long steps() const override;
 
   /// Forward sensitivities by CVODES' staggered corrector: `count` columns
   /// s_j = ∂y/∂p_j (column-major size() × count in `s0`), driven by the

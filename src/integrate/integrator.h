@@ -47,6 +47,9 @@ class Integrator {
   /// Restarts at (t, y), e.g. after an event changed the right-hand side.
   virtual void reinit(double t, const double* y) = 0;
   virtual SolverCounters counters() const = 0;
+  /// counters().steps alone: the step budget is checked every step, and the
+  /// other counters cost several solver queries each.
+  virtual long steps() const { return counters().steps; }
 };
 
 /// Creates the integrator for options.method. Throws NumericalError when
