@@ -194,7 +194,7 @@ std::optional<Orbit> shoot(Shooter& shooter, const SectionPoint& start, int k, c
       return orbit;
     }
     if (it >= options.max_newton_iterations || !std::isfinite(norm)) return std::nullopt;
-    if (options.stable_orbits_only && norm <= 1e3 * options.tolerance) {
+    if (options.stable_orbits_only && norm <= 1e3 * options.tolerance && J->allFinite()) {
       const double radius = std::abs(floquet_multipliers(*J).front());
       if (radius > kClearlyUnstableRadius) {
         shooter.log(
