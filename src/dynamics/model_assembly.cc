@@ -165,6 +165,7 @@ Model assemble_model(const CamGeometry& geometry, const SceneConfig& scene, cons
   model.train = build_follower_train(scene, file, model.layout);
   // A spring with mass is the train's lumped chain, not the follower's massless spring.
   if (model.train.follower_spring_lumped) model.forces.spring = ReturnSpring{};
+  model.rigid_jump_speed_rpm = jump_speed_rpm(model);
   if (model.train.has_coordinates()) {
     try {
       model.train_jump_speed_rpm = train_jump_speed_rpm(model);
@@ -178,7 +179,6 @@ Model assemble_model(const CamGeometry& geometry, const SceneConfig& scene, cons
     }
   }
 
-  model.rigid_jump_speed_rpm = jump_speed_rpm(model);
   list_elements(model);
   // Refuses what the solver could not run (docs/warnings.md), naming the field.
   check_plausibility(scene, model, file);

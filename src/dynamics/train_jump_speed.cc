@@ -107,8 +107,17 @@ LinearTrain linearised_train(const Model& model) {
   return lt;
 }
 
+namespace {
+
+// jump_speed_rpm of the model, as made when it was assembled (made now when it was not).
+double rigid_jump_speed_rpm(const Model& model) {
+  return std::isnan(model.rigid_jump_speed_rpm) ? jump_speed_rpm(model) : model.rigid_jump_speed_rpm;
+}
+
+}  // namespace
+
 double train_jump_speed_rpm(const Model& model) {
-  const double rigid_rpm = jump_speed_rpm(model);
+  const double rigid_rpm = rigid_jump_speed_rpm(model);
   const double limit_rpm = std::isfinite(rigid_rpm) && rigid_rpm > 0.0 ? 20.0 * rigid_rpm : 1e5;
   const GridSignal law = grid_signal([&](double theta) { return model.law->eval(theta); }, kJumpSpeedAngles);
   const double omega =
@@ -117,8 +126,7 @@ double train_jump_speed_rpm(const Model& model) {
 }
 
 double model_jump_speed_rpm(const Model& model) {
-  if (model.train.has_coordinates()) return model.train_jump_speed_rpm;
-  return std::isnan(model.rigid_jump_speed_rpm) ? jump_speed_rpm(model) : model.rigid_jump_speed_rpm;
+  return model.train.has_coordinates() ? model.train_jump_speed_rpm : rigid_jump_speed_rpm(model);
 }
 
 const char* jump_speed_name(const Model& model) {

@@ -152,9 +152,14 @@ class Shooter {
 // each further iteration costs a Jacobian (2n map runs).
 constexpr int kStagnantIterations = 4;
 
-// The largest |multiplier| above which an orbit Newton is near (within 1e3
-// times the shooting tolerance) is unstable beyond doubt: a multiplier moves
-// by about the distance to the orbit times the map's curvature, orders of
+// Within this many shooting tolerances (scaled) of an orbit a point is near
+// it: Newton's tolerance on P^k allows |P^d(x) − x| a few times larger when a
+// multiplier of P^d is near −1, and a point stopped that close is the orbit's.
+constexpr double kNearTolerances = 1e3;
+
+// The largest |multiplier| above which an orbit Newton is near (residual
+// within kNearTolerances) is unstable beyond doubt: a multiplier moves by
+// about the distance to the orbit times the map's curvature, orders of
 // magnitude less than this margin on a smooth map
 // (PeriodicOptions::stable_orbits_only).
 constexpr double kClearlyUnstableRadius = 1.2;
@@ -194,7 +199,7 @@ std::optional<Orbit> shoot(Shooter& shooter, const SectionPoint& start, int k, c
       return orbit;
     }
     if (it >= options.max_newton_iterations || !std::isfinite(norm)) return std::nullopt;
-    if (options.stable_orbits_only && norm <= 1e3 * options.tolerance && J->allFinite()) {
+    if (options.stable_orbits_only && norm <= kNearTolerances * options.tolerance && J->allFinite()) {
       const double radius = std::abs(floquet_multipliers(*J).front());
       if (radius > kClearlyUnstableRadius) {
         shooter.log(
@@ -236,6 +241,15 @@ std::optional<Orbit> shoot(Shooter& shooter, const SectionPoint& start, int k, c
   return std::nullopt;
 }
 
+// P^d(x) when it returns within `near` of x (and that run's impacts in
+// `impacts`), else nullopt.
+std::optional<SectionPoint> image_near(Shooter& shooter, const SectionPoint& x, int d, double near,
+                                       long* impacts = nullptr) {
+  std::optional<SectionPoint> image = shooter.apply(x, d, 0, impacts);
+  if (!image || shooter.scaled_norm(to_vector(image->x) - to_vector(x.x)) > near) return std::nullopt;
+  return image;
+}
+
 // The orbit of period k as one of period d when each of its k/d phases
 // x, P^d(x), P^2d(x), … returns within `near` after d revolutions: the same
 // motion seen through the map's noise (a chattering motion's map is rough on
@@ -248,8 +262,8 @@ std::optional<Orbit> repeating_every(Shooter& shooter, const Orbit& orbit, int d
                                      const SectionPoint& first_image, long first_impacts) {
   SectionPoint x = first_image;
   for (int j = 1; j < orbit.period / d; ++j) {
-    const std::optional<SectionPoint> image = shooter.apply(x, d);
-    if (!image || shooter.scaled_norm(to_vector(image->x) - to_vector(x.x)) > near) return std::nullopt;
+    const std::optional<SectionPoint> image = image_near(shooter, x, d, near);
+    if (!image) return std::nullopt;
     x = *image;
   }
   const std::optional<std::pair<MatrixXd, JacobianMethod>> jacobian =
@@ -264,21 +278,20 @@ std::optional<Orbit> repeating_every(Shooter& shooter, const Orbit& orbit, int d
 }
 
 // The orbit at its minimal period: for every divisor d of k, smallest first,
-// where P^d nearly returns the fixed point of P^k (within 1e3 times the
-// shooting tolerance: Newton's tolerance on P^k allows |P^d(x) − x| a few
-// times larger when a multiplier of P^d is near −1), Newton on P^d from
+// where P^d nearly returns the fixed point of P^k (within kNearTolerances
+// shooting tolerances), Newton on P^d from
 // there; when it converges to the same point, the orbit is reported at period
 // d with that map's monodromy and multipliers (those of P^k are their k/d-th
 // powers). When Newton on P^d does not get there but every phase of the
 // orbit repeats every d revolutions (repeating_every), it is reported at
 // period d too.
 Orbit at_minimal_period(Shooter& shooter, Orbit orbit, const PeriodicOptions& options, std::vector<NewtonStep>& trace) {
-  const double near = 1e3 * options.tolerance;
+  const double near = kNearTolerances * options.tolerance;
   for (int d = 1; d < orbit.period; ++d) {
     if (orbit.period % d != 0) continue;
     long impacts = 0;
-    const std::optional<SectionPoint> image = shooter.apply(orbit.fixed_point, d, 0, &impacts);
-    if (!image || shooter.scaled_norm(to_vector(image->x) - to_vector(orbit.fixed_point.x)) > near) continue;
+    const std::optional<SectionPoint> image = image_near(shooter, orbit.fixed_point, d, near, &impacts);
+    if (!image) continue;
     std::optional<Orbit> minimal = shoot(shooter, orbit.fixed_point, d, options, trace);
     if (!minimal || shooter.scaled_norm(to_vector(minimal->fixed_point.x) - to_vector(orbit.fixed_point.x)) > near)
       minimal = repeating_every(shooter, orbit, d, near, *image, impacts);
@@ -295,20 +308,17 @@ bool known(const Shooter& shooter, const Orbit& orbit, const std::vector<Orbit>&
   for (const Orbit& o : found) {
     if (orbit.period % o.period != 0) continue;
     const double d = shooter.scaled_norm(to_vector(orbit.fixed_point.x) - to_vector(o.fixed_point.x));
-    if (d < 1e3 * tolerance) return true;
+    if (d < kNearTolerances * tolerance) return true;
   }
   return false;
 }
 
-// Whether P^d returns x within 1e3 times the shooting tolerance for a
+// Whether P^d returns x within kNearTolerances shooting tolerances for a
 // divisor d < k of k: x is near an orbit of the shorter period d (as in
 // at_minimal_period).
 bool of_shorter_period(Shooter& shooter, const SectionPoint& x, int k, const PeriodicOptions& options) {
-  for (int d = 1; d < k; ++d) {
-    if (k % d != 0) continue;
-    const std::optional<SectionPoint> image = shooter.apply(x, d);
-    if (image && shooter.scaled_norm(to_vector(image->x) - to_vector(x.x)) <= 1e3 * options.tolerance) return true;
-  }
+  for (int d = 1; d < k; ++d)
+    if (k % d == 0 && image_near(shooter, x, d, kNearTolerances * options.tolerance)) return true;
   return false;
 }
 

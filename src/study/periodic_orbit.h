@@ -68,9 +68,9 @@ struct PeriodicOptions {
   /// are cheaper.
   int sensitivity_min_coordinates = 16;
   /// Only stable orbits are sought (the jump map): Newton on P^k stops once
-  /// its iterate is within 1e3 times the tolerance of an orbit whose
-  /// Jacobian there is clearly unstable (largest |multiplier| above 1.2),
-  /// instead of refining that orbit into the map's noise (docs/periodic.md
+  /// its residual is below 1e3 times the tolerance and the Jacobian at its
+  /// iterate is clearly unstable (largest |multiplier| above 1.2), instead
+  /// of refining that orbit into the map's noise (docs/periodic.md
   /// "Unstable orbits").
   bool stable_orbits_only = false;
   /// Told what the search is doing (period tried, Newton residual).
