@@ -61,11 +61,15 @@ struct BallOrbit {
   double spectral_radius = 0.0;  // largest |Floquet multiplier|
 };
 
-BallOrbit ball_orbit(const SceneConfig& scene) {
+// The orbit whose flight lasts `revolutions` revolutions, one impact each
+// flight: the derivation holds for any flight time nT (the impact's
+// Jacobian has det e*² and trace 1 + e*² + (1 + e*)² s̈/g whatever n),
+// with take-off speed g nT/2; its section point is the first after the impact.
+BallOrbit ball_orbit(const SceneConfig& scene, int revolutions = 1) {
   const double g = scene.gravity, A = 0.5 * *scene.mechanism.cam.motion_law.segments[0].lift;
   const double omega = scene.mechanism.cam.rpm * 2 * kPi / 60, T = 2 * kPi / omega;
   const double e = exact_restitution(scene.mechanism.contact);
-  const double V = g * T / 2, u = (1 - e) / (1 + e) * V;
+  const double V = g * revolutions * T / 2, u = (1 - e) / (1 + e) * V;
   const double theta = kPi - std::asin(u / (A * omega));  // s̈ = A ω² cos θ < 0: the decelerating branch
   const double a = A * omega * omega * std::cos(theta);
   const double tau = T - theta / omega;  // from the impact to the section
@@ -160,6 +164,34 @@ TEST(PeriodicOrbit, SeekingStableOrbitsOnlyStopsNearAClearlyUnstableOrbit) {
   ASSERT_TRUE(stable.analysis.orbit && stable_only.analysis.orbit);
   EXPECT_EQ(stable_only.analysis.orbit->period, 1);
   EXPECT_EQ(stable_only.analysis.orbit->fixed_point.x, stable.analysis.orbit->fixed_point.x);
+}
+
+// The chaotic ball (studies/periodic/bouncing_ball_chaotic.json, 900 rpm) is
+// chaotic from rest, but a stable orbit coexists: one bounce every four
+// revolutions, about 80 mm high. Closed form (ball_orbit with a four-revolution
+// flight): the approach speed g·4T/(1 + e*), the impact angle on the
+// decelerating branch, and a complex pair of multipliers of modulus e*.
+// Started on its section point, the search finds it at period 4.
+TEST(PeriodicOrbit, TheChaoticBallHasACoexistingStableFourRevolutionBounce) {
+  PeriodicStudy study = read_study(kChaoticBall);
+  const BallOrbit expected = ball_orbit(study.scene, 4);
+  ASSERT_TRUE(expected.stable);
+  study.scene.mechanism.follower.initial.position = expected.section_position;
+  study.scene.mechanism.follower.initial.velocity = expected.section_velocity;
+  const PeriodicResult r = run_study(study);
+  ASSERT_TRUE(r.analysis.orbit);
+  EXPECT_EQ(r.analysis.orbit->period, 4);
+  EXPECT_TRUE(r.analysis.orbit->stable);
+  ASSERT_EQ(r.impacts.size(), 1u);
+  EXPECT_NEAR(r.impacts[0].cam_angle_deg, expected.impact_angle_deg, 0.1);
+  const double e = exact_restitution(study.scene.mechanism.contact);
+  const double T = 60.0 / study.scene.mechanism.cam.rpm;  // [s]
+  EXPECT_NEAR(r.impacts[0].speed / (study.scene.gravity * 4 * T / (1 + e)), 1.0, 1e-3);
+  const std::vector<std::complex<double>>& mu = r.analysis.orbit->multipliers;
+  ASSERT_EQ(mu.size(), 2u);
+  EXPECT_GT(std::abs(mu[0].imag()), 0.0);
+  EXPECT_NEAR(std::abs(mu[0]) / e, 1.0, 5e-3);
+  EXPECT_NEAR(std::abs(mu[1]) / e, 1.0, 5e-3);
 }
 
 // The long-flight cam (studies/peers/long_flight.json) at 700 rpm settles on a
