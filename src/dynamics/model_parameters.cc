@@ -172,6 +172,10 @@ bool same_structure(const Model& model, const ModelParameters& p) {
   const bool roller = model.follower.rolls();
   const bool has_spin = roller && p.roller_inertia > 0.0 && p.friction_mu > 0.0;
   const bool contact_friction = p.friction_mu > 0.0 && (!roller || has_spin);
+  // A follower train's matrices and jump speed are made from the scene at
+  // assembly (docs/model.md §12), from masses and stiffnesses this block
+  // does not carry: such a model is built again.
+  if (model.train.has_coordinates()) return false;
   // μ of an absent guide or pivot friction block is 0 (model_parameters()).
   return has_spin == model.friction.spin && contact_friction == model.friction.present &&
          model.support.guide == (p.guide_mu > 0.0) && model.support.pivot == (p.pivot_mu > 0.0);

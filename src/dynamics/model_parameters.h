@@ -56,7 +56,8 @@ ModelParameters model_parameters(const SceneConfig& scene, const Model& model);
 
 /// Whether `parameters` leave the model's structure as it is: the same
 /// friction elements and roller spin state (μ and the roller inertia on the
-/// same side of zero). Otherwise build the model again.
+/// same side of zero), and no follower train (its matrices and jump speed
+/// come from the scene). Otherwise build the model again.
 bool same_structure(const Model& model, const ModelParameters& parameters);
 
 /// Sets the parameter block in place. Throws InputError (file, config path,

@@ -14,6 +14,7 @@
 #include "dynamics/simulation.h"
 #include "io/config.h"
 #include "scenes.h"
+#include "tests/dynamics/linear_train_case.h"
 
 namespace camdyn {
 namespace {
@@ -127,6 +128,16 @@ TEST(ModelParameters, FrictionSwitchedOnOrOffIsAChangeOfStructure) {
   const Model spinning = build_model(roller, "test");
   roller.mechanism.follower.shape.inertia = 0.0;  // a free roller: no spin state
   EXPECT_FALSE(same_structure(spinning, model_parameters(roller, spinning)));
+}
+
+// A follower train's matrices and jump speed are made from the scene, from
+// masses and stiffnesses the parameter block does not carry: a model with a
+// train is built again, never set in place.
+TEST(ModelParameters, AModelWithAFollowerTrainIsBuiltAgain) {
+  const test::LinearTrainCase c = test::linear_train_case(1, true);
+  const Model model = build_model(c.scene, "test");
+  ASSERT_TRUE(model.train.has_coordinates());
+  EXPECT_FALSE(same_structure(model, model_parameters(c.scene, model)));
 }
 
 /// The reason the config loader gives for `key=value` on the cycloidal scene.
