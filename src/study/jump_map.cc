@@ -255,6 +255,7 @@ JumpMapPoint transient_path(const JumpMapStudy& study, const PoincareMap& map, d
   }
   if (a.lyapunov) {
     p.lyapunov = a.lyapunov->per_revolution;
+    p.lyapunov_standard_error = a.lyapunov->standard_error;
     p.lyapunov_fallback_revolutions = a.lyapunov->fallback_revolutions;
   }
   fill_from_run(p, samples);
@@ -687,6 +688,7 @@ Json jump_map_point_json(const JumpMapPoint& p) {
               {"period", p.period},
               {"spectral_radius", p.spectral_radius},
               {"lyapunov", p.lyapunov},
+              {"lyapunov_standard_error", p.lyapunov_standard_error ? Json(*p.lyapunov_standard_error) : Json()},
               {"lyapunov_fallback_revolutions", p.lyapunov_fallback_revolutions},
               {"impact_angle_deg", p.impact_angle_deg},
               {"impact_speed", p.impact_speed},
@@ -710,6 +712,8 @@ JumpMapPoint jump_map_point_from_json(const Json& j) {
   p.period = j.at("period").get<int>();
   p.spectral_radius = j.at("spectral_radius").get<double>();
   p.lyapunov = j.at("lyapunov").get<double>();
+  if (const auto se = j.find("lyapunov_standard_error"); se != j.end() && !se->is_null())  // older records: none
+    p.lyapunov_standard_error = se->get<double>();
   p.lyapunov_fallback_revolutions = j.value("lyapunov_fallback_revolutions", 0L);  // older records: none
   p.impact_angle_deg = j.at("impact_angle_deg").get<std::vector<double>>();
   p.impact_speed = j.at("impact_speed").get<std::vector<double>>();

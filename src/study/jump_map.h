@@ -12,6 +12,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -115,6 +116,8 @@ struct JumpMapPoint {
   int period = 0;                ///< of the stable orbit (0 when none)
   double spectral_radius = 0.0;  ///< of its monodromy matrix
   double lyapunov = 0.0;         ///< per revolution, when estimated
+  /// Its standard error by batch means (LyapunovEstimate::standard_error) [1/revolution].
+  std::optional<double> lyapunov_standard_error;
   /// Of the Lyapunov estimate's revolutions, those its sensitivity tangent
   /// could not take and a neighbour trajectory took (LyapunovEstimate).
   long lyapunov_fallback_revolutions = 0;

@@ -71,9 +71,9 @@ std::string attractors_text(const JumpMapPoint& p) {
 
 void write_csvs(const std::filesystem::path& dir, const std::vector<JumpMapPoint>& points) {
   CsvWriter speeds(dir / "jump_map.csv",
-                   {"rpm", "motion", "period", "spectral_radius", "lyapunov_per_revolution", "impacts",
-                    "max_impact_speed", "separation_fraction", "max_gap", "peak_contact_force", "status", "error",
-                    "start", "refined", "coexisting", "attractors"});
+                   {"rpm", "motion", "period", "spectral_radius", "lyapunov_per_revolution", "lyapunov_standard_error",
+                    "impacts", "max_impact_speed", "separation_fraction", "max_gap", "peak_contact_force", "status",
+                    "error", "start", "refined", "coexisting", "attractors"});
   CsvWriter impacts(dir / "impacts.csv", {"rpm", "motion", "period", "cam_angle_deg", "approach_speed"});
   for (const JumpMapPoint& p : points) {
     double fastest = 0.0;
@@ -83,10 +83,11 @@ void write_csvs(const std::filesystem::path& dir, const std::vector<JumpMapPoint
                    CsvCell(p.impact_speed[i])});
     }
     speeds.row({CsvCell(p.rpm), CsvCell(p.ok ? to_string(p.motion) : ""), CsvCell(p.period), CsvCell(p.spectral_radius),
-                CsvCell(p.lyapunov), CsvCell(static_cast<long>(p.impact_speed.size())), CsvCell(fastest),
-                CsvCell(p.separation_fraction), CsvCell(p.max_gap), CsvCell(p.peak_contact_force),
-                CsvCell(point_status(p)), CsvCell(p.error), CsvCell(p.ok ? to_string(p.start) : ""),
-                CsvCell(p.refined ? 1L : 0L), CsvCell(p.coexisting ? 1L : 0L), CsvCell(attractors_text(p))});
+                CsvCell(p.lyapunov), p.lyapunov_standard_error ? CsvCell(*p.lyapunov_standard_error) : CsvCell(""),
+                CsvCell(static_cast<long>(p.impact_speed.size())), CsvCell(fastest), CsvCell(p.separation_fraction),
+                CsvCell(p.max_gap), CsvCell(p.peak_contact_force), CsvCell(point_status(p)), CsvCell(p.error),
+                CsvCell(p.ok ? to_string(p.start) : ""), CsvCell(p.refined ? 1L : 0L), CsvCell(p.coexisting ? 1L : 0L),
+                CsvCell(attractors_text(p))});
   }
   speeds.commit();
   impacts.commit();

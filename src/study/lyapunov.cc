@@ -15,6 +15,7 @@
 // cannot be trusted (a grazing event, accumulating impacts, …) is stretched
 // by the neighbour instead, and counted.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <optional>
 #include <string>
@@ -122,6 +123,21 @@ class TangentRun {
 
 }  // namespace
 
+std::optional<double> lyapunov_standard_error(const std::vector<double>& stretches) {
+  constexpr std::size_t kBatches = 10, kLeast = 2 * kBatches;
+  if (stretches.size() < kLeast) return std::nullopt;
+  const std::size_t per = stretches.size() / kBatches;
+  std::array<double, kBatches> means{};
+  for (std::size_t b = 0; b < kBatches; ++b) {
+    for (std::size_t i = 0; i < per; ++i) means[b] += stretches[b * per + i];
+    means[b] /= static_cast<double>(per);
+  }
+  double mean = 0.0, variance = 0.0;
+  for (const double m : means) mean += m / kBatches;
+  for (const double m : means) variance += (m - mean) * (m - mean) / (kBatches - 1);
+  return std::sqrt(variance / kBatches);
+}
+
 bool lyapunov_by_sensitivities(const PoincareMap& /*map*/, const PeriodicOptions& options) {
   return options.jacobian == JacobianMethod::sensitivity;
 }
@@ -136,6 +152,7 @@ LyapunovEstimate estimate_lyapunov(const PoincareMap& map, const SectionPoint& s
   for (const double s : e.stretches) sum += s;
   e.per_revolution = sum / static_cast<double>(e.revolutions);
   e.per_impact = e.impacts > 0 ? sum / static_cast<double>(e.impacts) : 0.0;
+  e.standard_error = lyapunov_standard_error(e.stretches);
   if (revolutions) *revolutions += run.revolutions();
   return e;
 }

@@ -101,6 +101,9 @@ struct Orbit {
 struct LyapunovEstimate {
   double per_revolution = 0.0;  ///< λ [1/revolution]
   double per_impact = 0.0;      ///< λ per impact (0 without impacts)
+  /// per_revolution's standard error by batch means
+  /// (lyapunov_standard_error); nullopt with fewer than 20 revolutions.
+  std::optional<double> standard_error;  ///< [1/revolution]
   long revolutions = 0;
   long impacts = 0;
   /// How the tangent was stretched: `sensitivity` (by forward sensitivities,
@@ -116,6 +119,13 @@ struct LyapunovEstimate {
   std::vector<std::vector<double>> section_points;  ///< the reference trajectory's x, once per revolution
   SectionPoint last;                                ///< the reference trajectory's last section point
 };
+
+/// The standard error of the mean of `stretches` (ln of each revolution's
+/// stretch) by batch means: 10 batches of consecutive revolutions (the last
+/// `size % 10` left out), the batch means' sample standard deviation over
+/// √10. Consecutive stretches are correlated; batches of them much less.
+/// nullopt with fewer than 20 stretches (2 a batch).
+std::optional<double> lyapunov_standard_error(const std::vector<double>& stretches);
 
 /// `chattering`: impacts accumulating onto a contact phase
 /// (dynamics/chatter.h), periodic or not: never called chaotic.

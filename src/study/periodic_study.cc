@@ -198,6 +198,7 @@ Json periodic_json(const PeriodicStudy& study, const PeriodicResult& r, const st
   if (a.lyapunov)
     lyapunov = {{"per_revolution", a.lyapunov->per_revolution},
                 {"per_impact", a.lyapunov->per_impact},
+                {"standard_error", a.lyapunov->standard_error ? Json(*a.lyapunov->standard_error) : Json()},
                 {"revolutions", a.lyapunov->revolutions},
                 {"impacts", a.lyapunov->impacts},
                 {"method", to_string(a.lyapunov->method)},

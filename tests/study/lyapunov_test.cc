@@ -103,20 +103,22 @@ TEST(Lyapunov, OnAStableOrbitTheTangentTendsToTheLogOfTheSpectralRadius) {
   EXPECT_LT(distance, kappa * 1e-6 / (1 - rho));
 }
 
-// λ's standard error by batch means (kBatches batches of consecutive revolutions).
-double standard_error(const std::vector<double>& stretches) {
-  constexpr int kBatches = 10;
-  const std::size_t per = stretches.size() / kBatches;
-  std::vector<double> means;
-  for (int b = 0; b < kBatches; ++b) {
-    double sum = 0.0;
-    for (std::size_t i = 0; i < per; ++i) sum += stretches[static_cast<std::size_t>(b) * per + i];
-    means.push_back(sum / static_cast<double>(per));
-  }
-  double mean = 0.0, variance = 0.0;
-  for (const double m : means) mean += m / kBatches;
-  for (const double m : means) variance += (m - mean) * (m - mean) / (kBatches - 1);
-  return std::sqrt(variance / kBatches);
+// λ's standard error by batch means (study/periodic_orbit.h) against its
+// closed form: ten batches whose values are all b (b = 0 … 9) have batch
+// means 0 … 9, sample variance 55/6 and standard error √(55/6)/√10; a
+// remainder of fewer than ten values is left out, and fewer than 20 values
+// give no estimate.
+TEST(Lyapunov, StandardErrorIsTheBatchMeansClosedForm) {
+  std::vector<double> stretches;
+  for (int b = 0; b < 10; ++b)
+    for (int i = 0; i < 3; ++i) stretches.push_back(b);
+  const double expected = std::sqrt(55.0 / 6.0) / std::sqrt(10.0);
+  ASSERT_TRUE(lyapunov_standard_error(stretches));
+  EXPECT_NEAR(*lyapunov_standard_error(stretches), expected, 1e-15);
+  for (int i = 0; i < 9; ++i) stretches.push_back(1e3);  // 39 values: 3 a batch, the last 9 left out
+  EXPECT_NEAR(*lyapunov_standard_error(stretches), expected, 1e-15);
+  EXPECT_FALSE(lyapunov_standard_error(std::vector<double>(19, 1.0)));
+  EXPECT_NEAR(*lyapunov_standard_error(std::vector<double>(20, 1.0)), 0.0, 1e-15);
 }
 
 TEST(Lyapunov, OnTheChaoticBallTheTangentAgreesWithTheNeighbourTrajectory) {
@@ -141,7 +143,9 @@ TEST(Lyapunov, OnTheChaoticBallTheTangentAgreesWithTheNeighbourTrajectory) {
   EXPECT_GT(tangent.sensitivity_revolutions, tangent.revolutions / 2) << tangent.fallback_reason;
   EXPECT_GT(tangent.per_revolution, options.chaos_threshold);
   EXPECT_GT(neighbour.per_revolution, options.chaos_threshold);
-  const double se = std::hypot(standard_error(tangent.stretches), standard_error(neighbour.stretches));
+  ASSERT_TRUE(tangent.standard_error && neighbour.standard_error);
+  EXPECT_GT(*tangent.standard_error, 0.0);
+  const double se = std::hypot(*tangent.standard_error, *neighbour.standard_error);
   EXPECT_NEAR(tangent.per_revolution, neighbour.per_revolution, 4 * se)
       << "tangent " << tangent.per_revolution << ", neighbour " << neighbour.per_revolution;
 }
