@@ -441,6 +441,13 @@ PeriodicAnalysis find_periodic_orbit(const PoincareMap& map, const SectionPoint&
   return a;
 }
 
+MotionKind lyapunov_class(const LyapunovEstimate& e, double chaos_threshold) {
+  const double lambda = e.per_revolution, margin = 2.0 * e.standard_error.value_or(0.0);
+  if (lambda - margin > chaos_threshold) return MotionKind::chaotic;
+  if (lambda + margin <= chaos_threshold && lambda - margin > -chaos_threshold) return MotionKind::quasi_periodic;
+  return MotionKind::unresolved;
+}
+
 PeriodicAnalysis analyse_from(const PoincareMap& map, const SectionPoint& start, const PeriodicOptions& options) {
   PeriodicAnalysis a = find_periodic_orbit(map, start, options);
   if (a.orbit || options.lyapunov_revolutions <= 0) return a;
@@ -448,13 +455,11 @@ PeriodicAnalysis analyse_from(const PoincareMap& map, const SectionPoint& start,
     options.log(format("no stable orbit up to period %d: estimating the Lyapunov exponent over %d revolutions",
                        options.max_period, options.lyapunov_revolutions));
   a.lyapunov = estimate_lyapunov(map, start, options, &a.revolutions);
-  const double lambda = a.lyapunov->per_revolution;
-  a.motion = lambda > options.chaos_threshold    ? MotionKind::chaotic
-             : lambda > -options.chaos_threshold ? MotionKind::quasi_periodic
-                                                 : MotionKind::unresolved;
-  // A motion that does not expand may still settle onto an orbit after a
-  // long transient: follow it until its samples repeat, then shoot from there.
-  if (lambda <= options.chaos_threshold && !a.lyapunov->section_points.empty()) {
+  a.motion = lyapunov_class(*a.lyapunov, options.chaos_threshold);
+  // A motion that does not clearly expand may still settle onto an orbit
+  // after a long transient: follow it until its samples repeat, then shoot
+  // from there.
+  if (a.motion != MotionKind::chaotic && !a.lyapunov->section_points.empty()) {
     settle_and_shoot(map, a.lyapunov->section_points, a.lyapunov->last, options, a);
   }
   return a;

@@ -135,6 +135,13 @@ inline constexpr EnumName<MotionKind> kMotionKindNames[] = {{MotionKind::periodi
                                                             {MotionKind::quasi_periodic, "quasi_periodic"},
                                                             {MotionKind::unresolved, "unresolved"},
                                                             {MotionKind::chattering, "chattering"}};
+
+/// The class a Lyapunov estimate supports, λ ± 2 standard errors against
+/// ±`chaos_threshold` (per revolution): `chaotic` when all of it is above
+/// the threshold, `quasi_periodic` when all of it is within, `unresolved`
+/// otherwise (contracting, or straddling a bound: the estimate does not
+/// tell). Without a standard error (under 20 revolutions) λ alone decides.
+MotionKind lyapunov_class(const LyapunovEstimate& e, double chaos_threshold);
 constexpr std::span<const EnumName<MotionKind>> enum_names(MotionKind) { return kMotionKindNames; }
 
 struct PeriodicAnalysis {

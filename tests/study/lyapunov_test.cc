@@ -24,6 +24,7 @@
 #include <Eigen/Dense>
 #include <cmath>
 #include <complex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -119,6 +120,28 @@ TEST(Lyapunov, StandardErrorIsTheBatchMeansClosedForm) {
   EXPECT_NEAR(*lyapunov_standard_error(stretches), expected, 1e-15);
   EXPECT_FALSE(lyapunov_standard_error(std::vector<double>(19, 1.0)));
   EXPECT_NEAR(*lyapunov_standard_error(std::vector<double>(20, 1.0)), 0.0, 1e-15);
+}
+
+// The class a Lyapunov estimate supports (docs/periodic.md): λ ± 2 standard
+// errors wholly above chaos_threshold is chaotic, wholly within ±it
+// quasi-periodic, anything else unresolved; without a standard error λ
+// alone decides. The first case is the packaging arm at 1531.3 rpm, just
+// past its period doubling, which λ alone called chaotic.
+TEST(Lyapunov, TheClassNeedsTheWholeTwoStandardErrorBand) {
+  const auto estimate = [](double lambda, std::optional<double> se) {
+    LyapunovEstimate e;
+    e.per_revolution = lambda;
+    e.standard_error = se;
+    return e;
+  };
+  constexpr double kThreshold = 0.01;  // [1/revolution]
+  EXPECT_EQ(lyapunov_class(estimate(0.0118, 0.0026), kThreshold), MotionKind::unresolved);
+  EXPECT_EQ(lyapunov_class(estimate(0.0118, std::nullopt), kThreshold), MotionKind::chaotic);
+  EXPECT_EQ(lyapunov_class(estimate(0.5, 0.1), kThreshold), MotionKind::chaotic);
+  EXPECT_EQ(lyapunov_class(estimate(0.002, 0.001), kThreshold), MotionKind::quasi_periodic);
+  EXPECT_EQ(lyapunov_class(estimate(0.0034, 0.0035), kThreshold), MotionKind::unresolved);
+  EXPECT_EQ(lyapunov_class(estimate(-0.5, 0.01), kThreshold), MotionKind::unresolved);  // contracting
+  EXPECT_EQ(lyapunov_class(estimate(-0.005, std::nullopt), kThreshold), MotionKind::quasi_periodic);
 }
 
 TEST(Lyapunov, OnTheChaoticBallTheTangentAgreesWithTheNeighbourTrajectory) {
