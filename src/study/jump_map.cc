@@ -211,12 +211,31 @@ std::optional<Orbit> shoot_predicted(const PoincareMap& map, const JumpMapStudy&
   options.max_period = c.orbits.back().period;
   options.min_period = options.max_period;
   options.lyapunov_revolutions = 0;
+  options.reach_revolutions = 0;  // the branch continued from the neighbours, not a motion's end
   SectionPoint start = predicted_fixed_point(c.orbits, rpm);
   // A period-k orbit's monodromy is the neighbour's at its own phase only for k = 1.
   if (options.max_period == 1) start = chord_iterations(map, std::move(start), c.orbits.back(), options.tolerance);
   const PeriodicAnalysis a = find_periodic_orbit(map, start, options);
   if (!a.orbit || !a.orbit->stable || a.orbit->period != options.max_period) return std::nullopt;
   return a.orbit;
+}
+
+// A stable orbit as one of a speed's attractors, reached as `reached`.
+JumpMapAttractor periodic_attractor(int period, const SectionPoint& fixed_point,
+                                    const std::vector<std::complex<double>>& multipliers, JumpMapReach reached,
+                                    MotionKind motion = MotionKind::periodic) {
+  JumpMapAttractor a;
+  a.reached = reached;
+  a.motion = motion;
+  a.period = period;
+  a.fixed_point = fixed_point.x;
+  a.approach_speed = fixed_point.approach_speed;
+  a.spectral_radius = multipliers.empty() ? 0.0 : std::abs(multipliers.front());
+  for (const std::complex<double>& mu : multipliers) {
+    a.multipliers_re.push_back(mu.real());
+    a.multipliers_im.push_back(mu.imag());
+  }
+  return a;
 }
 
 // The present path: the transient from the neighbour's end (or from the
@@ -257,6 +276,21 @@ JumpMapPoint transient_path(const JumpMapStudy& study, const PoincareMap& map, d
     p.lyapunov = a.lyapunov->per_revolution;
     p.lyapunov_standard_error = a.lyapunov->standard_error;
     p.lyapunov_fallback_revolutions = a.lyapunov->fallback_revolutions;
+  }
+  if (!a.unreached_orbits.empty() && (a.orbit || a.motion == MotionKind::chaotic)) {
+    // Newton found stable orbits the motion does not go to: they coexist
+    // with it (a motion that settles nowhere clear is no attractor to set beside them).
+    p.coexisting = true;
+    if (a.orbit) {
+      p.attractors.push_back(
+          periodic_attractor(a.orbit->period, a.orbit->fixed_point, a.orbit->multipliers, JumpMapReach::continuation));
+    } else {
+      JumpMapAttractor own;
+      own.motion = a.motion;
+      p.attractors.push_back(std::move(own));
+    }
+    for (const Orbit& o : a.unreached_orbits)
+      p.attractors.push_back(periodic_attractor(o.period, o.fixed_point, o.multipliers, JumpMapReach::shooting));
   }
   fill_from_run(p, samples);
   c.carry = map.point(samples);
@@ -427,23 +461,6 @@ const ConvergedOrbit* own_orbit(const JumpMapPoint& p, const Continuation& c) {
   return &c.orbits.back();
 }
 
-JumpMapAttractor periodic_attractor(int period, const SectionPoint& fixed_point,
-                                    const std::vector<std::complex<double>>& multipliers, JumpMapReach reached,
-                                    MotionKind motion = MotionKind::periodic) {
-  JumpMapAttractor a;
-  a.reached = reached;
-  a.motion = motion;
-  a.period = period;
-  a.fixed_point = fixed_point.x;
-  a.approach_speed = fixed_point.approach_speed;
-  a.spectral_radius = multipliers.empty() ? 0.0 : std::abs(multipliers.front());
-  for (const std::complex<double>& mu : multipliers) {
-    a.multipliers_re.push_back(mu.real());
-    a.multipliers_im.push_back(mu.imag());
-  }
-  return a;
-}
-
 // The k section points of a period-k orbit from its fixed point; empty when
 // one cannot be computed.
 std::vector<std::vector<double>> orbit_phases(const PoincareMap& map, SectionPoint x, int period) {
@@ -516,6 +533,7 @@ std::optional<Orbit> shoot_across(const PoincareMap& map, const JumpMapStudy& st
   PeriodicOptions options = study.periodic.options;
   options.threads = study.threads_per_speed;
   options.lyapunov_revolutions = 0;
+  options.reach_revolutions = 0;  // any stable orbit there is an attractor of the speed
   SectionPoint start = predicted_fixed_point(c.orbits, rpm);
   if (c.orbits.back().period == 1) start = chord_iterations(map, std::move(start), c.orbits.back(), options.tolerance);
   PeriodicAnalysis a = find_periodic_orbit(map, start, options);
@@ -545,7 +563,9 @@ void look_for_attractors(const JumpMapStudy& study, const std::string& file, Jum
   const PoincareMap map(scene, model, file);
   const double tolerance = study.periodic.options.tolerance;
   std::vector<JumpMapAttractor> found;
-  if (const ConvergedOrbit* o = own_stable) {
+  if (p.coexisting) {
+    found = p.attractors;  // the motion's own, then the stable orbits it did not reach
+  } else if (const ConvergedOrbit* o = own_stable) {
     found.push_back(periodic_attractor(o->period, o->fixed_point, floquet_multipliers(o->monodromy),
                                        JumpMapReach::continuation, p.motion));
   } else {
@@ -588,6 +608,17 @@ void check_coexistence(const JumpMapStudy& study, const std::string& file, std::
       across[j + 1].push_back({*below, JumpMapReach::from_below});
     if (const ConvergedOrbit* above = own_orbit(points[j + 1], after[j + 1]))
       across[j].push_back({*above, JumpMapReach::from_above});
+    // The stable orbits a speed's own motion did not reach are shot across too.
+    for (const std::size_t side : {j, j + 1}) {
+      for (const JumpMapAttractor& a : points[side].attractors) {
+        if (a.reached != JumpMapReach::shooting) continue;
+        const ConvergedOrbit orbit{points[side].rpm, a.period, SectionPoint{a.fixed_point, a.approach_speed, 0.0}, {}};
+        if (side == j)
+          across[j + 1].push_back({orbit, JumpMapReach::from_below});
+        else
+          across[j].push_back({orbit, JumpMapReach::from_above});
+      }
+    }
   }
   for (std::size_t j = 0; j < points.size(); ++j) {
     if (!at_change[j] || study_budget_exhausted()) continue;

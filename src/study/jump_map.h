@@ -82,12 +82,15 @@ constexpr std::span<const EnumName<JumpMapStart>> enum_names(JumpMapStart) { ret
 /// (the point's own motion), by shooting from the stable orbit of the speed
 /// below or above it across a change of class (the hysteresis check), or, at
 /// a speed the warm start reached, by the transient path from the motion of
-/// the speed below (what `"warm_start": false` would have followed).
-enum class JumpMapReach { continuation, from_below, from_above, transient };
+/// the speed below (what `"warm_start": false` would have followed), or by
+/// the shooting from the speed's own motion, which itself did not go there
+/// (PeriodicAnalysis::unreached_orbits).
+enum class JumpMapReach { continuation, from_below, from_above, transient, shooting };
 inline constexpr EnumName<JumpMapReach> kJumpMapReachNames[] = {{JumpMapReach::continuation, "continuation"},
                                                                 {JumpMapReach::from_below, "from_below"},
                                                                 {JumpMapReach::from_above, "from_above"},
-                                                                {JumpMapReach::transient, "transient"}};
+                                                                {JumpMapReach::transient, "transient"},
+                                                                {JumpMapReach::shooting, "shooting"}};
 constexpr std::span<const EnumName<JumpMapReach>> enum_names(JumpMapReach) { return kJumpMapReachNames; }
 
 /// One attractor found at a speed (JumpMapPoint::attractors).

@@ -322,6 +322,83 @@ bool of_shorter_period(Shooter& shooter, const SectionPoint& x, int k, const Per
   return false;
 }
 
+// The k section points of a period-k orbit, its fixed point first; empty
+// when a run failed.
+std::vector<VectorXd> orbit_phases(Shooter& shooter, const Orbit& orbit) {
+  std::vector<VectorXd> phases{to_vector(orbit.fixed_point.x)};
+  SectionPoint p = orbit.fixed_point;
+  for (int j = 1; j < orbit.period; ++j) {
+    const std::optional<SectionPoint> next = shooter.apply(p, 1);
+    if (!next) return {};
+    p = *next;
+    phases.push_back(to_vector(p.x));
+  }
+  return phases;
+}
+
+// Whether x lies within kNearTolerances shooting tolerances of one of `phases`.
+bool near_a_phase(const Shooter& shooter, const VectorXd& x, const std::vector<VectorXd>& phases,
+                  const PeriodicOptions& options) {
+  return std::ranges::any_of(phases, [&](const VectorXd& phase) {
+    return shooter.scaled_norm(x - phase) <= kNearTolerances * options.tolerance;
+  });
+}
+
+// Periods in a row over which a motion that follows an orbit's
+// linearisation (kLinearAgreement) is taken to be in its basin.
+constexpr int kLinearPeriods = 3;
+// A period's error e' from the orbit's fixed point agrees with the
+// linearisation when |e' − M e| ≤ kLinearAgreement |e| (M the monodromy,
+// scaled max norms): the motion then contracts as the multipliers say.
+constexpr double kLinearAgreement = 0.1;
+
+// Whether the motion went from `before` to `now` over one period as the
+// orbit's linearisation about its fixed point x0 says, closer than it was.
+bool follows_linearisation(const Shooter& shooter, const Orbit& orbit, const VectorXd& x0, const VectorXd& before,
+                           const VectorXd& now) {
+  const VectorXd e = before - x0, e_next = now - x0;
+  const double size = shooter.scaled_norm(e);
+  return shooter.scaled_norm(e_next) < size &&
+         shooter.scaled_norm(e_next - orbit.monodromy * e) <= kLinearAgreement * size;
+}
+
+// The revolutions the motion from `start` takes to reach `orbit` (0 when it
+// starts there): to come within kNearTolerances shooting tolerances of one
+// of its phases, or to follow its linearisation about the fixed point for
+// kLinearPeriods periods in a row (a slowly contracting orbit, |μ| near 1,
+// is reached long before it is near). nullopt when it does not within
+// options.reach_revolutions, or a run failed. Newton's iterates are not the
+// motion: its steps may cross into the basin of another attractor than the
+// one the motion goes to (docs/periodic.md "Reached orbits").
+std::optional<long> revolutions_to_reach(Shooter& shooter, const SectionPoint& start, const Orbit& orbit,
+                                         const PeriodicOptions& options) {
+  const std::vector<VectorXd> phases = orbit_phases(shooter, orbit);
+  if (phases.empty()) return std::nullopt;
+  const std::size_t k = phases.size();
+  const bool linearised = orbit.monodromy.rows() == std::ssize(start.x) && orbit.monodromy.allFinite();
+  std::vector<VectorXd> motion;  // the section point of every revolution so far
+  int agreeing = 0;              // periods in a row that followed the linearisation
+  SectionPoint x = start;
+  for (long m = 0;; ++m) {
+    motion.push_back(to_vector(x.x));
+    if (near_a_phase(shooter, motion.back(), phases, options)) return m;
+    if (linearised && motion.size() > k) {
+      const VectorXd& before = motion[motion.size() - 1 - k];
+      // Only a period that starts nearest the fixed point (the monodromy's phase) is tested.
+      const auto nearest = std::ranges::min_element(
+          phases, {}, [&](const VectorXd& phase) { return shooter.scaled_norm(before - phase); });
+      if (nearest == phases.begin()) {
+        agreeing = follows_linearisation(shooter, orbit, phases.front(), before, motion.back()) ? agreeing + 1 : 0;
+        if (agreeing >= kLinearPeriods) return m;
+      }
+    }
+    if (m >= options.reach_revolutions) return std::nullopt;
+    const std::optional<SectionPoint> next = shooter.apply(x, 1);
+    if (!next) return std::nullopt;
+    x = *next;
+  }
+}
+
 // The smallest period d ≤ options.max_period with which the last sampled
 // states repeat (every |x_n − x_{n−d}| within the shooting tolerance over the
 // last 2d + 2 samples), and in `since` the first sample from which they do;
@@ -345,17 +422,18 @@ int recurrence_period(const Shooter& shooter, const std::vector<VectorXd>& x, co
 }
 
 // Follows the motion from the last of `points` (the section points so far,
-// once a revolution), up to options.settle_revolutions in all, until the
-// sampled states repeat; then shoots the orbit from there at that period and
-// keeps it when it is stable (at its minimal period).
+// once a revolution), up to options.settle_revolutions in all (when
+// `follow`; otherwise `points` alone are looked at), until the sampled
+// states repeat; then shoots the orbit from there at that period and keeps
+// it when it is stable (at its minimal period).
 void settle_and_shoot(const PoincareMap& map, const std::vector<std::vector<double>>& points, SectionPoint last,
-                      const PeriodicOptions& options, PeriodicAnalysis& a) {
+                      const PeriodicOptions& options, bool follow, PeriodicAnalysis& a) {
   Shooter shooter(map, options);
   std::vector<VectorXd> x;
   for (const std::vector<double>& p : points) x.push_back(to_vector(p));
   std::size_t since = 0;
   int d = recurrence_period(shooter, x, options, since);
-  while (d == 0 && std::ssize(x) < options.settle_revolutions) {
+  while (follow && d == 0 && std::ssize(x) < options.settle_revolutions) {
     const std::optional<SectionPoint> next = shooter.apply(last, 1);
     if (!next) break;
     last = *next;
@@ -374,11 +452,18 @@ void settle_and_shoot(const PoincareMap& map, const std::vector<std::vector<doub
   shooter.log(format("the motion settled after %zu revolutions and repeats every %d: shooting from there", since, d));
   std::optional<Orbit> orbit = shoot(shooter, last, d, options, a.newton);
   if (orbit) orbit = at_minimal_period(shooter, std::move(*orbit), options, a.newton);
+  if (orbit && orbit->stable && !a.unreached_orbits.empty()) {
+    // The motion went there: an orbit found unreached before (within
+    // reach_revolutions) is this one, reached later.
+    const std::vector<VectorXd> phases = orbit_phases(shooter, *orbit);
+    std::erase_if(a.unreached_orbits, [&](const Orbit& u) {
+      return u.period == orbit->period && near_a_phase(shooter, to_vector(u.fixed_point.x), phases, options);
+    });
+  }
   a.revolutions += shooter.revolutions();
   count_jacobians();
   if (!orbit || !orbit->stable) return;
-  Orbit& minimal = *orbit;
-  a.orbit = std::move(minimal);
+  a.orbit = std::move(*orbit);
   a.motion = MotionKind::periodic;
   a.settled_after = static_cast<long>(since);
 }
@@ -425,6 +510,18 @@ PeriodicAnalysis find_periodic_orbit(const PoincareMap& map, const SectionPoint&
     found.push_back(*orbit);
     shooter.log(format("period %d: orbit found, largest |multiplier| %.4g: %s", k, orbit->spectral_radius(),
                        orbit->stable ? "stable" : "unstable"));
+    if (orbit->stable && options.reach_revolutions > 0) {
+      const std::optional<long> reached = revolutions_to_reach(shooter, start, *orbit, options);
+      if (!reached) {
+        shooter.log(
+            format("period %d: the motion from the start does not come near this orbit in %d revolutions: "
+                   "it coexists with the motion, which goes elsewhere",
+                   k, options.reach_revolutions));
+        a.unreached_orbits.push_back(std::move(*orbit));
+        continue;
+      }
+      a.reached_after = *reached;
+    }
     if (orbit->stable) {
       a.orbit = std::move(orbit);
       a.motion = MotionKind::periodic;
@@ -458,9 +555,10 @@ PeriodicAnalysis analyse_from(const PoincareMap& map, const SectionPoint& start,
   a.motion = lyapunov_class(*a.lyapunov, options.chaos_threshold);
   // A motion that does not clearly expand may still settle onto an orbit
   // after a long transient: follow it until its samples repeat, then shoot
-  // from there.
-  if (a.motion != MotionKind::chaotic && !a.lyapunov->section_points.empty()) {
-    settle_and_shoot(map, a.lyapunov->section_points, a.lyapunov->last, options, a);
+  // from there. One that expanded over the Lyapunov run may have settled by
+  // its end (transient chaos): its samples are looked at, not followed on.
+  if (!a.lyapunov->section_points.empty()) {
+    settle_and_shoot(map, a.lyapunov->section_points, a.lyapunov->last, options, a.motion != MotionKind::chaotic, a);
   }
   return a;
 }

@@ -60,6 +60,14 @@ struct PeriodicOptions {
   /// When no stable orbit converged: the most revolutions followed (the
   /// Lyapunov run's included) waiting for the sampled states to repeat.
   int settle_revolutions = 1000;
+  /// A stable orbit Newton converged to is the motion's steady state only
+  /// when the motion from the search's start comes within the near radius
+  /// (1e3 shooting tolerances, scaled) of one of its phases within this many
+  /// revolutions; otherwise it is an unreached orbit, one that coexists with
+  /// the motion (docs/periodic.md "Reached orbits"). 0: no check (where the
+  /// claim is only that a stable orbit exists, as the jump map's
+  /// continuation and its hysteresis check).
+  int reach_revolutions = 200;
   int threads = 1;
   JacobianMethod jacobian = JacobianMethod::automatic;
   /// The shortest map on which "auto" takes sensitivities: one sensitivity
@@ -148,6 +156,12 @@ struct PeriodicAnalysis {
   MotionKind motion = MotionKind::unresolved;
   std::optional<Orbit> orbit;          ///< the stable orbit, when one converged
   std::vector<Orbit> unstable_orbits;  ///< orbits that converged but repel
+  /// Stable orbits that converged but that the motion from the start did not
+  /// reach within PeriodicOptions::reach_revolutions: they coexist with it.
+  std::vector<Orbit> unreached_orbits;
+  /// Revolutions of the motion from the start before it came near the
+  /// stable orbit (0: it started there); -1 when not checked.
+  long reached_after = -1;
   std::optional<LyapunovEstimate> lyapunov;
   std::vector<NewtonStep> newton;  ///< every iterate, in order
   SectionPoint transient_end;

@@ -122,6 +122,10 @@ Report periodic_report(const PeriodicStudy& study, const PeriodicResult& r, cons
   for (const Orbit& o : a.unstable_orbits)
     rep.facts.push_back({"unstable orbit", "period " + std::to_string(o.period) + ", largest |μ| " +
                                                format_number(o.spectral_radius(), 4)});
+  for (const Orbit& o : a.unreached_orbits)
+    rep.facts.push_back({"coexisting stable orbit", "period " + std::to_string(o.period) + ", largest |μ| " +
+                                                        format_number(o.spectral_radius(), 4) +
+                                                        ", not reached from this start"});
   if (a.lyapunov)
     rep.facts.push_back({"largest Lyapunov exponent", format_number(a.lyapunov->per_revolution, 4) +
                                                           " per revolution over " +

@@ -184,13 +184,23 @@ std::string periodic_verdict(const PeriodicResult& r) {
   std::snprintf(buffer, sizeof buffer,
                 "no stable periodic orbit up to period %d; %s (%+.3g per revolution, %+.3g per impact)", max_period,
                 kind, lambda, per_impact);
-  return buffer;
+  std::string verdict = buffer;
+  for (const Orbit& o : a.unreached_orbits) {
+    std::snprintf(buffer, sizeof buffer,
+                  "; a stable period-%d orbit (largest |Floquet multiplier| %.3g) coexists, but the motion from "
+                  "this start does not reach it",
+                  o.period, o.spectral_radius());
+    verdict += buffer;
+  }
+  return verdict;
 }
 
 Json periodic_json(const PeriodicStudy& study, const PeriodicResult& r, const std::vector<std::string>& coordinates) {
   const PeriodicAnalysis& a = r.analysis;
   Json unstable = Json::array();
   for (const Orbit& o : a.unstable_orbits) unstable.push_back(orbit_json(o, coordinates));
+  Json unreached = Json::array();
+  for (const Orbit& o : a.unreached_orbits) unreached.push_back(orbit_json(o, coordinates));
   Json newton = Json::array();
   for (const NewtonStep& s : a.newton)
     newton.push_back({{"period", s.period}, {"iteration", s.iteration}, {"residual", s.residual}});
@@ -219,6 +229,7 @@ Json periodic_json(const PeriodicStudy& study, const PeriodicResult& r, const st
               {"coordinates", coordinates},
               {"orbit", a.orbit ? orbit_json(*a.orbit, coordinates) : Json()},
               {"unstable_orbits", unstable},
+              {"unreached_orbits", unreached},
               {"impacts", events_json(r.impacts, "approach_speed")},
               {"chatter", chatter_json(r.chatter)},
               {"take_offs", events_json(r.take_offs, "separation_speed")},
@@ -230,6 +241,7 @@ Json periodic_json(const PeriodicStudy& study, const PeriodicResult& r, const st
               {"lyapunov", lyapunov},
               {"newton", newton},
               {"settled_after_revolutions", a.settled_after >= 0 ? Json(a.settled_after) : Json()},
+              {"reached_after_revolutions", a.reached_after >= 0 ? Json(a.reached_after) : Json()},
               {"revolutions_integrated", a.revolutions},
               {"map_evaluations", a.map_evaluations},
               {"jacobians", jacobians},

@@ -94,8 +94,12 @@ SteadyStateOutcome search(const SceneConfig& scene, const Model& model, Simulati
     o.motion = to_string(a.motion);
     o.revolutions += a.revolutions;
     if (!a.orbit) {
-      o.note = "no stable periodic orbit up to period " + std::to_string(options.max_period) + " (" + o.motion +
-               "): metrics over the evaluated window";
+      o.note = "no stable periodic orbit up to period " + std::to_string(options.max_period) + " (" + o.motion + ")" +
+               (a.unreached_orbits.empty()
+                    ? ""
+                    : " that the motion reaches (a stable period-" + std::to_string(a.unreached_orbits.front().period) +
+                          " orbit coexists with it)") +
+               ": metrics over the evaluated window";
       return o;
     }
     const SimulationResult orbit = run_from(map, a.orbit->fixed_point, a.orbit->period);

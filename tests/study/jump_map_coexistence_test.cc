@@ -6,14 +6,18 @@
 // * Holmes' bouncing ball (studies/periodic/bouncing_ball.json) with
 //   restitution 0.7 from 590 to 610 rpm: past its period doubling the
 //   doubled orbit (period 2) coexists with a period-3 orbit, one impact a
-//   revolution, that the transient reaches at 610 rpm; at 610 rpm the period 2
-//   has doubled again and its period 4 coexists with the period 3
+//   revolution; at 610 rpm the period 2 has doubled again, and its period 4,
+//   which the motion carried on from 600 rpm goes to, coexists with the
+//   period 3, which the shooting from that motion finds but the motion does
+//   not reach
 //   (coexisting periodic orbits of the bouncing ball: Holmes 1982, J. Sound
 //   Vib. 84; Luck & Mehta 1993, Phys. Rev. E 48). Checked independently of
 //   the shooting: each attractor's fixed point is integrated on in one run
 //   and its impacts (count and cam angles) repeat with its own period and
 //   not a shorter one, the section state returns to the fixed point every
-//   period, and a start perturbed off it comes back (stable).
+//   period, and a start perturbed off it comes back (stable); and the motion
+//   at 610 rpm from 600 rpm's orbit, integrated in one run, ends with the
+//   impacts of the period 4.
 // * The quickstart near 1214.6 rpm (bench/jump_map_bench.cc): the transient
 //   reports a period-2 orbit whose points lie 1e-6 (scaled) from the
 //   period-1 orbit, and integrated on, the two have the same impacts every
@@ -80,17 +84,17 @@ Json run_map(const std::string& config, const std::string& jump_map, const std::
   return Json::parse(test::read_text(fs::path(out) / "jump_map.json"));
 }
 
-/// What kRevolutions from one section point give: the section state each
+/// What some revolutions from one section point give: the section state each
 /// revolution and the cam angles of the impacts of each revolution.
 struct Followed {
   std::vector<std::vector<double>> section;      ///< after revolution 1, 2, …
   std::vector<std::vector<double>> impacts_deg;  ///< by revolution
 };
 
-/// Follows kRevolutions from `attractor`'s fixed point at `rpm`, its section
+/// Follows `revolutions` from `attractor`'s fixed point at `rpm`, its section
 /// velocity moved by `nudge` scales; `scales` gets the map's.
 Followed follow(const std::string& config, const std::vector<std::string>& more, double rpm, const Json& attractor,
-                std::vector<double>& scales, double nudge = 0.0) {
+                std::vector<double>& scales, double nudge = 0.0, int revolutions = kRevolutions) {
   const std::string path = std::string(CAMDYN_SOURCE_DIR) + "/" + config;
   StudyContext ctx;
   ctx.config_file = path;
@@ -110,22 +114,22 @@ Followed follow(const std::string& config, const std::vector<std::string>& more,
   SimulationOptions options;
   options.record_series = false;
   options.start = std::make_shared<const StartState>(map.start(p));
-  for (int j = 1; j <= kRevolutions; ++j) options.sample_times.push_back(j * map.period());
+  for (int j = 1; j <= revolutions; ++j) options.sample_times.push_back(j * map.period());
   Workspace ws = make_workspace(model);
-  const SimulationResult r = simulate(map.scene_for(kRevolutions), model, ws, options);
+  const SimulationResult r = simulate(map.scene_for(revolutions), model, ws, options);
   throw_if_failed(r);
   Followed f;
-  f.impacts_deg.resize(kRevolutions);
+  f.impacts_deg.resize(static_cast<std::size_t>(revolutions));
   for (const ContactEvent& e : r.events) {
     if (!e.onset || !e.impact) continue;
-    const int revolution = std::clamp(static_cast<int>(std::floor(e.time / map.period())), 0, kRevolutions - 1);
+    const int revolution = std::clamp(static_cast<int>(std::floor(e.time / map.period())), 0, revolutions - 1);
     f.impacts_deg[static_cast<std::size_t>(revolution)].push_back(std::fmod(e.cam_angle_deg, 360.0));
   }
   // The quickstart's section coordinates are the follower's position and velocity (dynamics/poincare_map.h).
   EXPECT_EQ(p.x.size(), 2u);
   for (std::size_t j = 0; j < r.samples.follower_position.size(); ++j)
     f.section.push_back({r.samples.follower_position[j], r.samples.follower_velocity[j]});
-  EXPECT_EQ(f.section.size(), static_cast<std::size_t>(kRevolutions));
+  EXPECT_EQ(f.section.size(), static_cast<std::size_t>(revolutions));
   return f;
 }
 
@@ -139,11 +143,12 @@ bool same_impacts(const Followed& f, std::size_t a, std::size_t b) {
 }
 
 /// The least d ≥ 1 with which the impacts repeat over the followed revolutions
-/// (the first period skipped: its start is the shooting's point); 0: none up to 4.
-int impact_period(const Followed& f) {
+/// from revolution `from` (by default the first period skipped: its start is
+/// the shooting's point); 0: none up to 4.
+int impact_period(const Followed& f, std::size_t from = 4) {
   for (std::size_t d = 1; d <= 4; ++d) {
     bool repeats = true;
-    for (std::size_t r = 4; r + d < f.impacts_deg.size() && repeats; ++r) repeats = same_impacts(f, r, r + d);
+    for (std::size_t r = from; r + d < f.impacts_deg.size() && repeats; ++r) repeats = same_impacts(f, r, r + d);
     if (repeats) return static_cast<int>(d);
   }
   return 0;
@@ -166,9 +171,10 @@ TEST(JumpMapCoexistence, BouncingBallsDoubledOrbitsCoexistWithAPeriodThreeOrbit)
   EXPECT_FALSE(map["speeds"][0]["coexisting"].get<bool>());
   EXPECT_EQ(map["coexisting_speeds"], 2);
   // 600 rpm: the period 2 continued from 590 rpm, and the period 3 of 610 rpm shot there;
-  // 610 rpm: the period 3 the transient reached, and the period 2 of 600 rpm shot there (doubled: 4).
-  const int expected[2][2] = {{2, 3}, {3, 4}};
-  const char* reached[2] = {"from_above", "from_below"};
+  // 610 rpm: the period 4 the motion from 600 rpm goes to, and the period 3
+  // the shooting from that motion found, which the motion does not reach.
+  const int expected[2][2] = {{2, 3}, {4, 3}};
+  const char* reached[2] = {"from_above", "shooting"};
   for (std::size_t s = 1; s <= 2; ++s) {
     const Json& p = map["speeds"][s];
     const double rpm = p["rpm"].get<double>();
@@ -212,6 +218,14 @@ TEST(JumpMapCoexistence, BouncingBallsDoubledOrbitsCoexistWithAPeriodThreeOrbit)
   }
   // No change of class is stated to or from them.
   for (const Json& t : map["transitions"]) EXPECT_EQ(t["kind"], "coexistence") << t.dump();
+  // The motion at 610 rpm is the one carried on from 600 rpm's period-2
+  // orbit (20 transient revolutions, then the search): integrated on in one
+  // run, it ends with the impacts of the period 4, not those of the period 3.
+  std::vector<double> scales;
+  const int revolutions = 400;
+  const Followed carried =
+      follow(kBouncingBall, {kRestitution}, 610.0, map["speeds"][1]["attractors"][0], scales, 0.0, revolutions);
+  EXPECT_EQ(impact_period(carried, revolutions - 40), 4);
 }
 
 /// The cam angles [deg] of the impacts impacts.csv records at `rpm` (over the speed's samples).
