@@ -81,6 +81,11 @@ struct ConvergedOrbit {
 struct Continuation {
   std::optional<SectionPoint> carry;
   std::vector<ConvergedOrbit> orbits;
+  /// The speed below reached no stable orbit: the next one's Lyapunov run
+  /// comes first (PeriodicOptions::lyapunov_first; when it does not find
+  /// chaos, the orbit search follows and its estimate is kept, so it costs
+  /// nothing then).
+  bool aperiodic = false;
 };
 
 // The fixed point predicted at `rpm`: the secant in rpm through the last two
@@ -261,6 +266,7 @@ JumpMapPoint transient_path(const JumpMapStudy& study, const PoincareMap& map, d
   }
   PeriodicOptions options = study.periodic.options;
   options.threads = study.threads_per_speed;
+  options.lyapunov_first = c.aperiodic;
   PeriodicAnalysis a = analyse_from(map, start, options);
   const SimulationResult samples = sample_run(map, a.orbit ? a.orbit->fixed_point : start, study.config.samples);
   JumpMapPoint p;
@@ -322,6 +328,7 @@ JumpMapPoint run_speed(const JumpMapStudy& study, double rpm, const std::string&
   } else {
     p = transient_path(study, map, rpm, c, orbit);
   }
+  c.aperiodic = p.ok && p.motion != MotionKind::periodic;
   if (!orbit || !orbit->stable) {
     c.orbits.clear();
     return p;

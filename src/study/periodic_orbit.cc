@@ -422,18 +422,17 @@ int recurrence_period(const Shooter& shooter, const std::vector<VectorXd>& x, co
 }
 
 // Follows the motion from the last of `points` (the section points so far,
-// once a revolution), up to options.settle_revolutions in all (when
-// `follow`; otherwise `points` alone are looked at), until the sampled
-// states repeat; then shoots the orbit from there at that period and keeps
-// it when it is stable (at its minimal period).
+// once a revolution), up to options.settle_revolutions in all, until the
+// sampled states repeat; then shoots the orbit from there at that period and
+// keeps it when it is stable (at its minimal period).
 void settle_and_shoot(const PoincareMap& map, const std::vector<std::vector<double>>& points, SectionPoint last,
-                      const PeriodicOptions& options, bool follow, PeriodicAnalysis& a) {
+                      const PeriodicOptions& options, PeriodicAnalysis& a) {
   Shooter shooter(map, options);
   std::vector<VectorXd> x;
   for (const std::vector<double>& p : points) x.push_back(to_vector(p));
   std::size_t since = 0;
   int d = recurrence_period(shooter, x, options, since);
-  while (follow && d == 0 && std::ssize(x) < options.settle_revolutions) {
+  while (d == 0 && std::ssize(x) < options.settle_revolutions) {
     const std::optional<SectionPoint> next = shooter.apply(last, 1);
     if (!next) break;
     last = *next;
@@ -545,21 +544,51 @@ MotionKind lyapunov_class(const LyapunovEstimate& e, double chaos_threshold) {
   return MotionKind::unresolved;
 }
 
-PeriodicAnalysis analyse_from(const PoincareMap& map, const SectionPoint& start, const PeriodicOptions& options) {
-  PeriodicAnalysis a = find_periodic_orbit(map, start, options);
-  if (a.orbit || options.lyapunov_revolutions <= 0) return a;
-  if (options.log)
-    options.log(format("no stable orbit up to period %d: estimating the Lyapunov exponent over %d revolutions",
-                       options.max_period, options.lyapunov_revolutions));
-  a.lyapunov = estimate_lyapunov(map, start, options, &a.revolutions);
+namespace {
+
+// Classifies the motion by a.lyapunov (set), then looks for it settling
+// (settle_and_shoot): a motion that does not clearly expand is followed up to
+// options.settle_revolutions; one that expanded over the Lyapunov run (it
+// may be transient chaos) up to options.reach_revolutions, the horizon
+// within which a stable orbit counts as reached.
+void classify_and_settle(const PoincareMap& map, const PeriodicOptions& options, PeriodicAnalysis& a) {
   a.motion = lyapunov_class(*a.lyapunov, options.chaos_threshold);
-  // A motion that does not clearly expand may still settle onto an orbit
-  // after a long transient: follow it until its samples repeat, then shoot
-  // from there. One that expanded over the Lyapunov run may have settled by
-  // its end (transient chaos): its samples are looked at, not followed on.
-  if (!a.lyapunov->section_points.empty()) {
-    settle_and_shoot(map, a.lyapunov->section_points, a.lyapunov->last, options, a.motion != MotionKind::chaotic, a);
+  if (a.lyapunov->section_points.empty()) return;
+  PeriodicOptions settle = options;
+  if (a.motion == MotionKind::chaotic)
+    settle.settle_revolutions = std::max(options.reach_revolutions, options.lyapunov_revolutions);
+  settle_and_shoot(map, a.lyapunov->section_points, a.lyapunov->last, settle, a);
+}
+
+}  // namespace
+
+PeriodicAnalysis analyse_from(const PoincareMap& map, const SectionPoint& start, const PeriodicOptions& options) {
+  std::optional<PeriodicAnalysis> first;  // the Lyapunov run made first, when it found no chaos
+  if (options.lyapunov_first && options.lyapunov_revolutions > 0) {
+    if (options.log)
+      options.log(format("Lyapunov exponent first, over %d revolutions: the motion is expected aperiodic",
+                         options.lyapunov_revolutions));
+    PeriodicAnalysis l;
+    l.transient_end = start;
+    l.lyapunov = estimate_lyapunov(map, start, options, &l.revolutions);
+    if (lyapunov_class(*l.lyapunov, options.chaos_threshold) == MotionKind::chaotic) {
+      classify_and_settle(map, options, l);
+      return l;
+    }
+    first = std::move(l);
   }
+  PeriodicAnalysis a = find_periodic_orbit(map, start, options);
+  if (first) a.revolutions += first->revolutions;
+  if (a.orbit || options.lyapunov_revolutions <= 0) return a;
+  if (first) {
+    a.lyapunov = std::move(first->lyapunov);
+  } else {
+    if (options.log)
+      options.log(format("no stable orbit up to period %d: estimating the Lyapunov exponent over %d revolutions",
+                         options.max_period, options.lyapunov_revolutions));
+    a.lyapunov = estimate_lyapunov(map, start, options, &a.revolutions);
+  }
+  classify_and_settle(map, options, a);
   return a;
 }
 

@@ -68,6 +68,14 @@ struct PeriodicOptions {
   /// claim is only that a stable orbit exists, as the jump map's
   /// continuation and its hysteresis check).
   int reach_revolutions = 200;
+  /// The motion is expected to be aperiodic (the jump map's speed below
+  /// reached no stable orbit): the Lyapunov run comes first. When it finds
+  /// the motion chaotic, the motion is followed on to `reach_revolutions` to
+  /// see whether it settles, and no orbit is sought otherwise: one Newton
+  /// converged to from the start could not be the motion's. When it does
+  /// not, the orbit search follows and the estimate is kept
+  /// (docs/periodic.md "Lyapunov first").
+  bool lyapunov_first = false;
   int threads = 1;
   JacobianMethod jacobian = JacobianMethod::automatic;
   /// The shortest map on which "auto" takes sensitivities: one sensitivity

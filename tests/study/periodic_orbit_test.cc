@@ -273,6 +273,74 @@ TEST(PeriodicOrbit, ASlowlyContractingOrbitIsReachedInItsLinearRegime) {
   EXPECT_LE(distance_after(b, b.start, 2000, *a.orbit), near);
 }
 
+// The packaging arm (studies/packaging_arm_jump_map.json) at 1789 rpm, 20
+// revolutions from the scene's start: its Lyapunov run over 60 revolutions
+// is clearly chaotic (λ − 2 SE above the threshold), yet the motion settles
+// onto a period-1 orbit within the 200 revolutions a stable orbit counts as
+// reached in (transient chaos). Both orders of the search (the orbit search
+// first, or the Lyapunov run first as the jump map does after an aperiodic
+// speed) follow the chaotic motion on to see it settle, and report the
+// orbit. Independent evidence: a plain run of 300 revolutions from the same
+// start, sampled every revolution, keeps its last 50 samples within the near
+// radius of the orbit's fixed point, and its first 60 stray far from it.
+TEST(PeriodicOrbit, TransientChaosIsFollowedUntilItSettles) {
+  Json doc = load_config_json(kStudies + "packaging_arm_jump_map.json");
+  doc["study"] = "periodic";
+  doc.erase("jump_map");
+  StudyContext ctx;
+  ctx.config_file = "packaging_arm_jump_map.json";
+  PeriodicStudy study = read_periodic_study(doc, ctx);
+  study.scene.mechanism.cam.rpm = 1789.0;
+  const Model model = build_model(study.geometry, study.scene, "test");
+  const PoincareMap map(study.scene, model, "test");
+  Workspace ws = make_workspace(model);
+  SimulationOptions run;
+  run.record_series = false;
+  const SimulationResult transient = simulate(map.scene_for(20), model, ws, run);
+  ASSERT_TRUE(transient.solver.converged());
+  const SectionPoint start = map.point(transient);
+  ASSERT_EQ(map.dimension(), 2) << "the arm's angle and rate";
+  PeriodicOptions options = study.config.options;
+  options.lyapunov_revolutions = 60;
+  for (const bool lyapunov_first : {false, true}) {
+    options.lyapunov_first = lyapunov_first;
+    const PeriodicAnalysis a = analyse_from(map, start, options);
+    ASSERT_TRUE(a.lyapunov) << lyapunov_first;
+    const double lambda = a.lyapunov->per_revolution, se = a.lyapunov->standard_error.value_or(1e9);
+    EXPECT_GT(lambda - 2 * se, options.chaos_threshold) << "the window is meant to look chaotic";
+    ASSERT_TRUE(a.orbit) << lyapunov_first;
+    EXPECT_EQ(a.motion, MotionKind::periodic);
+    EXPECT_EQ(a.orbit->period, 1);
+    EXPECT_TRUE(a.orbit->stable);
+    EXPECT_GT(a.settled_after, options.lyapunov_revolutions);
+    EXPECT_LE(a.settled_after, options.reach_revolutions);
+    if (lyapunov_first) {
+      // No orbit search before the Lyapunov run: Newton only shot the settled motion, at period 1.
+      for (const NewtonStep& step : a.newton) EXPECT_EQ(step.period, 1);
+    }
+
+    SimulationOptions plain;
+    plain.record_series = false;
+    plain.start = std::make_shared<const StartState>(map.start(start));
+    constexpr int kRevolutionsRun = 300;
+    for (int j = 1; j <= kRevolutionsRun; ++j) plain.sample_times.push_back(j * map.period());
+    const SimulationResult r = simulate(map.scene_for(kRevolutionsRun), model, ws, plain);
+    ASSERT_TRUE(r.solver.converged());
+    ASSERT_EQ(r.samples.follower_position.size(), static_cast<std::size_t>(kRevolutionsRun));
+    const std::vector<double>& x0 = a.orbit->fixed_point.x;
+    const std::vector<double> scales = map.scales();
+    const auto distance = [&](std::size_t j) {
+      return std::max(std::abs(r.samples.follower_position[j] - x0[0]) / scales[0],
+                      std::abs(r.samples.follower_velocity[j] - x0[1]) / scales[1]);
+    };
+    double late = 0.0, early = 0.0;
+    for (std::size_t j = kRevolutionsRun - 50; j < kRevolutionsRun; ++j) late = std::max(late, distance(j));
+    for (std::size_t j = 0; j < 60; ++j) early = std::max(early, distance(j));
+    EXPECT_LE(late, 1e3 * options.tolerance);
+    EXPECT_GT(early, 1e-2);
+  }
+}
+
 // The long-flight cam (studies/peers/long_flight.json) at 700 rpm settles on a
 // period-1 orbit with one impact a revolution; Newton on period 1 from the
 // transient's end finds a repelling orbit, Newton on period 2 the stable one,
