@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "common/errors.h"
+#include "common/parallel.h"
 #include "common/study_budget.h"
 #include "dynamics/model.h"
 #include "dynamics/poincare_map.h"
@@ -267,8 +268,27 @@ JumpMapPoint transient_path(const JumpMapStudy& study, const PoincareMap& map, d
   PeriodicOptions options = study.periodic.options;
   options.threads = study.threads_per_speed;
   options.lyapunov_first = c.aperiodic;
-  PeriodicAnalysis a = analyse_from(map, start, options);
-  const SimulationResult samples = sample_run(map, a.orbit ? a.orbit->fixed_point : start, study.config.samples);
+  PeriodicAnalysis a;
+  std::optional<SimulationResult> run;
+  if (options.lyapunov_first && options.threads > 1) {
+    // The motion is expected aperiodic, so its samples start where the
+    // transient ended: they run beside the analysis, and again from the
+    // orbit (or after a failure) only if it finds one.
+    parallel_for(2, 2, [&](std::size_t i) {
+      if (i == 0) a = analyse_from(map, start, options);
+      if (i != 1) return;
+      try {
+        run = sample_run(map, start, study.config.samples);
+      } catch (const NumericalError&) {
+        // run again below, where a failure is the speed's
+      }
+    });
+    if (a.orbit) run.reset();
+  } else {
+    a = analyse_from(map, start, options);
+  }
+  if (!run) run = sample_run(map, a.orbit ? a.orbit->fixed_point : start, study.config.samples);
+  const SimulationResult& samples = *run;
   JumpMapPoint p;
   p.rpm = rpm;
   p.ok = true;
