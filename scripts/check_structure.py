@@ -139,6 +139,30 @@ def public_include_violations():
     return found
 
 
+TYPE_DEFINITION = re.compile(r"^(?:struct|class|enum class|enum)\s+([A-Za-z_]\w*)\s*(?:final\s*)?[:{]")
+
+
+def defined_types(path):
+    return {m.group(1) for line in path.read_text(encoding="utf-8").splitlines() if (m := TYPE_DEFINITION.match(line))}
+
+
+def type_name_clashes():
+    """A type of the public API (namespace camdyn) defined again in the library:
+    two classes of one name in one program break the one-definition rule."""
+    public = {}
+    for path in public_headers():
+        for name in defined_types(path):
+            public[name] = path.relative_to(ROOT)
+    found = []
+    for path in sources():
+        if layer_of(path) in ("api", "python"):
+            continue
+        for name in sorted(defined_types(path) & public.keys()):
+            found.append(f"{path.relative_to(ROOT)}: defines '{name}', a type of the public header {public[name]}: "
+                         f"two classes of one name in one program break the one-definition rule")
+    return found
+
+
 def long_functions(max_lines):
     found = []
     for path in sources():
@@ -257,8 +281,8 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--max-lines", type=int, default=120)
     args = parser.parse_args()
-    problems = (include_violations() + public_include_violations() + long_functions(args.max_lines)
-                + doc_reference_violations())
+    problems = (include_violations() + public_include_violations() + type_name_clashes()
+                + long_functions(args.max_lines) + doc_reference_violations())
     for problem in problems:
         print(problem)
     print(f"check_structure: {len(problems)} problem(s) in {sum(1 for _ in sources())} files, "

@@ -206,7 +206,7 @@ int run_export(const ExportArgs& args) {
   // Any value given (0 is the default): NaN reaches the check and is refused.
   if (args.cutter_radius_mm != 0.0) options.cutter_radius = args.cutter_radius_mm * 1e-3;
   const camdyn::ProfileOptionNames names{"", "--cutter-radius", "--points", "--chord-tolerance"};
-  const camdyn::CamProfile profile = camdyn::sample_cam_profile(model, options, names);
+  const camdyn::SampledCamProfile profile = camdyn::sample_cam_profile(model, options, names);
   std::vector<camdyn::ProfileFormat> formats;
   for (const std::string& f : args.formats) formats.push_back(*camdyn::enum_from_name<camdyn::ProfileFormat>(f));
   if (formats.empty()) formats = camdyn::ProfileOutputConfig{}.formats;

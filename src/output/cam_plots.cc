@@ -22,8 +22,8 @@ void add_point(Series& s, const Eigen::Vector2d& p_m) {
 }
 
 /// A closed curve of the profile turned into the world at cam angle `mark` (σ·mark), in mm.
-Series closed_curve(const CamProfile& profile, Eigen::Vector2d ProfilePoint::*member, double turn, std::string label,
-                    std::string style = "lines") {
+Series closed_curve(const SampledCamProfile& profile, Eigen::Vector2d ProfilePoint::*member, double turn,
+                    std::string label, std::string style = "lines") {
   Series s{std::move(label), {}, {}, std::move(style)};
   for (const ProfilePoint& p : profile.points) add_point(s, rotate(p.*member, turn));
   if (!profile.points.empty()) add_point(s, rotate(profile.points.front().*member, turn));
@@ -119,7 +119,7 @@ Plot cam_layout_plot(const std::vector<CamDesign>& designs, double mark) {
   ProfileOptions options;
   options.points = kCamPlotSamples;
   const std::string suffix = designs.size() > 1 ? " (" + designs.front().label + ")" : "";
-  const CamProfile profile = sample_cam_profile(model, options, ProfileOptionNames{});
+  const SampledCamProfile profile = sample_cam_profile(model, options, ProfileOptionNames{});
   plot.series.push_back(closed_curve(profile, &ProfilePoint::contour, turn, "cam contour" + suffix));
   plot.series.back().role = designs.front().role;
   if (profile.has_pitch)
@@ -133,7 +133,7 @@ Plot cam_layout_plot(const std::vector<CamDesign>& designs, double mark) {
   plot.series.push_back(std::move(contact));
   plot.series.push_back(std::move(centre));
   for (std::size_t i = 1; i < designs.size(); ++i) {
-    const CamProfile other = sample_cam_profile(*designs[i].model, options, ProfileOptionNames{});
+    const SampledCamProfile other = sample_cam_profile(*designs[i].model, options, ProfileOptionNames{});
     plot.series.push_back(closed_curve(other, &ProfilePoint::contour, designs[i].model->direction * mark,
                                        "cam contour (" + designs[i].label + ")"));
     plot.series.back().role = designs[i].role;

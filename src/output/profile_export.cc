@@ -165,7 +165,7 @@ struct Sampler {
 };
 
 /// Keeps the smallest |ρ| of the contour where it is concave, and where.
-void note_concave(const ProfilePoint& p, CamProfile& profile) {
+void note_concave(const ProfilePoint& p, SampledCamProfile& profile) {
   if (p.radius_of_curvature < 0.0 && -p.radius_of_curvature < profile.min_concave_radius) {
     profile.min_concave_radius = -p.radius_of_curvature;
     profile.min_concave_radius_at = p.theta;
@@ -173,7 +173,7 @@ void note_concave(const ProfilePoint& p, CamProfile& profile) {
 }
 
 /// A tool must be smaller than the tightest hollow it cuts.
-void check_tool(const ProfileOptions& options, const CamProfile& profile, const ProfileOptionNames& names) {
+void check_tool(const ProfileOptions& options, const SampledCamProfile& profile, const ProfileOptionNames& names) {
   if (!options.cutter_radius || *options.cutter_radius < profile.min_concave_radius) return;
   throw InputError(names.file, names.cutter_radius,
                    "the tool radius " + mm(*options.cutter_radius) +
@@ -208,9 +208,9 @@ void check_tool_size(const ProfileOptions& options, double cam_radius, const Pro
                        mm(cam_radius) + " mm: give it in mm");
 }
 
-CamProfile describe(const Model& model, const ProfileOptions& options) {
+SampledCamProfile describe(const Model& model, const ProfileOptions& options) {
   const FollowerGeometry& f = model.follower;
-  CamProfile profile;
+  SampledCamProfile profile;
   profile.has_pitch = f.circle();
   profile.oscillating = f.oscillating();
   profile.direction = model.direction;
@@ -236,9 +236,10 @@ ProfileOptions profile_options(const ProfileOutputConfig& config) {
   return options;
 }
 
-CamProfile sample_cam_profile(const Model& model, const ProfileOptions& options, const ProfileOptionNames& names) {
+SampledCamProfile sample_cam_profile(const Model& model, const ProfileOptions& options,
+                                     const ProfileOptionNames& names) {
   check_options(options, names);
-  CamProfile profile = describe(model, options);
+  SampledCamProfile profile = describe(model, options);
   const ProfileSource source(model, options.cutter_radius);
   // The tool's fit first, on a fine grid: a tool too large makes the offset loop, and the sampling would chase it.
   profile.min_concave_radius = std::numeric_limits<double>::infinity();
@@ -270,7 +271,7 @@ CamProfile sample_cam_profile(const Model& model, const ProfileOptions& options,
   return profile;
 }
 
-std::vector<std::string> profile_header_lines(const CamProfile& profile, const std::string& name) {
+std::vector<std::string> profile_header_lines(const SampledCamProfile& profile, const std::string& name) {
   std::vector<std::string> lines;
   lines.push_back("camdyn cam profile of '" + name + "' (camdyn " CAMDYN_VERSION ")");
   lines.push_back(std::string("units: millimetres (x, y") +
@@ -310,7 +311,7 @@ std::vector<std::string> profile_header_lines(const CamProfile& profile, const s
   return lines;
 }
 
-std::vector<std::string> design_data_lines(const CamProfile& profile) {
+std::vector<std::string> design_data_lines(const SampledCamProfile& profile) {
   std::vector<std::string> lines = {"DESIGN DATA", "base circle radius: " + mm(profile.base_radius) + " mm"};
   lines.push_back(profile.oscillating ? "lift: " + deg(profile.lift) + " deg (arm angle)"
                                       : "lift: " + mm(profile.lift) + " mm");
@@ -324,7 +325,7 @@ std::vector<std::string> design_data_lines(const CamProfile& profile) {
   return lines;
 }
 
-void write_profile_csv(const std::filesystem::path& path, const CamProfile& profile, const std::string& name) {
+void write_profile_csv(const std::filesystem::path& path, const SampledCamProfile& profile, const std::string& name) {
   std::string text;
   for (const std::string& line : profile_header_lines(profile, name)) text += "# " + line + "\n";
   std::vector<std::string> columns = {"cam_angle_deg", profile.oscillating ? "lift_deg" : "lift_mm", "contour_x_mm",
@@ -430,7 +431,7 @@ void write_tables(DL_Dxf& dxf, DL_WriterA& dw) {
 }
 
 template <class Get>
-void write_closed_polyline(DL_Dxf& dxf, DL_WriterA& dw, const CamProfile& profile, const char* layer, Get get) {
+void write_closed_polyline(DL_Dxf& dxf, DL_WriterA& dw, const SampledCamProfile& profile, const char* layer, Get get) {
   dxf.writePolyline(dw, DL_PolylineData(static_cast<int>(profile.points.size()), 0, 0, 1), on_layer(layer));
   for (const ProfilePoint& p : profile.points) {
     const Eigen::Vector2d v = get(p) * kMm;
@@ -447,7 +448,7 @@ void write_text(DL_Dxf& dxf, DL_WriterA& dw, double x, double y, const std::stri
 
 // What a drawing for the shop needs besides the curves: the centre as a cross,
 // the base circle, the timing mark at cam angle 0 and the design data (mm).
-void write_drawing_aids(DL_Dxf& dxf, DL_WriterA& dw, const CamProfile& profile) {
+void write_drawing_aids(DL_Dxf& dxf, DL_WriterA& dw, const SampledCamProfile& profile) {
   const double rb = profile.base_radius * kMm, outer = profile.max_radius * kMm;
   const double arm = std::max(0.1 * rb, kTextHeightMm);
   dxf.writeLine(dw, DL_LineData(-arm, 0.0, 0.0, arm, 0.0, 0.0), on_layer(kCentreLayer));
@@ -467,7 +468,8 @@ void write_drawing_aids(DL_Dxf& dxf, DL_WriterA& dw, const CamProfile& profile) 
   }
 }
 
-void write_entities(DL_Dxf& dxf, DL_WriterA& dw, const CamProfile& profile, const std::vector<std::string>& notes) {
+void write_entities(DL_Dxf& dxf, DL_WriterA& dw, const SampledCamProfile& profile,
+                    const std::vector<std::string>& notes) {
   dw.sectionEntities();
   write_closed_polyline(dxf, dw, profile, kContourLayer, [](const ProfilePoint& p) { return p.contour; });
   if (profile.has_pitch)
@@ -515,7 +517,7 @@ class ScratchFile {
 
 }  // namespace
 
-void write_profile_dxf(const std::filesystem::path& path, const CamProfile& profile, const std::string& name) {
+void write_profile_dxf(const std::filesystem::path& path, const SampledCamProfile& profile, const std::string& name) {
   if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
   // dxflib writes to a file of its own; its content then goes to `path` atomically.
   ScratchFile scratch(path.filename().string());
@@ -632,8 +634,8 @@ void write_follower_lift_csv(const std::filesystem::path& path, const FollowerLi
   write_file_atomic(path, text);
 }
 
-std::vector<std::filesystem::path> write_profile_files(const std::filesystem::path& dir, const CamProfile& profile,
-                                                       const std::string& name,
+std::vector<std::filesystem::path> write_profile_files(const std::filesystem::path& dir,
+                                                       const SampledCamProfile& profile, const std::string& name,
                                                        const std::vector<ProfileFormat>& formats) {
   std::vector<std::filesystem::path> written;
   auto wants = [&](ProfileFormat f) { return std::find(formats.begin(), formats.end(), f) != formats.end(); };
@@ -652,7 +654,7 @@ std::vector<std::filesystem::path> write_profile_outputs(const std::filesystem::
                                                          const Model& model, const std::string& file) {
   if (!scene.outputs.profile) return {};
   const ProfileOutputConfig& config = *scene.outputs.profile;
-  const CamProfile profile = sample_cam_profile(model, profile_options(config), ProfileOptionNames{file});
+  const SampledCamProfile profile = sample_cam_profile(model, profile_options(config), ProfileOptionNames{file});
   return write_profile_files(dir, profile, scene.name, config.formats);
 }
 

@@ -59,8 +59,11 @@ struct ProfilePoint {
   double radius_of_curvature = 0.0;                   ///< of the contour [m]: > 0 convex, < 0 concave, ±inf straight
 };
 
-/// The sampled cam and what the files' headers say about it.
-struct CamProfile {
+/// The sampled cam and what the files' headers say about it. Not the public
+/// API's camdyn::CamProfile (include/camdyn/scene.h): two classes of one name
+/// in one program break the one-definition rule, and the linker then gave one
+/// class's destructor to the other's objects (docs/architecture.md, "Build time").
+struct SampledCamProfile {
   std::vector<ProfilePoint> points;  ///< by increasing cam angle, the first at θ = 0; closed (no repeat)
   bool has_pitch = false;            ///< a circle follower (roller, mushroom)
   bool oscillating = false;          ///< the lift is an arm angle
@@ -85,16 +88,17 @@ struct CamProfile {
 /// of the contour (the tool could not reach into the hollow), and
 /// InputError(names.file, names.points / names.chord_tolerance) for options
 /// out of range.
-CamProfile sample_cam_profile(const Model& model, const ProfileOptions& options, const ProfileOptionNames& names);
+SampledCamProfile sample_cam_profile(const Model& model, const ProfileOptions& options,
+                                     const ProfileOptionNames& names);
 
 /// The header lines both files carry (units, frame, direction, angle origin,
 /// follower, sampling), without comment markers.
-std::vector<std::string> profile_header_lines(const CamProfile& profile, const std::string& name);
+std::vector<std::string> profile_header_lines(const SampledCamProfile& profile, const std::string& name);
 
 /// profile.csv: the header lines as "# " comments, then the columns
 /// cam_angle_deg, lift_mm (oscillating: lift_deg), contour_x_mm, contour_y_mm,
 /// [pitch_x_mm, pitch_y_mm], [cutter_x_mm, cutter_y_mm].
-void write_profile_csv(const std::filesystem::path& path, const CamProfile& profile, const std::string& name);
+void write_profile_csv(const std::filesystem::path& path, const SampledCamProfile& profile, const std::string& name);
 
 /// profile.dxf (AutoCAD 2000, AC1015; $INSUNITS = 4, millimetres): the
 /// contour, pitch curve and cutter path as closed LWPOLYLINEs on layers
@@ -104,10 +108,10 @@ void write_profile_csv(const std::filesystem::path& path, const CamProfile& prof
 /// that touches the follower at cam angle 0, and its label), the design data
 /// (design_data_lines) as TEXT on layer DESIGN_DATA, and the header lines as
 /// 999 comments and as TEXT on layer NOTES below the cam.
-void write_profile_dxf(const std::filesystem::path& path, const CamProfile& profile, const std::string& name);
+void write_profile_dxf(const std::filesystem::path& path, const SampledCamProfile& profile, const std::string& name);
 
 /// The design data block of the drawing: base circle radius, lift, follower, rotation.
-std::vector<std::string> design_data_lines(const CamProfile& profile);
+std::vector<std::string> design_data_lines(const SampledCamProfile& profile);
 
 /// The lift a different follower would read on the cam as made (a grinder's
 /// or a checking fixture's): a roller of radius R on the same axis (offset)
@@ -137,8 +141,8 @@ void write_follower_lift_csv(const std::filesystem::path& path, const FollowerLi
 
 /// The files `formats` asks for, into `dir`: profile.csv and/or profile.dxf.
 /// Returns the paths written.
-std::vector<std::filesystem::path> write_profile_files(const std::filesystem::path& dir, const CamProfile& profile,
-                                                       const std::string& name,
+std::vector<std::filesystem::path> write_profile_files(const std::filesystem::path& dir,
+                                                       const SampledCamProfile& profile, const std::string& name,
                                                        const std::vector<ProfileFormat>& formats);
 
 /// What simulate and optimize write when the scene's `outputs.profile` is set

@@ -67,7 +67,7 @@ int run_simulate_study(const Json& doc, const StudyContext& ctx) {
   // the cam geometry (undercut, pressure angle) and the contact law.
   const Model model = build_model(scene, ctx.config_file);
   // outputs.profile is sampled (and its tool radius checked) before the run, so validate sees its errors too.
-  std::optional<CamProfile> profile;
+  std::optional<SampledCamProfile> profile;
   if (scene.outputs.profile)
     profile = sample_cam_profile(model, profile_options(*scene.outputs.profile), ProfileOptionNames{ctx.config_file});
   if (ctx.validate_only) {

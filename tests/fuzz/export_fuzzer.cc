@@ -99,7 +99,7 @@ void export_profile(const camdyn::Model& model, const std::string& name, FuzzedD
   const double angle_step = fuzzed_angle_step(in);
   const camdyn::fuzz::Scratch& scratch = camdyn::fuzz::Scratch::get();
   camdyn::fuzz::expect_camdyn_errors_only([&] {
-    const camdyn::CamProfile profile = camdyn::sample_cam_profile(model, options, camdyn::ProfileOptionNames{});
+    const camdyn::SampledCamProfile profile = camdyn::sample_cam_profile(model, options, camdyn::ProfileOptionNames{});
     camdyn::write_profile_files(scratch.dir(), profile, name, {camdyn::ProfileFormat::csv, camdyn::ProfileFormat::dxf});
   });
   camdyn::fuzz::expect_camdyn_errors_only([&] {

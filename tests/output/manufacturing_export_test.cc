@@ -72,7 +72,7 @@ class DrawingAids : public ::testing::TestWithParam<const char*> {};
 // offset: the point under the follower) and the design data as text.
 TEST_P(DrawingAids, DxfReadBackHasBaseCircleTimingMarkAndDesignData) {
   const Model model = model_of(eccentric_mechanism(kE, GetParam(), kRoller));
-  const CamProfile profile = sample_cam_profile(model, ProfileOptions{}, ProfileOptionNames{"test.json"});
+  const SampledCamProfile profile = sample_cam_profile(model, ProfileOptions{}, ProfileOptionNames{"test.json"});
   const fs::path dir = scratch(std::string("aids_") + GetParam());
   write_profile_files(dir, profile, "disc", {ProfileFormat::dxf});
   Collector c;

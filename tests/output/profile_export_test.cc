@@ -130,7 +130,7 @@ TEST_P(EccentricDisc, FlatFaceContourPointsLieOnTheDisc) {
   const double sigma = std::string(GetParam()) == "cw" ? -1.0 : 1.0;
   ProfileOptions options;
   options.chord_tolerance = 1e-6;
-  const CamProfile profile = sample_cam_profile(model, options, ProfileOptionNames{"test.json"});
+  const SampledCamProfile profile = sample_cam_profile(model, options, ProfileOptionNames{"test.json"});
   ASSERT_GT(profile.points.size(), 100u);
   EXPECT_FALSE(profile.has_pitch);
   const fs::path dir = scratch(std::string("disc_") + GetParam());
@@ -161,7 +161,7 @@ TEST(ProfileExport, RollerPitchCurveIsTheContourOffsetByTheRollerRadius) {
   ProfileOptions options;
   options.points = 720;
   options.cutter_radius = rr;
-  const CamProfile profile = sample_cam_profile(model, options, ProfileOptionNames{"test.json"});
+  const SampledCamProfile profile = sample_cam_profile(model, options, ProfileOptionNames{"test.json"});
   ASSERT_EQ(profile.points.size(), 720u);
   ASSERT_TRUE(profile.has_pitch);
   for (const ProfilePoint& p : profile.points) {
@@ -180,7 +180,7 @@ TEST(ProfileExport, DxfReadBackWithDxflibReproducesThePoints) {
   ProfileOptions options;
   options.chord_tolerance = 1e-5;
   options.cutter_radius = 0.004;
-  const CamProfile profile = sample_cam_profile(model, options, ProfileOptionNames{"test.json"});
+  const SampledCamProfile profile = sample_cam_profile(model, options, ProfileOptionNames{"test.json"});
   const fs::path dir = scratch("dxf");
   const auto written = write_profile_files(dir, profile, "disc", {ProfileFormat::dxf});
   ASSERT_EQ(written.size(), 1u);
@@ -231,7 +231,7 @@ TEST(ProfileExport, CutterPathIsAtTheToolRadiusFromTheContourEverywhere) {
   // The fine contour: a polyline within 1e-9 m of the curve.
   ProfileOptions fine;
   fine.chord_tolerance = 1e-9;
-  const CamProfile reference = sample_cam_profile(model, fine, ProfileOptionNames{"test.json"});
+  const SampledCamProfile reference = sample_cam_profile(model, fine, ProfileOptionNames{"test.json"});
   ASSERT_TRUE(std::isfinite(reference.min_concave_radius)) << "the test cam should have concave flanks";
   std::vector<Eigen::Vector2d> contour;
   for (const ProfilePoint& p : reference.points) contour.push_back(p.contour);
@@ -239,7 +239,7 @@ TEST(ProfileExport, CutterPathIsAtTheToolRadiusFromTheContourEverywhere) {
   ProfileOptions options;
   options.points = 1500;
   options.cutter_radius = 0.5 * reference.min_concave_radius;
-  const CamProfile profile = sample_cam_profile(model, options, ProfileOptionNames{"test.json"});
+  const SampledCamProfile profile = sample_cam_profile(model, options, ProfileOptionNames{"test.json"});
   double worst = 0.0;
   for (const ProfilePoint& p : profile.points)
     worst = std::max(worst, std::abs(distance_to_polyline(p.cutter, contour) - *options.cutter_radius));
@@ -249,7 +249,7 @@ TEST(ProfileExport, CutterPathIsAtTheToolRadiusFromTheContourEverywhere) {
 
 TEST(ProfileExport, ToolRadiusAboveTheSmallestConcaveRadiusIsAnErrorNamingTheOption) {
   const Model model = model_of(concave_roller_cam());
-  const CamProfile plain = sample_cam_profile(model, ProfileOptions{}, ProfileOptionNames{"test.json"});
+  const SampledCamProfile plain = sample_cam_profile(model, ProfileOptions{}, ProfileOptionNames{"test.json"});
   ASSERT_TRUE(std::isfinite(plain.min_concave_radius));
   ProfileOptions options;
   options.cutter_radius = 1.01 * plain.min_concave_radius;
@@ -303,12 +303,12 @@ TEST(ProfileExport, ChordToleranceHoldsBetweenConsecutivePoints) {
     ProfileOptions options;
     options.chord_tolerance = tolerance;
     options.cutter_radius = 0.002;
-    const CamProfile profile = sample_cam_profile(model, options, ProfileOptionNames{"test.json"});
+    const SampledCamProfile profile = sample_cam_profile(model, options, ProfileOptionNames{"test.json"});
     EXPECT_LE(profile.max_chord_error, tolerance);
     ProfileOptions dense;
     dense.points = 100000;
     dense.cutter_radius = options.cutter_radius;
-    const CamProfile truth = sample_cam_profile(model, dense, ProfileOptionNames{"test.json"});
+    const SampledCamProfile truth = sample_cam_profile(model, dense, ProfileOptionNames{"test.json"});
     std::vector<double> thetas;
     for (const ProfilePoint& p : profile.points) thetas.push_back(p.theta);
     double worst = 0.0;
@@ -329,7 +329,7 @@ TEST(ProfileExport, ChordToleranceHoldsBetweenConsecutivePoints) {
 
 TEST(ProfileExport, CsvHeaderNamesUnitsDirectionAndAngleOrigin) {
   const Model model = model_of(harmonic_eccentric(0.005, "cw", kRoller));
-  const CamProfile profile = sample_cam_profile(model, ProfileOptions{}, ProfileOptionNames{"test.json"});
+  const SampledCamProfile profile = sample_cam_profile(model, ProfileOptions{}, ProfileOptionNames{"test.json"});
   const fs::path dir = scratch("header");
   write_profile_csv(dir / "profile.csv", profile, "disc");
   std::ifstream in(dir / "profile.csv");
