@@ -540,7 +540,11 @@ PeriodicAnalysis find_periodic_orbit(const PoincareMap& map, const SectionPoint&
 MotionKind lyapunov_class(const LyapunovEstimate& e, double chaos_threshold) {
   const double lambda = e.per_revolution, margin = 2.0 * e.standard_error.value_or(0.0);
   if (lambda - margin > chaos_threshold) return MotionKind::chaotic;
-  if (lambda + margin <= chaos_threshold && lambda - margin > -chaos_threshold) return MotionKind::quasi_periodic;
+  // A motion contracting beyond doubt (a stable orbit not yet reached, its
+  // multiplier just inside the unit circle) is not a torus, however small λ.
+  const bool contracting = e.standard_error && lambda + margin < 0.0;
+  if (!contracting && e.samples_recur && lambda + margin <= chaos_threshold && lambda - margin > -chaos_threshold)
+    return MotionKind::quasi_periodic;
   return MotionKind::unresolved;
 }
 

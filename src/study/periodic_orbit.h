@@ -23,6 +23,7 @@
 #include <complex>
 #include <functional>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -130,10 +131,18 @@ struct LyapunovEstimate {
   /// Stretched by the neighbour because the sensitivity run could not be
   /// trusted there (0 when `method` is finite_difference).
   long fallback_revolutions = 0;
-  std::string fallback_reason;    ///< the last such revolution's reason
-  std::vector<double> stretches;  ///< ln of each revolution's stretch [-], in order (their mean is λ)
+  std::string fallback_reason;  ///< the last such revolution's reason
+  /// The first revolutions, whose stretches are left out of λ, of its standard
+  /// error and of per_impact: the tangent turning from its start towards the
+  /// most expanding direction (min(10, a tenth of the run)).
+  int aligning_revolutions = 0;
+  std::vector<double>
+      stretches;  ///< ln of each revolution's stretch [-], in order (the mean of all but the aligning ones is λ)
   std::vector<std::vector<double>> section_points;  ///< the reference trajectory's x, once per revolution
-  SectionPoint last;                                ///< the reference trajectory's last section point
+  /// Whether those samples come back near where they have been
+  /// (section_points_recur): a torus does, a slow drift does not.
+  bool samples_recur = false;
+  SectionPoint last;  ///< the reference trajectory's last section point
 };
 
 /// The standard error of the mean of `stretches` (ln of each revolution's
@@ -141,7 +150,16 @@ struct LyapunovEstimate {
 /// `size % 10` left out), the batch means' sample standard deviation over
 /// √10. Consecutive stretches are correlated; batches of them much less.
 /// nullopt with fewer than 20 stretches (2 a batch).
-std::optional<double> lyapunov_standard_error(const std::vector<double>& stretches);
+std::optional<double> lyapunov_standard_error(std::span<const double> stretches);
+
+/// Whether a motion's samples, once a revolution, return near where they
+/// have been: every sample of the second half lies within twice the widest
+/// nearest-neighbour spacing of the first half (scaled max-norm, `scales`)
+/// of some first-half sample. A motion on a torus fills the same closed
+/// curve in both halves, its later samples falling between the earlier
+/// ones; a slow transient near a bifurcation drifts away by many spacings.
+/// False with fewer than 8 samples.
+bool section_points_recur(const std::vector<std::vector<double>>& points, const Eigen::VectorXd& scales);
 
 /// `chattering`: impacts accumulating onto a contact phase
 /// (dynamics/chatter.h), periodic or not: never called chaotic.
@@ -154,9 +172,12 @@ inline constexpr EnumName<MotionKind> kMotionKindNames[] = {{MotionKind::periodi
 
 /// The class a Lyapunov estimate supports, λ ± 2 standard errors against
 /// ±`chaos_threshold` (per revolution): `chaotic` when all of it is above
-/// the threshold, `quasi_periodic` when all of it is within, `unresolved`
-/// otherwise (contracting, or straddling a bound: the estimate does not
-/// tell). Without a standard error (under 20 revolutions) λ alone decides.
+/// the threshold, `quasi_periodic` when all of it is within, it reaches up
+/// to 0 at least and the samples recur (LyapunovEstimate::samples_recur),
+/// `unresolved` otherwise (contracting, even slowly as a stable orbit with a
+/// multiplier near the unit circle does; drifting; or straddling a bound:
+/// the estimate does not tell). Without a standard error (under 20
+/// revolutions) λ alone decides against ±`chaos_threshold`.
 MotionKind lyapunov_class(const LyapunovEstimate& e, double chaos_threshold);
 constexpr std::span<const EnumName<MotionKind>> enum_names(MotionKind) { return kMotionKindNames; }
 

@@ -146,6 +146,20 @@ std::string chatter_text(const std::vector<ChatterSequence>& chatter) {
   return buffer;
 }
 
+// Why the Lyapunov estimate (when there is one) gave no class
+// (lyapunov_class, docs/periodic.md).
+const char* unresolved_reason(const std::optional<LyapunovEstimate>& l) {
+  const bool contracting = !l || (l->standard_error && l->per_revolution + 2.0 * *l->standard_error < 0.0);
+  if (contracting)
+    return "unresolved: the motion contracts but its samples did not repeat within the settling budget (a longer "
+           "period: raise periodic.max_period)";
+  if (!l->samples_recur)
+    return "unresolved: the largest Lyapunov exponent is not clearly positive, yet the samples drift away instead "
+           "of returning near where they have been (a slow transient, as near a bifurcation: raise "
+           "periodic.lyapunov_revolutions)";
+  return "unresolved: the Lyapunov estimate straddles a bound and does not tell (raise periodic.lyapunov_revolutions)";
+}
+
 }  // namespace
 
 std::string periodic_verdict(const PeriodicResult& r) {
@@ -176,11 +190,11 @@ std::string periodic_verdict(const PeriodicResult& r) {
   const int max_period = a.newton.empty() ? 0 : a.newton.back().period;
   const double lambda = a.lyapunov ? a.lyapunov->per_revolution : 0.0;
   const double per_impact = a.lyapunov ? a.lyapunov->per_impact : 0.0;
-  const char* kind = a.motion == MotionKind::chaotic          ? "chaotic: the largest Lyapunov exponent is positive"
-                     : a.motion == MotionKind::quasi_periodic ? "quasi-periodic: the largest Lyapunov exponent is ~0"
-                                                              : "unresolved: the motion contracts but its "
-                                                                "samples did not repeat within the settling budget "
-                                                                "(a longer period: raise periodic.max_period)";
+  const char* kind = a.motion == MotionKind::chaotic ? "chaotic: the largest Lyapunov exponent is positive"
+                     : a.motion == MotionKind::quasi_periodic
+                         ? "quasi-periodic: the largest Lyapunov exponent is ~0 and the samples return near "
+                           "where they have been"
+                         : unresolved_reason(a.lyapunov);
   std::snprintf(buffer, sizeof buffer,
                 "no stable periodic orbit up to period %d; %s (%+.3g per revolution, %+.3g per impact)", max_period,
                 kind, lambda, per_impact);
@@ -210,6 +224,8 @@ Json periodic_json(const PeriodicStudy& study, const PeriodicResult& r, const st
                 {"per_impact", a.lyapunov->per_impact},
                 {"standard_error", a.lyapunov->standard_error ? Json(*a.lyapunov->standard_error) : Json()},
                 {"revolutions", a.lyapunov->revolutions},
+                {"aligning_revolutions", a.lyapunov->aligning_revolutions},
+                {"samples_recur", a.lyapunov->samples_recur},
                 {"impacts", a.lyapunov->impacts},
                 {"method", to_string(a.lyapunov->method)},
                 {"sensitivity_revolutions", a.lyapunov->sensitivity_revolutions},

@@ -24,6 +24,7 @@
 #include <Eigen/Dense>
 #include <cmath>
 #include <complex>
+#include <numbers>
 #include <optional>
 #include <string>
 #include <vector>
@@ -126,12 +127,14 @@ TEST(Lyapunov, StandardErrorIsTheBatchMeansClosedForm) {
 // errors wholly above chaos_threshold is chaotic, wholly within ±it
 // quasi-periodic, anything else unresolved; without a standard error λ
 // alone decides. The first case is the packaging arm at 1531.3 rpm, just
-// past its period doubling, which λ alone called chaotic.
+// past its period doubling, which λ alone called chaotic. A band wholly below
+// 0 is a contraction, however slow, not a torus: unresolved.
 TEST(Lyapunov, TheClassNeedsTheWholeTwoStandardErrorBand) {
-  const auto estimate = [](double lambda, std::optional<double> se) {
+  const auto estimate = [](double lambda, std::optional<double> se, bool recur = true) {
     LyapunovEstimate e;
     e.per_revolution = lambda;
     e.standard_error = se;
+    e.samples_recur = recur;
     return e;
   };
   constexpr double kThreshold = 0.01;  // [1/revolution]
@@ -142,6 +145,32 @@ TEST(Lyapunov, TheClassNeedsTheWholeTwoStandardErrorBand) {
   EXPECT_EQ(lyapunov_class(estimate(0.0034, 0.0035), kThreshold), MotionKind::unresolved);
   EXPECT_EQ(lyapunov_class(estimate(-0.5, 0.01), kThreshold), MotionKind::unresolved);  // contracting
   EXPECT_EQ(lyapunov_class(estimate(-0.005, std::nullopt), kThreshold), MotionKind::quasi_periodic);
+  EXPECT_EQ(lyapunov_class(estimate(-0.005, 0.001), kThreshold), MotionKind::unresolved);  // contracting slowly
+  EXPECT_EQ(lyapunov_class(estimate(-0.003, 0.002), kThreshold), MotionKind::quasi_periodic);
+  EXPECT_EQ(lyapunov_class(estimate(-0.004, 0.002), kThreshold), MotionKind::quasi_periodic);      // reaches 0
+  EXPECT_EQ(lyapunov_class(estimate(0.0005, 0.0028, false), kThreshold), MotionKind::unresolved);  // drifting
+}
+
+// A motion on a torus, sampled once a revolution, is a rotation by an
+// irrational angle on a closed curve: by the three-gap theorem the first
+// half's samples split the curve into gaps of at most three lengths, and
+// the second half's fall inside them. A slow drift (a period-2 motion whose
+// two clusters move 1e-5 of a scale every other revolution, as the packaging
+// arm's just past its period doubling) leaves the first half's cloud by many
+// of its spacings.
+TEST(Lyapunov, ATorusRecursAndASlowDriftDoesNot) {
+  const Eigen::Vector2d scales(1e-3, 1e-2);
+  const double golden = (std::sqrt(5.0) - 1.0) / 2.0;  // [revolutions of the curve a sample]
+  std::vector<std::vector<double>> torus, drift;
+  for (int n = 0; n < 100; ++n) {
+    const double phase = 2.0 * std::numbers::pi * golden * n;
+    torus.push_back({0.25 + 2e-3 * std::cos(phase), 1.0 + 3e-2 * std::sin(phase)});
+    const double side = n % 2 == 0 ? 1.0 : -1.0, grown = 1e-5 * (n / 2);  // [scales]
+    drift.push_back({0.255 + side * (2.3e-3 + grown * scales[0]), 1.0 - side * grown * scales[1]});
+  }
+  EXPECT_TRUE(section_points_recur(torus, scales));
+  EXPECT_FALSE(section_points_recur(drift, scales));
+  EXPECT_FALSE(section_points_recur({torus.begin(), torus.begin() + 7}, scales));  // too few to tell
 }
 
 TEST(Lyapunov, OnTheChaoticBallTheTangentAgreesWithTheNeighbourTrajectory) {
