@@ -136,8 +136,9 @@ struct LyapunovEstimate {
   /// error and of per_impact: the tangent turning from its start towards the
   /// most expanding direction (min(10, a tenth of the run)).
   int aligning_revolutions = 0;
-  std::vector<double>
-      stretches;  ///< ln of each revolution's stretch [-], in order (the mean of all but the aligning ones is λ)
+  /// ln of each revolution's stretch [-], in order (the mean of all but the
+  /// aligning ones is λ).
+  std::vector<double> stretches;
   std::vector<std::vector<double>> section_points;  ///< the reference trajectory's x, once per revolution
   /// Whether those samples come back near where they have been
   /// (section_points_recur): a torus does, a slow drift does not.

@@ -149,7 +149,7 @@ std::string chatter_text(const std::vector<ChatterSequence>& chatter) {
 // Why the Lyapunov estimate (when there is one) gave no class
 // (lyapunov_class, docs/periodic.md).
 const char* unresolved_reason(const std::optional<LyapunovEstimate>& l) {
-  const bool contracting = !l || (l->standard_error && l->per_revolution + 2.0 * *l->standard_error < 0.0);
+  const bool contracting = !l || l->per_revolution + 2.0 * l->standard_error.value_or(0.0) < 0.0;
   if (contracting)
     return "unresolved: the motion contracts but its samples did not repeat within the settling budget (a longer "
            "period: raise periodic.max_period)";

@@ -687,6 +687,26 @@ TEST(PeriodicOrbit, ChaoticStudyIsClassifiedChaotic) {
   EXPECT_NE(periodic_verdict(r).find("chaotic"), std::string::npos);
 }
 
+// An unresolved verdict says why the estimate gave no class
+// (docs/periodic.md): contracting, drifting samples, or a band straddling
+// a bound; a quasi-periodic one that the samples recur.
+TEST(PeriodicOrbit, AnUnresolvedVerdictSaysWhichEvidenceFailed) {
+  const auto verdict = [](MotionKind motion, double lambda, double se, bool recur) {
+    PeriodicResult r;
+    r.analysis.motion = motion;
+    r.analysis.lyapunov.emplace();
+    r.analysis.lyapunov->per_revolution = lambda;
+    r.analysis.lyapunov->standard_error = se;
+    r.analysis.lyapunov->samples_recur = recur;
+    EXPECT_EQ(lyapunov_class(*r.analysis.lyapunov, 0.01), motion);
+    return periodic_verdict(r);
+  };
+  EXPECT_NE(verdict(MotionKind::unresolved, -0.0046, 0.0001, true).find("contracts"), std::string::npos);
+  EXPECT_NE(verdict(MotionKind::unresolved, 0.0005, 0.0028, false).find("drift"), std::string::npos);
+  EXPECT_NE(verdict(MotionKind::unresolved, 0.0118, 0.0026, true).find("straddles"), std::string::npos);
+  EXPECT_NE(verdict(MotionKind::quasi_periodic, 0.0005, 0.0028, true).find("samples return"), std::string::npos);
+}
+
 TEST(PeriodicOrbit, StillCamIsAnInputErrorNamingTheSpeed) {
   PeriodicStudy study = read_study(kBouncingBall);
   study.scene.mechanism.cam.rpm = 0.0;
