@@ -10,7 +10,7 @@
 // same run to the bit, so the counters and forces agree and only the time
 // differs (docs/performance.md). BM_StiffUndampedContactAdams: the same with
 // integrator.method "cvode_adams"; BM_StiffUndampedContactErk/q: "arkode_erk"
-// with integrator.order q.
+// with integrator.order q; BM_StiffUndampedContactDop853: "dop853".
 //
 //   build/ci/bench/stiff_contact_bench --benchmark_out=bench/results/stiff_contact.json --benchmark_out_format=json
 #include <benchmark/benchmark.h>
@@ -107,6 +107,16 @@ void BM_StiffUndampedContactErk(benchmark::State& state) {
   run_and_report(state, scene, label.c_str());
 }
 BENCHMARK(BM_StiffUndampedContactErk)->Arg(4)->Arg(5)->Arg(6)->Arg(8)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+
+/// The same scene with camdyn's own Dormand–Prince pair of order 8
+/// (integrator.method "dop853"): the order-8 step with no vector library
+/// between the stages (docs/performance.md).
+void BM_StiffUndampedContactDop853(benchmark::State& state) {
+  camdyn::SceneConfig scene = stiff_undamped_contact();
+  scene.integrator.method = camdyn::IntegrationMethod::dop853;
+  run_and_report(state, scene, "dop853");
+}
+BENCHMARK(BM_StiffUndampedContactDop853)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 
 }  // namespace
 

@@ -325,14 +325,15 @@ NUMBERS = [
     # The README's table of every scene of issue 38 (bench/peers/run_scenes.py).
     *[Num(f"peers_scenes.{scene}.{what}", "bench",
           (lambda scene, path: lambda _: peer_scene(scene, path))(scene, path), fmt, tol)
-      for scene in ("long_flight", "quickstart", "stiff_contact", "stiff_contact_adams", "stiff_contact_erk")
+      for scene in ("long_flight", "quickstart", "stiff_contact", "stiff_contact_adams", "stiff_contact_erk",
+                    "stiff_contact_dop853")
       for what, path, fmt, tol in [("camdyn_wall_s", ("camdyn", "wall_s"), ".2f", "0.005"),
                                    ("camdyn_cpu_s", ("camdyn", "cpu_s"), ".2f", "0.005"),
-                                   ("camdyn_run_time_s", ("camdyn", "run_time_s"), ".3f", "0.0005"),
-                                   ("scipy_wall_s", ("scipy", "wall_s"), ".1f", "0.05"),
+                                   ("camdyn_simulation_cpu_s", ("camdyn_simulation", "cpu_s"), ".3f", "0.0005"),
                                    ("scipy_cpu_s", ("scipy", "cpu_s"), ".1f", "0.05"),
                                    ("wall_ratio", ("scipy_over_camdyn_wall",), ".0f", "0.5"),
-                                   ("cpu_ratio", ("scipy_over_camdyn_cpu",), ".0f", "0.5")]],
+                                   ("cpu_ratio", ("scipy_over_camdyn_cpu",), ".0f", "0.5"),
+                                   ("simulation_ratio", ("scipy_over_camdyn_simulation_cpu",), ".0f", "0.5")]],
     Num("bench.quickstart_run_s", "bench", lambda _: 1e-3 * bench("simulation.json", "BM_QuickstartCycle/0",
                                                                   "real_time"), ".2f", "0.005"),
     Num("bench.tracking.differential_ms", "bench",

@@ -11,12 +11,15 @@ in one run (issue 38, item 4):
                  100 rpm on an undamped Hertz contact, no damper, rtol 1e-10:
                  bench/stiff_contact_bench.cc's scene); stiff_contact_adams
                  and stiff_contact_erk: the same with camdyn's
-                 integrator.method cvode_adams, resp. arkode_erk of order 8
+                 integrator.method cvode_adams, resp. arkode_erk of order 8;
+                 stiff_contact_dop853: with camdyn's own DOP853
 
 For each scene: camdyn's wall time as a user sees it (the release CLI with
 every default output, process start included; the median of --repeat runs)
-and its reported run_time_s, the scipy reference's wall time (one run), the
-ratio scipy/camdyn, and an agreement check of the two answers (first impacts,
+and its reported run_time_s; the CPU time of camdyn's simulation alone, the
+work the reference's time covers (bench/peer_scenes_bench: no process start,
+no time series, no outputs); the scipy reference's wall and CPU time (one
+run); the ratios scipy/camdyn of both; and an agreement check of the two answers (first impacts,
 steady impact angle and speed, largest gap, peak and least contact force)
 within the tolerances in CHECKS. Writes --json (bench/results/peers_scenes.json).
 
@@ -351,7 +354,7 @@ def run_camdyn(binary, scene, repeat, overrides):
                     impacts.append((float(row["time"]), float(row["cam_angle_deg"]), float(row["speed"])))
     solver, metrics = summary["solver"], summary["metrics"]
     method = {"cvode_bdf": "CVODE BDF", "cvode_adams": "CVODE Adams", "arkode_erk": "ARKODE ERK",
-              "arkode_dirk": "ARKODE DIRK"}.get(solver.get("method"), solver.get("method"))
+              "arkode_dirk": "ARKODE DIRK", "dop853": "camdyn's DOP853"}.get(solver.get("method"), solver.get("method"))
     order = [o.split("=", 1)[1] for o in overrides if o.startswith("integrator.order=")]
     method += f" order {order[-1]}" if order else ""
     return {"model": f"compliant {scene.contact_model}, {method}, {solver.get('tracking')} tracking",
@@ -436,9 +439,29 @@ SCENES = {
                             "stiff_contact"),
     "stiff_contact_erk": ("studies/peers/stiff_contact.json", "DOP853",
                           ["integrator.method=arkode_erk", "integrator.order=8"], "stiff_contact"),
+    "stiff_contact_dop853": ("studies/peers/stiff_contact.json", "DOP853", ["integrator.method=dop853"],
+                             "stiff_contact"),
 }
 CHECKS["stiff_contact_adams"] = CHECKS["stiff_contact"]
 CHECKS["stiff_contact_erk"] = CHECKS["stiff_contact"]
+CHECKS["stiff_contact_dop853"] = CHECKS["stiff_contact"]
+
+
+def run_simulation_bench(binary, name):
+    """camdyn's simulation alone for scene `name` (bench/peer_scenes_bench.cc:
+    the scene file loaded as the CLI loads it, no time series, no outputs):
+    CPU seconds per run, Google Benchmark's mean over at least 0.5 s."""
+    cmd = [binary, f"--benchmark_filter=^simulate_scene_file/{name}$", "--benchmark_format=json",
+           "--benchmark_min_time=0.5"]
+    proc = subprocess.run(cmd, capture_output=True, text=True, check=False)
+    if proc.returncode != 0:
+        fail(3, f"{' '.join(cmd)} exited {proc.returncode}\n{proc.stderr}")
+    runs = [b for b in json.loads(proc.stdout)["benchmarks"] if b.get("run_type", "iteration") == "iteration"]
+    if len(runs) != 1:
+        fail(3, f"{binary}: expected one benchmark for {name}, got {len(runs)}")
+    scale = {"ns": 1e-9, "us": 1e-6, "ms": 1e-3, "s": 1.0}[runs[0]["time_unit"]]
+    return {"cpu_s": runs[0]["cpu_time"] * scale, "iterations": runs[0]["iterations"],
+            "steps": runs[0].get("steps"), "peak_contact_force": runs[0].get("peak_contact_force_N")}
 
 
 def main():
@@ -448,6 +471,8 @@ def main():
     ap.add_argument("--repeat", type=int, default=3, help="camdyn runs per scene, the median wall reported")
     ap.add_argument("--contact-method", help="solve_ivp method in contact for every scene (default per scene)")
     ap.add_argument("--flight-method", default="DOP853", help="solve_ivp method in flight (default DOP853)")
+    ap.add_argument("--simulation-bench", default=os.path.join(ROOT, "build", "release", "bench", "peer_scenes_bench"),
+                    help="bench/peer_scenes_bench binary for camdyn's simulation alone ('none': skip that timing)")
     ap.add_argument("--json", help="write the numbers here")
     args = ap.parse_args()
     names = [s.strip() for s in args.scenes.split(",") if s.strip()]
@@ -458,12 +483,16 @@ def main():
         fail(2, f"--repeat {args.repeat}: must be at least 1")
     if not os.access(args.camdyn, os.X_OK):
         fail(2, f"--camdyn {args.camdyn}: not an executable (cmake --build build/release --target camdyn)")
+    bench = None if args.simulation_bench == "none" else args.simulation_bench
+    if bench and not os.access(bench, os.X_OK):
+        fail(2, f"--simulation-bench {bench}: not an executable (cmake --build build/release --target "
+                "peer_scenes_bench, or --simulation-bench none)")
     out = {"command": "/usr/bin/python3 bench/peers/run_scenes.py " + " ".join(sys.argv[1:]),
            "machine": {"cpus": os.cpu_count(), "load_avg_start": list(os.getloadavg())},
            "date_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()), "scenes": {}}
     status = 0
-    print(f"{'scene':14} {'camdyn wall s':>13} {'cpu s':>7} {'run_time_s':>10} {'scipy wall s':>12} {'cpu s':>7} "
-          f"{'wall ratio':>10} {'cpu ratio':>9} {'agree':>6} {'load':>5}")
+    print(f"{'scene':20} {'camdyn wall s':>13} {'cpu s':>7} {'sim cpu s':>9} {'scipy wall s':>12} {'cpu s':>7} "
+          f"{'wall ratio':>10} {'cpu ratio':>9} {'sim ratio':>9} {'agree':>6} {'load':>5}")
     references = {}
     for name in names:
         rel_path, method, overrides, shares = SCENES[name]
@@ -471,6 +500,7 @@ def main():
         method = args.contact_method or method
         print(f"running {name}: camdyn ...", file=sys.stderr, flush=True)
         cam = run_camdyn(args.camdyn, scene, args.repeat, overrides)
+        sim = run_simulation_bench(bench, name) if bench else None
         load_cam = os.getloadavg()[0]
         if shares in references:
             ref, load_ref = references[shares]
@@ -485,9 +515,10 @@ def main():
         status = 1 if failures else status
         ratio = ref["wall_s"] / cam["wall_s"]
         cpu_ratio = ref["cpu_s"] / cam["cpu_s"]
-        print(f"{name:14} {cam['wall_s']:13.3f} {cam['cpu_s']:7.3f} {cam['run_time_s']:10.3f} {ref['wall_s']:12.2f} "
-              f"{ref['cpu_s']:7.2f} {ratio:10.1f} {cpu_ratio:9.1f} {'yes' if not failures else 'NO':>6} "
-              f"{max(load_cam, load_ref):5.2f}")
+        sim_ratio = ref["cpu_s"] / sim["cpu_s"] if sim else None
+        print(f"{name:20} {cam['wall_s']:13.3f} {cam['cpu_s']:7.3f} {sim['cpu_s'] if sim else math.nan:9.4f} "
+              f"{ref['wall_s']:12.2f} {ref['cpu_s']:7.2f} {ratio:10.1f} {cpu_ratio:9.1f} "
+              f"{sim_ratio if sim else math.nan:9.1f} {'yes' if not failures else 'NO':>6} {max(load_cam, load_ref):5.2f}")
         for r in rows:
             print(f"    {r['quantity']:24} camdyn {r['camdyn']:.9g}  scipy {r['scipy']:.9g}  "
                   f"diff {r['difference']:.2e} (tol {r['tolerance']:g})")
@@ -502,6 +533,7 @@ def main():
             "scipy": {k: v for k, v in ref.items() if k != "impacts"} | {"first_impacts": ref["impacts"][:5]},
             "scipy_over_camdyn_wall": ratio, "scipy_over_camdyn_cpu": cpu_ratio,
             "scipy_over_camdyn_run_time": ref["wall_s"] / cam["run_time_s"],
+            "camdyn_simulation": sim, "scipy_over_camdyn_simulation_cpu": sim_ratio,
             "agreement": {"ok": not failures, "rows": rows, "failures": failures}}
     out["machine"]["load_avg_end"] = list(os.getloadavg())
     if args.json:

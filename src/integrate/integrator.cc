@@ -5,6 +5,7 @@
 
 #include "integrate/arkode_integrator.h"
 #include "integrate/cvode_integrator.h"
+#include "integrate/dop853_integrator.h"
 #include "integrate/rk4_integrator.h"
 
 namespace camdyn {
@@ -20,6 +21,8 @@ std::unique_ptr<Integrator> make_integrator(OdeSystem& system, const IntegratorO
       return std::make_unique<ArkodeIntegrator>(system, options, t0, y0);
     case IntegrationMethod::rk4:
       return std::make_unique<Rk4Integrator>(system, options, t0, y0);
+    case IntegrationMethod::dop853:
+      return std::make_unique<Dop853Integrator>(system, options, t0, y0);
   }
   throw std::invalid_argument("unknown integration method " + std::to_string(static_cast<int>(options.method)));
 }

@@ -1,6 +1,7 @@
 // One interface over every integration method camdyn offers (docs/model.md §6):
 // CVODES BDF and Adams, ARKODE explicit (adaptive embedded ERK) and implicit
-// (DIRK) Runge–Kutta, and a fixed-step classical RK4 baseline. All take one
+// (DIRK) Runge–Kutta, Dormand and Prince's order-8 pair (DOP853), and a
+// fixed-step classical RK4 baseline. All take one
 // step at a time, stop at roots of the system's root functions (event
 // location), give dense output over the last step, and can be restarted after
 // an event.

@@ -8,11 +8,9 @@
 namespace camdyn {
 
 Rk4Integrator::Rk4Integrator(OdeSystem& system, const IntegratorOptions& options, double t0, const double* y0)
-    : system_(system), size_(system_.size()), roots_(system_.root_count()), h_(options.fixed_step) {
+    : system_(system), size_(system_.size()), h_(options.fixed_step), roots_(system, system.size()) {
   if (!(h_ > 0.0)) throw NumericalError("rk4 needs a fixed step > 0 (integrator.step)");
   for (auto* v : {&y_, &f_, &y0_, &f0_, &y1_, &f1_, &k_, &stage_, &scratch_}) v->assign(size_, 0.0);
-  for (auto* v : {&g_start_, &g_end_, &g_probe_}) v->assign(roots_, 0.0);
-  root_directions_.assign(roots_, 0);
   reinit(t0, y0);
   counters_.reinitialisations = 0;
 }
@@ -25,21 +23,13 @@ void Rk4Integrator::evaluate_rhs(double t, const std::vector<double>& y, std::ve
                          ") at t = " + std::to_string(t) + " s; a fixed step cannot be retried smaller");
 }
 
-void Rk4Integrator::roots_at(double t, std::vector<double>& g) {
-  if (roots_ > 0) {
-    hermite(t, scratch_);
-    system_.roots(t, scratch_.data(), g.data());
-  }
-}
-
 void Rk4Integrator::reinit(double t, const double* y) {
   std::copy(y, y + size_, y_.begin());
   t_ = t0_ = t1_ = t;
   evaluate_rhs(t, y_, f_);
   y0_ = y1_ = y_;
   f0_ = f1_ = f_;
-  if (roots_ > 0) system_.roots(t, y_.data(), g_start_.data());
-  restarted_ = true;
+  roots_.restart(t, y_.data());
   ++counters_.reinitialisations;
 }
 
@@ -76,37 +66,13 @@ Integrator::Result Rk4Integrator::step(double t_stop) {
   t1_ = t1;
   ++counters_.steps;
 
-  // Event location: sign changes of the root functions over the step, located
-  // by bisection on the Hermite interpolant. After a restart at a root the
-  // start value is ~0, so its sign is taken just after the start.
-  if (roots_ > 0) {
-    if (restarted_) roots_at(t0 + 1e-9 * h, g_start_);
-    system_.roots(t1, y1_.data(), g_end_.data());
-    double t_root = t1 + 1.0;
-    for (int k = 0; k < roots_; ++k) {
-      if ((g_start_[k] > 0.0) == (g_end_[k] > 0.0) || g_start_[k] == 0.0) continue;
-      double lo = t0, hi = t1;
-      for (int it = 0; it < 200 && hi - lo > 4e-16 * std::max(1.0, std::abs(hi)); ++it) {
-        const double mid = 0.5 * (lo + hi);
-        roots_at(mid, g_probe_);
-        ((g_probe_[k] > 0.0) == (g_start_[k] > 0.0) ? lo : hi) = mid;
-      }
-      t_root = std::min(t_root, hi);
-    }
-    if (t_root <= t1) {
-      roots_at(t_root, g_probe_);
-      for (int k = 0; k < roots_; ++k)
-        root_directions_[k] = (g_probe_[k] > 0.0) != (g_start_[k] > 0.0) ? (g_start_[k] > 0.0 ? -1 : +1) : 0;
-      hermite(t_root, y_);
-      t_ = t_root;
-      evaluate_rhs(t_, y_, f_);
-      g_start_ = g_probe_;
-      restarted_ = true;
-      return Result::root;
-    }
-    g_start_ = g_end_;
+  double t_root = 0.0;
+  if (roots_.locate(*this, t0, t1, y1_.data(), t_root)) {
+    hermite(t_root, y_);
+    t_ = t_root;
+    evaluate_rhs(t_, y_, f_);
+    return Result::root;
   }
-  restarted_ = false;
   y_ = y1_;
   f_ = f1_;
   t_ = t1;
@@ -116,10 +82,6 @@ Integrator::Result Rk4Integrator::step(double t_stop) {
 void Rk4Integrator::dense(double t, double* out) const {
   hermite(t, scratch_);
   std::copy(scratch_.begin(), scratch_.end(), out);
-}
-
-void Rk4Integrator::root_info(int* directions) const {
-  std::copy(root_directions_.begin(), root_directions_.end(), directions);
 }
 
 }  // namespace camdyn

@@ -1,12 +1,13 @@
 // The classical fixed-step fourth-order Runge–Kutta method: the baseline a
 // hand-written script would use. Dense output is the cubic Hermite
 // interpolant of the step ends (fourth-order accurate, like the method);
-// events are located by bisection on it.
+// events are located on it (StepRootLocator).
 #pragma once
 
 #include <vector>
 
 #include "integrate/integrator.h"
+#include "integrate/step_root_locator.h"
 
 namespace camdyn {
 
@@ -19,26 +20,23 @@ class Rk4Integrator final : public Integrator {
   double last_step_start() const override { return t0_; }
   const double* state() const override { return y_.data(); }
   void dense(double t, double* out) const override;
-  void root_info(int* directions) const override;
+  void root_info(int* directions) const override { roots_.directions(directions); }
   void reinit(double t, const double* y) override;
   SolverCounters counters() const override { return counters_; }
 
  private:
   void evaluate_rhs(double t, const std::vector<double>& y, std::vector<double>& f);
   void hermite(double t, std::vector<double>& out) const;
-  void roots_at(double t, std::vector<double>& g);
 
   OdeSystem& system_;
-  int size_, roots_;
+  int size_;
   double h_;
   double t_ = 0.0;              // current time (step end or root)
   double t0_ = 0.0, t1_ = 0.0;  // last step, over which the Hermite interpolant is valid
   std::vector<double> y_, f_;   // state and its derivative at t_
   std::vector<double> y0_, f0_, y1_, f1_, k_, stage_;
   mutable std::vector<double> scratch_;  // dense-output buffer
-  std::vector<double> g_start_, g_end_, g_probe_;
-  std::vector<int> root_directions_;
-  bool restarted_ = true;  // the last start may sit on a root: judge signs just after it
+  StepRootLocator roots_;
   SolverCounters counters_;
 };
 

@@ -108,13 +108,14 @@ inline constexpr EnumName<PairFormChoice> kPairFormChoiceNames[] = {{PairFormCho
                                                                     {PairFormChoice::general, "general"}};
 constexpr std::span<const EnumName<PairFormChoice>> enum_names(PairFormChoice) { return kPairFormChoiceNames; }
 
-enum class IntegrationMethod { cvode_bdf, cvode_adams, arkode_erk, arkode_dirk, rk4 };
+enum class IntegrationMethod { cvode_bdf, cvode_adams, arkode_erk, arkode_dirk, rk4, dop853 };
 inline constexpr EnumName<IntegrationMethod> kIntegrationMethodNames[] = {
     {IntegrationMethod::cvode_bdf, "cvode_bdf"},
     {IntegrationMethod::cvode_adams, "cvode_adams"},
     {IntegrationMethod::arkode_erk, "arkode_erk"},
     {IntegrationMethod::arkode_dirk, "arkode_dirk"},
-    {IntegrationMethod::rk4, "rk4"}};
+    {IntegrationMethod::rk4, "rk4"},
+    {IntegrationMethod::dop853, "dop853"}};
 constexpr std::span<const EnumName<IntegrationMethod>> enum_names(IntegrationMethod) { return kIntegrationMethodNames; }
 
 /// Where an implicit method's Jacobian comes from.

@@ -38,7 +38,7 @@ TEST(EnumNames, EveryWordReadsBackToItsValue) {
   expect_words_round_trip<ContactModel>(5);
   expect_words_round_trip<Tracking>(2);
   expect_words_round_trip<PairFormChoice>(2);
-  expect_words_round_trip<IntegrationMethod>(5);
+  expect_words_round_trip<IntegrationMethod>(6);
   expect_words_round_trip<JacobianSource>(2);
   expect_words_round_trip<ErrorEstimateMethod>(2);
 }
