@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <numbers>
 
@@ -120,6 +121,30 @@ MapResult PoincareMap::apply(const SectionPoint& p, int k, Workspace& ws) const 
   m.impacts = static_cast<long>(
       std::count_if(r.events.begin(), r.events.end(), [](const ContactEvent& e) { return e.onset && e.impact; }));
   if (m.ok) m.end = point(r);
+  return m;
+}
+
+double PoincareMap::scaled_distance(std::span<const double> a, std::span<const double> b) const {
+  return camdyn::scaled_distance(a, b, scales_);
+}
+
+double scaled_distance(std::span<const double> a, std::span<const double> b, std::span<const double> scales) {
+  double d = 0.0;
+  for (std::size_t j = 0; j < a.size(); ++j) {
+    const double x = std::abs(a[j] - b[j]) / scales[j];
+    if (std::isnan(x)) return std::numeric_limits<double>::quiet_NaN();
+    d = std::max(d, x);
+  }
+  return d;
+}
+
+double scaled_norm(std::span<const double> d, std::span<const double> scales) {
+  double m = 0.0;
+  for (std::size_t j = 0; j < d.size(); ++j) {
+    const double x = std::abs(d[j]) / scales[j];
+    if (std::isnan(x)) return std::numeric_limits<double>::quiet_NaN();
+    m = std::max(m, x);
+  }
   return m;
 }
 

@@ -12,6 +12,7 @@
 // The periodic study (study/periodic_orbit.h) solves P^k(x) = x on it.
 #pragma once
 
+#include <span>
 #include <string>
 #include <vector>
 
@@ -66,6 +67,9 @@ class PoincareMap {
   MapResult apply(const SectionPoint& p, int k, Workspace& ws) const;
   /// The scene a run of `revolutions` revolutions uses (no discarded cycles).
   SceneConfig scene_for(double revolutions) const;
+  /// max_j |a_j − b_j| / scale_j: how far apart two section points'
+  /// coordinates are, the measure of every test on the section.
+  double scaled_distance(std::span<const double> a, std::span<const double> b) const;
 
  private:
   const SceneConfig scene_;
@@ -75,5 +79,11 @@ class PoincareMap {
   std::vector<int> coordinates_;       // state indices
   std::vector<double> scales_;
 };
+
+/// max_j |d_j| / scale_j of a difference of section coordinates `d`; NaN when
+/// any of them is NaN (a failed run is never "near").
+double scaled_norm(std::span<const double> d, std::span<const double> scales);
+/// scaled_norm of a − b, without forming it.
+double scaled_distance(std::span<const double> a, std::span<const double> b, std::span<const double> scales);
 
 }  // namespace camdyn

@@ -507,11 +507,7 @@ bool phases_within(const PoincareMap& map, const std::vector<std::vector<double>
                    const std::vector<std::vector<double>>& in, double near) {
   for (const std::vector<double>& x : of) {
     double least = std::numeric_limits<double>::infinity();  // [-]
-    for (const std::vector<double>& y : in) {
-      double d = 0.0;
-      for (std::size_t i = 0; i < x.size(); ++i) d = std::max(d, std::abs(x[i] - y[i]) / map.scales()[i]);
-      least = std::min(least, d);
-    }
+    for (const std::vector<double>& y : in) least = std::min(least, map.scaled_distance(x, y));
     if (!(least < near)) return false;
   }
   return true;

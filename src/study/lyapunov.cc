@@ -116,7 +116,9 @@ class TangentRun {
     return std::log(d / d0_);
   }
 
-  double scaled_norm(const VectorXd& a) const { return a.cwiseQuotient(scales_).cwiseAbs().maxCoeff(); }
+  double scaled_norm(const VectorXd& a) const {
+    return camdyn::scaled_norm({a.data(), static_cast<std::size_t>(a.size())}, map_.scales());
+  }
 
   const PoincareMap& map_;
   const PeriodicOptions& options_;
@@ -155,22 +157,16 @@ std::optional<double> lyapunov_standard_error(std::span<const double> stretches)
   return std::sqrt(variance / kBatches);
 }
 
-bool section_points_recur(const std::vector<std::vector<double>>& points, const Eigen::VectorXd& scales) {
+bool section_points_recur(const std::vector<std::vector<double>>& points, std::span<const double> scales) {
   constexpr std::size_t kLeast = 8;
   constexpr double kReach = 2.0;  // [spacings]
   if (points.size() < kLeast) return false;
   const std::size_t half = points.size() / 2;
-  const auto distance = [&](const std::vector<double>& a, const std::vector<double>& b) {
-    double d = 0.0;
-    for (std::size_t j = 0; j < a.size(); ++j)
-      d = std::max(d, std::abs(a[j] - b[j]) / scales[static_cast<Eigen::Index>(j)]);
-    return d;
-  };
   // The distance from `p` to the nearest first-half sample other than the i-th.
   const auto nearest_earlier = [&](const std::vector<double>& p, std::size_t skip) {
     double d = kInf;
     for (std::size_t i = 0; i < half; ++i)
-      if (i != skip) d = std::min(d, distance(p, points[i]));
+      if (i != skip) d = std::min(d, scaled_distance(p, points[i], scales));
     return d;
   };
   double spacing = 0.0;  // the widest nearest-neighbour spacing of the first half
@@ -204,7 +200,7 @@ LyapunovEstimate estimate_lyapunov(const PoincareMap& map, const SectionPoint& s
   e.per_revolution = counted.empty() ? 0.0 : sum / static_cast<double>(counted.size());
   e.per_impact = impacts > 0 ? sum / static_cast<double>(impacts) : 0.0;
   e.standard_error = lyapunov_standard_error(counted);
-  e.samples_recur = section_points_recur(e.section_points, to_vector(map.scales()));
+  e.samples_recur = section_points_recur(e.section_points, map.scales());
   if (revolutions) *revolutions += run.revolutions();
   return e;
 }

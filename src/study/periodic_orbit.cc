@@ -49,7 +49,9 @@ class Shooter {
   }
 
   // Max |a_j| / scale_j.
-  double scaled_norm(const VectorXd& a) const { return a.cwiseQuotient(scales_).cwiseAbs().maxCoeff(); }
+  double scaled_norm(const VectorXd& a) const {
+    return camdyn::scaled_norm({a.data(), static_cast<std::size_t>(a.size())}, map_.scales());
+  }
 
   // ∂P^k/∂x at p, and how it was taken: by forward sensitivities where the
   // options allow and the run can be trusted — its end agrees with `image`,
@@ -537,15 +539,30 @@ PeriodicAnalysis find_periodic_orbit(const PoincareMap& map, const SectionPoint&
   return a;
 }
 
+namespace {
+
+// λ + 2 standard errors below 0: the motion contracts (with a standard
+// error, beyond doubt; without one, by λ alone).
+bool contracts_beyond_doubt(const LyapunovEstimate& e) {
+  return e.per_revolution + 2.0 * e.standard_error.value_or(0.0) < 0.0;
+}
+
+}  // namespace
+
 MotionKind lyapunov_class(const LyapunovEstimate& e, double chaos_threshold) {
   const double lambda = e.per_revolution, margin = 2.0 * e.standard_error.value_or(0.0);
   if (lambda - margin > chaos_threshold) return MotionKind::chaotic;
   // A motion contracting beyond doubt (a stable orbit not yet reached, its
   // multiplier just inside the unit circle) is not a torus, however small λ.
-  const bool contracting = e.standard_error && lambda + margin < 0.0;
+  const bool contracting = e.standard_error && contracts_beyond_doubt(e);
   if (!contracting && e.samples_recur && lambda + margin <= chaos_threshold && lambda - margin > -chaos_threshold)
     return MotionKind::quasi_periodic;
   return MotionKind::unresolved;
+}
+
+UnresolvedReason unresolved_reason(const LyapunovEstimate& e) {
+  if (contracts_beyond_doubt(e)) return UnresolvedReason::contracts;
+  return e.samples_recur ? UnresolvedReason::straddles : UnresolvedReason::drifts;
 }
 
 namespace {

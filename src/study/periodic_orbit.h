@@ -160,7 +160,7 @@ std::optional<double> lyapunov_standard_error(std::span<const double> stretches)
 /// curve in both halves, its later samples falling between the earlier
 /// ones; a slow transient near a bifurcation drifts away by many spacings.
 /// False with fewer than 8 samples.
-bool section_points_recur(const std::vector<std::vector<double>>& points, const Eigen::VectorXd& scales);
+bool section_points_recur(const std::vector<std::vector<double>>& points, std::span<const double> scales);
 
 /// `chattering`: impacts accumulating onto a contact phase
 /// (dynamics/chatter.h), periodic or not: never called chaotic.
@@ -180,6 +180,13 @@ inline constexpr EnumName<MotionKind> kMotionKindNames[] = {{MotionKind::periodi
 /// the estimate does not tell). Without a standard error (under 20
 /// revolutions) λ alone decides against ±`chaos_threshold`.
 MotionKind lyapunov_class(const LyapunovEstimate& e, double chaos_threshold);
+
+/// Which evidence an `unresolved` class lacks, the first that fails:
+/// `contracts` (λ + 2 standard errors below 0, or λ < 0 without one: a
+/// stable orbit not yet reached), `drifts` (the samples do not recur: a slow
+/// transient), `straddles` (the band reaches across ±`chaos_threshold`).
+enum class UnresolvedReason { contracts, drifts, straddles };
+UnresolvedReason unresolved_reason(const LyapunovEstimate& e);
 constexpr std::span<const EnumName<MotionKind>> enum_names(MotionKind) { return kMotionKindNames; }
 
 struct PeriodicAnalysis {

@@ -146,17 +146,20 @@ std::string chatter_text(const std::vector<ChatterSequence>& chatter) {
   return buffer;
 }
 
-// Why the Lyapunov estimate (when there is one) gave no class
-// (lyapunov_class, docs/periodic.md).
-const char* unresolved_reason(const std::optional<LyapunovEstimate>& l) {
-  const bool contracting = !l || l->per_revolution + 2.0 * l->standard_error.value_or(0.0) < 0.0;
-  if (contracting)
-    return "unresolved: the motion contracts but its samples did not repeat within the settling budget (a longer "
-           "period: raise periodic.max_period)";
-  if (!l->samples_recur)
-    return "unresolved: the largest Lyapunov exponent is not clearly positive, yet the samples drift away instead "
-           "of returning near where they have been (a slow transient, as near a bifurcation: raise "
-           "periodic.lyapunov_revolutions)";
+// Why the Lyapunov estimate (when there is one) gave no class, in words
+// (unresolved_reason, docs/periodic.md).
+const char* unresolved_text(const std::optional<LyapunovEstimate>& l) {
+  switch (l ? unresolved_reason(*l) : UnresolvedReason::contracts) {
+    case UnresolvedReason::contracts:
+      return "unresolved: the motion contracts but its samples did not repeat within the settling budget (a longer "
+             "period: raise periodic.max_period)";
+    case UnresolvedReason::drifts:
+      return "unresolved: the largest Lyapunov exponent is not clearly positive, yet the samples drift away "
+             "instead of returning near where they have been (a slow transient, as near a bifurcation: raise "
+             "periodic.lyapunov_revolutions)";
+    case UnresolvedReason::straddles:
+      break;
+  }
   return "unresolved: the Lyapunov estimate straddles a bound and does not tell (raise periodic.lyapunov_revolutions)";
 }
 
@@ -194,7 +197,7 @@ std::string periodic_verdict(const PeriodicResult& r) {
                      : a.motion == MotionKind::quasi_periodic
                          ? "quasi-periodic: the largest Lyapunov exponent is ~0 and the samples return near "
                            "where they have been"
-                         : unresolved_reason(a.lyapunov);
+                         : unresolved_text(a.lyapunov);
   std::snprintf(buffer, sizeof buffer,
                 "no stable periodic orbit up to period %d; %s (%+.3g per revolution, %+.3g per impact)", max_period,
                 kind, lambda, per_impact);

@@ -149,6 +149,13 @@ TEST(Lyapunov, TheClassNeedsTheWholeTwoStandardErrorBand) {
   EXPECT_EQ(lyapunov_class(estimate(-0.003, 0.002), kThreshold), MotionKind::quasi_periodic);
   EXPECT_EQ(lyapunov_class(estimate(-0.004, 0.002), kThreshold), MotionKind::quasi_periodic);      // reaches 0
   EXPECT_EQ(lyapunov_class(estimate(0.0005, 0.0028, false), kThreshold), MotionKind::unresolved);  // drifting
+  // Which evidence each unresolved class lacks, the first that fails.
+  EXPECT_EQ(unresolved_reason(estimate(-0.5, 0.01)), UnresolvedReason::contracts);
+  EXPECT_EQ(unresolved_reason(estimate(-0.005, 0.001, false)), UnresolvedReason::contracts);
+  EXPECT_EQ(unresolved_reason(estimate(-0.02, std::nullopt)), UnresolvedReason::contracts);
+  EXPECT_EQ(unresolved_reason(estimate(0.0005, 0.0028, false)), UnresolvedReason::drifts);
+  EXPECT_EQ(unresolved_reason(estimate(0.0118, 0.0026)), UnresolvedReason::straddles);
+  EXPECT_EQ(unresolved_reason(estimate(0.0034, 0.0035)), UnresolvedReason::straddles);
 }
 
 // A motion on a torus, sampled once a revolution, is a rotation by an
@@ -159,7 +166,7 @@ TEST(Lyapunov, TheClassNeedsTheWholeTwoStandardErrorBand) {
 // arm's just past its period doubling) leaves the first half's cloud by many
 // of its spacings.
 TEST(Lyapunov, ATorusRecursAndASlowDriftDoesNot) {
-  const Eigen::Vector2d scales(1e-3, 1e-2);
+  const std::vector<double> scales = {1e-3, 1e-2};
   const double golden = (std::sqrt(5.0) - 1.0) / 2.0;  // [revolutions of the curve a sample]
   std::vector<std::vector<double>> torus, drift;
   for (int n = 0; n < 100; ++n) {

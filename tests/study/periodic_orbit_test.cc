@@ -339,7 +339,10 @@ std::unique_ptr<PackagingArm> packaging_arm_after_transient(double rpm) {
   SimulationOptions run;
   run.record_series = false;
   const SimulationResult transient = simulate(arm->map->scene_for(20), arm->model, ws, run);
-  EXPECT_TRUE(transient.solver.converged());
+  if (!transient.solver.converged()) {
+    ADD_FAILURE() << "the 20-revolution transient at " << rpm << " rpm: " << transient.solver.message;
+    return nullptr;
+  }
   arm->start = arm->map->point(transient);
   return arm;
 }
@@ -371,6 +374,7 @@ TEST(PeriodicOrbit, ASlowTransientJustPastThePeriodDoublingIsNotCalledQuasiPerio
   EXPECT_EQ(p.motion, MotionKind::unresolved);
 
   const auto arm = packaging_arm_after_transient(p.rpm);
+  ASSERT_NE(arm, nullptr);
   PeriodicOptions options = arm->study.config.options;
   options.max_period = 2;
   const PeriodicAnalysis shot = find_periodic_orbit(*arm->map, arm->start, options);
@@ -392,6 +396,7 @@ TEST(PeriodicOrbit, ASlowTransientJustPastThePeriodDoublingIsNotCalledQuasiPerio
 // radius of the orbit's fixed point, and its first 60 stray far from it.
 TEST(PeriodicOrbit, TransientChaosIsFollowedUntilItSettles) {
   const auto arm = packaging_arm_after_transient(1789.0);
+  ASSERT_NE(arm, nullptr);
   const Model& model = arm->model;
   const PoincareMap& map = *arm->map;
   const SectionPoint& start = arm->start;
