@@ -181,9 +181,11 @@ Integrator::Result Dop853Integrator::step(double t_stop) {
   for (int attempts = 0;; ++attempts) {
     h = max_step_ > 0.0 ? std::min(h_, max_step_) : h_;
     clipped = t_ + 1.01 * h >= t_stop;  // a step that would leave under 1 % of itself takes the rest too
-    if (clipped) h = t_stop - t_;
-    if (!(h > 16.0 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(t_))) ||
-        attempts >= kDop853MostAttempts)
+    if (clipped) h = std::max(0.0, t_stop - t_);
+    // The step falling to round-off is a failure, unless it is what is left
+    // to t_stop (an event a hair before it).
+    const bool too_small = !(h > 16.0 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(t_)));
+    if ((too_small && !clipped) || attempts >= kDop853MostAttempts)
       throw NumericalError("dop853: the step fell to " + std::to_string(h) + " s after " + std::to_string(attempts) +
                            " failed attempts" + dop853_at(t_));
     const double err = attempt(h);

@@ -128,6 +128,18 @@ TEST(Dop853, DenseOutputAndRootsFollowTheClosedForm) {
   EXPECT_LT(root_error, test::integrator_tolerance(rtol, 100.0));  // phase [rad]
 }
 
+// A restart a hair before the end (an event there): what is left, however
+// small, is one step, not a step size fallen to round-off.
+TEST(Dop853, TakesARoundOffStepToTheEnd) {
+  test::HarmonicOscillator ode(kDopOmega, true);
+  const std::unique_ptr<Integrator> integrator = oscillator_integrator(ode, 1e-10);
+  const double t_end = 1e-3, y[2] = {kDopAmplitude, 0.0};  // [s], [m, m/s]
+  integrator->reinit(std::nextafter(t_end, 0.0), y);
+  EXPECT_EQ(integrator->step(t_end), Integrator::Result::stop);
+  EXPECT_EQ(integrator->time(), t_end);
+  EXPECT_NEAR(integrator->state()[0], kDopAmplitude, 1e-12 * kDopAmplitude);
+}
+
 // A right-hand side that fails for good stops the run with the time named.
 TEST(Dop853, AnUnrecoverableRightHandSideFailureNamesTheTime) {
   class Failing final : public OdeSystem {
