@@ -36,7 +36,7 @@ Dop853Integrator::Dop853Integrator(OdeSystem& system, const IntegratorOptions& o
   counters_.reinitialisations = 0;
 }
 
-int Dop853Integrator::evaluate_rhs(double t, const double* y, double* f) {
+int Dop853Integrator::evaluate_rhs(double t, const double* y, double* f) const {
   ++counters_.rhs_evaluations;
   const int flag = system_.rhs(t, y, f);
   if (flag < 0)
@@ -44,12 +44,20 @@ int Dop853Integrator::evaluate_rhs(double t, const double* y, double* f) {
   return flag;
 }
 
+void Dop853Integrator::stage_input(int s, const double* base, double h, double* w) const {
+  for (int i = 0; i < size_; ++i) {
+    double sum = 0.0;
+    for (int j = 0; j < s; ++j) sum += dop853::kA[s][j] * stage(j)[i];
+    w[i] = base[i] + h * sum;
+  }
+}
+
 void Dop853Integrator::reinit(double t, const double* y) {
   std::copy(y, y + size_, y_.begin());
   y0_ = y1_ = y_;
   t_ = t0_ = t1_ = t;
   h_ = 0.0;
-  have_f_ = fsal_ = false;
+  fsal_ = false;
   dense_ready_ = false;
   roots_.restart(t, y_.data());
   ++counters_.reinitialisations;
@@ -85,11 +93,7 @@ double Dop853Integrator::attempt(double h) {
   const double* y = y_.data();
   double* w = work_.data();
   for (int s = 1; s < dop853::kStages; ++s) {
-    for (int i = 0; i < size_; ++i) {
-      double sum = 0.0;
-      for (int j = 0; j < s; ++j) sum += dop853::kA[s][j] * stage(j)[i];
-      w[i] = y[i] + h * sum;
-    }
+    stage_input(s, y, h, w);
     if (evaluate_rhs(t_ + dop853::kC[s] * h, w, stage(s)) != 0) return std::numeric_limits<double>::infinity();
   }
   for (int i = 0; i < size_; ++i) {
@@ -121,13 +125,8 @@ void Dop853Integrator::prepare_dense() const {
   const double h = t1_ - t0_;
   double* w = scratch_.data();
   for (int s = dop853::kStages + 1; s < dop853::kExtendedStages; ++s) {
-    for (int i = 0; i < size_; ++i) {
-      double sum = 0.0;
-      for (int j = 0; j < s; ++j) sum += dop853::kA[s][j] * stage(j)[i];
-      w[i] = y0_[i] + h * sum;
-    }
-    ++counters_.rhs_evaluations;
-    const int flag = system_.rhs(t0_ + dop853::kC[s] * h, w, stage(s));
+    stage_input(s, y0_.data(), h, w);
+    const int flag = evaluate_rhs(t0_ + dop853::kC[s] * h, w, stage(s));
     if (flag != 0)
       throw NumericalError("dop853: the right-hand side failed (flag " + std::to_string(flag) +
                            ") in the dense output" + dop853_at(t0_ + dop853::kC[s] * h));
@@ -168,12 +167,12 @@ void Dop853Integrator::dense(double t, double* out) const {
 }
 
 Integrator::Result Dop853Integrator::step(double t_stop) {
+  // f at the start: the last step's end, or evaluated after a root or a restart.
   if (fsal_)
     std::copy(stage(dop853::kStages), stage(dop853::kStages) + size_, stage(0));
-  else if (!have_f_ && evaluate_rhs(t_, y_.data(), stage(0)) != 0)
+  else if (evaluate_rhs(t_, y_.data(), stage(0)) != 0)
     throw NumericalError("dop853: the right-hand side failed at a step's start" + dop853_at(t_));
   fsal_ = false;
-  have_f_ = true;
   if (h_ <= 0.0) h_ = initial_step();
   bool rejected = false;
   double h = 0.0;
@@ -206,7 +205,6 @@ Integrator::Result Dop853Integrator::step(double t_stop) {
   t1_ = clipped ? t_stop : t_ + h;
   y0_ = y_;
   dense_ready_ = false;
-  have_f_ = false;
 
   double t_root = 0.0;
   if (roots_.locate(*this, t0_, t1_, y1_.data(), t_root)) {

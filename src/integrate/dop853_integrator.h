@@ -34,7 +34,11 @@ class Dop853Integrator final : public Integrator {
 
  private:
   // f(t, y) into `f`; the flag of OdeSystem::rhs, a negative one thrown.
-  int evaluate_rhs(double t, const double* y, double* f);
+  // Const for the dense output's stages: the system and the counters are not
+  // the integrator's state.
+  int evaluate_rhs(double t, const double* y, double* f) const;
+  // The state stage s is evaluated at: base + h Σ_{j<s} a_sj k_j, into w.
+  void stage_input(int s, const double* base, double h, double* w) const;
   double initial_step();
   // One attempt from (t_, y_) over h: the new state in y1_, its derivative
   // in stage 12; returns the scaled error (≤ 1: accept), +inf when the
@@ -55,8 +59,7 @@ class Dop853Integrator final : public Integrator {
   mutable std::vector<double> dense_;  // the interpolant's 7 coefficient vectors
   mutable std::vector<double> scratch_;
   mutable bool dense_ready_ = false;
-  bool have_f_ = false;  // stage 0 holds f(t_, y_)
-  bool fsal_ = false;    // stage 12 holds f(t_, y_): the last step's end, which starts the next
+  bool fsal_ = false;  // stage 12 holds f(t_, y_): the last step's end, which starts the next
   StepRootLocator roots_;
   mutable SolverCounters counters_;  // the dense output's stages count too
 };
