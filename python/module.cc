@@ -95,6 +95,7 @@ py::dict events_dict(const std::vector<camdyn::Event>& events) {
   const auto n = static_cast<py::ssize_t>(events.size());
   py::array_t<double> time(n), angle(n), speed(n);
   py::array_t<bool> onset(n), impact(n), grazing(n), lash(n);
+  py::list cause;
   for (py::ssize_t i = 0; i < n; ++i) {
     const camdyn::Event& e = events[static_cast<std::size_t>(i)];
     time.mutable_at(i) = e.time;
@@ -104,6 +105,7 @@ py::dict events_dict(const std::vector<camdyn::Event>& events) {
     impact.mutable_at(i) = e.impact;
     grazing.mutable_at(i) = e.grazing;
     lash.mutable_at(i) = e.lash;
+    cause.append(e.cause);
   }
   py::dict d;
   d["time"] = time;
@@ -113,6 +115,7 @@ py::dict events_dict(const std::vector<camdyn::Event>& events) {
   d["impact"] = impact;
   d["grazing"] = grazing;
   d["lash"] = lash;
+  d["cause"] = cause;
   return d;
 }
 

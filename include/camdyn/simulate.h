@@ -104,6 +104,9 @@ struct Event {
   bool grazing = false;        ///< an onset that is not an impact (no approach, or no separation before it)
   bool lash =
       false;  ///< a separation while a body rests on its seat, or the onset taking that lash up (docs/model.md §12)
+  /// A separation's cause: "take_up", "float" or "seat_bounce"; an onset
+  /// carries the cause of the separation it ends; empty otherwise (docs/valvetrain.md).
+  std::string cause;
 };
 
 struct Result {

@@ -147,7 +147,9 @@ DesignEvaluation DesignEvaluator::evaluate(const SceneConfig& scene, const Evalu
         break;
       }
       const double window = out.result.end_time - out.result.evaluated_from;
-      const double gap = window > 0.0 ? out.result.metrics.separation_integral / window : 0.0;
+      // With a seat, the gaps of the lash and its bounces are no jump: the float's integral (docs/valvetrain.md).
+      const Metrics& m = out.result.metrics;
+      const double gap = window > 0.0 ? m.float_integral.value_or(m.separation_integral) / window : 0.0;
       e.speeds.push_back({config_.operating_rpm[i], std::max(gap, 0.0), std::move(out.result)});
       if (settings.end_points) e.end_points.push_back(std::move(out.end_point));
       if (out.warm) ++e.warm_speeds;
@@ -220,7 +222,8 @@ void DesignEvaluator::score(DesignEvaluation& e) const {
     // that opens separates.
     lowest.push_back(m.train && m.train->links ? std::min(m.min_contact_force, m.train->min_link_force)
                                                : m.min_contact_force);
-    fraction.push_back(m.train ? std::max(m.separation_fraction, m.train->link_separation_fraction)
+    fraction.push_back(m.train ? std::max(m.float_fraction.value_or(m.separation_fraction),
+                                          m.train->link_float_fraction)
                                : m.separation_fraction);
     spring.push_back(m.train ? m.train->peak_spring_force : 0.0);
     seating.push_back(m.train ? m.train->max_seating_velocity : 0.0);

@@ -592,9 +592,8 @@ CandidateVerification verify(CandidateKind kind, const SceneConfig& scene, const
   }
   for (const SpeedResult& speed : v.verified.speeds) {
     const Metrics& m = speed.result.metrics;
-    // A train separates at the cam or at a link (docs/optimize.md "Trains").
-    const bool link_opens = m.train && m.train->link_separation_fraction > 0.0;
-    if (m.separation_fraction <= 0.0 && !link_opens) continue;
+    // A train separates at the cam or at a link, in float (docs/optimize.md "Trains", docs/valvetrain.md).
+    if (!separates(m)) continue;
     v.separating_rpm.push_back(speed.rpm);
     if (m.train) v.lets_go.emplace_back(m.train->separates_first, m.train->separates_first_deg);
   }

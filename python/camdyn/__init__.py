@@ -91,6 +91,7 @@ EVENT_UNITS = {
     "impact": "bool (an onset after a separation, with a positive approach speed)",
     "grazing": "bool (an onset that is not an impact: no approach, or no separation before it)",
     "lash": "bool (a separation while a body rests on its seat, or the onset taking that lash up)",
+    "cause": "str (a separation's cause: take_up, float or seat_bounce; an onset carries its separation's; '' otherwise)",
 }
 
 

@@ -78,16 +78,7 @@ std::map<std::string, double> public_metrics(const Metrics& metrics) {
   });
   if (metrics.train) {
     const TrainMetrics& t = *metrics.train;
-    if (t.links) {
-      named["min_link_force"] = t.min_link_force;
-      named["link_separation_fraction"] = t.link_separation_fraction;
-    }
-    if (t.seats) {
-      named["max_seating_velocity"] = t.max_seating_velocity;
-      named["seat_impacts"] = static_cast<double>(t.seat_impacts);
-    }
-    if (t.springs) named["peak_spring_force"] = t.peak_spring_force;
-    if (t.clash) named["coil_clashes"] = static_cast<double>(t.coil_clashes);
+    for_each_train_metric(t, [&](const char* name, double value, bool) { named[name] = value; });
     for (std::size_t i = 0; i < t.bodies.size(); ++i) named["max_lift_error:" + t.bodies[i]] = t.max_lift_error[i];
   }
   return named;
@@ -101,7 +92,8 @@ Result public_result(SimulationResult&& run) {
   result.samples = public_columns(run.samples);
   result.events.reserve(run.events.size());
   for (const ContactEvent& e : run.events)
-    result.events.push_back({e.time, e.cam_angle_deg, e.onset, e.speed, e.impact, e.grazing, e.lash});
+    result.events.push_back(
+        {e.time, e.cam_angle_deg, e.onset, e.speed, e.impact, e.grazing, e.lash, std::string(enum_name(e.cause))});
   result.metrics_over = run.metrics_over;
   result.steady_state = run.metrics_note;
   result.evaluated_from = run.evaluated_from;

@@ -281,9 +281,15 @@ bool FollowerTrain::has_seat() const {
   return std::any_of(bodies.begin(), bodies.end(), [](const TrainBody& b) { return b.seat >= 0; });
 }
 
-bool FollowerTrain::seated_from(const TrainEvaluation& e, int body) const {
-  for (std::size_t i = static_cast<std::size_t>(body); i < bodies.size(); ++i)
+bool FollowerTrain::rests_on_seat(const TrainEvaluation& e, int body) const {
+  for (std::size_t i = static_cast<std::size_t>(body); i < bodies.size(); ++i) {
     if (e.seated[i]) return true;
+    if (i + 1 == bodies.size()) return false;
+    const int link = bodies[i + 1].link;
+    if (link < 0) return false;
+    const int root = elements[static_cast<std::size_t>(link)].root;
+    if (root >= 0 && e.gap[static_cast<std::size_t>(root)] > 0.0) return false;  // the link to the next body is open
+  }
   return false;
 }
 

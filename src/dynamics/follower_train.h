@@ -104,8 +104,10 @@ struct FollowerTrain {
   bool has_coordinates() const { return coordinates.size() > 1; }
   /// Whether some body has a seat.
   bool has_seat() const;
-  /// Whether some coordinate from `body`'s on rests on its seat.
-  bool seated_from(const TrainEvaluation& e, int body) const;
+  /// Whether `body` rests on a seat: its own, or a later body's through
+  /// closed links (a gap below it is then lash, docs/model.md §12). A body
+  /// whose link to the next is open does not rest on the next one's seat.
+  bool rests_on_seat(const TrainEvaluation& e, int body) const;
 };
 
 /// Builds the train of a scene and appends its states to `layout`.

@@ -146,7 +146,7 @@ class SensitivityRun {
     for (std::size_t j = 0; j < map.coordinate_indices().size(); ++j)
       step_scale_[static_cast<std::size_t>(map.coordinate_indices()[j])] = map.scales()[j];
     const Evaluation& ev = ode_.evaluated(0.0, y_.data());
-    lash_open_ = ev.gap > 0.0 && model_.train.present() && model_.train.seated_from(ev.train, 0);
+    lash_open_ = ev.gap > 0.0 && model_.train.present() && model_.train.rests_on_seat(ev.train, 0);
     separated_ = ev.gap > 0.0 && !lash_open_;
   }
 
@@ -181,7 +181,7 @@ class SensitivityRun {
         count_onset(-ev.gap_rate);
         reset_approach(0, -ev.gap_rate, model_.contact.reference_velocity, d, f_minus, tau);
       } else {
-        lash_open_ = model_.train.present() && model_.train.seated_from(ev.train, 0);
+        lash_open_ = model_.train.present() && model_.train.rests_on_seat(ev.train, 0);
         separated_ = !lash_open_;
       }
     } else if (fired >= base && closing) {

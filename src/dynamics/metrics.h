@@ -20,6 +20,18 @@ struct TrainMetrics {
   long seat_impacts = 0;                  ///< seat onsets with approach in the window
   double peak_spring_force = 0.0;         ///< [N], largest force at the frame end of any spring
   long coil_clashes = 0;                  ///< coil clash onsets in the window
+  /// Valve-train verdicts (docs/valvetrain.md), with a seat (`lash`): take-up
+  /// bounces (cam or link gaps opening in the take-up windows) and seat
+  /// bounces (a body leaving its seat after seating) in the window, the
+  /// highest a body rose off its seat in a seat bounce [m | rad], the time a
+  /// link is open off every seat in float [-], and whether a body is held off
+  /// its seat on the base circle.
+  bool lash = false;
+  long take_up_bounces = 0;
+  long seat_bounces = 0;
+  double max_seat_bounce_height = 0.0;
+  double link_float_fraction = 0.0;
+  bool held_open = false;
   std::vector<std::string> bodies;        ///< every body, the follower first
   std::vector<double> max_lift_error;     ///< per body: |x − its kinematic lift| [m | rad]
   /// Where the train lets go first in the window: "cam contact" or "link <body>"
@@ -54,6 +66,14 @@ struct Metrics {
   /// The contact point's largest distance from the face centre [m]; only
   /// for a flat face, absent otherwise.
   std::optional<double> max_face_excursion;
+  /// With a seat (docs/valvetrain.md): the part of separation_fraction that
+  /// is float (opened above the ramps) [-], and its largest gap [m]; absent
+  /// otherwise (every separation is then float).
+  std::optional<double> float_fraction, max_float_gap;
+  /// With a seat: ∫ max(g, 0) dt over the window where the cam contact
+  /// floats [m s] (separation_integral less the lash and the bounces), the
+  /// optimiser's smooth measure of jump; not written.
+  std::optional<double> float_integral;
   /// With a follower train (seats, springs with mass, bodies): its metrics,
   /// written besides the others (not part of `visit`).
   std::optional<TrainMetrics> train;
@@ -92,6 +112,50 @@ void visit(A& a, M& m) {
   a.field("mean_drive_power", m.mean_drive_power, MetricInfo{"W", true});
   a.field("peak_contact_stress", m.peak_contact_stress, MetricInfo{"Pa"});
   a.field("max_face_excursion", m.max_face_excursion, MetricInfo{"m"});
+  a.field("float_fraction", m.float_fraction, MetricInfo{"–"});
+  a.field("max_float_gap", m.max_float_gap, MetricInfo{"m"});
+}
+
+/// Whether a run lets go where a jump is judged (docs/valvetrain.md): the
+/// cam contact floats, or a link opens off every seat in float. Take-up
+/// and seat bounces have their own metrics; without a seat every
+/// separation is float.
+inline bool separates(const Metrics& m) {
+  const bool link = m.train && m.train->link_float_fraction > 0.0;
+  return m.float_fraction.value_or(m.separation_fraction) > 0.0 || link;
+}
+
+/// Where a run lets go, for speed limits: "float" (the cam contact), "link"
+/// (a link off every seat), or empty where it does not.
+inline const char* separation_place(const Metrics& m) {
+  if (m.float_fraction.value_or(m.separation_fraction) > 0.0) return "float";
+  if (m.train && m.train->link_float_fraction > 0.0) return "link";
+  return "";
+}
+
+/// Every scalar metric of a follower train that its scene has, in output
+/// order, as f(name, value, count) with a double value and whether it is a
+/// count (a whole number, written as an integer where the format has one):
+/// the one list summary.json, the C++ API and Python write (the per-body
+/// lift errors and `separates_first` are written beside it).
+template <class F>
+void for_each_train_metric(const TrainMetrics& t, F&& f) {
+  if (t.links) {
+    f("min_link_force", t.min_link_force, false);
+    f("link_separation_fraction", t.link_separation_fraction, false);
+  }
+  if (t.seats) {
+    f("max_seating_velocity", t.max_seating_velocity, false);
+    f("seat_impacts", static_cast<double>(t.seat_impacts), true);
+  }
+  if (t.springs) f("peak_spring_force", t.peak_spring_force, false);
+  if (t.clash) f("coil_clashes", static_cast<double>(t.coil_clashes), true);
+  if (t.lash) {
+    f("take_up_bounces", static_cast<double>(t.take_up_bounces), true);
+    f("seat_bounces", static_cast<double>(t.seat_bounces), true);
+    f("max_seat_bounce_height", t.max_seat_bounce_height, false);
+    if (t.links) f("link_float_fraction", t.link_float_fraction, false);
+  }
 }
 
 namespace metrics_detail {

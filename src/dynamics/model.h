@@ -37,6 +37,7 @@
 #include "dynamics/cam_geometry.h"
 #include "dynamics/follower_forces.h"
 #include "dynamics/follower_train.h"
+#include "dynamics/separation_cause.h"
 #include "dynamics/friction_elements.h"
 #include "dynamics/shaft_drive.h"
 #include "dynamics/state_layout.h"
@@ -65,6 +66,9 @@ struct Model : CamGeometry {
   /// Seats, stops, springs with mass and the bodies after the follower
   /// (dynamics/follower_train.h); empty for a scene without them.
   FollowerTrain train;
+  /// The lash at the cam and the take-up windows that classify a separation
+  /// (dynamics/separation_cause.h); `applies` false without a seat.
+  TakeUpWindow take_up;
   /// The jump speed of the held, linearised train [rpm] (dynamics/train_jump_speed.h),
   /// for a train with coordinates of its own; speed-independent, so made once.
   double train_jump_speed_rpm = 0.0;

@@ -149,6 +149,26 @@ void assign_cam_speed(const SceneConfig& scene, const std::string& file, Model& 
   model.tracking_gain = 1000.0 + 100.0 * model.omega;
 }
 
+/// The take-up windows of the train (dynamics/separation_cause.h); throws
+/// InputError where the law never lifts a body off its seat (lash or a seat
+/// beyond the lift), naming the lash or the seat.
+void assign_take_up_window(const SceneConfig& scene, const std::string& file, Model& model) {
+  std::optional<std::pair<double, double>> ramp_end;
+  if (scene.outputs.valvetrain && scene.outputs.valvetrain->ramp_end_deg.size() == 2)
+    ramp_end = std::pair(scene.outputs.valvetrain->ramp_end_deg[0] * std::numbers::pi / 180.0,
+                         scene.outputs.valvetrain->ramp_end_deg[1] * std::numbers::pi / 180.0);
+  model.take_up = take_up_window(model.train, *model.law, ramp_end);
+  const int body = model.take_up.never_lifted_body;
+  if (body < 0) return;
+  std::string at = "mechanism.follower.seat.position";
+  if (body > 0) {
+    const std::string train = "mechanism.train[" + std::to_string(body - 1) + "]";
+    at = train + (scene.mechanism.train[static_cast<std::size_t>(body - 1)].link.lash > 0.0 ? ".link.lash"
+                                                                                             : ".seat.position");
+  }
+  throw InputError(file, at, take_up_window_problem(model.train, model.take_up));
+}
+
 Model assemble_model(const CamGeometry& geometry, const SceneConfig& scene, const std::string& file) {
   const MechanismConfig& mech = scene.mechanism;
   Model model;
@@ -165,6 +185,7 @@ Model assemble_model(const CamGeometry& geometry, const SceneConfig& scene, cons
   model.train = build_follower_train(scene, file, model.layout);
   // A spring with mass is the train's lumped chain, not the follower's massless spring.
   if (model.train.follower_spring_lumped) model.forces.spring = ReturnSpring{};
+  assign_take_up_window(scene, file, model);
   model.rigid_jump_speed_rpm = jump_speed_rpm(model);
   if (model.train.has_coordinates()) {
     try {

@@ -205,7 +205,8 @@ struct LoopState {
   Quadratures q{};
   double t = 0.0;  // time of the last stop [s]
   bool separated = false;
-  bool lash_open = false;      // the cam's gap is open while a body rests on its seat (docs/model.md §12)
+  bool lash_open = false;      // the cam's gap is open while the follower rests on a seat (docs/model.md §12)
+  SeparationCauses causes;     // why each open gap opened (dynamics/separation_cause.h)
   double last_progress = 0.0;  // wall time of the last progress report [s]
   IntegratorSource* integrator_source = nullptr;
   FlightSource* flight_source = nullptr;
@@ -216,37 +217,102 @@ struct LoopState {
   bool ended_in_flight = false;          // the run's end came in a flight
 };
 
+// Whether the train has rested on a seat since the law last rose to the
+// take-up height: a gap that opens below it afterwards is a seat bounce.
+void follow_seating(const Model& model, const Evaluation& ev, SeparationCauses& causes) {
+  if (!model.take_up.applies) return;
+  const double lift = model.law->eval(ev.theta).s - model.take_up.base;  // [m | rad]
+  if (lift >= model.take_up.take_up)
+    causes.seated_since_take_up = false;
+  else if (model.train.rests_on_seat(ev.train, 0))
+    causes.seated_since_take_up = true;
+}
+
+// Decides the rebound in flight as `cause` (take_up or float_gap): its
+// separation's event, a take-up bounce counted where it opened in the window;
+// the observer takes the decision up at its next sample.
+void decide_rebound(const RunContext& run, LoopState& loop, SeparationCause cause) {
+  SeparationCauses& causes = loop.causes;
+  ContactEvent& opened = run.result.events[causes.rebound_event];
+  opened.cause = cause;
+  if (cause == SeparationCause::take_up && opened.time >= run.plan.t_eval && run.result.metrics.train)
+    ++run.result.metrics.train->take_up_bounces;
+  causes.cam = cause;
+  causes.decided = cause;
+  ++causes.decisions;
+}
+
 // A contact onset at t (docs/model.md §6; dynamics/contact_events.h): an
 // impact, or a graze or re-entry recorded but not counted; the episode's
-// approach speed v₀ from the gap's closing rate.
-void record_onset(const RunContext& run, const Evaluation& ev, double t, bool& separated, bool& lash_open) {
+// approach speed v₀ from the gap's closing rate. It carries the cause of
+// the separation it ends (dynamics/separation_cause.h).
+void record_onset(const RunContext& run, const Evaluation& ev, double t, LoopState& loop) {
   SimulationResult& result = run.result;
   const double approach = -ev.gap_rate;
   run.ws.v0 = std::max(approach, run.model.contact.reference_velocity);
-  if (lash_open) {  // the cam takes up the lash (docs/model.md §12)
+  SeparationCauses& causes = loop.causes;
+  SeparationCause cause = causes.cam;
+  if (cause == SeparationCause::rebound) {  // a rebound lands: no harder than its impact, or it flew
+    cause = approach <= causes.chain_speed ? SeparationCause::take_up : SeparationCause::float_gap;
+    decide_rebound(run, loop, cause);
+  }
+  causes.cam = SeparationCause::none;
+  if (loop.lash_open) {  // the cam takes up the lash (docs/model.md §12)
+    causes.chain_speed = approach;
     result.events.push_back({t, ev.theta * kRadToDeg, true, approach, false, ev.v, false, true});
-    lash_open = separated = false;
+    loop.lash_open = loop.separated = false;
     return;
   }
-  const OnsetClass onset = classify_onset(separated, approach);
+  causes.chain_speed = cause == SeparationCause::take_up ? approach : 0.0;
+  const OnsetClass onset = classify_onset(loop.separated, approach);
   if (onset.impact && t >= run.plan.t_eval) {
     ++result.metrics.impact_count;
     result.metrics.max_impact_velocity = std::max(result.metrics.max_impact_velocity, approach);
   }
-  result.events.push_back({t, ev.theta * kRadToDeg, true, approach, onset.impact, ev.v, onset.grazing, false});
-  separated = false;
+  result.events.push_back({t, ev.theta * kRadToDeg, true, approach, onset.impact, ev.v, onset.grazing, false, cause});
+  loop.separated = false;
 }
 
-// A root the integrator stopped at (docs/model.md §6): records a contact onset
-// (an impact when the follower was separated) or a separation. Returns whether
-// the right-hand side changed, so that the integrator must restart.
+// A gap opening at t, the cam contact's (body −1) or body `body`'s link, off
+// every seat: its cause (dynamics/separation_cause.h), a take-up bounce in
+// the window counted.
+SeparationCause classify_opening(const RunContext& run, const Evaluation& ev, double t, const LoopState& loop) {
+  const Model& model = run.model;
+  const SeparationCause cause =
+      opening_cause(model.take_up, model.law->eval(ev.theta), loop.causes.seated_since_take_up);
+  if (cause == SeparationCause::take_up && t >= run.plan.t_eval && run.result.metrics.train)
+    ++run.result.metrics.train->take_up_bounces;
+  return cause;
+}
+
+// The cam contact's gap opening at t: a separation, or lash where the
+// follower rests on a seat (docs/model.md §12); above the take-up window, a
+// rebound of the take-up's impacts is decided where it lands.
+void record_separation(const RunContext& run, const Evaluation& ev, double t, LoopState& loop) {
+  const Model& model = run.model;
+  SeparationCauses& causes = loop.causes;
+  loop.lash_open = model.train.present() && model.train.rests_on_seat(ev.train, 0);
+  loop.separated = !loop.lash_open;
+  causes.cam = loop.separated ? classify_opening(run, ev, t, loop) : SeparationCause::none;
+  if (causes.cam == SeparationCause::float_gap && causes.chain_speed > 0.0 &&
+      ev.gap_rate >= kReboundSpeedShare * causes.chain_speed) {
+    causes.cam = SeparationCause::rebound;
+    causes.rebound_event = run.result.events.size();
+  }
+  run.result.events.push_back(
+      {t, ev.theta * kRadToDeg, false, ev.gap_rate, false, ev.v, false, loop.lash_open, causes.cam});
+}
+
 // A train gap closing at t (docs/model.md §12): a seat's or stop's approach
 // speed becomes its v₀; seat onsets and coil clashes in the window are counted.
-void record_train_onset(const RunContext& run, const Evaluation& ev, double t, int root) {
+void record_train_onset(const RunContext& run, const Evaluation& ev, double t, int root, LoopState& loop) {
   const FollowerTrain& train = run.model.train;
   const double approach = -ev.train.gap_rate[static_cast<std::size_t>(root)];
   const TrainElement& e = train_element_of_root(train, root);
   if (e.law == TrainElement::Law::contact) record_train_onset(train, run.ws.train, root, approach);
+  const auto body = static_cast<std::size_t>(e.body);
+  if (e.role == TrainRole::seat) loop.causes.seat_bouncing[body] = false;
+  if (e.role == TrainRole::link) loop.causes.link[body] = SeparationCause::none;
   if (t < run.plan.t_eval || !(approach > 0.0) || !run.result.metrics.train) return;
   TrainMetrics& m = *run.result.metrics.train;
   if (e.role == TrainRole::seat) {
@@ -257,19 +323,40 @@ void record_train_onset(const RunContext& run, const Evaluation& ev, double t, i
   }
 }
 
+// A train gap opening at t: a body leaving its seat (a seat bounce where the
+// law does not lift it) or a link opening off every seat (its cause).
+void record_train_opening(const RunContext& run, const Evaluation& ev, double t, int root, LoopState& loop) {
+  const Model& model = run.model;
+  const TrainElement& e = train_element_of_root(model.train, root);
+  const auto body = static_cast<std::size_t>(e.body);
+  if (e.role == TrainRole::seat && leaves_seat_as_bounce(model.take_up, e.body, model.law->eval(ev.theta).s)) {
+    loop.causes.seat_bouncing[body] = true;
+    if (t >= run.plan.t_eval && run.result.metrics.train) ++run.result.metrics.train->seat_bounces;
+    // The gaps below it that were lash open with it: part of the bounce, not a float.
+    if (loop.lash_open && loop.causes.cam == SeparationCause::none) loop.causes.cam = SeparationCause::seat_bounce;
+    for (std::size_t i = 1; i <= body; ++i)
+      if (loop.causes.link[i] == SeparationCause::none) loop.causes.link[i] = SeparationCause::seat_bounce;
+  } else if (e.role == TrainRole::link) {
+    loop.causes.link[body] =
+        model.train.rests_on_seat(ev.train, e.body) ? SeparationCause::none : classify_opening(run, ev, t, loop);
+  }
+}
+
+// A root the integrator stopped at (docs/model.md §6): records a contact onset
+// (an impact when the follower was separated) or a separation, and the
+// train's gaps. Returns whether the right-hand side changed, so that the
+// integrator must restart.
 bool handle_root(const RunContext& run, const Integrator& integrator, const Evaluation& ev, double t,
-                 RootDirections& root_dirs, bool& separated, bool& lash_open) {
+                 RootDirections& root_dirs, LoopState& loop) {
   const Model& model = run.model;
   bool restart = false;
   integrator.root_info(root_dirs.data());
   ++run.result.solver.events;
   if (root_dirs[0] < 0) {  // gap closing: contact onset
-    record_onset(run, ev, t, separated, lash_open);
+    record_onset(run, ev, t, loop);
     restart = true;
-  } else if (root_dirs[0] > 0) {  // gap opening: separation (lash while a body rests on its seat)
-    lash_open = model.train.present() && model.train.seated_from(ev.train, 0);
-    run.result.events.push_back({t, ev.theta * kRadToDeg, false, ev.gap_rate, false, ev.v, false, lash_open});
-    separated = !lash_open;
+  } else if (root_dirs[0] > 0) {  // gap opening: separation (lash while the follower rests on a seat)
+    record_separation(run, ev, t, loop);
     restart = true;
   }
   if (model.contact_root_count() > 1 && root_dirs[1] != 0 && ev.delta > 0.0) restart = true;  // force clamp switches
@@ -278,7 +365,8 @@ bool handle_root(const RunContext& run, const Integrator& integrator, const Eval
   for (int k = 0; k < model.train.roots; ++k) {
     const int dir = root_dirs[static_cast<std::size_t>(base) + static_cast<std::size_t>(k)];
     if (dir == 0) continue;
-    if (dir < 0) record_train_onset(run, ev, t, k);
+    if (dir < 0) record_train_onset(run, ev, t, k, loop);
+    if (dir > 0) record_train_opening(run, ev, t, k, loop);
     restart = true;
   }
   return restart;
@@ -396,7 +484,7 @@ Failure fly(const RunContext& run, SceneOde& ode, Integrator& integrator, LoopSt
   loop.ended_in_flight = !landed;
   if (landed) {
     ++run.result.solver.events;
-    record_onset(run, ode.evaluated(end.t, loop.y.data()), end.t, loop.separated, loop.lash_open);
+    record_onset(run, ode.evaluated(end.t, loop.y.data()), end.t, loop);
     loop.integrator_source->restart(end.t, loop.y.data(), loop.q);
   }
   return {};
@@ -416,8 +504,10 @@ Failure integrate(const RunContext& run, SceneOde& ode, Integrator& integrator, 
   observer.observe(0.0);
   recorder.record_until(0.0);
   loop.integrator_source->start_quadratures(0.0, loop.y.data(), loop.q);
-  loop.lash_open = ev.gap > 0.0 && model.train.present() && model.train.seated_from(ev.train, 0);
+  loop.lash_open = ev.gap > 0.0 && model.train.present() && model.train.rests_on_seat(ev.train, 0);
   loop.separated = ev.gap > 0.0 && !loop.lash_open;
+  follow_seating(model, ev, loop.causes);
+  if (loop.separated) loop.causes.cam = opening_cause(model.take_up, model.law->eval(ev.theta), true);
   RootDirections root_dirs{};
   const double projection_tolerance = std::max(1e-9, 10.0 * run.scene.integrator.rtol);  // [rad]
   bool in_flight = loop.flight && loop.separated;  // a start off the cam flies first
@@ -451,8 +541,8 @@ Failure integrate(const RunContext& run, SceneOde& ode, Integrator& integrator, 
       ws.v_warm = ev.pair_v;
     }
     bool restart = false;
-    if (result_kind == Integrator::Result::root)
-      restart = handle_root(run, integrator, ev, t, root_dirs, loop.separated, loop.lash_open);
+    follow_seating(model, ev, loop.causes);
+    if (result_kind == Integrator::Result::root) restart = handle_root(run, integrator, ev, t, root_dirs, loop);
     if (Failure f = check_contact(model, ev, t)) return f;
     // A take-off: the flight in closed form, unless the last one landed at once.
     in_flight = restart && loop.separated && loop.flight && !loop.last_flight_short;
@@ -510,11 +600,13 @@ Failure run_scene(const RunContext& run) {
   const State y0 = loop.y;
   const Quadratures q0 = loop.q;
   WindowObserver observer(model, run.ws, integrator_source, y0, q0, run.plan.t_eval, run.options.step_metrics,
-                          run.result.metrics);
+                          loop.causes, run.result.metrics);
   SeriesRecorder recorder(model, run.plan, run.options, observer, run.result);
   Failure failure;
   try {
     failure = integrate(run, ode, integrator, loop, observer, recorder);
+    // Still in flight at the end: a rebound not decided is taken as float (never hide flight).
+    if (loop.causes.cam == SeparationCause::rebound) decide_rebound(run, loop, SeparationCause::float_gap);
     observer.publish_extremes();
     if (!failure) {
       observer.finish(run.plan.t_end, loop.q[4] - recorder.separation_integral_at_eval(),

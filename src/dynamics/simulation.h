@@ -64,6 +64,10 @@ struct ContactEvent {
   /// Valve lash (docs/model.md §12): a separation while a body rests on its
   /// seat, or the onset that takes that lash up. Neither a jump nor an impact.
   bool lash = false;
+  /// A separation's cause (dynamics/separation_cause.h: take-up bounce, float,
+  /// seat bounce); an onset carries the cause of the separation it ends. None
+  /// for lash and for an onset that ends no separation.
+  SeparationCause cause = SeparationCause::none;
 };
 
 /// How a run ended (summary.json `solver.termination`), in the manner of

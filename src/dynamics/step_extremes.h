@@ -1,6 +1,7 @@
 // The window's extremes (docs/model.md §8: the largest gap, the peak and the
 // least contact force, the deepest penetration, the largest kinematic error,
-// the peak contact stress and drive torque, the face excursion),
+// the peak contact stress and drive torque, the face excursion, the largest
+// float gap),
 // followed over the integrator's steps from the model evaluated at each
 // step's start, middle and end. Between those three a quantity is taken as
 // the parabola through them: where its vertex lies inside the step and
@@ -18,10 +19,10 @@ namespace camdyn {
 
 class StepExtremes {
  public:
-  static constexpr std::size_t kCount = 8;
+  static constexpr std::size_t kCount = 9;
   /// gap [m], contact force [N], minus the contact force [N], penetration
   /// [m], kinematic error [m | rad], contact stress [Pa], |drive torque|
-  /// [N m], |contact offset on a flat face| [m]: each followed as a maximum
+  /// [N m], |contact offset on a flat face| [m], the gap in float [m]: each followed as a maximum
   /// (−∞ where the scene does not have it).
   using Values = std::array<double, kCount>;
 

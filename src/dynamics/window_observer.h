@@ -19,6 +19,23 @@
 
 namespace camdyn {
 
+// ∫ f dt over the evaluated window by Simpson's rule on each step's start,
+// middle and end (a step across the window's start: the trapezoid of its
+// middle and end over the part inside).
+struct WindowSimpson {
+  double start = 0.0, mid = 0.0;  // f at the step's start and middle
+  double integral = 0.0;
+  // Folds the step [step_start, t] [s] with f = `end` at t; the window starts at t_eval [s].
+  void fold(double step_start, double t, double t_eval, double end) {
+    const double h = t - step_start;  // [s]
+    if (step_start >= t_eval)
+      integral += h / 6.0 * (start + 4.0 * mid + end);
+    else if (t > t_eval)
+      integral += (t - t_eval) * 0.5 * (mid + end);
+    start = end;
+  }
+};
+
 // Where the observer reads the state and quadratures between the loop's
 // stops: the integrator's dense output over its last step, or the flight in
 // closed form.
@@ -36,7 +53,7 @@ class StateSource {
 class WindowObserver {
  public:
   WindowObserver(const Model& model, Workspace& ws, StateSource& source, const RunState& y0, const RunQuadratures& q0,
-                 double t_eval, bool every_step, Metrics& m)
+                 double t_eval, bool every_step, const SeparationCauses& causes, Metrics& m)
       : model_(model),
         ws_(ws),
         source_(&source),
@@ -44,13 +61,15 @@ class WindowObserver {
         q0_(q0),
         t_eval_(t_eval),
         every_step_(every_step),
+        causes_(causes),
         m_(m),
-        train_(model, m) {}
+        train_(model, causes, m) {}
 
   // Evaluates the model at a dense-output time into ev() and folds it into the
   // metrics; returns the energy deviation E(t) − E(0) [J]. Before the first
   // step there is no dense output yet: the initial values are used.
   double observe(double t) {
+    take_up_decisions();
     if (stepped_) {
       source_->state(t, ys_.data(), qs_.data());
     } else {
@@ -60,7 +79,9 @@ class WindowObserver {
     evaluate_keeping_warm_start(t, ev_);
     if (!stepped_) {
       start_ = extreme_values(ev_);
-      torque_squared_start_ = squared_torque(ev_);
+      torque_squared_.start = squared_torque(ev_);
+      float_gap_.start = float_gap_value(ev_);
+      rebound_gap_.start = rebound_gap_value(ev_);
     }
     fold_extremes(t, extreme_values(ev_));
     fold_train(t, ev_);
@@ -76,6 +97,7 @@ class WindowObserver {
   // keeps the pair as the warm start of the evaluation after the step, with
   // and without `every_step`, so that the run is the same to the last bit.
   void observe_step(double t0, double t, RunQuadratures* f_mid) {
+    take_up_decisions();
     stepped_ = true;
     step_start_ = t0;
     if (!every_step_ && !f_mid && model_.tracking != Tracking::newton) return;
@@ -85,12 +107,21 @@ class WindowObserver {
     if (f_mid) *f_mid = quadrature_integrand(ev_);
     if (every_step_) {
       mid_ = extreme_values(ev_);
-      torque_squared_mid_ = squared_torque(ev_);
+      torque_squared_.mid = squared_torque(ev_);
+      float_gap_.mid = float_gap_value(ev_);
+      rebound_gap_.mid = rebound_gap_value(ev_);
       fold_extremes(t_mid, mid_);
       fold_train(t_mid, ev_);
     }
     const double in_window = std::max(0.0, t - std::max(t0, t_eval_));  // [s]
-    if (ev_.gap > 0.0 && !train_.lash(ev_)) separated_time_ += in_window;
+    if (ev_.gap > 0.0 && !train_.lash(ev_)) {
+      separated_time_ += in_window;
+      if (cam_floats()) float_time_ += in_window;
+      if (causes_.cam == SeparationCause::rebound) {
+        rebound_time_ += in_window;
+        if (in_window > 0.0 && std::isnan(rebound_theta_)) rebound_theta_ = ev_.theta;
+      }
+    }
     train_.fold_step(ev_, in_window);
   }
 
@@ -111,7 +142,9 @@ class WindowObserver {
       fold_extremes(t_probe, extreme_values(probe(t_probe)));
     }
     start_ = end;
-    fold_torque_squared(t, squared_torque(at_end));
+    torque_squared_.fold(step_start_, t, t_eval_, squared_torque(at_end));
+    float_gap_.fold(step_start_, t, t_eval_, float_gap_value(at_end));
+    rebound_gap_.fold(step_start_, t, t_eval_, rebound_gap_value(at_end));
     fold_energy(at_end);
   }
 
@@ -124,10 +157,13 @@ class WindowObserver {
     if (every_step_) {
       observe(t);
       start_ = extreme_values(ev_);
-      torque_squared_start_ = squared_torque(ev_);
+      torque_squared_.start = squared_torque(ev_);
+      float_gap_.start = float_gap_value(ev_);
       if (t >= t_eval_) flight_gap_ = std::max(flight_gap_, largest_gap);
     }
     separated_time_ += std::max(0.0, t - std::max(t0, t_eval_));
+    // A flight is closed-form only without a train (dynamics/free_flight.h): every separation then floats.
+    if (cam_floats()) float_time_ += std::max(0.0, t - std::max(t0, t_eval_));
   }
 
   // Reads the state from `source` from now on.
@@ -139,18 +175,24 @@ class WindowObserver {
   void finish(double t_end, double separation_integral, double drive_work) {
     const double evaluated = t_end - t_eval_;
     m_.separation_fraction = evaluated > 0.0 ? separated_time_ / evaluated : 0.0;
-    m_.rms_cam_torque = evaluated > 0.0 ? std::sqrt(torque_squared_integral_ / evaluated) : 0.0;
+    m_.rms_cam_torque = evaluated > 0.0 ? std::sqrt(torque_squared_.integral / evaluated) : 0.0;
     m_.mean_drive_power = evaluated > 0.0 ? drive_work / evaluated : 0.0;
     m_.energy_residual = energy_scale_ > 0.0 ? energy_max_dev_ / energy_scale_ : 0.0;
     m_.max_pressure_angle_deg = model_.geometry.max_pressure_angle_deg;
     m_.min_radius_of_curvature = model_.geometry.min_radius_of_curvature;
     m_.jump_speed_rpm = model_jump_speed_rpm(model_);
     m_.separation_integral = separation_integral;
+    if (model_.take_up.applies) {
+      m_.float_fraction = evaluated > 0.0 ? float_time_ / evaluated : 0.0;
+      // Without every step's samples the integral is not known (NaN, never a number that looks measured).
+      m_.float_integral = every_step_ ? float_gap_.integral : std::numeric_limits<double>::quiet_NaN();
+    }
     train_.finish(evaluated);
   }
 
   // The extremes so far into the metrics (a failed run's too).
   void publish_extremes() {
+    take_up_decisions();
     const StepExtremes::Values& best = extremes_.best();
     m_.max_separation_gap = std::max({0.0, best[0], flight_gap_});
     m_.peak_contact_force = std::max(0.0, best[1]);
@@ -160,6 +202,9 @@ class WindowObserver {
     if (model_.hertz) m_.peak_contact_stress = std::max(0.0, best[5]);
     m_.peak_cam_torque = std::max(0.0, best[6]);
     if (!model_.follower.circle()) m_.max_face_excursion = std::max(0.0, best[7]);
+    if (model_.take_up.applies) m_.max_float_gap = std::max({0.0, best[8], rebound_max_gap_});
+    // A rebound that flew separated: its least contact force is 0.
+    if (floated_in_rebound_) m_.min_contact_force = std::min(m_.min_contact_force, 0.0);
   }
 
   Evaluation& ev() { return ev_; }
@@ -171,6 +216,9 @@ class WindowObserver {
   double residual(double deviation) const { return energy_scale_ > 0.0 ? deviation / energy_scale_ : 0.0; }
 
  private:
+  // Whether an open cam gap (not lash) floats (dynamics/separation_cause.h).
+  bool cam_floats() const { return floats(causes_.cam); }
+
   // The model at t [s] from the state in ys_ into `out`, the Newton warm
   // start kept as it was.
   void evaluate_keeping_warm_start(double t, Evaluation& out) {
@@ -190,33 +238,67 @@ class WindowObserver {
   // While a body rests on its seat the cam's gap is lash: neither a
   // separation nor the least contact force (docs/model.md §12).
   StepExtremes::Values extreme_values(const Evaluation& e) const {
-    const double kinematic_error = std::abs(e.y - model_.law->eval(e.theta).s);
+    const LawSample law = model_.law->eval(e.theta);
+    const double kinematic_error = std::abs(e.y - law.s);
     constexpr double none = -std::numeric_limits<double>::infinity();
     const double stress = model_.hertz ? contact_pressure(model_, *model_.hertz, e) : none;
     const double torque = std::abs(cam_drive_torque(e));
     const double excursion = model_.follower.circle() ? none : std::abs(e.contact_offset);
-    if (train_.lash(e)) return {none, e.normal_force, none, e.delta, kinematic_error, stress, torque, excursion};
-    return {e.gap, e.normal_force, -e.normal_force, e.delta, kinematic_error, stress, torque, excursion};
+    if (train_.lash(e)) return {none, e.normal_force, none, e.delta, kinematic_error, stress, torque, excursion, none};
+    // The float gap where a seat makes it differ from the gap (without one
+    // every separation floats). With a seat the least contact force is the
+    // margin against float: over the law above the take-up windows, never
+    // in a bounce (at the take-up and at seating the seat takes the load and
+    // the contact force falls to zero by design). A gap open at the root that
+    // opens it (or where a body leaves its seat) is not classified yet, and
+    // no float either.
+    const SeparationCause cause = causes_.cam;
+    const bool applies = model_.take_up.applies;
+    const bool floating = applies ? cause == SeparationCause::float_gap : cam_floats();
+    const bool bounce = cause != SeparationCause::none && !floats(cause);
+    const bool margin = !applies || !in_take_up_windows(model_.take_up, law);
+    const double float_gap = applies && floating ? e.gap : none;
+    const double least = bounce || !margin || (e.gap > 0.0 && !floating) ? none : -e.normal_force;
+    return {e.gap, e.normal_force, least, e.delta, kinematic_error, stress, torque, excursion, float_gap};
   }
 
   // T² [N² m²] of the drive torque at `e`.
   static double squared_torque(const Evaluation& e) { return cam_drive_torque(e) * cam_drive_torque(e); }
 
-  // ∫ T² dt over the part of the step [step start, t] in the window, by
-  // Simpson's rule on its start, middle and end (a step across the window's
-  // start: the trapezoid of its middle and end over the part inside).
-  void fold_torque_squared(double t, double torque_squared_end) {
-    const double h = t - step_start_;  // [s]
-    if (step_start_ >= t_eval_)
-      torque_squared_integral_ += h / 6.0 * (torque_squared_start_ + 4.0 * torque_squared_mid_ + torque_squared_end);
-    else if (t > t_eval_)
-      torque_squared_integral_ += (t - t_eval_) * 0.5 * (torque_squared_mid_ + torque_squared_end);
-    torque_squared_start_ = torque_squared_end;
+  // The open cam gap where it floats [m], 0 elsewhere: the float integral's integrand.
+  double float_gap_value(const Evaluation& e) const {
+    return e.gap > 0.0 && !train_.lash(e) && cam_floats() ? e.gap : 0.0;
+  }
+  // The open cam gap of a rebound not decided yet [m], 0 elsewhere.
+  double rebound_gap_value(const Evaluation& e) const {
+    return e.gap > 0.0 && !train_.lash(e) && causes_.cam == SeparationCause::rebound ? e.gap : 0.0;
+  }
+
+  // Takes up the rebounds decided since the last sample (dynamics/separation_cause.h):
+  // a float's time, gap and integral join the float's; a take-up bounce's are dropped.
+  void take_up_decisions() {
+    if (causes_.decisions == decisions_seen_) return;
+    decisions_seen_ = causes_.decisions;
+    if (causes_.decided == SeparationCause::float_gap) {
+      float_time_ += rebound_time_;
+      float_gap_.integral += rebound_gap_.integral;
+      rebound_max_gap_ = std::max(rebound_max_gap_, rebound_gap_max_);
+      if (rebound_time_ > 0.0) {
+        floated_in_rebound_ = true;
+        train_.lets_go_at("cam contact", rebound_theta_);
+      }
+    }
+    rebound_time_ = 0.0;
+    rebound_gap_.integral = 0.0;
+    rebound_gap_max_ = -std::numeric_limits<double>::infinity();
+    rebound_theta_ = std::numeric_limits<double>::quiet_NaN();
   }
 
   // Folds the extremes' values `x` at t [s] into the window's records.
   void fold_extremes(double t, const StepExtremes::Values& x) {
-    if (t >= t_eval_) extremes_.fold(x);
+    if (t < t_eval_) return;
+    extremes_.fold(x);
+    if (causes_.cam == SeparationCause::rebound) rebound_gap_max_ = std::max(rebound_gap_max_, x[0]);
   }
 
   // Folds the train at the evaluation `e` at t [s] into its records.
@@ -246,6 +328,7 @@ class WindowObserver {
   const RunQuadratures& q0_;
   const double t_eval_;  // start of the evaluated window [s]
   const bool every_step_;
+  const SeparationCauses& causes_;  // why the cam's gap is open (dynamics/separation_cause.h)
   Metrics& m_;
   bool stepped_ = false;
   Evaluation ev_, probe_;
@@ -258,8 +341,18 @@ class WindowObserver {
   double energy0_ = 0.0, energy_scale_ = 0.0, energy_max_dev_ = 0.0;  // [J]
   bool energy_initialised_ = false;
   double separated_time_ = 0.0;  // within the evaluated window [s]
+  double float_time_ = 0.0;      // of it, in float [s]
   // The drive torque squared at the step's start and middle [N² m²], its integral over the window [N² m² s].
-  double torque_squared_start_ = 0.0, torque_squared_mid_ = 0.0, torque_squared_integral_ = 0.0;
+  WindowSimpson torque_squared_;  // the drive torque squared [N² m²], its integral [N² m² s]
+  WindowSimpson float_gap_;       // the float gap [m], its integral [m s]
+  WindowSimpson rebound_gap_;     // the gap of a rebound not decided yet [m], its integral [m s]
+  // The rebound not decided yet: its time in the window [s], its largest gap
+  // [m] and its first cam angle there [rad]; the largest gap of those that flew [m].
+  double rebound_time_ = 0.0, rebound_gap_max_ = -std::numeric_limits<double>::infinity();
+  double rebound_theta_ = std::numeric_limits<double>::quiet_NaN();
+  double rebound_max_gap_ = 0.0;
+  bool floated_in_rebound_ = false;
+  long decisions_seen_ = 0;
   TrainObserver train_;
 };
 

@@ -125,7 +125,11 @@ SectionPoint nearest_phase(const PoincareMap& map, const SectionPoint& fixed_poi
 // The point's metrics from those of the run over its samples.
 void fill_metrics(JumpMapPoint& p, const Metrics& m) {
   p.separation_fraction = m.separation_fraction;
-  if (m.train) p.link_separation_fraction = m.train->link_separation_fraction;
+  if (m.train) {
+    p.link_separation_fraction = m.train->link_separation_fraction;
+    p.seat_bounces = m.train->seat_bounces;
+  }
+  p.floats = p.floats || separates(m);
   p.max_gap = m.max_separation_gap;
   p.peak_contact_force = m.peak_contact_force;
 }
@@ -137,6 +141,7 @@ void fill_from_run(JumpMapPoint& p, const SimulationResult& samples) {
     if (e.onset && e.impact) {
       p.impact_angle_deg.push_back(std::fmod(e.cam_angle_deg, 360.0));
       p.impact_speed.push_back(e.speed);
+      p.floats = p.floats || floats(e.cause);
     }
   p.section_position = samples.samples.follower_position;
   fill_metrics(p, samples.metrics);
@@ -151,6 +156,7 @@ void fill_from_cycle(JumpMapPoint& p, const SimulationResult& cycle, const Poinc
   for (std::size_t i = 0; i < cycle.events.size(); ++i) {
     const ContactEvent& e = cycle.events[i];
     if (!e.onset || !e.impact) continue;
+    p.floats = p.floats || floats(e.cause);
     const int revolution = std::clamp(static_cast<int>(std::floor(e.time / map.period())), 0, period - 1);
     impacts_in[static_cast<std::size_t>(revolution)].push_back(i);
   }
@@ -700,8 +706,7 @@ std::vector<JumpMapTransition> jump_map_transitions(const std::vector<JumpMapPoi
     }
     if (previous) {
       const JumpMapPoint& a = *previous;
-      const bool left_a = !a.impact_speed.empty() || a.separation_fraction > 0 || a.link_separation_fraction > 0;
-      const bool left_b = !p.impact_speed.empty() || p.separation_fraction > 0 || p.link_separation_fraction > 0;
+      const bool left_a = a.floats, left_b = p.floats;
       const int pa = a.motion == MotionKind::periodic ? a.period : 0;
       const int pb = p.motion == MotionKind::periodic ? p.period : 0;
       auto add = [&](const char* kind) { t.push_back({kind, a.rpm, p.rpm, pa, pb}); };
@@ -748,6 +753,9 @@ Json jump_map_point_json(const JumpMapPoint& p) {
               {"impact_speed", p.impact_speed},
               {"section_position", p.section_position},
               {"separation_fraction", p.separation_fraction},
+              {"link_separation_fraction", p.link_separation_fraction},
+              {"floats", p.floats},
+              {"seat_bounces", p.seat_bounces},
               {"max_gap", p.max_gap},
               {"peak_contact_force", p.peak_contact_force},
               {"coexisting", p.coexisting},
@@ -773,6 +781,10 @@ JumpMapPoint jump_map_point_from_json(const Json& j) {
   p.impact_speed = j.at("impact_speed").get<std::vector<double>>();
   p.section_position = j.at("section_position").get<std::vector<double>>();
   p.separation_fraction = j.at("separation_fraction").get<double>();
+  p.link_separation_fraction = j.value("link_separation_fraction", 0.0);  // older records: none
+  // Older records: every impact and separation was taken as leaving the cam.
+  p.floats = j.value("floats", !p.impact_speed.empty() || p.separation_fraction > 0);
+  p.seat_bounces = j.value("seat_bounces", 0L);
   p.max_gap = j.at("max_gap").get<double>();
   p.peak_contact_force = j.at("peak_contact_force").get<double>();
   p.coexisting = j.at("coexisting").get<bool>();

@@ -128,6 +128,11 @@ struct JumpMapPoint {
   std::vector<double> section_position;                ///< follower coordinate at each sample [m | rad]
   double separation_fraction = 0.0;                    ///< over the samples
   double link_separation_fraction = 0.0;               ///< a follower train's links open, over the samples
+  /// The follower floats or a link opens off its seats in float (an impact
+  /// that ends a float included): the map's "leaves the cam". Take-up and
+  /// seat bounces of a scene with a seat are not (docs/valvetrain.md).
+  bool floats = false;
+  long seat_bounces = 0;  ///< bodies leaving their seats after seating, over the samples
   double max_gap = 0.0;                                ///< [m]
   double peak_contact_force = 0.0;                     ///< [N]
   /// Two different attractors were found at this speed (a stable orbit of

@@ -73,7 +73,7 @@ void write_csvs(const std::filesystem::path& dir, const std::vector<JumpMapPoint
   CsvWriter speeds(dir / "jump_map.csv",
                    {"rpm", "motion", "period", "spectral_radius", "lyapunov_per_revolution", "lyapunov_standard_error",
                     "impacts", "max_impact_speed", "separation_fraction", "max_gap", "peak_contact_force", "status",
-                    "error", "start", "refined", "coexisting", "attractors"});
+                    "error", "start", "refined", "coexisting", "attractors", "floats", "seat_bounces"});
   CsvWriter impacts(dir / "impacts.csv", {"rpm", "motion", "period", "cam_angle_deg", "approach_speed"});
   for (const JumpMapPoint& p : points) {
     double fastest = 0.0;
@@ -87,7 +87,7 @@ void write_csvs(const std::filesystem::path& dir, const std::vector<JumpMapPoint
                 CsvCell(static_cast<long>(p.impact_speed.size())), CsvCell(fastest), CsvCell(p.separation_fraction),
                 CsvCell(p.max_gap), CsvCell(p.peak_contact_force), CsvCell(point_status(p)), CsvCell(p.error),
                 CsvCell(p.ok ? to_string(p.start) : ""), CsvCell(p.refined ? 1L : 0L), CsvCell(p.coexisting ? 1L : 0L),
-                CsvCell(attractors_text(p))});
+                CsvCell(attractors_text(p)), CsvCell(p.floats ? 1L : 0L), CsvCell(p.seat_bounces)});
   }
   speeds.commit();
   impacts.commit();
@@ -130,7 +130,7 @@ Report jump_map_report(const JumpMapStudy& study, const std::vector<JumpMapPoint
   Report rep;
   rep.title = "camdyn jump_map: " + study.scene.name;
   const auto first = std::find_if(points.begin(), points.end(), [](const JumpMapPoint& p) {
-    return p.ok && (!p.impact_speed.empty() || p.separation_fraction > 0 || p.link_separation_fraction > 0);
+    return p.ok && p.floats;
   });
   rep.subtitle = "jump map: the steady motion at each cam speed from " + format_number(study.config.low_rpm) + " to " +
                  format_number(study.config.high_rpm) + " rpm";

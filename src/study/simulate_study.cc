@@ -92,15 +92,21 @@ int run_simulate_study(const Json& doc, const StudyContext& ctx) {
   if (profile) write_profile_files(out, *profile, scene.name, scene.outputs.profile->formats);
 
   const Metrics& m = result.metrics;
-  const bool link_opens = m.train && m.train->link_separation_fraction > 0.0;
-  const char* verdict = m.separation_fraction > 0.0 ? "follower SEPARATES"
-                        : link_opens                ? "train SEPARATES at a link"
-                                                    : "follower stays in contact";
+  // Float decides, not the lash's take-up and seat bounces (docs/valvetrain.md).
+  const std::string place = separation_place(m);
+  const char* verdict = model.take_up.held_open_body >= 0 ? "VALVE HELD OPEN"
+                        : place == "float"                ? "follower SEPARATES"
+                        : place == "link"                 ? "train SEPARATES at a link"
+                                                          : "follower stays in contact";
   std::printf("%s: %s, %.6g rpm (%s %.6g rpm)\n", scene.name.c_str(), verdict, scene.mechanism.cam.rpm,
               jump_speed_name(model), m.jump_speed_rpm);
   if (!result.metrics_note.empty()) std::printf("  steady state: %s\n", result.metrics_note.c_str());
   std::printf("  separation_fraction %.4g, impacts %ld, peak_contact_force %.6g N, min_contact_force %.6g N\n",
               m.separation_fraction, m.impact_count, m.peak_contact_force, m.min_contact_force);
+  if (m.train && m.train->lash)
+    std::printf("  float_fraction %.4g, take_up_bounces %ld, seat_bounces %ld (highest %.4g mm)\n",
+                m.float_fraction.value_or(0.0), m.train->take_up_bounces, m.train->seat_bounces,
+                m.train->max_seat_bounce_height * 1e3);
   if (rigid_spring_sizing_applies(model)) {
     const SpringSizing sizing = size_spring(*model.law, rigid_spring_load(model, 0.0), model.omega);
     std::printf("  required spring preload %.6g %s at the rate given (rigid model, contact up to this speed)\n",

@@ -61,16 +61,10 @@ Json warnings_json(const std::vector<PlausibilityWarning>& warnings) {
 
 /// A follower train's metrics (docs/model.md §12), each where the scene has its element.
 void add_train_metrics(const TrainMetrics& t, Json& j) {
-  if (t.links) {
-    j["min_link_force"] = t.min_link_force;
-    j["link_separation_fraction"] = t.link_separation_fraction;
-  }
-  if (t.seats) {
-    j["max_seating_velocity"] = t.max_seating_velocity;
-    j["seat_impacts"] = t.seat_impacts;
-  }
-  if (t.springs) j["peak_spring_force"] = t.peak_spring_force;
-  if (t.clash) j["coil_clashes"] = t.coil_clashes;
+  for_each_train_metric(t, [&](const char* name, double value, bool count) {
+    j[name] = count ? Json(static_cast<long>(value)) : Json(value);
+  });
+  if (t.lash) j["held_open"] = t.held_open;
   Json lift = Json::object();
   for (std::size_t i = 0; i < t.bodies.size(); ++i) lift[t.bodies[i]] = t.max_lift_error[i];
   j["max_lift_error"] = lift;
@@ -272,11 +266,14 @@ std::string rpm_text(double rpm) {
   return std::isfinite(rpm) ? format_number(rpm, 5) + " rpm" : "none (the law never decelerates)";
 }
 
-/// Index of the smallest contact force at or after `from` [s]; the series' size if there is none.
-std::size_t min_force_index(const TimeSeries& ts, double from) {
+/// Index of the smallest contact force at or after `from` [s] where the cam
+/// touches, over the law above the take-up windows with a seat (where the
+/// metric is taken, docs/valvetrain.md); the series' size if there is none.
+std::size_t min_force_index(const Model& model, const TimeSeries& ts, double from) {
   std::size_t best = ts.time.size();
   for (std::size_t i = 0; i < ts.time.size(); ++i)
-    if (ts.time[i] >= from && std::isfinite(ts.contact_force[i]) &&
+    if (ts.time[i] >= from && std::isfinite(ts.contact_force[i]) && !(ts.gap[i] > 0.0) &&
+        !in_take_up_windows(model.take_up, model.law->eval(ts.cam_angle_deg[i] / kRadToDeg)) &&
         (best == ts.time.size() || ts.contact_force[i] < ts.contact_force[best]))
       best = i;
   return best;
@@ -312,6 +309,62 @@ Verdict drop_verdict(const SimulationResult& result) {
   return v;
 }
 
+/// A valve the law cannot seat (docs/valvetrain.md): red whatever the run did.
+void held_open_verdict(const Model& model, Verdict& v) {
+  v.tone = Verdict::Tone::bad;
+  v.headline = take_up_window_problem(model.train, model.take_up);
+  v.details.push_back("check the seat positions and the links' lash: every valve must rest on its seat on the base circle");
+}
+
+/// The first float in the window: where the follower lets go, where it lands.
+void separation_verdict(const SimulationResult& result, Verdict& v) {
+  const Metrics& m = result.metrics;
+  v.tone = Verdict::Tone::bad;
+  const auto lift_off = std::find_if(result.events.begin(), result.events.end(), [&](const ContactEvent& e) {
+    return e.time >= result.evaluated_from && !e.onset && e.cause == SeparationCause::float_gap;
+  });
+  if (lift_off != result.events.end()) {
+    const auto landing = std::find_if(lift_off, result.events.end(), [](const ContactEvent& e) { return e.onset; });
+    v.headline = "separates at " + angle_text(lift_off->cam_angle_deg) +
+                 (landing == result.events.end() ? ", still airborne when the run ends"
+                                                 : ", lands at " + angle_text(landing->cam_angle_deg) + " at " +
+                                                       format_number(landing->speed, 4) + " m/s");
+  } else if (m.train && !m.train->separates_first.empty()) {
+    v.headline = "the train lets go at its " + m.train->separates_first + " first, at " +
+                 angle_text(m.train->separates_first_deg);
+  } else {
+    v.headline = "separated for part of the evaluated window";
+  }
+  if (m.train && !m.train->separates_first.empty() && m.train->separates_first != "cam contact")
+    v.details.push_back("the train lets go first at its " + m.train->separates_first + ", at " +
+                        angle_text(m.train->separates_first_deg) + "; links open " +
+                        format_number(100.0 * m.train->link_separation_fraction, 3) + " % of the evaluated time");
+  const std::string floating =
+      m.float_fraction ? " (float " + format_number(100.0 * *m.float_fraction, 3) + " %)" : std::string();
+  v.details.push_back("airborne " + format_number(100.0 * m.separation_fraction, 3) + " % of the evaluated time" +
+                      floating + ", " + std::to_string(m.impact_count) + " impact" + (m.impact_count == 1 ? "" : "s") +
+                      ", highest impact speed " + format_number(m.max_impact_velocity, 4) +
+                      " m/s, peak contact force " + format_number(m.peak_contact_force, 4) + " N");
+}
+
+/// The lash's own lines (docs/valvetrain.md): take-up bounces are not a
+/// jump; a seat bounce turns a green verdict amber.
+void bounce_lines(const Metrics& m, Verdict& v) {
+  if (!m.train || !m.train->lash) return;
+  const TrainMetrics& t = *m.train;
+  v.details.push_back(t.take_up_bounces == 0
+                          ? std::string("lash take-up: no bounce")
+                          : "lash take-up: " + std::to_string(t.take_up_bounces) + " take-up bounce" +
+                                (t.take_up_bounces == 1 ? "" : "s") + " in the evaluated window (not a jump)");
+  if (t.seat_bounces == 0) {
+    v.details.push_back("seat bounce: none");
+    return;
+  }
+  v.details.push_back("seat bounce: " + std::to_string(t.seat_bounces) + " in the evaluated window, highest " +
+                      format_number(t.max_seat_bounce_height * 1e3, 4) + " mm off the seat");
+  if (v.tone == Verdict::Tone::good) v.tone = Verdict::Tone::warning;
+}
+
 }  // namespace
 
 Verdict simulation_verdict(const SceneConfig& scene, const Model& model, const SimulationResult& result) {
@@ -321,40 +374,19 @@ Verdict simulation_verdict(const SceneConfig& scene, const Model& model, const S
   const std::string jump = std::string(jump_speed_name(model)) + " " + rpm_text(m.jump_speed_rpm) +
                            " (this run is at " + format_number(rpm, 5) + " rpm)";
   Verdict v;
-  const auto in_window = [&](const ContactEvent& e) { return e.time >= result.evaluated_from; };
-  const auto lift_off = std::find_if(result.events.begin(), result.events.end(),
-                                     [&](const ContactEvent& e) { return in_window(e) && !e.onset && !e.lash; });
-  const bool link_opens = m.train && m.train->link_separation_fraction > 0.0;
-  if (lift_off == result.events.end() && m.separation_fraction <= 0.0 && !link_opens) {
+  if (model.take_up.held_open_body >= 0) {
+    held_open_verdict(model, v);
+  } else if (!separates(m)) {
     v.tone = Verdict::Tone::good;
-    const std::size_t at = min_force_index(result.series, result.evaluated_from);
+    const std::size_t at = min_force_index(model, result.series, result.evaluated_from);
     v.headline = "stays in contact, minimum contact force " + format_number(m.min_contact_force, 4) + " N" +
                  (at < result.series.time.size() ? " at " + angle_text(result.series.cam_angle_deg[at]) : "");
     v.details.push_back(jump);
   } else {
-    v.tone = Verdict::Tone::bad;
-    if (lift_off != result.events.end()) {
-      const auto landing = std::find_if(lift_off, result.events.end(), [](const ContactEvent& e) { return e.onset; });
-      v.headline = "separates at " + angle_text(lift_off->cam_angle_deg) +
-                   (landing == result.events.end() ? ", still airborne when the run ends"
-                                                   : ", lands at " + angle_text(landing->cam_angle_deg) + " at " +
-                                                         format_number(landing->speed, 4) + " m/s");
-    } else if (link_opens) {
-      v.headline = "the train lets go at its " + m.train->separates_first + " first, at " +
-                   angle_text(m.train->separates_first_deg);
-    } else {
-      v.headline = "separated for part of the evaluated window";
-    }
-    if (m.train && !m.train->separates_first.empty() && m.train->separates_first != "cam contact")
-      v.details.push_back("the train lets go first at its " + m.train->separates_first + ", at " +
-                          angle_text(m.train->separates_first_deg) + "; links open " +
-                          format_number(100.0 * m.train->link_separation_fraction, 3) + " % of the evaluated time");
+    separation_verdict(result, v);
     v.headline += "; " + jump;
-    v.details.push_back("airborne " + format_number(100.0 * m.separation_fraction, 3) + " % of the evaluated time, " +
-                        std::to_string(m.impact_count) + " impact" + (m.impact_count == 1 ? "" : "s") +
-                        ", highest impact speed " + format_number(m.max_impact_velocity, 4) +
-                        " m/s, peak contact force " + format_number(m.peak_contact_force, 4) + " N");
   }
+  bounce_lines(m, v);
   if (!result.solver.converged()) {
     v.tone = Verdict::Tone::bad;
     v.details.push_back("the run stopped early (" + to_string(result.solver.termination) +
@@ -677,10 +709,11 @@ void write_timeseries_csv(const std::filesystem::path& path, const TimeSeries& s
 }
 
 void write_events_csv(const std::filesystem::path& path, const std::vector<ContactEvent>& events) {
-  CsvWriter csv(path, {"time", "cam_angle_deg", "kind", "speed", "impact", "grazing", "lash"});
+  CsvWriter csv(path, {"time", "cam_angle_deg", "kind", "speed", "impact", "grazing", "lash", "cause"});
   for (const ContactEvent& e : events)
     csv.row({CsvCell(e.time), CsvCell(e.cam_angle_deg), CsvCell(e.onset ? "onset" : "separation"), CsvCell(e.speed),
-             CsvCell(e.impact ? 1 : 0), CsvCell(e.grazing ? 1 : 0), CsvCell(e.lash ? 1 : 0)});
+             CsvCell(e.impact ? 1 : 0), CsvCell(e.grazing ? 1 : 0), CsvCell(e.lash ? 1 : 0),
+             CsvCell(std::string(enum_name(e.cause)))});
   csv.commit();
 }
 

@@ -54,14 +54,34 @@ SpeedCheck check_speed(const SpeedLimitStudy& study, double rpm, double min_forc
     c.budget = budget_that_cut(c.message);
     if (c.budget.empty()) c.budget = std::string(enum_name(r.solver.termination));
   }
-  c.separation_fraction = r.metrics.separation_fraction;
-  c.min_contact_force = r.metrics.min_contact_force;
-  c.peak_contact_force = r.metrics.peak_contact_force;
-  // A train also jumps where a link opens (docs/model.md §12).
-  const bool link_opens = r.metrics.train && r.metrics.train->link_separation_fraction > 0.0;
-  c.ok = c.converged && c.separation_fraction == 0.0 && !link_opens &&
-         (min_force <= 0.0 || c.min_contact_force >= min_force);
+  const Metrics& m = r.metrics;
+  c.separation_fraction = m.separation_fraction;
+  c.min_contact_force = m.min_contact_force;
+  c.peak_contact_force = m.peak_contact_force;
+  // A train also jumps where a link opens off its seats; the lash's take-up
+  // and seat bounces are not a jump (docs/valvetrain.md).
+  c.float_fraction = m.float_fraction.value_or(m.separation_fraction);
+  if (m.train) {
+    c.link_float_fraction = m.train->link_float_fraction;
+    c.take_up_bounces = m.train->take_up_bounces;
+    c.seat_bounces = m.train->seat_bounces;
+  }
+  c.ok = c.converged && !separates(m) && (min_force <= 0.0 || c.min_contact_force >= min_force);
   return c;
+}
+
+/// What failed at the first failing speed (SpeedLimitResult::limit_cause),
+/// and the lowest simulated speed with a seat bounce.
+void classify_limit(SpeedLimitResult& r) {
+  for (const SpeedCheck& check : r.checks) {
+    if (check.seat_bounces > 0 && (!r.seat_bounce_rpm || check.rpm < *r.seat_bounce_rpm))
+      r.seat_bounce_rpm = check.rpm;
+    if (!r.limited || check.rpm != r.first_failure_rpm) continue;
+    r.limit_cause = !check.converged              ? "solver"
+                    : check.float_fraction > 0.0  ? "float"
+                    : check.link_float_fraction > 0.0 ? "link"
+                                                  : "force";
+  }
 }
 
 /// The most bisection steps that narrow a bracket `width_rpm` wide to
@@ -131,6 +151,10 @@ SpeedLimitStudy read_speed_limit_study(const Json& doc, const StudyContext& ctx)
     study.rigid_jump_speed_rpm = model_jump_speed_rpm(model);
     study.jump_speed_name = jump_speed_name(model);
     study.train = model.train.has_coordinates();
+    study.lash = model.take_up.applies;
+    // A valve the law cannot seat has no speed limit to find (docs/valvetrain.md).
+    if (model.take_up.held_open_body >= 0)
+      throw InputError(ctx.config_file, "mechanism", take_up_window_problem(model.train, model.take_up));
   }
   study.resolved = resolved_study_json(study.scene, "speed_limit", Json{{"speed_limit", fields}});
   return study;
@@ -143,6 +167,7 @@ SpeedLimitResult run_speed_limit(const SpeedLimitStudy& study, const StudyContex
   r.rigid_jump_speed_rpm = study.rigid_jump_speed_rpm;
   r.jump_speed_name = study.jump_speed_name;
   r.train = study.train;
+  r.lash = study.lash;
   const double high =
       c.high_rpm.value_or(std::isfinite(r.rigid_jump_speed_rpm) ? 2.0 * r.rigid_jump_speed_rpm : 10.0 * c.low_rpm);
   const double hi = std::max(high, 1.01 * c.low_rpm);
@@ -218,6 +243,7 @@ SpeedLimitResult run_speed_limit(const SpeedLimitStudy& study, const StudyContex
     r.first_failure_rpm = up;
   }
   progress.set_total(r.checks.size());  // no bisection, or one cut short: the line ends here
+  classify_limit(r);
   std::set<std::string> budgets;
   for (const SpeedCheck& check : r.checks)
     if (!check.budget.empty()) {
@@ -242,6 +268,7 @@ Json speed_limit_json(const SpeedLimitStudy& study, const SpeedLimitResult& r) {
            {"in_contact", s.ok},
            {"converged", s.converged},
            {"separation_fraction", s.separation_fraction},
+           {"float_fraction", s.float_fraction},
            {"min_contact_force", s.min_contact_force},
            {"peak_contact_force", s.peak_contact_force},
            {"status", s.ok               ? "ok"
@@ -249,6 +276,11 @@ Json speed_limit_json(const SpeedLimitStudy& study, const SpeedLimitResult& r) {
                                          : "failed: budget"}};
     if (!s.converged) j["message"] = s.message;
     if (!s.budget.empty()) j["budget"] = s.budget;
+    if (r.train) j["link_float_fraction"] = s.link_float_fraction;
+    if (r.lash) {
+      j["take_up_bounces"] = s.take_up_bounces;
+      j["seat_bounces"] = s.seat_bounces;
+    }
     checks.push_back(j);
   }
   const bool stands = r.withheld.empty();  // else no limit, no verdict: nulls
@@ -258,6 +290,8 @@ Json speed_limit_json(const SpeedLimitStudy& study, const SpeedLimitResult& r) {
               {"speed_limit_rpm", stands ? Json(r.speed_limit_rpm) : Json(nullptr)},
               {"limited", stands ? Json(r.limited) : Json(nullptr)},
               {"first_failure_rpm", r.limited ? Json(r.first_failure_rpm) : Json(nullptr)},
+              {"limit_cause", r.limited ? Json(r.limit_cause) : Json(nullptr)},
+              {"seat_bounce_rpm", r.seat_bounce_rpm ? Json(*r.seat_bounce_rpm) : Json(nullptr)},
               {"budget_cut_runs", r.budget_cut},
               {"resumed_checks", r.resumed},
               {"scan_skipped", r.scan_skipped},
@@ -272,6 +306,14 @@ Json speed_limit_json(const SpeedLimitStudy& study, const SpeedLimitResult& r) {
 
 namespace {
 
+/// The words for SpeedLimitResult::limit_cause.
+std::string limit_cause_text(const std::string& cause) {
+  if (cause == "float") return "the follower floats off the cam above the ramps (a jump)";
+  if (cause == "link") return "a link of the train opens above the ramps (the train floats)";
+  if (cause == "force") return "the contact force falls below speed_limit.min_contact_force";
+  return "the simulation did not finish";
+}
+
 /// report.html: separation fraction and smallest contact force against
 /// speed, then the cam with its SVAJ per radian of cam angle (many speeds).
 Report speed_limit_report(const SpeedLimitStudy& study, const SpeedLimitResult& r, const std::string& file) {
@@ -279,7 +321,8 @@ Report speed_limit_report(const SpeedLimitStudy& study, const SpeedLimitResult& 
   std::sort(sorted.begin(), sorted.end(), [](const SpeedCheck& a, const SpeedCheck& b) { return a.rpm < b.rpm; });
   Series sep{"separation fraction", {}, {}, "linespoints"}, force{"smallest contact force", {}, {}, "linespoints"};
   Table table{"Simulated speeds",
-              {"rpm", "in contact", "separation fraction", "min contact force [N]", "peak contact force [N]"},
+              {"rpm", "in contact", "separation fraction", "float fraction", "take-up bounces", "seat bounces",
+               "min contact force [N]", "peak contact force [N]"},
               {}};
   for (const SpeedCheck& s : sorted) {
     sep.x.push_back(s.rpm);
@@ -287,7 +330,9 @@ Report speed_limit_report(const SpeedLimitStudy& study, const SpeedLimitResult& 
     force.x.push_back(s.rpm);
     force.y.push_back(s.min_contact_force);
     table.rows.push_back({format_number(s.rpm), s.ok ? "yes" : "NO", format_number(s.separation_fraction),
-                          format_number(s.min_contact_force), format_number(s.peak_contact_force)});
+                          format_number(s.float_fraction), r.lash ? std::to_string(s.take_up_bounces) : "–",
+                          r.lash ? std::to_string(s.seat_bounces) : "–", format_number(s.min_contact_force),
+                          format_number(s.peak_contact_force)});
   }
   Report rep;
   rep.title = "camdyn speed_limit: " + study.scene.name;
@@ -298,6 +343,12 @@ Report speed_limit_report(const SpeedLimitStudy& study, const SpeedLimitResult& 
                               format_number(r.first_failure_rpm, 5) + " rpm"
                         : "stays on the cam at every speed up to " + format_number(r.speed_limit_rpm, 5) + " rpm",
               {r.jump_speed_name + " " + format_number(r.rigid_jump_speed_rpm, 5) + " rpm"}};
+  if (r.limited) rep.verdict->details.push_back("what fails there: " + limit_cause_text(r.limit_cause));
+  if (r.lash)
+    rep.verdict->details.push_back(
+        r.seat_bounce_rpm ? "a valve bounces off its seat from " + format_number(*r.seat_bounce_rpm, 5) +
+                                " rpm (the lowest simulated speed with a seat bounce)"
+                          : "no seat bounce at any simulated speed; take-up bounces are counted, not a jump");
   rep.facts = {
       {"speed limit (simulated)", r.limited ? format_number(r.speed_limit_rpm, 5) + " rpm (fails at " +
                                                   format_number(r.first_failure_rpm, 5) + " rpm)"

@@ -48,14 +48,20 @@ struct SpeedLimitStudy {
   /// With a follower train the figure is the train's (docs/model.md §12): its name for messages.
   std::string jump_speed_name = "rigid-model jump speed";
   bool train = false;
+  bool lash = false;  ///< the scene has a seat (docs/valvetrain.md)
 };
 
 /// One simulated speed.
 struct SpeedCheck {
   double rpm = 0.0;
-  bool ok = false;                   ///< in contact (and the force floor held)
+  bool ok = false;                   ///< no float, no link off its seat in float (and the force floor held)
   bool converged = true;             ///< the simulation finished (else ok is false)
   double separation_fraction = 0.0;  ///< [-]
+  /// Valve-train verdicts (docs/valvetrain.md): the part of the separation
+  /// that floats [-] (all of it without a seat), a link open off every seat
+  /// in float [-], and the bounces the lash makes in the window.
+  double float_fraction = 0.0, link_float_fraction = 0.0;
+  long take_up_bounces = 0, seat_bounces = 0;
   double min_contact_force = 0.0;    ///< [N]
   double peak_contact_force = 0.0;   ///< [N]
   std::string message;               ///< the solver's message when it did not converge
@@ -71,6 +77,12 @@ struct SpeedLimitResult {
   double speed_limit_rpm = 0.0;
   double first_failure_rpm = 0.0;     ///< the lowest speed known to fail [rpm] (0 when none did)
   bool limited = false;               ///< some speed in [low_rpm, high_rpm] failed
+  /// What failed at first_failure_rpm: "float" (the cam contact), "link" (a
+  /// link off every seat), "force" (the contact force floor), "solver".
+  std::string limit_cause;
+  /// The lowest simulated speed at which a body bounces off its seat [rpm]; unset when none did.
+  std::optional<double> seat_bounce_rpm;
+  bool lash = false;  ///< the scene has a seat: take-up and seat bounces are told apart from float
   double rigid_jump_speed_rpm = 0.0;  ///< the train's where SpeedLimitStudy::train
   std::string jump_speed_name = "rigid-model jump speed";
   bool train = false;

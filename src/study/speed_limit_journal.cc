@@ -34,14 +34,19 @@ std::optional<SpeedCheck> SpeedLimitJournal::replay(std::size_t index, double rp
   if (!is("values", &Json::is_string) || !is("in_contact", &Json::is_boolean) || !is("converged", &Json::is_boolean) ||
       !is("message", &Json::is_string))
     return std::nullopt;
-  // rpm [rpm], separation fraction [-], smallest and peak contact force [N], exact.
-  const auto values = doubles_from_hex(j["values"].get<std::string>(), 4);
+  // rpm [rpm], separation fraction [-], smallest and peak contact force [N],
+  // float and link float fractions [-], take-up and seat bounces, exact.
+  const auto values = doubles_from_hex(j["values"].get<std::string>(), 8);
   if (!values || double_bits({(*values)[0]}) != double_bits({rpm})) return std::nullopt;
   SpeedCheck c;
   c.rpm = rpm;
   c.separation_fraction = (*values)[1];
   c.min_contact_force = (*values)[2];
   c.peak_contact_force = (*values)[3];
+  c.float_fraction = (*values)[4];
+  c.link_float_fraction = (*values)[5];
+  c.take_up_bounces = static_cast<long>((*values)[6]);
+  c.seat_bounces = static_cast<long>((*values)[7]);
   c.ok = j["in_contact"].get<bool>();
   c.converged = j["converged"].get<bool>();
   c.message = j["message"].get<std::string>();
@@ -56,7 +61,9 @@ void SpeedLimitJournal::record(std::size_t index, const SpeedCheck& check) {
                {"converged", check.converged},
                {"message", check.message},
                {"values", doubles_to_hex({check.rpm, check.separation_fraction, check.min_contact_force,
-                                          check.peak_contact_force})}};
+                                          check.peak_contact_force, check.float_fraction, check.link_float_fraction,
+                                          static_cast<double>(check.take_up_bounces),
+                                          static_cast<double>(check.seat_bounces)})}};
   const std::lock_guard<std::mutex> lock(mutex_);
   journal_.append(j);
 }
