@@ -11,6 +11,7 @@
 #include <cmath>
 #include <limits>
 
+#include "dynamics/kinematic_lift.h"
 #include "dynamics/metrics.h"
 #include "dynamics/model.h"
 
@@ -47,8 +48,7 @@ class TrainObserver {
     double kinematic = model_.law->eval(e.theta).s;  // [m | rad]
     for (std::size_t i = 0; i < train_.bodies.size(); ++i) {
       const TrainBody& b = train_.bodies[i];
-      if (i > 0) kinematic = b.ratio * kinematic - b.lash;
-      if (b.seat >= 0) kinematic = std::max(kinematic, seat_position(b));
+      kinematic = lift_step(train_, i).carry(kinematic);
       t.max_lift_error[i] = std::max(t.max_lift_error[i], std::abs(e.train.position[i] - kinematic));
       if (b.link >= 0 && !train_.seated_from(e.train, static_cast<int>(i)))
         min_link_ = std::min(min_link_, e.train.link_force[i]);
@@ -89,11 +89,6 @@ class TrainObserver {
   }
 
  private:
-  double seat_position(const TrainBody& b) const {
-    const TrainElement& seat = train_.elements[static_cast<std::size_t>(b.seat)];
-    return seat.offset;  // δ = p − x: the offset is p
-  }
-
   const Model& model_;
   const FollowerTrain& train_;
   Metrics& m_;
