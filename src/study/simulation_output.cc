@@ -205,6 +205,10 @@ Json summary_json(const SceneConfig& scene, const Model& model, const Simulation
                           {"contact_pair", contact_pair_name(model)}};
   if (model.contour) summary["contour_fit"] = contour_fit_json(model);
   summary["warnings"] = warnings_json(run_warnings(scene, model, result));
+  // The contact stiffness the model uses [N/m^n], given or from materials (docs/config.md).
+  summary["resolved"] =
+      Json{{"contact_stiffness", model.contact.stiffness},
+           {"contact_stiffness_from", scene.mechanism.contact.from_materials ? "materials" : "config"}};
   // The rigid single-mass sizing does not describe a train (docs/model.md §12).
   if (rigid_spring_sizing_applies(model)) summary["spring_sizing"] = spring_sizing_json(model);
   if (scene.outputs.valvetrain) summary["valvetrain"] = valvetrain_json(scene, model, &result);
