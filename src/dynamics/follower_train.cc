@@ -7,6 +7,7 @@
 
 #include "common/errors.h"
 #include "dynamics/dual.h"
+#include "dynamics/kinematic_lift.h"
 
 namespace camdyn {
 
@@ -465,8 +466,7 @@ void kinematic_positions(const FollowerTrain& train, double* x) {
   double before = x[0];
   for (std::size_t i = 1; i < train.bodies.size(); ++i) {
     const TrainBody& b = train.bodies[i];
-    double position = b.ratio * before - b.lash;
-    if (b.seat >= 0) position = std::max(position, train.elements[static_cast<std::size_t>(b.seat)].offset);
+    const double position = lift_step(train, i).carry(before);
     x[train.coordinates[static_cast<std::size_t>(b.coordinate)].position] = position;
     before = position;
   }

@@ -13,6 +13,7 @@
 #include "common/errors.h"
 #include "contact/force_law.h"
 #include "dynamics/coordinate_units.h"
+#include "dynamics/kinematic_lift.h"
 #include "dynamics/rigid_jump_speed.h"
 #include "scene/follower_shape.h"
 
@@ -52,6 +53,14 @@ constexpr double kMinSeatToSpringStiffness = 10.0;
 constexpr double kMinLinkToContactStiffness = 1e-3;
 /// Fewer lumps than this resolve a spring's surge poorly.
 constexpr int kMinSpringCoils = 4;
+
+/// Plausibility of units (docs/warnings.md, "Units").
+/// A spring compressed by more than this when installed, F₀ / k [m], has a rate in the wrong unit.
+constexpr double kMaxInstalledCompression = kMaxPlausibleLength;
+/// The heaviest plausible part: a valve-train part (a follower with a seat,
+/// a train body, a spring's coils) [kg], any other translating follower
+/// [kg], an oscillating arm about its pivot [kg m²]. Above: given in grams?
+constexpr double kMaxValveTrainMass = 1.0, kMaxFollowerMass = 10.0, kMaxArmInertia = 1.0;
 
 std::string num(double x) {
   char buffer[32];
@@ -270,15 +279,19 @@ struct BodyConfig {
   const SeatConfig* seat = nullptr;
   double link_ratio = 1.0;  ///< of the link from the body before it (1 for the follower)
   const LinkConfig* link = nullptr;
+  double mass = 0.0;         ///< [kg], an oscillating follower's inertia [kg m²]
+  bool oscillating = false;  ///< the follower as an arm: its spring in N m/rad, its mass an inertia
 };
 
 std::vector<BodyConfig> train_bodies(const SceneConfig& scene) {
   const FollowerConfig& f = scene.mechanism.follower;
-  std::vector<BodyConfig> bodies{{"mechanism.follower", &f.spring, f.seat ? &*f.seat : nullptr, 1.0, nullptr}};
+  const bool arm = f.motion == FollowerMotion::oscillating;
+  std::vector<BodyConfig> bodies{
+      {"mechanism.follower", &f.spring, f.seat ? &*f.seat : nullptr, 1.0, nullptr, arm ? f.inertia : f.mass, arm}};
   for (std::size_t i = 0; i < scene.mechanism.train.size(); ++i) {
     const TrainBodyConfig& b = scene.mechanism.train[i];
-    bodies.push_back(
-        {"mechanism.train[" + std::to_string(i) + "]", &b.spring, b.seat ? &*b.seat : nullptr, b.link.ratio, &b.link});
+    bodies.push_back({"mechanism.train[" + std::to_string(i) + "]", &b.spring, b.seat ? &*b.seat : nullptr,
+                      b.link.ratio, &b.link, b.mass, false});
   }
   return bodies;
 }
@@ -383,6 +396,75 @@ void coil_warnings(const SceneConfig& scene, std::vector<PlausibilityWarning>& o
                        num(100.0 * (1.0 - lumped / continuous)) + " % below the continuous spring's " +
                        num(continuous) + " Hz, and it has only " + std::to_string(n) + " mode" + (n == 1 ? "" : "s") +
                        "; use at least " + std::to_string(kMinSpringCoils) + " coils"});
+  }
+}
+
+/// A spring whose preload needs metres of installed compression, F₀ / k >
+/// 1 m: a rate given in N/mm (or a preload in the wrong unit). An arm's
+/// spring (N m/rad, N m) may be wound several radians: not judged.
+void spring_unit_warnings(const SceneConfig& scene, std::vector<PlausibilityWarning>& out) {
+  for (const BodyConfig& b : train_bodies(scene)) {
+    const SpringConfig& s = *b.spring;
+    if (b.oscillating || !(s.stiffness > 0.0) || !(s.preload > kMaxInstalledCompression * s.stiffness)) continue;
+    out.push_back({"spring_units", b.path + ".spring.stiffness",
+                   "the spring's preload " + num(s.preload) + " N at its rate " + num(s.stiffness) +
+                       " N/m means it is compressed by F0/k = " + num(s.preload / s.stiffness) +
+                       " m when installed (a follower's or valve's spring: millimetres to centimetres): was the rate "
+                       "given in N/mm (" +
+                       num(s.stiffness) + " N/mm = " + num(s.stiffness * 1e3) + " N/m)?"});
+  }
+}
+
+/// A mass heavier than the kind of part it is: a valve-train part (the scene
+/// has a seat or a train: tappets, valves, rockers, springs weigh 0.02 ...
+/// 0.5 kg) above 1 kg, another translating follower above 10 kg, an arm
+/// above 1 kg m²: most likely given in grams.
+void mass_unit_warnings(const SceneConfig& scene, std::vector<PlausibilityWarning>& out) {
+  const bool valve_train = scene.mechanism.follower.seat.has_value() || !scene.mechanism.train.empty();
+  const char* grams = ": was it given in grams? Masses are in kg";
+  for (const BodyConfig& b : train_bodies(scene)) {
+    const bool follower = b.link == nullptr;
+    const double limit = b.oscillating ? kMaxArmInertia : valve_train ? kMaxValveTrainMass : kMaxFollowerMass;
+    const std::string kind = b.oscillating ? "an oscillating arm's inertia"
+                             : valve_train ? "a valve-train part's mass"
+                                           : "a translating follower's mass";
+    const std::string unit = b.oscillating ? " kg m^2" : " kg";
+    if (b.mass > limit)
+      out.push_back({"mass_units", b.path + (b.oscillating ? ".inertia" : ".mass"),
+                     (follower ? "the follower's " : "the body's ") +
+                         std::string(b.oscillating ? "inertia " : "mass ") + num(b.mass) + unit +
+                         " is implausible: " + kind + " is at most about " + num(limit) + unit +
+                         (b.oscillating ? ": was it given in g m^2 or about the wrong axis?" : grams)});
+    const SpringConfig& s = *b.spring;
+    if (s.mass.value_or(0.0) > (valve_train ? kMaxValveTrainMass : kMaxFollowerMass))
+      out.push_back({"mass_units", b.path + ".spring.mass",
+                     "the spring's mass " + num(*s.mass) + " kg is implausible: its coils weigh at most about " +
+                         num(valve_train ? kMaxValveTrainMass : kMaxFollowerMass) + " kg" + grams});
+  }
+}
+
+/// A checking height of `outputs.valvetrain` at or above the largest lift
+/// where the figures are taken (the valve's, or the law's at the cam): its
+/// duration is 0 and its angles null.
+void checking_height_warnings(const SceneConfig& scene, const Model& model, std::vector<PlausibilityWarning>& out) {
+  if (!scene.outputs.valvetrain) return;
+  const ValvetrainOutputConfig& v = *scene.outputs.valvetrain;
+  const MotionLaw& law = *model.law;
+  const bool at_valve = v.at == ValvetrainAt::valve;
+  double lift = law.lift();  // [m]
+  if (at_valve) {
+    const LiftChain chain = lift_chain(model.train, last_body(model.train));
+    lift = chain.at(law.max_s()) - chain.datum(law.min_s());
+  }
+  for (std::size_t i = 0; i < v.checking_heights.size(); ++i) {
+    const double h = v.checking_heights[i];
+    if (h < lift) continue;
+    out.push_back(
+        {"checking_height", "outputs.valvetrain.checking_heights[" + std::to_string(i) + "]",
+         "the checking height " + num(h) + " m is at or above the largest lift " + num(lift) + " m " +
+             (at_valve ? "at the valve (the law through the train's ratios and lash, from its seat)" : "of the law") +
+             ": the lift never reaches it, so its duration is 0; checking heights are in metres (1 mm = "
+             "0.001)"});
   }
 }
 
@@ -513,6 +595,9 @@ std::vector<PlausibilityWarning> input_warnings(const SceneConfig& scene, const 
   seat_warnings(scene, model, out);
   link_warnings(scene, model, out);
   coil_warnings(scene, out);
+  spring_unit_warnings(scene, out);
+  mass_unit_warnings(scene, out);
+  checking_height_warnings(scene, model, out);
   const ContactConfig& contact = scene.mechanism.contact;
   if (force_form(contact.model) != ForceForm::hysteresis && contact.restitution != ContactConfig{}.restitution)
     out.push_back(

@@ -5,27 +5,20 @@
 #include <cstdio>
 
 #include "common/constants.h"
+#include "dynamics/kinematic_lift.h"
 #include "geometry/valve_timing.h"
 
 namespace camdyn {
 
 namespace {
 
-/// The seat position p of body `b` (δ = p − x: the element's offset is p).
-double seat_position(const FollowerTrain& train, const TrainBody& b) {
-  return train.elements[static_cast<std::size_t>(b.seat)].offset;
-}
-
 /// Body `body`'s kinematic position for the law value s, held by every seat
 /// before it but not by its own.
 double free_position(const FollowerTrain& train, std::size_t body, double s) {
   double k = s;
-  for (std::size_t i = 0; i <= body; ++i) {
-    const TrainBody& b = train.bodies[i];
-    if (i > 0) k = b.ratio * k - b.lash;
-    if (i < body && b.seat >= 0) k = std::max(k, seat_position(train, b));
-  }
-  return k;
+  for (std::size_t i = 0; i < body; ++i) k = lift_step(train, i).carry(k);
+  const LiftStep own = lift_step(train, body);
+  return own.ratio * k - own.lash;
 }
 
 /// The law's smallest and largest value over a revolution, sampled [m | rad].
@@ -59,16 +52,6 @@ std::string millimetres(double x) {
 
 }  // namespace
 
-void kinematic_positions(const FollowerTrain& train, double s, std::span<double> out) {
-  double k = s;
-  for (std::size_t i = 0; i < train.bodies.size() && i < out.size(); ++i) {
-    const TrainBody& b = train.bodies[i];
-    if (i > 0) k = b.ratio * k - b.lash;
-    if (b.seat >= 0) k = std::max(k, seat_position(train, b));
-    out[i] = k;
-  }
-}
-
 TakeUpWindow take_up_window(const FollowerTrain& train, const MotionLaw& law,
                             std::optional<std::pair<double, double>> ramp_end) {
   TakeUpWindow w;
@@ -82,9 +65,9 @@ TakeUpWindow take_up_window(const FollowerTrain& train, const MotionLaw& law,
   // the chain's rest position exactly is seated, not held open).
   const double tolerance = 1e-6 * std::max(w.max_lift, 1e-12);
   for (std::size_t i = 0; i < train.bodies.size(); ++i) {
-    const TrainBody& b = train.bodies[i];
-    if (b.seat < 0) continue;
-    const double p = seat_position(train, b);
+    const std::optional<double> seat = lift_step(train, i).seat;
+    if (!seat) continue;
+    const double p = *seat;
     if (free_position(train, i, lo) > p + tolerance) {
       w.lift_off[i] = 0.0;
       if (w.held_open_body < 0) {

@@ -82,11 +82,6 @@ struct TakeUpWindow {
 TakeUpWindow take_up_window(const FollowerTrain& train, const MotionLaw& law,
                             std::optional<std::pair<double, double>> ramp_end = std::nullopt);
 
-/// Each body's kinematic position for the cam lift s [m | rad] (the law's
-/// value, not above its base): the law carried through the links' ratios
-/// less their lash, held by the seats. Writes train.bodies.size() values.
-void kinematic_positions(const FollowerTrain& train, double s, std::span<double> out);
-
 /// Whether the law sample `at` (s, ds) lies in a take-up window or below it:
 /// its lift at most the opening window's end on the rising side, the
 /// closing window's on the falling side. Always false without a seat.

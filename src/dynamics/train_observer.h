@@ -9,11 +9,11 @@
 #pragma once
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <limits>
 #include <string>
 
+#include "dynamics/kinematic_lift.h"
 #include "dynamics/metrics.h"
 #include "dynamics/model.h"
 
@@ -50,16 +50,17 @@ class TrainObserver {
     TrainMetrics& t = *m_.train;
     const ReturnSpring& spring = model_.forces.spring;  // the follower's massless spring, where it has one
     if (spring.present()) t.peak_spring_force = std::max(t.peak_spring_force, std::abs(spring.force(e.y, e.v, 0.0)));
-    std::array<double, TrainLimits::kMaxBodies> kinematic{};  // [m | rad]
-    kinematic_positions(train_, model_.law->eval(e.theta).s, kinematic);
+    double kinematic = model_.law->eval(e.theta).s;  // [m | rad]
     for (std::size_t i = 0; i < train_.bodies.size(); ++i) {
       const TrainBody& b = train_.bodies[i];
-      t.max_lift_error[i] = std::max(t.max_lift_error[i], std::abs(e.train.position[i] - kinematic[i]));
+      kinematic = lift_step(train_, i).carry(kinematic);
+      t.max_lift_error[i] = std::max(t.max_lift_error[i], std::abs(e.train.position[i] - kinematic));
       if (b.link >= 0 && !train_.rests_on_seat(e.train, static_cast<int>(i)))
         min_link_ = std::min(min_link_, e.train.link_force[i]);
       if (b.spring_end >= 0) t.peak_spring_force = std::max(t.peak_spring_force, std::abs(e.train.spring_force[i]));
       if (causes_.seat_bouncing[i])
-        t.max_seat_bounce_height = std::max(t.max_seat_bounce_height, e.train.position[i] - seat_position(b));
+        t.max_seat_bounce_height =
+            std::max(t.max_seat_bounce_height, e.train.position[i] - lift_step(train_, i).seat.value_or(0.0));
     }
   }
 
@@ -105,11 +106,6 @@ class TrainObserver {
   }
 
  private:
-  double seat_position(const TrainBody& b) const {
-    const TrainElement& seat = train_.elements[static_cast<std::size_t>(b.seat)];
-    return seat.offset;  // δ = p − x: the offset is p
-  }
-
   const Model& model_;
   const FollowerTrain& train_;
   const SeparationCauses& causes_;

@@ -42,16 +42,29 @@ double bisect(double lo, double hi, Predicate predicate) {
   return hi;
 }
 
+/// The lift whose figures are taken: the law carried through `chain` (the
+/// law itself for an empty chain), above `datum` [m].
+struct Lift {
+  const MotionLaw& law;
+  const LiftChain& chain;
+  double datum = 0.0;  // [m]
+
+  double of_s(double s) const { return chain.at(s) - datum; }
+  double operator()(double theta) const { return of_s(law.eval(theta).s); }
+  /// d(lift)/dθ from the law's s and ds/dθ there [m/rad].
+  double rate(double s, double ds) const { return chain.slope(s) * ds; }
+};
+
 double wrap(double theta) {
   double t = std::fmod(theta, kTwoPi);
   if (t < 0.0) t += kTwoPi;
   return t >= kTwoPi ? 0.0 : t;
 }
 
-CheckingHeightTiming timing_at(const MotionLaw& law, const std::vector<double>& grid, double height) {
+CheckingHeightTiming timing_at(const Lift& lift, const std::vector<double>& grid, double height) {
   CheckingHeightTiming timing;
   timing.height = height;
-  auto above = [&](double theta) { return lift_above_base(law, theta) >= height; };
+  auto above = [&](double theta) { return lift(theta) >= height; };
   struct Crossing {
     double angle;
     bool up;
@@ -91,14 +104,16 @@ CheckingHeightTiming timing_at(const MotionLaw& law, const std::vector<double>& 
 }
 
 /// The cam angle of maximum lift, and the lift there: a plateau's middle, or the root of ds/dθ around the peak.
-void find_lobe_centre(const MotionLaw& law, const std::vector<double>& grid, ValveTiming& timing) {
+void find_lobe_centre(const Lift& lift, const std::vector<double>& grid, ValveTiming& timing) {
+  const MotionLaw& law = lift.law;
   std::size_t best = 0;
   for (std::size_t i = 0; i + 1 < grid.size(); ++i)
-    if (lift_above_base(law, grid[i]) > lift_above_base(law, grid[best])) best = i;
+    if (lift(grid[i]) > lift(grid[best])) best = i;
   const std::size_t n = grid.size() - 1;  // distinct grid points (grid[n] = 2π)
-  const double peak = lift_above_base(law, grid[best]);
-  const double top_floor = peak - kPlateauFraction * std::max(law.lift(), 1e-300);
-  auto on_top = [&](double theta) { return lift_above_base(law, theta) >= top_floor; };
+  const double peak = lift(grid[best]);
+  const double scale = lift.of_s(law.max_s()) - lift.of_s(law.min_s());  // the lift's range [m]
+  const double top_floor = peak - kPlateauFraction * std::max(scale, 1e-300);
+  auto on_top = [&](double theta) { return lift(theta) >= top_floor; };
   auto at = [&](std::size_t i, int k) {  // grid point k steps from i, unwrapped [rad]
     const auto j = static_cast<long>(i) + k;
     const long m = static_cast<long>(n);
@@ -125,7 +140,7 @@ void find_lobe_centre(const MotionLaw& law, const std::vector<double>& grid, Val
   double centre = grid[best];
   if (rising(lo) && !rising(hi)) centre = bisect(lo, hi, rising);
   timing.lobe_centre = wrap(centre);
-  timing.max_lift = std::max(peak, lift_above_base(law, centre));
+  timing.max_lift = std::max(peak, lift(centre));
 }
 
 /// ds/dθ of a piece at its own normalised position x [m/rad] (a one-sided value at a piece boundary).
@@ -133,7 +148,9 @@ double piece_velocity(const MotionLaw::Piece& piece, double x) {
   return piece.shape ? piece.lift * piece.shape->eval(x).ds / piece.shape_length() : 0.0;
 }
 
-void find_ramps_from_pieces(const MotionLaw& law, ValveTiming& timing) {
+/// The ramp ends are the law's (its pieces); their height and velocity the lift's there.
+void find_ramps_from_pieces(const Lift& lift, ValveTiming& timing) {
+  const MotionLaw& law = lift.law;
   const auto& pieces = law.pieces();
   const std::size_t n = pieces.size();
   if (n < 3) return;
@@ -142,11 +159,14 @@ void find_ramps_from_pieces(const MotionLaw& law, ValveTiming& timing) {
   const double ramp_limit = kRampFraction * law.lift();
   for (std::size_t i = 0; i < n; ++i) {
     const MotionLaw::Piece& piece = pieces[i];
-    if (!timing.opening_ramp && rises(i) && !rises(i + n - 1) && rises(i + 1) && piece.lift < ramp_limit)
-      timing.opening_ramp =
-          RampEnd{piece.end, piece.base + piece.lift - law.min_s(), piece_velocity(piece, piece.x_end())};
-    if (returns(i) && !returns(i + 1) && returns(i + n - 1) && -piece.lift < ramp_limit)
-      timing.closing_ramp = RampEnd{piece.start, piece.base - law.min_s(), piece_velocity(piece, piece.x_begin())};
+    if (!timing.opening_ramp && rises(i) && !rises(i + n - 1) && rises(i + 1) && piece.lift < ramp_limit) {
+      const double s = piece.base + piece.lift;  // [m]
+      timing.opening_ramp = RampEnd{piece.end, lift.of_s(s), lift.rate(s, piece_velocity(piece, piece.x_end()))};
+    }
+    if (returns(i) && !returns(i + 1) && returns(i + n - 1) && -piece.lift < ramp_limit) {
+      const double s = piece.base;  // [m]
+      timing.closing_ramp = RampEnd{piece.start, lift.of_s(s), lift.rate(s, piece_velocity(piece, piece.x_begin()))};
+    }
   }
 }
 
@@ -155,20 +175,23 @@ void find_ramps_from_pieces(const MotionLaw& law, ValveTiming& timing) {
 double lift_above_base(const MotionLaw& law, double theta) { return law.eval(theta).s - law.min_s(); }
 
 ValveTiming valve_timing(const MotionLaw& law, std::span<const double> heights,
-                         std::optional<std::pair<double, double>> ramp_end) {
+                         std::optional<std::pair<double, double>> ramp_end, const LiftChain& chain) {
   const std::vector<double> grid = bracket_grid(law);
   ValveTiming timing;
-  find_lobe_centre(law, grid, timing);
-  for (const double height : heights) timing.heights.push_back(timing_at(law, grid, height));
+  timing.datum = chain.steps.empty() ? law.min_s() : chain.datum(law.min_s());
+  const Lift lift{law, chain, timing.datum};
+  find_lobe_centre(lift, grid, timing);
+  for (const double height : heights) timing.heights.push_back(timing_at(lift, grid, height));
   if (ramp_end) {
     auto ramp_at = [&](double theta) {
       const double t = wrap(theta);
-      return RampEnd{t, lift_above_base(law, t), law.eval(t).ds};
+      const LawSample e = law.eval(t);
+      return RampEnd{t, lift.of_s(e.s), lift.rate(e.s, e.ds)};
     };
     timing.opening_ramp = ramp_at(ramp_end->first);
     timing.closing_ramp = ramp_at(ramp_end->second);
   } else {
-    find_ramps_from_pieces(law, timing);
+    find_ramps_from_pieces(lift, timing);
   }
   return timing;
 }

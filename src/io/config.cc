@@ -752,7 +752,10 @@ void visit(A& a, ProfileOutputConfig& p) {
 
 template <class A>
 void visit(A& a, ValvetrainOutputConfig& v) {
+  a.field("at", v.at);
   a.field("crank_ratio", v.crank_ratio, positive());
+  a.field("tdc_deg", v.tdc_deg, closed_open(0, 360));
+  a.field("valve", v.valve);
   a.field("checking_heights", v.checking_heights, non_empty(), positive());
   a.field("ramp_end_deg", v.ramp_end_deg, closed_open(0, 360));
   a.require(v.ramp_end_deg.empty() || v.ramp_end_deg.size() == 2, "ramp_end_deg",

@@ -495,11 +495,29 @@ struct ProfileOutputConfig {
   bool operator==(const ProfileOutputConfig&) const = default;
 };
 
+/// Where `outputs.valvetrain`'s figures are taken (docs/valvetrain.md): at the
+/// valve (the last body of the follower train, the follower without one) or
+/// at the cam (the motion law).
+enum class ValvetrainAt { valve, cam };
+inline constexpr EnumName<ValvetrainAt> kValvetrainAtNames[] = {{ValvetrainAt::valve, "valve"},
+                                                                {ValvetrainAt::cam, "cam"}};
+constexpr std::span<const EnumName<ValvetrainAt>> enum_names(ValvetrainAt) { return kValvetrainAtNames; }
+
+/// Which valve a lobe drives: names its timing events (IVO/IVC or EVO/EVC).
+enum class ValveKind { intake, exhaust };
+inline constexpr EnumName<ValveKind> kValveKindNames[] = {{ValveKind::intake, "intake"},
+                                                          {ValveKind::exhaust, "exhaust"}};
+constexpr std::span<const EnumName<ValveKind>> enum_names(ValveKind) { return kValveKindNames; }
+
 /// `outputs.valvetrain`: valvetrain conventions in summary.json and the report
 /// (geometry/valve_timing.h, docs/valvetrain.md).
 struct ValvetrainOutputConfig {
-  double crank_ratio = 2.0;  ///< crank revolutions per cam revolution, > 0 (2: a four-stroke engine) [-]
-  /// Checking heights: lifts above the base circle at which durations are measured [m], each > 0.
+  ValvetrainAt at = ValvetrainAt::valve;  ///< the figures at the valve (default) or at the cam
+  double crank_ratio = 2.0;               ///< crank revolutions per cam revolution, > 0 (2: a four-stroke engine) [-]
+  double tdc_deg = 0.0;                   ///< cam angle of the crank's TDC (the gas-exchange TDC) [deg], in [0, 360)
+  std::optional<ValveKind> valve;         ///< names the timing events; null: only the generic ATDC/BBDC figures
+  /// Checking heights: lifts above the datum (the valve's seat, the base circle) at which durations are
+  /// measured [m], each > 0.
   std::vector<double> checking_heights = {kDefaultCheckingHeight};
   /// Cam angles [deg] where the opening ramp ends and the closing ramp starts,
   /// for laws that do not mark their ramps as pieces (a spline or table); empty = from the law's pieces.

@@ -76,6 +76,9 @@ int run_simulate_study(const Json& doc, const StudyContext& ctx) {
     for (size_t i = 0; i < model.layout.names.size(); ++i) std::cerr << (i ? ", " : "") << model.layout.names[i];
     std::cerr << ")\n";
     print_design_check(model);
+    if (scene.mechanism.contact.from_materials)  // summary.json: resolved.contact_stiffness
+      std::fprintf(stderr, "  resolved: contact stiffness %.6g N/m^%g from materials\n", model.contact.stiffness,
+                   model.contact.exponent);
     for (const PlausibilityWarning& w : input_warnings(scene, model)) std::cerr << warning_line(w) << "\n";
     return kExitOk;
   }

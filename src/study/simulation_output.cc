@@ -199,9 +199,13 @@ Json summary_json(const SceneConfig& scene, const Model& model, const Simulation
                           {"contact_pair", contact_pair_name(model)}};
   if (model.contour) summary["contour_fit"] = contour_fit_json(model);
   summary["warnings"] = warnings_json(run_warnings(scene, model, result));
+  // The contact stiffness the model uses [N/m^n], given or from materials (docs/config.md).
+  summary["resolved"] =
+      Json{{"contact_stiffness", model.contact.stiffness},
+           {"contact_stiffness_from", scene.mechanism.contact.from_materials ? "materials" : "config"}};
   // The rigid single-mass sizing does not describe a train (docs/model.md §12).
   if (rigid_spring_sizing_applies(model)) summary["spring_sizing"] = spring_sizing_json(model);
-  if (scene.outputs.valvetrain) summary["valvetrain"] = valvetrain_json(scene, model);
+  if (scene.outputs.valvetrain) summary["valvetrain"] = valvetrain_json(scene, model, &result);
   summary["config"] = to_json(scene);
   return summary;
 }
@@ -692,7 +696,7 @@ Report simulation_report(const SceneConfig& scene, const Model& model, const Sim
   for (Plot& plot : cam_plots(model, scene.mechanism.cam.limits, scene.mechanism.cam.rpm))
     report.plots.push_back(std::move(plot));
   if (model.contour) add_contour_fit(model, report);
-  add_valvetrain_report(scene, model, report);
+  add_valvetrain_report(scene, model, report, &result);
   report.appendix.push_back(solver_table(result.solver));
   report.notes.push_back("Model: " + std::to_string(model.layout.size) + " states; elements assembled: " + [&] {
     std::string list;

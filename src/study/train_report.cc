@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "dynamics/kinematic_lift.h"
+
 namespace camdyn {
 
 namespace {
@@ -25,12 +27,8 @@ Plot lift_plot(const Model& model, const TimeSeries& ts) {
   for (std::size_t i = 0; i < model.train.bodies.size(); ++i) {
     const TrainBody& b = model.train.bodies[i];
     const std::vector<double>* x = column(ts, b.name + "_position");
-    if (i > 0)
-      for (double& k : kinematic) k = b.ratio * k - b.lash;
-    if (b.seat >= 0) {
-      const double seat = model.train.elements[static_cast<std::size_t>(b.seat)].offset;  // [m]
-      for (double& k : kinematic) k = std::max(k, seat);
-    }
+    const LiftStep step = lift_step(model.train, i);
+    for (double& k : kinematic) k = step.carry(k);
     if (!x) continue;
     plot.series.push_back({b.name, ts.time, *x});  // [m] until the unit is known
     plot.series.push_back({b.name + " kinematic", ts.time, kinematic, "dashes"});

@@ -1,5 +1,6 @@
 // Valvetrain conventions (geometry/valve_timing.h) against laws whose
-// checking-height crossings, peak and ramp ends are known in closed form.
+// checking-height crossings, peak and ramp ends are known in closed form, at
+// the cam and at a body the law is carried to (geometry/lift_chain.h).
 #include "geometry/valve_timing.h"
 
 #include <gtest/gtest.h>
@@ -151,6 +152,88 @@ TEST(ValveTiming, RampEndsGivenByAngleReadTheLawThere) {
   ASSERT_TRUE(timing.closing_ramp.has_value());
   EXPECT_LT(timing.closing_ramp->velocity, 0.0);
   EXPECT_NEAR(timing.closing_ramp->height, cycloid(10 * kDegToRad, 0.0, 120 * kDegToRad, lift), kLift);
+}
+
+// The carry itself (geometry/lift_chain.h): each step is max(r s − λ, p), the
+// chain their composition, its slope the product of the ratios off the
+// seats, its datum the last seat or the base circle carried.
+TEST(LiftChain, EachStepIsTheRatioTimesTheLiftLessTheLashHeldAtTheSeat) {
+  const LiftStep step{1.5, 0.0002, 0.0};
+  EXPECT_EQ(step.carry(0.01), 1.5 * 0.01 - 0.0002);
+  EXPECT_EQ(step.carry(0.0001), 0.0);  // 1.5 × 0.1 mm is within the lash: on the seat
+  EXPECT_TRUE(step.lifted(0.01));
+  EXPECT_FALSE(step.lifted(0.0001));
+  const LiftStep free{2.0, 0.001, std::nullopt};
+  EXPECT_EQ(free.carry(0.0), -0.001);  // no seat: it follows the link down
+  EXPECT_TRUE(free.lifted(0.0));
+}
+
+TEST(LiftChain, TheChainComposesItsStepsAndTheSlopeIsTheRatiosOffTheSeats) {
+  // A follower seated 0.2 mm above the base circle, a 1:1 pushrod with 0.3 mm lash, a 1.5 rocker to a valve
+  // seated at 0: on the base circle the pushrod hangs 0.1 mm below its rocker, the valve sits on its seat.
+  const LiftChain chain{{LiftStep{1.0, 0.0, 0.0002}, LiftStep{1.0, 0.0003, std::nullopt}, LiftStep{1.5, 0.0, 0.0}}};
+  const double s = 0.009;
+  EXPECT_EQ(chain.at(s), 1.5 * (s - 0.0003));
+  EXPECT_EQ(chain.slope(s), 1.5);
+  EXPECT_EQ(chain.at(0.0), 0.0);
+  EXPECT_EQ(chain.slope(0.0), 0.0);      // held on the follower's seat
+  EXPECT_EQ(chain.slope(0.00025), 0.0);  // off the follower's seat, the lash not yet taken up
+  EXPECT_EQ(chain.datum(0.0), 0.0);      // the valve's seat
+  const LiftChain unseated{{LiftStep{}, LiftStep{2.0, 0.001, std::nullopt}}};
+  EXPECT_EQ(unseated.datum(0.0), -0.001);  // its position on the base circle
+  EXPECT_EQ(LiftChain{}.at(0.004), 0.004);
+  EXPECT_EQ(LiftChain{}.slope(0.004), 1.0);
+  EXPECT_EQ(LiftChain{}.datum(0.001), 0.001);
+}
+
+// At a body behind links (geometry/lift_chain.h): a 1:1 pushrod with lash
+// λ₁ and a 1.5 rocker with lash λ₂ to a valve seated at 0. The valve lifts
+// 1.5 (s − λ₁) − λ₂ from its seat, so it reaches h where the cam reaches
+// (h + λ₂) / 1.5 + λ₁; the ramps' velocities are the law's times 1.5 once
+// off the seat, 0 on it.
+TEST(ValveTiming, AtABodyTheLawIsCarriedThroughRatioAndLash) {
+  constexpr double lift = 0.01, lash1 = 0.0002, lash2 = 0.0001, ratio = 1.5;
+  const MotionLaw law = build(segments(
+      {dwell(30), segment("rise", "cycloidal", 130, lift), segment("return", "cycloidal", 250, lift), dwell(360)}));
+  const LiftChain chain{{LiftStep{}, LiftStep{1.0, lash1, std::nullopt}, LiftStep{ratio, lash2, 0.0}}};
+  const std::vector<double> heights = {0.001, 0.01};
+  const ValveTiming timing =
+      valve_timing(law, heights, std::pair(40 * kDegToRad, 100 * kDegToRad), chain);  // 40°: on the seat
+  EXPECT_EQ(timing.datum, 0.0);
+  EXPECT_NEAR(timing.max_lift, ratio * (lift - lash1) - lash2, kLift);
+  EXPECT_NEAR(timing.lobe_centre, 130 * kDegToRad, kPeak);
+  const double rise_start = 30 * kDegToRad, rise = 100 * kDegToRad, ret_end = 250 * kDegToRad, ret = 120 * kDegToRad;
+  for (std::size_t i = 0; i < heights.size(); ++i) {
+    const double at_cam = (heights[i] + lash2) / ratio + lash1;
+    const double opening = cycloid_crossing(rise_start, rise, lift, at_cam);
+    const double closing = ret_end - cycloid_crossing(0.0, ret, lift, at_cam);
+    ASSERT_TRUE(timing.heights[i].event.has_value()) << heights[i];
+    EXPECT_NEAR(timing.heights[i].event->opening, opening, kCrossing) << heights[i];
+    EXPECT_NEAR(timing.heights[i].event->closing, closing, kCrossing) << heights[i];
+  }
+  const double x100 = 0.7;  // where 100° falls in the rise
+  ASSERT_LT(cycloid(40 * kDegToRad, rise_start, rise, lift), lash1 + lash2 / ratio);
+  EXPECT_EQ(timing.opening_ramp->height, 0.0);
+  EXPECT_EQ(timing.opening_ramp->velocity, 0.0);
+  EXPECT_NEAR(timing.closing_ramp->height, ratio * (cycloid(100 * kDegToRad, rise_start, rise, lift) - lash1) - lash2,
+              kLift);
+  EXPECT_NEAR(timing.closing_ramp->velocity, ratio * lift / rise * (1.0 - std::cos(2.0 * kPi * x100)), 1e-12);
+  // An empty chain is the cam: the same figures as without one.
+  const ValveTiming cam = valve_timing(law, heights, std::nullopt, LiftChain{});
+  const ValveTiming plain = valve_timing(law, heights);
+  EXPECT_EQ(cam.max_lift, plain.max_lift);
+  EXPECT_EQ(cam.heights[0].event->opening, plain.heights[0].event->opening);
+}
+
+// A valve held open: its seat below where the chain puts it on the base circle. Its lift from the seat never
+// falls to 0, so every height below that is open all the way round.
+TEST(ValveTiming, AValveHeldOffItsSeatIsOpenAllRound) {
+  const MotionLaw law = build(segments(
+      {dwell(30), segment("rise", "cycloidal", 130, 0.01), segment("return", "cycloidal", 250, 0.01), dwell(360)}));
+  const LiftChain chain{{LiftStep{1.0, 0.0, std::nullopt}, LiftStep{1.0, 0.0, -0.0005}}};  // seat 0.5 mm below
+  const ValveTiming timing = valve_timing(law, std::vector<double>{0.0004}, std::nullopt, chain);
+  EXPECT_NEAR(timing.max_lift, 0.0105, kLift);
+  EXPECT_NEAR(timing.heights.front().duration, 2 * kPi, kCrossing);
 }
 
 }  // namespace
