@@ -66,8 +66,8 @@ std::optional<FieldBinding> bind_field(const std::string& path, SceneConfig& sce
     b.kind = FieldKind::geometry;
     b.positive = true;
   } else if (path.rfind("mechanism.train[", 0) == 0 || path.rfind("mechanism.follower.seat.", 0) == 0 ||
-             path.rfind("mechanism.follower.stop.", 0) == 0 || path == "mechanism.follower.spring.mass" ||
-             path == "mechanism.follower.spring.damping_ratio") {
+             path.rfind("mechanism.follower.stop.", 0) == 0 || path == "mechanism.follower.lash" ||
+             path == "mechanism.follower.spring.mass" || path == "mechanism.follower.spring.damping_ratio") {
     // The follower train's numbers (docs/model.md §12): the model is built again, the geometry reused.
     b.kind = FieldKind::geometry;
   } else if (std::find(std::begin(kParameterPaths), std::end(kParameterPaths), path) == std::end(kParameterPaths)) {

@@ -8,6 +8,7 @@
 #include "common/errors.h"
 #include "dynamics/dual.h"
 #include "dynamics/kinematic_lift.h"
+#include "geometry/check_text.h"
 
 namespace camdyn {
 
@@ -73,7 +74,8 @@ class TrainBuilder {
   }
 
   /// The spring of body `body` on coordinate `c` (docs/model.md §12): massless
-  /// (F₀ + k x) or lumped in `coils` masses. Returns its frame-end element.
+  /// (F₀ + k x) or lumped in `lumps` masses (`coils` without it), each of its
+  /// segments with its share of the clash clearance. Returns its frame-end element.
   int add_spring(const SpringConfig& s, const std::string& name, int body, int c, const std::string& at) {
     TrainElement e;
     e.role = TrainRole::spring;
@@ -85,14 +87,15 @@ class TrainBuilder {
       e.stiffness = s.stiffness;
       return add(e, at);
     }
-    const int n = s.coils.value_or(1);
+    const int n = s.lump_count();
+    const std::string lumps_at = at + (s.lumps ? ".lumps" : ".coils");
     const double m_s = *s.mass, k_s = (n + 1) * s.stiffness;  // [kg], [N/m]
     // First fixed-fixed mode of the chain, and stiffness-proportional damping giving it ratio ζ.
     const double omega1 = 2.0 * std::sqrt(k_s * n / m_s) * std::sin(std::numbers::pi / (2.0 * (n + 1)));
     const double c_s = 2.0 * s.damping_ratio.value_or(SpringConfig::kDefaultDampingRatio) * k_s / omega1;
     int previous = c, end = -1;
     for (int j = 1; j <= n + 1; ++j) {
-      const int next = j <= n ? add_coordinate(name + "_spring_lump" + std::to_string(j), m_s / n, at + ".coils") : -1;
+      const int next = j <= n ? add_coordinate(name + "_spring_lump" + std::to_string(j), m_s / n, lumps_at) : -1;
       TrainElement seg = e;
       seg.role = j <= n ? TrainRole::spring_segment : TrainRole::spring;
       seg.a = previous;
@@ -107,7 +110,7 @@ class TrainBuilder {
         clash.law = TrainElement::Law::one_sided;
         clash.role = TrainRole::clash;
         clash.preload = 0.0;
-        clash.offset = -s.clash->gap;
+        clash.offset = -s.segment_clash_gap();
         clash.stiffness = s.clash->stiffness;
         clash.damping = 0.0;
         add(clash, at + ".clash");
@@ -130,16 +133,23 @@ void add_body_supports(TrainBuilder& b, TrainBody& body, int index, const Spring
                        const std::string& at) {
   if (seat) body.seat = b.add_seat(*seat, index, body.coordinate, false, at + ".seat");
   if (stop) body.stop = b.add_seat(*stop, index, body.coordinate, true, at + ".stop");
-  if (spring) body.spring_end = b.add_spring(*spring, body.name, index, body.coordinate, at + ".spring");
+  if (spring) {
+    body.spring_end = b.add_spring(*spring, body.name, index, body.coordinate, at + ".spring");
+    if (spring->massive()) {
+      body.spring_coils = spring->coils.value_or(1);
+      body.spring_lumps = spring->lump_count();
+    }
+  }
 }
 
-void add_train_body(TrainBuilder& b, FollowerTrain& train, const TrainBodyConfig& c, int index) {
+/// `lash` [m]: the link's (follower.lash may have set it, place_lash).
+void add_train_body(TrainBuilder& b, FollowerTrain& train, const TrainBodyConfig& c, int index, double lash) {
   const std::string at = "mechanism.train[" + std::to_string(index - 1) + "]";
   TrainBody body;
   body.name = c.name;
   body.coordinate = b.add_coordinate(c.name, c.mass, at);
   body.ratio = c.link.ratio;
-  body.lash = c.link.one_sided ? c.link.lash : 0.0;
+  body.lash = c.link.one_sided ? lash : 0.0;
   TrainElement link;
   link.law = c.link.one_sided ? TrainElement::Law::one_sided : TrainElement::Law::spring;
   link.role = TrainRole::link;
@@ -294,11 +304,70 @@ bool FollowerTrain::rests_on_seat(const TrainEvaluation& e, int body) const {
   return false;
 }
 
+namespace {
+
+/// The follower's seat and the links' lash once `mechanism.follower.lash`
+/// is placed (docs/config.md, "follower.lash").
+struct PlacedLash {
+  std::optional<SeatConfig> follower_seat;
+  std::vector<double> link_lash;  ///< per train body [m]
+};
+
+/// Puts `follower.lash` λ on the existing elements when the chain from the
+/// cam to the first seated train body carries no lash of its own (the
+/// follower's seat at position 0 or absent, the links up to that body
+/// without lash): without a seated train body, the follower rests on its
+/// seat (the `seat` block's law, else FollowerConfig::default_lash_seat()) at
+/// position λ; with one, body k, the link into it gets the lash r₁ ⋯ r_k λ,
+/// so that the cam travels λ from the base circle before body k leaves its
+/// seat. A chain with a lash of its own is kept as given, and follower.lash
+/// only checks it (the lash_mismatch warning, dynamics/plausibility.cc).
+PlacedLash place_lash(const MechanismConfig& mech, const std::string& file) {
+  const FollowerConfig& f = mech.follower;
+  PlacedLash placed;
+  placed.follower_seat = f.seat;
+  for (const TrainBodyConfig& body : mech.train) placed.link_lash.push_back(body.link.lash);
+  if (!f.lash) return placed;
+  const auto seated = std::find_if(mech.train.begin(), mech.train.end(), [](const auto& b) { return b.seat; });
+  const auto k = seated - mech.train.begin();  // the seated body's index, or the train's size
+  const auto chain_end = seated == mech.train.end() ? mech.train.begin() : seated + 1;
+  bool own = f.seat && f.seat->position != 0.0;
+  double ratio = 1.0;  // r₁ ⋯ r_k [m/m | m/rad]
+  for (auto i = mech.train.begin(); i != chain_end; ++i) {
+    own = own || i->link.lash != 0.0;
+    ratio *= i->link.ratio;
+  }
+  if (own) return placed;
+  const std::string at = "mechanism.follower.lash";
+  if (seated == mech.train.end()) {
+    if (!placed.follower_seat && f.motion == FollowerMotion::oscillating)
+      throw InputError(file, at,
+                       "an oscillating follower's lash needs a 'seat' block on the follower (its force law acts on "
+                       "the arm angle, in N m/rad^n)");
+    if (!placed.follower_seat) placed.follower_seat = FollowerConfig::default_lash_seat();
+    placed.follower_seat->position = *f.lash;
+    if (f.stop && !(f.stop->position > *f.lash))
+      throw InputError(file, at,
+                       "the follower's seat at the lash must be below its stop (stop.position = " +
+                           check_text::num(f.stop->position) + ")");
+    return placed;
+  }
+  if (!seated->link.one_sided)
+    throw InputError(file, at,
+                     "goes on the link into mechanism.train[" + std::to_string(k) +
+                         "], the first body with a seat, which is two-sided (no lash): make that link one-sided");
+  placed.link_lash[static_cast<std::size_t>(k)] = ratio * *f.lash;
+  return placed;
+}
+
+}  // namespace
+
 FollowerTrain build_follower_train(const SceneConfig& scene, const std::string& file, StateLayout& layout) {
   const MechanismConfig& mech = scene.mechanism;
   const FollowerConfig& f = mech.follower;
   FollowerTrain train;
-  const bool follower_elements = f.seat || f.stop || f.spring.massive();
+  const PlacedLash lash = place_lash(mech, file);
+  const bool follower_elements = lash.follower_seat || f.stop || f.spring.massive();
   if (!follower_elements && mech.train.empty()) return train;
   TrainBuilder b(file, layout, train);
   TrainCoordinate follower;
@@ -308,14 +377,39 @@ FollowerTrain build_follower_train(const SceneConfig& scene, const std::string& 
   body.name = "follower";
   train.bodies.push_back(body);
   train.follower_spring_lumped = f.spring.massive();
-  add_body_supports(b, train.bodies.back(), 0, train.follower_spring_lumped ? &f.spring : nullptr, f.seat, f.stop,
-                    "mechanism.follower");
+  add_body_supports(b, train.bodies.back(), 0, train.follower_spring_lumped ? &f.spring : nullptr, lash.follower_seat,
+                    f.stop, "mechanism.follower");
   if (static_cast<int>(mech.train.size()) + 1 > TrainLimits::kMaxBodies)
     throw InputError(file, "mechanism.train",
                      "at most " + std::to_string(TrainLimits::kMaxBodies - 1) + " bodies after the follower");
-  for (std::size_t i = 0; i < mech.train.size(); ++i) add_train_body(b, train, mech.train[i], static_cast<int>(i) + 1);
+  for (std::size_t i = 0; i < mech.train.size(); ++i)
+    add_train_body(b, train, mech.train[i], static_cast<int>(i) + 1, lash.link_lash[i]);
   derive_element_constants(train);
   return train;
+}
+
+TrainLash train_lash(const FollowerTrain& train) {
+  TrainLash lash;
+  if (train.bodies.empty()) return lash;
+  const auto seat_position = [&](const TrainBody& b) {
+    return train.elements[static_cast<std::size_t>(b.seat)].offset;
+  };
+  const bool follower_seat = train.bodies[0].seat >= 0;
+  const double follower = follower_seat ? seat_position(train.bodies[0]) : 0.0;  // [m | rad]
+  double ratio = 1.0, carried = 0.0;  // r₁ ⋯ rᵢ; the links' lash carried to body i, Λᵢ = rᵢ Λᵢ₋₁ + λᵢ [m]
+  for (std::size_t i = 1; i < train.bodies.size(); ++i) {
+    const TrainBody& b = train.bodies[i];
+    ratio *= b.ratio;
+    carried = b.ratio * carried + b.lash;
+    if (b.seat < 0) continue;
+    const double from_links = (carried + seat_position(b)) / ratio;
+    lash.body = static_cast<int>(i);
+    lash.at_cam = follower_seat ? std::max(follower, from_links) : from_links;
+    lash.held_open = follower_seat ? std::max(0.0, ratio * (follower - from_links)) : 0.0;
+    return lash;
+  }
+  lash.at_cam = follower;
+  return lash;
 }
 
 void add_train_names(const FollowerTrain& train, std::vector<std::string>& names) {
@@ -333,10 +427,12 @@ void add_train_names(const FollowerTrain& train, std::vector<std::string>& names
         names.push_back("stop:" + body + ":" + to_string(e.contact.model));
         break;
       case TrainRole::spring: {
-        const auto lumps = std::count_if(train.elements.begin(), train.elements.end(), [&](const TrainElement& s) {
-          return s.body == e.body && s.role == TrainRole::spring_segment;
-        });
-        names.push_back("spring:" + body + (lumps > 0 ? ":" + std::to_string(lumps) + "_coils" : ""));
+        // "spring:valve:8_coils", and ":16_lumps" after it when lumped otherwise than one mass a coil.
+        const TrainBody& owner = train.bodies[static_cast<std::size_t>(e.body)];
+        std::string name = "spring:" + body;
+        if (owner.spring_lumps > 0) name += ":" + std::to_string(owner.spring_coils) + "_coils";
+        if (owner.spring_lumps != owner.spring_coils) name += ":" + std::to_string(owner.spring_lumps) + "_lumps";
+        names.push_back(name);
         break;
       }
       case TrainRole::damper:

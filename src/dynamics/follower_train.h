@@ -64,6 +64,7 @@ struct TrainBody {
   int link = -1, seat = -1, stop = -1, spring_end = -1;  ///< element indices (−1: none)
   double ratio = 1.0;                                    ///< the link's lever ratio (1 for the follower)
   double lash = 0.0;                                     ///< the link's lash [m]
+  int spring_coils = 0, spring_lumps = 0;  ///< its spring with mass: active coils, lumped masses (0: none)
 };
 
 /// Fixed capacities, so that evaluations and runs allocate nothing.
@@ -116,8 +117,23 @@ struct FollowerTrain {
 /// whose states exceed StateLayout's capacity.
 FollowerTrain build_follower_train(const SceneConfig& scene, const std::string& file, StateLayout& layout);
 
+/// The lash of an assembled train (docs/config.md, "follower.lash"): the
+/// cam's travel from the base circle before the first train body with a
+/// seat leaves it, (Λ + p_k) / (r₁ ⋯ r_k) with Λ the links' lash carried to
+/// that body and p_k its seat's position, or the follower seat's position if
+/// that is higher (without a seated train body: the follower seat's
+/// position, 0 without one) [m | rad]; and how far the follower's seat then
+/// holds that body off its seat [m] (0 when it rests on it).
+struct TrainLash {
+  double at_cam = 0.0;
+  double held_open = 0.0;
+  int body = -1;  ///< the seated train body (index into FollowerTrain::bodies), −1: none
+};
+TrainLash train_lash(const FollowerTrain& train);
+
 /// Appends the names of the train's elements (summary.json `model.elements`):
-/// "link:valve", "seat:follower", "spring:valve" (with mass: "spring:valve:8_coils"), ...
+/// "link:valve", "seat:follower", "spring:valve" (with mass: "spring:valve:8_coils",
+/// lumped otherwise than one mass a coil: "spring:valve:8_coils:16_lumps"), ...
 void add_train_names(const FollowerTrain& train, std::vector<std::string>& names);
 
 /// Resets the per-run data.

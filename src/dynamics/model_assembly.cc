@@ -160,7 +160,7 @@ void assign_take_up_window(const SceneConfig& scene, const std::string& file, Mo
   model.take_up = take_up_window(model.train, *model.law, ramp_end);
   const int body = model.take_up.never_lifted_body;
   if (body < 0) return;
-  std::string at = "mechanism.follower.seat.position";
+  std::string at = scene.mechanism.follower.lash ? "mechanism.follower.lash" : "mechanism.follower.seat.position";
   if (body > 0) {
     const std::string train = "mechanism.train[" + std::to_string(body - 1) + "]";
     at = train + (scene.mechanism.train[static_cast<std::size_t>(body - 1)].link.lash > 0.0 ? ".link.lash"

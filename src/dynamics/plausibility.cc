@@ -166,7 +166,7 @@ void chatter_warnings(const SceneConfig& scene, const Model& model, const Simula
   // after that are physics whatever the jump speed. A train with coordinates
   // has its own jump speed (dynamics/train_jump_speed.h); the rigid model's
   // leaves out its bodies and a spring with mass.
-  const bool lash = scene.mechanism.follower.seat.has_value();
+  const bool lash = !model.train.bodies.empty() && model.train.bodies[0].seat >= 0;  // follower.lash's seat too
   if (model.omega > 0.0 && !explicit_start(scene) && !model.drive.shaft() && !lash) {
     const double rpm = model.omega * 60.0 / kTwoPi;
     const bool train = model.train.has_coordinates();
@@ -385,17 +385,18 @@ void link_warnings(const SceneConfig& scene, const Model& model, std::vector<Pla
 void coil_warnings(const SceneConfig& scene, std::vector<PlausibilityWarning>& out) {
   for (const BodyConfig& b : train_bodies(scene)) {
     const SpringConfig& s = *b.spring;
-    if (!s.massive() || !s.coils || *s.coils >= kMinSpringCoils || !(s.stiffness > 0.0)) continue;
-    const int n = *s.coils;
+    if (!s.massive() || !s.coils || s.lump_count() >= kMinSpringCoils || !(s.stiffness > 0.0)) continue;
+    const int n = s.lump_count();
+    const std::string key = s.lumps ? "lumps" : "coils";
     const double m_s = *s.mass, k_s = (n + 1) * s.stiffness;
     const double lumped = std::sqrt(k_s * n / m_s) * std::sin(std::numbers::pi / (2.0 * (n + 1))) / std::numbers::pi;
     const double continuous = 0.5 * std::sqrt(s.stiffness / m_s);  // [Hz]
-    out.push_back({"spring_coils", b.path + ".spring.coils",
+    out.push_back({"spring_coils", b.path + ".spring." + key,
                    "a spring with mass in " + std::to_string(n) + " lump" + (n == 1 ? "" : "s") +
                        " resolves its surge poorly: its first surge mode is at " + num(lumped) + " Hz, " +
                        num(100.0 * (1.0 - lumped / continuous)) + " % below the continuous spring's " +
                        num(continuous) + " Hz, and it has only " + std::to_string(n) + " mode" + (n == 1 ? "" : "s") +
-                       "; use at least " + std::to_string(kMinSpringCoils) + " coils"});
+                       "; use at least " + std::to_string(kMinSpringCoils) + " " + key});
   }
 }
 
@@ -420,7 +421,8 @@ void spring_unit_warnings(const SceneConfig& scene, std::vector<PlausibilityWarn
 /// 0.5 kg) above 1 kg, another translating follower above 10 kg, an arm
 /// above 1 kg m²: most likely given in grams.
 void mass_unit_warnings(const SceneConfig& scene, std::vector<PlausibilityWarning>& out) {
-  const bool valve_train = scene.mechanism.follower.seat.has_value() || !scene.mechanism.train.empty();
+  const bool valve_train = scene.mechanism.follower.seat.has_value() || scene.mechanism.follower.lash.has_value() ||
+                           !scene.mechanism.train.empty();
   const char* grams = ": was it given in grams? Masses are in kg";
   for (const BodyConfig& b : train_bodies(scene)) {
     const bool follower = b.link == nullptr;
@@ -466,6 +468,26 @@ void checking_height_warnings(const SceneConfig& scene, const Model& model, std:
              ": the lift never reaches it, so its duration is 0; checking heights are in metres (1 mm = "
              "0.001)"});
   }
+/// `follower.lash` against the lash the train's elements make when the scene
+/// also gives a follower seat position or a link lash (follower_train.h
+/// train_lash): a different cam travel before the seated body moves, or
+/// that body held off its seat.
+void lash_warning(const SceneConfig& scene, const Model& model, std::vector<PlausibilityWarning>& out) {
+  const std::optional<double>& lash = scene.mechanism.follower.lash;
+  if (!lash) return;
+  const TrainLash given = train_lash(model.train);
+  const double tolerance = 1e-9 * std::max(*lash, given.at_cam) + 1e-15;  // [m | rad], round-off of the ratios
+  if (std::abs(given.at_cam - *lash) <= tolerance && given.held_open <= tolerance) return;
+  const std::string body = given.body > 0 ? "mechanism.train[" + std::to_string(given.body - 1) + "]" : "the follower";
+  const std::string unit = coordinate_units(model).position;
+  std::string text = "follower.lash is " + num(*lash) + " " + unit + ", but the seat position and link lash given " +
+                     "with it make the cam travel " + num(given.at_cam) + " " + unit + " from the base circle";
+  if (given.body > 0) text += " before " + body + " leaves its seat";
+  if (given.held_open > tolerance)
+    text += ", and the follower's seat holds " + body + " " + num(given.held_open) + " m off its seat";
+  out.push_back({"lash_mismatch", "mechanism.follower.lash",
+                 text + ": leave out the follower's seat.position and the links' lash (follower.lash places the "
+                        "lash), or make them agree"});
 }
 
 }  // namespace
@@ -598,6 +620,7 @@ std::vector<PlausibilityWarning> input_warnings(const SceneConfig& scene, const 
   spring_unit_warnings(scene, out);
   mass_unit_warnings(scene, out);
   checking_height_warnings(scene, model, out);
+  lash_warning(scene, model, out);
   const ContactConfig& contact = scene.mechanism.contact;
   if (force_form(contact.model) != ForceForm::hysteresis && contact.restitution != ContactConfig{}.restitution)
     out.push_back(

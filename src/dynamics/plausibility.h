@@ -56,7 +56,8 @@ std::optional<PlausibilityWarning> unit_slip(const SceneConfig& scene);
 /// pressure angle above 30°, a contact stiffness outside 1e7 ... 1e13 N/m^n,
 /// an acceleration that jumps, a restitution the contact law ignores; in a
 /// follower train, a seat softer than the spring it holds, a link far softer
-/// than the cam contact, a spring with mass in fewer than 4 coils.
+/// than the cam contact, a spring with mass in fewer than 4 lumps, a
+/// follower.lash that the seat and link lash given with it contradict.
 std::vector<PlausibilityWarning> input_warnings(const SceneConfig& scene, const Model& model);
 
 /// Results that should not be trusted: an energy residual too large for the

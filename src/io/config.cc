@@ -143,7 +143,7 @@ Check no_gravity_on_an_arm() {
   return check;
 }
 
-/// The lumped masses of a spring with mass: an integer in [1, kMaxSpringCoils].
+/// The active coils or the lumped masses of a spring with mass: an integer in [1, kMaxSpringCoils].
 Check coil_count() {
   Check check;
   check.expected = "an integer in [1, " + std::to_string(kMaxSpringCoils) + "]";
@@ -383,7 +383,7 @@ struct CarriedSpring {
   bool torsional = false;
 };
 
-// The surge model's fields (mass, coils, damping_ratio, clash) are written
+// The surge model's fields (mass, coils, lumps, damping_ratio, clash) are written
 // only when given, so a massless spring prints as it did before them. With
 // mass 0 they are accepted and unused (mass toggled to compare). In the
 // namespace of CarriedSpring, for the archives' argument-dependent lookup.
@@ -396,8 +396,9 @@ void visit(A& a, CarriedSpring& c) {
     a.field("mass", s.mass, non_negative(), c.torsional ? no_spring_mass_on_an_arm() : Check{});
   if (a.given("coils", s.coils.has_value())) a.field("coils", s.coils, coil_count());
   a.require(!s.massive() || s.coils.has_value(), "coils",
-            "missing: a spring with mass needs 'coils', the masses it is lumped in (an integer in [1, " +
-                std::to_string(kMaxSpringCoils) + "])");
+            "missing: a spring with mass needs 'coils', its active coils (an integer in [1, " +
+                std::to_string(kMaxSpringCoils) + "]; also the masses it is lumped in unless 'lumps' is given)");
+  if (a.given("lumps", s.lumps.has_value())) a.field("lumps", s.lumps, coil_count());
   if (a.given("damping_ratio", s.damping_ratio.has_value())) a.field("damping_ratio", s.damping_ratio, non_negative());
   if (a.given("clash", s.clash.has_value())) a.field("clash", s.clash);
 }
@@ -504,6 +505,8 @@ void visit(A& a, FollowerConfig& f) {
   }
   a.field("initial", f.initial);
   visit_travel_limits(a, f.seat, f.stop);
+  // Written only when given, so a scene without it prints as before.
+  if (a.given("lash", f.lash.has_value())) a.field("lash", f.lash, non_negative());
 }
 
 template <class A>
@@ -584,7 +587,7 @@ void visit(A& a, TrainBodyConfig& b) {
 namespace {
 
 /// The lumped masses of a spring that has mass (0 for a massless one).
-std::int64_t spring_lumps(const SpringConfig& s) { return s.massive() ? std::max(0, s.coils.value_or(0)) : 0; }
+std::int64_t spring_lumps(const SpringConfig& s) { return s.massive() ? std::max(0, s.lump_count()) : 0; }
 
 }  // namespace
 
@@ -603,11 +606,13 @@ void visit_train(A& a, MechanismConfig& m) {
                     "]: each body needs its own (it prefixes the body's timeseries.csv columns)");
     }
   }
-  a.require(states <= kMaxTrainStates, m.train.empty() ? "follower.spring.coils" : "train",
+  const char* lumps_key = m.follower.spring.lumps ? "follower.spring.lumps" : "follower.spring.coils";
+  a.require(states <= kMaxTrainStates, m.train.empty() ? lumps_key : "train",
             "the train has " + std::to_string(states) +
                 " states (2 per body and 2 per lumped mass of every spring with mass, the follower's included), "
                 "more than the limit of " +
-                std::to_string(kMaxTrainStates) + ": use fewer bodies or fewer coils");
+                std::to_string(kMaxTrainStates) +
+                ": use fewer bodies or fewer lumped masses ('lumps', or 'coils' without it)");
 }
 
 template <class A>

@@ -278,11 +278,13 @@ struct ShapeConfig {
   bool operator==(const ShapeConfig&) const = default;
 };
 
-/// `spring.clash`: coil clash of a spring with mass (docs/model.md §12): a
-/// segment closing by more than `gap` beyond its installed length meets a
-/// stiff linear contact.
+/// `spring.clash`: coil clash of a spring with mass (docs/model.md §12): the
+/// spring closes by (coils + 1) gap beyond its installed length before its
+/// coils touch (its clearance to solid, whatever `lumps`); each of its
+/// lumps + 1 segments then meets a stiff linear contact after its share,
+/// (coils + 1) gap / (lumps + 1).
 struct CoilClashConfig {
-  double gap = 0.0;        ///< closing of one segment beyond installed before its coils touch [m], > 0
+  double gap = 0.0;        ///< clearance to solid per coil segment: (coils + 1) gap in all [m], > 0
   double stiffness = 0.0;  ///< stiffness of the closed coils [N/m], > 0
 
   bool operator==(const CoilClashConfig&) const = default;
@@ -292,15 +294,25 @@ struct SpringConfig {
   double stiffness = 0.0;  ///< k [N/m], >= 0
   double preload = 0.0;    ///< spring force at the lowest follower position [N], >= 0
   /// Mass of the spring [kg], >= 0: 0 is a massless spring; > 0 lumps it in
-  /// `coils` equal masses (the surge model of docs/model.md §12).
+  /// `lumps` equal masses (the surge model of docs/model.md §12).
   std::optional<double> mass;
-  std::optional<int> coils;              ///< lumped masses, >= 1 (required with mass > 0)
+  std::optional<int> coils;              ///< active coils, >= 1 (required with mass > 0): the clash clearance
+  std::optional<int> lumps;              ///< lumped masses, >= 1 (default: coils)
   std::optional<double> damping_ratio;   ///< of the first fixed-fixed surge mode [-], >= 0 (default 0.02)
   std::optional<CoilClashConfig> clash;  ///< coil clash (only with mass > 0)
 
   static constexpr double kDefaultDampingRatio = 0.02;
   /// Whether the spring has mass (is lumped).
   bool massive() const { return mass.value_or(0.0) > 0.0; }
+  /// The lumped masses N of a spring with mass: `lumps`, else `coils` (as before `lumps`).
+  int lump_count() const { return lumps.value_or(coils.value_or(1)); }
+  /// The clash gap of one of the lump_count() + 1 segments [m]: the spring's
+  /// clearance to solid, (coils + 1) gap, shared equally (gap itself when
+  /// lumps = coils).
+  double segment_clash_gap() const {
+    const double share = static_cast<double>(coils.value_or(1) + 1) / static_cast<double>(lump_count() + 1);
+    return clash ? clash->gap * share : 0.0;
+  }
 
   bool operator==(const SpringConfig&) const = default;
 };
@@ -384,6 +396,20 @@ struct FollowerConfig {
   InitialConfig initial;                              ///< oscillating: position [rad], velocity [rad/s]
   std::optional<SeatConfig> seat;  ///< above the base-circle contact position: valve lash (docs/model.md §12)
   std::optional<SeatConfig> stop;  ///< upper end of travel
+  /// `lash`: the cam's travel from the base circle before the valve moves [m]
+  /// (an arm: [rad]), >= 0; put on the follower's seat or on the link into
+  /// the first seated train body (docs/config.md, "follower.lash").
+  std::optional<double> lash;
+
+  /// The seat `lash` gives a follower that has no `seat` block: a stiff valve seat.
+  static SeatConfig default_lash_seat() {
+    SeatConfig s;
+    s.model = ContactModel::hunt_crossley;
+    s.stiffness = 1e9;  // [N/m]
+    s.exponent = 1.0;
+    s.restitution = 0.3;
+    return s;
+  }
 
   bool operator==(const FollowerConfig&) const = default;
 };

@@ -226,6 +226,16 @@ std::vector<BadTrain> spring_errors() {
        "mechanism.follower.spring.clash.stiffness", "missing"},
       {"misspelt surge key", [](Json& d) { follower_of(d)["spring"]["coil"] = 8; }, "mechanism.follower.spring.coil",
        "did you mean 'coils'"},
+      {"no lumps", [](Json& d) { follower_of(d)["spring"]["lumps"] = 0; }, "mechanism.follower.spring.lumps",
+       "must be in [1, 32]"},
+      {"fractional lumps", [](Json& d) { body(d, 1)["spring"]["lumps"] = 4.5; }, "mechanism.train[1].spring.lumps",
+       "expected an integer"},
+      {"lumps without coils",
+       [](Json& d) {
+         follower_of(d)["spring"].erase("coils");
+         follower_of(d)["spring"]["lumps"] = 8;
+       },
+       "mechanism.follower.spring.coils", "missing"},
   };
 }
 
@@ -284,6 +294,10 @@ std::vector<BadTrain> link_and_body_errors() {
       {"negative body damping", [](Json& d) { body(d, 1)["damping"] = -0.5; }, "mechanism.train[1].damping",
        "must be >= 0"},
       {"unknown body key", [](Json& d) { body(d, 1)["lash"] = 1e-4; }, "mechanism.train[1].lash", "unknown key"},
+      {"negative follower lash", [](Json& d) { follower_of(d)["lash"] = -1e-4; }, "mechanism.follower.lash",
+       "must be >= 0"},
+      {"follower lash not a number", [](Json& d) { follower_of(d)["lash"] = "0.2 mm"; }, "mechanism.follower.lash",
+       "expected a number"},
       {"train not an array", [](Json& d) { d["mechanism"]["train"] = body(d, 0); }, "mechanism.train",
        "expected an array"},
   };
@@ -321,6 +335,21 @@ void expect_errors(const std::vector<BadTrain>& cases) {
     EXPECT_EQ(e.path(), c.path) << e.reason();
     EXPECT_NE(e.reason().find(c.reason), std::string::npos) << e.reason();
   }
+}
+
+TEST(TrainConfig, LashAndLumpsLoadAndWriteBackOnlyWhenGiven) {
+  Json doc = scene_with_train();
+  follower_of(doc)["lash"] = 0.0002;
+  body(doc, 1)["spring"]["lumps"] = 16;
+  const SceneConfig s = load(doc);
+  EXPECT_EQ(s.mechanism.follower.lash, std::optional<double>(0.0002));
+  EXPECT_EQ(s.mechanism.train[1].spring.coils, std::optional<int>(8));
+  EXPECT_EQ(s.mechanism.train[1].spring.lump_count(), 16);
+  EXPECT_EQ(s.mechanism.follower.spring.lump_count(), 8);  // lumps = coils without it, as before
+  expect_round_trip(s);
+  const Json without = to_json(load(scene_with_train()));
+  EXPECT_FALSE(without["mechanism"]["follower"].contains("lash"));
+  EXPECT_FALSE(without["mechanism"]["follower"]["spring"].contains("lumps"));
 }
 
 TEST(TrainConfig, SpringMassChecksNameTheirPath) { expect_errors(spring_errors()); }
