@@ -468,6 +468,8 @@ void checking_height_warnings(const SceneConfig& scene, const Model& model, std:
              ": the lift never reaches it, so its duration is 0; checking heights are in metres (1 mm = "
              "0.001)"});
   }
+}
+
 /// `follower.lash` against the lash the train's elements make when the scene
 /// also gives a follower seat position or a link lash (follower_train.h
 /// train_lash): a different cam travel before the seated body moves, or

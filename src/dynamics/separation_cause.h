@@ -11,10 +11,14 @@
 //     height that lifts it (the cam on its base circle as that body sees it).
 // A law whose ramps are too short for its lash (or have none) throws the
 // follower off at the take-up into a train of rebounds that outlasts any
-// window. A cam gap that opens above the window as the rebound of an impact
-// of such a train (separating at a quarter of that impact's approach speed
-// or more) is decided where it lands: a take-up bounce when it lands no
-// harder than that impact (the train decays), float otherwise (it flew).
+// window. A cam gap that opens above the window after an impact of such a
+// train, where the law accelerates the train onto the cam (s'' > 0: no
+// spring can lose it there) or separating at a quarter of that impact's
+// approach speed or more (a rebound), is decided where it lands: a take-up
+// bounce when it lands no harder than that impact or than twice its own
+// separation speed (a flight the spring holds is a near-symmetric parabola
+// in the cam's frame: it lands about as fast as it left), float when it
+// lands harder (the cam outran the spring: it flew).
 // TakeUpWindow holds the heights, made once per model from the law and the
 // train's ratios, lashes and seats; SeparationCauses follows which cause each
 // open gap has during a run.
@@ -54,6 +58,9 @@ constexpr bool floats(SeparationCause c) {
 
 /// A rebound separates at this share of its impact's approach speed or more.
 inline constexpr double kReboundSpeedShare = 0.25;
+/// A rebound that lands faster than this many times its separation speed
+/// (and than its impact) flew: float.
+inline constexpr double kReboundLandingFactor = 2.0;
 
 /// The lift heights that classify a separation, all as cam lift above the
 /// base circle (s − min s) [m | rad].
@@ -114,6 +121,7 @@ struct SeparationCauses {
   /// A rebound's separation in the run's events, and the decisions so far:
   /// how many, and the last one's cause (take_up or float_gap).
   std::size_t rebound_event = 0;
+  double rebound_speed = 0.0;  ///< its separation speed [m/s]
   long decisions = 0;
   SeparationCause decided = SeparationCause::none;
 };

@@ -252,8 +252,9 @@ void record_onset(const RunContext& run, const Evaluation& ev, double t, LoopSta
   run.ws.v0 = std::max(approach, run.model.contact.reference_velocity);
   SeparationCauses& causes = loop.causes;
   SeparationCause cause = causes.cam;
-  if (cause == SeparationCause::rebound) {  // a rebound lands: no harder than its impact, or it flew
-    cause = approach <= causes.chain_speed ? SeparationCause::take_up : SeparationCause::float_gap;
+  if (cause == SeparationCause::rebound) {  // a rebound lands: about as it left, or it flew
+    const double bound = std::max(causes.chain_speed, kReboundLandingFactor * causes.rebound_speed);  // [m/s]
+    cause = approach <= bound ? SeparationCause::take_up : SeparationCause::float_gap;
     decide_rebound(run, loop, cause);
   }
   causes.cam = SeparationCause::none;
@@ -294,10 +295,13 @@ void record_separation(const RunContext& run, const Evaluation& ev, double t, Lo
   loop.lash_open = model.train.present() && model.train.rests_on_seat(ev.train, 0);
   loop.separated = !loop.lash_open;
   causes.cam = loop.separated ? classify_opening(run, ev, t, loop) : SeparationCause::none;
+  // A rebound of the take-up's impacts: where the law accelerates the train
+  // onto the cam (no spring can lose it there), or separating fast.
   if (causes.cam == SeparationCause::float_gap && causes.chain_speed > 0.0 &&
-      ev.gap_rate >= kReboundSpeedShare * causes.chain_speed) {
+      (model.law->eval(ev.theta).d2s > 0.0 || ev.gap_rate >= kReboundSpeedShare * causes.chain_speed)) {
     causes.cam = SeparationCause::rebound;
     causes.rebound_event = run.result.events.size();
+    causes.rebound_speed = ev.gap_rate;
   }
   run.result.events.push_back(
       {t, ev.theta * kRadToDeg, false, ev.gap_rate, false, ev.v, false, loop.lash_open, causes.cam});
