@@ -328,22 +328,42 @@ void record_train_onset(const RunContext& run, const Evaluation& ev, double t, i
 }
 
 // A train gap opening at t: a body leaving its seat (a seat bounce where the
-// law does not lift it) or a link opening off every seat (its cause).
+// law does not lift it) or a link opening off every seat (its cause). The
+// gaps below a body that leaves its seat were lash and are separations now,
+// of the seat bounce's cause or of the take-up window's.
 void record_train_opening(const RunContext& run, const Evaluation& ev, double t, int root, LoopState& loop) {
   const Model& model = run.model;
   const TrainElement& e = train_element_of_root(model.train, root);
   const auto body = static_cast<std::size_t>(e.body);
-  if (e.role == TrainRole::seat && leaves_seat_as_bounce(model.take_up, e.body, model.law->eval(ev.theta).s)) {
-    loop.causes.seat_bouncing[body] = true;
-    if (t >= run.plan.t_eval && run.result.metrics.train) ++run.result.metrics.train->seat_bounces;
-    // The gaps below it that were lash open with it: part of the bounce, not a float.
-    if (loop.lash_open && loop.causes.cam == SeparationCause::none) loop.causes.cam = SeparationCause::seat_bounce;
-    for (std::size_t i = 1; i <= body; ++i)
-      if (loop.causes.link[i] == SeparationCause::none) loop.causes.link[i] = SeparationCause::seat_bounce;
-  } else if (e.role == TrainRole::link) {
-    loop.causes.link[body] =
+  SeparationCauses& causes = loop.causes;
+  if (e.role == TrainRole::link) {
+    causes.link[body] =
         model.train.rests_on_seat(ev.train, e.body) ? SeparationCause::none : classify_opening(run, ev, t, loop);
+    return;
   }
+  if (e.role != TrainRole::seat) return;
+  const bool bounce = leaves_seat_as_bounce(model.take_up, e.body, model.law->eval(ev.theta).s);
+  if (bounce) {
+    causes.seat_bouncing[body] = true;
+    if (t >= run.plan.t_eval && run.result.metrics.train) ++run.result.metrics.train->seat_bounces;
+  }
+  const FollowerTrain& train = model.train;
+  const auto open_as_lash = [&](std::size_t i) {  // link i open, its cause not set (it opened as lash)
+    const int link_root = train.elements[static_cast<std::size_t>(train.bodies[i].link)].root;
+    return causes.link[i] == SeparationCause::none && link_root >= 0 &&
+           ev.train.gap[static_cast<std::size_t>(link_root)] > 0.0;
+  };
+  const bool cam_lash_ends = loop.lash_open && !train.rests_on_seat(ev.train, 0);
+  bool links_lash = false;
+  for (std::size_t i = 1; i <= body; ++i) links_lash = links_lash || open_as_lash(i);
+  if (!cam_lash_ends && !links_lash) return;
+  const SeparationCause below = bounce ? SeparationCause::seat_bounce : classify_opening(run, ev, t, loop);
+  for (std::size_t i = 1; i <= body; ++i)
+    if (open_as_lash(i)) causes.link[i] = below;
+  if (!cam_lash_ends) return;
+  causes.cam = below;
+  loop.lash_open = false;
+  loop.separated = true;
 }
 
 // A root the integrator stopped at (docs/model.md §6): records a contact onset

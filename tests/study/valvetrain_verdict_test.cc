@@ -66,7 +66,7 @@ TEST(ValvetrainVerdict, AValveHeldOffItsSeatIsRed) {
 // speed_limit.json of a committed valve-train scene over `low`–`high` rpm.
 Json run_valvetrain_limit(const std::string& study, const std::string& name, double low, double high) {
   const fs::path dir = test::scratch_dir("valvetrain_verdict_test", name);
-  const Json limit{{"low_rpm", low}, {"high_rpm", high}, {"scan", 8}, {"tolerance_rpm", 10}};
+  const Json limit{{"low_rpm", low}, {"high_rpm", high}, {"scan", 13}, {"tolerance_rpm", 10}};
   const test::Outcome r = test::run_camdyn(
       {"run", study, "--out", (dir / "out").string(), "--quiet", "--set", "study=speed_limit", "--set",
        "speed_limit=" + limit.dump()},
@@ -82,9 +82,11 @@ constexpr double kHeldTrainLevel = 0.03;
 
 TEST(ValvetrainVerdict, TheSpeedLimitIsTheFloatsNearTheHeldTrainsJumpSpeed) {
   for (const auto& [study, name] : {std::pair{kBucketTappetStudy, "bucket"}, std::pair{kDohcStudy, "dohc"}}) {
-    const Json j = run_valvetrain_limit(study, name, 2000.0, 5000.0);
+    // Separation is not monotone in speed (the spring's surge): a scan every 100 rpm.
+    const Json j = run_valvetrain_limit(study, name, 3000.0, 4200.0);
     ASSERT_TRUE(j.at("limited").get<bool>()) << name;
-    EXPECT_EQ(j.at("limit_cause"), "float") << name;
+    // The bucket leaves its cam; the separate valve of the DOHC scene leaves its bucket (a link) first.
+    EXPECT_EQ(j.at("limit_cause"), std::string(name) == "bucket" ? "float" : "link") << name;
     const double held = j.at("train_jump_speed_rpm").get<double>();
     EXPECT_NEAR(j.at("speed_limit_rpm").get<double>() / held, 1.0, kHeldTrainLevel) << name;
     // Below the limit the take-up bounces are there and counted, never a jump.
