@@ -361,9 +361,11 @@ void record_train_opening(const RunContext& run, const Evaluation& ev, double t,
   for (std::size_t i = 1; i <= body; ++i)
     if (open_as_lash(i)) causes.link[i] = below;
   if (!cam_lash_ends) return;
+  // The cam's gap, open as lash, is a separation from here (events.csv says so).
   causes.cam = below;
   loop.lash_open = false;
   loop.separated = true;
+  run.result.events.push_back({t, ev.theta * kRadToDeg, false, ev.gap_rate, false, ev.v, false, false, below});
 }
 
 // A root the integrator stopped at (docs/model.md §6): records a contact onset

@@ -44,6 +44,7 @@ const std::map<std::string, Documented>& documented() {
       {"modified_trapezoid_rise_return", {0.02, 2}},
       {"modified_sine_rise_return", {0.02, 2}},
       {"flat_tappet_valve_lift", {0.009, 3}},
+      {"dohc_bucket_lift", {0.00936161, 3}},
       {"oscillating_roller_packaging", {20.0 * kPi / 180.0, 2, true}},
   };
   return table;

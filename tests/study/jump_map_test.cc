@@ -129,6 +129,7 @@ JumpMapPoint point(double rpm, MotionKind motion, int period, int impacts) {
   p.motion = motion;
   p.period = period;
   p.impact_speed.assign(static_cast<std::size_t>(impacts), 0.1);
+  p.floats = impacts > 0;  // no seat: every impact ends a float
   return p;
 }
 
