@@ -106,7 +106,8 @@ std::vector<std::vector<double>> RigidLimitProbe::held_forces(const MotionLaw& l
   std::vector<std::vector<double>> out;
   if (!limits_.held || !limits_.max_contact_stress) return out;
   for (const double w : limits_.omegas)
-    out.push_back(held_contact_generalised_force(*limits_.held, law, w, RigidContactForce::kHeldAngles));
+    // Every harmonic: a cut's forward difference must not see the harmonic count change.
+    out.push_back(held_contact_generalised_force(*limits_.held, law, w, RigidContactForce::kHeldAngles, 0.0));
   return out;
 }
 

@@ -14,15 +14,17 @@ std::vector<double> held_contact_generalised_force(const Model& model, double om
   return held_contact_generalised_force(model, *model.law, omega, angles);
 }
 
-std::vector<double> held_contact_generalised_force(const Model& model, const MotionLaw& law, double omega, int angles) {
-  const HeldTrain train = held_train(model);
+std::vector<double> held_contact_generalised_force(const Model& model, const MotionLaw& law, double omega, int angles,
+                                                   double tolerance) {
   const GridSignal lift = grid_signal([&](double theta) { return law.eval(theta); }, angles);
-  const std::vector<Eigen::VectorXd> values = held_train_values(train, lift, omega);
+  HeldTrainResponse response(held_train(model), {lift}, angles, tolerance);  // held_train_values at 1e-4
+  const SpeedResponse& r = response.at(omega);
+  const Eigen::VectorXd contact = r.fixed[0] + r.per_signal[0].col(0);  // quantity 0: the contact
   // The contact is held along the follower's coordinate with δ = L (s − q):
   // its force times L is its generalised force (dynamics/train_jump_speed.h).
   const double lever = model.follower.oscillating() ? model.follower.arm_length : 1.0;  // [m/rad | -]
   std::vector<double> q(static_cast<std::size_t>(angles));
-  for (int i = 0; i < angles; ++i) q[static_cast<std::size_t>(i)] = lever * values[0][i];  // quantity 0: the contact
+  for (int i = 0; i < angles; ++i) q[static_cast<std::size_t>(i)] = lever * contact[i];
   return q;
 }
 

@@ -30,8 +30,11 @@ bool rigid_figures_held(const Model& model);
 std::vector<double> held_contact_generalised_force(const Model& model, double omega, int angles);
 /// The same for another lift law `law` on the model's held train (an
 /// optimiser's design on its baseline's train, linearised at the baseline's
-/// mean contact load).
-std::vector<double> held_contact_generalised_force(const Model& model, const MotionLaw& law, double omega, int angles);
+/// mean contact load), the harmonics cut at `tolerance` (HeldTrainResponse;
+/// 0: every harmonic of the grid, the same count for every law, as a finite
+/// difference between two laws needs).
+std::vector<double> held_contact_generalised_force(const Model& model, const MotionLaw& law, double omega, int angles,
+                                                   double tolerance = 1e-4);
 
 /// The value at cam angle θ [rad] of a periodic function known at the grid
 /// angles 2π i / values.size(): linear between them (exact at them).

@@ -59,7 +59,7 @@ double held_peak_pressure(const OptimizeStudy& study, const SceneConfig& scene) 
 // given the baseline's held train it finds the unlimited design over a limit
 // 1 % below its held pressure, where the follower alone (the tappet on its own
 // spring, as the stage held it before) is far under.
-TEST(TrainStressLimit, RigidDesignMeetsTheHeldTrainsPressure) {
+TEST(TrainStressLimit, ProbeSeesTheHeldTrainsPressure) {
   const OptimizeStudy free = steel_train_study({});
   const DesignSpace space(free.baseline, free.config.design, "optimize_train.json");
   const RigidStageResult a = run_rigid_stage(free.baseline, free.config, space, "optimize_train.json");
