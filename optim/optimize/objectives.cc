@@ -328,9 +328,11 @@ Normalisation DesignEvaluator::normalisation_from(const DesignEvaluation& baseli
   Normalisation n;
   // Peak rigid-model contact force at the top speed.
   const Model model = build_model(baseline.scene, file_);
-  double force = 0.0;
+  std::vector<double> angles(kForceSamples);  // [rad]
   for (int i = 0; i < kForceSamples; ++i)
-    force = std::max(force, std::abs(rigid_contact_force(model, 2.0 * std::numbers::pi * i / kForceSamples)));
+    angles[static_cast<std::size_t>(i)] = 2.0 * std::numbers::pi * i / kForceSamples;
+  double force = 0.0;
+  for (const double p : rigid_contact_force(model, angles)) force = std::max(force, std::abs(p));  // a train: held
   n.force = force > 0.0 ? force : 1.0;
   std::vector<double> gap;
   for (const SpeedResult& s : baseline.speeds) gap.push_back(s.mean_gap);

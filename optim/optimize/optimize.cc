@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <functional>
+#include <limits>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -18,6 +19,8 @@
 #include "common/errors.h"
 #include "common/study_budget.h"
 #include "dynamics/contact_stress.h"
+#include "dynamics/coordinate_units.h"
+#include "dynamics/held_train_force.h"
 #include "dynamics/model.h"
 #include "dynamics/spring_sizing.h"
 #include "io/hex_doubles.h"
@@ -627,12 +630,10 @@ CandidateScore score_of(const CandidateVerification& c, const std::vector<Constr
   return s;
 }
 
-/// The rigid-model spring sizing of `scene` up to the top operating speed,
-/// with the rigid stage's P_min (dynamics/spring_sizing.h).
-SpringSizing size_scene_spring(const SceneConfig& scene, const OptimizeStudyConfig& config, const std::string& file) {
-  const Model model = build_model(scene, file);
-  const double pmin = rigid_follower(model, rigid_min_contact_force(config)).min_force;
-  return size_spring(*model.law, rigid_spring_load(model, pmin), top_speed(config) * kRadPerRpm);
+/// The preload [N | N m] of the spring of body `body` in `scene` (0: the follower's).
+double& spring_preload(SceneConfig& scene, int body) {
+  return body == 0 ? scene.mechanism.follower.spring.preload
+                   : scene.mechanism.train[static_cast<std::size_t>(body - 1)].spring.preload;
 }
 
 /// Scores every candidate of out.selection and chooses among them.
@@ -658,8 +659,9 @@ Candidate sized_spring_candidate(const Candidate& best, const DesignEvaluator& e
   const auto floor_at =
       std::find_if(specs.begin(), specs.end(), [](const ConstraintSpec& c) { return c.name == "min_contact_force"; });
   SceneConfig scene = best.scene;
-  double& preload = scene.mechanism.follower.spring.preload;
-  preload = size_scene_spring(scene, out.config, file).required_preload;
+  const SceneSpringSizing sized = size_scene_spring(scene, out.config, file);
+  double& preload = spring_preload(scene, sized.body);
+  if (sized.available) preload = sized.required_preload;  // else verified as it is
   for (int k = 0;; ++k) {
     DesignEvaluation e = evaluator.evaluate(scene, full, true);
     CandidateVerification v = verify(CandidateKind::spring, scene, evaluator, e);
@@ -721,12 +723,44 @@ void select_answer(const DesignSpace& space, const DesignEvaluator& evaluator, c
 /// out.required_preload and out.required_stiffness of the chosen design up
 /// to the top operating speed, with the rigid stage's P_min.
 void size_chosen_spring(const std::string& file, OptimizeOutcome& out) {
-  const SpringSizing s = size_scene_spring(out.optimized_scene, out.config, file);
+  const SceneSpringSizing s = size_scene_spring(out.optimized_scene, out.config, file);
   out.required_preload = s.required_preload;
   out.required_stiffness = s.required_stiffness;
+  out.required_preload_unit = s.unit;
+  out.required_preload_spring = s.spring;
+  out.required_preload_unavailable = s.available ? "" : s.reason;
+  out.required_stiffness_unavailable = s.stiffness_reason;
 }
 
 }  // namespace
+
+/// The spring sizing of `scene` up to the top operating speed, with the
+/// rigid stage's P_min: the rigid model's (dynamics/spring_sizing.h), or on a
+/// follower train the held train's (size_held_spring; docs/model.md §12).
+SceneSpringSizing size_scene_spring(const SceneConfig& scene, const OptimizeStudyConfig& config,
+                                    const std::string& file) {
+  const Model model = build_model(scene, file);
+  SceneSpringSizing out;
+  out.unit = coordinate_units(model).force;
+  if (rigid_figures_held(model)) {
+    const HeldSpringSizing h = size_held_spring(model, rigid_min_contact_force(config), top_speed(config) * kRadPerRpm);
+    out.available = h.available;
+    out.reason = h.reason;
+    out.spring = h.spring;
+    out.body = h.body;
+    out.unit = h.unit;
+    out.required_preload = h.available ? h.required_preload : std::numeric_limits<double>::quiet_NaN();
+    out.required_stiffness = std::numeric_limits<double>::quiet_NaN();
+    out.stiffness_reason =
+        "not sized on a train: a rate changes the held train's modes, so the force is not linear in it";
+    return out;
+  }
+  const double pmin = rigid_follower(model, rigid_min_contact_force(config)).min_force;
+  const SpringSizing s = size_spring(*model.law, rigid_spring_load(model, pmin), top_speed(config) * kRadPerRpm);
+  out.required_preload = s.required_preload;
+  out.required_stiffness = s.required_stiffness;
+  return out;
+}
 
 /// out.withheld when the verification of a candidate was cut short by a
 /// budget: the choice among the candidates (and "better than the baseline")

@@ -127,12 +127,19 @@ struct OptimizeOutcome {
   DesignEvaluation initial;    ///< the first start of the search (the rigid design, else the spline fit), loop settings
   DesignEvaluation optimized;  ///< the chosen design (selection), scene settings, time series kept
   Selection selection;         ///< which of baseline, rigid design and dynamic result is the answer
-  /// The smallest spring preload [N | N m] that keeps the chosen design's
-  /// rigid-model contact force at least P_min up to the top operating speed
-  /// (dynamics/spring_sizing.h), and the smallest rate for the preload it has.
+  /// The smallest spring preload [required_preload_unit] that keeps the
+  /// chosen design's rigid-model contact force at least P_min up to the top
+  /// operating speed (dynamics/spring_sizing.h; on a follower train the held
+  /// train's contact and link forces, of the spring required_preload_spring),
+  /// and the smallest rate for the preload it has. NaN where not available
+  /// (required_preload_unavailable says why).
   double required_preload = 0.0;
-  double required_stiffness = 0.0;      ///< +inf when no rate suffices
-  SceneConfig optimized_scene;          ///< the `simulate` config written to optimized.json
+  double required_stiffness = 0.0;          ///< +inf when no rate suffices; NaN on a train (not sized)
+  std::string required_preload_unit = "N";  ///< "N", or "N m" for an arm's own spring
+  std::string required_preload_spring;  ///< the spring sized ("mechanism.follower.spring", "mechanism.train[0].spring")
+  std::string required_preload_unavailable;    ///< why there is no figure ("" when there is)
+  std::string required_stiffness_unavailable;  ///< why the rate is not sized ("" when it is)
+  SceneConfig optimized_scene;                 ///< the `simulate` config written to optimized.json
   WindowCheck window_check;             ///< the optimised objective over a doubled window (dynamic objectives only)
   int candidates_tried = 0;             ///< designs re-evaluated at the scene settings to find a feasible one
   std::size_t resumed_evaluations = 0;  ///< search evaluations replayed from the journal of an earlier, killed run
@@ -187,5 +194,24 @@ OptimizeOutcome run_optimize(const SceneConfig& baseline, const OptimizeStudyCon
 /// Checks what run_optimize would check before simulating (design space,
 /// baseline model, loop settings against the scene); throws InputError.
 void check_optimize(const SceneConfig& baseline, const OptimizeStudyConfig& config, const std::string& file);
+
+/// A scene's spring sizing (OptimizeOutcome::required_preload): the rigid
+/// model's, or on a follower train the held train's.
+struct SceneSpringSizing {
+  bool available = true;
+  std::string reason;                                ///< why not, when not available
+  std::string spring = "mechanism.follower.spring";  ///< the spring sized
+  int body = 0;                                      ///< its body (0: the follower, i: mechanism.train[i − 1])
+  std::string unit = "N";                            ///< of the preload
+  double required_preload = 0.0;                     ///< [unit]
+  double required_stiffness = 0.0;                   ///< NaN on a train (not sized)
+  std::string stiffness_reason;                      ///< why the rate is not sized
+};
+
+/// The spring sizing of `scene` up to the top operating speed, with the
+/// rigid stage's P_min: the rigid model's (dynamics/spring_sizing.h), or on a
+/// follower train the held train's (size_held_spring; docs/model.md §12).
+SceneSpringSizing size_scene_spring(const SceneConfig& scene, const OptimizeStudyConfig& config,
+                                    const std::string& file);
 
 }  // namespace camdyn::optim

@@ -222,7 +222,11 @@ void add_selection(const OptimizeOutcome& o, Json& r) {
   for (const CandidateVerification& c : sel.candidates) candidates[to_string(c.kind)] = candidate_json(c, o);
   r["candidates"] = candidates;
   r["required_preload"] = finite_or_null(o.required_preload);
+  r["required_preload_unit"] = o.required_preload_unit;
+  if (!o.required_preload_spring.empty()) r["required_preload_spring"] = o.required_preload_spring;
+  if (!o.required_preload_unavailable.empty()) r["required_preload_unavailable"] = o.required_preload_unavailable;
   r["required_stiffness"] = finite_or_null(o.required_stiffness);
+  if (!o.required_stiffness_unavailable.empty()) r["required_stiffness_unavailable"] = o.required_stiffness_unavailable;
 }
 
 }  // namespace

@@ -59,6 +59,15 @@ Series last_cycle(const SpeedResult& s, const std::vector<double>& column, doubl
 
 std::string yes_no(bool b) { return b ? "yes" : "NO"; }
 
+/// The sized preload with its unit and spring, or why there is none (docs/model.md §11, §12).
+std::string required_preload_text(const OptimizeOutcome& o) {
+  if (!o.required_preload_unavailable.empty()) return "not available: " + o.required_preload_unavailable;
+  std::string text = format_number(o.required_preload) + " " + o.required_preload_unit;
+  if (o.rigid.certificate.model == "held train")
+    text += " of " + o.required_preload_spring + " (held train: every contact and link loaded)";
+  return text + " at the rate given";
+}
+
 const SpeedResult* at_rpm(const DesignEvaluation& e, double rpm) {
   for (const SpeedResult& s : e.speeds)
     if (s.rpm == rpm) return &s;
@@ -117,7 +126,7 @@ std::vector<std::pair<std::string, std::string>> summary_facts(const OptimizeOut
           {"operating speeds", speeds + " rpm (" + o.config.objective.aggregate + " case)"},
           {"objective", format_number(b.objective) + " → " + format_number(p.objective)},
           {"answer", std::string(to_string(o.selection.choice.chosen)) + " (" + o.selection.choice.reason + ")"},
-          {"required spring preload", format_number(o.required_preload) + " at the rate given"},
+          {"required spring preload", required_preload_text(o)},
           {"all constraints hold", "baseline: " + yes_no(b.feasible) + ", optimised: " + yes_no(p.feasible)}};
 }
 

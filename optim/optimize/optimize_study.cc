@@ -101,15 +101,21 @@ void print_selection(const OptimizeOutcome& o) {
                          : "");
     }
   }
-  const char* unit =
-      o.optimized_scene.mechanism.follower.motion == FollowerMotion::oscillating ? "N m (torque about the pivot)" : "N";
-  if (o.rigid.certificate.model == "held train")  // the one-mass sizing does not describe a train
-    std::printf("  required spring preload: not sized on a train (docs/model.md §12: the held train's jump speed)\n");
+  const bool arm_unit = o.required_preload_unit == "N m";
+  const double top_rpm = *std::max_element(o.config.operating_rpm.begin(), o.config.operating_rpm.end());
+  if (!o.required_preload_unavailable.empty())
+    std::printf("  required spring preload: not available (%s)\n", o.required_preload_unavailable.c_str());
+  else if (o.rigid.certificate.model == "held train")  // sized on the held train (docs/model.md §12)
+    std::printf(
+        "  required spring preload %.6g %s of %s at the rate given, to keep the held train's contact and link forces "
+        ">= %g N up to %g rpm\n",
+        o.required_preload, o.required_preload_unit.c_str(), o.required_preload_spring.c_str(),
+        rigid_min_contact_force(o.config), top_rpm);
   else
     std::printf(
         "  required spring preload %.6g %s at the rate given, to keep the rigid-model force >= %g N up to %g rpm\n",
-        o.required_preload, unit, rigid_min_contact_force(o.config),
-        *std::max_element(o.config.operating_rpm.begin(), o.config.operating_rpm.end()));
+        o.required_preload, arm_unit ? "N m (torque about the pivot)" : "N", rigid_min_contact_force(o.config),
+        top_rpm);
 }
 
 Json layout_point_json(const LayoutResult& r, const LayoutPoint& p) {

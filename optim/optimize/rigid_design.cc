@@ -11,6 +11,7 @@
 #include "common/errors.h"
 #include "dynamics/contact_stress.h"
 #include "dynamics/coordinate_units.h"
+#include "dynamics/held_train_force.h"
 #include "dynamics/model.h"
 #include "geometry/bspline.h"
 #include "geometry/event_spline.h"
@@ -782,12 +783,16 @@ std::optional<RigidLimitProbe> limit_probe(const SceneConfig& baseline, const Mo
   const ConstraintsConfig& c = config.constraints;
   const FollowerGeometry& g = model.follower;
   const bool pointwise = !g.oscillating() && g.offset == 0.0;  // the family's own forms
+  // On a train the pressure's force is the held train's, which no pointwise
+  // form in (s, s', s'') has (docs/model.md §12): the probe holds it.
+  const bool held = rigid_figures_held(model);
   ProbedLimits limits;
   if (g.oscillating()) limits.max_pressure_angle_deg = c.max_pressure_angle_deg;
-  if (!pointwise) {
-    limits.min_radius_of_curvature = c.min_radius_of_curvature;
+  if (!pointwise) limits.min_radius_of_curvature = c.min_radius_of_curvature;
+  if (!pointwise || held) {
     limits.contact = line_contact(baseline.mechanism.contact);
     if (limits.contact) limits.max_contact_stress = c.max_contact_stress;
+    if (held) limits.held = &model;
   }
   if (!limits.any()) return std::nullopt;
   limits.omegas = operating_omegas(config, f);
@@ -895,8 +900,9 @@ RigidStageResult run_rigid_stage(const SceneConfig& baseline, const OptimizeStud
     cert.model = "held train";
     family.attach_train(model, limits);
   }
+  // The pointwise pressure rows are the one-mass force's; a train's go through the probe (limit_probe).
   if (const std::optional<LineContact> contact = line_contact(baseline.mechanism.contact);
-      contact && config.constraints.max_contact_stress)
+      contact && config.constraints.max_contact_stress && !on_train)
     family.limit_contact_pressure(*contact, *config.constraints.max_contact_stress, operating_omegas(config, f));
   const double hint = *std::max_element(config.operating_rpm.begin(), config.operating_rpm.end()) * kRadPerRpm;
   cert.available = true;

@@ -8,6 +8,7 @@
 #include "common/constants.h"
 #include "common/errors.h"
 #include "contact/hertz_pressure.h"
+#include "dynamics/held_train_force.h"
 #include "geometry/cam_synthesis.h"
 #include "geometry/motion_law.h"
 
@@ -51,6 +52,7 @@ std::vector<double> RigidLimitProbe::ratios(const std::vector<double>& c) const 
   if (limits_.max_contact_stress)
     q = *limits_.max_contact_stress * *limits_.max_contact_stress * std::numbers::pi * limits_.contact->width /
         limits_.contact->e_star;
+  const std::vector<std::vector<double>> held = held_forces(cam->law());
   for (const double theta : angles_) {
     const SynthesisedCam::Kinematics k = cam->kinematics(theta);
     if (limits_.max_pressure_angle_deg)
@@ -61,8 +63,10 @@ std::vector<double> RigidLimitProbe::ratios(const std::vector<double>& c) const 
     if (limits_.max_contact_stress) {
       const LawSample s = cam->law().eval(theta);
       const double kappa = curvature_sum(rho, geometry_);
-      for (const double w : limits_.omegas) {
-        const double normal = (follower_.margin(w, s) + follower_.min_force) / k.g_q;  // [N]
+      for (std::size_t j = 0; j < limits_.omegas.size(); ++j) {
+        const double generalised = held.empty() ? follower_.margin(limits_.omegas[j], s) + follower_.min_force
+                                                : on_revolution_grid(held[j], theta);  // [N | N m]
+        const double normal = generalised / k.g_q;                                     // [N]
         out.push_back(normal > 0.0 && kappa > 0.0 ? normal * kappa / q : 0.0);
       }
     }
@@ -82,6 +86,7 @@ bool RigidLimitProbe::broken(const std::vector<double>& c) const {
   if (limits_.max_pressure_angle_deg && report.max_pressure_angle_deg > *limits_.max_pressure_angle_deg) return true;
   if (limits_.min_radius_of_curvature && report.min_radius_of_curvature < *limits_.min_radius_of_curvature) return true;
   if (!limits_.max_contact_stress) return false;
+  if (limits_.held) return held_pressure_broken(*cam);
   for (int i = 0; i < kDenseSamples; ++i) {
     const double theta = 2.0 * std::numbers::pi * i / kDenseSamples;
     const SynthesisedCam::Kinematics k = cam->kinematics(theta);
@@ -91,6 +96,28 @@ bool RigidLimitProbe::broken(const std::vector<double>& c) const {
       const double normal = (follower_.margin(w, s) + follower_.min_force) / k.g_q;
       if (hertz_line_pressure(normal, limits_.contact->width, limits_.contact->e_star, kappa) >
           *limits_.max_contact_stress)
+        return true;
+    }
+  }
+  return false;
+}
+
+std::vector<std::vector<double>> RigidLimitProbe::held_forces(const MotionLaw& law) const {
+  std::vector<std::vector<double>> out;
+  if (!limits_.held || !limits_.max_contact_stress) return out;
+  for (const double w : limits_.omegas)
+    // Every harmonic: a cut's forward difference must not see the harmonic count change.
+    out.push_back(held_contact_generalised_force(*limits_.held, law, w, RigidContactForce::kHeldAngles, 0.0));
+  return out;
+}
+
+bool RigidLimitProbe::held_pressure_broken(const SynthesisedCam& cam) const {
+  for (const std::vector<double>& q : held_forces(cam.law())) {
+    for (std::size_t i = 0; i < q.size(); ++i) {
+      const double theta = 2.0 * std::numbers::pi * static_cast<double>(i) / static_cast<double>(q.size());
+      const SynthesisedCam::Kinematics k = cam.kinematics(theta);
+      if (hertz_line_pressure(q[i] / k.g_q, limits_.contact->width, limits_.contact->e_star,
+                              curvature_sum(k.radius_of_curvature, geometry_)) > *limits_.max_contact_stress)
         return true;
     }
   }

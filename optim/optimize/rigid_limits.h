@@ -6,7 +6,8 @@
 // cam synthesised for the design (geometry/cam_synthesis.h), their
 // derivatives in the control points by forward differences through the
 // synthesis, and the check of a design is the dense one `validate` makes
-// (check_cam's sampling; the pressure every 0.1°).
+// (check_cam's sampling; the pressure every 0.1°, on a train at the held
+// train's grid angles).
 #pragma once
 
 #include <optional>
@@ -14,6 +15,7 @@
 #include <vector>
 
 #include "dynamics/contact_stress.h"
+#include "geometry/cam_synthesis.h"
 #include "geometry/follower_geometry.h"
 #include "io/config.h"
 #include "optim/optimize/design.h"
@@ -35,6 +37,10 @@ struct ProbedLimits {
   std::optional<double> max_contact_stress;       ///< [Pa], with `contact`
   std::optional<LineContact> contact;
   std::vector<double> omegas;  ///< speeds the pressure holds at [rad/s]
+  /// On a follower train: the baseline model whose held train gives the
+  /// pressure's force (dynamics/held_train_force.h), never the follower
+  /// alone; null for one mass (the RigidFollower's force). Outlives the probe.
+  const Model* held = nullptr;
   bool any() const { return max_pressure_angle_deg || min_radius_of_curvature || max_contact_stress; }
 };
 
@@ -58,6 +64,10 @@ class RigidLimitProbe {
   /// each as a ratio to its limit that must stay ≤ 1; empty for a cam that
   /// cannot be synthesised.
   std::vector<double> ratios(const std::vector<double>& c) const;
+  /// On a train: the held train's Q [N | N m] of `law` at the grid angles, per speed; empty for one mass.
+  std::vector<std::vector<double>> held_forces(const MotionLaw& law) const;
+  /// On a train: whether the held train's pressure of `cam` breaks the limit at a grid angle.
+  bool held_pressure_broken(const SynthesisedCam& cam) const;
 
   const DesignSpace& space_;
   FollowerGeometry geometry_;

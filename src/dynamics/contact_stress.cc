@@ -30,7 +30,26 @@ double curvature_sum(double cam_radius_of_curvature, const FollowerGeometry& fol
   return cam + (follower.circle() ? 1.0 / follower.radius : 0.0);
 }
 
+namespace {
+
+/// The peak over the held train's grid (dynamics/held_train_force.h).
+PressurePeak peak_held_contact_pressure(const Model& model, const LineContact& contact, double omega) {
+  const RigidContactForce force(model, omega);
+  PressurePeak peak;
+  for (int i = 0; i < force.grid_angles(); ++i) {
+    const double theta = kTwoPi * i / force.grid_angles();
+    const SynthesisedCam::Kinematics k = model.cam->kinematics(theta);
+    const double p = hertz_line_pressure(force.grid_generalised(i) / k.g_q, contact.width, contact.e_star,
+                                         curvature_sum(k.radius_of_curvature, model.follower));
+    if (p > peak.pressure) peak = {p, theta * 180.0 / std::numbers::pi};
+  }
+  return peak;
+}
+
+}  // namespace
+
 PressurePeak peak_rigid_contact_pressure(const Model& model, const LineContact& contact, double omega) {
+  if (rigid_figures_held(model)) return peak_held_contact_pressure(model, contact, omega);
   auto pressure = [&](double theta) {
     return hertz_line_pressure(rigid_normal_force(model, theta, omega), contact.width, contact.e_star,
                                curvature_sum(model.cam->kinematics(theta).radius_of_curvature, model.follower));
@@ -61,14 +80,19 @@ double contact_pressure(const Model& model, const HertzContact& contact, const E
                         curvature_sum(contact_cam_radius_of_curvature(model, ev), model.follower));
 }
 
-double rigid_contact_pressure(const Model& model, const HertzContact& contact, double theta, double omega) {
+double rigid_contact_pressure(const Model& model, const HertzContact& contact, const RigidContactForce& force,
+                              double theta) {
   const double rho = model.contour ? 1.0 / model.contour->curvature(model.contour_lift->at(theta).u)
                                    : model.cam->kinematics(theta).radius_of_curvature;
-  return hertz_pressure(contact, rigid_normal_force(model, theta, omega), curvature_sum(rho, model.follower));
+  return hertz_pressure(contact, force.normal(theta), curvature_sum(rho, model.follower));
+}
+
+double rigid_contact_pressure(const Model& model, const HertzContact& contact, double theta, double omega) {
+  return rigid_contact_pressure(model, contact, RigidContactForce(model, omega), theta);
 }
 
 double rigid_cam_torque(const Model& model, double theta, double omega) {
-  return rigid_normal_force(model, theta, omega) * model.cam->kinematics(theta).g_q * model.law->eval(theta).ds;
+  return RigidContactForce(model, omega).torque(theta);
 }
 
 }  // namespace camdyn

@@ -1,7 +1,8 @@
 // The contact stress a cam designer limits: the Hertz line-contact pressure
 // (contact/hertz_pressure.h) of the rigid-model contact force (the follower
-// on its law, the force from its equation of motion: rigid_normal_force) at
-// the contact's curvatures, over a cam revolution. It is checked as
+// on its law, the force from its equation of motion: rigid_normal_force; on a
+// follower train the held train's, dynamics/held_train_force.h) at the
+// contact's curvatures, over a cam revolution. It is checked as
 // `mechanism.cam.limits.max_contact_stress` when a model is built and held by
 // an optimize study's `constraints.max_contact_stress`. Impacts of a follower
 // that leaves the cam press harder; the limit is on the design's own force.
@@ -10,6 +11,7 @@
 #include <optional>
 #include <string>
 
+#include "dynamics/held_train_force.h"
 #include "dynamics/model.h"
 
 namespace camdyn {
@@ -42,7 +44,8 @@ struct PressurePeak {
 /// `omega` [rad/s]: sampled every 0.1°, the highest local maxima refined by
 /// golden section (geometry/extremum.h, as the cam checks do). The follower's curvature is its radius's inverse for a
 /// roller or mushroom and 0 for a flat face; the cam's is its contour's at the
-/// contact (concave negative).
+/// contact (concave negative). On a follower train the force is the held
+/// train's (RigidContactForce), taken at its grid angles (0.088° apart).
 PressurePeak peak_rigid_contact_pressure(const Model& model, const LineContact& contact, double omega);
 
 /// The cam contour's radius of curvature [m] at the contact of the evaluation
@@ -59,8 +62,11 @@ double contact_cam_radius_of_curvature(const Model& model, const Evaluation& ev)
 /// follower's); 0 without a compressive force. Allocates nothing.
 double contact_pressure(const Model& model, const HertzContact& contact, const Evaluation& ev);
 
-/// The rigid model's Hertz pressure p₀ [Pa] at cam angle `theta` [rad] and
-/// speed `omega` [rad/s]: rigid_normal_force at the rigid contact's curvatures.
+/// The rigid model's Hertz pressure p₀ [Pa] at cam angle `theta` [rad] of
+/// the force `force` (its speed's) at the rigid contact's curvatures.
+double rigid_contact_pressure(const Model& model, const HertzContact& contact, const RigidContactForce& force,
+                              double theta);
+/// The same at speed `omega` [rad/s] (on a train: the held train's response made for this one angle).
 double rigid_contact_pressure(const Model& model, const HertzContact& contact, double theta, double omega);
 
 /// The torque [N m] the drive puts on the cam against the contact (positive
@@ -70,7 +76,8 @@ inline double cam_drive_torque(const Evaluation& ev) { return -ev.cam_torque; }
 /// The rigid model's drive torque [N m] at cam angle `theta` [rad] and speed
 /// `omega` [rad/s], without friction: by virtual power T ω = P q̇ with
 /// q̇ = ω s'(θ), T = P s'(θ), P the generalised force the follower's
-/// equation of motion needs on its law (rigid_normal_force · ∂g/∂q).
+/// equation of motion needs on its law (rigid_normal_force · ∂g/∂q; on a
+/// train the held train's, RigidContactForce::torque).
 double rigid_cam_torque(const Model& model, double theta, double omega);
 
 }  // namespace camdyn

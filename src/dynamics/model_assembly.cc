@@ -12,6 +12,7 @@
 #include "common/errors.h"
 #include "contact/hertz_pressure.h"
 #include "dynamics/contact_stress.h"
+#include "dynamics/held_train_force.h"
 #include "dynamics/model.h"
 #include "dynamics/plausibility.h"
 #include "dynamics/rigid_jump_speed.h"
@@ -68,8 +69,10 @@ FrictionLaw friction_law(double mu, double regularization_velocity, FrictionRegu
 namespace {
 
 /// Throws InputError naming `mechanism.cam.limits.max_contact_stress` when
-/// the rigid-model Hertz pressure at the scene's speed exceeds it, or when the
-/// scene gives no line-contact materials to compute it from.
+/// the rigid-model Hertz pressure at the scene's speed exceeds it (on a
+/// follower train the held train's: dynamics/held_train_force.h, so the
+/// model's train must be built), or when the scene gives no line-contact
+/// materials to compute it from.
 void check_contact_stress_limit(const MechanismConfig& mech, const Model& model, const std::string& file) {
   const std::optional<double>& limit = mech.cam.limits.max_contact_stress;
   if (!limit) return;
@@ -78,7 +81,8 @@ void check_contact_stress_limit(const MechanismConfig& mech, const Model& model,
   const PressurePeak peak = peak_rigid_contact_pressure(model, contact, model.omega);
   if (peak.pressure > *limit)
     throw InputError(file, at,
-                     "the rigid-model Hertz contact pressure reaches " + check_text::num(peak.pressure) +
+                     std::string(rigid_figures_held(model) ? "the held train's " : "the ") +
+                         "rigid-model Hertz contact pressure reaches " + check_text::num(peak.pressure) +
                          " Pa at cam angle " + check_text::num(peak.at_deg) + " deg at " +
                          check_text::num(mech.cam.rpm) + " rpm, above the limit " + check_text::num(*limit) + " Pa");
 }
@@ -140,11 +144,10 @@ void assign_state_layout(Model& model) {
 
 namespace {
 
-/// The speed-dependent parts of the model: the nominal speed, the tracking
-/// gain, and the checks that depend on the speed.
-void assign_cam_speed(const SceneConfig& scene, const std::string& file, Model& model) {
+/// The speed-dependent parts of the model: the nominal speed and the
+/// tracking gain (check_contact_stress_limit follows once the train is built).
+void assign_cam_speed(const SceneConfig& scene, Model& model) {
   model.omega = scene.mechanism.cam.rpm * kTwoPi / 60.0;
-  check_contact_stress_limit(scene.mechanism, model, file);
   // Drift of f decays with time constant 1/α, well below a cam degree.
   model.tracking_gain = 1000.0 + 100.0 * model.omega;
 }
@@ -177,7 +180,7 @@ Model assemble_model(const CamGeometry& geometry, const SceneConfig& scene, cons
   model.theta0 = mech.cam.initial_angle_deg * std::numbers::pi / 180.0;
   assemble_elements(scene, file, model);
   model.tracking = mech.contact.tracking;
-  assign_cam_speed(scene, file, model);
+  assign_cam_speed(scene, model);
   // Beyond this the compliant-contact model no longer describes the contact.
   model.penetration_limit = fg.circle() ? 0.5 * fg.radius : 0.1 * fg.base_radius;
 
@@ -200,6 +203,7 @@ Model assemble_model(const CamGeometry& geometry, const SceneConfig& scene, cons
     }
   }
 
+  check_contact_stress_limit(mech, model, file);
   list_elements(model);
   // Refuses what the solver could not run (docs/warnings.md), naming the field.
   check_plausibility(scene, model, file);
@@ -228,7 +232,8 @@ Model build_model(const std::shared_ptr<const CamGeometry>& geometry, const Scen
 
 void set_cam_speed(Model& model, const SceneConfig& scene, const std::string& file) {
   try {
-    assign_cam_speed(scene, file, model);
+    assign_cam_speed(scene, model);
+    check_contact_stress_limit(scene.mechanism, model, file);
     check_plausibility(scene, model, file);
   } catch (const InputError& e) {
     rethrow_naming_unit_slip(scene, file, e);

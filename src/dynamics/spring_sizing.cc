@@ -1,12 +1,17 @@
 #include "dynamics/spring_sizing.h"
 
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <functional>
 #include <limits>
 #include <numbers>
+#include <vector>
 
 #include "common/constants.h"
+#include "dynamics/coordinate_units.h"
+#include "dynamics/held_train.h"
 
 namespace camdyn {
 
@@ -93,6 +98,141 @@ RigidSpringLoad rigid_spring_load(const Model& model, double min_force) {
   load.preload = model.forces.spring.preload;
   load.min_force = min_force;
   return load;
+}
+
+namespace {
+
+constexpr int kHeldSizingAngles = 1024;  ///< the held train's response grid (as its jump speed's)
+constexpr int kHeldSizingSteps = 200;    ///< equal speed steps up to ω_max
+/// A harmonic whose |U_h| is below this share of the largest adds no resonance to the scan.
+constexpr double kSignificantHarmonic = 1e-3;
+/// |g| below this [N/N] (or [N/(N m)]): the preload does not reach the quantity.
+constexpr double kNoReach = 1e-9;
+
+bool body_has_spring(const Model& model, int body) {
+  return std::any_of(model.train.elements.begin(), model.train.elements.end(), [&](const TrainElement& e) {
+    return e.body == body && (e.role == TrainRole::spring || e.role == TrainRole::spring_segment);
+  });
+}
+
+/// A spring of the train: its body, preload F₀ [N | N m] and ∂f0/∂F₀, the
+/// held train's constant load per unit preload.
+struct TrainSpring {
+  int body = 0;
+  double preload = 0.0;
+  Eigen::VectorXd d;
+};
+
+/// Every spring of the model, the follower's first.
+std::vector<TrainSpring> train_springs(const Model& model, int n) {
+  std::vector<TrainSpring> out;
+  if (model.forces.spring.present()) {  // the follower's massless spring: f0[0] −= F₀
+    out.push_back({0, model.forces.spring.preload, Eigen::VectorXd::Zero(n)});
+    out.back().d[0] = -1.0;
+  }
+  for (int b = 0; b < static_cast<int>(model.train.bodies.size()); ++b) {
+    if (!body_has_spring(model, b)) continue;
+    TrainSpring spring{b, 0.0, Eigen::VectorXd::Zero(n)};
+    // Every segment of the spring carries F₀: the body gets −F₀, each lump F₀ − F₀ (docs/model.md §12).
+    for (const TrainElement& e : model.train.elements) {
+      if (e.body != b || (e.role != TrainRole::spring && e.role != TrainRole::spring_segment)) continue;
+      if (e.a >= 0) spring.d[e.a] -= e.ca;
+      if (e.b >= 0) spring.d[e.b] -= e.cb;
+      spring.preload = e.preload;
+    }
+    out.push_back(std::move(spring));
+  }
+  return out;
+}
+
+std::string spring_path(int body) {
+  return body == 0 ? "mechanism.follower.spring" : "mechanism.train[" + std::to_string(body - 1) + "].spring";
+}
+
+/// The spring to size: the first (the follower's first) whose preload raises
+/// or leaves every held quantity; `g` receives its static response per unit
+/// preload of each quantity. Null with out.reason when there is none.
+const TrainSpring* sized_spring(const HeldTrain& train, const std::vector<TrainSpring>& springs, std::vector<double>& g,
+                                HeldSpringSizing& out) {
+  if (springs.empty()) {
+    out.reason = "the scene has no spring to size";
+    return nullptr;
+  }
+  const Eigen::FullPivLU<Eigen::MatrixXd> lu(train.K);
+  for (const TrainSpring& spring : springs) {
+    const Eigen::VectorXd y = lu.solve(spring.d);  // static response per unit preload [m/N]
+    g.assign(train.quantities.size(), 0.0);
+    std::string unloads;
+    for (std::size_t k = 0; k < train.quantities.size(); ++k) {
+      if (!train.quantities[k].held()) continue;
+      g[k] = train.quantities[k].a.dot(y);  // [N/N | N/(N m)]
+      if (g[k] < -kNoReach && unloads.empty()) unloads = train.quantities[k].name;
+    }
+    if (unloads.empty()) return &spring;
+    out.reason += std::string(out.reason.empty() ? "" : "; ") + "a preload on " + spring_path(spring.body) +
+                  " unloads the " + unloads;
+  }
+  out.reason = "no spring's preload raises every held force (" + out.reason + ")";
+  return nullptr;
+}
+
+/// The speeds the sizing is checked at [rad/s]: 0 … ω_max in equal steps and
+/// each undamped natural frequency over each significant harmonic below ω_max.
+std::vector<double> sizing_speeds(const HeldTrain& train, const GridSignal& law, double omega_max) {
+  std::vector<double> speeds;
+  for (int j = 0; j <= kHeldSizingSteps; ++j) speeds.push_back(omega_max * j / kHeldSizingSteps);
+  const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> modes(0.5 * (train.K + train.K.transpose()), train.M,
+                                                                        Eigen::EigenvaluesOnly);
+  double largest = 0.0;
+  for (std::size_t h = 1; h < law.U.size(); ++h) largest = std::max(largest, std::abs(law.U[h]));
+  for (const double lambda : modes.eigenvalues())
+    for (int h = 1; lambda > 0.0 && h < static_cast<int>(law.U.size()); ++h)
+      if (std::abs(law.U[h]) >= kSignificantHarmonic * largest && std::sqrt(lambda) / h < omega_max)
+        speeds.push_back(std::sqrt(lambda) / h);
+  return speeds;
+}
+
+}  // namespace
+
+HeldSpringSizing size_held_spring(const Model& model, double min_force, double omega_max) {
+  HeldSpringSizing out;
+  const HeldTrain train = held_train(model);
+  std::vector<double> g;  // per held quantity, its change per unit preload [N/N | N/(N m)]
+  const std::vector<TrainSpring> springs = train_springs(model, train.free_coordinates());
+  const TrainSpring* spring = sized_spring(train, springs, g, out);  // into `springs`
+  if (!spring) return out;
+  out.body = spring->body;
+  out.spring = spring_path(spring->body);
+  out.unit = spring->body == 0 ? coordinate_units(model).force : "N";
+  const GridSignal law = grid_signal([&](double theta) { return model.law->eval(theta); }, kHeldSizingAngles);
+  HeldTrainResponse response(train, {law}, kHeldSizingAngles);
+  // Each held quantity is L + Δ g (Δ = F₀' − F₀): Δ ≥ (floor − min L) / g where g > 0.
+  double need = -kInf;
+  for (const double w : sizing_speeds(train, law, omega_max)) {
+    const SpeedResponse& r = response.at(w);
+    for (std::size_t k = 0; k < train.quantities.size(); ++k) {
+      const HeldQuantity& q = train.quantities[k];
+      if (!q.held()) continue;
+      const Eigen::VectorXd values = r.fixed[k] + r.per_signal[k].col(0);
+      Eigen::Index at = 0;
+      const double margin = values.minCoeff(&at) - min_force;  // [N]
+      if (g[k] > kNoReach) {
+        if (-margin / g[k] > need) {
+          need = -margin / g[k];
+          out.binding = q.name;
+          out.preload_at_deg = 360.0 * static_cast<double>(at) / kHeldSizingAngles;
+          out.preload_at_rpm = w * 60.0 / kTwoPi;
+        }
+      } else if (margin < 0.0) {
+        out.reason = "the preload of " + out.spring + " does not reach the " + q.name + ", which falls below " +
+                     std::to_string(min_force) + " N at " + std::to_string(w * 60.0 / kTwoPi) + " rpm";
+        return out;
+      }
+    }
+  }
+  out.required_preload = std::max(0.0, spring->preload + need);
+  out.available = true;
+  return out;
 }
 
 }  // namespace camdyn

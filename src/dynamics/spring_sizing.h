@@ -10,7 +10,13 @@
 // (k, F₀) fixed the other is a closed-form maximum over θ, so no linear
 // programme is needed. Generalised coordinate of any follower: an arm's
 // figures are torques [N m] and rates [N m/rad].
+//
+// On a follower train (dynamics/held_train_force.h rigid_figures_held) the
+// one-mass force describes only the follower: the sizing is the held train's
+// (size_held_spring, docs/model.md §12 "Rigid figures of a train").
 #pragma once
+
+#include <string>
 
 #include "dynamics/model.h"
 #include "geometry/motion_law.h"
@@ -43,5 +49,35 @@ SpringSizing size_spring(const MotionLaw& law, const RigidSpringLoad& load, doub
 
 /// The load of `model` (its mass, damper, gravity and spring) with P_min = `min_force`.
 RigidSpringLoad rigid_spring_load(const Model& model, double min_force);
+
+/// The preload of one spring of a follower train sized on the held train
+/// (dynamics/held_train.h): every held quantity (the cam contact, each link)
+/// is L(θ; ω) + ΔF₀ g with g = a·K⁻¹ ∂f0/∂F₀ the static response to the
+/// spring's preload (a constant load: the train is linear, and the contact is
+/// kept linearised at the scene's own preload), so the smallest preload that
+/// keeps every held quantity ≥ `min_force` at every speed up to ω_max is the
+/// largest (floor − min L) / g over the quantities the preload raises, taken
+/// at 200 equal speed steps and at each natural frequency over each
+/// significant harmonic of the lift (where a resonance dips), on a grid of
+/// 1024 angles.
+struct HeldSpringSizing {
+  bool available = false;
+  std::string reason;             ///< why not, when not available
+  std::string spring;             ///< the spring sized: "mechanism.follower.spring", "mechanism.train[i].spring"
+  int body = 0;                   ///< its body (0: the follower; i: mechanism.train[i − 1])
+  std::string unit = "N";         ///< of its preload: "N", or "N m" for an arm's own spring
+  double required_preload = 0.0;  ///< smallest F₀ ≥ 0 [N | N m]
+  double preload_at_deg = 0.0;    ///< cam angle where it is set [deg]
+  double preload_at_rpm = 0.0;    ///< cam speed where it is set [rpm]
+  std::string binding;            ///< the held quantity that sets it ("cam contact", "link valve")
+};
+
+/// `min_force` [N] the floor of the cam contact and of every link;
+/// `omega_max` [rad/s] ≥ 0. The spring sized is the first, the follower's
+/// first, whose preload unloads no held quantity (a follower's spring pulls
+/// it off the links behind it; the valve's spring loads them all); not
+/// available (with the reason) without such a spring, or where its preload
+/// does not reach a quantity that falls below `min_force`.
+HeldSpringSizing size_held_spring(const Model& model, double min_force, double omega_max);
 
 }  // namespace camdyn

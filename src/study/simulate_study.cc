@@ -114,6 +114,15 @@ int run_simulate_study(const Json& doc, const StudyContext& ctx) {
     const SpringSizing sizing = size_spring(*model.law, rigid_spring_load(model, 0.0), model.omega);
     std::printf("  required spring preload %.6g %s at the rate given (rigid model, contact up to this speed)\n",
                 sizing.required_preload, coordinate_units(model).force);
+  } else {  // the held train's (docs/model.md §12)
+    const HeldSpringSizing sizing = size_held_spring(model, 0.0, model.omega);
+    if (sizing.available)
+      std::printf(
+          "  required spring preload %.6g %s of %s at the rate given (held train: every contact and link "
+          "loaded up to this speed)\n",
+          sizing.required_preload, sizing.unit.c_str(), sizing.spring.c_str());
+    else
+      std::printf("  required spring preload: not available (%s)\n", sizing.reason.c_str());
   }
   std::printf("  energy_residual %.3g, %ld steps, %ld RHS evaluations, %.3g s\n", m.energy_residual,
               result.solver.counters.steps, result.solver.counters.rhs_evaluations, result.solver.run_time_s);

@@ -13,6 +13,7 @@
 #include "common/parallel.h"
 #include "dynamics/contact_stress.h"
 #include "dynamics/coordinate_units.h"
+#include "dynamics/held_train_force.h"
 #include "dynamics/plausibility.h"
 #include "dynamics/rigid_jump_speed.h"
 #include "dynamics/spring_sizing.h"
@@ -88,7 +89,13 @@ Json metrics_json(const Metrics& m) {
   return j;
 }
 
-double rigid_contact_force(const Model& model, double theta) { return rigid_normal_force(model, theta); }
+std::vector<double> rigid_contact_force(const Model& model, const std::vector<double>& thetas) {
+  const RigidContactForce force(model, model.omega);
+  std::vector<double> out;
+  out.reserve(thetas.size());
+  for (const double theta : thetas) out.push_back(force.normal(theta));
+  return out;
+}
 
 std::string follower_name(const Model& model) {
   const FollowerGeometry& f = model.follower;
@@ -150,10 +157,38 @@ Json contour_fit_json(const Model& model) {
 
 }  // namespace
 
+namespace {
+
+/// spring_sizing of a follower train: the held train's preload, or null and why (docs/model.md §12).
+Json held_spring_sizing_json(const Model& model) {
+  const HeldSpringSizing s = size_held_spring(model, 0.0, model.omega);
+  Json j{{"model", "held train"},
+         {"spring", s.spring.empty() ? Json(nullptr) : Json(s.spring)},
+         {"required_preload", s.available ? Json(s.required_preload) : Json(nullptr)},
+         {"required_preload_unit", s.unit},
+         {"required_stiffness", nullptr},
+         {"required_stiffness_unavailable",
+          "not sized on a train: a rate changes the held train's modes, so the force is not linear in it"},
+         {"min_contact_force", 0.0},
+         {"up_to_rpm", model.omega * 60.0 / (2.0 * std::numbers::pi)}};
+  if (s.available) {
+    j["required_preload_at_deg"] = s.preload_at_deg;
+    j["required_preload_at_rpm"] = s.preload_at_rpm;
+    j["required_preload_binding"] = s.binding;
+  } else {
+    j["required_preload_unavailable"] = s.reason;
+  }
+  return j;
+}
+
+}  // namespace
+
 Json spring_sizing_json(const Model& model) {
+  if (rigid_figures_held(model)) return held_spring_sizing_json(model);
   const SpringSizing s = size_spring(*model.law, rigid_spring_load(model, 0.0), model.omega);
   const Json rate = std::isfinite(s.required_stiffness) ? Json(s.required_stiffness) : Json(nullptr);
   return Json{{"required_preload", s.required_preload},
+              {"required_preload_unit", coordinate_units(model).force},
               {"required_preload_at_deg", s.preload_at_deg},
               {"required_stiffness", rate},
               {"min_contact_force", 0.0},
@@ -204,7 +239,7 @@ Json summary_json(const SceneConfig& scene, const Model& model, const Simulation
       Json{{"contact_stiffness", model.contact.stiffness},
            {"contact_stiffness_from", scene.mechanism.contact.from_materials ? "materials" : "config"}};
   // The rigid single-mass sizing does not describe a train (docs/model.md §12).
-  if (rigid_spring_sizing_applies(model)) summary["spring_sizing"] = spring_sizing_json(model);
+  summary["spring_sizing"] = spring_sizing_json(model);  // on a train the held train's (docs/model.md §12)
   if (scene.outputs.valvetrain) summary["valvetrain"] = valvetrain_json(scene, model, &result);
   summary["config"] = to_json(scene);
   return summary;
@@ -489,9 +524,10 @@ void add_revolution_plots(const Model& model, const SimulationResult& result, Re
            xrange});
   std::vector<double> rigid(rev.index.size(), std::numeric_limits<double>::quiet_NaN());
   double rigid_lo = 0.0, rigid_hi = 0.0, peak = 0.0;
+  const RigidContactForce rigid_force(model, model.omega);  // on a train the held train's (docs/model.md §12)
   for (std::size_t j = 0; j < rigid.size(); ++j) {
     if (rev.index[j] >= ts.time.size()) continue;
-    rigid[j] = rigid_contact_force(model, ts.cam_angle_deg[rev.index[j]] / kRadToDeg);
+    rigid[j] = rigid_force.normal(ts.cam_angle_deg[rev.index[j]] / kRadToDeg);
     rigid_lo = std::min(rigid_lo, rigid[j]);
     rigid_hi = std::max(rigid_hi, rigid[j]);
     peak = std::max(peak, ts.contact_force[rev.index[j]]);
@@ -557,7 +593,8 @@ void add_stress_torque_plots(const SceneConfig& scene, const Model& model, const
   const LastRevolution rev = last_revolution(ts);
   const auto xrange = std::make_pair(0.0, 360.0);
   const std::size_t first_plot = report.plots.size();
-  constexpr double kMPa = 1e-6;  // Pa → MPa
+  constexpr double kMPa = 1e-6;                             // Pa → MPa
+  const RigidContactForce rigid_force(model, model.omega);  // on a train the held train's (docs/model.md §12)
   if (model.hertz) {
     Plot stress{"Last revolution: contact stress (Hertz) and the rigid model's",
                 "cam angle [deg]",
@@ -572,7 +609,7 @@ void add_stress_torque_plots(const SceneConfig& scene, const Model& model, const
     stress.series.push_back(
         {"rigid model", rev.angle,
          rigid_at(rev, ts,
-                  [&](double theta) { return kMPa * rigid_contact_pressure(model, *model.hertz, theta, model.omega); }),
+                  [&](double theta) { return kMPa * rigid_contact_pressure(model, *model.hertz, rigid_force, theta); }),
          "dashes", PlotRole::rigid});
     if (const std::optional<double> limit = scene.mechanism.cam.limits.max_contact_stress)
       stress.series.push_back(level_line("limit (mechanism.cam.limits.max_contact_stress)", *limit * kMPa));
@@ -587,8 +624,7 @@ void add_stress_torque_plots(const SceneConfig& scene, const Model& model, const
               xrange};
   if (ts.cam_torque.size() == ts.time.size())
     torque.series.push_back({"drive torque", rev.angle, pick(rev, ts.cam_torque), "lines", PlotRole::dynamic});
-  torque.series.push_back({"rigid model", rev.angle,
-                           rigid_at(rev, ts, [&](double t) { return rigid_cam_torque(model, t, model.omega); }),
+  torque.series.push_back({"rigid model", rev.angle, rigid_at(rev, ts, [&](double t) { return rigid_force.torque(t); }),
                            "dashes", PlotRole::rigid});
   if (model.drive.shaft() && ts.motor_torque.size() == ts.time.size())
     torque.series.push_back({"motor", rev.angle, pick(rev, ts.motor_torque)});

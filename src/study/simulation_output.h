@@ -63,9 +63,11 @@ std::string drive_name(const Model& model);
 std::string follower_name(const Model& model);
 std::string contact_pair_name(const Model& model);
 
-/// Rigid-model normal contact force of a follower on the law (docs/model.md §9),
-/// P / cos φ with P = m ω² s'' + c ω s' + k (s + x₀) + m g [N] (negative: the
-/// follower would need to be pulled).
-double rigid_contact_force(const Model& model, double theta);
+/// Rigid-model normal contact force of a follower on the law at the model's
+/// speed at each cam angle of `thetas` [rad] (docs/model.md §9): P / cos φ with
+/// P = m ω² s'' + c ω s' + k (s + x₀) + m g [N] (negative: the follower would
+/// need to be pulled); on a follower train the held train's
+/// (dynamics/held_train_force.h, docs/model.md §12).
+std::vector<double> rigid_contact_force(const Model& model, const std::vector<double>& thetas);
 
 }  // namespace camdyn
