@@ -16,8 +16,9 @@ through the lift every 1 deg. Run from the repository root:
     python3 profiles/generate_dohc_lift.py
 """
 import json
-import math
 import os
+
+from generate_valve_lift import bell  # the main lobe's polydyne bell, C3 at |x| = 1
 
 CENTRE_DEG = 90.0
 MAIN_LIFT = 9.0e-3            # [m]
@@ -26,13 +27,6 @@ RAMP_VELOCITY = 0.0113e-3     # [m/deg]
 RAMP_END_DEG = 32.0           # the opening ramp's constant velocity ends here
 BLEND_DEG = 4.0
 STEP_DEG = 1.0
-
-
-def bell(x):
-    if abs(x) >= 1.0:
-        return 0.0
-    x2 = x * x
-    return 1.0 - 1.75 * x2 + 5.25 * x2**5 - 7.0 * x2**6 + 2.5 * x2**7
 
 
 def smoother(x):

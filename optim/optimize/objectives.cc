@@ -222,9 +222,8 @@ void DesignEvaluator::score(DesignEvaluation& e) const {
     // that opens separates.
     lowest.push_back(m.train && m.train->links ? std::min(m.min_contact_force, m.train->min_link_force)
                                                : m.min_contact_force);
-    fraction.push_back(m.train ? std::max(m.float_fraction.value_or(m.separation_fraction),
-                                          m.train->link_float_fraction)
-                               : m.separation_fraction);
+    fraction.push_back(std::max(m.float_fraction.value_or(m.separation_fraction),  // float: docs/valvetrain.md
+                                m.train ? m.train->link_float_fraction : 0.0));
     spring.push_back(m.train ? m.train->peak_spring_force : 0.0);
     seating.push_back(m.train ? m.train->max_seating_velocity : 0.0);
     // Smallest contact force, continued below zero by the separation measure,

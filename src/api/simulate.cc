@@ -78,7 +78,7 @@ std::map<std::string, double> public_metrics(const Metrics& metrics) {
   });
   if (metrics.train) {
     const TrainMetrics& t = *metrics.train;
-    for_each_train_metric(t, [&](const char* name, double value, bool) { named[name] = value; });
+    for_each_train_metric(t, [&](const char* name, double value, bool, const char*) { named[name] = value; });
     for (std::size_t i = 0; i < t.bodies.size(); ++i) named["max_lift_error:" + t.bodies[i]] = t.max_lift_error[i];
   }
   return named;

@@ -274,6 +274,19 @@ std::vector<Eigen::VectorXd> held_train_values(const HeldTrain& train, const Gri
   return out;
 }
 
+std::vector<double> resonance_speeds(const HeldTrain& train, const GridSignal& law, double omega_max) {
+  std::vector<double> speeds;
+  const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> modes(0.5 * (train.K + train.K.transpose()), train.M,
+                                                                        Eigen::EigenvaluesOnly);
+  double largest = 0.0;
+  for (std::size_t h = 1; h < law.U.size(); ++h) largest = std::max(largest, std::abs(law.U[h]));
+  for (const double lambda : modes.eigenvalues())
+    for (int h = 1; lambda > 0.0 && h < static_cast<int>(law.U.size()); ++h)
+      if (std::abs(law.U[h]) >= kSignificantHarmonic * largest && std::sqrt(lambda) / h < omega_max)
+        speeds.push_back(std::sqrt(lambda) / h);
+  return speeds;
+}
+
 double held_train_jump_speed(const HeldTrain& train, const GridSignal& law, double omega_max, double contact_floor,
                              double link_floor, double rtol) {
   HeldTrainResponse response(train, {law}, static_cast<int>(law.u.size()));
@@ -292,14 +305,7 @@ double held_train_jump_speed(const HeldTrain& train, const GridSignal& law, doub
   std::vector<double> speeds;
   for (int j = 1; j <= kSpeedSteps; ++j) speeds.push_back(omega_max * j / kSpeedSteps);
   if (train.free_coordinates() > 0) {  // undamped natural frequencies over each harmonic: resonances dip
-    const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> modes(0.5 * (train.K + train.K.transpose()),
-                                                                          train.M, Eigen::EigenvaluesOnly);
-    double largest = 0.0;
-    for (std::size_t h = 1; h < law.U.size(); ++h) largest = std::max(largest, std::abs(law.U[h]));
-    for (const double lambda : modes.eigenvalues())
-      for (int h = 1; lambda > 0.0 && h < static_cast<int>(law.U.size()); ++h)
-        if (std::abs(law.U[h]) >= kSignificantHarmonic * largest && std::sqrt(lambda) / h < omega_max)
-          speeds.push_back(std::sqrt(lambda) / h);
+    for (const double w : resonance_speeds(train, law, omega_max)) speeds.push_back(w);
     std::sort(speeds.begin(), speeds.end());
   }
   double lo = 0.0;

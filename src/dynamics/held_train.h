@@ -120,6 +120,11 @@ class HeldTrainResponse {
 std::vector<Eigen::VectorXd> held_train_values(const HeldTrain& train, const GridSignal& signal, double omega,
                                                int* harmonics = nullptr);
 
+/// The speeds ω < omega_max [rad/s] at which an undamped natural frequency of
+/// the train meets a significant harmonic h of `law` (√λ / h, the harmonic at
+/// least 1e-3 of the largest): where the held train's forces dip.
+std::vector<double> resonance_speeds(const HeldTrain& train, const GridSignal& law, double omega_max);
+
 /// The lowest ω in (0, omega_max] at which a held quantity of the law falls
 /// to `min_force` (the contact's in its own unit; links in N) [rad/s]: a scan
 /// over 400 equal steps and the natural frequencies over each harmonic, then

@@ -32,8 +32,8 @@ struct TrainMetrics {
   double max_seat_bounce_height = 0.0;
   double link_float_fraction = 0.0;
   bool held_open = false;
-  std::vector<std::string> bodies;        ///< every body, the follower first
-  std::vector<double> max_lift_error;     ///< per body: |x − its kinematic lift| [m | rad]
+  std::vector<std::string> bodies;     ///< every body, the follower first
+  std::vector<double> max_lift_error;  ///< per body: |x − its kinematic lift| [m | rad]
   /// Where the train lets go first in the window: "cam contact" or "link <body>"
   /// (empty: nowhere), and the cam angle there [deg].
   std::string separates_first;
@@ -134,27 +134,28 @@ inline const char* separation_place(const Metrics& m) {
 }
 
 /// Every scalar metric of a follower train that its scene has, in output
-/// order, as f(name, value, count) with a double value and whether it is a
-/// count (a whole number, written as an integer where the format has one):
+/// order, as f(name, value, count, unit) with a double value, whether it is a
+/// count (a whole number, written as an integer where the format has one) and
+/// its unit as the report's table prints it (an arm's forces are N m):
 /// the one list summary.json, the C++ API and Python write (the per-body
 /// lift errors and `separates_first` are written beside it).
 template <class F>
 void for_each_train_metric(const TrainMetrics& t, F&& f) {
   if (t.links) {
-    f("min_link_force", t.min_link_force, false);
-    f("link_separation_fraction", t.link_separation_fraction, false);
+    f("min_link_force", t.min_link_force, false, "N");
+    f("link_separation_fraction", t.link_separation_fraction, false, "–");
   }
   if (t.seats) {
-    f("max_seating_velocity", t.max_seating_velocity, false);
-    f("seat_impacts", static_cast<double>(t.seat_impacts), true);
+    f("max_seating_velocity", t.max_seating_velocity, false, "m/s");
+    f("seat_impacts", static_cast<double>(t.seat_impacts), true, "–");
   }
-  if (t.springs) f("peak_spring_force", t.peak_spring_force, false);
-  if (t.clash) f("coil_clashes", static_cast<double>(t.coil_clashes), true);
+  if (t.springs) f("peak_spring_force", t.peak_spring_force, false, "N");
+  if (t.clash) f("coil_clashes", static_cast<double>(t.coil_clashes), true, "–");
   if (t.lash) {
-    f("take_up_bounces", static_cast<double>(t.take_up_bounces), true);
-    f("seat_bounces", static_cast<double>(t.seat_bounces), true);
-    f("max_seat_bounce_height", t.max_seat_bounce_height, false);
-    if (t.links) f("link_float_fraction", t.link_float_fraction, false);
+    f("take_up_bounces", static_cast<double>(t.take_up_bounces), true, "–");
+    f("seat_bounces", static_cast<double>(t.seat_bounces), true, "–");
+    f("max_seat_bounce_height", t.max_seat_bounce_height, false, "m");
+    if (t.links) f("link_float_fraction", t.link_float_fraction, false, "–");
   }
 }
 

@@ -166,8 +166,8 @@ void assign_take_up_window(const SceneConfig& scene, const std::string& file, Mo
   std::string at = scene.mechanism.follower.lash ? "mechanism.follower.lash" : "mechanism.follower.seat.position";
   if (body > 0) {
     const std::string train = "mechanism.train[" + std::to_string(body - 1) + "]";
-    at = train + (scene.mechanism.train[static_cast<std::size_t>(body - 1)].link.lash > 0.0 ? ".link.lash"
-                                                                                             : ".seat.position");
+    at = train +
+         (scene.mechanism.train[static_cast<std::size_t>(body - 1)].link.lash > 0.0 ? ".link.lash" : ".seat.position");
   }
   throw InputError(file, at, take_up_window_problem(model.train, model.take_up));
 }

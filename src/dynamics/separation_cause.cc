@@ -104,9 +104,8 @@ std::string take_up_window_problem(const FollowerTrain& train, const TakeUpWindo
            " off its seat: the lash and seat heights, carried through the links' ratios, exceed the lift of " +
            millimetres(w.max_lift) + " at the cam";
   if (w.held_open_body >= 0)
-    return "valve held open: on the base circle the " +
-           train.bodies[static_cast<std::size_t>(w.held_open_body)].name + " is held " +
-           millimetres(w.held_open_by) + " above its seat (its seat is below where the links put it)";
+    return "valve held open: on the base circle the " + train.bodies[static_cast<std::size_t>(w.held_open_body)].name +
+           " is held " + millimetres(w.held_open_by) + " above its seat (its seat is below where the links put it)";
   return {};
 }
 

@@ -65,12 +65,12 @@ inline constexpr double kReboundLandingFactor = 2.0;
 /// The lift heights that classify a separation, all as cam lift above the
 /// base circle (s − min s) [m | rad].
 struct TakeUpWindow {
-  bool applies = false;     ///< the train has a seat: take-up and seat bounce exist
-  double base = 0.0;        ///< min s of the law [m | rad]
-  double max_lift = 0.0;    ///< max s − min s [m | rad]
-  double take_up = 0.0;     ///< the lift at which the last seated body leaves its seat (the lash at the cam)
-  double opening_end = 0.0; ///< the opening take-up window ends here (the ramp's end, or twice the lash)
-  double closing_end = 0.0; ///< the closing window starts here
+  bool applies = false;         ///< the train has a seat: take-up and seat bounce exist
+  double base = 0.0;            ///< min s of the law [m | rad]
+  double max_lift = 0.0;        ///< max s − min s [m | rad]
+  double take_up = 0.0;         ///< the lift at which the last seated body leaves its seat (the lash at the cam)
+  double opening_end = 0.0;     ///< the opening take-up window ends here (the ramp's end, or twice the lash)
+  double closing_end = 0.0;     ///< the closing window starts here
   bool ramps_from_law = false;  ///< the windows' ends are the law's ramps (else twice the lash)
   /// Per body: the lift at which the law lifts it off its seat (+inf: never; NaN: no seat).
   std::array<double, TrainLimits::kMaxBodies> lift_off{};

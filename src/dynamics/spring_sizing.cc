@@ -1,6 +1,5 @@
 #include "dynamics/spring_sizing.h"
 
-#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
@@ -104,8 +103,6 @@ namespace {
 
 constexpr int kHeldSizingAngles = 1024;  ///< the held train's response grid (as its jump speed's)
 constexpr int kHeldSizingSteps = 200;    ///< equal speed steps up to ω_max
-/// A harmonic whose |U_h| is below this share of the largest adds no resonance to the scan.
-constexpr double kSignificantHarmonic = 1e-3;
 /// |g| below this [N/N] (or [N/(N m)]): the preload does not reach the quantity.
 constexpr double kNoReach = 1e-9;
 
@@ -181,14 +178,7 @@ const TrainSpring* sized_spring(const HeldTrain& train, const std::vector<TrainS
 std::vector<double> sizing_speeds(const HeldTrain& train, const GridSignal& law, double omega_max) {
   std::vector<double> speeds;
   for (int j = 0; j <= kHeldSizingSteps; ++j) speeds.push_back(omega_max * j / kHeldSizingSteps);
-  const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> modes(0.5 * (train.K + train.K.transpose()), train.M,
-                                                                        Eigen::EigenvaluesOnly);
-  double largest = 0.0;
-  for (std::size_t h = 1; h < law.U.size(); ++h) largest = std::max(largest, std::abs(law.U[h]));
-  for (const double lambda : modes.eigenvalues())
-    for (int h = 1; lambda > 0.0 && h < static_cast<int>(law.U.size()); ++h)
-      if (std::abs(law.U[h]) >= kSignificantHarmonic * largest && std::sqrt(lambda) / h < omega_max)
-        speeds.push_back(std::sqrt(lambda) / h);
+  for (const double w : resonance_speeds(train, law, omega_max)) speeds.push_back(w);
   return speeds;
 }
 

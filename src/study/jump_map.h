@@ -132,9 +132,9 @@ struct JumpMapPoint {
   /// that ends a float included): the map's "leaves the cam". Take-up and
   /// seat bounces of a scene with a seat are not (docs/valvetrain.md).
   bool floats = false;
-  long seat_bounces = 0;  ///< bodies leaving their seats after seating, over the samples
-  double max_gap = 0.0;                                ///< [m]
-  double peak_contact_force = 0.0;                     ///< [N]
+  long seat_bounces = 0;            ///< bodies leaving their seats after seating, over the samples
+  double max_gap = 0.0;             ///< [m]
+  double peak_contact_force = 0.0;  ///< [N]
   /// Two different attractors were found at this speed (a stable orbit of
   /// another period, or of the same period with fixed points apart, or a
   /// stable orbit beside a motion that found none): the speed has no single

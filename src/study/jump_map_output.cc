@@ -129,9 +129,7 @@ Report jump_map_report(const JumpMapStudy& study, const std::vector<JumpMapPoint
                        const std::vector<JumpMapTransition>& transitions, double run_time, const std::string& file) {
   Report rep;
   rep.title = "camdyn jump_map: " + study.scene.name;
-  const auto first = std::find_if(points.begin(), points.end(), [](const JumpMapPoint& p) {
-    return p.ok && p.floats;
-  });
+  const auto first = std::find_if(points.begin(), points.end(), [](const JumpMapPoint& p) { return p.ok && p.floats; });
   rep.subtitle = "jump map: the steady motion at each cam speed from " + format_number(study.config.low_rpm) + " to " +
                  format_number(study.config.high_rpm) + " rpm";
   rep.verdict = Verdict{first == points.end() ? Verdict::Tone::good : Verdict::Tone::warning,

@@ -62,7 +62,7 @@ Json warnings_json(const std::vector<PlausibilityWarning>& warnings) {
 
 /// A follower train's metrics (docs/model.md §12), each where the scene has its element.
 void add_train_metrics(const TrainMetrics& t, Json& j) {
-  for_each_train_metric(t, [&](const char* name, double value, bool count) {
+  for_each_train_metric(t, [&](const char* name, double value, bool count, const char*) {
     j[name] = count ? Json(static_cast<long>(value)) : Json(value);
   });
   if (t.lash) j["held_open"] = t.held_open;
@@ -352,7 +352,8 @@ Verdict drop_verdict(const SimulationResult& result) {
 void held_open_verdict(const Model& model, Verdict& v) {
   v.tone = Verdict::Tone::bad;
   v.headline = take_up_window_problem(model.train, model.take_up);
-  v.details.push_back("check the seat positions and the links' lash: every valve must rest on its seat on the base circle");
+  v.details.push_back(
+      "check the seat positions and the links' lash: every valve must rest on its seat on the base circle");
 }
 
 /// The first float in the window: where the follower lets go, where it lands.
@@ -693,6 +694,23 @@ Table solver_table(const SolverSummary& s) {
   return solver;
 }
 
+/// The train's metrics in the report's table (every one summary.json has,
+/// docs/valvetrain.md), with where it lets go first.
+void add_train_metric_rows(const Metrics& m, const char* position_unit, Table& table) {
+  if (!m.train) return;
+  const TrainMetrics& t = *m.train;
+  for_each_train_metric(t, [&](const char* name, double value, bool count, const char* unit) {
+    table.rows.push_back({name, count ? std::to_string(static_cast<long>(value)) : format_number(value), unit});
+  });
+  for (std::size_t i = 0; i < t.bodies.size(); ++i)
+    table.rows.push_back({"max_lift_error: " + t.bodies[i], format_number(t.max_lift_error[i]), position_unit});
+  if (t.lash) table.rows.push_back({"held_open", t.held_open ? "yes" : "no", "–"});
+  table.rows.push_back({"separates_first",
+                        t.separates_first.empty() ? "nowhere (no float)"
+                                                  : t.separates_first + " at " + angle_text(t.separates_first_deg),
+                        "–"});
+}
+
 }  // namespace
 
 Report simulation_report(const SceneConfig& scene, const Model& model, const SimulationResult& result) {
@@ -722,6 +740,7 @@ Report simulation_report(const SceneConfig& scene, const Model& model, const Sim
     if (const std::optional<double> v = metric_value(value))
       metrics.rows.push_back({name, format(*v), info.in_coordinate ? units.position : info.unit});
   });
+  add_train_metric_rows(m, units.position, metrics);
   report.tables.push_back(std::move(metrics));
 
   if (model.omega > 0.0) add_revolution_plots(model, result, report);

@@ -74,13 +74,12 @@ SpeedCheck check_speed(const SpeedLimitStudy& study, double rpm, double min_forc
 /// and the lowest simulated speed with a seat bounce.
 void classify_limit(SpeedLimitResult& r) {
   for (const SpeedCheck& check : r.checks) {
-    if (check.seat_bounces > 0 && (!r.seat_bounce_rpm || check.rpm < *r.seat_bounce_rpm))
-      r.seat_bounce_rpm = check.rpm;
+    if (check.seat_bounces > 0 && (!r.seat_bounce_rpm || check.rpm < *r.seat_bounce_rpm)) r.seat_bounce_rpm = check.rpm;
     if (!r.limited || check.rpm != r.first_failure_rpm) continue;
-    r.limit_cause = !check.converged              ? "solver"
-                    : check.float_fraction > 0.0  ? "float"
+    r.limit_cause = !check.converged                  ? "solver"
+                    : check.float_fraction > 0.0      ? "float"
                     : check.link_float_fraction > 0.0 ? "link"
-                                                  : "force";
+                                                      : "force";
   }
 }
 

@@ -62,9 +62,9 @@ struct SpeedCheck {
   /// in float [-], and the bounces the lash makes in the window.
   double float_fraction = 0.0, link_float_fraction = 0.0;
   long take_up_bounces = 0, seat_bounces = 0;
-  double min_contact_force = 0.0;    ///< [N]
-  double peak_contact_force = 0.0;   ///< [N]
-  std::string message;               ///< the solver's message when it did not converge
+  double min_contact_force = 0.0;   ///< [N]
+  double peak_contact_force = 0.0;  ///< [N]
+  std::string message;              ///< the solver's message when it did not converge
   /// The budget that cut the run short (common/study_budget.h:
   /// budget_that_cut), empty when none did: such a run neither keeps
   /// contact nor separates, and a limit that rests on it is withheld.
@@ -75,14 +75,14 @@ struct SpeedLimitResult {
   /// The highest speed known to keep contact [rpm]: 0 when even low_rpm
   /// fails, high_rpm when nothing failed up to it (`limited` false).
   double speed_limit_rpm = 0.0;
-  double first_failure_rpm = 0.0;     ///< the lowest speed known to fail [rpm] (0 when none did)
-  bool limited = false;               ///< some speed in [low_rpm, high_rpm] failed
+  double first_failure_rpm = 0.0;  ///< the lowest speed known to fail [rpm] (0 when none did)
+  bool limited = false;            ///< some speed in [low_rpm, high_rpm] failed
   /// What failed at first_failure_rpm: "float" (the cam contact), "link" (a
   /// link off every seat), "force" (the contact force floor), "solver".
   std::string limit_cause;
   /// The lowest simulated speed at which a body bounces off its seat [rpm]; unset when none did.
   std::optional<double> seat_bounce_rpm;
-  bool lash = false;  ///< the scene has a seat: take-up and seat bounces are told apart from float
+  bool lash = false;                  ///< the scene has a seat: take-up and seat bounces are told apart from float
   double rigid_jump_speed_rpm = 0.0;  ///< the train's where SpeedLimitStudy::train
   std::string jump_speed_name = "rigid-model jump speed";
   bool train = false;

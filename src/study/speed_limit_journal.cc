@@ -60,10 +60,10 @@ void SpeedLimitJournal::record(std::size_t index, const SpeedCheck& check) {
                {"in_contact", check.ok},
                {"converged", check.converged},
                {"message", check.message},
-               {"values", doubles_to_hex({check.rpm, check.separation_fraction, check.min_contact_force,
-                                          check.peak_contact_force, check.float_fraction, check.link_float_fraction,
-                                          static_cast<double>(check.take_up_bounces),
-                                          static_cast<double>(check.seat_bounces)})}};
+               {"values",
+                doubles_to_hex({check.rpm, check.separation_fraction, check.min_contact_force, check.peak_contact_force,
+                                check.float_fraction, check.link_float_fraction,
+                                static_cast<double>(check.take_up_bounces), static_cast<double>(check.seat_bounces)})}};
   const std::lock_guard<std::mutex> lock(mutex_);
   journal_.append(j);
 }

@@ -36,16 +36,11 @@ struct Documented {
 
 const std::map<std::string, Documented>& documented() {
   static const std::map<std::string, Documented> table = {
-      {"cycloidal_rise_return", {0.02, 2}},
-      {"polynomial_345", {0.02, 2}},
-      {"polynomial_4567", {0.02, 3}},
-      {"harmonic_rise_return", {0.02, 1}},
-      {"harmonic_eccentric", {0.02, 3}},
-      {"modified_trapezoid_rise_return", {0.02, 2}},
-      {"modified_sine_rise_return", {0.02, 2}},
-      {"flat_tappet_valve_lift", {0.009, 3}},
-      {"dohc_bucket_lift", {0.00936161, 3}},
-      {"oscillating_roller_packaging", {20.0 * kPi / 180.0, 2, true}},
+      {"cycloidal_rise_return", {0.02, 2}},     {"polynomial_345", {0.02, 2}},
+      {"polynomial_4567", {0.02, 3}},           {"harmonic_rise_return", {0.02, 1}},
+      {"harmonic_eccentric", {0.02, 3}},        {"modified_trapezoid_rise_return", {0.02, 2}},
+      {"modified_sine_rise_return", {0.02, 2}}, {"flat_tappet_valve_lift", {0.009, 3}},
+      {"dohc_bucket_lift", {0.00936161, 3}},    {"oscillating_roller_packaging", {20.0 * kPi / 180.0, 2, true}},
   };
   return table;
 }

@@ -67,10 +67,9 @@ TEST(ValvetrainVerdict, AValveHeldOffItsSeatIsRed) {
 Json run_valvetrain_limit(const std::string& study, const std::string& name, double low, double high) {
   const fs::path dir = test::scratch_dir("valvetrain_verdict_test", name);
   const Json limit{{"low_rpm", low}, {"high_rpm", high}, {"scan", 13}, {"tolerance_rpm", 10}};
-  const test::Outcome r = test::run_camdyn(
-      {"run", study, "--out", (dir / "out").string(), "--quiet", "--set", "study=speed_limit", "--set",
-       "speed_limit=" + limit.dump()},
-      dir);
+  const test::Outcome r = test::run_camdyn({"run", study, "--out", (dir / "out").string(), "--quiet", "--set",
+                                            "study=speed_limit", "--set", "speed_limit=" + limit.dump()},
+                                           dir);
   EXPECT_EQ(r.code, 0) << r.err;
   return Json::parse(test::read_text(dir / "out" / "speed_limit.json"));
 }
