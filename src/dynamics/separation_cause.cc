@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdio>
 
-#include "common/constants.h"
 #include "dynamics/kinematic_lift.h"
 #include "geometry/valve_timing.h"
 
@@ -19,18 +18,6 @@ double free_position(const FollowerTrain& train, std::size_t body, double s) {
   for (std::size_t i = 0; i < body; ++i) k = lift_step(train, i).carry(k);
   const LiftStep own = lift_step(train, body);
   return own.ratio * k - own.lash;
-}
-
-/// The law's smallest and largest value over a revolution, sampled [m | rad].
-std::pair<double, double> law_range(const MotionLaw& law) {
-  constexpr int kSamples = 4096;
-  double lo = law.eval(0.0).s, hi = lo;
-  for (int j = 1; j < kSamples; ++j) {
-    const double s = law.eval(kTwoPi * j / kSamples).s;
-    lo = std::min(lo, s);
-    hi = std::max(hi, s);
-  }
-  return {lo, hi};
 }
 
 /// The law value in [lo, hi] where body `body` leaves its seat at p
@@ -58,7 +45,7 @@ TakeUpWindow take_up_window(const FollowerTrain& train, const MotionLaw& law,
   w.lift_off.fill(std::numeric_limits<double>::quiet_NaN());
   if (!train.has_seat()) return w;
   w.applies = true;
-  const auto [lo, hi] = law_range(law);
+  const double lo = law.min_s(), hi = law.max_s();  // [m | rad]
   w.base = lo;
   w.max_lift = hi - lo;
   // A seat counts as reached within a millionth of the lift (a seat put at

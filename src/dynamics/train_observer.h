@@ -13,6 +13,7 @@
 #include <limits>
 #include <string>
 
+#include "common/constants.h"
 #include "dynamics/kinematic_lift.h"
 #include "dynamics/metrics.h"
 #include "dynamics/model.h"
@@ -90,10 +91,9 @@ class TrainObserver {
     if (!train_.present()) return;
     TrainMetrics& t = *m_.train;
     if (!t.separates_first.empty()) return;
-    constexpr double kDegPerRad = 180.0 / 3.14159265358979323846;
     t.separates_first = where;
     if (body) t.separates_first += *body;
-    t.separates_first_deg = std::fmod(theta * kDegPerRad, 360.0);
+    t.separates_first_deg = std::fmod(theta * kRadToDeg, 360.0);
   }
 
   /// The metrics that are not extremes, over `evaluated` seconds.

@@ -312,7 +312,8 @@ std::size_t min_force_index(const Model& model, const TimeSeries& ts, double fro
   std::size_t best = ts.time.size();
   for (std::size_t i = 0; i < ts.time.size(); ++i)
     if (ts.time[i] >= from && std::isfinite(ts.contact_force[i]) && !(ts.gap[i] > 0.0) &&
-        !in_take_up_windows(model.take_up, model.law->eval(ts.cam_angle_deg[i] / kRadToDeg)) &&
+        (!model.take_up.applies ||
+         !in_take_up_windows(model.take_up, model.law->eval(ts.cam_angle_deg[i] / kRadToDeg))) &&
         (best == ts.time.size() || ts.contact_force[i] < ts.contact_force[best]))
       best = i;
   return best;
