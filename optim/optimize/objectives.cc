@@ -7,6 +7,7 @@
 #include <numbers>
 #include <numeric>
 
+#include "common/constants.h"
 #include "common/errors.h"
 #include "dynamics/contact_stress.h"
 #include "dynamics/coordinate_units.h"
@@ -62,6 +63,10 @@ DesignEvaluator::DesignEvaluator(const OptimizeStudyConfig& config, std::string 
     constraints_.push_back({"max_seating_velocity", Sense::at_most, *c.max_seating_velocity, "m/s", true});
   if (c.max_contact_stress)
     constraints_.push_back({"max_contact_stress", Sense::at_most, *c.max_contact_stress, "Pa", false});
+  if (c.max_seat_bounce_height)
+    constraints_.push_back({"max_seat_bounce_height", Sense::at_most, *c.max_seat_bounce_height, "m", true});
+  if (c.max_take_up_bounces)
+    constraints_.push_back({"max_take_up_bounces", Sense::at_most, *c.max_take_up_bounces, "per revolution", true});
 
   const ObjectiveConfig& o = config.objective;
   needs_simulation_ = o.separation > 0.0 || o.peak_contact_force > 0.0 || o.contact_force_margin > 0.0 ||
@@ -146,7 +151,7 @@ DesignEvaluation DesignEvaluator::evaluate(const SceneConfig& scene, const Evalu
         e.error = "at " + format_number(config_.operating_rpm[i]) + " rpm: " + out.error;
         break;
       }
-      const double window = out.result.end_time - out.result.evaluated_from;
+      const double window = out.result.metrics_duration();  // [s]
       // With a seat, the gaps of the lash and its bounces are no jump: the float's integral (docs/valvetrain.md).
       const Metrics& m = out.result.metrics;
       const double gap = window > 0.0 ? m.float_integral.value_or(m.separation_integral) / window : 0.0;
@@ -201,6 +206,41 @@ double DesignEvaluator::aggregate(const std::vector<double>& v, bool worst_is_ma
   return worst_is_max ? max_of(v) : min_of(v);
 }
 
+namespace {
+
+/// Each operating speed's figures that the terms and constraints aggregate.
+struct SpeedFigures {
+  std::vector<double> gap, peak, lowest, fraction, margin, spring, seating, bounce_height, take_ups;
+};
+
+SpeedFigures speed_figures(const DesignEvaluation& e, const Normalisation& norm) {
+  SpeedFigures out;
+  for (const SpeedResult& s : e.speeds) {
+    const Metrics& m = s.result.metrics;
+    out.gap.push_back(s.mean_gap);
+    out.peak.push_back(m.peak_contact_force);
+    // A train keeps every link loaded as well (docs/optimize.md "Trains"): its
+    // smallest force is the least of the contact's and the links', and a link
+    // that opens separates.
+    out.lowest.push_back(m.train && m.train->links ? std::min(m.min_contact_force, m.train->min_link_force)
+                                                   : m.min_contact_force);
+    out.fraction.push_back(std::max(m.float_fraction.value_or(m.separation_fraction),  // float: docs/valvetrain.md
+                                    m.train ? m.train->link_float_fraction : 0.0));
+    out.spring.push_back(m.train ? m.train->peak_spring_force : 0.0);
+    out.seating.push_back(m.train ? m.train->max_seating_velocity : 0.0);
+    out.bounce_height.push_back(m.train ? m.train->max_seat_bounce_height : 0.0);
+    const double revolutions = s.result.metrics_duration() * s.rpm / kSecondsPerMinute;
+    out.take_ups.push_back(m.train && revolutions > 0.0 ? static_cast<double>(m.train->take_up_bounces) / revolutions
+                                                        : 0.0);
+    // Smallest contact force, continued below zero by the separation measure,
+    // so it keeps a slope on both sides of the jump.
+    out.margin.push_back(m.min_contact_force - norm.force * s.mean_gap / norm.mean_gap);
+  }
+  return out;
+}
+
+}  // namespace
+
 void DesignEvaluator::score(DesignEvaluation& e) const {
   e.terms.clear();
   e.constraints.assign(constraints_.size(), ConstraintValue{});
@@ -212,24 +252,10 @@ void DesignEvaluator::score(DesignEvaluation& e) const {
     return;
   }
 
-  std::vector<double> gap, peak, lowest, fraction, margin, spring, seating;
-  for (const SpeedResult& s : e.speeds) {
-    const Metrics& m = s.result.metrics;
-    gap.push_back(s.mean_gap);
-    peak.push_back(m.peak_contact_force);
-    // A train keeps every link loaded as well (docs/optimize.md "Trains"): its
-    // smallest force is the least of the contact's and the links', and a link
-    // that opens separates.
-    lowest.push_back(m.train && m.train->links ? std::min(m.min_contact_force, m.train->min_link_force)
-                                               : m.min_contact_force);
-    fraction.push_back(std::max(m.float_fraction.value_or(m.separation_fraction),  // float: docs/valvetrain.md
-                                m.train ? m.train->link_float_fraction : 0.0));
-    spring.push_back(m.train ? m.train->peak_spring_force : 0.0);
-    seating.push_back(m.train ? m.train->max_seating_velocity : 0.0);
-    // Smallest contact force, continued below zero by the separation measure,
-    // so it keeps a slope on both sides of the jump.
-    margin.push_back(m.min_contact_force - norm_.force * s.mean_gap / norm_.mean_gap);
-  }
+  const SpeedFigures figures = speed_figures(e, norm_);
+  const std::vector<double>&gap = figures.gap, &peak = figures.peak, &lowest = figures.lowest,
+        &fraction = figures.fraction, &margin = figures.margin, &spring = figures.spring, &seating = figures.seating,
+        &bounce_height = figures.bounce_height, &take_ups = figures.take_ups;
 
   const ObjectiveConfig& o = config_.objective;
   auto term = [&](const char* name, double weight, double value, double normalised, const std::string& unit) {
@@ -283,6 +309,12 @@ void DesignEvaluator::score(DesignEvaluation& e) const {
     } else if (spec.name == "max_seating_velocity") {
       c.value = max_of(seating);
       c.residual = (c.value - limit) / limit;
+    } else if (spec.name == "max_seat_bounce_height") {
+      c.value = max_of(bounce_height);
+      c.residual = (c.value - limit) / limit;
+    } else if (spec.name == "max_take_up_bounces") {
+      c.value = max_of(take_ups);
+      c.residual = (c.value - limit) / std::max(limit, 1.0);  // a limit of 0 bounces is allowed
     } else if (spec.name == "max_peak_contact_force") {
       c.value = max_of(peak);
       c.residual = (c.value - limit) / limit;

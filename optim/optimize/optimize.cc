@@ -568,6 +568,17 @@ WindowCheck check_window(const DesignEvaluator& evaluator, const OptimizeOutcome
   return w;
 }
 
+/// The seat's constraints need a seat (docs/config.md): without one there is
+/// neither seat bounce nor lash take-up.
+void check_seat_constraints(const Model& model, const ConstraintsConfig& c, const std::string& file) {
+  if (model.take_up.applies) return;
+  const char* const needs =
+      "needs a seat (`seat` on the follower or a train body): without one there is no seat bounce and no lash "
+      "take-up (docs/valvetrain.md)";
+  if (c.max_seat_bounce_height) throw InputError(file, "constraints.max_seat_bounce_height", needs);
+  if (c.max_take_up_bounces) throw InputError(file, "constraints.max_take_up_bounces", needs);
+}
+
 /// The operating speeds the rigid stage proved jump-free: its design's
 /// rigid-model margin P − P_min (the built law sampled densely) is ≥ 0 there.
 std::vector<double> proven_speeds(const RigidStageResult& rigid, const OptimizeStudyConfig& config) {
@@ -817,7 +828,7 @@ void check_optimize(const SceneConfig& baseline, const OptimizeStudyConfig& conf
   for (double rpm : config.operating_rpm) {
     SceneConfig s = baseline;
     s.mechanism.cam.rpm = rpm;
-    build_model(s, file);  // geometry and contact law of the baseline
+    check_seat_constraints(build_model(s, file), config.constraints, file);  // geometry and contact law too
   }
   const DesignSpace space(baseline, config.design, file);  // the design against the baseline law
 }
@@ -873,6 +884,8 @@ OptimizeOutcome run_optimize(const SceneConfig& baseline, const OptimizeStudyCon
   select_answer(space, evaluator, full, baseline, baseline.name + "-optimized", top_speed(config), file, out);
   withhold_on_budget(out);
   size_chosen_spring(file, out);
+  if (out.rigid.certificate.available)  // the certificate's one "jump-free to" figure, of the answer too
+    out.answer_jump_free_rpm = stage_jump_free_rpm(out.optimized_scene, config, file);
   say(options, "checking that the objective does not depend on the window");
   out.window_check = check_window(evaluator, out);
   out.simulations = pool.simulations() + start_pool_simulations + out.resumed_simulations;

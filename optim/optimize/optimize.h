@@ -12,6 +12,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <limits>
 #include <set>
 #include <string>
 #include <vector>
@@ -140,6 +141,10 @@ struct OptimizeOutcome {
   std::string required_preload_unavailable;    ///< why there is no figure ("" when there is)
   std::string required_stiffness_unavailable;  ///< why the rate is not sized ("" when it is)
   SceneConfig optimized_scene;                 ///< the `simulate` config written to optimized.json
+  /// The answer's jump-free speed on the rigid stage's model at P_min
+  /// (stage_jump_free_rpm: the figure the certificate gives the baseline and
+  /// the rigid design) [rpm]; NaN without a certificate.
+  double answer_jump_free_rpm = std::numeric_limits<double>::quiet_NaN();
   WindowCheck window_check;             ///< the optimised objective over a doubled window (dynamic objectives only)
   int candidates_tried = 0;             ///< designs re-evaluated at the scene settings to find a feasible one
   std::size_t resumed_evaluations = 0;  ///< search evaluations replayed from the journal of an earlier, killed run

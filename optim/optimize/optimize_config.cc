@@ -180,6 +180,8 @@ void visit(A& a, ConstraintsConfig& c) {
   a.field("face_edge_margin", c.face_edge_margin, closed_open(0, kMaxLengthLimit));
   a.field("max_spring_force", c.max_spring_force, open_closed(0, kMaxForceLimit));
   a.field("max_seating_velocity", c.max_seating_velocity, open_closed(0, kMaxSeatingVelocityLimit));
+  a.field("max_seat_bounce_height", c.max_seat_bounce_height, open_closed(0, kMaxLengthLimit));
+  a.field("max_take_up_bounces", c.max_take_up_bounces, closed_open(0, kMaxTakeUpBouncesLimit));
 }
 
 template <class A>

@@ -69,6 +69,7 @@ inline constexpr double kMaxStressLimit = 1e13;
 inline constexpr double kMaxLengthLimit = 10.0;
 inline constexpr double kMaxJerkLimit = 1e9;
 inline constexpr double kMaxSeatingVelocityLimit = 1e3;
+inline constexpr double kMaxTakeUpBouncesLimit = 1e6;  // per revolution
 /// The largest rigid.speed_factor (a multiple of the top operating speed).
 inline constexpr double kMaxSpeedFactor = 100.0;
 
@@ -111,6 +112,13 @@ struct ConstraintsConfig {
   /// A train with a seat: the speed of a seated body where it reaches its
   /// seat at every operating speed [m/s] (metric max_seating_velocity).
   std::optional<double> max_seating_velocity;
+  /// A train with a seat: the highest a body rises off its seat in a seat
+  /// bounce, at every operating speed [m] (metric max_seat_bounce_height).
+  std::optional<double> max_seat_bounce_height;
+  /// A train with a seat: take-up bounces per cam revolution (per valve
+  /// event), at every operating speed [-] (metric take_up_bounces over the
+  /// revolutions it counts).
+  std::optional<double> max_take_up_bounces;
 
   bool operator==(const ConstraintsConfig&) const = default;
 };

@@ -10,6 +10,7 @@
 #include "dynamics/model.h"
 #include "io/csv_writer.h"
 #include "io/json_writer.h"
+#include "optim/optimize/certificate_text.h"
 #include "optim/optimize/optimize_report.h"
 #include "output/profile_export.h"
 #include "output/report.h"
@@ -149,6 +150,7 @@ Json rigid_json(const RigidStageResult& r, bool enabled) {
                           {"all_feasible", c.all_feasible()},
                           {"speeds", speeds},
                           {"model", c.model}};
+  if (!c.any_law_unavailable.empty()) j["certificate"]["any_law_not_computed"] = c.any_law_unavailable;
   if (c.model == "held train") {
     j["certificate"]["any_law_coarse_rpm"] = finite_or_null(c.any_law_coarse_rpm);
     j["certificate"]["train_harmonics"] = c.train_harmonics;
@@ -285,6 +287,12 @@ Json result_json(const OptimizeOutcome& o, const std::string& name, const std::s
       {"variables", vars}};
   r["rigid_stage"] = rigid_json(o.rigid, o.config.rigid.enabled);
   r["rigid_stage"]["proven_rpm"] = o.proven_rpm;
+  if (o.rigid.certificate.available)  // each design's one jump-free figure (optim/optimize/certificate_text.h)
+    r["rigid_stage"]["jump_free_rpm"] =
+        Json{{"model", jump_free_model_text(o.rigid.certificate)},
+             {"baseline", finite_or_null(o.rigid.certificate.baseline_rpm)},
+             {"rigid_design", o.rigid.design.have ? finite_or_null(o.rigid.design.jump_free_rpm) : Json()},
+             {"answer", finite_or_null(o.answer_jump_free_rpm)}};
   add_selection(o, r);
   r["resumed_evaluations"] = o.resumed_evaluations;
   r["resumed_simulations"] = o.resumed_simulations;

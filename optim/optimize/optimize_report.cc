@@ -11,6 +11,7 @@
 #include "common/errors.h"
 #include "dynamics/coordinate_units.h"
 #include "dynamics/model.h"
+#include "optim/optimize/certificate_text.h"
 #include "optim/optimize/rigid_design.h"
 #include "optim/optimize/train_rows.h"
 #include "output/cam_plots.h"
@@ -74,30 +75,32 @@ const SpeedResult* at_rpm(const DesignEvaluation& e, double rpm) {
   return nullptr;
 }
 
-/// The answer first: the rigid jump speed before and after, and the certificate.
+/// The answer first: each design's jump-free figure, the jump speed before and after, and the certificate.
 std::vector<std::pair<std::string, std::string>> answer_facts(const OptimizeOutcome& o) {
   std::vector<std::pair<std::string, std::string>> facts;
   const DesignEvaluation& b = o.baseline;
   const DesignEvaluation& p = o.optimized;
-  if (!b.speeds.empty() && !p.speeds.empty())
-    facts.emplace_back("rigid-model jump speed",
-                       format_number(b.speeds.front().result.metrics.jump_speed_rpm, 5) + " → " +
-                           format_number(p.speeds.front().result.metrics.jump_speed_rpm, 5) + " rpm");
   const Certificate& c = o.rigid.certificate;
+  if (const std::string jump_free = jump_free_text(o); !jump_free.empty())
+    facts.emplace_back("jump-free to (" + jump_free_model_text(c) + ")", jump_free);
+  if (!b.speeds.empty() && !p.speeds.empty())
+    facts.emplace_back(
+        std::string(c.model == "held train" ? "train jump speed (held, linearised)" : "rigid-model jump speed") +
+            ", where a force first reaches 0 N",
+        format_number(b.speeds.front().result.metrics.jump_speed_rpm, 5) + " → " +
+            format_number(p.speeds.front().result.metrics.jump_speed_rpm, 5) + " rpm");
   if (!c.available) {
     facts.emplace_back("certificate", o.config.rigid.enabled ? "not available: " + c.reason : "rigid stage disabled");
     return facts;
   }
-  const std::string binding = c.binding_text();
-  facts.emplace_back("certificate (contact force ≥ " + format_number(c.min_contact_force) + " N)",
-                     "any law: " + format_number(c.any_law_rpm, 5) + " rpm (set by " + c.any_law_binding +
-                         "); this spline family: " + format_number(c.family_rpm, 5) + " rpm" +
-                         (binding.empty() ? "" : " (held by " + binding + ")") +
+  facts.emplace_back("certificate (" + jump_free_model_text(c) + ")",
+                     any_law_text(c) + "; this spline family: " + family_text(c) +
                          "; baseline law: " + format_number(c.baseline_rpm, 5) + " rpm");
+  if (const std::string convergence = any_law_convergence_text(c); !convergence.empty())
+    facts.emplace_back("any law: convergence", convergence);
   std::string verdict;
-  for (const SpeedCertificate& s : c.speeds)
-    verdict +=
-        (verdict.empty() ? "" : "; ") + format_number(s.rpm) + " rpm " + (s.feasible ? "feasible" : "INFEASIBLE");
+  for (std::size_t i = 0; i < c.speeds.size(); ++i)
+    verdict += (verdict.empty() ? "" : "; ") + format_number(c.speeds[i].rpm) + " rpm " + speed_text(o, i);
   facts.emplace_back("operating speeds", verdict);
   if (const LiftAreaCertificate& a = c.lift_area; a.available)
     facts.emplace_back("lift area (rigid design, over the event)",
@@ -427,8 +430,7 @@ std::vector<std::string> report_notes(const OptimizeOutcome& o) {
       std::to_string(o.candidates_tried) + " best design(s) re-evaluated to find one that holds every constraint).");
   if (o.rigid.design.have)
     notes.push_back("Rigid-model stage: " + std::to_string(o.rigid.lp_solves) + " linear programmes in " +
-                    format_number(o.rigid.run_time_s, 3) + " s; its design, jump-free to " +
-                    format_number(o.rigid.design.jump_free_rpm, 5) + " rpm on the rigid model, starts the search.");
+                    format_number(o.rigid.run_time_s, 3) + " s; its design starts the search.");
   notes.push_back("Spline fit of the baseline law: max lift error " + format_number(o.fit.max_lift_error, 3) +
                   " of the lift, max acceleration error " + format_number(o.fit.max_acceleration_error, 3) +
                   " of the peak.");

@@ -9,6 +9,7 @@
 
 #include "common/errors.h"
 #include "io/json_writer.h"
+#include "optim/optimize/certificate_text.h"
 #include "optim/optimize/layout_design.h"
 #include "optim/optimize/optimize.h"
 #include "optim/optimize/optimize_checkpoint.h"
@@ -22,37 +23,22 @@ namespace camdyn::optim {
 
 namespace {
 
-/// The certificate on stdout: the bounds, then each operating speed.
+/// The certificate on stdout: the bounds, then each operating speed
+/// (optim/optimize/certificate_text.h: the report's wording).
 void print_certificate(const OptimizeOutcome& o) {
   const Certificate& c = o.rigid.certificate;
   if (!c.available) {
     if (o.config.rigid.enabled) std::printf("  rigid-model stage not run: %s\n", c.reason.c_str());
     return;
   }
-  const std::string binding = c.binding_text();
-  const std::string held = binding.empty() ? "" : " (held by " + binding + ")";
   const bool train = c.model == "held train";
-  std::printf(
-      "  certificate (%s, %s >= %g N): any law %.5g rpm (set by %s); this spline family "
-      "%.5g rpm%s; baseline law %.5g rpm\n",
-      train ? "held train: every contact and link held" : "rigid model",
-      train ? "contact and link forces" : "contact force", c.min_contact_force, c.any_law_rpm,
-      c.any_law_binding.c_str(), c.family_rpm, held.c_str(), c.baseline_rpm);
-  if (train)
-    std::printf(
-        "  (any law on the held train: a 16-point cubic spline per segment; with 8 points %.5g rpm; up to %d "
-        "harmonics, truncation %.2g of the largest force)\n",
-        c.any_law_coarse_rpm, c.train_harmonics, c.train_truncation);
-  for (const SpeedCertificate& s : c.speeds) {
-    if (s.feasible)
-      std::printf("  %6g rpm: feasible (best rigid margin %.4g %s)\n", s.rpm, s.best_margin, c.margin_unit.c_str());
-    else if (!std::isfinite(s.best_margin))
-      std::printf("  %6g rpm: INFEASIBLE, no design of the family meets the linear constraints%s\n", s.rpm,
-                  held.c_str());
-    else
-      std::printf("  %6g rpm: INFEASIBLE, above the family's bound %.5g rpm (any law: %.5g rpm)%s\n", s.rpm,
-                  c.family_rpm, c.any_law_rpm, held.c_str());
-  }
+  std::printf("  certificate (%s%s): %s; this spline family %s; baseline law %s rpm\n", jump_free_model_text(c).c_str(),
+              train ? "; every contact and link held" : "", any_law_text(c).c_str(), family_text(c).c_str(),
+              format_number(c.baseline_rpm, 5).c_str());
+  if (const std::string convergence = any_law_convergence_text(c); !convergence.empty())
+    std::printf("  (%s)\n", convergence.c_str());
+  for (std::size_t i = 0; i < c.speeds.size(); ++i)
+    std::printf("  %6g rpm: %s\n", c.speeds[i].rpm, speed_text(o, i).c_str());
   if (const LiftAreaCertificate& a = c.lift_area; a.available)
     std::printf(
         "  lift area (rigid design, over the event): %.6g m rad, %.2f %% of the most any law can have under "
@@ -61,8 +47,8 @@ void print_certificate(const OptimizeOutcome& o) {
   else if (!a.reason.empty())
     std::printf("  lift-area certificate not available: %s\n", a.reason.c_str());
   if (o.rigid.design.have)
-    std::printf("  rigid design: jump-free to %.5g rpm, start of the dynamic stage (%d LPs, %.3g s)\n",
-                o.rigid.design.jump_free_rpm, o.rigid.lp_solves, o.rigid.run_time_s);
+    std::printf("  rigid design: the start of the dynamic stage (%d LPs, %.3g s)\n", o.rigid.lp_solves,
+                o.rigid.run_time_s);
 }
 
 /// The answer: which candidate, why, each verified objective, and the spring it needs.
@@ -248,9 +234,11 @@ int run_optimize_study(const Json& doc, const StudyContext& ctx) {
         "one; change %.2g): %s\n",
         ss.objective, ss.speeds_on_orbit, ss.speeds, ss.relative_change,
         ss.agrees ? "agrees" : "DIFFERS: the window is not the steady state; set simulation.steady_state");
+  if (const std::string jump_free = jump_free_text(o); !jump_free.empty())
+    std::printf("  jump-free to (%s): %s\n", jump_free_model_text(o.rigid.certificate).c_str(), jump_free.c_str());
   if (!b.speeds.empty() && !p.speeds.empty())
     std::printf(
-        "  %s %.6g -> %.6g rpm\n",
+        "  %s, where a force first reaches 0 N: %.6g -> %.6g rpm\n",
         o.rigid.certificate.model == "held train" ? "train jump speed (held, linearised)" : "rigid-model jump speed",
         b.speeds.front().result.metrics.jump_speed_rpm, p.speeds.front().result.metrics.jump_speed_rpm);
   const auto abs_out = std::filesystem::absolute(ctx.out_dir).lexically_normal();

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 
 #include "common/constants.h"
 #include "common/errors.h"
@@ -636,6 +637,38 @@ double law_bound(const SampledLaw& sampled, const RigidFollower& f, double hint)
 
 double as_rpm(double omega) { return std::isfinite(omega) ? omega / kRadPerRpm : kInf; }
 
+/// Which of the lift-area bound's limits blocks it: the first whose removal
+/// alone makes the programme solvable (its constraint's name), else "the
+/// constraints together".
+std::string lift_area_blocker(const MotionLaw& law, double from, double to, const RigidFollower& f,
+                              const LobeLimits& limits, int grid) {
+  struct Relaxed {
+    const char* name;
+    LobeLimits limits;
+  };
+  std::vector<Relaxed> tries;
+  auto add = [&](const char* name, auto relax) {
+    LobeLimits l = limits;
+    relax(l);
+    tries.push_back({name, std::move(l)});
+  };
+  if (!limits.omegas.empty())
+    add("the contact-force floor P >= P_min up to the top speed (rigid.min_contact_force)",
+        [](LobeLimits& l) { l.omegas.clear(); });
+  if (std::isfinite(limits.max_lift)) add("constraints.max_lift", [](LobeLimits& l) { l.max_lift = kInf; });
+  if (std::isfinite(limits.face_limit)) add("constraints.face_edge_margin", [](LobeLimits& l) { l.face_limit = kInf; });
+  if (limits.min_radius > 0.0) add("constraints.min_radius_of_curvature", [](LobeLimits& l) { l.min_radius = 0.0; });
+  if (limits.max_jerk > 0.0) add("constraints.max_peak_jerk", [](LobeLimits& l) { l.max_jerk = 0.0; });
+  for (const Relaxed& r : tries) {
+    try {
+      if (lift_area_bound(law, from, to, f, r.limits, grid).solved)
+        return std::string("blocked by ") + r.name + ": without it alone a lift exists";
+    } catch (const NumericalError&) {  // CLP could not settle this relaxation: no evidence either way
+    }
+  }
+  return "blocked by the constraints together: no one of them removed alone leaves a lift";
+}
+
 /// The lift-area certificate of design `d` of an event design space.
 void lift_area_part(const SplineFamily& family, const RigidFollower& f, const OptimizeStudyConfig& config,
                     const DesignSpace& space, const RigidDesign& d, const MotionLaw& baseline, Certificate& cert) {
@@ -649,15 +682,27 @@ void lift_area_part(const SplineFamily& family, const RigidFollower& f, const Op
   for (const double w : omegas) c.speeds_rpm.push_back(w / kRadPerRpm);
   c.baseline = lift_area(baseline, from, to);
   if (d.have) c.design = lift_area(build_motion_law(space.scene(d.x).mechanism.cam.motion_law, ""), from, to);
-  const LobeBound b = lift_area_bound(family.law0(), from, to, f, family.lobe_limits(omegas, config.constraints),
-                                      config.rigid.certificate_grid);
+  if (family.train()) {
+    c.reason =
+        "not computed on a train: the lift-area bound is a one-mass rigid model's, and every rigid figure of a train "
+        "is the held train's (the design itself keeps the held train's forces)";
+    return;
+  }
+  const LobeLimits limits = family.lobe_limits(omegas, config.constraints);
+  const LobeBound b = lift_area_bound(family.law0(), from, to, f, limits, config.rigid.certificate_grid);
   c.grid = b.grid;
   if (!b.solved) {
-    c.reason = "no lift over the event meets the constraints (the bound's programme is " + b.status + ")";
+    c.reason = "no lift over the event meets the constraints (the bound's programme is " + b.status + "); " +
+               lift_area_blocker(family.law0(), from, to, f, limits, config.rigid.certificate_grid);
+    return;
+  }
+  c.bound = b.area;
+  if (!d.have) {
+    c.reason = "the spline family has no design under the constraints, although a lift over the event does (" +
+               std::to_string(b.area) + " m rad at most): more design.control_points";
     return;
   }
   c.available = true;
-  c.bound = b.area;
 }
 
 /// (a): the any-law bound of the designed pieces and the fixed rest's own bound.
@@ -846,16 +891,71 @@ void any_law_on_train(const SceneConfig& baseline, const OptimizeStudyConfig& co
   cert.any_law_binding = "the designed segments together on the held train (cubic spline, 16 control points each)";
 }
 
-/// The stage's figures of a built law on a train: its margin at each
-/// operating speed on the held train's dense grid, and its own jump-free speed.
-void verify_on_train(const Model& model, const MotionLaw& law, const TrainRowLimits& limits,
-                     const OptimizeStudyConfig& config, double hint, RigidDesign& d) {
-  for (const double rpm : config.operating_rpm)
-    d.verified_margin.push_back(check_held_train(model, law, rpm * kRadPerRpm, limits).margin);
-  d.jump_free_rpm = as_rpm(held_jump_free_speed(model, law, limits, kTrainScanFactor * hint));
+/// The jump-free speed of `law` at P_min on the stage's model [rpm]: the
+/// held train's (dense grid) on a train, the rigid one-mass model's (the law
+/// sampled densely) otherwise; `hint` the top operating speed [rad/s].
+double law_jump_free_rpm(const Model& model, const MotionLaw& law, const RigidFollower& f, const TrainRowLimits& limits,
+                         double hint) {
+  if (model.train.has_coordinates()) return as_rpm(held_jump_free_speed(model, law, limits, kTrainScanFactor * hint));
+  return as_rpm(law_bound(SampledLaw(law, kVerifySamples), f, hint));
+}
+
+/// The top operating speed [rad/s]: the brackets' hint.
+double top_omega(const OptimizeStudyConfig& config) {
+  return *std::max_element(config.operating_rpm.begin(), config.operating_rpm.end()) * kRadPerRpm;
+}
+
+/// The stage's train limits: P_min at the cam and at every link, and the constraints' rows.
+TrainRowLimits stage_train_limits(const OptimizeStudyConfig& config) {
+  Certificate floor;
+  floor.min_contact_force = rigid_min_contact_force(config);
+  return train_limits(floor, config.constraints);
+}
+
+/// The one jump-free figure of `model`'s law at P_min on the stage's model [rpm].
+double model_jump_free_rpm(const Model& model, const OptimizeStudyConfig& config) {
+  const RigidFollower f = rigid_follower(model, rigid_min_contact_force(config));
+  return law_jump_free_rpm(model, *model.law, f, stage_train_limits(config), top_omega(config));
+}
+
+/// The stage's figures of its design (`scene`): the margin at each operating
+/// speed, on the design's own held train's dense grid on a train, else the
+/// law sampled densely with the stage's one-mass model `f`; and its one
+/// jump-free figure (stage_jump_free_rpm).
+void verify_design(const SceneConfig& scene, const OptimizeStudyConfig& config, const std::string& file,
+                   const Model& baseline, const RigidFollower& f, RigidDesign& d) {
+  std::optional<Model> own;
+  try {
+    own.emplace(build_model(scene, file));
+  } catch (const InputError&) {
+    // A design whose cam the geometry refuses (a flat face's cusp without a
+    // curvature limit): its law on the baseline's model; it only starts the search.
+  }
+  const Model& model = own ? *own : baseline;
+  const MotionLaw built = build_motion_law(scene.mechanism.cam.motion_law, file);
+  const MotionLaw& law = own ? *own->law : built;
+  const TrainRowLimits limits = stage_train_limits(config);
+  if (model.train.has_coordinates()) {
+    for (const double rpm : config.operating_rpm)
+      d.verified_margin.push_back(check_held_train(model, law, rpm * kRadPerRpm, limits).margin);
+  } else {
+    const SampledLaw sampled(law, kVerifySamples);
+    for (const double rpm : config.operating_rpm)
+      d.verified_margin.push_back(sampled.worst_margin(f, rpm * kRadPerRpm));
+  }
+  const RigidFollower own_f = rigid_follower(model, rigid_min_contact_force(config));
+  d.jump_free_rpm = law_jump_free_rpm(model, law, own_f, limits, top_omega(config));
 }
 
 }  // namespace
+
+bool design_holds(const RigidDesign& d, std::size_t i) {
+  return d.have && i < d.verified_margin.size() && d.verified_margin[i] >= 0.0;
+}
+
+double stage_jump_free_rpm(const SceneConfig& scene, const OptimizeStudyConfig& config, const std::string& file) {
+  return model_jump_free_rpm(build_model(scene, file), config);
+}
 
 bool Certificate::all_feasible() const {
   return available && std::all_of(speeds.begin(), speeds.end(), [](const SpeedCertificate& s) { return s.feasible; });
@@ -904,15 +1004,16 @@ RigidStageResult run_rigid_stage(const SceneConfig& baseline, const OptimizeStud
   if (const std::optional<LineContact> contact = line_contact(baseline.mechanism.contact);
       contact && config.constraints.max_contact_stress && !on_train)
     family.limit_contact_pressure(*contact, *config.constraints.max_contact_stress, operating_omegas(config, f));
-  const double hint = *std::max_element(config.operating_rpm.begin(), config.operating_rpm.end()) * kRadPerRpm;
+  const double hint = top_omega(config);
   cert.available = true;
-  cert.baseline_rpm = on_train ? as_rpm(held_jump_free_speed(model, *model.law, limits, kTrainScanFactor * hint))
-                               : as_rpm(law_bound(SampledLaw(*model.law, kVerifySamples), f, hint));
+  cert.baseline_rpm = law_jump_free_rpm(model, *model.law, f, limits, hint);
   if (space.is_event()) {
     // The any-law bound bisects each rise and return between its end
     // levels; an event that rises and returns has its own (lift_area_part).
-    cert.any_law_rpm = kInf;
-    cert.any_law_binding = "not computed for an event design";
+    cert.any_law_rpm = cert.any_law_coarse_rpm = std::numeric_limits<double>::quiet_NaN();
+    cert.any_law_unavailable =
+        "not computed for an event design (design.event): the any-law bound is per rise and per return, between "
+        "their end levels";
   } else if (on_train) {
     any_law_on_train(baseline, config, model, f, hint, file, cert, out.lp_solves);
   } else {
@@ -925,7 +1026,7 @@ RigidStageResult run_rigid_stage(const SceneConfig& baseline, const OptimizeStud
   const bool lift_area_goal = config.objective.lift_area > 0.0;
   const double bound = lift_area_goal ? 0.0 : family_part(family, f, hint, cert, out.lp_solves, fastest);
   if (lift_area_goal) {
-    cert.family_rpm = kInf;
+    cert.family_rpm = std::numeric_limits<double>::quiet_NaN();
     cert.family_binding = {"not computed for a lift-area design"};
   }
   const FamilyOptions all{family.monotone(), true};
@@ -943,23 +1044,13 @@ RigidStageResult run_rigid_stage(const SceneConfig& baseline, const OptimizeStud
     out.design =
         tighten_nonlinear(family, probe ? &*probe : nullptr, f, config, space, hint, out.design, out.lp_solves);
   RigidDesign& d = out.design;
-  if (!d.have) {
-    out.run_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    return out;
-  }
-  const MotionLaw built = build_motion_law(space.scene(d.x).mechanism.cam.motion_law, file);
-  if (on_train) {
-    verify_on_train(model, built, limits, config, hint, d);
-  } else {
-    const SampledLaw law(built, kVerifySamples);
-    for (const double rpm : config.operating_rpm) d.verified_margin.push_back(law.worst_margin(f, rpm * kRadPerRpm));
-    d.jump_free_rpm = as_rpm(law_bound(law, f, hint));
-  }
+  // Before the design's figures: a stage without a design explains its lift-area bound too.
+  if (config.objective.lift_area > 0.0) lift_area_part(family, f, config, space, d, *model.law, cert);
+  if (d.have) verify_design(space.scene(d.x), config, file, model, f, d);
   if (on_train) {
     cert.train_harmonics = family.train()->harmonics();
     cert.train_truncation = family.train()->truncation();
   }
-  if (config.objective.lift_area > 0.0) lift_area_part(family, f, config, space, d, *model.law, cert);
   out.run_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
 }

@@ -26,6 +26,7 @@
 // constraints as well, and the final design is re-checked.
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -63,7 +64,10 @@ struct Certificate {
   std::string margin_unit = "N";   ///< of the margins: "N", or "N m" for an arm (torque about its pivot)
   double any_law_rpm = 0.0;        ///< (a) [rpm] (+inf: no limit below 1000× the top speed)
   std::string any_law_binding;     ///< the segment (or the fixed part of the law) that sets (a)
-  double family_rpm = 0.0;         ///< (b) [rpm]
+  /// Why (a) is not computed ("" when it is): then any_law_rpm and
+  /// any_law_coarse_rpm are NaN, never a figure (docs/optimize.md "The certificate").
+  std::string any_law_unavailable;
+  double family_rpm = 0.0;  ///< (b) [rpm]
   /// What holds (b) down: "max_pressure_angle_deg" and "monotone" when dropping
   /// them raises (b) by more than 0.5 %; "spline family" otherwise;
   /// "spring and mass" when (b) is within 1 % of (a). Found (two more
@@ -95,6 +99,11 @@ struct RigidDesign {
   double jump_free_rpm = 0.0;           ///< the design's own rigid jump-free speed at P_min [rpm]
 };
 
+/// Whether the stage's design keeps P ≥ P_min at operating speed `i` on the
+/// dense check (its verified margin ≥ 0): what "feasible" at that speed
+/// promises of the design, not only of the family.
+bool design_holds(const RigidDesign& d, std::size_t i);
+
 struct RigidStageResult {
   Certificate certificate;
   RigidDesign design;
@@ -111,6 +120,14 @@ RigidStageResult run_rigid_stage(const SceneConfig& baseline, const OptimizeStud
 /// at `rpm` at each cam angle of `angles_deg`.
 std::vector<double> rigid_margin_curve(const SceneConfig& scene, double rpm, double min_force,
                                        const std::vector<double>& angles_deg);
+
+/// The jump-free speed [rpm] of `scene`'s law on the stage's model at P_min
+/// with the stage's limits — the held train's on a train, the rigid one-mass
+/// model's otherwise: the one figure camdyn calls "jump-free to", for the
+/// baseline (Certificate::baseline_rpm), the stage's design
+/// (RigidDesign::jump_free_rpm) and any other design (the answer). +inf when
+/// there is no limit below the bracket's top.
+double stage_jump_free_rpm(const SceneConfig& scene, const OptimizeStudyConfig& config, const std::string& file);
 
 /// P_min of the stage: rigid.min_contact_force, else constraints.min_contact_force, else 0 [N].
 double rigid_min_contact_force(const OptimizeStudyConfig& config);

@@ -134,6 +134,10 @@ struct SimulationResult {
   ErrorEstimate error;
   double evaluated_from = 0.0;  ///< start of the evaluated window [s]
   double end_time = 0.0;        ///< [s]
+  /// How long the metrics are over [s]: one period of the orbit when
+  /// metrics_over is "periodic_orbit", else end_time − evaluated_from.
+  double metrics_duration() const { return orbit_duration > 0.0 ? orbit_duration : end_time - evaluated_from; }
+  double orbit_duration = 0.0;  ///< [s] the orbit's period whose metrics replaced the window's (0: none)
   /// Where the run ended: the state (one value per state of Model::layout),
   /// the approach speed of the contact episode then in progress (v₀ [m/s])
   /// and the constant-speed motor's phase [rad]: what a run that continues

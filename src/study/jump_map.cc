@@ -130,6 +130,8 @@ void fill_metrics(JumpMapPoint& p, const Metrics& m) {
     p.seat_bounces = m.train->seat_bounces;
   }
   p.floats = p.floats || separates(m);
+  if (p.float_cause.empty()) p.float_cause = separation_place(m);
+  if (p.floats && p.float_cause.empty()) p.float_cause = "float";  // an impact that ends a float
   p.max_gap = m.max_separation_gap;
   p.peak_contact_force = m.peak_contact_force;
 }
@@ -695,6 +697,19 @@ std::vector<JumpMapPoint> run_jump_map_range(const JumpMapStudy& study, std::siz
   return points;
 }
 
+JumpMapLimit jump_map_limit(const std::vector<JumpMapPoint>& points) {
+  JumpMapLimit limit;
+  for (const JumpMapPoint& p : points) {  // in rpm order
+    if (!p.ok) continue;
+    if (p.floats && !limit.rpm) {
+      limit.rpm = p.rpm;
+      limit.cause = p.float_cause.empty() ? "float" : p.float_cause;
+    }
+    if (p.seat_bounces > 0 && !limit.seat_bounce_rpm) limit.seat_bounce_rpm = p.rpm;
+  }
+  return limit;
+}
+
 std::vector<JumpMapTransition> jump_map_transitions(const std::vector<JumpMapPoint>& points) {
   std::vector<JumpMapTransition> t;
   const JumpMapPoint* previous = nullptr;
@@ -755,6 +770,7 @@ Json jump_map_point_json(const JumpMapPoint& p) {
               {"separation_fraction", p.separation_fraction},
               {"link_separation_fraction", p.link_separation_fraction},
               {"floats", p.floats},
+              {"float_cause", p.float_cause},
               {"seat_bounces", p.seat_bounces},
               {"max_gap", p.max_gap},
               {"peak_contact_force", p.peak_contact_force},
@@ -784,6 +800,7 @@ JumpMapPoint jump_map_point_from_json(const Json& j) {
   p.link_separation_fraction = j.value("link_separation_fraction", 0.0);  // older records: none
   // Older records: every impact and separation was taken as leaving the cam.
   p.floats = j.value("floats", !p.impact_speed.empty() || p.separation_fraction > 0);
+  p.float_cause = j.value("float_cause", std::string(p.floats ? "float" : ""));  // older records: none
   p.seat_bounces = j.value("seat_bounces", 0L);
   p.max_gap = j.at("max_gap").get<double>();
   p.peak_contact_force = j.at("peak_contact_force").get<double>();

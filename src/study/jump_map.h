@@ -132,6 +132,9 @@ struct JumpMapPoint {
   /// that ends a float included): the map's "leaves the cam". Take-up and
   /// seat bounces of a scene with a seat are not (docs/valvetrain.md).
   bool floats = false;
+  /// Where it floats, as speed_limit's limit_cause: "float" (the cam
+  /// contact) or "link" (a link open off every seat); "" where it does not.
+  std::string float_cause;
   long seat_bounces = 0;            ///< bodies leaving their seats after seating, over the samples
   double max_gap = 0.0;             ///< [m]
   double peak_contact_force = 0.0;  ///< [N]
@@ -177,6 +180,16 @@ std::vector<JumpMapPoint> run_jump_map_range(const JumpMapStudy& study, std::siz
 
 /// The transitions along the grid (points in rpm order).
 std::vector<JumpMapTransition> jump_map_transitions(const std::vector<JumpMapPoint>& points);
+
+/// The map's limit, as speed_limit's (docs/valvetrain.md): the lowest grid
+/// speed that floats and where (`limit_cause` "float" or "link"), and the
+/// lowest with a seat bounce; none where no speed does.
+struct JumpMapLimit {
+  std::optional<double> rpm;              ///< [rpm]
+  std::string cause;                      ///< "float" or "link"
+  std::optional<double> seat_bounce_rpm;  ///< [rpm]
+};
+JumpMapLimit jump_map_limit(const std::vector<JumpMapPoint>& points);
 
 /// A point as a journal record and back.
 Json jump_map_point_json(const JumpMapPoint& p);

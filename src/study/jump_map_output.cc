@@ -138,6 +138,13 @@ Report jump_map_report(const JumpMapStudy& study, const std::vector<JumpMapPoint
                                                     " rpm (" + study.jump_speed_name + " " +
                                                     format_number(study.damped_rigid_jump_speed_rpm, 5) + " rpm)",
                         {}};
+  const JumpMapLimit limit = jump_map_limit(points);
+  if (limit.rpm)
+    rep.verdict->details.push_back(limit.cause == "link" ? "what leaves first: a link of the train opens off its seats"
+                                                         : "what leaves first: the follower floats off the cam");
+  if (limit.seat_bounce_rpm)
+    rep.verdict->details.push_back("a body bounces off its seat from " + format_number(*limit.seat_bounce_rpm, 5) +
+                                   " rpm (no jump: docs/valvetrain.md)");
   rep.facts = {{"speeds", std::to_string(points.size()) + " from " + format_number(study.config.low_rpm) + " to " +
                               format_number(study.config.high_rpm) + " rpm"},
                {study.jump_speed_name, format_number(study.damped_rigid_jump_speed_rpm, 5) + " rpm with the damper, " +
@@ -271,20 +278,25 @@ int run_jump_map_study(const Json& doc, const StudyContext& ctx) {
     predicted += p.ok && p.start == JumpMapStart::predicted ? 1 : 0;
     coexisting += p.ok && p.coexisting ? 1 : 0;
   }
-  write_json_atomic(ctx.out_dir / "jump_map.json",
-                    Json{{"name", study.scene.name},
-                         {"study", "jump_map"},
-                         {"camdyn_version", CAMDYN_VERSION},
-                         {"rigid_jump_speed_rpm", std::isfinite(jump) ? Json(jump) : Json()},
-                         {"damped_rigid_jump_speed_rpm", std::isfinite(damped) ? Json(damped) : Json()},
-                         {"transitions", withheld.empty() ? changes : Json()},
-                         {"speeds", speeds},
-                         {"budget_cut_speeds", cut},
-                         {"predicted_speeds", predicted},
-                         {"coexisting_speeds", coexisting},
-                         {"conclusion_withheld", withheld.empty() ? Json() : Json(withheld)},
-                         {"resumed_ranges", runs.resumed},
-                         {"run_time_s", run_time}});
+  const JumpMapLimit limit = jump_map_limit(points);
+  write_json_atomic(
+      ctx.out_dir / "jump_map.json",
+      Json{{"name", study.scene.name},
+           {"study", "jump_map"},
+           {"camdyn_version", CAMDYN_VERSION},
+           {"rigid_jump_speed_rpm", std::isfinite(jump) ? Json(jump) : Json()},
+           {"damped_rigid_jump_speed_rpm", std::isfinite(damped) ? Json(damped) : Json()},
+           {"transitions", withheld.empty() ? changes : Json()},
+           {"limit_rpm", withheld.empty() && limit.rpm ? Json(*limit.rpm) : Json()},
+           {"limit_cause", withheld.empty() && limit.rpm ? Json(limit.cause) : Json()},
+           {"seat_bounce_rpm", withheld.empty() && limit.seat_bounce_rpm ? Json(*limit.seat_bounce_rpm) : Json()},
+           {"speeds", speeds},
+           {"budget_cut_speeds", cut},
+           {"predicted_speeds", predicted},
+           {"coexisting_speeds", coexisting},
+           {"conclusion_withheld", withheld.empty() ? Json() : Json(withheld)},
+           {"resumed_ranges", runs.resumed},
+           {"run_time_s", run_time}});
   write_csvs(ctx.out_dir, points);
   if (!withheld.empty()) {
     std::filesystem::remove(ctx.out_dir / "report.html");  // an earlier run's verdict must not stand

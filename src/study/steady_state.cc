@@ -88,6 +88,7 @@ SteadyStateOutcome search(const SceneConfig& scene, const Model& model, Simulati
     if (settled(map, result, options, revolution, o)) {
       result.metrics = revolution.metrics;
       result.metrics_over = "periodic_orbit";
+      result.orbit_duration = revolution.end_time - revolution.evaluated_from;
       return o;
     }
     const PeriodicAnalysis a = analyse(map, result, options);
@@ -109,6 +110,7 @@ SteadyStateOutcome search(const SceneConfig& scene, const Model& model, Simulati
     }
     result.metrics = orbit.metrics;
     result.metrics_over = "periodic_orbit";
+    result.orbit_duration = orbit.end_time - orbit.evaluated_from;
     o.on_orbit = true;
     o.period = a.orbit->period;
     o.spectral_radius = a.orbit->spectral_radius();

@@ -148,6 +148,37 @@ TEST(JumpMap, TransitionsAlongTheGrid) {
   EXPECT_EQ(t[4].kind, "chaos_end");
 }
 
+// The map's limit is speed_limit's (docs/valvetrain.md): the lowest speed
+// that floats and where (the cam contact or a link), never a seat bounce or
+// a failed speed; the lowest seat bounce has its own speed.
+TEST(JumpMap, TheLimitIsTheFirstFloatAndSeatBouncesHaveTheirOwnSpeed) {
+  auto at = [](double rpm, bool ok, bool floats, const char* cause, long seat_bounces) {
+    JumpMapPoint p;
+    p.rpm = rpm;
+    p.ok = ok;
+    p.floats = floats;
+    p.float_cause = cause;
+    p.seat_bounces = seat_bounces;
+    return p;
+  };
+  const JumpMapLimit none = jump_map_limit({at(3000, true, false, "", 0), at(3200, true, false, "", 0)});
+  EXPECT_FALSE(none.rpm);
+  EXPECT_FALSE(none.seat_bounce_rpm);
+  const JumpMapLimit l =
+      jump_map_limit({at(3000, true, false, "", 0), at(3200, false, true, "float", 4), at(3400, true, false, "", 7),
+                      at(3600, true, true, "link", 2), at(3800, true, true, "float", 0)});
+  ASSERT_TRUE(l.rpm);
+  EXPECT_EQ(*l.rpm, 3600);  // 3200 failed: no evidence
+  EXPECT_EQ(l.cause, "link");
+  ASSERT_TRUE(l.seat_bounce_rpm);
+  EXPECT_EQ(*l.seat_bounce_rpm, 3400);
+  // A record from before float_cause: the journal reads a float as "float".
+  JumpMapPoint old = at(3600, true, true, "", 0);
+  Json j = jump_map_point_json(old);
+  j.erase("float_cause");
+  EXPECT_EQ(jump_map_point_from_json(j).float_cause, "float");
+}
+
 TEST(JumpMap, BadRangeIsNamed) {
   const fs::path dir = test::scratch_dir("jump_map_test", "bad");
   const test::Outcome r = test::run_camdyn(
