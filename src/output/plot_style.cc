@@ -23,6 +23,7 @@ const RoleStyle kLiftOff{"lift-off", "#e69f00", 1, 11, 0.9};  // triangle pointi
 const RoleStyle kImpact{"impact", "#cc79a7", 1, 9, 0.9};      // triangle pointing up
 const RoleStyle kSeat{"seat", "#56b4e9", 1, 5, 0.8};          // square
 const RoleStyle kSection{"section", "#882255", 1, 13, 0.7};   // diamond
+const RoleStyle kMinimum{"minimum", "#009e73", 1, 15, 0.9};   // pentagon
 
 }  // namespace
 
@@ -52,6 +53,8 @@ const RoleStyle& role_style(PlotRole role) {
       return kSeat;
     case PlotRole::section:
       return kSection;
+    case PlotRole::minimum:
+      return kMinimum;
   }
   return kAutomatic;
 }
@@ -60,7 +63,7 @@ const std::vector<PlotRole>& all_plot_roles() {
   static const std::vector<PlotRole> roles = {PlotRole::dynamic,   PlotRole::rigid,    PlotRole::baseline,
                                               PlotRole::optimised, PlotRole::limit,    PlotRole::measured,
                                               PlotRole::fitted,    PlotRole::lift_off, PlotRole::impact,
-                                              PlotRole::seat,      PlotRole::section};
+                                              PlotRole::seat,      PlotRole::section,  PlotRole::minimum};
   return roles;
 }
 

@@ -2,7 +2,7 @@
 // "Figures"): a series that plays a role (the baseline design, the optimised
 // one, the rigid model, the simulated dynamics, a limit, measured data, a fit)
 // gets that role's colour and dash wherever it is drawn, an event (lift-off,
-// impact, seating, a once-per-revolution sample) that event's marker; and a
+// impact, seating, a once-per-revolution sample, the verdict's minimum) that event's marker; and a
 // length axis takes the unit its data needs (µm, mm or m). Series with no
 // role take the report's palette by position.
 #pragma once
@@ -27,6 +27,7 @@ enum class PlotRole {
   impact,     ///< event: it comes back (impact, re-contact)
   seat,       ///< event: a valve seats
   section,    ///< event: a once-per-revolution sample (Poincaré section)
+  minimum,    ///< event: where the verdict's least value falls (the minimum contact force)
 };
 
 /// How a role is drawn: colour `#rrggbb`, a gnuplot dash type (1 solid,

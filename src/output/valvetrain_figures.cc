@@ -19,24 +19,6 @@ constexpr int kPlotSamples = 1440;              // points of the lift-against-cr
 constexpr double kDeadCentrePeriodDeg = 360.0;  // a TDC (and a BDC) every crank revolution [deg]
 constexpr double kBdcAfterTdcDeg = 180.0;       // [deg of crank]
 
-/// Crank angles from the scene's TDC: crank = r (cam − tdc_deg), the cam
-/// angle taken in [tdc_deg, tdc_deg + 360) for an event's start.
-struct CrankScale {
-  double ratio = 2.0;  // r [-]
-  double tdc_deg = 0.0;
-
-  /// The crank angle of cam angle `cam_rad` in [0, 360 r) [deg].
-  double of(double cam_rad) const { return ratio * (cam_rad * kRadToDeg - tdc_deg + shift(cam_rad)); }
-  /// The crank angle of `cam_rad`, a cam angle after `from_rad` (an interval's end), on `from_rad`'s turn [deg].
-  double of_end(double from_rad, double cam_rad) const {
-    return ratio * (cam_rad * kRadToDeg - tdc_deg + shift(from_rad));
-  }
-  double cycle() const { return kDeadCentrePeriodDeg * ratio; }  // one cam turn in crank degrees
-
- private:
-  double shift(double cam_rad) const { return cam_rad * kRadToDeg - tdc_deg < 0.0 ? 360.0 : 0.0; }
-};
-
 Json ramp_json(const std::optional<RampEnd>& ramp, const CrankScale& crank, double omega) {
   if (!ramp) return nullptr;
   return Json{{"cam_deg", ramp->angle * kRadToDeg},
@@ -93,8 +75,6 @@ Json height_json(const CheckingHeightTiming& h, const CrankScale& crank, const s
   return j;
 }
 
-CrankScale crank_scale(const ValvetrainOutputConfig& config) { return {config.crank_ratio, config.tdc_deg}; }
-
 /// The column of train body `body`'s position in the series (the follower's for 0), or null.
 const std::vector<double>* position_column(const Model& model, const TimeSeries& ts, std::size_t body) {
   if (body == 0 || body >= model.train.bodies.size()) return &ts.follower_position;
@@ -124,7 +104,7 @@ Series simulated_series(const Model& model, const SimulationResult& result, cons
   double previous = -1.0;
   for (std::size_t i = 0; i < ts.cam_angle_deg.size() && i < x->size(); ++i) {
     if (ts.cam_angle_deg[i] < begin) continue;
-    const double at = crank.of(std::fmod(ts.cam_angle_deg[i], 360.0) * kDegToRad);
+    const double at = crank.of_deg(ts.cam_angle_deg[i]);
     if (at < previous) {
       s.x.push_back(std::numeric_limits<double>::quiet_NaN());
       s.y.push_back(std::numeric_limits<double>::quiet_NaN());
@@ -137,6 +117,18 @@ Series simulated_series(const Model& model, const SimulationResult& result, cons
 }
 
 }  // namespace
+
+double CrankScale::of_deg(double cam_deg) const {
+  const double after = std::fmod(cam_deg - tdc_deg, 360.0);  // [deg of cam] after TDC, in (−360, 360)
+  return ratio * (after < 0.0 ? after + 360.0 : after);
+}
+
+CrankScale crank_scale(const ValvetrainOutputConfig& config) { return {config.crank_ratio, config.tdc_deg}; }
+
+std::optional<CrankScale> scene_crank_scale(const SceneConfig& scene) {
+  if (!scene.outputs.valvetrain) return std::nullopt;
+  return crank_scale(*scene.outputs.valvetrain);
+}
 
 double crank_after(double crank_deg, double period_deg) {
   double a = std::fmod(crank_deg, period_deg);

@@ -12,6 +12,7 @@
 #include <optional>
 #include <string>
 
+#include "common/constants.h"
 #include "dynamics/model.h"
 #include "dynamics/simulation.h"
 #include "geometry/lift_chain.h"
@@ -20,6 +21,35 @@
 #include "output/report.h"
 
 namespace camdyn {
+
+/// Crank angles from the scene's TDC (docs/valvetrain.md, "Conventions"):
+/// crank = r (cam − tdc_deg), the cam angle taken in [tdc_deg, tdc_deg + 360)
+/// for an event's start.
+struct CrankScale {
+  static constexpr double kTurnDeg = 360.0;  // a cam turn, and a TDC (and a BDC) every crank revolution [deg]
+
+  double ratio = 2.0;  ///< r [-]
+  double tdc_deg = 0.0;
+
+  /// The crank angle of cam angle `cam_rad` in [0, 360) [rad], in [0, 360 r) [deg].
+  double of(double cam_rad) const { return ratio * (cam_rad * kRadToDeg - tdc_deg + shift(cam_rad)); }
+  /// The crank angle of any cam angle `cam_deg` (a running one too), in [0, 360 r) [deg].
+  double of_deg(double cam_deg) const;
+  /// The crank angle of `cam_rad`, a cam angle after `from_rad` (an interval's end), on `from_rad`'s turn [deg].
+  double of_end(double from_rad, double cam_rad) const {
+    return ratio * (cam_rad * kRadToDeg - tdc_deg + shift(from_rad));
+  }
+  double cycle() const { return kTurnDeg * ratio; }  ///< one cam turn in crank degrees
+
+ private:
+  double shift(double cam_rad) const { return cam_rad * kRadToDeg - tdc_deg < 0.0 ? kTurnDeg : 0.0; }
+};
+
+/// The scene's `outputs.valvetrain` crank_ratio and tdc_deg.
+CrankScale crank_scale(const ValvetrainOutputConfig& config);
+
+/// The scene's crank scale; unset without `outputs.valvetrain`.
+std::optional<CrankScale> scene_crank_scale(const SceneConfig& scene);
 
 /// The valvetrain figures of a scene, at the place its config asks for.
 struct ValvetrainFigures {

@@ -299,7 +299,7 @@ double wrap_deg(double deg) {
   return w < 0.0 ? w + 360.0 : w;
 }
 
-std::string angle_text(double deg) { return format_number(wrap_deg(deg), 4) + "°"; }
+std::string angle_text(double deg, const std::optional<CrankScale>& crank) { return verdict_angle_text(deg, crank); }
 
 std::string rpm_text(double rpm) {
   return std::isfinite(rpm) ? format_number(rpm, 5) + " rpm" : "none (the law never decelerates)";
@@ -358,27 +358,23 @@ void held_open_verdict(const Model& model, Verdict& v) {
 }
 
 /// The first float in the window: where the follower lets go, where it lands.
-void separation_verdict(const SimulationResult& result, Verdict& v) {
+void separation_verdict(const SimulationResult& result, const VerdictAngles& at, const std::optional<CrankScale>& crank,
+                        Verdict& v) {
   const Metrics& m = result.metrics;
   v.tone = Verdict::Tone::bad;
-  const auto lift_off = std::find_if(result.events.begin(), result.events.end(), [&](const ContactEvent& e) {
-    return e.time >= result.evaluated_from && !e.onset && e.cause == SeparationCause::float_gap;
-  });
-  if (lift_off != result.events.end()) {
-    const auto landing = std::find_if(lift_off, result.events.end(), [](const ContactEvent& e) { return e.onset; });
-    v.headline = "separates at " + angle_text(lift_off->cam_angle_deg) +
-                 (landing == result.events.end() ? ", still airborne when the run ends"
-                                                 : ", lands at " + angle_text(landing->cam_angle_deg) + " at " +
-                                                       format_number(landing->speed, 4) + " m/s");
-  } else if (m.train && !m.train->separates_first.empty()) {
-    v.headline = "the train lets go at its " + m.train->separates_first + " first, at " +
-                 angle_text(m.train->separates_first_deg);
+  if (at.lift_off_deg) {
+    v.headline = "separates at " + angle_text(*at.lift_off_deg, crank) +
+                 (at.landing_deg ? ", lands at " + angle_text(*at.landing_deg, crank) + " at " +
+                                       format_number(at.landing_speed, 4) + " m/s"
+                                 : ", still airborne when the run ends");
+  } else if (at.lets_go_deg) {
+    v.headline = "the train lets go at its " + at.lets_go_where + " first, at " + angle_text(*at.lets_go_deg, crank);
   } else {
     v.headline = "separated for part of the evaluated window";
   }
-  if (m.train && !m.train->separates_first.empty() && m.train->separates_first != "cam contact")
-    v.details.push_back("the train lets go first at its " + m.train->separates_first + ", at " +
-                        angle_text(m.train->separates_first_deg) + "; links open " +
+  if (at.lets_go_deg && at.lets_go_where != "cam contact")
+    v.details.push_back("the train lets go first at its " + at.lets_go_where + ", at " +
+                        angle_text(*at.lets_go_deg, crank) + "; links open " +
                         format_number(100.0 * m.train->link_separation_fraction, 3) + " % of the evaluated time");
   const std::string floating =
       m.float_fraction ? " (float " + format_number(100.0 * *m.float_fraction, 3) + " %)" : std::string();
@@ -408,23 +404,61 @@ void bounce_lines(const Metrics& m, Verdict& v) {
 
 }  // namespace
 
+std::string verdict_angle_text(double cam_deg, const std::optional<CrankScale>& crank) {
+  std::string text = format_number(wrap_deg(cam_deg), 4) + "°";
+  if (crank) text += " (" + format_number(crank->of_deg(cam_deg), 4) + "° crank)";
+  return text;
+}
+
+VerdictAngles verdict_angles(const Model& model, const SimulationResult& result) {
+  VerdictAngles at;
+  const Metrics& m = result.metrics;
+  if (model.omega <= 0.0 || model.take_up.held_open_body >= 0) return at;
+  if (!separates(m)) {
+    const std::size_t i = min_force_index(model, result.series, result.evaluated_from);
+    if (i < result.series.time.size()) at.min_force_deg = wrap_deg(result.series.cam_angle_deg[i]);
+    return at;
+  }
+  const std::vector<ContactEvent>& events = result.events;
+  const auto lift_off = std::find_if(events.begin(), events.end(), [&](const ContactEvent& e) {
+    return e.time >= result.evaluated_from && !e.onset && e.cause == SeparationCause::float_gap;
+  });
+  if (lift_off != events.end()) {
+    at.lift_off_deg = wrap_deg(lift_off->cam_angle_deg);
+    const auto landing = std::find_if(lift_off, events.end(), [](const ContactEvent& e) { return e.onset; });
+    if (landing != events.end()) {
+      at.landing_deg = wrap_deg(landing->cam_angle_deg);
+      at.landing_speed = landing->speed;
+    }
+  }
+  // The train's first place to let go, where the verdict names it: in the
+  // headline without a lift-off of the cam contact, else on a line of its own
+  // when it is a link.
+  if (m.train && !m.train->separates_first.empty() && (!at.lift_off_deg || m.train->separates_first != "cam contact")) {
+    at.lets_go_deg = wrap_deg(m.train->separates_first_deg);
+    at.lets_go_where = m.train->separates_first;
+  }
+  return at;
+}
+
 Verdict simulation_verdict(const SceneConfig& scene, const Model& model, const SimulationResult& result) {
   if (model.omega <= 0.0) return drop_verdict(result);
   const Metrics& m = result.metrics;
   const double rpm = scene.mechanism.cam.rpm;
   const std::string jump = std::string(jump_speed_name(model)) + " " + rpm_text(m.jump_speed_rpm) +
                            " (this run is at " + format_number(rpm, 5) + " rpm)";
+  const VerdictAngles at = verdict_angles(model, result);
+  const std::optional<CrankScale> crank = scene_crank_scale(scene);
   Verdict v;
   if (model.take_up.held_open_body >= 0) {
     held_open_verdict(model, v);
   } else if (!separates(m)) {
     v.tone = Verdict::Tone::good;
-    const std::size_t at = min_force_index(model, result.series, result.evaluated_from);
     v.headline = "stays in contact, minimum contact force " + format_number(m.min_contact_force, 4) + " N" +
-                 (at < result.series.time.size() ? " at " + angle_text(result.series.cam_angle_deg[at]) : "");
+                 (at.min_force_deg ? " at " + angle_text(*at.min_force_deg, crank) : "");
     v.details.push_back(jump);
   } else {
-    separation_verdict(result, v);
+    separation_verdict(result, at, crank, v);
     v.headline += "; " + jump;
   }
   bounce_lines(m, v);
@@ -697,7 +731,8 @@ Table solver_table(const SolverSummary& s) {
 
 /// The train's metrics in the report's table (every one summary.json has,
 /// docs/valvetrain.md), with where it lets go first.
-void add_train_metric_rows(const Metrics& m, const char* position_unit, Table& table) {
+void add_train_metric_rows(const Metrics& m, const char* position_unit, const std::optional<CrankScale>& crank,
+                           Table& table) {
   if (!m.train) return;
   const TrainMetrics& t = *m.train;
   for_each_train_metric(t, [&](const char* name, double value, bool count, const char* unit) {
@@ -707,8 +742,9 @@ void add_train_metric_rows(const Metrics& m, const char* position_unit, Table& t
     table.rows.push_back({"max_lift_error: " + t.bodies[i], format_number(t.max_lift_error[i]), position_unit});
   if (t.lash) table.rows.push_back({"held_open", t.held_open ? "yes" : "no", "–"});
   table.rows.push_back({"separates_first",
-                        t.separates_first.empty() ? "nowhere (no float)"
-                                                  : t.separates_first + " at " + angle_text(t.separates_first_deg),
+                        t.separates_first.empty()
+                            ? "nowhere (no float)"
+                            : t.separates_first + " at " + angle_text(t.separates_first_deg, crank),
                         "–"});
 }
 
@@ -741,7 +777,7 @@ Report simulation_report(const SceneConfig& scene, const Model& model, const Sim
     if (const std::optional<double> v = metric_value(value))
       metrics.rows.push_back({name, format(*v), info.in_coordinate ? units.position : info.unit});
   });
-  add_train_metric_rows(m, units.position, metrics);
+  add_train_metric_rows(m, units.position, scene_crank_scale(scene), metrics);
   report.tables.push_back(std::move(metrics));
 
   if (model.omega > 0.0) add_revolution_plots(model, result, report);

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -11,6 +12,7 @@
 #include "dynamics/simulation.h"
 #include "io/config.h"
 #include "output/report.h"
+#include "output/valvetrain_figures.h"
 
 namespace camdyn {
 
@@ -37,10 +39,33 @@ Json spring_sizing_json(const Model& model);
 /// radius of curvature, SVAJ), metrics and solver tables.
 Report simulation_report(const SceneConfig& scene, const Model& model, const SimulationResult& result);
 
+/// The angles the report's verdict names, each in the evaluated window, as
+/// cam angles in [0, 360) [deg] (the verdict prints each with its crank angle
+/// where the scene has `outputs.valvetrain`, and the train's last-revolution
+/// plots mark them: study/train_revolution.h). Unset where the verdict names
+/// none: a drop test, a valve held open.
+struct VerdictAngles {
+  std::optional<double> min_force_deg;  ///< in contact: where the least contact force is (simulation_verdict)
+  std::optional<double> lift_off_deg;   ///< the cam contact's first float separation
+  std::optional<double> landing_deg;    ///< where it lands again
+  double landing_speed = 0.0;           ///< its approach speed there [m/s]
+  std::optional<double> lets_go_deg;    ///< `separates_first`'s angle, where the verdict names it
+  std::string lets_go_where;            ///< `separates_first`: "cam contact" or "link <body>"
+};
+
+/// The verdict's angles of a run (simulation_verdict prints these, and no others).
+VerdictAngles verdict_angles(const Model& model, const SimulationResult& result);
+
+/// A cam angle as the verdict prints it: in [0, 360) to 4 digits, "95.5°",
+/// and with a crank scale its crank angle after TDC beside it (CrankScale::of_deg),
+/// "95.5° (191° crank)".
+std::string verdict_angle_text(double cam_deg, const std::optional<CrankScale>& crank);
+
 /// The report's banner: "stays in contact, minimum contact force X N at Y°",
 /// or "separates at X°, lands at Y° at Z m/s; rigid-model jump speed ..."
-/// (from the events of the evaluated window), or for a drop test (cam held
-/// still) where the follower lands, the peak force and its rebounds.
+/// (from the events of the evaluated window; the angles of verdict_angles,
+/// printed by verdict_angle_text), or for a drop test (cam held still) where
+/// the follower lands, the peak force and its rebounds.
 Verdict simulation_verdict(const SceneConfig& scene, const Model& model, const SimulationResult& result);
 
 /// timeseries.csv: the header (TimeSeries::column_names) and one row per

@@ -6,17 +6,11 @@
 #include <vector>
 
 #include "dynamics/kinematic_lift.h"
+#include "study/train_revolution.h"
 
 namespace camdyn {
 
 namespace {
-
-/// The series' column `name` (the fixed columns or the train's), or null.
-const std::vector<double>* column(const TimeSeries& ts, const std::string& name) {
-  if (name == "follower_position") return &ts.follower_position;
-  const auto it = std::find(ts.train_names.begin(), ts.train_names.end(), name);
-  return it == ts.train_names.end() ? nullptr : &ts.train[static_cast<std::size_t>(it - ts.train_names.begin())];
-}
 
 /// Each body's position, and its kinematic lift: the law through the links'
 /// ratios less their lash, held by the seats, in µm, mm or m
@@ -26,7 +20,7 @@ Plot lift_plot(const Model& model, const TimeSeries& ts) {
   std::vector<double> kinematic = ts.kinematic_position;
   for (std::size_t i = 0; i < model.train.bodies.size(); ++i) {
     const TrainBody& b = model.train.bodies[i];
-    const std::vector<double>* x = column(ts, b.name + "_position");
+    const std::vector<double>* x = train_column(ts, b.name + "_position");
     const LiftStep step = lift_step(model.train, i);
     for (double& k : kinematic) k = step.carry(k);
     if (!x) continue;
@@ -46,8 +40,8 @@ Plot spring_plot(const SceneConfig& scene, const Model& model, const TimeSeries&
   Plot plot{"Train: spring force at the frame end against the static force (surge)", "time [s]", "force [N]", {}};
   for (std::size_t i = 0; i < model.train.bodies.size(); ++i) {
     const TrainBody& b = model.train.bodies[i];
-    const std::vector<double>* force = column(ts, b.name + "_spring_force");
-    const std::vector<double>* x = column(ts, b.name + "_position");
+    const std::vector<double>* force = train_column(ts, b.name + "_spring_force");
+    const std::vector<double>* x = train_column(ts, b.name + "_position");
     if (!force || !x) continue;
     const SpringConfig& spring = i == 0 ? scene.mechanism.follower.spring : scene.mechanism.train[i - 1].spring;
     std::vector<double> static_force(x->size());
@@ -63,7 +57,7 @@ Plot spring_plot(const SceneConfig& scene, const Model& model, const TimeSeries&
 Plot seat_plot(const Model& model, const TimeSeries& ts) {
   Plot plot{"Train: seat forces, seatings marked", "time [s]", "force [N]", {}};
   for (const TrainBody& b : model.train.bodies) {
-    const std::vector<double>* force = column(ts, b.name + "_seat_force");
+    const std::vector<double>* force = train_column(ts, b.name + "_seat_force");
     if (!force) continue;
     Series seatings{b.name + " seatings", {}, {}, "points", PlotRole::seat};
     for (std::size_t k = 1; k < force->size(); ++k)
@@ -83,6 +77,7 @@ void add_train_plots(const SceneConfig& scene, const Model& model, const Simulat
   const TimeSeries& ts = result.series;
   if (!model.train.present() || ts.time.empty()) return;
   if (model.follower.oscillating()) return;  // lifts in rad and m together: the time series has them
+  add_train_revolution_plots(scene, model, result, report);
   for (Plot plot : {lift_plot(model, ts), spring_plot(scene, model, ts), seat_plot(model, ts)})
     if (!plot.series.empty()) report.plots.push_back(std::move(plot));
 }

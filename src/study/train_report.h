@@ -1,7 +1,9 @@
-// The report's pages on a follower train (docs/model.md §12): each body's
-// lift against its kinematic lift (the loft), each spring's force at its
-// frame end against the static force of a massless spring at the same
-// position (surge), and the seat forces with the seatings marked.
+// The report's pages on a follower train (docs/model.md §12): the last
+// revolution against crank angle (study/train_revolution.h), then over the
+// whole run each body's lift against its kinematic lift (the loft), each
+// spring's force at its frame end against the static force of a massless
+// spring at the same position (surge), and the seat forces with the seatings
+// marked.
 #pragma once
 
 #include "dynamics/model.h"

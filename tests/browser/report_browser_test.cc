@@ -278,10 +278,11 @@ TEST_F(ReportInBrowser, SimulateContourCam) {
 }
 
 TEST_F(ReportInBrowser, SimulateValvetrainWithSeat) {
-  // The train's figures (its seatings marked), the valve lift with its checking heights.
+  // The train's figures (its seatings marked; its last revolution with the
+  // angle where the verdict says it lets go), the valve lift with its checking heights.
   check_report("valvetrain", kStudies + "valvetrain/pushrod_rocker.json",
                {"--set", "simulation.cycles=2", "--set", R"(outputs.valvetrain={"crank_ratio": 2})"}, 6,
-               {"dynamic", "rigid", "seat", "limit"});
+               {"dynamic", "rigid", "seat", "limit", "lift-off"});
 }
 
 TEST_F(ReportInBrowser, Convergence) {

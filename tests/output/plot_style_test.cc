@@ -70,7 +70,7 @@ TEST(PlotRoles, EveryRoleHasItsOwnNameAndLook) {
       EXPECT_TRUE(lines.insert({std::string(s.colour), s.dashtype}).second) << s.name << ": look shared";
     }
   }
-  for (const char* event : {"lift-off", "impact", "seat", "section"})
+  for (const char* event : {"lift-off", "impact", "seat", "section", "minimum"})
     EXPECT_TRUE(names.count(event)) << event << " has no marker";
   EXPECT_TRUE(role_style(PlotRole::automatic).name.empty());
   EXPECT_EQ(gnuplot_with(PlotRole::automatic), "");
