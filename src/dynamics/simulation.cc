@@ -286,6 +286,23 @@ SeparationCause classify_opening(const RunContext& run, const Evaluation& ev, do
   return cause;
 }
 
+// A link opening at t off every seat: classified as the cam's gap, but
+// above the take-up window, in a cam contact episode that began with the
+// take-up's impact, where the law still accelerates the train onto the cam
+// (s'' > 0: the held train's link force there is the spring's preload plus
+// the body's inertia, which no spring loses), it is that impact's ringing:
+// a take-up bounce, not float (docs/valvetrain.md).
+SeparationCause classify_link_opening(const RunContext& run, const Evaluation& ev, double t, const LoopState& loop) {
+  const Model& model = run.model;
+  const bool ringing = loop.causes.chain_speed > 0.0 && model.law->eval(ev.theta).d2s > 0.0;
+  if (!ringing) return classify_opening(run, ev, t, loop);
+  const SeparationCause cause =
+      opening_cause(model.take_up, model.law->eval(ev.theta), loop.causes.seated_since_take_up);
+  if (cause != SeparationCause::float_gap) return classify_opening(run, ev, t, loop);
+  if (t >= run.plan.t_eval && run.result.metrics.train) ++run.result.metrics.train->take_up_bounces;
+  return SeparationCause::take_up;
+}
+
 // The cam contact's gap opening at t: a separation, or lash where the
 // follower rests on a seat (docs/model.md §12); above the take-up window, a
 // rebound of the take-up's impacts is decided where it lands.
@@ -338,7 +355,7 @@ void record_train_opening(const RunContext& run, const Evaluation& ev, double t,
   SeparationCauses& causes = loop.causes;
   if (e.role == TrainRole::link) {
     causes.link[body] =
-        model.train.rests_on_seat(ev.train, e.body) ? SeparationCause::none : classify_opening(run, ev, t, loop);
+        model.train.rests_on_seat(ev.train, e.body) ? SeparationCause::none : classify_link_opening(run, ev, t, loop);
     return;
   }
   if (e.role != TrainRole::seat) return;
