@@ -114,10 +114,18 @@ Model build_model(const CamGeometry& geometry, const SceneConfig& scene, const s
 Model build_model(const std::shared_ptr<const CamGeometry>& geometry, const SceneConfig& scene,
                   const std::string& file);
 
+/// How many models build_model() has assembled in this process (every
+/// overload counts once), for tests that a study assembles its model once
+/// and sets each speed in place.
+long model_builds();
+
 /// Sets the cam speed in place to `scene.mechanism.cam.rpm` (the rest of
 /// `scene` as the model was built from), with the checks that depend on it
 /// (the contact stress limit, what the solver cannot run): the model is then
-/// the one build_model(scene, file) makes, to the bit.
+/// the one build_model(scene, file) makes, to the bit. What depends on ω is
+/// Model::omega and Model::tracking_gain; the jump speeds, the train and the
+/// take-up windows do not. The jump_map and speed_limit studies run every
+/// speed this way on a copy of the study's model.
 void set_cam_speed(Model& model, const SceneConfig& scene, const std::string& file);
 
 /// Mutable per-run data, reused between runs.

@@ -2,6 +2,7 @@
 // (dynamics/cam_geometry.h) and, on it, the bodies and force elements of one
 // cam speed, with the checks the loader cannot make (docs/warnings.md); the
 // speed set in place; the list of elements summary.json names.
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -216,7 +217,14 @@ Model build_model(const SceneConfig& scene, const std::string& file) {
   return build_model(*build_cam_geometry(scene, file), scene, file);
 }
 
+namespace {
+
+std::atomic<long> model_assemblies{0};  ///< model_builds()
+
+}  // namespace
+
 Model build_model(const CamGeometry& geometry, const SceneConfig& scene, const std::string& file) {
+  ++model_assemblies;
   try {
     return assemble_model(geometry, scene, file);
   } catch (const InputError& e) {
@@ -229,6 +237,8 @@ Model build_model(const std::shared_ptr<const CamGeometry>& geometry, const Scen
                   const std::string& file) {
   return geometry ? build_model(*geometry, scene, file) : build_model(scene, file);
 }
+
+long model_builds() { return model_assemblies.load(); }
 
 void set_cam_speed(Model& model, const SceneConfig& scene, const std::string& file) {
   try {

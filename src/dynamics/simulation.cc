@@ -740,7 +740,10 @@ SimulationResult simulate_scene(const SceneConfig& scene, const std::string& fil
 
 SimulationResult simulate_scene(const CamGeometry& geometry, const SceneConfig& scene, const std::string& file,
                                 const SimulationOptions& options) {
-  const Model model = build_model(geometry, scene, file);
+  return simulate_scene(build_model(geometry, scene, file), scene, options);
+}
+
+SimulationResult simulate_scene(const Model& model, const SceneConfig& scene, const SimulationOptions& options) {
   Workspace ws;
   SimulationResult result = simulate(scene, model, ws, options);
   estimate_error(scene, model, result);

@@ -221,5 +221,8 @@ SimulationResult simulate_scene(const SceneConfig& scene, const std::string& fil
 /// The same on the scene's geometry, already built (dynamics/cam_geometry.h).
 SimulationResult simulate_scene(const CamGeometry& geometry, const SceneConfig& scene, const std::string& file,
                                 const SimulationOptions& options = {});
+/// The same on the scene's model, already built (or with its speed set in
+/// place, set_cam_speed): runs it on a fresh workspace and estimates its error.
+SimulationResult simulate_scene(const Model& model, const SceneConfig& scene, const SimulationOptions& options = {});
 
 }  // namespace camdyn

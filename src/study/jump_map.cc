@@ -332,13 +332,36 @@ JumpMapPoint transient_path(const JumpMapStudy& study, const PoincareMap& map, d
   return p;
 }
 
+// The model a range runs its speeds on (one range runs them one at a time):
+// a copy of the study's, its speed set in place at each speed, or without
+// one (JumpMapStudy::model null) a model assembled at each speed.
+class RangeModel {
+ public:
+  explicit RangeModel(const JumpMapStudy& study) : study_(study) {
+    if (study.model) model_ = *study.model;
+  }
+  /// The model at `scene`'s speed (the study's scene at another speed); valid until the next call.
+  const Model& at(const SceneConfig& scene, const std::string& file) {
+    if (study_.model)
+      set_cam_speed(*model_, scene, file);
+    else
+      model_ = build_model(study_.geometry, scene, file);
+    return *model_;
+  }
+
+ private:
+  const JumpMapStudy& study_;
+  std::optional<Model> model_;
+};
+
 // One speed: shot from the predicted orbit when the neighbours converged to a
 // stable one (study.config.warm_start), else (or when that fails) the
 // transient path; `c` carries this speed's end and orbit to the next.
-JumpMapPoint run_speed(const JumpMapStudy& study, double rpm, const std::string& file, Continuation& c) {
+JumpMapPoint run_speed(const JumpMapStudy& study, double rpm, const std::string& file, Continuation& c,
+                       RangeModel& range) {
   SceneConfig scene = study.scene;
   scene.mechanism.cam.rpm = rpm;
-  const Model model = build_model(study.geometry, scene, file);
+  const Model& model = range.at(scene, file);
   const PoincareMap map(scene, model, file);
   std::optional<Orbit> orbit;
   if (study.config.warm_start && !c.orbits.empty()) orbit = shoot_predicted(map, study, c, rpm);
@@ -387,7 +410,8 @@ JumpMapStudy read_jump_map_study(const Json& doc, const StudyContext& ctx) {
   const Json periodic = read_study_fields(part, "periodic", ctx.source, study.periodic);
   study.periodic.options.stable_orbits_only = true;  // a speed's class needs its stable orbit only
   study.geometry = build_cam_geometry(study.scene, ctx.config_file);
-  const Model model = build_model(*study.geometry, study.scene, ctx.config_file);
+  study.model = std::make_shared<const Model>(build_model(*study.geometry, study.scene, ctx.config_file));
+  const Model& model = *study.model;
   const PoincareMap map(study.scene, model, ctx.config_file);  // the drive sets the speed
   study.rigid_jump_speed_rpm = model_jump_speed_rpm(model);
   study.damped_rigid_jump_speed_rpm =
@@ -443,7 +467,7 @@ bool same_class(const JumpMapPoint& a, const JumpMapPoint& b) {
 // it: each halves the bracket of the change. Appended to `points` (marked
 // refined); a speed that fails or the study's budget ends that bracket.
 void refine_range(const JumpMapStudy& study, const std::string& file, std::vector<JumpMapPoint>& points,
-                  std::vector<Continuation>& after) {
+                  std::vector<Continuation>& after, RangeModel& range) {
   const std::size_t grid = points.size();
   for (std::size_t j = 0; j + 1 < grid; ++j) {
     if (!points[j].ok || !points[j + 1].ok || same_class(points[j], points[j + 1])) continue;
@@ -456,7 +480,7 @@ void refine_range(const JumpMapStudy& study, const std::string& file, std::vecto
       Continuation c = from;
       JumpMapPoint p;
       try {
-        p = run_speed(study, mid, file, c);
+        p = run_speed(study, mid, file, c, range);
       } catch (const std::exception&) {
         break;  // the bracket stays as the speeds that ran leave it
       }
@@ -584,14 +608,14 @@ struct AcrossOrbit {
 // path from the motion of the speed below (`below_carry`). Two or more: p is
 // coexisting, with every one listed.
 void look_for_attractors(const JumpMapStudy& study, const std::string& file, JumpMapPoint& p, const Continuation& own,
-                         const std::vector<AcrossOrbit>& across, const std::optional<SectionPoint>& below_carry) {
+                         const std::vector<AcrossOrbit>& across, const std::optional<SectionPoint>& below_carry,
+                         RangeModel& range) {
   // Only a stable orbit or a chaotic motion is an attractor to set beside a stable orbit.
   const ConvergedOrbit* own_stable = own_orbit(p, own);
   if (!own_stable && p.motion != MotionKind::chaotic) return;
   SceneConfig scene = study.scene;
   scene.mechanism.cam.rpm = p.rpm;
-  const Model model = build_model(study.geometry, scene, file);
-  const PoincareMap map(scene, model, file);
+  const PoincareMap map(scene, range.at(scene, file), file);
   const double tolerance = study.periodic.options.tolerance;
   std::vector<JumpMapAttractor> found;
   if (p.coexisting) {
@@ -629,7 +653,7 @@ void look_for_attractors(const JumpMapStudy& study, const std::string& file, Jum
 // side's stable orbit continued one step across, and the transient path where
 // the warm start was used. A check that fails finds nothing.
 void check_coexistence(const JumpMapStudy& study, const std::string& file, std::vector<JumpMapPoint>& points,
-                       const std::vector<Continuation>& after) {
+                       const std::vector<Continuation>& after, RangeModel& range) {
   std::vector<std::vector<AcrossOrbit>> across(points.size());
   std::vector<bool> at_change(points.size(), false);
   for (std::size_t j = 0; j + 1 < points.size(); ++j) {
@@ -656,7 +680,7 @@ void check_coexistence(const JumpMapStudy& study, const std::string& file, std::
     std::optional<SectionPoint> below_carry;
     if (j > 0) below_carry = after[j - 1].carry;
     try {
-      look_for_attractors(study, file, points[j], after[j], across[j], below_carry);
+      look_for_attractors(study, file, points[j], after[j], across[j], below_carry, range);
     } catch (const std::exception&) {
       // A run that failed shows no attractor: the speed keeps its one class.
     }
@@ -669,6 +693,7 @@ std::vector<JumpMapPoint> run_jump_map_range(const JumpMapStudy& study, std::siz
   std::vector<JumpMapPoint> points;
   std::vector<Continuation> after;  // what each grid speed hands on
   Continuation continuation;
+  RangeModel range(study);
   for (const std::size_t i : jump_map_range(study, r)) {
     if (study_budget_exhausted()) {
       JumpMapPoint p;
@@ -680,7 +705,7 @@ std::vector<JumpMapPoint> run_jump_map_range(const JumpMapStudy& study, std::siz
       continue;
     }
     try {
-      points.push_back(run_speed(study, study.rpm[i], file, continuation));
+      points.push_back(run_speed(study, study.rpm[i], file, continuation, range));
     } catch (const std::exception& e) {
       JumpMapPoint p;
       p.rpm = study.rpm[i];
@@ -692,8 +717,8 @@ std::vector<JumpMapPoint> run_jump_map_range(const JumpMapStudy& study, std::siz
     after.push_back(continuation);
     report_work_done(jump_map_speed_work(study, i));  // the progress line's unit: expected revolutions
   }
-  if (study.config.refine > 0) refine_range(study, file, points, after);
-  if (study.config.check_coexistence) check_coexistence(study, file, points, after);
+  if (study.config.refine > 0) refine_range(study, file, points, after, range);
+  if (study.config.check_coexistence) check_coexistence(study, file, points, after, range);
   return points;
 }
 

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "dynamics/cam_geometry.h"
+#include "dynamics/model.h"
 #include "io/config.h"
 #include "output/report.h"
 #include "scene/enum_names.h"
@@ -56,6 +57,11 @@ struct JumpMapStudy {
   /// The scene's geometry, built once when the config is read and shared by
   /// every speed (null: each speed builds its own).
   std::shared_ptr<const CamGeometry> geometry;
+  /// The scene's model, assembled once when the config is read: each range
+  /// runs its speeds on a copy of it, the speed set in place (set_cam_speed)
+  /// (null: each speed assembles its own, as the study did before;
+  /// bench/model_reuse_bench.cc compares).
+  std::shared_ptr<const Model> model;
   JumpMapConfig config;
   PeriodicConfig periodic;  ///< `periodic` fields: the analysis at each speed
   Json resolved;

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <set>
 #include <string_view>
 
@@ -188,7 +189,8 @@ Report jump_map_report(const JumpMapStudy& study, const std::vector<JumpMapPoint
                               Plot{"Impact angles", "cam speed [rpm]", "cam angle at impact [deg]", {}},
                               [](const JumpMapPoint& p) { return p.impact_angle_deg; }));
   // The cam, its SVAJ per radian of cam angle: the map runs at many speeds.
-  const Model model = build_model(study.geometry, study.scene, file);
+  std::optional<Model> built;  // a study read from its config has its model
+  const Model& model = study.model ? *study.model : built.emplace(build_model(study.geometry, study.scene, file));
   for (Plot& p : cam_plots(model, study.scene.mechanism.cam.limits, 0.0)) rep.plots.push_back(std::move(p));
   Table table{
       "Speeds", {"rpm", "motion", "impacts", "separation fraction", "max gap [m]", "peak force [N]", "error"}, {}};

@@ -11,6 +11,7 @@
 #include <memory>
 #include <optional>
 #include <set>
+#include <vector>
 
 #include "common/errors.h"
 #include "common/parallel.h"
@@ -32,8 +33,10 @@ namespace {
 
 const std::vector<std::string> kSpeedLimitKeys = {"speed_limit"};
 
-/// The scene's metrics at `rpm`.
-SpeedCheck check_speed(const SpeedLimitStudy& study, double rpm, double min_force, const std::string& file) {
+/// The scene's metrics at `rpm`, on `model` (the worker's copy of the
+/// study's model, its speed set here) or, without one, a model assembled for it.
+SpeedCheck check_speed(const SpeedLimitStudy& study, double rpm, double min_force, const std::string& file,
+                       Model* model) {
   SpeedCheck c;
   c.rpm = rpm;
   if (study_budget_exhausted()) {  // not started: the study's wall time is used up
@@ -46,8 +49,10 @@ SpeedCheck check_speed(const SpeedLimitStudy& study, double rpm, double min_forc
   s.mechanism.cam.rpm = rpm;
   SimulationOptions options;
   options.record_series = false;
-  const SimulationResult r =
-      study.geometry ? simulate_scene(*study.geometry, s, file, options) : simulate_scene(s, file, options);
+  if (model) set_cam_speed(*model, s, file);
+  const SimulationResult r = model            ? simulate_scene(*model, s, options)
+                             : study.geometry ? simulate_scene(*study.geometry, s, file, options)
+                                              : simulate_scene(s, file, options);
   c.converged = r.solver.termination == Termination::converged;
   c.message = c.converged ? "" : r.solver.message;
   if (r.solver.termination == Termination::step_budget || r.solver.termination == Termination::wall_time_budget) {
@@ -146,7 +151,8 @@ SpeedLimitStudy read_speed_limit_study(const Json& doc, const StudyContext& ctx)
   // The geometry and contact law are checked here, before any run.
   study.geometry = build_cam_geometry(study.scene, ctx.config_file);
   {
-    const Model model = build_model(*study.geometry, study.scene, ctx.config_file);
+    study.model = std::make_shared<const Model>(build_model(*study.geometry, study.scene, ctx.config_file));
+    const Model& model = *study.model;
     study.rigid_jump_speed_rpm = model_jump_speed_rpm(model);
     study.jump_speed_name = jump_speed_name(model);
     study.train = model.train.has_coordinates();
@@ -182,9 +188,13 @@ SpeedLimitResult run_speed_limit(const SpeedLimitStudy& study, const StudyContex
   if (r.resumed > 0)
     std::cerr << "camdyn: resuming: " << r.resumed << " simulated speeds already done ("
               << (ctx.out_dir / "journal.jsonl").string() << "), not simulated again\n";
-  auto check_or_replay = [&](std::size_t index, double rpm) {
+  // Each worker thread's copy of the study's model, made at its first speed (the bisection's: worker 0's).
+  std::vector<std::optional<Model>> models(static_cast<std::size_t>(std::max(ctx.threads(), 1)));
+  auto check_or_replay = [&](int worker, std::size_t index, double rpm) {
     if (std::optional<SpeedCheck> done = journal ? journal->replay(index, rpm) : std::nullopt) return *done;
-    SpeedCheck fresh = check_speed(study, rpm, c.min_contact_force, ctx.config_file);
+    std::optional<Model>& model = models[static_cast<std::size_t>(worker)];
+    if (study.model && !model) model = *study.model;
+    SpeedCheck fresh = check_speed(study, rpm, c.min_contact_force, ctx.config_file, model ? &*model : nullptr);
     if (journal) journal->record(index, fresh);
     return fresh;
   };
@@ -207,9 +217,9 @@ SpeedLimitResult run_speed_limit(const SpeedLimitStudy& study, const StudyContex
     const std::size_t to =
         std::min<std::size_t>(static_cast<std::size_t>(c.scan), from == 0 ? first_batch : from + threads);
     scan.resize(to);
-    parallel_for(to - from, ctx.threads(), [&](std::size_t j) {
+    parallel_for_workers(to - from, ctx.threads(), [&](int worker, std::size_t j) {
       const std::size_t i = from + j;
-      scan[i] = check_or_replay(i, c.low_rpm + (hi - c.low_rpm) * static_cast<double>(i) / (c.scan - 1));
+      scan[i] = check_or_replay(worker, i, c.low_rpm + (hi - c.low_rpm) * static_cast<double>(i) / (c.scan - 1));
       progress.finished(!scan[i].converged, 0.0);  // a speed that separates is an answer, not a failure
     });
     if (std::any_of(scan.begin(), scan.end(), [](const SpeedCheck& s) { return !s.ok; })) break;
@@ -232,7 +242,7 @@ SpeedLimitResult run_speed_limit(const SpeedLimitStudy& study, const StudyContex
     for (std::size_t k = 0; up - lo > c.tolerance_rpm && r.withheld.empty() && k < kMaxBisectionSteps; ++k) {
       const double mid = 0.5 * (lo + up);
       if (mid <= lo || mid >= up) break;  // the bracket cannot narrow further in floating point
-      r.checks.push_back(check_or_replay(scan.size() + k, mid));
+      r.checks.push_back(check_or_replay(0, scan.size() + k, mid));
       progress.finished(!r.checks.back().converged, 0.0);
       if (!r.checks.back().budget.empty()) r.withheld = "the bisection's speed " + format_shortest(mid) + " rpm";
       (r.checks.back().ok ? lo : up) = mid;
@@ -357,7 +367,8 @@ Report speed_limit_report(const SpeedLimitStudy& study, const SpeedLimitResult& 
   rep.appendix.push_back(table);
   rep.plots.push_back(Plot{"Separation against speed", "cam speed [rpm]", "separation fraction [-]", {sep}});
   rep.plots.push_back(Plot{"Smallest contact force against speed", "cam speed [rpm]", "force [N]", {force}});
-  const Model model = build_model(study.geometry, study.scene, file);
+  std::optional<Model> built;  // a study read from its config has its model
+  const Model& model = study.model ? *study.model : built.emplace(build_model(study.geometry, study.scene, file));
   for (Plot& p : cam_plots(model, study.scene.mechanism.cam.limits, 0.0)) rep.plots.push_back(std::move(p));
   return rep;
 }

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "dynamics/cam_geometry.h"
+#include "dynamics/model.h"
 #include "io/config.h"
 #include "study/study.h"
 
@@ -42,6 +43,11 @@ struct SpeedLimitStudy {
   /// The scene's geometry, built once when the config is read and shared by
   /// every speed (null: each speed builds its own).
   std::shared_ptr<const CamGeometry> geometry;
+  /// The scene's model, assembled once when the config is read: each worker
+  /// thread runs its speeds on a copy of it, the speed set in place
+  /// (set_cam_speed) (null: each speed assembles its own, as the study did
+  /// before; bench/model_reuse_bench.cc compares).
+  std::shared_ptr<const Model> model;
   SpeedLimitConfig config;
   Json resolved;                      ///< the resolved study config (`camdyn validate` prints it)
   double rigid_jump_speed_rpm = 0.0;  ///< of the scene's model, built when the config is read
