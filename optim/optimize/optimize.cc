@@ -10,12 +10,12 @@
 #include <memory>
 #include <mutex>
 #include <nlopt.hpp>
-#include <numbers>
 #include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
 
+#include "common/constants.h"
 #include "common/errors.h"
 #include "common/study_budget.h"
 #include "dynamics/contact_stress.h"
@@ -36,8 +36,6 @@ namespace camdyn::optim {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-constexpr double kRadPerRpm = 2.0 * std::numbers::pi / 60.0;
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
@@ -754,7 +752,8 @@ SceneSpringSizing size_scene_spring(const SceneConfig& scene, const OptimizeStud
   SceneSpringSizing out;
   out.unit = coordinate_units(model).force;
   if (rigid_figures_held(model)) {
-    const HeldSpringSizing h = size_held_spring(model, rigid_min_contact_force(config), top_speed(config) * kRadPerRpm);
+    const HeldSpringSizing h =
+        size_held_spring(model, rigid_min_contact_force(config), top_speed(config) * kRadPerSecondPerRpm);
     out.available = h.available;
     out.reason = h.reason;
     out.spring = h.spring;
@@ -767,7 +766,8 @@ SceneSpringSizing size_scene_spring(const SceneConfig& scene, const OptimizeStud
     return out;
   }
   const double pmin = rigid_follower(model, rigid_min_contact_force(config)).min_force;
-  const SpringSizing s = size_spring(*model.law, rigid_spring_load(model, pmin), top_speed(config) * kRadPerRpm);
+  const SpringSizing s =
+      size_spring(*model.law, rigid_spring_load(model, pmin), top_speed(config) * kRadPerSecondPerRpm);
   out.required_preload = s.required_preload;
   out.required_stiffness = s.required_stiffness;
   return out;
