@@ -367,7 +367,7 @@ long search_designs(const DesignSpace& space, const DesignEvaluator& evaluator, 
   out.initial = evaluator.evaluate(space.scene(out.x_initial), loop, out.loop_simulated);
   const long sims_before = pool.simulations();
   const bool local = config.optimizer.algorithm.rfind("GN_", 0) != 0;
-  const bool ranks = options.over_ranks && starts_over_ranks(config.optimizer);
+  const bool ranks = options.over_ranks && starts_over_ranks(search_settings(config.optimizer));
   // Over MPI ranks each rank runs its starts one at a time, their simulations on its threads.
   const int parallel = local && !ranks ? std::clamp(options.threads, 1, config.optimizer.starts) : 1;
   StartEvaluators starts(evaluator, pool, config, file, parallel, std::max(1, options.threads / parallel));
@@ -428,7 +428,8 @@ long search_designs(const DesignSpace& space, const DesignEvaluator& evaluator, 
                      });
   };
   const auto loop_t0 = Clock::now();
-  out.search = run_search(problem, config.optimizer, progress_printer(options, config.optimizer, loop_t0));
+  out.search =
+      run_search(problem, search_settings(config.optimizer), progress_printer(options, config.optimizer, loop_t0));
   if (helper) return 0;  // rank 0 has the search's result
   recorder.rethrow();
   if (study_budget_exhausted())
