@@ -9,6 +9,10 @@
    never with "../". The Python module (python/) stands on the
    public API: of the private headers it includes only the study dispatch
    "cli/run_study.h".
+   Besides, the physics layer reads no config: src/dynamics/ includes
+   nothing from io/ (nor, through it, nlohmann/json); the parameters set in
+   place with the loader's checks are the study layer's
+   (study/model_parameters.h).
    The public headers (include/camdyn/) belong to the api layer, except
    <camdyn/errors.h> and <camdyn/version.h>, which every layer may include.
    A public header includes only public headers and standard ones: a
@@ -52,6 +56,8 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 LAYERS = ["common", "scene", "io", "geometry", "contact", "integrate", "dynamics", "output", "study", "api", "optim", "cli", "python"]
+# Layers that may not include a layer below them: (layer, included layer) -> why.
+FORBIDDEN_BELOW = {("dynamics", "io"): "the physics layer reads no config (the config side is the study layer's)"}
 # The private headers the python layer may include (it is built on the public API).
 PYTHON_PRIVATE = {"cli/run_study.h"}
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"')
@@ -125,7 +131,10 @@ def include_violations():
                 found.append(f"{path.relative_to(ROOT)}:{number}: the python layer includes the private header "
                              f"'{target}': it stands on <camdyn/...> (and {', '.join(sorted(PYTHON_PRIVATE))})")
                 continue
-            if LAYERS.index(head) > LAYERS.index(own):
+            if (own, head) in FORBIDDEN_BELOW:
+                found.append(f"{path.relative_to(ROOT)}:{number}: layer '{own}' includes '{target}': "
+                             f"{FORBIDDEN_BELOW[(own, head)]}")
+            elif LAYERS.index(head) > LAYERS.index(own):
                 found.append(f"{path.relative_to(ROOT)}:{number}: layer '{own}' includes '{target}' "
                              f"from the layer above it, '{head}'")
     return found
