@@ -74,7 +74,7 @@ struct SharedPoints {
 /// the budget and the best point.
 class StartRun {
  public:
-  StartRun(const SearchProblem& problem, const OptimizerConfig& config, int index, long budget, Clock::time_point t0,
+  StartRun(const SearchProblem& problem, const SearchSettings& config, int index, long budget, Clock::time_point t0,
            SharedPoints& shared, const std::function<void(const SearchProgress&)>& progress, int starts)
       : problem_(problem),
         config_(config),
@@ -186,7 +186,7 @@ class StartRun {
 
  private:
   const SearchProblem& problem_;
-  const OptimizerConfig& config_;
+  const SearchSettings& config_;
   int index_;
   long budget_;
   Clock::time_point t0_;
@@ -204,7 +204,7 @@ class StartRun {
 };
 
 /// Sets the stopping criteria shared by an optimiser and its subsidiary.
-void set_tolerances(nlopt::opt& opt, const OptimizerConfig& config) {
+void set_tolerances(nlopt::opt& opt, const SearchSettings& config) {
   opt.set_xtol_rel(config.xtol_rel);
   opt.set_ftol_rel(config.ftol_rel);
 }
@@ -238,7 +238,7 @@ struct SearchSetup {
 /// Sets up the NLopt optimiser of one start (AUGLAG when setup.auglag) with
 /// `budget` evaluations and its callbacks on `run`. It is set up in place, not
 /// returned: nlopt.hpp's callback data points back at the optimiser object.
-void configure_optimizer(nlopt::opt& opt, const SearchProblem& problem, const OptimizerConfig& config,
+void configure_optimizer(nlopt::opt& opt, const SearchProblem& problem, const SearchSettings& config,
                          const SearchSetup& setup, long budget, StartRun& run) {
   const std::size_t n = problem.x0.size();
   opt.set_lower_bounds(problem.lower);
@@ -276,7 +276,7 @@ void configure_optimizer(nlopt::opt& opt, const SearchProblem& problem, const Op
 
 /// The first point of each start: x0 for the first, seeded random points of
 /// the box for the others, drawn in start order before any start runs.
-std::vector<std::vector<double>> start_points(const SearchProblem& problem, const OptimizerConfig& config, int starts) {
+std::vector<std::vector<double>> start_points(const SearchProblem& problem, const SearchSettings& config, int starts) {
   const std::size_t n = problem.x0.size();
   std::mt19937_64 rng(static_cast<unsigned long>(config.seed));
   std::vector<std::vector<double>> points;
@@ -293,7 +293,7 @@ std::vector<std::vector<double>> start_points(const SearchProblem& problem, cons
 }
 
 /// Start s from x0; every NLopt status and exception becomes its stop reason.
-StartResult run_start(const SearchProblem& problem, const OptimizerConfig& config, int s, std::vector<double> x0,
+StartResult run_start(const SearchProblem& problem, const SearchSettings& config, int s, std::vector<double> x0,
                       SearchSetup& setup, SharedPoints& shared,
                       const std::function<void(const SearchProgress&)>& progress) {
   const std::size_t n = problem.x0.size();
@@ -438,7 +438,7 @@ void take_start_record(const std::string& text, const SearchProblem& problem, Sh
 /// The starts spread over the MPI ranks (start s on rank s mod N, one at a
 /// time): rank 0 runs its own into setup.shared and takes the others' records.
 /// A failure on any rank ends every rank (exit 1): the others would wait for it.
-void run_starts_over_ranks(const SearchProblem& problem, const OptimizerConfig& config,
+void run_starts_over_ranks(const SearchProblem& problem, const SearchSettings& config,
                            std::vector<std::vector<double>>& points, SearchSetup& setup,
                            const std::function<void(const SearchProgress&)>& progress, SearchResult& out) {
   const bool root = mpi::rank() == 0;
@@ -468,7 +468,7 @@ void run_starts_over_ranks(const SearchProblem& problem, const OptimizerConfig& 
 
 }  // namespace
 
-bool starts_over_ranks(const OptimizerConfig& config) {
+bool starts_over_ranks(const SearchSettings& config) {
   return !is_global(config.algorithm) && config.starts > 1 && mpi::size() > 1;
 }
 
@@ -501,7 +501,7 @@ std::string nlopt_result_name(int code) {
   }
 }
 
-SearchResult run_search(const SearchProblem& problem, const OptimizerConfig& config,
+SearchResult run_search(const SearchProblem& problem, const SearchSettings& config,
                         const std::function<void(const SearchProgress&)>& progress) {
   check_problem(problem);
   const std::size_t n = problem.x0.size();

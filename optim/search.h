@@ -29,12 +29,28 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
-#include "optim/optimize/optimize_config.h"
-
 namespace camdyn::optim {
+
+/// How run_search searches: the algorithm, its budget and its starts. The
+/// optimize study gives its `optimizer` settings (docs/config.md) through
+/// search_settings() of optim/optimize/optimize_config.h; the defaults here
+/// are that config's.
+struct SearchSettings {
+  /// LN_COBYLA, LN_BOBYQA, LN_SBPLX, LD_SLSQP, LD_MMA, GN_ISRES, GN_CRS2_LM, GN_DIRECT_L.
+  std::string algorithm = "LN_COBYLA";
+  int max_evaluations = 400;         ///< total over all starts (split evenly)
+  double xtol_rel = 1e-4;            ///< NLopt relative tolerance on the design vector
+  double ftol_rel = 0.0;             ///< NLopt relative tolerance on the objective (0: off)
+  std::optional<double> max_time_s;  ///< wall-time budget of the search [s]
+  int starts = 1;                    ///< local algorithms: x0, then random starts
+  int seed = 1;                      ///< random starts and NLopt's stochastic algorithms
+  double initial_step = 0.1;         ///< derivative-free local algorithms: first step, share of each bound range
+  double gradient_step = 1e-3;       ///< LD_ algorithms: forward-difference step, share of each bound range
+};
 
 /// The value of one point: objective, constraint residuals (≤ 0 feasible) and
 /// whether the point could be evaluated at all and satisfies every constraint.
@@ -108,12 +124,12 @@ struct SearchResult {
 /// Runs the search. Throws InputError only for a problem that cannot be set
 /// up (dimension 0, bounds not ordered); NLopt failures are stop reasons.
 /// `progress` is called under a lock (one call at a time) after each evaluation.
-SearchResult run_search(const SearchProblem& problem, const OptimizerConfig& config,
+SearchResult run_search(const SearchProblem& problem, const SearchSettings& config,
                         const std::function<void(const SearchProgress&)>& progress = {});
 
 /// Whether run_search spreads the starts over the MPI ranks when the
 /// problem asks it to: a local algorithm with several starts, and several ranks.
-bool starts_over_ranks(const OptimizerConfig& config);
+bool starts_over_ranks(const SearchSettings& config);
 
 /// NLopt's result code as a stop reason: "success", "stopval_reached",
 /// "ftol_reached", "xtol_reached", "maxeval_reached", "maxtime_reached",

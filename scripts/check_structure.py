@@ -9,6 +9,10 @@
    never with "../". The Python module (python/) stands on the
    public API: of the private headers it includes only the study dispatch
    "cli/run_study.h".
+   Besides, the physics layer reads no config: src/dynamics/ includes
+   nothing from io/ (nor, through it, nlohmann/json); the parameters set in
+   place with the loader's checks are the study layer's
+   (study/model_parameters.h).
    The public headers (include/camdyn/) belong to the api layer, except
    <camdyn/errors.h> and <camdyn/version.h>, which every layer may include.
    A public header includes only public headers and standard ones: a
@@ -27,6 +31,18 @@
    law"; docs/config.md `motion_law`), matches a heading of that file. Any
    mention of physics.md, interface.md or ../shared cites a file outside the
    repository and is a violation.
+4. No name is defined at file scope (namespace scope, anonymous namespaces
+   included) in two .cc files of one unity-built target (CMakeLists.txt,
+   CAMDYN_UNITY: the libraries camdyn_<layer> from src/<layer>/*.cc, the
+   study runner's files apart; camdyn_optim from optim/, optim/optimize/ and
+   optim/identify/; each test executable <area>_tests from tests/<area>/):
+   the build compiles them as one translation unit, where the second is a
+   redefinition. Counted: variables (constexpr, const or not), types,
+   `using` aliases (again to another type), and functions of internal
+   linkage (in an anonymous namespace, or static; an overload of another
+   file's counts too, it may silently take that file's calls). The parser
+   reads declarations at namespace scope only, skipping every other body,
+   and compares names whichever namespace they are in.
 
 Prints every violation as file:line: reason and exits 1 if there is any.
 
@@ -40,6 +56,8 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 LAYERS = ["common", "scene", "io", "geometry", "contact", "integrate", "dynamics", "output", "study", "api", "optim", "cli", "python"]
+# Layers that may not include a layer below them: (layer, included layer) -> why.
+FORBIDDEN_BELOW = {("dynamics", "io"): "the physics layer reads no config (the config side is the study layer's)"}
 # The private headers the python layer may include (it is built on the public API).
 PYTHON_PRIVATE = {"cli/run_study.h"}
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"')
@@ -113,7 +131,10 @@ def include_violations():
                 found.append(f"{path.relative_to(ROOT)}:{number}: the python layer includes the private header "
                              f"'{target}': it stands on <camdyn/...> (and {', '.join(sorted(PYTHON_PRIVATE))})")
                 continue
-            if LAYERS.index(head) > LAYERS.index(own):
+            if (own, head) in FORBIDDEN_BELOW:
+                found.append(f"{path.relative_to(ROOT)}:{number}: layer '{own}' includes '{target}': "
+                             f"{FORBIDDEN_BELOW[(own, head)]}")
+            elif LAYERS.index(head) > LAYERS.index(own):
                 found.append(f"{path.relative_to(ROOT)}:{number}: layer '{own}' includes '{target}' "
                              f"from the layer above it, '{head}'")
     return found
@@ -160,6 +181,220 @@ def type_name_clashes():
         for name in sorted(defined_types(path) & public.keys()):
             found.append(f"{path.relative_to(ROOT)}: defines '{name}', a type of the public header {public[name]}: "
                          f"two classes of one name in one program break the one-definition rule")
+    return found
+
+
+# Rule 4: unity targets. Each target's .cc files compile as one translation unit
+# (CMakeLists.txt, CAMDYN_UNITY), so a name two of them define at file scope
+# is a redefinition there.
+RUNNER_STEMS = re.compile(r"set\(study_runner_stems\s+([^)]*)\)")
+SKIP_UNITY = re.compile(r"set_source_files_properties\(([^)]*?)\s+PROPERTIES\s+SKIP_UNITY_BUILD_INCLUSION\s+ON\)")
+TEST_AREAS = re.compile(r"set\(test_areas\s+([^)]*)\)")
+TEMPLATE_PREFIX = re.compile(r"^template\s*<")
+ATTRIBUTES = re.compile(r"\[\[.*?\]\]|\balignas\s*\([^)]*\)")
+IDENTIFIER_BEFORE = re.compile(r"(operator\s*\S+?|~?[A-Za-z_]\w*(?:\s*::\s*~?[A-Za-z_]\w*)*)\s*$")
+TYPE_HEAD = re.compile(r"^(?:struct|class|union|enum(?:\s+class|\s+struct)?)\s+([A-Za-z_]\w*)(?!\s*::)")
+ALIAS_HEAD = re.compile(r"^using\s+([A-Za-z_]\w*)\s*=")
+NAMESPACE_HEAD = re.compile(r"^(?:inline\s+)?namespace\b\s*([\w:]*)\s*$")
+MACRO_NAME = re.compile(r"^[A-Z][A-Z0-9_]*$")
+# src/cli/: each file is a target of its own (camdyn is main.cc, camdyn_studies run_study.cc).
+SINGLE_FILE_FOLDERS = {"cli"}
+LIBRARY_NAMES = {"api": "camdyn_lib"}
+
+
+def unity_targets(root=None):
+    """The unity-built targets and their .cc files (relative paths), as CMakeLists.txt and tests/CMakeLists.txt glob them."""
+    root = root or ROOT
+    cmake = (root / "CMakeLists.txt").read_text(encoding="utf-8") if (root / "CMakeLists.txt").is_file() else ""
+    test_cmake = (root / "tests/CMakeLists.txt")
+    test_cmake = test_cmake.read_text(encoding="utf-8") if test_cmake.is_file() else ""
+    stems = set(RUNNER_STEMS.search(cmake).group(1).split()) if RUNNER_STEMS.search(cmake) else set()
+    skipped = {root / "tests" / s for m in SKIP_UNITY.finditer(test_cmake) for s in m.group(1).split()}
+    skipped |= {root / s for m in SKIP_UNITY.finditer(cmake) for s in m.group(1).split()}
+    targets = {}
+    for folder in sorted(p for p in (root / "src").glob("*") if p.is_dir()):
+        if folder.name in SINGLE_FILE_FOLDERS:
+            continue
+        files = sorted(folder.glob("*.cc"))
+        if folder.name == "study":
+            targets["camdyn_study_runner"] = [f for f in files if f.stem in stems]
+            files = [f for f in files if f.stem not in stems]
+        targets[LIBRARY_NAMES.get(folder.name, f"camdyn_{folder.name}")] = files
+    targets["camdyn_optim"] = sorted(f for d in ("optim", "optim/optimize", "optim/identify")
+                                     for f in (root / d).glob("*.cc"))
+    areas = TEST_AREAS.search(test_cmake).group(1).split() if TEST_AREAS.search(test_cmake) else []
+    for area in areas:
+        for kind, target in (("test", f"{area}_tests"), ("slowtest", f"{area}_slow_tests")):
+            targets[target] = sorted((root / "tests" / area).glob(f"*_{kind}.cc"))
+    return {name: [f for f in files if f not in skipped] for name, files in targets.items() if files}
+
+
+def code_only(text):
+    """The text with comments, string and character literals and preprocessor lines blanked (newlines kept)."""
+    out, i, n, line_start = [], 0, len(text), True
+    while i < n:
+        c = text[i]
+        if line_start and c == "#":
+            while i < n and not (text[i] == "\n" and text[i - 1] != "\\"):
+                out.append("\n" if text[i] == "\n" else " ")
+                i += 1
+            continue
+        if c == "\n":
+            line_start = True
+            out.append(c)
+            i += 1
+            continue
+        if not c.isspace():
+            line_start = False
+        raw = re.match(r'(?:u8|[uUL])?R"([^(\s]*)\(', text[i:i + 20]) if c in "uULR" else None
+        if raw and (i == 0 or not (text[i - 1].isalnum() or text[i - 1] == "_")):
+            end = text.find(")" + raw.group(1) + '"', i + raw.end())
+            end = n if end < 0 else end + len(raw.group(1)) + 2
+            out.append('""' + "".join("\n" for ch in text[i:end] if ch == "\n"))
+            i = end
+        elif text.startswith("//", i):
+            while i < n and text[i] != "\n":
+                i += 1
+        elif text.startswith("/*", i):
+            end = text.find("*/", i + 2)
+            end = n if end < 0 else end + 2
+            out.append(" " + "\n" * text.count("\n", i, end))
+            i = end
+        elif c == '"' or (c == "'" and not (i > 0 and text[i - 1].isalnum())):
+            j = i + 1
+            while j < n and text[j] != c and text[j] != "\n":
+                j += 2 if text[j] == "\\" else 1
+            out.append(c + c)
+            i = j + 1
+        else:
+            out.append(c)
+            i += 1
+    return "".join(out)
+
+
+def strip_template(head):
+    """The declaration without its leading template <...> parameter lists."""
+    while TEMPLATE_PREFIX.match(head):
+        depth, i = 0, head.index("<")
+        for i in range(head.index("<"), len(head)):
+            depth += {"<": 1, ">": -1}.get(head[i], 0)
+            if depth == 0:
+                break
+        head = head[i + 1:].lstrip()
+    return head
+
+
+def declared_name(head, terminator):
+    """What a file-scope declaration (its text up to ';' or '{') defines: (kind, name, aliased) or None.
+    kind is 'function' (a definition), 'variable', 'alias' or 'type'; aliased is an alias's type."""
+    head = " ".join(ATTRIBUTES.sub(" ", strip_template(head)).split())
+    if not head or head.startswith(("extern ", "friend ", "static_assert", "using namespace", "namespace ", "typedef ")):
+        return None  # a namespace alias may be declared again (to the same namespace)
+    alias = ALIAS_HEAD.match(head)
+    if alias:
+        return "alias", alias.group(1), head[alias.end():].replace(" ", "")
+    type_head = TYPE_HEAD.match(head)
+    if type_head:
+        return ("type", type_head.group(1), None) if terminator == "{" and "=" not in head else None
+    depth = 0
+    for i, c in enumerate(head):
+        if c in "<[" or (c == "(" and depth > 0):
+            depth += 1
+        elif c in ">]" or (c == ")" and depth > 0):
+            depth -= 1
+        elif depth == 0 and (c in "({" or (c == "=" and head[i - 1:i] not in ("=", "!", "<", ">", "r"))):
+            break
+    else:
+        i, c = len(head), ";"
+    name = IDENTIFIER_BEFORE.search(head[:i])
+    if not name:
+        return None
+    constant = re.match(r"^(?:(?:static|inline|thread_local)\s+)*(?:constexpr|const|constinit)\b", head)
+    if c == "(" and terminator == "{":
+        return "function", name.group(1), None
+    if c == "(" and not constant:
+        return None  # a function's declaration (its definition counts)
+    return "variable", name.group(1), None
+
+
+def file_scope_names(path):
+    """The names a .cc file defines at file scope: (kind, name, line, aliased). Functions count only with
+    internal linkage (in an anonymous namespace, or static): two of one name are then a redefinition or an
+    overload that may silently take the other file's calls; gtest's PrintTo and operators are overloaded
+    by their argument's type on purpose."""
+    text = code_only(path.read_text(encoding="utf-8"))
+    stack = []          # per open brace: "namespace", "anonymous" or "body"
+    head, head_line, line = [], None, 1
+    skip_to_semicolon = False
+    found = []
+    for c in text:
+        if c == "\n":
+            line += 1
+        at_file_scope = all(kind in ("namespace", "anonymous") for kind in stack)
+        if not at_file_scope:
+            if c == "{":
+                stack.append("body")
+            elif c == "}":
+                stack.pop()
+                if all(kind in ("namespace", "anonymous") for kind in stack):
+                    head, head_line = [], None
+            continue
+        if c in ";{}":
+            statement = "".join(head).strip()
+            anonymous = "anonymous" in stack
+            if c == "}":
+                if stack:
+                    stack.pop()
+                skip_to_semicolon = False
+            elif skip_to_semicolon:
+                skip_to_semicolon = c != ";"
+                if c == "{":
+                    stack.append("body")
+            elif c == "{" and NAMESPACE_HEAD.match(statement):
+                stack.append("namespace" if NAMESPACE_HEAD.match(statement).group(1) else "anonymous")
+            elif c == "{" and statement.startswith("extern"):
+                stack.append("namespace")
+            else:
+                declared = None if statement.startswith((",", ":")) else declared_name(statement, c)
+                if declared:
+                    kind, name, aliased = declared
+                    static = re.match(r"^(?:template\s*<.*?>\s*)?(?:inline\s+)?static\b", statement) is not None
+                    overloaded = name.startswith("operator") or name == "PrintTo" or MACRO_NAME.match(name)
+                    if "::" not in name and not overloaded and (kind != "function" or anonymous or static):
+                        found.append((kind, name, head_line, aliased))
+                if c == "{":
+                    stack.append("body")
+                    # After a type's or an initialiser's braces the declaration goes on to its ';'.
+                    skip_to_semicolon = declared is not None and declared[0] != "function"
+            head, head_line = [], None
+            continue
+        if head_line is None and not c.isspace():
+            head_line = line
+        head.append(c)
+    return found
+
+
+def unity_name_clashes(root=None):
+    """A name two .cc files of one unity target define at file scope: a redefinition once the build
+    compiles them as one translation unit (for functions of internal linkage, an overload that may
+    silently take the other file's call)."""
+    root = root or ROOT
+    found = []
+    for target, files in unity_targets(root).items():
+        first = {}  # name -> [(file, line, kind, aliased)], the first definition in each file
+        for path in files:
+            seen = set()
+            for kind, name, line, aliased in file_scope_names(path):
+                if name not in seen:
+                    seen.add(name)
+                    first.setdefault(name, []).append((path.relative_to(root).as_posix(), line, kind, aliased))
+        for name, places in sorted(first.items()):
+            # An alias may be declared again to the same type ([dcl.typedef]).
+            same_alias = all(p[2] == "alias" for p in places) and len({p[3] for p in places}) == 1
+            if len(places) > 1 and not same_alias:
+                where = " and ".join(f"{p[0]}:{p[1]}" for p in places)
+                found.append(f"{places[0][0]}:{places[0][1]}: {places[0][2]} '{name}' is defined at file scope in "
+                             f"{len(places)} files of the unity target {target} ({where}): one name per target")
     return found
 
 
@@ -282,12 +517,12 @@ def main():
     parser.add_argument("--max-lines", type=int, default=120)
     args = parser.parse_args()
     problems = (include_violations() + public_include_violations() + type_name_clashes()
-                + long_functions(args.max_lines) + doc_reference_violations())
+                + long_functions(args.max_lines) + doc_reference_violations() + unity_name_clashes())
     for problem in problems:
         print(problem)
     print(f"check_structure: {len(problems)} problem(s) in {sum(1 for _ in sources())} files, "
           f"{len(public_headers())} public headers and the doc references of "
-          f"{sum(1 for _ in citing_files(ROOT))} files "
+          f"{sum(1 for _ in citing_files(ROOT))} files, the file-scope names of {len(unity_targets())} unity targets "
           f"(layers {' < '.join(LAYERS)}; functions <= {args.max_lines} lines)")
     return 1 if problems else 0
 

@@ -7,15 +7,15 @@
 #include <utility>
 
 #include "common/errors.h"
-#include "dynamics/model_parameters.h"
 #include "io/json_archive.h"
 #include "io/typed_archive.h"
+#include "study/model_parameters.h"
 
 namespace camdyn::optim {
 
 namespace {
 
-// The parameter block's fields (dynamics/model_parameters.h), by config
+// The parameter block's fields (study/model_parameters.h), by config
 // path: set in place. Each is found in the scene through the loader's visit
 // (io/typed_archive.h), so only a field the scene may give is bound (an
 // optional block the scene lacks, or a field its choices leave out, is not).

@@ -2,7 +2,7 @@
 // the fitted parameters: its typed scene, the model built from it once and a
 // workspace, owned by one worker at a time. Each fitted dotted path is bound
 // once, at construction, to a typed field of the scene:
-//   parameter  a field of the model's parameter block (dynamics/model_parameters.h):
+//   parameter  a field of the model's parameter block (study/model_parameters.h):
 //              set in place, the model is not rebuilt;
 //   scene      read by simulate() from the scene only (the initial velocity);
 //   geometry   a field the model's structure depends on (base radius, roller

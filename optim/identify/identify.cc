@@ -519,8 +519,8 @@ IdentifyResult chosen_fit(const IdentifyProblem& problem, const IdentifyOptions&
 /// The starts over the MPI ranks (docs/optimize.md "MPI ranks"): start k on
 /// rank k mod N, start 0 (`first`, if not run yet) on rank 0; rank 0 gets
 /// every further start's record.
-void run_starts_over_ranks(const IdentifyProblem& problem, const IdentifyOptions& extra, int wanted,
-                           const std::function<void()>& first, FurtherStarts& further) {
+void run_identify_starts_over_ranks(const IdentifyProblem& problem, const IdentifyOptions& extra, int wanted,
+                                    const std::function<void()>& first, FurtherStarts& further) {
   std::vector<std::size_t> indices(static_cast<std::size_t>(wanted));
   std::iota(indices.begin(), indices.end(), std::size_t{0});
   mpi::distribute_runs(
@@ -576,7 +576,7 @@ IdentifyResult identify(const IdentifyProblem& problem, const IdentifyOptions& o
     };
   FurtherStarts further(count);
   if (ranks) {
-    run_starts_over_ranks(problem, extra, std::max(wanted, 1), first, further);
+    run_identify_starts_over_ranks(problem, extra, std::max(wanted, 1), first, further);
     if (!root) return IdentifyResult{};  // rank 0 has every start's record
   } else {
     first();

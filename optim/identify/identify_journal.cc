@@ -14,9 +14,9 @@ namespace camdyn::optim {
 
 namespace {
 
-constexpr const char* kJournalFile = "journal.jsonl";
+constexpr const char* kIdentifyJournalFile = "journal.jsonl";
 /// The journal's record count bound (study/journal.h checks indices against it).
-constexpr std::size_t kMaxRecords = std::size_t{1} << 40;
+constexpr std::size_t kIdentifyMaxRecords = std::size_t{1} << 40;
 
 std::string bytes_of(const std::vector<double>& values) {
   return {reinterpret_cast<const char*>(values.data()), values.size() * sizeof(double)};
@@ -42,9 +42,9 @@ std::optional<std::vector<FitRun>> runs_of(const Json& record, const IdentifyPro
 }
 
 /// `<dir>/journal.jsonl`, the folder created if missing.
-std::filesystem::path journal_path(const std::filesystem::path& dir) {
+std::filesystem::path identify_journal_path(const std::filesystem::path& dir) {
   std::filesystem::create_directories(dir);
-  return dir / kJournalFile;
+  return dir / kIdentifyJournalFile;
 }
 
 }  // namespace
@@ -66,7 +66,7 @@ std::string identify_fingerprint(const SceneConfig& scene, const IdentifySpec& s
 }
 
 IdentifyJournal::IdentifyJournal(const std::filesystem::path& dir, const IdentifyProblem& problem)
-    : journal_(journal_path(dir), "identify", problem.fingerprint, kMaxRecords) {
+    : journal_(identify_journal_path(dir), "identify", problem.fingerprint, kIdentifyMaxRecords) {
   read_records(problem);
 }
 

@@ -17,7 +17,7 @@ namespace camdyn::optim {
 
 namespace {
 
-Json finite_or_null(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
+Json finite_json(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
 Json optional_json(const std::optional<double>& v) { return v && std::isfinite(*v) ? Json(*v) : Json(nullptr); }
 
 std::optional<double> relative_std_error(const ParameterEstimate& p) {
@@ -92,7 +92,7 @@ Json identified_json(const IdentifyProblem& problem, const IdentifyResult& resul
   j["final_cost"] = result.final_cost;
   j["initial_cost"] = result.initial_cost;
   j["rms_residual"] = result.rms_residual;
-  j["residual_sigma"] = finite_or_null(result.residual_sigma);
+  j["residual_sigma"] = finite_json(result.residual_sigma);
   j["residuals"] = result.residuals;
   j["iterations"] = result.iterations;
   j["termination"] = result.termination;
@@ -112,7 +112,7 @@ Json identified_json(const IdentifyProblem& problem, const IdentifyResult& resul
   j["stages"] = stages;
   j["identifiable"] = result.identifiable;
   j["poor_fit"] = result.poor_fit;
-  j["misfit_ratio"] = finite_or_null(result.misfit_ratio);
+  j["misfit_ratio"] = finite_json(result.misfit_ratio);
   Json starts = Json::array();
   for (const FitStart& s : result.starts)
     starts.push_back(Json{{"initial", s.initial},
@@ -134,7 +134,7 @@ Json identified_json(const IdentifyProblem& problem, const IdentifyResult& resul
   Json singular = Json::array();
   for (double s : result.singular_values) singular.push_back(s);
   j["jacobian"] = Json{{"singular_values", singular},
-                       {"condition_number", finite_or_null(result.condition_number)},
+                       {"condition_number", finite_json(result.condition_number)},
                        {"note", "columns normalised to unit length, scaled parameters (ln p for log_scale)"}};
   j["loss"] = Json{{"type", result.loss}, {"scale", result.loss == "none" ? Json(nullptr) : Json(result.loss_scale)}};
   Json experiments = Json::array();

@@ -35,7 +35,7 @@ void say_resumed(const IdentifyJournal& journal) {
 /// window), the iteration of the stage and its cost, and the time left if
 /// every stage uses all its iterations (study/progress.h); at most one line
 /// per 0.2 s, and always the first iteration of a stage.
-std::function<void(const IdentifyProgress&)> progress_printer(int max_iterations) {
+std::function<void(const IdentifyProgress&)> identify_progress_printer(int max_iterations) {
   using Clock = std::chrono::steady_clock;
   const Clock::time_point t0 = Clock::now();
   return [max_iterations, t0, last = Clock::time_point{}](const IdentifyProgress& p) mutable {
@@ -88,7 +88,7 @@ int run_identify_study(const Json& doc, const StudyContext& ctx) {
   options.threads = ctx.threads();
   options.journal = journal ? &*journal : nullptr;
   options.over_ranks = over_ranks;
-  if (ctx.progress && root) options.progress = progress_printer(problem.solver.max_iterations);
+  if (ctx.progress && root) options.progress = identify_progress_printer(problem.solver.max_iterations);
   const IdentifyResult result = identify(problem, options);
   if (!root) return 0;
   if (ctx.progress) std::fprintf(stderr, "\n");

@@ -65,7 +65,7 @@ LayoutPoint evaluate(const SceneConfig& scene, const std::vector<double>& x, con
 }
 
 /// Feasible first, then the smaller cam; among infeasible ones the smaller violation.
-bool better(const LayoutPoint& a, const LayoutPoint& b) {
+bool better_layout(const LayoutPoint& a, const LayoutPoint& b) {
   if (a.feasible() != b.feasible()) return a.feasible();
   if (a.feasible()) return a.cam_size < b.cam_size;
   if (a.buildable != b.buildable) return a.buildable;
@@ -91,7 +91,7 @@ struct LayoutSearch {
     }
     last = evaluate(with_values(baseline, vars, x), x, limits, file);
     ++evaluations;
-    if (better(last, best)) best = last;
+    if (better_layout(last, best)) best = last;
     return last;
   }
   LayoutPoint last;
@@ -198,7 +198,7 @@ LayoutResult design_layout(const SceneConfig& baseline, const LayoutConfig& layo
   }
   // ... and COBYLA shrinks the cam from the best few points found (the
   // problem is not convex: each start may end in a different local minimum).
-  std::sort(sampled.begin(), sampled.end(), better);
+  std::sort(sampled.begin(), sampled.end(), better_layout);
   constexpr std::size_t kStarts = 4;
   for (std::size_t s = 0; s < std::min(kStarts, sampled.size()); ++s) refine(search, vars, sampled[s].values);
   refine(search, vars, r.baseline.values);

@@ -10,12 +10,12 @@
 #include <memory>
 #include <mutex>
 #include <nlopt.hpp>
-#include <numbers>
 #include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
 
+#include "common/constants.h"
 #include "common/errors.h"
 #include "common/study_budget.h"
 #include "dynamics/contact_stress.h"
@@ -36,8 +36,6 @@ namespace camdyn::optim {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-constexpr double kRadPerRpm = 2.0 * std::numbers::pi / 60.0;
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
@@ -369,7 +367,7 @@ long search_designs(const DesignSpace& space, const DesignEvaluator& evaluator, 
   out.initial = evaluator.evaluate(space.scene(out.x_initial), loop, out.loop_simulated);
   const long sims_before = pool.simulations();
   const bool local = config.optimizer.algorithm.rfind("GN_", 0) != 0;
-  const bool ranks = options.over_ranks && starts_over_ranks(config.optimizer);
+  const bool ranks = options.over_ranks && starts_over_ranks(search_settings(config.optimizer));
   // Over MPI ranks each rank runs its starts one at a time, their simulations on its threads.
   const int parallel = local && !ranks ? std::clamp(options.threads, 1, config.optimizer.starts) : 1;
   StartEvaluators starts(evaluator, pool, config, file, parallel, std::max(1, options.threads / parallel));
@@ -430,7 +428,8 @@ long search_designs(const DesignSpace& space, const DesignEvaluator& evaluator, 
                      });
   };
   const auto loop_t0 = Clock::now();
-  out.search = run_search(problem, config.optimizer, progress_printer(options, config.optimizer, loop_t0));
+  out.search =
+      run_search(problem, search_settings(config.optimizer), progress_printer(options, config.optimizer, loop_t0));
   if (helper) return 0;  // rank 0 has the search's result
   recorder.rethrow();
   if (study_budget_exhausted())
@@ -754,7 +753,8 @@ SceneSpringSizing size_scene_spring(const SceneConfig& scene, const OptimizeStud
   SceneSpringSizing out;
   out.unit = coordinate_units(model).force;
   if (rigid_figures_held(model)) {
-    const HeldSpringSizing h = size_held_spring(model, rigid_min_contact_force(config), top_speed(config) * kRadPerRpm);
+    const HeldSpringSizing h =
+        size_held_spring(model, rigid_min_contact_force(config), top_speed(config) * kRadPerSecondPerRpm);
     out.available = h.available;
     out.reason = h.reason;
     out.spring = h.spring;
@@ -767,7 +767,8 @@ SceneSpringSizing size_scene_spring(const SceneConfig& scene, const OptimizeStud
     return out;
   }
   const double pmin = rigid_follower(model, rigid_min_contact_force(config)).min_force;
-  const SpringSizing s = size_spring(*model.law, rigid_spring_load(model, pmin), top_speed(config) * kRadPerRpm);
+  const SpringSizing s =
+      size_spring(*model.law, rigid_spring_load(model, pmin), top_speed(config) * kRadPerSecondPerRpm);
   out.required_preload = s.required_preload;
   out.required_stiffness = s.required_stiffness;
   return out;

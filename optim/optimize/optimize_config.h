@@ -12,6 +12,7 @@
 
 #include "io/config.h"
 #include "optim/optimize/layout_design.h"
+#include "optim/search.h"
 
 namespace camdyn::optim {
 
@@ -152,6 +153,9 @@ struct OptimizerConfig {
 
   bool operator==(const OptimizerConfig&) const = default;
 };
+
+/// The settings of the search (optim/search.h) that `optimizer` gives.
+SearchSettings search_settings(const OptimizerConfig& config);
 
 /// `rigid`: the rigid-model stage (optim/optimize/rigid_design.h) that runs before the
 /// search: a linear programme over the spline's control points that

@@ -168,7 +168,8 @@ int run_optimize_study(const Json& doc, const StudyContext& ctx) {
   const OptimizeStudyConfig& config = study.config;
   // Under MPI the search's starts spread over the ranks; a study without
   // several starts of a local algorithm runs on rank 0 alone (docs/optimize.md "MPI ranks").
-  const bool over_ranks = !config.design.layout && !ctx.validate_only && starts_over_ranks(config.optimizer);
+  const bool over_ranks =
+      !config.design.layout && !ctx.validate_only && starts_over_ranks(search_settings(config.optimizer));
   if (mpi::size() > 1 && !ctx.validate_only && !over_ranks) {
     if (mpi::rank() != 0) return 0;
     std::cerr << "camdyn: note: only the starts of a local algorithm (optimizer.starts > 1) use the MPI ranks; "

@@ -27,7 +27,6 @@ namespace camdyn::optim {
 
 namespace {
 
-constexpr double kRadPerRpm = 2.0 * std::numbers::pi / 60.0;
 constexpr double kBisectionRtol = 1e-4;  // relative width of the bracket on ω
 /// On a train, whose every programme is the response of the whole train at
 /// ten speeds: 1e−3 (a few rpm).
@@ -583,13 +582,14 @@ MarginSolution solve_margin(const SplineFamily& family, const std::vector<double
 std::vector<double> operating_omegas(const OptimizeStudyConfig& config, const RigidFollower& f) {
   std::vector<double> out;
   if (f.sampled_speeds > 0) {  // a train: every operating speed, and jump-free up to the top one
-    const double top = *std::max_element(config.operating_rpm.begin(), config.operating_rpm.end()) * kRadPerRpm;
+    const double top =
+        *std::max_element(config.operating_rpm.begin(), config.operating_rpm.end()) * kRadPerSecondPerRpm;
     out = check_speeds(top, f);
-    for (const double rpm : config.operating_rpm) out.push_back(rpm * kRadPerRpm);
+    for (const double rpm : config.operating_rpm) out.push_back(rpm * kRadPerSecondPerRpm);
     return out;
   }
   for (const double rpm : config.operating_rpm)
-    for (const double w : check_speeds(rpm * kRadPerRpm, f)) out.push_back(w);
+    for (const double w : check_speeds(rpm * kRadPerSecondPerRpm, f)) out.push_back(w);
   return out;
 }
 
@@ -600,7 +600,7 @@ std::vector<double> operating_omegas(const OptimizeStudyConfig& config, const Ri
 /// exact; with a damper it is a parabola in ω whose least value can lie
 /// inside, and the rows sample it at every 1/16 of ω₁ (docs/optimize.md).
 std::vector<double> lobe_speeds(const OptimizeStudyConfig& config, const RigidFollower& f) {
-  const double top = *std::max_element(config.operating_rpm.begin(), config.operating_rpm.end()) * kRadPerRpm *
+  const double top = *std::max_element(config.operating_rpm.begin(), config.operating_rpm.end()) * kRadPerSecondPerRpm *
                      config.rigid.speed_factor;
   std::vector<double> out = {0.0};
   const int steps = f.damping == 0.0 ? 1 : 16;
@@ -635,7 +635,7 @@ double law_bound(const SampledLaw& sampled, const RigidFollower& f, double hint)
   return highest_feasible_speed(feasible, hint, 1e3 * hint, kBisectionRtol);
 }
 
-double as_rpm(double omega) { return std::isfinite(omega) ? omega / kRadPerRpm : kInf; }
+double as_rpm(double omega) { return std::isfinite(omega) ? omega / kRadPerSecondPerRpm : kInf; }
 
 /// Which of the lift-area bound's limits blocks it: the first whose removal
 /// alone makes the programme solvable (its constraint's name), else "the
@@ -679,7 +679,7 @@ void lift_area_part(const SplineFamily& family, const RigidFollower& f, const Op
   }
   const double from = space.event_basis().from, to = space.event_basis().to;
   const std::vector<double> omegas = lobe_speeds(config, f);
-  for (const double w : omegas) c.speeds_rpm.push_back(w / kRadPerRpm);
+  for (const double w : omegas) c.speeds_rpm.push_back(w / kRadPerSecondPerRpm);
   c.baseline = lift_area(baseline, from, to);
   if (d.have) c.design = lift_area(build_motion_law(space.scene(d.x).mechanism.cam.motion_law, ""), from, to);
   if (family.train()) {
@@ -759,7 +759,7 @@ void family_binding(const SplineFamily& family, const RigidFollower& f, double h
 /// family's fastest design.
 RigidDesign make_design(const SplineFamily& family, const RigidFollower& f, const OptimizeStudyConfig& config,
                         const DesignSpace& space, double bound, const MarginSolution& fastest, int& solves) {
-  const double top = *std::max_element(config.operating_rpm.begin(), config.operating_rpm.end()) * kRadPerRpm;
+  const double top = *std::max_element(config.operating_rpm.begin(), config.operating_rpm.end()) * kRadPerSecondPerRpm;
   const double wanted = config.rigid.speed_factor * top;
   FamilyOptions options{family.monotone(), true};
   if (config.objective.peak_contact_force > 0.0)
@@ -883,7 +883,7 @@ void any_law_on_train(const SceneConfig& baseline, const OptimizeStudyConfig& co
     const bool coarse = points == 8;
     const double start = coarse || !std::isfinite(cert.any_law_coarse_rpm) || cert.any_law_coarse_rpm <= 0.0
                              ? hint
-                             : cert.any_law_coarse_rpm * kRadPerRpm;
+                             : cert.any_law_coarse_rpm * kRadPerSecondPerRpm;
     const double w =
         family_bound(family, f, FamilyOptions{false, false, false}, start, solves, nullptr, coarse ? 2.0 : 1.05);
     (coarse ? cert.any_law_coarse_rpm : cert.any_law_rpm) = w >= 1e3 * start ? kInf : as_rpm(w);
@@ -902,7 +902,7 @@ double law_jump_free_rpm(const Model& model, const MotionLaw& law, const RigidFo
 
 /// The top operating speed [rad/s]: the brackets' hint.
 double top_omega(const OptimizeStudyConfig& config) {
-  return *std::max_element(config.operating_rpm.begin(), config.operating_rpm.end()) * kRadPerRpm;
+  return *std::max_element(config.operating_rpm.begin(), config.operating_rpm.end()) * kRadPerSecondPerRpm;
 }
 
 /// The stage's train limits: P_min at the cam and at every link, and the constraints' rows.
@@ -937,11 +937,11 @@ void verify_design(const SceneConfig& scene, const OptimizeStudyConfig& config, 
   const TrainRowLimits limits = stage_train_limits(config);
   if (model.train.has_coordinates()) {
     for (const double rpm : config.operating_rpm)
-      d.verified_margin.push_back(check_held_train(model, law, rpm * kRadPerRpm, limits).margin);
+      d.verified_margin.push_back(check_held_train(model, law, rpm * kRadPerSecondPerRpm, limits).margin);
   } else {
     const SampledLaw sampled(law, kVerifySamples);
     for (const double rpm : config.operating_rpm)
-      d.verified_margin.push_back(sampled.worst_margin(f, rpm * kRadPerRpm));
+      d.verified_margin.push_back(sampled.worst_margin(f, rpm * kRadPerSecondPerRpm));
   }
   const RigidFollower own_f = rigid_follower(model, rigid_min_contact_force(config));
   d.jump_free_rpm = law_jump_free_rpm(model, law, own_f, limits, top_omega(config));
@@ -969,7 +969,8 @@ std::vector<double> rigid_margin_curve(const SceneConfig& scene, double rpm, dou
   const RigidFollower f = rigid_follower(model, min_force);
   std::vector<double> out;
   for (const double deg : angles_deg)
-    out.push_back(f.margin(rpm * kRadPerRpm, model.law->eval(std::min(deg, 360.0 - 1e-9) * std::numbers::pi / 180.0)));
+    out.push_back(
+        f.margin(rpm * kRadPerSecondPerRpm, model.law->eval(std::min(deg, 360.0 - 1e-9) * std::numbers::pi / 180.0)));
   return out;
 }
 
@@ -1031,7 +1032,7 @@ RigidStageResult run_rigid_stage(const SceneConfig& baseline, const OptimizeStud
   }
   const FamilyOptions all{family.monotone(), true};
   for (const double rpm : config.operating_rpm) {
-    const std::vector<double> omegas = check_speeds(rpm * kRadPerRpm, f);
+    const std::vector<double> omegas = check_speeds(rpm * kRadPerSecondPerRpm, f);
     const double m = std::min(solve_margin(family, omegas, all, out.lp_solves).margin, family.fixed_margin(omegas));
     cert.speeds.push_back({rpm, m >= -1e-9 * (std::abs(f.constant()) + 1.0), m});
   }

@@ -7,7 +7,7 @@
 
 #include "common/constants.h"
 #include "common/errors.h"
-#include "dynamics/plausibility.h"
+#include "dynamics/unit_slip.h"
 #include "geometry/check_text.h"
 #include "scene/follower_shape.h"
 

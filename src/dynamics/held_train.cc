@@ -11,6 +11,7 @@
 #include "common/constants.h"
 #include "common/errors.h"
 #include "common/study_budget.h"
+#include "dynamics/jump_speed_scan.h"
 #include "dynamics/model.h"
 #include "dynamics/train_jump_speed.h"
 
@@ -23,9 +24,6 @@ using Complex = std::complex<double>;
 constexpr int kOversampling = 4;  ///< samples of a signal's DFT per grid angle
 constexpr int kFewestHarmonics = 16;
 constexpr std::size_t kCachedSpeeds = 64;  ///< responses kept (each holds angles × signals per quantity)
-constexpr int kSpeedSteps = 400;           ///< equal steps of the jump-speed scan
-/// A harmonic whose |U_h| is below this share of the largest adds no resonance to the scan.
-constexpr double kSignificantHarmonic = 1e-3;
 
 /// In-place radix-2 FFT of a power-of-two length: X_k = Σ_j x_j e^{sign 2πi jk/N}.
 void fft(std::vector<Complex>& x, double sign) {
@@ -282,7 +280,7 @@ std::vector<double> resonance_speeds(const HeldTrain& train, const GridSignal& l
   for (std::size_t h = 1; h < law.U.size(); ++h) largest = std::max(largest, std::abs(law.U[h]));
   for (const double lambda : modes.eigenvalues())
     for (int h = 1; lambda > 0.0 && h < static_cast<int>(law.U.size()); ++h)
-      if (std::abs(law.U[h]) >= kSignificantHarmonic * largest && std::sqrt(lambda) / h < omega_max)
+      if (std::abs(law.U[h]) >= kJumpScanSignificantHarmonic * largest && std::sqrt(lambda) / h < omega_max)
         speeds.push_back(std::sqrt(lambda) / h);
   return speeds;
 }
@@ -303,7 +301,7 @@ double held_train_jump_speed(const HeldTrain& train, const GridSignal& law, doub
   };
   if (!(least_margin(0.0) > 0.0)) return 0.0;
   std::vector<double> speeds;
-  for (int j = 1; j <= kSpeedSteps; ++j) speeds.push_back(omega_max * j / kSpeedSteps);
+  for (int j = 1; j <= kJumpScanSpeedSteps; ++j) speeds.push_back(omega_max * j / kJumpScanSpeedSteps);
   if (train.free_coordinates() > 0) {  // undamped natural frequencies over each harmonic: resonances dip
     for (const double w : resonance_speeds(train, law, omega_max)) speeds.push_back(w);
     std::sort(speeds.begin(), speeds.end());

@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "common/constants.h"
+#include "dynamics/jump_speed_scan.h"
 
 namespace camdyn {
 
@@ -22,12 +23,8 @@ using Complex = std::complex<double>;
 constexpr int kMinLiftSamples = 1024, kLiftSamplesPerHarmonic = 8;
 /// Fewest angles of the extremum grid, and angles per harmonic (16 per period of the highest one).
 constexpr int kMinAngles = 720, kAnglesPerHarmonic = 16;
-/// Equal steps of the jump-speed scan up to ω_max.
-constexpr int kSpeedSteps = 400;
 /// Relative width at which the jump-speed bisection stops.
 constexpr double kSpeedTolerance = 1e-10;
-/// A harmonic whose |S_h| is below this share of the largest adds no resonance to the scan.
-constexpr double kSignificantHarmonic = 1e-3;
 
 /// Mismatched sizes are input errors, with the offending sizes.
 void check_sizes(const LinearTrain& train) {
@@ -142,7 +139,7 @@ double smallest(const ForceSeries& force, double sign) {
 /// (a lightly damped resonance can dip between two steps).
 std::vector<double> scan_speeds(const LinearTrain& train, const LiftHarmonics& lift, double omega_max) {
   std::vector<double> speeds;
-  for (int j = 1; j <= kSpeedSteps; ++j) speeds.push_back(omega_max * j / kSpeedSteps);
+  for (int j = 1; j <= kJumpScanSpeedSteps; ++j) speeds.push_back(omega_max * j / kJumpScanSpeedSteps);
   const Eigen::LLT<Eigen::MatrixXd> mass(train.M);
   double largest = 0.0;
   for (const Complex& s : lift.S) largest = std::max(largest, std::abs(s));
@@ -153,7 +150,7 @@ std::vector<double> scan_speeds(const LinearTrain& train, const LiftHarmonics& l
       if (!(lambda > 0.0)) continue;
       for (std::size_t h = 1; h <= lift.S.size(); ++h) {
         const double w = std::sqrt(lambda) / static_cast<double>(h);  // [rad/s]
-        if (std::abs(lift.S[h - 1]) >= kSignificantHarmonic * largest && w < omega_max) speeds.push_back(w);
+        if (std::abs(lift.S[h - 1]) >= kJumpScanSignificantHarmonic * largest && w < omega_max) speeds.push_back(w);
       }
     }
   }

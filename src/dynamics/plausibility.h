@@ -3,6 +3,8 @@
 // contact stiffness of 10 N/m^n), the ones the solver cannot run at all
 // (refused before the run, naming the field), and the results that should
 // not be trusted (an energy balance that does not close, numerical chatter).
+// The unit slip, which building the cam geometry names before any model
+// exists, is dynamics/unit_slip.h (below the model: no include cycle).
 #pragma once
 
 #include <optional>
@@ -12,16 +14,10 @@
 #include "common/errors.h"
 #include "dynamics/model.h"
 #include "dynamics/simulation.h"
+#include "dynamics/unit_slip.h"
 #include "scene/scene.h"
 
 namespace camdyn {
-
-/// One warning of summary.json `warnings` and of the `warning:` lines.
-struct PlausibilityWarning {
-  std::string cause;    ///< a short word: "unit_slip", "pressure_angle", "contact_stiffness", "chatter", ...
-  std::string field;    ///< the dotted config path to change ("" when it is the run as a whole)
-  std::string message;  ///< what is wrong and what to change
-};
 
 /// The contact load a scene asks its contact to carry, from the rigid model
 /// (docs/model.md §9) sampled over a revolution.
@@ -41,16 +37,6 @@ ContactLoad contact_load(const Model& model);
 /// when the penetration under the peak load is below what the integrator's
 /// tolerances resolve (`mechanism.contact.stiffness`).
 void check_plausibility(const SceneConfig& scene, const Model& model, const std::string& file);
-
-/// The first length of the scene above 1 m (base radius, a segment's or a
-/// spline's lift, a circle's radius, a face width): almost surely given in
-/// millimetres. None when there is none.
-std::optional<PlausibilityWarning> unit_slip(const SceneConfig& scene);
-
-/// Rethrows `error` (raised while building the model) as an InputError that
-/// names the unit slip when the scene has one, with the original reason
-/// appended; otherwise rethrows it unchanged.
-[[noreturn]] void rethrow_naming_unit_slip(const SceneConfig& scene, const std::string& file, const InputError& error);
 
 /// Inputs that are legal but almost surely a slip: lengths above 1 m,
 /// pressure angle above 30°, a contact stiffness outside 1e7 ... 1e13 N/m^n,

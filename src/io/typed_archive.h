@@ -10,7 +10,7 @@
 //     through the same visit, with the checks the loader gives its value
 //     (find_scene_field()). A path the loader does not know is refused with
 //     the loader's "unknown key ... (did you mean ...)". set_parameters()
-//     (dynamics/model_parameters.cc) checks its values with the checks it
+//     (study/model_parameters.cc) checks its values with the checks it
 //     finds, and identification binds its fitted paths with it
 //     (optim/fit_scene.cc).
 // The functions below are defined in io/config.cc, beside the visit functions.

@@ -18,7 +18,7 @@ namespace {
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
-std::string format(const char* fmt, auto... args) {
+std::string printf_format(const char* fmt, auto... args) {
   char buffer[256];
   std::snprintf(buffer, sizeof buffer, fmt, args...);
   return buffer;
@@ -134,12 +134,12 @@ class Shooter {
     revolutions_ += k;
     std::string why = r.reason;
     if (r.ok && r.impacts != impacts)
-      why = format("the sensitivity run found %ld impacts, the map's run %ld", r.impacts, impacts);
+      why = printf_format("the sensitivity run found %ld impacts, the map's run %ld", r.impacts, impacts);
     const double agreement = std::max(1e-6, 1e4 * map_.scene().integrator.rtol);
     if (r.ok && why.empty()) {
       const double d = scaled_norm(to_vector(r.end.x) - to_vector(image.x));
       if (!(d <= agreement))
-        why = format("the sensitivity run ended %.3g (scaled) from the map's run, more than %.3g", d, agreement);
+        why = printf_format("the sensitivity run ended %.3g (scaled) from the map's run, more than %.3g", d, agreement);
     }
     if (why.empty()) return r.jacobian;
     if (why != fallback_) log("Jacobian by finite differences: " + why);
@@ -183,13 +183,13 @@ std::optional<Orbit> shoot(Shooter& shooter, const SectionPoint& start, int k, c
     const VectorXd residual = to_vector(image->x) - to_vector(x.x);
     const double norm = shooter.scaled_norm(residual);
     trace.push_back({k, it, norm});
-    shooter.log(format("period %d: Newton iteration %d, residual %.3e", k, it, norm));
+    shooter.log(printf_format("period %d: Newton iteration %d, residual %.3e", k, it, norm));
     if (norm < least) {
       least = norm;
       least_at = it;
     } else if (it - least_at >= kStagnantIterations) {
-      shooter.log(format("period %d: the residual has not fallen below %.3e in %d iterations: giving up", k, least,
-                         kStagnantIterations));
+      shooter.log(printf_format("period %d: the residual has not fallen below %.3e in %d iterations: giving up", k,
+                                least, kStagnantIterations));
       return std::nullopt;
     }
     std::optional<std::pair<MatrixXd, JacobianMethod>> jacobian = shooter.jacobian(x, k, *image, impacts);
@@ -205,9 +205,9 @@ std::optional<Orbit> shoot(Shooter& shooter, const SectionPoint& start, int k, c
       const double radius = std::abs(floquet_multipliers(*J).front());
       if (radius > kClearlyUnstableRadius) {
         shooter.log(
-            format("period %d: within %.3e of an orbit whose largest |multiplier| is %.4g: unstable, not "
-                   "refined further",
-                   k, norm, radius));
+            printf_format("period %d: within %.3e of an orbit whose largest |multiplier| is %.4g: unstable, not "
+                          "refined further",
+                          k, norm, radius));
         if (unstable_near) *unstable_near = x;
         return std::nullopt;
       }
@@ -298,8 +298,8 @@ Orbit at_minimal_period(Shooter& shooter, Orbit orbit, const PeriodicOptions& op
     if (!minimal || shooter.scaled_norm(to_vector(minimal->fixed_point.x) - to_vector(orbit.fixed_point.x)) > near)
       minimal = repeating_every(shooter, orbit, d, near, *image, impacts);
     if (!minimal) continue;
-    shooter.log(format("period %d: the orbit repeats every %d revolution%s: reported at period %d", orbit.period, d,
-                       d == 1 ? "" : "s", d));
+    shooter.log(printf_format("period %d: the orbit repeats every %d revolution%s: reported at period %d", orbit.period,
+                              d, d == 1 ? "" : "s", d));
     return *minimal;
   }
   return orbit;
@@ -326,7 +326,7 @@ bool of_shorter_period(Shooter& shooter, const SectionPoint& x, int k, const Per
 
 // The k section points of a period-k orbit, its fixed point first; empty
 // when a run failed.
-std::vector<VectorXd> orbit_phases(Shooter& shooter, const Orbit& orbit) {
+std::vector<VectorXd> shot_orbit_phases(Shooter& shooter, const Orbit& orbit) {
   std::vector<VectorXd> phases{to_vector(orbit.fixed_point.x)};
   SectionPoint p = orbit.fixed_point;
   for (int j = 1; j < orbit.period; ++j) {
@@ -374,7 +374,7 @@ bool follows_linearisation(const Shooter& shooter, const Orbit& orbit, const Vec
 // one the motion goes to (docs/periodic.md "Reached orbits").
 std::optional<long> revolutions_to_reach(Shooter& shooter, const SectionPoint& start, const Orbit& orbit,
                                          const PeriodicOptions& options) {
-  const std::vector<VectorXd> phases = orbit_phases(shooter, orbit);
+  const std::vector<VectorXd> phases = shot_orbit_phases(shooter, orbit);
   if (phases.empty()) return std::nullopt;
   const std::size_t k = phases.size();
   const bool linearised = orbit.monodromy.rows() == std::ssize(start.x) && orbit.monodromy.allFinite();
@@ -450,13 +450,14 @@ void settle_and_shoot(const PoincareMap& map, const std::vector<std::vector<doub
     a.finite_difference_jacobians += shooter.finite_difference_jacobians();
     if (!shooter.fallback().empty()) a.jacobian_fallback = shooter.fallback();
   };
-  shooter.log(format("the motion settled after %zu revolutions and repeats every %d: shooting from there", since, d));
+  shooter.log(
+      printf_format("the motion settled after %zu revolutions and repeats every %d: shooting from there", since, d));
   std::optional<Orbit> orbit = shoot(shooter, last, d, options, a.newton);
   if (orbit) orbit = at_minimal_period(shooter, std::move(*orbit), options, a.newton);
   if (orbit && orbit->stable && !a.unreached_orbits.empty()) {
     // The motion went there: an orbit found unreached before (within
     // reach_revolutions) is this one, reached later.
-    const std::vector<VectorXd> phases = orbit_phases(shooter, *orbit);
+    const std::vector<VectorXd> phases = shot_orbit_phases(shooter, *orbit);
     std::erase_if(a.unreached_orbits, [&](const Orbit& u) {
       return u.period == orbit->period && near_a_phase(shooter, to_vector(u.fixed_point.x), phases, options);
     });
@@ -499,9 +500,9 @@ PeriodicAnalysis find_periodic_orbit(const PoincareMap& map, const SectionPoint&
                             : !unstable_near.x.empty() && of_shorter_period(shooter, unstable_near, k, options));
     if (returned) {
       const int revolutions = 4 * options.transient_revolutions;
-      shooter.log(format("period %d: %s; following the motion %d more revolutions and trying again", k,
-                         orbit ? "converged to the orbit found before" : "near an orbit of a shorter period",
-                         revolutions));
+      shooter.log(printf_format("period %d: %s; following the motion %d more revolutions and trying again", k,
+                                orbit ? "converged to the orbit found before" : "near an orbit of a shorter period",
+                                revolutions));
       moved_on = true;
       if (std::optional<SectionPoint> later = shooter.apply(from, revolutions)) from = *later;
       --k;
@@ -509,15 +510,15 @@ PeriodicAnalysis find_periodic_orbit(const PoincareMap& map, const SectionPoint&
     }
     if (!orbit || known(shooter, *orbit, found, options.tolerance)) continue;
     found.push_back(*orbit);
-    shooter.log(format("period %d: orbit found, largest |multiplier| %.4g: %s", k, orbit->spectral_radius(),
-                       orbit->stable ? "stable" : "unstable"));
+    shooter.log(printf_format("period %d: orbit found, largest |multiplier| %.4g: %s", k, orbit->spectral_radius(),
+                              orbit->stable ? "stable" : "unstable"));
     if (orbit->stable && options.reach_revolutions > 0) {
       const std::optional<long> reached = revolutions_to_reach(shooter, start, *orbit, options);
       if (!reached) {
         shooter.log(
-            format("period %d: the motion from the start does not come near this orbit in %d revolutions: "
-                   "it coexists with the motion, which goes elsewhere",
-                   k, options.reach_revolutions));
+            printf_format("period %d: the motion from the start does not come near this orbit in %d revolutions: "
+                          "it coexists with the motion, which goes elsewhere",
+                          k, options.reach_revolutions));
         a.unreached_orbits.push_back(std::move(*orbit));
         continue;
       }
@@ -587,8 +588,8 @@ PeriodicAnalysis analyse_from(const PoincareMap& map, const SectionPoint& start,
   std::optional<PeriodicAnalysis> first;  // the Lyapunov run made first, when it found no chaos
   if (options.lyapunov_first && options.lyapunov_revolutions > 0) {
     if (options.log)
-      options.log(format("Lyapunov exponent first, over %d revolutions: the motion is expected aperiodic",
-                         options.lyapunov_revolutions));
+      options.log(printf_format("Lyapunov exponent first, over %d revolutions: the motion is expected aperiodic",
+                                options.lyapunov_revolutions));
     PeriodicAnalysis l;
     l.transient_end = start;
     l.lyapunov = estimate_lyapunov(map, start, options, &l.revolutions);
@@ -605,8 +606,8 @@ PeriodicAnalysis analyse_from(const PoincareMap& map, const SectionPoint& start,
     a.lyapunov = std::move(first->lyapunov);
   } else {
     if (options.log)
-      options.log(format("no stable orbit up to period %d: estimating the Lyapunov exponent over %d revolutions",
-                         options.max_period, options.lyapunov_revolutions));
+      options.log(printf_format("no stable orbit up to period %d: estimating the Lyapunov exponent over %d revolutions",
+                                options.max_period, options.lyapunov_revolutions));
     a.lyapunov = estimate_lyapunov(map, start, options, &a.revolutions);
   }
   classify_and_settle(map, options, a);
@@ -621,7 +622,7 @@ PeriodicAnalysis analyse_steady_state(const PoincareMap& map, const PeriodicOpti
   run.quadratures = false;  // the transient's end state is all it gives
   const SimulationResult transient = simulate(map.scene_for(options.transient_revolutions), map.model(), ws, run);
   throw_if_failed(transient);
-  if (options.log) options.log(format("transient: %d revolutions", options.transient_revolutions));
+  if (options.log) options.log(printf_format("transient: %d revolutions", options.transient_revolutions));
   PeriodicAnalysis a = analyse_from(map, map.point(transient), options);
   a.revolutions += options.transient_revolutions;
   return a;

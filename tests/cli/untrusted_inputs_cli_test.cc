@@ -25,7 +25,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const std::string kIdentify = std::string(CAMDYN_TEST_DATA_DIR) + "/identify/single.json";
+const std::string kIdentifyStudy = std::string(CAMDYN_TEST_DATA_DIR) + "/identify/single.json";
 constexpr const char* kInputTimeLimitS = "30";
 
 test::Outcome run_input(const std::string& args, const fs::path& dir) {
@@ -78,7 +78,7 @@ TEST(UntrustedInputsCli, IdentificationRecordAtAFifoOrADeviceExitsTwoWithoutHang
   const fs::path fifo = dir / "record.csv";
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   for (const std::string& file : {std::string("/dev/zero"), fifo.string()}) {
-    const test::Outcome o = run_input("validate " + kIdentify + " --set reference.file=" + file, dir);
+    const test::Outcome o = run_input("validate " + kIdentifyStudy + " --set reference.file=" + file, dir);
     EXPECT_EQ(o.code, 2) << file << ": " << o.err;
     EXPECT_NE(o.err.find("reference.file"), std::string::npos) << o.err;
     EXPECT_NE(o.err.find("regular file"), std::string::npos) << o.err;

@@ -26,7 +26,7 @@ namespace fs = std::filesystem;
 
 const std::string kTableStudy = kSource + "/studies/peers/long_flight.json";
 const std::string kPeriodic = kSource + "/studies/periodic/bouncing_ball.json";
-const std::string kShort = "--set simulation.cycles=2 --set simulation.discard_cycles=1";
+const std::string kShortRun = "--set simulation.cycles=2 --set simulation.discard_cycles=1";
 constexpr const char* kPathTimeLimitS = "30";
 
 test::Outcome run_path(const std::string& args, const fs::path& dir) {
@@ -47,7 +47,7 @@ TEST(UntrustedPathsCli, LockFileThatIsASymbolicLinkExitsTwoAndTheVictimIsUnchang
   fs::create_directories(dir / "out");
   fs::create_symlink(victim, dir / "out" / kLockFile);
   const test::Outcome o =
-      run_path("run " + kQuickstart + " --quiet " + kShort + " --out " + (dir / "out").string(), dir);
+      run_path("run " + kQuickstart + " --quiet " + kShortRun + " --out " + (dir / "out").string(), dir);
   EXPECT_EQ(o.code, 2) << o.err;
   EXPECT_NE(o.err.find((dir / "out" / kLockFile).string() + ": is a symbolic link"), std::string::npos) << o.err;
   EXPECT_EQ(test::read_text(victim), "precious\n");
@@ -60,7 +60,7 @@ TEST(UntrustedPathsCli, OutputThatIsASymbolicLinkExitsTwoAndTheVictimIsUnchanged
   fs::create_directories(dir / "out");
   fs::create_symlink(victim, dir / "out" / "summary.json");
   const test::Outcome o =
-      run_path("run " + kQuickstart + " --quiet " + kShort + " --out " + (dir / "out").string(), dir);
+      run_path("run " + kQuickstart + " --quiet " + kShortRun + " --out " + (dir / "out").string(), dir);
   EXPECT_EQ(o.code, 2) << o.err;
   EXPECT_NE(o.err.find("summary.json: is a symbolic link"), std::string::npos) << o.err;
   EXPECT_EQ(test::read_text(victim), "precious\n");
@@ -147,7 +147,7 @@ TEST(UntrustedPathsCli, ExportWithAHugeOrNanCutterRadiusExitsTwoLeavingNoScratch
   }
   // The same from the config's field.
   const fs::path out = dir / "out-config";
-  const test::Outcome o = run_path("run " + kQuickstart + " --quiet " + kShort +
+  const test::Outcome o = run_path("run " + kQuickstart + " --quiet " + kShortRun +
                                        " --set outputs.profile.cutter_radius_mm=1e300 --out " + out.string(),
                                    dir);
   EXPECT_EQ(o.code, 2) << o.err;

@@ -22,8 +22,8 @@
 namespace camdyn {
 namespace {
 
-constexpr double kE = 210e9, kNu = 0.3, kWidth = 0.012;  // steel on steel, 12 mm wide [Pa, -, m]
-const double kEStar = 1.0 / (2.0 * (1.0 - kNu * kNu) / kE);
+constexpr double kSteelE = 210e9, kNu = 0.3, kWidth = 0.012;  // steel on steel, 12 mm wide [Pa, -, m]
+const double kEStar = 1.0 / (2.0 * (1.0 - kNu * kNu) / kSteelE);
 
 // The stress is computed from the same evaluation as the force: only
 // rounding separates it from the closed form of that force.
@@ -37,7 +37,7 @@ constexpr double kStressAcceptance = 1e-6;  // relative
 void use_steel(SceneConfig& s, bool line) {
   ContactConfig& c = s.mechanism.contact;
   c.stiffness.reset();
-  c.from_materials = MaterialsConfig{kE, kNu, kE, kNu, line ? std::optional<double>(kWidth) : std::nullopt};
+  c.from_materials = MaterialsConfig{kSteelE, kNu, kSteelE, kNu, line ? std::optional<double>(kWidth) : std::nullopt};
   c.exponent = line ? 1.0 : 1.5;
 }
 

@@ -25,7 +25,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kProfiles = fs::path(CAMDYN_SOURCE_DIR) / "profiles";
+const fs::path kProfilesDir = fs::path(CAMDYN_SOURCE_DIR) / "profiles";
 
 /// What profiles/README.md promises about a profile.
 struct Documented {
@@ -62,7 +62,7 @@ MotionLaw load_translating(const fs::path& file) {
       "contact": { "stiffness": 1e9 } }
   })");
   scene["mechanism"]["cam"]["motion_law"] = file.string();
-  const SceneConfig config = scene_from_json(scene, ConfigSource{"scene.json", kProfiles.string()});
+  const SceneConfig config = scene_from_json(scene, ConfigSource{"scene.json", kProfilesDir.string()});
   EXPECT_EQ(fs::path(config.mechanism.cam.motion_law.source), file);
   return build_motion_law(config.mechanism.cam.motion_law, file.string());
 }
@@ -109,7 +109,7 @@ std::vector<double> boundaries(const MotionLaw& law) {
 
 TEST(ProfilesLibrary, EveryProfileIsDocumentedLoadsAndIsAsSmoothAsDocumented) {
   int checked = 0;
-  for (const auto& entry : fs::directory_iterator(kProfiles)) {
+  for (const auto& entry : fs::directory_iterator(kProfilesDir)) {
     if (entry.path().extension() != ".json") continue;
     const std::string name = entry.path().stem().string();
     SCOPED_TRACE(name);
@@ -137,7 +137,7 @@ TEST(ProfilesLibrary, EveryProfileIsDocumentedLoadsAndIsAsSmoothAsDocumented) {
 }
 
 TEST(ProfilesLibrary, HarmonicRiseReturnIsC1WithTheTextbookAccelerationJumps) {
-  const MotionLaw law = load_translating(kProfiles / "harmonic_rise_return.json");
+  const MotionLaw law = load_translating(kProfilesDir / "harmonic_rise_return.json");
   // s = h/2 (1 − cos(π x)), x = θ/β: s'' = ±π² h / (2 β²) at the segment ends, 0 in the dwells.
   const double h = 0.02, beta = 120 * kPi / 180, jump = kPi * kPi * h / (2 * beta * beta);
   constexpr double delta = 1e-9;
@@ -152,7 +152,7 @@ TEST(ProfilesLibrary, HarmonicRiseReturnIsC1WithTheTextbookAccelerationJumps) {
 }
 
 TEST(ProfilesLibrary, HarmonicEccentricIsOneCosine) {
-  const MotionLaw law = load_translating(kProfiles / "harmonic_eccentric.json");
+  const MotionLaw law = load_translating(kProfilesDir / "harmonic_eccentric.json");
   for (int i = 0; i < 100; ++i) {
     const double th = kTwoPi * (i + 0.5) / 100;
     const LawSample s = law.eval(th);
@@ -174,7 +174,7 @@ double valve_design(double theta_deg) {
 }
 
 TEST(ProfilesLibrary, ValveLiftFollowsItsPolynomialDesign) {
-  const MotionLaw law = load_translating(kProfiles / "flat_tappet_valve_lift.json");
+  const MotionLaw law = load_translating(kProfilesDir / "flat_tappet_valve_lift.json");
   double worst = 0, lowest = 0;
   for (int i = 0; i < 7200; ++i) {
     const double deg = 360.0 * i / 7200;

@@ -21,7 +21,7 @@ namespace {
 
 using test::input_error_of;
 
-const std::string kGoodBase = std::string(CAMDYN_TEST_DATA_DIR) + "/bad_configs/good_base.json";
+const std::string kGoodTrainBase = std::string(CAMDYN_TEST_DATA_DIR) + "/bad_configs/good_base.json";
 const ConfigSource kSource{"train.json", "/"};
 
 /// A complete scene without a train, the motion law inline.
@@ -65,7 +65,7 @@ Json scene_with_train() {
 SceneConfig load(const Json& doc) { return scene_from_json(doc, kSource); }
 
 /// to_json → scene_from_json must give back the same struct and the same JSON.
-void expect_round_trip(const SceneConfig& scene) {
+void expect_train_round_trip(const SceneConfig& scene) {
   const Json written = to_json(scene);
   SceneConfig again = scene_from_json(written, ConfigSource{"round-trip.json", "/"});
   again.mechanism.cam.motion_law.source = scene.mechanism.cam.motion_law.source;  // not serialised
@@ -135,7 +135,7 @@ TEST(TrainConfig, LinksSeatsAndBodiesTakeTheirDefaults) {
 
 TEST(TrainConfig, AValveTrainWritesBackToTheSameScene) {
   const SceneConfig s = load(scene_with_train());
-  expect_round_trip(s);
+  expect_train_round_trip(s);
   const Json written = to_json(s);
   const Json& mechanism = written["mechanism"];
   ASSERT_TRUE(mechanism.contains("train"));
@@ -151,12 +151,12 @@ TEST(TrainConfig, AValveTrainWritesBackToTheSameScene) {
 }
 
 TEST(TrainConfig, ASceneWithoutATrainWritesNoneOfItsKeys) {
-  for (const SceneConfig& s : {load(scene_without_train()), load_scene(kGoodBase)}) {
+  for (const SceneConfig& s : {load(scene_without_train()), load_scene(kGoodTrainBase)}) {
     const Json written = to_json(s);
     expect_none_of_the_train_keys(written, "");
     // The spring is written as it always was: its two fields.
     EXPECT_EQ(written["mechanism"]["follower"]["spring"].size(), 2u);
-    expect_round_trip(s);
+    expect_train_round_trip(s);
   }
   // An empty train, null seats and a null spring mass are the same scene.
   Json doc = scene_without_train();
@@ -179,7 +179,7 @@ TEST(TrainConfig, SurgeFieldsOfAMasslessSpringAreKeptButUnused) {
     EXPECT_EQ(s.mechanism.follower.spring.damping_ratio, 0.03);
     EXPECT_TRUE(s.mechanism.follower.spring.clash.has_value());
     EXPECT_EQ(s.mechanism.train[1].spring.coils, 8);
-    expect_round_trip(s);
+    expect_train_round_trip(s);
   }
 }
 
@@ -191,7 +191,7 @@ TEST(TrainConfig, ATwoSidedLinkWithoutLashAndAStopWithoutASeatLoad) {
   doc["mechanism"]["train"][1]["stop"]["position"] = -0.001;  // only a seat bounds a stop from below
   const SceneConfig s = load(doc);
   EXPECT_FALSE(s.mechanism.train[1].link.one_sided);
-  expect_round_trip(s);
+  expect_train_round_trip(s);
 }
 
 // ---------------------------------------------------------------- errors name their dotted path
@@ -346,7 +346,7 @@ TEST(TrainConfig, LashAndLumpsLoadAndWriteBackOnlyWhenGiven) {
   EXPECT_EQ(s.mechanism.train[1].spring.coils, std::optional<int>(8));
   EXPECT_EQ(s.mechanism.train[1].spring.lump_count(), 16);
   EXPECT_EQ(s.mechanism.follower.spring.lump_count(), 8);  // lumps = coils without it, as before
-  expect_round_trip(s);
+  expect_train_round_trip(s);
   const Json without = to_json(load(scene_with_train()));
   EXPECT_FALSE(without["mechanism"]["follower"].contains("lash"));
   EXPECT_FALSE(without["mechanism"]["follower"]["spring"].contains("lumps"));
@@ -397,7 +397,7 @@ TEST(TrainConfig, AnArmsTorsionalSpringHasNoMassButItsTrainsSpringsMay) {
       "spring": { "stiffness": 40000, "preload": 350, "mass": 0.06, "coils": 6 } } ])");
   const SceneConfig s = load(doc);
   EXPECT_TRUE(s.mechanism.train[0].spring.massive());
-  expect_round_trip(s);
+  expect_train_round_trip(s);
 
   doc["mechanism"]["follower"]["spring"]["mass"] = 0.02;
   doc["mechanism"]["follower"]["spring"]["coils"] = 4;

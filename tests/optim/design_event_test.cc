@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "common/constants.h"
 #include "common/errors.h"
 #include "io/config.h"
 #include "io/json_archive.h"
@@ -19,8 +20,6 @@
 
 namespace camdyn::optim {
 namespace {
-
-constexpr double kRad = std::numbers::pi / 180.0;
 
 OptimizeStudy jump_study(std::vector<std::string> overrides) {
   return read_optimize_study(load_config_json(kOptimizeJump, overrides),
@@ -43,7 +42,7 @@ TEST(DesignEvent, StartsFromTheBaselineAndKeepsTheRestBitForBit) {
   const MotionLaw base = build_motion_law(s.baseline.mechanism.cam.motion_law, kOptimizeJump);
   const MotionLaw start = build_motion_law(space.scene(space.initial()).mechanism.cam.motion_law, kOptimizeJump);
   for (int i = 0; i < 6000; ++i) {
-    const double theta = (300.0 + 0.01 * i) * kRad;
+    const double theta = (300.0 + 0.01 * i) * kDegToRad;
     ASSERT_EQ(base.eval(theta).s, start.eval(theta).s);
     ASSERT_EQ(base.eval(theta).d2s, start.eval(theta).d2s);
   }
@@ -63,7 +62,7 @@ TEST(DesignEvent, HasAFreeNoseWhereARiseRunsIntoTheReturn) {
   const MotionLaw law = build_motion_law(space.scene_with_control_points(c).mechanism.cam.motion_law, kOptimizeJump);
   double top = 0.0, top_theta = 0.0;
   for (int i = 0; i <= 3000; ++i) {
-    const double theta = 0.1 * i * kRad;
+    const double theta = 0.1 * i * kDegToRad;
     if (law.eval(theta).s > top) {
       top = law.eval(theta).s;
       top_theta = theta;

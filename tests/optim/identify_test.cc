@@ -62,7 +62,7 @@ fs::path temp_dir(const std::string& name) {
   return dir;
 }
 
-int run_cli(const std::string& args, const fs::path& dir, std::string* err = nullptr) {
+int run_identify_cli(const std::string& args, const fs::path& dir, std::string* err = nullptr) {
   const test::Outcome o = test::run_camdyn(test::split_args(args), dir);
   if (err != nullptr) *err = o.err;
   return o.code;
@@ -71,7 +71,7 @@ int run_cli(const std::string& args, const fs::path& dir, std::string* err = nul
 /// The drop `truth` simulated, its contact force around the impact written
 /// as a noise-free record (time,force_N) to `file`; with `scatter` [N], a
 /// fixed normal scatter of that standard deviation is added (seed 1).
-void write_clean_record(const SceneConfig& truth, const fs::path& file, double scatter = 0.0) {
+void write_clean_identify_record(const SceneConfig& truth, const fs::path& file, double scatter = 0.0) {
   const SimulationResult sim = simulate_scene(truth, "truth");
   std::mt19937 rng(1);
   std::normal_distribution<double> noise(0.0, 1.0);
@@ -196,8 +196,9 @@ INSTANTIATE_TEST_SUITE_P(
 TEST(IdentifyData, BadRecordOnTheCommandLineExitsWithTwoNamingFileAndLine) {
   const fs::path dir = temp_dir("cli_bad");
   std::string err;
-  EXPECT_EQ(run_cli("run " + kIdentifyData + "single.json --set reference.file=nan.csv --out " + (dir / "out").string(),
-                    dir, &err),
+  EXPECT_EQ(run_identify_cli(
+                "run " + kIdentifyData + "single.json --set reference.file=nan.csv --out " + (dir / "out").string(),
+                dir, &err),
             2);
   EXPECT_NE(err.find("nan.csv: line 8"), std::string::npos) << err;
   EXPECT_FALSE(fs::exists(dir / "out" / "identified.json"));
@@ -234,7 +235,7 @@ TEST(IdentifyFit, NoiseFreeRecordIsRecoveredToTheSolverTolerance) {
   SceneConfig truth = load_scene(kDropStudy + "rig.json");
   truth.mechanism.contact.stiffness = 3e9;
   truth.mechanism.contact.exponent = 1.4;
-  write_clean_record(truth, dir / "clean.csv");
+  write_clean_identify_record(truth, dir / "clean.csv");
   const IdentifyProblem p =
       load_problem(kIdentifyData + "single.json",
                    {"reference.file=" + (dir / "clean.csv").string(),
@@ -261,7 +262,7 @@ TEST(IdentifyFit, ForwardAndCentralDifferencesLandOnTheSameOptimum) {
   const fs::path dir = temp_dir("differences");
   SceneConfig truth = load_scene(kDropStudy + "rig.json");
   truth.mechanism.contact.stiffness = 3e9;
-  write_clean_record(truth, dir / "clean.csv", 1e-3);
+  write_clean_identify_record(truth, dir / "clean.csv", 1e-3);
   const std::string record = "reference.file=" + (dir / "clean.csv").string();
   IdentifyOptions opt;
   opt.threads = 2;
@@ -285,7 +286,7 @@ TEST(IdentifyFit, PointsSimulatedBeforeAreReusedAcrossStages) {
   const fs::path dir = temp_dir("reuse");
   SceneConfig truth = load_scene(kDropStudy + "rig.json");
   truth.mechanism.contact.stiffness = 3e9;
-  write_clean_record(truth, dir / "clean.csv");
+  write_clean_identify_record(truth, dir / "clean.csv");
   const IdentifyProblem p = load_problem(kIdentifyData + "single.json",
                                          {"reference.file=" + (dir / "clean.csv").string(), "solver.smoothing=[2e-5]"});
   const IdentifyResult r = identify(p, IdentifyOptions{});
@@ -302,7 +303,8 @@ class IdentifyDropStudy : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     dir_ = temp_dir("drop_study");
-    exit_code_ = run_cli("run " + kDropStudy + "identify_drop.json --quiet --out " + (dir_ / "out").string(), dir_);
+    exit_code_ =
+        run_identify_cli("run " + kDropStudy + "identify_drop.json --quiet --out " + (dir_ / "out").string(), dir_);
     if (exit_code_ == 0) identified_ = read_json_file((dir_ / "out" / "identified.json").string());
   }
   static void TearDownTestSuite() { fs::remove_all(dir_); }
@@ -360,7 +362,8 @@ TEST_F(IdentifyDropStudy, WritesTheContractOutputs) {
   EXPECT_DOUBLE_EQ(*scene.mechanism.contact.stiffness, value("contact.stiffness"));
   EXPECT_DOUBLE_EQ(scene.mechanism.contact.exponent, value("contact.exponent"));
   EXPECT_EQ(
-      run_cli("run " + (out / "identified_scene.json").string() + " --quiet --out " + (dir_ / "rerun").string(), dir_),
+      run_identify_cli(
+          "run " + (out / "identified_scene.json").string() + " --quiet --out " + (dir_ / "rerun").string(), dir_),
       0);
 }
 
@@ -463,7 +466,7 @@ TEST(IdentifyFit, IntegratorFailureIsANumericalError) {
 
 TEST(IdentifyStudy, ValidateChecksRecordsAndPrintsTheResolvedConfig) {
   const fs::path dir = temp_dir("validate");
-  EXPECT_EQ(run_cli("validate " + kDropStudy + "identify_drop.json", dir), 0);
+  EXPECT_EQ(run_identify_cli("validate " + kDropStudy + "identify_drop.json", dir), 0);
   const Json resolved = read_json_file((dir / "camdyn.out").string());
   EXPECT_EQ(resolved["study"], "identify");
   EXPECT_EQ(resolved["experiments"].size(), 4u);

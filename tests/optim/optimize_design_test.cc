@@ -27,7 +27,7 @@ namespace {
 // 1/8000 of the segment: the coefficient is low by at most ~f⁗·h²/8 ≈ 1e-7 relative.
 constexpr double kSampledPeak = 1e-6;
 
-const ConfigSource kSource{"test.json", CAMDYN_SOURCE_DIR};
+const ConfigSource kDesignSource{"test.json", CAMDYN_SOURCE_DIR};
 
 SceneConfig scene_with_law(const std::string& segments_json) {
   Json doc = Json::parse(R"({
@@ -37,7 +37,7 @@ SceneConfig scene_with_law(const std::string& segments_json) {
       "follower": { "shape": { "type": "roller", "radius": 0.01 }, "mass": 0.3,
                     "spring": { "stiffness": 5000, "preload": 40 } },
       "contact": { "stiffness": 1e10 } } })");
-  return scene_from_json(doc, kSource);
+  return scene_from_json(doc, kDesignSource);
 }
 
 const char* kCycloidal = R"([
@@ -194,7 +194,7 @@ TEST(DesignSpace, InconsistentDesignsAreInputErrors) {
     "follower": { "shape": { "type": "roller", "radius": 0.01 }, "mass": 0.3, "spring": { "stiffness": 5000 } },
     "contact": { "stiffness": 1e10 } } })");
   try {
-    DesignSpace space(scene_from_json(doc, kSource), DesignConfig{}, "test.json");
+    DesignSpace space(scene_from_json(doc, kDesignSource), DesignConfig{}, "test.json");
     ADD_FAILURE() << "a periodic spline law has no segments to design";
   } catch (const InputError& e) {
     EXPECT_EQ(e.path(), "mechanism.cam.motion_law");
@@ -203,15 +203,15 @@ TEST(DesignSpace, InconsistentDesignsAreInputErrors) {
 
 TEST(OptimizeConfig, DefaultsRoundTripAndUnknownKeysAreNamed) {
   const OptimizeStudyConfig defaults =
-      optimize_config_from_json(Json::parse(R"({ "operating_rpm": [1000] })"), kSource);
+      optimize_config_from_json(Json::parse(R"({ "operating_rpm": [1000] })"), kDesignSource);
   EXPECT_EQ(defaults.design.control_points, 6);
   EXPECT_EQ(defaults.optimizer.algorithm, "LN_COBYLA");
   EXPECT_EQ(*defaults.constraints.max_pressure_angle_deg, 30.0);
-  EXPECT_EQ(optimize_config_from_json(to_json(defaults), kSource), defaults);
+  EXPECT_EQ(optimize_config_from_json(to_json(defaults), kDesignSource), defaults);
 
   auto error_of = [&](const char* text) -> InputError {
     try {
-      optimize_config_from_json(Json::parse(text), kSource);
+      optimize_config_from_json(Json::parse(text), kDesignSource);
     } catch (const InputError& e) {
       return e;
     }

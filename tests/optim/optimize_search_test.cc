@@ -10,7 +10,6 @@
 #include <string>
 #include <vector>
 
-#include "optim/optimize/optimize_config.h"
 #include "optim/search.h"
 
 namespace camdyn::optim {
@@ -53,7 +52,7 @@ class EveryAlgorithm : public ::testing::TestWithParam<std::string> {};
 TEST_P(EveryAlgorithm, FindsTheConstrainedOptimumWithinTheBudget) {
   const std::string algorithm = GetParam();
   const bool global = algorithm.rfind("GN_", 0) == 0;
-  OptimizerConfig config;
+  SearchSettings config;
   config.algorithm = algorithm;
   config.max_evaluations = global ? 2000 : 400;
   config.xtol_rel = 1e-6;
@@ -77,7 +76,7 @@ INSTANTIATE_TEST_SUITE_P(Search, EveryAlgorithm, ::testing::ValuesIn(optimize_al
                          [](const ::testing::TestParamInfo<std::string>& p) { return p.param; });
 
 TEST(Search, FiniteDifferenceProbesCountAgainstTheBudget) {
-  OptimizerConfig config;
+  SearchSettings config;
   config.algorithm = "LD_MMA";
   config.max_evaluations = 31;  // n + 1 = 3 evaluations per gradient
   config.xtol_rel = 0.0;        // only the budget stops it
@@ -87,7 +86,7 @@ TEST(Search, FiniteDifferenceProbesCountAgainstTheBudget) {
 }
 
 TEST(Search, MultiStartIsReproducibleAndSharesTheBudget) {
-  OptimizerConfig config;
+  SearchSettings config;
   config.algorithm = "LN_COBYLA";
   config.starts = 4;
   config.max_evaluations = 203;
@@ -119,7 +118,7 @@ TEST(Search, AFailedStartDoesNotLoseTheOthers) {
     if (start == 2 && x[0] > 0.3) throw nlopt::forced_stop();
     return inner(x, start, kind);
   };
-  OptimizerConfig config;
+  SearchSettings config;
   config.algorithm = "LN_COBYLA";
   config.starts = 3;
   config.max_evaluations = 300;
@@ -153,7 +152,7 @@ TEST(Search, InvalidPointsAreCountedAndNeverChosen) {
     }
     return v;
   };
-  OptimizerConfig config;
+  SearchSettings config;
   config.algorithm = "LN_COBYLA";
   config.max_evaluations = 200;
   const SearchResult r = run_search(p, config);

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "common/constants.h"
 #include "dynamics/contact_stress.h"
 #include "dynamics/model.h"
 #include "dynamics/simulation.h"
@@ -28,7 +29,6 @@
 namespace camdyn::optim {
 namespace {
 
-constexpr double kRad = std::numbers::pi / 180.0;
 const std::string kValveLobe = std::string(CAMDYN_SOURCE_DIR) + "/studies/optimize_valve_lobe.json";
 
 OptimizeStudy valve_study() {
@@ -56,18 +56,18 @@ TEST(LiftAreaDesign, KeepsTheRampsAndTheBaseCircleBitForBit) {
   const MotionLaw base = law_of(s.study.baseline), design = law_of(s.design_scene());
   int kept = 0;
   for (int i = 0; i < 360 * 200; ++i) {
-    const double theta = i * 0.005 * kRad;
-    if (theta >= 10.0 * kRad && theta < 140.0 * kRad) continue;
+    const double theta = i * 0.005 * kDegToRad;
+    if (theta >= 10.0 * kDegToRad && theta < 140.0 * kDegToRad) continue;
     const LawSample a = base.eval(theta), b = design.eval(theta);
-    ASSERT_EQ(a.s, b.s) << theta / kRad << " deg";
-    ASSERT_EQ(a.ds, b.ds) << theta / kRad << " deg";
-    ASSERT_EQ(a.d2s, b.d2s) << theta / kRad << " deg";
-    ASSERT_EQ(a.d3s, b.d3s) << theta / kRad << " deg";
+    ASSERT_EQ(a.s, b.s) << theta / kDegToRad << " deg";
+    ASSERT_EQ(a.ds, b.ds) << theta / kDegToRad << " deg";
+    ASSERT_EQ(a.d2s, b.d2s) << theta / kDegToRad << " deg";
+    ASSERT_EQ(a.d3s, b.d3s) << theta / kDegToRad << " deg";
     ++kept;
   }
   EXPECT_GT(kept, 40000);
   // The ramps are there: lift over [0, 10] deg rises from the base circle.
-  EXPECT_GT(design.eval(9.9 * kRad).s, 0.0);
+  EXPECT_GT(design.eval(9.9 * kDegToRad).s, 0.0);
 }
 
 // Every constraint from the law itself, on 0.01° and 41 speeds from 0 to the
@@ -87,7 +87,7 @@ TEST(LiftAreaDesign, HonoursEveryConstraintOnAFineGridIndependentlyOfTheProgramm
   const double top = 3500.0 * std::numbers::pi / 30.0;
   double worst_margin = 1e300, worst_rho = 1e300, worst_face = 0.0, worst_jerk = 0.0, highest = 0.0;
   for (int i = 0; i <= 13000; ++i) {
-    const LawSample l = law.eval((10.0 + 0.01 * i) * kRad);
+    const LawSample l = law.eval((10.0 + 0.01 * i) * kDegToRad);
     for (int j = 0; j <= 40; ++j) {
       const double w = top * j / 40.0;
       worst_margin = std::min(worst_margin, m * w * w * l.d2s + k * l.s + f0 - p_min);
@@ -118,7 +118,7 @@ TEST(LiftAreaDesign, IsWithinOnePercentOfTheCertificate) {
   const Stage& s = stage();
   const LiftAreaCertificate& a = s.result.certificate.lift_area;
   ASSERT_TRUE(a.available) << a.reason;
-  const double area = lift_area(law_of(s.design_scene()), 10.0 * kRad, 140.0 * kRad);
+  const double area = lift_area(law_of(s.design_scene()), 10.0 * kDegToRad, 140.0 * kDegToRad);
   EXPECT_NEAR(area, a.design, 1e-9 * area);
   EXPECT_LE(area, a.bound * (1 + 1e-3));  // the bound is above any law, to its grid's O(h²)
   EXPECT_GE(area, 0.99 * a.bound);
@@ -146,7 +146,7 @@ MotionLaw classical_lobe(SegmentLaw law) {
 
 TEST(LiftAreaDesign, BeatsEveryClassicalLawThatIsJumpFreeAtTheRedLine) {
   const Stage& s = stage();
-  const double area = lift_area(law_of(s.design_scene()), 0.0, 150.0 * kRad);
+  const double area = lift_area(law_of(s.design_scene()), 0.0, 150.0 * kDegToRad);
   const auto& follower = s.study.baseline.mechanism.follower;
   const double top = 3500.0 * std::numbers::pi / 30.0, rb = s.study.baseline.mechanism.cam.base_radius;
   int jump_free = 0;
@@ -155,13 +155,13 @@ TEST(LiftAreaDesign, BeatsEveryClassicalLawThatIsJumpFreeAtTheRedLine) {
     const MotionLaw lobe = classical_lobe(law);
     double low = 1e300, rho = 1e300, v = 0.0;
     for (int i = 0; i <= 15000; ++i) {
-      const LawSample l = lobe.eval(0.01 * i * kRad);
+      const LawSample l = lobe.eval(0.01 * i * kDegToRad);
       low =
           std::min(low, follower.mass * top * top * l.d2s + follower.spring.stiffness * l.s + follower.spring.preload);
       rho = std::min(rho, rb + l.s + l.d2s);
       v = std::max(v, std::abs(l.ds));
     }
-    const double a = lift_area(lobe, 0.0, 150.0 * kRad);
+    const double a = lift_area(lobe, 0.0, 150.0 * kDegToRad);
     std::printf("| %s | %.4f | %.1f | %.2f | %.2f |\n", to_string(law).c_str(), 1e3 * a, low, 1e3 * rho, 1e3 * v);
     if (low < 50.0) continue;
     ++jump_free;

@@ -28,7 +28,7 @@ namespace {
 // its minimum to ~1e-6 relative.
 constexpr double kBisection = 2e-4;
 
-OptimizeStudy jump_study(const std::vector<std::string>& overrides = {}) {
+OptimizeStudy rigid_jump_study(const std::vector<std::string>& overrides = {}) {
   const std::string file = std::string(CAMDYN_SOURCE_DIR) + "/studies/optimize_jump.json";
   return read_optimize_study(load_config_json(file, overrides), ConfigSource{file, CAMDYN_SOURCE_DIR "/studies"});
 }
@@ -49,7 +49,7 @@ double cycloidal_jump_rpm(double min_force) {
 }
 
 TEST(RigidStage, CertificateOfTheJumpStudy) {
-  const OptimizeStudy study = jump_study();
+  const OptimizeStudy study = rigid_jump_study();
   const DesignSpace space(study.baseline, study.config.design, "optimize_jump.json");
   const RigidStageResult r = run_rigid_stage(study.baseline, study.config, space, "optimize_jump.json");
   const Certificate& c = r.certificate;
@@ -89,7 +89,7 @@ TEST(RigidStage, CertificateOfTheJumpStudy) {
 }
 
 TEST(RigidStage, WithoutAPeakTermTheDesignIsTheFamilysFastest) {
-  const OptimizeStudy study = jump_study({"objective={\"separation\": 1}"});
+  const OptimizeStudy study = rigid_jump_study({"objective={\"separation\": 1}"});
   const DesignSpace space(study.baseline, study.config.design, "optimize_jump.json");
   const RigidStageResult r = run_rigid_stage(study.baseline, study.config, space, "optimize_jump.json");
   ASSERT_TRUE(r.design.have);
@@ -100,10 +100,10 @@ TEST(RigidStage, WithoutAPeakTermTheDesignIsTheFamilysFastest) {
 TEST(RigidStage, AJerkBoundHoldsInTheDesignAndLowersTheFamilysSpeed) {
   // 1.5 × the cycloidal rise's peak jerk h (2π)² / β³.
   const double beta = 2.0 * kPi / 3.0, bound = 1.5 * 0.02 * 4.0 * kPi * kPi / (beta * beta * beta);
-  const OptimizeStudy free = jump_study({"objective={\"separation\": 1}"});
+  const OptimizeStudy free = rigid_jump_study({"objective={\"separation\": 1}"});
   const OptimizeStudy limited =
-      jump_study({"objective={\"separation\": 1}", "constraints.max_peak_jerk=" + std::to_string(bound),
-                  "rigid.explain_bound=true"});
+      rigid_jump_study({"objective={\"separation\": 1}", "constraints.max_peak_jerk=" + std::to_string(bound),
+                        "rigid.explain_bound=true"});
   const DesignSpace space(free.baseline, free.config.design, "optimize_jump.json");
   const RigidStageResult a = run_rigid_stage(free.baseline, free.config, space, "optimize_jump.json");
   const RigidStageResult b = run_rigid_stage(limited.baseline, limited.config, space, "optimize_jump.json");
@@ -127,9 +127,10 @@ TEST(RigidStage, AJerkBoundHoldsInTheDesignAndLowersTheFamilysSpeed) {
 // (what `validate` checks).
 TEST(RigidStage, CurvatureLimitHoldsAfterTightening) {
   const double limit = 0.0399;
-  const OptimizeStudy free = jump_study({"objective={\"separation\": 1}", "constraints.min_radius_of_curvature=null"});
-  const OptimizeStudy limited =
-      jump_study({"objective={\"separation\": 1}", "constraints.min_radius_of_curvature=" + std::to_string(limit)});
+  const OptimizeStudy free =
+      rigid_jump_study({"objective={\"separation\": 1}", "constraints.min_radius_of_curvature=null"});
+  const OptimizeStudy limited = rigid_jump_study(
+      {"objective={\"separation\": 1}", "constraints.min_radius_of_curvature=" + std::to_string(limit)});
   const DesignSpace space(free.baseline, free.config.design, "optimize_jump.json");
   auto radius = [&](const RigidDesign& d) {
     SceneConfig scene = space.scene(d.x);
@@ -185,7 +186,7 @@ TEST(RigidStage, OscillatingArmGetsACertificateAndADesign) {
 }
 
 TEST(RigidStage, TargetAboveTheBoundIsInfeasible) {
-  const OptimizeStudy study = jump_study({"operating_rpm=[1000, 2500]"});
+  const OptimizeStudy study = rigid_jump_study({"operating_rpm=[1000, 2500]"});
   const DesignSpace space(study.baseline, study.config.design, "optimize_jump.json");
   const RigidStageResult r = run_rigid_stage(study.baseline, study.config, space, "optimize_jump.json");
   const Certificate& c = r.certificate;

@@ -38,9 +38,11 @@ Study force_study(int max_evaluations) {
                     std::to_string(max_evaluations) + R"(, "warm_start": true } })");
 }
 
-double relative(double a, double b) { return std::abs(a - b) / std::max({std::abs(a), std::abs(b), 1e-300}); }
+double relative_difference(double a, double b) {
+  return std::abs(a - b) / std::max({std::abs(a), std::abs(b), 1e-300});
+}
 
-bool same_bits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
+bool same_double_bits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
 
 /// The design `x` moved by `share` of each bound range.
 std::vector<double> moved(const DesignSpace& space, std::vector<double> x, double share) {
@@ -91,11 +93,11 @@ TEST(WarmStart, AWarmEvaluationEqualsTheSteadyStateWithinTheSettlingTolerance) {
   EXPECT_EQ(cold.warm_speeds, 0);
   EXPECT_EQ(warm.warm_speeds, 2);  // both kept: the motion had settled
   for (const SpeedResult& s : orbit.speeds) ASSERT_EQ(s.result.metrics_over, "periodic_orbit") << s.rpm;
-  EXPECT_LE(relative(warm.objective, orbit.objective), WindowCheck::kTolerance) << warm.objective;
-  EXPECT_LE(relative(cold.objective, orbit.objective), WindowCheck::kTolerance) << cold.objective;
+  EXPECT_LE(relative_difference(warm.objective, orbit.objective), WindowCheck::kTolerance) << warm.objective;
+  EXPECT_LE(relative_difference(cold.objective, orbit.objective), WindowCheck::kTolerance) << cold.objective;
   ASSERT_EQ(warm.constraints.size(), orbit.constraints.size());
   for (std::size_t i = 0; i < warm.constraints.size(); ++i) {
-    EXPECT_LE(relative(warm.constraints[i].value, orbit.constraints[i].value), WindowCheck::kTolerance);
+    EXPECT_LE(relative_difference(warm.constraints[i].value, orbit.constraints[i].value), WindowCheck::kTolerance);
     EXPECT_EQ(warm.constraints[i].holds, cold.constraints[i].holds);
   }
   ASSERT_EQ(warm.end_points.size(), 2u);  // the next evaluation's warm starts
@@ -119,8 +121,8 @@ TEST(WarmStart, AnUnsettledWarmStartIsRunColdToTheBit) {
   const DesignEvaluation cold = t.at(x0, nullptr), warm = t.at(x0, &far);
   EXPECT_EQ(t.pool.warm_rejected() - rejected, 2);
   EXPECT_EQ(warm.warm_speeds, 0);
-  EXPECT_TRUE(same_bits(warm.objective, cold.objective));
-  EXPECT_TRUE(same_bits(warm.objective, first.objective));  // and the evaluation is the design's alone
+  EXPECT_TRUE(same_double_bits(warm.objective, cold.objective));
+  EXPECT_TRUE(same_double_bits(warm.objective, first.objective));  // and the evaluation is the design's alone
 }
 
 std::vector<std::string> history_lines(const OptimizeOutcome& o) {
@@ -164,8 +166,8 @@ TEST(WarmStart, AResumedSearchRetracesTheUninterruptedOneToTheBit) {
   EXPECT_EQ(history_lines(again), history_lines(plain));
   ASSERT_EQ(again.x_optimized.size(), plain.x_optimized.size());
   for (std::size_t i = 0; i < again.x_optimized.size(); ++i)
-    EXPECT_TRUE(same_bits(again.x_optimized[i], plain.x_optimized[i])) << i;
-  EXPECT_TRUE(same_bits(again.optimized.objective, plain.optimized.objective));
+    EXPECT_TRUE(same_double_bits(again.x_optimized[i], plain.x_optimized[i])) << i;
+  EXPECT_TRUE(same_double_bits(again.optimized.objective, plain.optimized.objective));
 }
 
 }  // namespace

@@ -1,7 +1,9 @@
 """scripts/check_structure.py's doc-reference check (its rule 3) on a small fake tree:
 a citation of a missing doc, a section or heading the doc does not have, and any
 mention of the outside spec files are reported, each at its line; citations that
-resolve are not. CTest runs it (label scripts):
+resolve are not. Its unity-target check (rule 4) on another: a file-scope name two
+.cc files of one target define is reported, members, locals, repeated aliases to one
+type and functions of external linkage are not. CTest runs it (label scripts):
 
     /usr/bin/python3 -m pytest -q tests/scripts/check_structure_test.py
 """
@@ -83,3 +85,92 @@ def test_the_check_runs_by_default(tree, monkeypatch, capsys):
     monkeypatch.setattr(sys, "argv", ["check_structure.py"])
     assert check_structure.main() == 1
     assert "tests/io/bad_test.cc:4: cites 'docs/missing.md'" in capsys.readouterr().out
+
+
+# Rule 4: a file-scope name defined in two .cc files of one unity target.
+UNITY_A = r"""#include "dynamics/a.h"
+namespace fs = std::filesystem;  // a namespace alias may be declared again
+namespace camdyn {
+namespace {
+using Complex = std::complex<double>;  // the same alias again: allowed
+using Index = int;
+constexpr double kShared = 1.0;
+constexpr const char* kText = R"({ "braces": { "in": "a raw string" } })";
+struct Helper {
+  int kInner = 1;  // a member, not file scope
+  void method() { const double kLocal = 2.0; }
+};
+double helper(double x) { return x; }
+void PrintTo(const Helper& h, std::ostream* os) {}  // gtest's, overloaded by type
+}  // namespace
+double public_function(double x) { return x; }  // external linkage: the linker's business
+static int counter(int x) {
+  const int kBodyLocal = x;
+  return kBodyLocal;
+}
+}  // namespace camdyn
+"""
+UNITY_B = """namespace fs = std::filesystem;
+namespace camdyn {
+namespace {
+using Complex = std::complex<double>;
+using Index = long;
+constexpr double kShared = 2.0;
+double helper(int x) { return x; }  // an overload: a clash too
+void PrintTo(const int& h, std::ostream* os) {}
+int kInner = 0;
+}  // namespace
+double public_function(int x) { return x; }
+static int counter(double x) { return 0; }  // an overload of a static function
+struct Helper {};
+}  // namespace camdyn
+"""
+UNITY_TEST = """namespace camdyn {
+namespace {
+constexpr double kTolerance = 1e-9;
+TEST(Suite, Name) { EXPECT_TRUE(true); }
+}  // namespace
+}  // namespace camdyn
+"""
+UNITY_CMAKE = "set(study_runner_stems mpi_runner journal)\n"
+UNITY_TEST_CMAKE = "set(test_areas io)\n"
+
+
+@pytest.fixture
+def unity_tree(tmp_path):
+    files = {"CMakeLists.txt": UNITY_CMAKE, "tests/CMakeLists.txt": UNITY_TEST_CMAKE,
+             "src/dynamics/a.cc": UNITY_A, "src/dynamics/b.cc": UNITY_B,
+             # Two targets: the study library and its runner; the CLI's files each a target.
+             "src/study/plain.cc": UNITY_TEST, "src/study/journal.cc": UNITY_TEST,
+             "src/cli/main.cc": UNITY_TEST, "src/cli/run_study.cc": UNITY_TEST,
+             "optim/one.cc": UNITY_TEST, "optim/identify/two.cc": UNITY_TEST,
+             "tests/io/a_test.cc": UNITY_TEST, "tests/io/b_test.cc": UNITY_TEST.replace("Name", "Other")}
+    for name, text in files.items():
+        (tmp_path / name).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / name).write_text(text, encoding="utf-8")
+    return tmp_path
+
+
+def clashes(root):
+    return [v.split(": ", 1)[1].split(" is defined")[0] for v in check_structure.unity_name_clashes(root)]
+
+
+def test_unity_targets_follow_the_build(unity_tree):
+    targets = {name: sorted(f.relative_to(unity_tree).as_posix() for f in files)
+               for name, files in check_structure.unity_targets(unity_tree).items()}
+    assert targets == {"camdyn_dynamics": ["src/dynamics/a.cc", "src/dynamics/b.cc"],
+                       "camdyn_study_runner": ["src/study/journal.cc"], "camdyn_study": ["src/study/plain.cc"],
+                       "camdyn_optim": ["optim/identify/two.cc", "optim/one.cc"],
+                       "io_tests": ["tests/io/a_test.cc", "tests/io/b_test.cc"]}
+
+
+def test_names_defined_twice_in_one_target_are_reported(unity_tree):
+    assert sorted(clashes(unity_tree)) == sorted([
+        "alias 'Index'", "variable 'kShared'", "function 'helper'", "function 'counter'", "type 'Helper'",
+        "variable 'kTolerance'", "variable 'kTolerance'"])  # io_tests and camdyn_optim; not kInner (a member)
+
+
+def test_a_clash_names_both_files_and_lines(unity_tree):
+    found = check_structure.unity_name_clashes(unity_tree)
+    assert ("src/dynamics/a.cc:7: variable 'kShared' is defined at file scope in 2 files of the unity target "
+            "camdyn_dynamics (src/dynamics/a.cc:7 and src/dynamics/b.cc:6): one name per target") in found

@@ -32,9 +32,9 @@ struct WarmCase {
 };
 
 /// The shooting tolerance both runs use (periodic.tolerance's default) [-].
-constexpr double kShootingTolerance = 1e-7;
+constexpr double kWarmShootingTolerance = 1e-7;
 
-Json run_map(const WarmCase& c, bool warm, const fs::path& dir) {
+Json run_warm_or_cold_map(const WarmCase& c, bool warm, const fs::path& dir) {
   const std::string out = (dir / (warm ? "warm" : "cold")).string();
   const std::string fields = std::string(c.jump_map) + R"(, "warm_start": )" + (warm ? "true}" : "false}");
   const test::Outcome r = test::run_camdyn(
@@ -52,7 +52,7 @@ class JumpMapWarmStart : public ::testing::TestWithParam<WarmCase> {};
 TEST_P(JumpMapWarmStart, ClassifiesEverySpeedAsTheTransientPathDoes) {
   const WarmCase& c = GetParam();
   const fs::path dir = test::scratch_dir("jump_map_warm_start_test", c.name);
-  const Json warm = run_map(c, true, dir), cold = run_map(c, false, dir);
+  const Json warm = run_warm_or_cold_map(c, true, dir), cold = run_warm_or_cold_map(c, false, dir);
   ASSERT_EQ(warm["speeds"].size(), cold["speeds"].size());
   int predicted = 0, most_period = 0;
   for (std::size_t i = 0; i < warm["speeds"].size(); ++i) {
@@ -70,7 +70,7 @@ TEST_P(JumpMapWarmStart, ClassifiesEverySpeedAsTheTransientPathDoes) {
     // contraction of spectral radius ρ leaves |x − x*| ≤ tol·scale / (1 − ρ).
     const double rho = std::max(w["spectral_radius"].get<double>(), k["spectral_radius"].get<double>());
     ASSERT_LT(rho, 1.0) << rpm;
-    const double bound = 2.0 * kShootingTolerance * c.position_scale / (1.0 - rho);  // [m]
+    const double bound = 2.0 * kWarmShootingTolerance * c.position_scale / (1.0 - rho);  // [m]
     const auto& ws = w["section_position"];
     const auto& ks = k["section_position"];
     ASSERT_EQ(ws.size(), ks.size()) << rpm;

@@ -6,7 +6,7 @@
 // set_parameters() checks every value as the config loader does (same
 // messages) and writes it with build_model()'s arithmetic: the model is then
 // the one build_model() would make from the scene with those values, to the
-// last bit (tests/dynamics/model_parameters_test.cc). Geometry, the cam
+// last bit (tests/study/model_parameters_test.cc). Geometry, the cam
 // speed and the friction coefficients' on/off (which decide whether friction
 // or a roller spin state is assembled) are structure: change those in the
 // scene and build the model again.

@@ -1,7 +1,7 @@
-// The parameter block set in place (dynamics/model_parameters.h) gives the
+// The parameter block set in place (study/model_parameters.h) gives the
 // model build_model() makes from the scene with those values, to the last
 // bit, and a workspace reused across runs gives the runs of a fresh one.
-#include "dynamics/model_parameters.h"
+#include "study/model_parameters.h"
 
 #include <gtest/gtest.h>
 
@@ -13,8 +13,8 @@
 #include "dynamics/rigid_jump_speed.h"
 #include "dynamics/simulation.h"
 #include "io/config.h"
-#include "scenes.h"
 #include "tests/dynamics/linear_train_case.h"
+#include "tests/dynamics/scenes.h"
 
 namespace camdyn {
 namespace {

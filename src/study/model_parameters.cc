@@ -1,4 +1,4 @@
-#include "dynamics/model_parameters.h"
+#include "study/model_parameters.h"
 
 #include <cassert>
 #include <deque>
