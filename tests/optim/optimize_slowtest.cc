@@ -88,7 +88,7 @@ TEST(OptimizeStudies, ForceStudyLowersThePeakForceWithoutSeparation) {
 }
 
 // Issue 56's acceptance on the DOHC lash train: the baseline floats at the
-// 3800 rpm red line (its held-train jump speed is 3481 rpm); the optimiser's
+// 4200 rpm red line and at 3700 rpm (its held-train jump speed is 3481 rpm); the optimiser's
 // dynamic stage reaches a green answer that floats at no operating speed,
 // holds the seat-bounce limit, and whose one jump-free figure is above the
 // baseline's. The lash's take-up bounces are there at every speed and are
