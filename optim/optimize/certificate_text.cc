@@ -65,8 +65,14 @@ std::string speed_text(const OptimizeOutcome& o, std::size_t i) {
   const RigidDesign& d = o.rigid.design;
   if (!d.have) return text + "; the stage made no design";
   const double margin = i < d.verified_margin.size() ? d.verified_margin[i] : std::nan("");
-  if (design_holds(d, i))
+  if (design_holds(d, i) && d.jump_free_rpm >= s.rpm)
     return text + "; the rigid design holds it (margin " + format_number(margin, 4) + " " + c.margin_unit + ")";
+  // A train's response has resonances: a design can keep P >= P_min at a
+  // speed and lose it at a lower one (its jump-free figure is the first).
+  if (design_holds(d, i))
+    return text + "; the rigid design holds it at this speed (margin " + format_number(margin, 4) + " " +
+           c.margin_unit + ") but not at every speed below: it is jump-free to " + format_number(d.jump_free_rpm, 5) +
+           " rpm";
   return text + "; the rigid design does NOT (margin " + format_number(margin, 4) + " " + c.margin_unit +
          " on the dense check): it is jump-free to " + format_number(d.jump_free_rpm, 5) + " rpm only";
 }
