@@ -50,6 +50,8 @@ struct SearchSettings {
   int seed = 1;                      ///< random starts and NLopt's stochastic algorithms
   double initial_step = 0.1;         ///< derivative-free local algorithms: first step, share of each bound range
   double gradient_step = 1e-3;       ///< LD_ algorithms: forward-difference step, share of each bound range
+
+  bool operator==(const SearchSettings&) const = default;
 };
 
 /// The value of one point: objective, constraint residuals (≤ 0 feasible) and

@@ -247,19 +247,7 @@ OptimizeStudyConfig optimize_config_from_json(const Json& study_part, const Conf
 
 Json to_json(const OptimizeStudyConfig& config) { return JsonWriter::write(config); }
 
-SearchSettings search_settings(const OptimizerConfig& config) {
-  SearchSettings s;
-  s.algorithm = config.algorithm;
-  s.max_evaluations = config.max_evaluations;
-  s.xtol_rel = config.xtol_rel;
-  s.ftol_rel = config.ftol_rel;
-  s.max_time_s = config.max_time_s;
-  s.starts = config.starts;
-  s.seed = config.seed;
-  s.initial_step = config.initial_step;
-  s.gradient_step = config.gradient_step;
-  return s;
-}
+SearchSettings search_settings(const OptimizerConfig& config) { return config; }  // its search part
 
 void resolve_segment_groups(Json& study_part, const MotionLawConfig& baseline_law, const ConfigSource& source) {
   const auto design = study_part.find("design");

@@ -124,18 +124,9 @@ struct ConstraintsConfig {
   bool operator==(const ConstraintsConfig&) const = default;
 };
 
-/// `optimizer`: NLopt algorithm, budget and the cheaper settings of the search loop.
-struct OptimizerConfig {
-  /// LN_COBYLA, LN_BOBYQA, LN_SBPLX, LD_SLSQP, LD_MMA, GN_ISRES, GN_CRS2_LM, GN_DIRECT_L.
-  std::string algorithm = "LN_COBYLA";
-  int max_evaluations = 400;         ///< total over all starts (split evenly)
-  double xtol_rel = 1e-4;            ///< NLopt relative tolerance on the design vector
-  double ftol_rel = 0.0;             ///< NLopt relative tolerance on the objective (0: off)
-  std::optional<double> max_time_s;  ///< wall-time budget of the search [s]
-  int starts = 1;                    ///< local algorithms: the baseline fit, then random starts
-  int seed = 1;                      ///< random starts and NLopt's stochastic algorithms
-  double initial_step = 0.1;         ///< derivative-free local algorithms: first step, share of each bound range
-  double gradient_step = 1e-3;       ///< LD_ algorithms: forward-difference step, share of each bound range
+/// `optimizer`: NLopt algorithm, budget and starts (the search's own
+/// settings, optim/search.h), and the cheaper settings of the search loop.
+struct OptimizerConfig : SearchSettings {
   /// The search loop simulates with these instead of the scene's settings
   /// (null: the scene's); the chosen design is re-evaluated with the scene's.
   /// Looser than 1e-7, the peak force is noisy enough (~1e-4 relative) to
