@@ -85,7 +85,8 @@ CandidateChoice choose_candidate(const std::vector<CandidateScore>& candidates) 
   const CandidateScore& chosen = best ? *best : base;
   out.chosen = chosen.kind;
   out.feasible = chosen.valid && chosen.feasible;
-  out.beats_baseline = best != nullptr && chosen.feasible && chosen.objective < base.objective;
+  // Feasible where the baseline is not, or lower on the objective (the rule of `better`).
+  out.beats_baseline = best != nullptr && chosen.feasible && (!base.feasible || chosen.objective < base.objective);
   std::string others;
   for (const CandidateScore& c : candidates) {
     if (&c == best || c.kind == chosen.kind) continue;

@@ -35,9 +35,11 @@ struct CandidateScore {
 
 struct CandidateChoice {
   CandidateKind chosen = CandidateKind::baseline;
-  bool feasible = false;        ///< the chosen candidate meets every constraint
-  bool beats_baseline = false;  ///< chosen is not the baseline and its objective is lower
-  std::string reason;           ///< one sentence: why this one
+  bool feasible = false;  ///< the chosen candidate meets every constraint
+  /// chosen is not the baseline, and meets every constraint where the
+  /// baseline does not, or has the lower objective
+  bool beats_baseline = false;
+  std::string reason;  ///< one sentence: why this one
 };
 
 /// Relative margin by which a challenger's objective must undercut the baseline's.

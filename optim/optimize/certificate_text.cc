@@ -77,4 +77,18 @@ std::string speed_text(const OptimizeOutcome& o, std::size_t i) {
          " on the dense check): it is jump-free to " + format_number(d.jump_free_rpm, 5) + " rpm only";
 }
 
+std::string lift_given_up(const OptimizeStudyConfig& config, const DesignEvaluation& baseline,
+                          const DesignEvaluation& chosen, CandidateKind kind) {
+  if (!config.design.event || config.objective.lift_area > 0.0 || kind == CandidateKind::baseline) return "";
+  if (!chosen.valid || !baseline.valid || baseline.highest_lift <= 0.0 || baseline.lift_area <= 0.0) return "";
+  const double lift_share = chosen.highest_lift / baseline.highest_lift;
+  const double area_share = chosen.lift_area / baseline.lift_area;
+  if (lift_share >= kLiftKeptShare && area_share >= kLiftKeptShare) return "";
+  return "its highest lift over the event is " + format_number(1e3 * chosen.highest_lift, 4) + " mm against the " +
+         "baseline's " + format_number(1e3 * baseline.highest_lift, 4) + " mm (lift area " +
+         format_number(100.0 * area_share, 3) + " % of the baseline's): with the nose free and no " +
+         "objective.lift_area, it bought its speed with lift nothing in the study keeps; give " +
+         "objective.lift_area a weight";
+}
+
 }  // namespace camdyn::optim

@@ -40,4 +40,15 @@ std::string jump_free_text(const OptimizeOutcome& o);
 /// margin 214.6 N); the rigid design holds it (margin 180 N)").
 std::string speed_text(const OptimizeOutcome& o, std::size_t i);
 
+/// Share of the baseline's highest lift, and of its lift area, under which
+/// an event design's answer has given the lift up.
+inline constexpr double kLiftKeptShare = 0.9;
+
+/// On a design.event (its nose free) without objective.lift_area: when
+/// the `chosen` answer's highest lift or lift area over the event is below
+/// kLiftKeptShare of the baseline's, why it is no green answer (it bought
+/// its speed with lift nothing asked it to keep); "" otherwise.
+std::string lift_given_up(const OptimizeStudyConfig& config, const DesignEvaluation& baseline,
+                          const DesignEvaluation& chosen, CandidateKind kind);
+
 }  // namespace camdyn::optim

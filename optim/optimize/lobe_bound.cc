@@ -1,5 +1,6 @@
 #include "optim/optimize/lobe_bound.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <utility>
@@ -120,6 +121,14 @@ double lift_area(const MotionLaw& law, double from, double to) {
   double sum = law.eval(from).s + law.eval(to - 1e-12 * h).s;
   for (int i = 1; i < kIntervals; ++i) sum += (i % 2 == 1 ? 4.0 : 2.0) * law.eval(from + i * h).s;
   return sum * h / 3.0;
+}
+
+double highest_lift(const MotionLaw& law, double from, double to) {
+  constexpr int kIntervals = 4096;
+  const double h = (to - from) / kIntervals;
+  double top = law.eval(to - 1e-12 * h).s;
+  for (int i = 0; i < kIntervals; ++i) top = std::max(top, law.eval(from + i * h).s);
+  return top;
 }
 
 }  // namespace camdyn::optim

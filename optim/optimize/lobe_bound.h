@@ -50,4 +50,7 @@ LobeBound lift_area_bound(const MotionLaw& law, double from, double to, const Ri
 /// ∫ s dθ over [from, to] of `law` [m rad], composite Simpson's rule on 4096 intervals.
 double lift_area(const MotionLaw& law, double from, double to);
 
+/// Highest s over [from, to] of `law` [m], sampled on the same 4096 intervals.
+double highest_lift(const MotionLaw& law, double from, double to);
+
 }  // namespace camdyn::optim

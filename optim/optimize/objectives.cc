@@ -114,8 +114,10 @@ DesignEvaluation DesignEvaluator::evaluate(const SceneConfig& scene, const Evalu
     e.kinematics = law_kinematics(*geometry->law, scene.mechanism.cam.motion_law.segments);
     const std::optional<DesignEventConfig>& ev = config_.design.event;
     constexpr double kRad = std::numbers::pi / 180.0;
-    e.lift_area = ev ? optim::lift_area(*geometry->law, ev->from_deg * kRad, ev->to_deg * kRad)
-                     : optim::lift_area(*geometry->law, 0.0, 2.0 * std::numbers::pi);
+    const double from = ev ? ev->from_deg * kRad : 0.0;                 // [rad]
+    const double to = ev ? ev->to_deg * kRad : 2.0 * std::numbers::pi;  // [rad]
+    e.lift_area = optim::lift_area(*geometry->law, from, to);
+    e.highest_lift = optim::highest_lift(*geometry->law, from, to);
     e.geometry = geometry->geometry;
     e.valid = true;
   } catch (const InputError& err) {

@@ -82,6 +82,7 @@ struct DesignEvaluation {
   LawKinematics kinematics;
   /// ∫ s dθ over the designed event (the whole turn for a segment design) [m rad]
   double lift_area = 0.0;
+  double highest_lift = 0.0;  ///< highest s over the same span [m]
   CamGeometryReport geometry;
   /// Highest rigid-model Hertz pressure over the operating speeds [Pa]
   /// (only with constraints.max_contact_stress), at `contact_stress_rpm`.

@@ -25,6 +25,7 @@
 #include "dynamics/spring_sizing.h"
 #include "io/hex_doubles.h"
 #include "io/json_archive.h"
+#include "optim/optimize/certificate_text.h"
 #include "optim/optimize/jump_bound.h"
 #include "optim/optimize/optimize_checkpoint.h"
 #include "study/mpi_runner.h"
@@ -725,6 +726,7 @@ void select_answer(const DesignSpace& space, const DesignEvaluator& evaluator, c
     choose_among(out);
   }
   Candidate& chosen = *answers[static_cast<std::size_t>(out.selection.choice.chosen)];
+  out.selection.lift_given_up = lift_given_up(out.config, out.baseline, chosen.evaluation, out.selection.choice.chosen);
   out.optimized = std::move(chosen.evaluation);
   out.optimized_scene = std::move(chosen.scene);
   out.x_optimized = std::move(chosen.x);
@@ -806,7 +808,8 @@ const CandidateVerification& Selection::chosen() const {
 
 bool Selection::good() const {
   const CandidateVerification& c = chosen();
-  return choice.feasible && choice.beats_baseline && c.verified.valid && c.separating_rpm.empty();
+  return choice.feasible && choice.beats_baseline && c.verified.valid && c.separating_rpm.empty() &&
+         lift_given_up.empty();
 }
 
 OptimizeStudy read_optimize_study(const Json& doc, const ConfigSource& source) {

@@ -107,7 +107,12 @@ struct Selection {
   std::vector<CandidateVerification> candidates;  ///< baseline, rigid, dynamic (and spring), in CandidateKind order
   /// The verification of the chosen candidate.
   const CandidateVerification& chosen() const;
-  /// Green banner: jump-free at every operating speed, every constraint, better than the baseline.
+  /// Why the banner is not green although the answer meets everything: on a
+  /// design.event it gave up lift nothing in the study keeps (lift_given_up
+  /// in optim/optimize/certificate_text.h); empty otherwise.
+  std::string lift_given_up;
+  /// Green banner: jump-free at every operating speed, every constraint,
+  /// better than the baseline, and the lift kept.
   bool good() const;
 };
 

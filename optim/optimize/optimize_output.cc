@@ -220,6 +220,11 @@ void add_selection(const OptimizeOutcome& o, Json& r) {
   r["chosen_reason"] = sel.choice.reason;
   r["verdict"] = !o.withheld.empty() ? Json(nullptr) : sel.good() ? "good" : sel.choice.feasible ? "warning" : "bad";
   r["conclusion_withheld"] = o.withheld.empty() ? Json(nullptr) : Json(o.withheld);
+  r["lift"] = Json{{"baseline_highest", o.baseline.highest_lift},
+                   {"answer_highest", o.optimized.highest_lift},
+                   {"baseline_area", o.baseline.lift_area},
+                   {"answer_area", o.optimized.lift_area},
+                   {"given_up", sel.lift_given_up.empty() ? Json(nullptr) : Json(sel.lift_given_up)}};
   Json candidates = Json::object();
   for (const CandidateVerification& c : sel.candidates) candidates[to_string(c.kind)] = candidate_json(c, o);
   r["candidates"] = candidates;

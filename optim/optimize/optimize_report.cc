@@ -158,6 +158,7 @@ Verdict optimize_verdict(const OptimizeOutcome& o) {
     for (double rpm : chosen.separating_rpm) speeds += (speeds.empty() ? "" : ", ") + format_number(rpm);
     v.details.push_back("separates on the steady state at " + speeds + " rpm");
   }
+  if (!sel.lift_given_up.empty()) v.details.push_back("lift given up: " + sel.lift_given_up);
   for (const auto& [key, value] : answer_facts(o)) v.details.push_back(key + ": " + value);
   return v;
 }

@@ -60,6 +60,7 @@ void print_selection(const OptimizeOutcome& o) {
               : sel.choice.feasible ? (sel.choice.chosen == CandidateKind::baseline ? "baseline kept" : "see below")
                                     : "NOTHING MEETS THE CONSTRAINTS",
               sel.choice.reason.c_str());
+  if (!sel.lift_given_up.empty()) std::printf("  LIFT GIVEN UP: %s\n", sel.lift_given_up.c_str());
   std::string line;
   for (const CandidateVerification& c : sel.candidates) {
     if (!c.available) continue;

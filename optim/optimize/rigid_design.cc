@@ -158,6 +158,14 @@ class SplineFamily {
   /// Whether the cam's radius of curvature has a pointwise form in (s, s', s'')
   /// here (translating follower without offset) and a limit is asked for.
   bool curvature_linearisable() const { return curvature_ && rho_min_ > 0.0; }
+  /// A flat face's exact radius rows hold `radius_factor_` × the limit,
+  /// 1.002 at first; a design whose dense check (`smallest`, [m]) dips
+  /// further between the samples raises it by that dip. (A roller's cuts are
+  /// linearised: their error is the linearisation's, which the trust region
+  /// closes.)
+  void widen_radius_rows(double smallest) {
+    if (flat_radius_rows_ && smallest > 0.0 && smallest < rho_min_) radius_factor_ *= 1.001 * rho_min_ / smallest;
+  }
   /// Radius of curvature of the cam contour [m] for the lift values x =
   /// (s, s', s''): flat face r_b + s + s''; circle of radius r: the pitch
   /// curve's (r_p² + s'²)^{3/2} / (r_p² + 2 s'² − r_p s'') less r, r_p = y₀ + s
@@ -323,7 +331,7 @@ class SplineFamily {
       if (flat_radius_rows_) {
         terms.clear();
         for (int j = 0; j < m_; ++j) terms.emplace_back(a.first + j, a.coefficient[j][0] + a.coefficient[j][2]);
-        lp.add_row(terms, 1.002 * rho_min_ - pitch_height_ - a.constant[0] - a.constant[2], kLpInfinity);
+        lp.add_row(terms, radius_factor_ * rho_min_ - pitch_height_ - a.constant[0] - a.constant[2], kLpInfinity);
       }
     }
   }
@@ -449,6 +457,7 @@ class SplineFamily {
   // Radius of curvature: pointwise form and the limit, and the rows added so far.
   bool curvature_ = false, flat_ = false;
   double circle_radius_ = 0.0, rho_min_ = 0.0;
+  double radius_factor_ = 1.002;  ///< a flat face's radius rows' share of the limit (widen_radius_rows)
   // Contact pressure: Q = limit² π L / E* [N/m] (0: no limit) and the speeds it holds at [rad/s].
   double pressure_q_ = 0.0;
   std::vector<double> pressure_omegas_;
@@ -599,9 +608,16 @@ std::vector<double> operating_omegas(const OptimizeStudyConfig& config, const Ri
 /// its least value over [0, ω₁] is at 0 or at ω₁ and those two rows are
 /// exact; with a damper it is a parabola in ω whose least value can lie
 /// inside, and the rows sample it at every 1/16 of ω₁ (docs/optimize.md).
+/// A train's response is no parabola (its resonances lie between): its rows
+/// sit at ω₁ k / 10 and at every operating speed, as the other goals'.
 std::vector<double> lobe_speeds(const OptimizeStudyConfig& config, const RigidFollower& f) {
   const double top = *std::max_element(config.operating_rpm.begin(), config.operating_rpm.end()) * kRadPerSecondPerRpm *
                      config.rigid.speed_factor;
+  if (f.sampled_speeds > 0) {
+    std::vector<double> out = check_speeds(top, f);
+    for (const double rpm : config.operating_rpm) out.push_back(rpm * kRadPerSecondPerRpm);
+    return out;
+  }
   std::vector<double> out = {0.0};
   const int steps = f.damping == 0.0 ? 1 : 16;
   for (int k = 1; k <= steps; ++k) out.push_back(top * k / steps);
@@ -752,6 +768,62 @@ void family_binding(const SplineFamily& family, const RigidFollower& f, double h
     cert.family_binding.push_back("spline family (degree and control points)");
 }
 
+/// The least held quantity − its floor of `signal` on `train` at ω [N].
+double held_least_margin(const HeldTrain& train, const GridSignal& signal, double omega, const TrainRowLimits& limits) {
+  const std::vector<Eigen::VectorXd> v = held_train_values(train, signal, omega);
+  double least = kInf;
+  for (std::size_t k = 0; k < train.quantities.size(); ++k) {
+    const HeldQuantity& q = train.quantities[k];
+    if (q.held())
+      least = std::min(
+          least, v[k].minCoeff() - (q.kind == HeldQuantity::Kind::contact ? limits.contact_floor : limits.link_floor));
+  }
+  return least;
+}
+
+/// A programme on a train whose speeds are generated as its angles are: the
+/// held train's forces dip in resonance bands narrower than the spacing of
+/// the sampled speeds (a surging spring's, about 80 rpm wide on the DOHC
+/// lash train), so after each programme the design's first failing speed up
+/// to `omega_top` (held_train_jump_speed: equal steps and the resonances of
+/// its harmonics) and the worst speed of the band above it join the list,
+/// until the design holds up to `omega_top`, no design holds at the new
+/// speeds (the last design is kept; its dense check says where it fails),
+/// or kSpeedRounds rounds. One programme off a train.
+MarginSolution solve_over_speeds(const SplineFamily& family, const DesignSpace& space, std::vector<double> omegas,
+                                 double omega_top, const FamilyOptions& options, int& solves) {
+  constexpr int kSpeedRounds = 16;
+  constexpr int kBandSteps = 16;      // the band above a failing speed, scanned for its worst
+  constexpr double kBandWidth = 0.1;  // of the failing speed
+  MarginSolution out = solve_margin(family, omegas, options, solves);
+  const TrainRows* train = family.train();
+  for (int round = 0; train && !out.c.empty() && round < kSpeedRounds; ++round) {
+    const MotionLaw law =
+        build_motion_law(space.scene(space.design_from_control_points(out.c)).mechanism.cam.motion_law, "");
+    const GridSignal signal = grid_signal([&](double theta) { return law.eval(theta); }, TrainRows::kAngles);
+    const TrainRowLimits& limits = train->limits();
+    const double fail =
+        held_train_jump_speed(train->held(), signal, omega_top, limits.contact_floor, limits.link_floor, 1e-4);
+    if (!(fail > 0.0 && fail < omega_top)) break;  // holds up to the top, or not even at rest
+    const double band_end = std::min(omega_top, (1.0 + kBandWidth) * fail);
+    double worst = fail, least = kInf;
+    for (int j = 0; j <= kBandSteps; ++j) {
+      const double w = fail + (band_end - fail) * j / kBandSteps;
+      const double m = held_least_margin(train->held(), signal, w, limits);
+      if (m < least) {
+        least = m;
+        worst = w;
+      }
+    }
+    omegas.push_back(fail);
+    omegas.push_back(worst);
+    MarginSolution next = solve_margin(family, omegas, options, solves);
+    if (next.c.empty()) break;
+    out = std::move(next);
+  }
+  return out;
+}
+
 /// The stage's design. Jump-free up to rigid.speed_factor × the top
 /// operating speed where the family allows it, and then, as the study's
 /// objective asks, with the lowest peak contact force or acceleration at the
@@ -770,12 +842,12 @@ RigidDesign make_design(const SplineFamily& family, const RigidFollower& f, cons
   MarginSolution chosen = fastest;
   if (config.objective.lift_area > 0.0) {
     options.goal = FamilyOptions::Goal::max_lift_area;
-    MarginSolution most = solve_margin(family, lobe_speeds(config, f), options, solves);
+    MarginSolution most = solve_over_speeds(family, space, lobe_speeds(config, f), wanted, options, solves);
     if (!most.c.empty()) chosen = std::move(most);  // else no law keeps contact there: the fastest
   } else if (options.goal != FamilyOptions::Goal::max_margin && bound >= wanted) {
     std::vector<double> omegas = check_speeds(wanted, f);
     for (const double w : operating_omegas(config, f)) omegas.push_back(w);
-    chosen = solve_margin(family, omegas, options, solves);
+    chosen = solve_over_speeds(family, space, omegas, wanted, options, solves);
   }
   RigidDesign d;
   d.have = !chosen.c.empty();
@@ -797,13 +869,16 @@ RigidDesign tighten_nonlinear(SplineFamily& family, const RigidLimitProbe* probe
   double step = 0.2;  // trust region in normalised lift
   for (int round = 0; round < 8 && d.have; ++round) {
     const MotionLaw law = build_motion_law(space.scene(d.x).mechanism.cam.motion_law, "");
-    const bool curvature_short =
-        family.curvature_linearisable() && family.smallest_radius(law) < *config.constraints.min_radius_of_curvature;
+    const double smallest = family.curvature_linearisable() ? family.smallest_radius(law) : kInf;  // [m]
+    const bool curvature_short = smallest < config.constraints.min_radius_of_curvature.value_or(0.0);
     const bool pressure_over = family.pressure_linearisable() && family.largest_pressure_ratio(law) > 1.0;
     const bool probed_broken = probe && probe->broken(d.control_points);
     if (!curvature_short && !pressure_over && !probed_broken) break;
     family.set_trust_region(d.control_points, step);
-    if (curvature_short) family.add_curvature_cuts(d.control_points);
+    if (curvature_short) {
+      family.widen_radius_rows(smallest);
+      family.add_curvature_cuts(d.control_points);
+    }
     if (pressure_over) family.add_pressure_cuts(d.control_points);
     if (probed_broken) family.add_cuts(probe->cuts(d.control_points));
     MarginSolution fastest;

@@ -85,6 +85,9 @@ class TrainRows {
   /// The largest held force of the zero design at rest [N]: the programmes' force scale.
   double force_scale() const { return scale_; }
   int harmonics() const { return harmonics_; }
+  /// The held train the rows are of, and the limits they hold.
+  const HeldTrain& held() const { return response_->train(); }
+  const TrainRowLimits& limits() const { return limits_; }
 
  private:
   double value(const SpeedResponse& r, std::size_t k, int i, const std::vector<double>& c) const;

@@ -57,6 +57,7 @@ TEST(CandidateChoice, AFeasibleDesignBeatsAnInfeasibleBaselineWhateverItsObjecti
       choose_candidate({breaking(CandidateKind::baseline, 0.1, 3.0), feasible(CandidateKind::dynamic, 5.0)});
   EXPECT_EQ(c.chosen, CandidateKind::dynamic);
   EXPECT_TRUE(c.feasible);
+  EXPECT_TRUE(c.beats_baseline);  // the green banner: it holds what the baseline breaks
 }
 
 TEST(CandidateChoice, NothingFeasibleGivesTheLeastViolationAndSaysSo) {

@@ -138,6 +138,49 @@ TEST(CertificateText, AnInfeasibleLiftAreaBoundNamesItsBlocker) {
   EXPECT_NE(a.reason.find("blocked by the contact-force floor"), std::string::npos) << a.reason;
 }
 
+// An event design frees the nose: an answer that buys its speed by giving
+// the lift up (the DOHC search once returned 0.92 mm of a 9.36 mm lobe) is
+// no green answer unless the study keeps the lift (objective.lift_area).
+// The baseline's highest lift is the profile's: 9.3616 mm at its nose knot.
+TEST(CertificateText, AnAnswerThatGivesTheLiftUpIsNoGreenAnswer) {
+  const OptimizeStudy study = study_from(kDohcStudy, {"objective={\"separation\": 1.0}"});
+  SimulationPool pool(1, kDohcStudy);
+  const DesignEvaluator evaluator(study.config, kDohcStudy, pool);
+  const DesignEvaluation base = evaluator.evaluate(study.baseline, EvaluationSettings{}, false);
+  ASSERT_TRUE(base.valid) << base.error;
+  EXPECT_NEAR(base.highest_lift, 9.3616e-3, 2e-6);  // the spline's nose between knots 1 deg apart
+  EXPECT_GT(base.lift_area, 0.0);
+  DesignEvaluation low = base;
+  low.highest_lift = 0.921e-3;  // [m]
+  low.lift_area = 0.1 * base.lift_area;
+  const std::string why = lift_given_up(study.config, base, low, CandidateKind::dynamic);
+  EXPECT_NE(why.find("0.921 mm"), std::string::npos) << why;
+  EXPECT_NE(why.find("objective.lift_area"), std::string::npos) << why;
+  // Kept within kLiftKeptShare, chosen as the baseline, or with the area in the objective: nothing to say.
+  DesignEvaluation kept = base;
+  kept.highest_lift = 0.95 * base.highest_lift;
+  kept.lift_area = 0.95 * base.lift_area;
+  EXPECT_EQ(lift_given_up(study.config, base, kept, CandidateKind::dynamic), "");
+  EXPECT_EQ(lift_given_up(study.config, base, low, CandidateKind::baseline), "");
+  OptimizeStudyConfig with_area = study.config;
+  with_area.objective.lift_area = 1.0;
+  EXPECT_EQ(lift_given_up(with_area, base, low, CandidateKind::dynamic), "");
+  // The banner: everything met and better than the baseline, but the lift given up: not green.
+  Selection sel;
+  sel.choice.chosen = CandidateKind::dynamic;
+  sel.choice.feasible = sel.choice.beats_baseline = true;
+  for (CandidateKind k : {CandidateKind::baseline, CandidateKind::rigid, CandidateKind::dynamic}) {
+    CandidateVerification c;
+    c.kind = k;
+    c.available = true;
+    c.verified = kept;
+    sel.candidates.push_back(c);
+  }
+  EXPECT_TRUE(sel.good());
+  sel.lift_given_up = why;
+  EXPECT_FALSE(sel.good());
+}
+
 // The seat's constraints on a scene without a seat are bad input naming them.
 TEST(CertificateText, SeatConstraintsNeedASeat) {
   for (const char* name : {"max_seat_bounce_height", "max_take_up_bounces"}) {

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -25,6 +26,7 @@
 #include "optim/optimize/lobe_bound.h"
 #include "optim/optimize/optimize.h"
 #include "optim/optimize/rigid_design.h"
+#include "optim/optimize/train_rows.h"
 
 namespace camdyn::optim {
 namespace {
@@ -190,6 +192,63 @@ TEST(LiftAreaDesign, StaysInContactWhenSimulatedUpToTheRedLine) {
     lowest = std::min(lowest, r.metrics.min_contact_force);
   }
   std::printf("250 to 3500 rpm: lowest contact force %.4g N\n", lowest);
+}
+
+}  // namespace
+}  // namespace camdyn::optim
+
+namespace camdyn::optim {
+namespace {
+
+// The lift-area programme on a train (studies/valvetrain/optimize_dohc_lash.json,
+// red line 3700 rpm, designed up to 1.1 x that): the held train's forces are
+// no parabola in ω, and its surging spring dips them in a band about 80 rpm
+// wide near 3540 rpm, between the sampled speeds. The speeds are generated as
+// the angles are, so the design, checked on its own held train's 2048-angle
+// grid (not the programme's rows) every 10 rpm up to 4070 rpm, keeps 10 N at
+// the cam and the link to within 1 % of that floor: what is left are dips
+// between the programme's 1024 angles and bands a few rpm wide at a nearly
+// undamped mode's resonances, which the design's own jump-free figure reports.
+// (With the one-mass rows at 0 and 1.1 × the red line, on a 4200 rpm red
+// line, it broke the floor by 14 N at 3540 rpm and 58 N at 4200 rpm.) It is
+// faster than the baseline, and its flat face's radius of curvature, checked
+// at 0.01 deg, keeps the limit the programme holds at its samples only.
+TEST(LiftAreaDesignOnATrain, HoldsTheHeldTrainThroughItsResonanceBands) {
+  const std::string path = std::string(CAMDYN_SOURCE_DIR) + "/studies/valvetrain/optimize_dohc_lash.json";
+  const OptimizeStudy study =
+      read_optimize_study(load_config_json(path, {}), ConfigSource{path, std::filesystem::path(path).parent_path()});
+  ASSERT_GT(study.config.objective.lift_area, 0.0);
+  const DesignSpace space(study.baseline, study.config.design, path);
+  const RigidStageResult r = run_rigid_stage(study.baseline, study.config, space, path);
+  ASSERT_TRUE(r.design.have);
+  const Model model = build_model(space.scene(r.design.x), path);
+  TrainRowLimits limits;
+  limits.contact_floor = limits.link_floor = 10.0;
+  constexpr double kFloorShare = 0.01;                          // of the 10 N floor
+  const double top = study.config.rigid.speed_factor * 3700.0;  // [rpm]
+  double least = 1e300, least_rpm = 0.0;
+  for (double rpm = 10.0; rpm <= top; rpm += 10.0) {
+    const double m = check_held_train(model, *model.law, rpm * kRadPerSecondPerRpm, limits).margin;
+    if (m < least) {
+      least = m;
+      least_rpm = rpm;
+    }
+  }
+  EXPECT_GE(least, -kFloorShare * limits.contact_floor) << "at " << least_rpm << " rpm";
+  ASSERT_EQ(study.config.operating_rpm.back(), 3700.0);
+  ASSERT_EQ(r.design.verified_margin.size(), study.config.operating_rpm.size());
+  for (const double m : r.design.verified_margin) EXPECT_GE(m, 0.0);  // every operating speed
+  EXPECT_GT(r.design.jump_free_rpm, r.certificate.baseline_rpm);
+  // The flat face's radius of curvature r_b + s + s'' at every 0.01 deg of
+  // the event, from the law alone: the rows sit at the samples, and the
+  // dense check widens them by any dip between.
+  const double rb = study.baseline.mechanism.cam.base_radius;  // [m]
+  double smallest = 1e300;
+  for (double deg = 28.0; deg <= 152.0; deg += 0.01) {
+    const LawSample a = model.law->eval(deg * std::numbers::pi / 180.0);
+    smallest = std::min(smallest, rb + a.s + a.d2s);
+  }
+  EXPECT_GE(smallest, *study.config.constraints.min_radius_of_curvature);
 }
 
 }  // namespace
