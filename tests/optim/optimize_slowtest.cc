@@ -91,8 +91,9 @@ TEST(OptimizeStudies, ForceStudyLowersThePeakForceWithoutSeparation) {
 // steady state at the 3700 rpm red line (its held-train jump speed is 3481
 // rpm); the optimiser's dynamic stage reaches a green answer that floats at
 // no operating speed, holds the seat-bounce and curvature limits, keeps at
-// least 90 % of the baseline's lift, and whose one jump-free figure is above
-// the baseline's. The lash's take-up bounces are there at every speed and
+// least three quarters of the baseline's lift (the study maximises the
+// area: a search without that term gave 90 % of the lift up), and whose one
+// jump-free figure is above the baseline's. The lash's take-up bounces are there at every speed and
 // are no jump (docs/valvetrain.md).
 TEST(OptimizeStudies, DohcLashTrainGoesGreen) {
   const fs::path dir = scratch("optimize_dohc_lash");
@@ -104,7 +105,8 @@ TEST(OptimizeStudies, DohcLashTrainGoesGreen) {
   EXPECT_NE(r["chosen"], "baseline");
   EXPECT_FALSE(r["baseline"]["feasible"].get<bool>());  // it floats at the red line
   EXPECT_TRUE(r["lift"]["given_up"].is_null());
-  EXPECT_GE(r["lift"]["answer_highest"].get<double>(), 0.9 * r["lift"]["baseline_highest"].get<double>());
+  EXPECT_GE(r["lift"]["answer_highest"].get<double>(), 0.75 * r["lift"]["baseline_highest"].get<double>());
+  EXPECT_GE(r["lift"]["answer_area"].get<double>(), 0.75 * r["lift"]["baseline_area"].get<double>());
   EXPECT_TRUE(r["optimized"]["feasible"].get<bool>());
   for (const auto& [key, c] : r["optimized"]["constraints"].items()) EXPECT_TRUE(c["holds"].get<bool>()) << key;
   const Json& jump_free = r["rigid_stage"]["jump_free_rpm"];
