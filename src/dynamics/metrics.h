@@ -159,6 +159,17 @@ void for_each_train_metric(const TrainMetrics& t, F&& f) {
   }
 }
 
+/// Every train metric's name, in for_each_train_metric's order, as for a
+/// train with every element (compare's columns: a scene without the element
+/// leaves its cell empty).
+inline std::vector<std::string> train_metric_names() {
+  TrainMetrics all;
+  all.links = all.seats = all.springs = all.clash = all.lash = true;
+  std::vector<std::string> names;
+  for_each_train_metric(all, [&](const char* name, double, bool, const char*) { names.emplace_back(name); });
+  return names;
+}
+
 namespace metrics_detail {
 template <class F>
 struct CallbackArchive {

@@ -21,12 +21,18 @@ const std::vector<std::string>& compare_study_keys() {
 }
 
 const std::vector<std::string>& compare_metric_names() {
-  static const std::vector<std::string> names = metric_names();  // Metrics' visit lists them once
+  // Metrics' visit lists them once, then the train's (for_each_train_metric).
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> all = metric_names();
+    for (std::string& t : train_metric_names()) all.push_back(std::move(t));
+    return all;
+  }();
   return names;
 }
 
 bool higher_is_better(const std::string& metric) {
-  static const std::set<std::string> higher = {"min_contact_force", "min_radius_of_curvature", "jump_speed_rpm"};
+  static const std::set<std::string> higher = {"min_contact_force", "min_radius_of_curvature", "jump_speed_rpm",
+                                               "min_link_force"};
   return higher.count(metric) > 0;
 }
 

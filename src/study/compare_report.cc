@@ -87,6 +87,11 @@ std::string metric_unit(const CompareResult& r, const std::string& metric) {
   for_each_metric(none, [&](const char* name, const auto&, const MetricInfo& info) {
     if (metric == name) unit = info.in_coordinate ? coordinate_unit(r, all_points(r)) : info.unit;
   });
+  TrainMetrics train;
+  train.links = train.seats = train.springs = train.clash = train.lash = true;
+  for_each_train_metric(train, [&](const char* name, double, bool, const char* u) {
+    if (metric == name) unit = u;
+  });
   return unit;
 }
 
@@ -140,18 +145,34 @@ std::string key_label(const CompareResult& r, const std::string& key) {
   return key + " [" + unit + "]";
 }
 
-/// Every run with the chosen metrics, one row each.
+/// The chosen metrics that some run has: a metric that applies to none of
+/// the scenes (a train's on single followers, a seat's without one) is no
+/// column of empty cells.
+std::vector<std::string> shown_metrics(const CompareResult& r) {
+  if (std::none_of(r.outcomes.begin(), r.outcomes.end(), [](const CompareOutcome& o) { return o.ok; }))
+    return r.spec->metrics;  // nothing ran: every column, each "–"
+  std::vector<std::string> shown;
+  for (const std::string& m : r.spec->metrics)
+    for (std::size_t i = 0; i < r.points.size(); ++i)
+      if (has_metric(r, i, metric_index(m))) {
+        shown.push_back(m);
+        break;
+      }
+  return shown;
+}
+
+/// Every run with the shown metrics, one row each.
 Table results_table(const CompareResult& r) {
+  const std::vector<std::string> metrics = shown_metrics(r);
   Table table{"Results (click a header to sort; ★ best case at that grid point)", {"case"}, {}, true};
   table.columns.insert(table.columns.end(), r.keys.begin(), r.keys.end());
-  table.columns.insert(table.columns.end(), r.spec->metrics.begin(), r.spec->metrics.end());
+  table.columns.insert(table.columns.end(), metrics.begin(), metrics.end());
   table.columns.push_back("status");
   for (std::size_t i = 0; i < r.points.size(); ++i) {
     const CompareOutcome& o = r.outcomes[i];
     std::vector<std::string> row = {r.case_name(i)};
     for (const Json& v : r.points[i].values) row.push_back(cell_text(v));
-    for (const std::string& m : r.spec->metrics)
-      row.push_back(o.ok ? format_number(o.metrics[metric_index(m)], 4) : "–");
+    for (const std::string& m : metrics) row.push_back(o.ok ? format_number(o.metrics[metric_index(m)], 4) : "–");
     row.push_back(o.ok ? "ok" : "failed");
     table.rows.push_back(std::move(row));
   }
@@ -231,8 +252,9 @@ Table best_table(const CompareResult& r, Table& table) {
              {"metric", "better", "most often best (grid points won)", "best value", "where"},
              {},
              true};
-  for (std::size_t mm = 0; mm < r.spec->metrics.size(); ++mm) {
-    const std::string& m = r.spec->metrics[mm];
+  const std::vector<std::string> metrics = shown_metrics(r);  // results_table's columns
+  for (std::size_t mm = 0; mm < metrics.size(); ++mm) {
+    const std::string& m = metrics[mm];
     const auto [wins, contested] = mark_winners(r, groups, m, table, first_metric_column + mm);
     best.rows.push_back(best_row(r, m, wins, contested));
   }

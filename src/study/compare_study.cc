@@ -161,12 +161,21 @@ std::string study_fingerprint(const ComparePlan& plan) {
 }
 
 /// Every metric in compare_metric_names() order (the order Metrics' visit
-/// lists them); NaN (written as null) where it does not apply.
+/// lists them, then the train's); NaN (written as null) where it does not
+/// apply, such as a train metric of an element the scene lacks.
 std::vector<double> metric_values(const Metrics& m) {
   std::vector<double> values;
   for_each_metric(m, [&](const char*, const auto& value, const MetricInfo&) {
     values.push_back(metric_value(value).value_or(std::numeric_limits<double>::quiet_NaN()));
   });
+  const std::vector<std::string> train = train_metric_names();
+  const std::size_t first = values.size();
+  values.resize(first + train.size(), std::numeric_limits<double>::quiet_NaN());
+  if (m.train)
+    for_each_train_metric(*m.train, [&](const char* name, double value, bool, const char*) {
+      const auto at = std::find(train.begin(), train.end(), name) - train.begin();
+      values[first + static_cast<std::size_t>(at)] = value;
+    });
   return values;
 }
 
@@ -179,6 +188,7 @@ std::vector<bool> metrics_that_may_be_null() {
   for_each_metric(none, [&](const char*, const auto& value, const MetricInfo& info) {
     nullable.push_back(info.infinite_is_null || !metric_value(value));
   });
+  nullable.resize(nullable.size() + train_metric_names().size(), true);  // scenes without the element
   return nullable;
 }
 

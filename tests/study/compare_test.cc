@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -290,6 +291,56 @@ TEST_F(CompareCli, BadOverlayKeyIsAnInputError) {
   EXPECT_EQ(run_camdyn({"run", study.string(), "--out", (dir_ / "out").string()}, dir_, "run").code, 2);
   EXPECT_NE(read_text(dir_ / "run.err").find("overlays[0].mechanism.cam.rpm"), std::string::npos)
       << read_text(dir_ / "run.err");
+}
+
+}  // namespace
+
+namespace {
+
+// A train's metrics are compare columns beside the others (issue 57 item 5):
+// on the DOHC lash train they are the simulate run's own summary.json
+// figures of the same scene, to the bit; a single follower leaves them
+// empty (null), and its report has no column no run fills.
+TEST_F(CompareCli, TrainMetricsAreColumnsAndEqualTheSimulateRuns) {
+  const std::string dohc = std::string(CAMDYN_SOURCE_DIR) + "/studies/valvetrain/dohc_bucket_lash.json";
+  const std::string quickstart = std::string(CAMDYN_SOURCE_DIR) + "/studies/quickstart.json";
+  std::ofstream(dir_ / "study.json") << R"({
+    "extends": ")" << dohc << R"(",
+    "name": "trains", "study": "compare",
+    "mechanism": { "cam": { "rpm": 2000 } },
+    "simulation": { "cycles": 2, "discard_cycles": 1, "steady_state": false },
+    "cases": [ { "name": "dohc" }, { "name": "single", "config": ")"
+                                     << quickstart << R"(" } ]
+  })";
+  ASSERT_EQ(run_camdyn({"run", (dir_ / "study.json").string(), "--quiet", "--out", (dir_ / "out").string()}, dir_).code,
+            0);
+  ASSERT_EQ(run_camdyn({"run", dohc, "--quiet", "--out", (dir_ / "sim").string(), "--set", "mechanism.cam.rpm=2000",
+                        "--set", "simulation.cycles=2", "--set", "simulation.discard_cycles=1", "--set",
+                        "simulation.steady_state=false"},
+                       dir_)
+                .code,
+            0);
+  const nlohmann::json compared = nlohmann::json::parse(read_text(dir_ / "out" / "comparison.json"));
+  const nlohmann::json summary = nlohmann::json::parse(read_text(dir_ / "sim" / "summary.json"));
+  const nlohmann::json& train = summary.at("metrics");
+  bool saw_dohc = false, saw_single = false;
+  for (const nlohmann::json& row : compared.at("results")) {
+    ASSERT_EQ(row.at("status"), "ok") << row.at("error");
+    const nlohmann::json& m = row.at("metrics");
+    for (const char* name : {"min_link_force", "link_separation_fraction", "max_seating_velocity", "seat_impacts",
+                             "peak_spring_force", "take_up_bounces", "seat_bounces", "max_seat_bounce_height"}) {
+      if (row.at("case") == "dohc") {
+        saw_dohc = true;
+        EXPECT_EQ(m.at(name).get<double>(), train.at(name).get<double>()) << name;
+      } else {
+        saw_single = true;
+        EXPECT_TRUE(m.at(name).is_null()) << name;
+      }
+    }
+  }
+  EXPECT_TRUE(saw_dohc && saw_single);
+  const std::string header = read_text(dir_ / "out" / "comparison.csv").substr(0, 4096);
+  EXPECT_NE(header.find("take_up_bounces"), std::string::npos);
 }
 
 }  // namespace
