@@ -91,7 +91,12 @@ void SimulationPool::run_job(Worker& worker, std::size_t job) {
   SimulationOutcome& out = outcomes_[job];
   const SceneConfig& scene = scenes_[job];
   try {
-    worker.model = build_model(geometry_, scene, file_);
+    if (model_) {
+      worker.model = *model_;
+      set_cam_speed(worker.model, scene, file_);
+    } else {
+      worker.model = build_model(geometry_, scene, file_);
+    }
     const std::optional<SectionPoint>* warm = job < starts_.warm.size() ? &starts_.warm[job] : nullptr;
     if (warm != nullptr && warm->has_value()) {
       const Warm tried = run_warm(worker, job, **warm, out);
@@ -134,10 +139,11 @@ void SimulationPool::submit(std::vector<SceneConfig> scenes, SimulationOptions o
 }
 
 void SimulationPool::submit(std::shared_ptr<const CamGeometry> geometry, std::vector<SceneConfig> scenes,
-                            SimulationOptions options, JobStarts starts) {
+                            SimulationOptions options, JobStarts starts, std::shared_ptr<const Model> model) {
   if (pending_) throw std::logic_error("SimulationPool: a batch is already pending");
   pending_ = true;
   geometry_ = std::move(geometry);
+  model_ = std::move(model);
   scenes_ = std::move(scenes);
   options_ = std::move(options);
   starts_ = std::move(starts);

@@ -1,8 +1,9 @@
 // Runs the simulations of one design evaluation (one per operating speed) in
 // parallel, on common/parallel.h's parallel_for while the caller goes on with
 // its own work. Each worker number keeps its own Model and Workspace
-// (Pinocchio style: the model is rebuilt for each scene it is handed, the
-// workspace is reused from batch to batch), so workers share nothing but the
+// (Pinocchio style: the batch's model is copied and set to each job's speed,
+// or built for each scene it is handed; the workspace is reused from batch to
+// batch), so workers share nothing but the
 // job list. Failures are caught per job and returned, so one speed that
 // cannot be simulated never loses the others.
 //
@@ -81,8 +82,11 @@ class SimulationPool {
   void submit(std::vector<SceneConfig> scenes, SimulationOptions options);
   /// The same for scenes that share one geometry (the operating speeds of
   /// one design): each job assembles its model on it instead of building it.
+  /// With `model` (assembled on that geometry from a scene that differs from
+  /// each job's only in the cam speed), each job copies it and sets its speed
+  /// in place (set_cam_speed): the model is built once per batch.
   void submit(std::shared_ptr<const CamGeometry> geometry, std::vector<SceneConfig> scenes, SimulationOptions options,
-              JobStarts starts = {});
+              JobStarts starts = {}, std::shared_ptr<const Model> model = nullptr);
   std::vector<SimulationOutcome> collect();
 
   int threads() const { return threads_; }
@@ -94,7 +98,7 @@ class SimulationPool {
 
  private:
   struct Worker {
-    Model model;   ///< rebuilt per job (the law changes with the design)
+    Model model;   ///< per job: the batch's model with the job's speed, or built (the law changes with the design)
     Workspace ws;  ///< reused between jobs
   };
   void run_batch();
@@ -113,6 +117,7 @@ class SimulationPool {
 
   std::vector<SceneConfig> scenes_;              ///< the current batch
   std::shared_ptr<const CamGeometry> geometry_;  ///< of every scene of the batch; null: built per job
+  std::shared_ptr<const Model> model_;           ///< of the batch at another speed; null: assembled per job
   SimulationOptions options_;
   JobStarts starts_;
   std::vector<SimulationOutcome> outcomes_;

@@ -296,6 +296,10 @@ PYBIND11_MODULE(_camdyn, m) {
   m.attr("_MAX_POINTS_PER_CALL") = camdyn::kMaxPointsPerCall;
   m.attr("_MAX_JOBS") = camdyn::kMaxJobs;
   add_scene(m);
+  // The time series' units, from the one table the C++ outputs read (dynamics/series_columns.h).
+  m.def("column_unit", &camdyn::column_unit, py::arg("name"), py::arg("oscillating") = false);
+  m.def("series_column_units", &camdyn::series_column_units);
+  m.def("train_column_units", &camdyn::train_column_units);
   m.def(
       "run_study",
       [](const std::string& config_file, const std::string& json_text, const std::string& base_dir,

@@ -12,6 +12,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace camdyn {
@@ -87,6 +88,7 @@ struct RunSummary {
 /// time, cam_angle_deg, follower_position, ..., in that order).
 struct Columns {
   std::vector<std::string> names;
+  std::vector<std::string> units;           ///< units[i] is the unit of names[i] (column_unit)
   std::vector<std::vector<double>> values;  ///< values[i] is the column names[i]
 
   /// The column called `name`; throws std::out_of_range if there is none.
@@ -138,6 +140,16 @@ struct Result {
 /// no static equilibrium to start from, or for options out of their range
 /// (SimulateOptions).
 Result simulate(const Scene& scene, const SimulateOptions& options = {});
+
+/// The unit of a time-series column: one every run has, or a follower
+/// train's by its suffix (`valve_link_force`: "N"); "" for a name that is
+/// neither. `oscillating`: the follower is an arm, whose coordinate's columns
+/// are in rad and its own seat, stop and spring forces in N m.
+std::string column_unit(std::string_view name, bool oscillating = false);
+/// The columns every run has, in order, with their units (a translating follower's).
+std::vector<std::pair<std::string, std::string>> series_column_units();
+/// A follower train's column suffixes (`_position`, `_link_force`, ...) with their units.
+std::vector<std::pair<std::string, std::string>> train_column_units();
 
 /// Throws NumericalError(result.solver.message) unless the run converged.
 void throw_if_failed(const Result& result);

@@ -68,8 +68,10 @@ std::optional<FieldBinding> bind_field(const std::string& path, SceneConfig& sce
   } else if (path.rfind("mechanism.train[", 0) == 0 || path.rfind("mechanism.follower.seat.", 0) == 0 ||
              path.rfind("mechanism.follower.stop.", 0) == 0 || path == "mechanism.follower.lash" ||
              path == "mechanism.follower.spring.mass" || path == "mechanism.follower.spring.damping_ratio") {
-    // The follower train's numbers (docs/model.md §12): the model is built again, the geometry reused.
-    b.kind = FieldKind::geometry;
+    // The follower train's numbers (docs/model.md §12): set in place with the
+    // train built again on the model's states, or the model built again on the
+    // same geometry where a value changes the train's structure.
+    b.kind = FieldKind::parameter;
   } else if (std::find(std::begin(kParameterPaths), std::end(kParameterPaths), path) == std::end(kParameterPaths)) {
     return std::nullopt;
   }
@@ -90,7 +92,8 @@ FitScene::FitScene(const FitExperiment& experiment, const std::vector<FitParamet
     bindings_.push_back(bind_field(p.path, *scene_));
     json_fallback_ = json_fallback_ || !bindings_.back();
   }
-  model_ = build_model(*scene_, source_.file);
+  geometry_ = build_cam_geometry(*scene_, source_.file);
+  model_ = build_model(*geometry_, *scene_, source_.file);
   ws_ = make_workspace(model_);
   options_.record_series = false;
   options_.sample_times = experiment.record.time;
@@ -112,9 +115,10 @@ FitScene::FitScene(const FitExperiment& experiment, const std::vector<FitParamet
   }
 }
 
-void FitScene::rebuild() {
+void FitScene::rebuild(bool geometry_changed) {
   model_current_ = false;
-  model_ = build_model(*scene_, source_.file);
+  if (geometry_changed) geometry_ = build_cam_geometry(*scene_, source_.file);
+  model_ = build_model(*geometry_, *scene_, source_.file);
   ++model_builds_;
   model_current_ = true;
 }
@@ -124,7 +128,7 @@ void FitScene::set(const std::vector<double>& values) {
     // The old route, for paths without a typed field: the whole scene read again.
     *scene_ = scene_with(experiment_.scene_json, parameters_, values, source_);
     ++json_reads_;
-    rebuild();
+    rebuild(true);
     return;
   }
   bool geometry_changed = !model_current_;
@@ -140,15 +144,9 @@ void FitScene::set(const std::vector<double>& values) {
     geometry_changed = geometry_changed || field != values[i];
     field = values[i];
   }
-  // A follower train's model is built again (its elements hold the parameters of docs/model.md §12).
-  if (!geometry_changed && !model_.train.present()) {
-    const ModelParameters p = model_parameters(*scene_, model_);
-    if (same_structure(model_, p)) {
-      set_parameters(model_, p, source_.file);
-      return;
-    }
-  }
-  rebuild();
+  // In place, a follower train's elements too; built again where the structure changes.
+  if (!geometry_changed && set_scene_parameters(model_, *scene_, source_.file)) return;
+  rebuild(geometry_changed);
 }
 
 SimulationResult FitScene::simulate() { return camdyn::simulate(*scene_, model_, ws_, options_); }

@@ -2,11 +2,14 @@
 // the fitted parameters: its typed scene, the model built from it once and a
 // workspace, owned by one worker at a time. Each fitted dotted path is bound
 // once, at construction, to a typed field of the scene:
-//   parameter  a field of the model's parameter block (study/model_parameters.h):
-//              set in place, the model is not rebuilt;
+//   parameter  a field of the model's parameter block or of its follower
+//              train (study/model_parameters.h, set_scene_parameters): set in
+//              place, the model is not rebuilt (unless the value changes the
+//              model's structure: then it is built on the same geometry);
 //   scene      read by simulate() from the scene only (the initial velocity);
-//   geometry   a field the model's structure depends on (base radius, roller
-//              radius): set in the typed scene, the model is built again.
+//   geometry   a field the cam's geometry depends on (base radius, roller
+//              radius): set in the typed scene, the geometry and the model are
+//              built again.
 // No JSON is read for these. A path with no typed field (an element of an
 // array, a motion-law constant, ...) falls back to the old route, counted in
 // json_reads(): the resolved scene's JSON with the values set, read again.
@@ -69,18 +72,19 @@ class FitScene {
 
   const SceneConfig& scene() const { return *scene_; }
   const Model& model() const { return model_; }
-  long model_builds() const { return model_builds_; }  ///< build_model() calls after construction
+  long model_builds() const { return model_builds_; }  ///< models built after construction
   long json_reads() const { return json_reads_; }      ///< scenes read from JSON after construction
 
  private:
-  void rebuild();
+  void rebuild(bool geometry_changed);
 
   const FitExperiment& experiment_;
   const std::vector<FitParameter>& parameters_;
   ConfigSource source_;
   std::vector<std::optional<FieldBinding>> bindings_;  ///< per parameter
-  bool json_fallback_ = false;          ///< the old route: some parameter has no typed field (or from_json)
-  std::unique_ptr<SceneConfig> scene_;  ///< on the heap: the bindings point into it, and a FitScene may move
+  bool json_fallback_ = false;                   ///< the old route: some parameter has no typed field (or from_json)
+  std::unique_ptr<SceneConfig> scene_;           ///< on the heap: the bindings point into it, and a FitScene may move
+  std::shared_ptr<const CamGeometry> geometry_;  ///< of scene_'s cam, shared by every model built for it
   Model model_;
   bool model_current_ = true;  ///< model_ is built from scene_ (false after a failed rebuild)
   Workspace ws_;

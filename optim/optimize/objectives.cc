@@ -124,6 +124,18 @@ DesignEvaluation DesignEvaluator::evaluate(const SceneConfig& scene, const Evalu
     e.error = err.what();
   }
   simulate = simulate && e.valid;
+  // The model too is assembled once, at the first operating speed, and each
+  // speed sets its own in place on a copy (where it cannot be assembled, each
+  // speed assembles its own and says why it fails at that speed).
+  std::shared_ptr<const Model> model;
+  if (e.valid && (simulate || config_.constraints.max_contact_stress)) {
+    try {
+      model = std::make_shared<const Model>(
+          build_model(*geometry, at_speed(scene, config_.operating_rpm.front(), settings), file_));
+    } catch (const InputError&) {
+      model = nullptr;
+    }
+  }
   if (simulate) {
     std::vector<SceneConfig> scenes;
     for (double rpm : config_.operating_rpm) scenes.push_back(at_speed(scene, rpm, settings));
@@ -132,12 +144,12 @@ DesignEvaluation DesignEvaluator::evaluate(const SceneConfig& scene, const Evalu
     JobStarts starts;
     if (settings.warm != nullptr && settings.warm->size() == scenes.size()) starts.warm = *settings.warm;
     starts.end_points = settings.end_points;
-    pool_.submit(geometry, std::move(scenes), std::move(options), std::move(starts));
+    pool_.submit(geometry, std::move(scenes), std::move(options), std::move(starts), model);
   }
   // The workers simulate while this thread computes the contact stress.
   if (e.valid && config_.constraints.max_contact_stress) {
     try {
-      peak_contact_stress(*geometry, e);
+      peak_contact_stress(*geometry, model.get(), e);
     } catch (const InputError& err) {
       e.valid = false;
       e.error = err.what();
@@ -171,8 +183,15 @@ DesignEvaluation DesignEvaluator::evaluate(const SceneConfig& scene, const Evalu
   return e;
 }
 
-void DesignEvaluator::peak_contact_stress(const CamGeometry& geometry, DesignEvaluation& e) const {
-  const Model model = build_model(geometry, e.scene, file_);
+void DesignEvaluator::peak_contact_stress(const CamGeometry& geometry, const Model* assembled,
+                                          DesignEvaluation& e) const {
+  Model model;
+  if (assembled != nullptr) {
+    model = *assembled;
+    set_cam_speed(model, e.scene, file_);
+  } else {
+    model = build_model(geometry, e.scene, file_);
+  }
   const LineContact contact = *line_contact(e.scene.mechanism.contact);  // check_optimize made sure
   e.peak_contact_stress = 0.0;
   for (const double rpm : config_.operating_rpm) {

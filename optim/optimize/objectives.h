@@ -148,8 +148,10 @@ class DesignEvaluator {
 
  private:
   double aggregate(const std::vector<double>& v, bool worst_is_max) const;
-  /// e.peak_contact_stress over the operating speeds, from the model of e.scene.
-  void peak_contact_stress(const CamGeometry& geometry, DesignEvaluation& e) const;
+  /// e.peak_contact_stress over the operating speeds, from the model of
+  /// e.scene: `assembled` (the design's model at another speed) with e.scene's
+  /// speed set, or, where none is given, one built on `geometry`.
+  void peak_contact_stress(const CamGeometry& geometry, const Model* assembled, DesignEvaluation& e) const;
 
   OptimizeStudyConfig config_;
   std::string file_;

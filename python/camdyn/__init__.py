@@ -32,23 +32,11 @@ __all__ = [
 ]
 
 #: The time series' columns, in order, and their units (summary.json's
-#: timeseries.csv). For an oscillating follower the follower's coordinate is
-#: the arm angle: follower_position [rad], follower_velocity [rad/s],
-#: follower_acceleration [rad/s^2], kinematic_position [rad].
-TIMESERIES_UNITS = {
-    "time": "s",
-    "cam_angle_deg": "deg",
-    "follower_position": "m",
-    "follower_velocity": "m/s",
-    "follower_acceleration": "m/s^2",
-    "kinematic_position": "m",
-    "gap": "m",
-    "contact_force": "N",
-    "friction_force": "N",
-    "energy_residual": "-",
-    "contact_offset": "m",
-    "cam_speed_rpm": "rpm",
-}
+#: timeseries.csv), read from the compiled module's one table. For an
+#: oscillating follower the follower's coordinate is the arm angle:
+#: follower_position [rad], follower_velocity [rad/s], follower_acceleration
+#: [rad/s^2], kinematic_position [rad] (``column_unit(name, oscillating=True)``).
+TIMESERIES_UNITS = dict(_camdyn.series_column_units())
 
 #: The units of a follower train's columns (mechanism.train, seats, stops,
 #: springs with mass; docs/model.md §12), by the suffix after the body's
@@ -58,28 +46,17 @@ TIMESERIES_UNITS = {
 #: arm (its link's ratio is in m/rad); the follower's own ``follower_seat_force``,
 #: ``follower_stop_force`` and ``follower_spring_force`` act along its
 #: coordinate, so for an oscillating arm they are torques [N m].
-TRAIN_COLUMN_UNITS = {
-    "_position": "m",
-    "_velocity": "m/s",
-    "_link_force": "N",
-    "_seat_force": "N",
-    "_stop_force": "N",
-    "_spring_force": "N",
-}
+TRAIN_COLUMN_UNITS = dict(_camdyn.train_column_units())
 
 
-def column_unit(name):
-    """The unit of a time-series column: from ``TIMESERIES_UNITS``, else a
-    train column's from its suffix (``TRAIN_COLUMN_UNITS``; the force suffixes
-    tried first, so ``valve_link_force`` is N). None for a name that is neither.
-    The follower coordinate's units are those of a translating follower (see
-    ``TIMESERIES_UNITS`` for an arm's)."""
-    if name in TIMESERIES_UNITS:
-        return TIMESERIES_UNITS[name]
-    for suffix in sorted(TRAIN_COLUMN_UNITS, key=len, reverse=True):
-        if name.endswith(suffix) and len(name) > len(suffix):
-            return TRAIN_COLUMN_UNITS[suffix]
-    return None
+def column_unit(name, oscillating=False):
+    """The unit of a time-series column: one of ``TIMESERIES_UNITS``, else a
+    train column's from its suffix (``TRAIN_COLUMN_UNITS``; the longest suffix
+    that fits, so ``valve_link_force`` is N). None for a name that is neither.
+    ``oscillating``: the follower is an arm (its coordinate's columns in rad,
+    its own seat, stop and spring forces in N m)."""
+    unit = _camdyn.column_unit(str(name), bool(oscillating))
+    return unit or None
 
 
 #: The events' columns and their units: contact onsets and separations.

@@ -12,6 +12,7 @@
 #include "common/study_budget.h"
 #include "dynamics/metrics.h"
 #include "dynamics/run_plan.h"
+#include "dynamics/series_columns.h"
 #include "dynamics/simulation.h"
 #include "study/steady_state.h"
 
@@ -64,9 +65,10 @@ RunSummary public_summary(const SolverSummary& s, const ErrorEstimate& error) {
   return r;
 }
 
-Columns public_columns(const TimeSeries& series) {
+Columns public_columns(const TimeSeries& series, bool oscillating) {
   Columns columns;
   columns.names = series.all_names();
+  for (const std::string& name : columns.names) columns.units.push_back(series_column_unit(name, oscillating));
   for (const std::vector<double>* column : series.all_columns()) columns.values.push_back(*column);
   return columns;
 }
@@ -84,12 +86,12 @@ std::map<std::string, double> public_metrics(const Metrics& metrics) {
   return named;
 }
 
-Result public_result(SimulationResult&& run) {
+Result public_result(SimulationResult&& run, bool oscillating) {
   Result result;
   result.metrics = public_metrics(run.metrics);
   result.solver = public_summary(run.solver, run.error);
-  result.series = public_columns(run.series);
-  result.samples = public_columns(run.samples);
+  result.series = public_columns(run.series, oscillating);
+  result.samples = public_columns(run.samples, oscillating);
   result.events.reserve(run.events.size());
   for (const ContactEvent& e : run.events)
     result.events.push_back(
@@ -154,7 +156,7 @@ Result simulate(const Scene& scene, const SimulateOptions& options) {
     apply_steady_state(impl.scene, impl.model, r, SteadyStateSearch::full, threads);
     return r;
   });
-  return public_result(std::move(run));
+  return public_result(std::move(run), impl.model.follower.oscillating());
 }
 
 struct InterruptCheck::Impl {
@@ -169,6 +171,20 @@ InterruptCheck::~InterruptCheck() = default;
 
 void throw_if_failed(const Result& result) {
   if (!result.solver.converged()) throw NumericalError(result.solver.message);
+}
+
+std::string column_unit(std::string_view name, bool oscillating) { return series_column_unit(name, oscillating); }
+
+std::vector<std::pair<std::string, std::string>> series_column_units() {
+  std::vector<std::pair<std::string, std::string>> units;
+  for (const SeriesColumn& c : kSeriesColumns) units.emplace_back(c.name, c.unit);
+  return units;
+}
+
+std::vector<std::pair<std::string, std::string>> train_column_units() {
+  std::vector<std::pair<std::string, std::string>> units;
+  for (const TrainColumnSuffix& c : kTrainColumns) units.emplace_back(c.suffix, c.unit);
+  return units;
 }
 
 }  // namespace camdyn

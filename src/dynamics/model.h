@@ -128,6 +128,22 @@ long model_builds();
 /// speed this way on a copy of the study's model.
 void set_cam_speed(Model& model, const SceneConfig& scene, const std::string& file);
 
+/// The train of `scene` built on `model`'s core states, or nothing when its
+/// structure (bodies, spring lumps, elements, their states and roots)
+/// differs from the model's train: then build the model again. Throws the
+/// InputError build_model() would for the train's values.
+std::optional<FollowerTrain> train_of_same_structure(const Model& model, const SceneConfig& scene,
+                                                     const std::string& file);
+
+/// Sets a train from train_of_same_structure() in place, with the rest of
+/// `scene` as the model holds it (its follower parameters already set), and
+/// makes again what the train and the follower's parameters give: the
+/// take-up windows, the rigid and held-train jump speeds, and the checks of
+/// build_model(). The model is then the one build_model(scene, file) makes,
+/// to the bit (tests/study/model_parameters_test.cc). Identification sets a
+/// train's fitted parameters this way (study/model_parameters.h).
+void set_train(Model& model, FollowerTrain train, const SceneConfig& scene, const std::string& file);
+
 /// Mutable per-run data, reused between runs.
 struct Workspace {
   double v0 = 0.01;          ///< approach speed of the current contact episode [m/s]

@@ -6,8 +6,10 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "common/constants.h"
 #include "common/errors.h"
@@ -173,6 +175,53 @@ void assign_take_up_window(const SceneConfig& scene, const std::string& file, Mo
   throw InputError(file, at, take_up_window_problem(model.train, model.take_up));
 }
 
+/// What is made from the train and the follower's parameters once the train
+/// is built: the take-up windows, the rigid and held-train jump speeds, and
+/// the contact stress limit's check (docs/model.md §12).
+void assign_train_figures(const SceneConfig& scene, const std::string& file, Model& model) {
+  assign_take_up_window(scene, file, model);
+  model.rigid_jump_speed_rpm = jump_speed_rpm(model);
+  model.train_jump_speed_rpm = 0.0;
+  if (model.train.has_coordinates()) {
+    try {
+      model.train_jump_speed_rpm = train_jump_speed_rpm(model);
+    } catch (const std::invalid_argument& e) {
+      // Every coordinate is held by validation; a stiffness matrix that is
+      // still singular lost its rank in floating point (a stiffness of 5e-324
+      // N/m, a lever ratio of 1e300: found by probe_fields.py and run_fuzzer).
+      throw InputError(
+          file, "mechanism.train",
+          std::string("a stiffness or lever ratio of the train is too extreme for double precision: ") + e.what());
+    }
+  }
+  check_contact_stress_limit(scene.mechanism, model, file);
+}
+
+/// Whether two trains have the same bodies, lumps, elements, states and roots
+/// (their numbers may differ).
+bool same_train_structure(const FollowerTrain& a, const FollowerTrain& b) {
+  if (a.coordinates.size() != b.coordinates.size() || a.elements.size() != b.elements.size() ||
+      a.bodies.size() != b.bodies.size() || a.roots != b.roots || a.follower_spring_lumped != b.follower_spring_lumped)
+    return false;
+  for (std::size_t i = 0; i < a.coordinates.size(); ++i)
+    if (a.coordinates[i].position != b.coordinates[i].position ||
+        a.coordinates[i].velocity != b.coordinates[i].velocity)
+      return false;
+  for (std::size_t i = 0; i < a.elements.size(); ++i) {
+    const TrainElement &x = a.elements[i], &y = b.elements[i];
+    if (x.law != y.law || x.role != y.role || x.body != y.body || x.a != y.a || x.b != y.b || x.root != y.root ||
+        (x.law == TrainElement::Law::contact && x.contact.model != y.contact.model))
+      return false;
+  }
+  for (std::size_t i = 0; i < a.bodies.size(); ++i) {
+    const TrainBody &x = a.bodies[i], &y = b.bodies[i];
+    if (x.name != y.name || x.coordinate != y.coordinate || x.link != y.link || x.seat != y.seat || x.stop != y.stop ||
+        x.spring_end != y.spring_end || x.spring_coils != y.spring_coils || x.spring_lumps != y.spring_lumps)
+      return false;
+  }
+  return true;
+}
+
 Model assemble_model(const CamGeometry& geometry, const SceneConfig& scene, const std::string& file) {
   const MechanismConfig& mech = scene.mechanism;
   Model model;
@@ -189,22 +238,7 @@ Model assemble_model(const CamGeometry& geometry, const SceneConfig& scene, cons
   model.train = build_follower_train(scene, file, model.layout);
   // A spring with mass is the train's lumped chain, not the follower's massless spring.
   if (model.train.follower_spring_lumped) model.forces.spring = ReturnSpring{};
-  assign_take_up_window(scene, file, model);
-  model.rigid_jump_speed_rpm = jump_speed_rpm(model);
-  if (model.train.has_coordinates()) {
-    try {
-      model.train_jump_speed_rpm = train_jump_speed_rpm(model);
-    } catch (const std::invalid_argument& e) {
-      // Every coordinate is held by validation; a stiffness matrix that is
-      // still singular lost its rank in floating point (a stiffness of 5e-324
-      // N/m, a lever ratio of 1e300: found by probe_fields.py and run_fuzzer).
-      throw InputError(
-          file, "mechanism.train",
-          std::string("a stiffness or lever ratio of the train is too extreme for double precision: ") + e.what());
-    }
-  }
-
-  check_contact_stress_limit(mech, model, file);
+  assign_train_figures(scene, file, model);
   list_elements(model);
   // Refuses what the solver could not run (docs/warnings.md), naming the field.
   check_plausibility(scene, model, file);
@@ -262,6 +296,27 @@ void list_elements(Model& model) {
   model.support.add_names(model.elements);
   model.drive.add_names(model.elements);
   add_train_names(model.train, model.elements);
+}
+
+std::optional<FollowerTrain> train_of_same_structure(const Model& model, const SceneConfig& scene,
+                                                     const std::string& file) {
+  StateLayout layout = model.layout;  // its core states, the train's appended again
+  layout.size = layout.core_size;
+  layout.names.resize(static_cast<std::size_t>(layout.core_size));
+  FollowerTrain train = build_follower_train(scene, file, layout);
+  if (layout.names != model.layout.names || !same_train_structure(model.train, train)) return std::nullopt;
+  return train;
+}
+
+void set_train(Model& model, FollowerTrain train, const SceneConfig& scene, const std::string& file) {
+  model.train = std::move(train);
+  if (model.train.follower_spring_lumped) model.forces.spring = ReturnSpring{};
+  try {
+    assign_train_figures(scene, file, model);
+    check_plausibility(scene, model, file);
+  } catch (const InputError& e) {
+    rethrow_naming_unit_slip(scene, file, e);
+  }
 }
 
 }  // namespace camdyn

@@ -17,6 +17,7 @@
 #include "dynamics/contact_events.h"
 #include "dynamics/free_flight.h"
 #include "dynamics/initial_state.h"
+#include "dynamics/series_columns.h"
 #include "dynamics/step_quadrature.h"
 #include "dynamics/window_observer.h"
 #include "geometry/check_text.h"
@@ -683,9 +684,9 @@ void throw_if_failed(const SimulationResult& result) {
 }
 
 std::vector<std::string> TimeSeries::column_names() {
-  return {
-      "time", "cam_angle_deg", "follower_position", "follower_velocity", "follower_acceleration", "kinematic_position",
-      "gap",  "contact_force", "friction_force",    "energy_residual",   "contact_offset",        "cam_speed_rpm"};
+  std::vector<std::string> names;
+  for (const SeriesColumn& c : kSeriesColumns) names.emplace_back(c.name);
+  return names;
 }
 
 std::vector<const std::vector<double>*> TimeSeries::columns() const {

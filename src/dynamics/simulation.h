@@ -34,8 +34,9 @@ struct TimeSeries {
   /// materials [Pa]; empty where the run has no such thing.
   std::vector<double> cam_torque, motor_torque, contact_stress;
 
-  /// The columns every run has, in order.
+  /// The columns every run has, in order (dynamics/series_columns.h kSeriesColumns).
   static std::vector<std::string> column_names();
+  /// Their values, in that order.
   std::vector<const std::vector<double>*> columns() const;
   /// Every column of this series: column_names() and the train's.
   std::vector<std::string> all_names() const;

@@ -1,8 +1,10 @@
 #include "dynamics/window_observer.h"
 
+#include <algorithm>
 #include <numbers>
 
 #include "common/constants.h"
+#include "dynamics/series_columns.h"
 
 namespace camdyn {
 
@@ -14,13 +16,13 @@ void for_each_train_column(const FollowerTrain& train, const TrainEvaluation& e,
   for (std::size_t i = 0; i < train.bodies.size(); ++i) {
     const TrainBody& b = train.bodies[i];
     if (i > 0) {
-      f(b.name + "_position", e.position[i]);
-      f(b.name + "_velocity", e.velocity[i]);
+      f(train_column_name(b.name, TrainColumn::position), e.position[i]);
+      f(train_column_name(b.name, TrainColumn::velocity), e.velocity[i]);
     }
-    if (b.link >= 0) f(b.name + "_link_force", e.link_force[i]);
-    if (b.seat >= 0) f(b.name + "_seat_force", e.seat_force[i]);
-    if (b.stop >= 0) f(b.name + "_stop_force", e.stop_force[i]);
-    if (b.spring_end >= 0) f(b.name + "_spring_force", e.spring_force[i]);
+    if (b.link >= 0) f(train_column_name(b.name, TrainColumn::link_force), e.link_force[i]);
+    if (b.seat >= 0) f(train_column_name(b.name, TrainColumn::seat_force), e.seat_force[i]);
+    if (b.stop >= 0) f(train_column_name(b.name, TrainColumn::stop_force), e.stop_force[i]);
+    if (b.spring_end >= 0) f(train_column_name(b.name, TrainColumn::spring_force), e.spring_force[i]);
   }
 }
 
@@ -43,12 +45,8 @@ std::vector<std::string> series_column_names(const Model& model) {
 }
 
 bool is_train_column_name(const std::string& name) {
-  for (const std::string suffix :
-       {"_position", "_velocity", "_link_force", "_seat_force", "_stop_force", "_spring_force"}) {
-    if (name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0)
-      return true;
-  }
-  return false;
+  return !series_column_unit(name).empty() && std::none_of(kSeriesColumns.begin(), kSeriesColumns.end(),
+                                                           [&](const SeriesColumn& c) { return name == c.name; });
 }
 
 void push_row(const Model& model, const Evaluation& ev, TimeSeries& series, double t) {

@@ -167,25 +167,10 @@ ModelParameters model_parameters(const SceneConfig& scene, const Model& model) {
   return p;
 }
 
-bool same_structure(const Model& model, const ModelParameters& p) {
-  // As build_model() decides them.
-  const bool roller = model.follower.rolls();
-  const bool has_spin = roller && p.roller_inertia > 0.0 && p.friction_mu > 0.0;
-  const bool contact_friction = p.friction_mu > 0.0 && (!roller || has_spin);
-  // A follower train's matrices and jump speed are made from the scene at
-  // assembly (docs/model.md §12), from masses and stiffnesses this block
-  // does not carry: such a model is built again.
-  if (model.train.has_coordinates()) return false;
-  // μ of an absent guide or pivot friction block is 0 (model_parameters()).
-  return has_spin == model.friction.spin && contact_friction == model.friction.present &&
-         model.support.guide == (p.guide_mu > 0.0) && model.support.pivot == (p.pivot_mu > 0.0);
-}
+namespace {
 
-void set_parameters(Model& model, const ModelParameters& p, const std::string& file) {
-  check_parameters(model, p, file);
-  assert(same_structure(model, p));
-  const unsigned elements_before = element_flags(model);
-  // build_model()'s assignments, in its arithmetic.
+/// build_model()'s assignments of the block, in its arithmetic.
+void assign_parameters(Model& model, const ModelParameters& p) {
   const bool oscillating = model.follower.oscillating();
   model.mass = p.mass;
   model.forces.spring = {p.spring_stiffness, p.spring_preload};
@@ -218,8 +203,53 @@ void set_parameters(Model& model, const ModelParameters& p, const std::string& f
       model.drive.motor_inertia = p.motor_inertia;
     }
   }
+}
+
+/// Whether `p` leaves the follower's elements and states as they are (the train aside).
+bool same_follower_structure(const Model& model, const ModelParameters& p) {
+  // As build_model() decides them.
+  const bool roller = model.follower.rolls();
+  const bool has_spin = roller && p.roller_inertia > 0.0 && p.friction_mu > 0.0;
+  const bool contact_friction = p.friction_mu > 0.0 && (!roller || has_spin);
+  // μ of an absent guide or pivot friction block is 0 (model_parameters()).
+  return has_spin == model.friction.spin && contact_friction == model.friction.present &&
+         model.support.guide == (p.guide_mu > 0.0) && model.support.pivot == (p.pivot_mu > 0.0);
+}
+
+}  // namespace
+
+bool same_structure(const Model& model, const ModelParameters& p) {
+  // A follower train's matrices and jump speed are made from the scene at
+  // assembly (docs/model.md §12), from masses and stiffnesses this block
+  // does not carry: set_scene_parameters() sets them.
+  return !model.train.has_coordinates() && same_follower_structure(model, p);
+}
+
+void set_parameters(Model& model, const ModelParameters& p, const std::string& file) {
+  check_parameters(model, p, file);
+  assert(same_structure(model, p));
+  const unsigned elements_before = element_flags(model);
+  assign_parameters(model, p);
   model.rigid_jump_speed_rpm = jump_speed_rpm(model);  // the mass, spring and weight may have changed
   if (element_flags(model) != elements_before) list_elements(model);
+}
+
+bool set_scene_parameters(Model& model, const SceneConfig& scene, const std::string& file) {
+  const ModelParameters p = model_parameters(scene, model);
+  if (!same_follower_structure(model, p)) return false;
+  if (!model.train.present()) {
+    set_parameters(model, p, file);
+    return true;
+  }
+  // The train first, so that a structure it changes leaves the model untouched.
+  std::optional<FollowerTrain> train = train_of_same_structure(model, scene, file);
+  if (!train) return false;
+  check_parameters(model, p, file);
+  const unsigned elements_before = element_flags(model);
+  assign_parameters(model, p);
+  set_train(model, std::move(*train), scene, file);  // the jump speeds and checks, with the new block
+  if (element_flags(model) != elements_before) list_elements(model);
+  return true;
 }
 
 }  // namespace camdyn

@@ -56,8 +56,9 @@ ModelParameters model_parameters(const SceneConfig& scene, const Model& model);
 
 /// Whether `parameters` leave the model's structure as it is: the same
 /// friction elements and roller spin state (μ and the roller inertia on the
-/// same side of zero), and no follower train (its matrices and jump speed
-/// come from the scene). Otherwise build the model again.
+/// same side of zero), and no follower train with bodies of its own (its
+/// matrices and jump speed come from the scene: set_scene_parameters()).
+/// Otherwise build the model again.
 bool same_structure(const Model& model, const ModelParameters& parameters);
 
 /// Sets the parameter block in place. Throws InputError (file, config path,
@@ -65,5 +66,14 @@ bool same_structure(const Model& model, const ModelParameters& parameters);
 /// same_structure(). Allocates nothing unless the list of force elements
 /// changes (a damper, spring, gravity or shaft damper set to or from zero).
 void set_parameters(Model& model, const ModelParameters& parameters, const std::string& file);
+
+/// Sets every parameter of `scene` in place on a model built from a scene of
+/// the same structure and geometry: the block, and a follower train's
+/// masses, stiffnesses, dampings, lashes and seats (its train built again on
+/// the model's states: dynamics/model.h set_train). Returns false, the model
+/// untouched, when `scene` changes the structure (a friction element, the
+/// spin state, a train's bodies, lumps or elements): build the model again.
+/// Throws InputError as set_parameters() and build_model() do.
+bool set_scene_parameters(Model& model, const SceneConfig& scene, const std::string& file);
 
 }  // namespace camdyn

@@ -68,6 +68,42 @@ TEST(Simulate, GivesTheInternalRunToTheBit) {
   EXPECT_TRUE(same_bits(result.end_time, internal.end_time));
 }
 
+// Every column carries its unit, from the one table that names the columns
+// (dynamics/series_columns.h): the values under a name are the run's column of
+// that name, and the units are those docs/config.md, "Outputs of `simulate`", gives.
+TEST(Simulate, ColumnsCarryTheirUnitsAndTheirNamesValues) {
+  const std::string file = kStudies + "valvetrain/pushrod_rocker.json";
+  const std::vector<std::string> overrides = {"simulation.cycles=1", "simulation.discard_cycles=0"};
+  const SimulationResult internal = simulate_scene(load_scene(file, overrides), file);
+  const Result result = simulate(Scene::load(file, overrides));
+  ASSERT_EQ(result.series.units.size(), result.series.names.size());
+  for (std::size_t c = 0; c < result.series.names.size(); ++c)
+    EXPECT_EQ(result.series.units[c], column_unit(result.series.names[c])) << result.series.names[c];
+  const std::pair<const char*, const char*> expected[] = {{"time", "s"},
+                                                          {"cam_angle_deg", "deg"},
+                                                          {"follower_position", "m"},
+                                                          {"gap", "m"},
+                                                          {"contact_force", "N"},
+                                                          {"cam_speed_rpm", "rpm"},
+                                                          {"valve_position", "m"},
+                                                          {"valve_velocity", "m/s"},
+                                                          {"valve_link_force", "N"},
+                                                          {"valve_seat_force", "N"},
+                                                          {"pushrod_rocker_link_force", "N"}};
+  for (const auto& [name, unit] : expected) EXPECT_EQ(column_unit(name), unit) << name;
+  EXPECT_EQ(result.series["follower_position"], internal.series.follower_position);
+  EXPECT_EQ(result.series["gap"], internal.series.gap);
+  EXPECT_EQ(result.series["contact_force"], internal.series.contact_force);
+  EXPECT_EQ(result.series["cam_speed_rpm"], internal.series.cam_speed_rpm);
+  // An arm's coordinate is an angle; its own seat acts along it, a train body's does not.
+  EXPECT_EQ(column_unit("follower_acceleration", true), "rad/s^2");
+  EXPECT_EQ(column_unit("follower_seat_force", true), "N m");
+  EXPECT_EQ(column_unit("valve_seat_force", true), "N");
+  EXPECT_EQ(column_unit("no_such_column"), "");
+  EXPECT_EQ(column_unit("_position"), "");
+  EXPECT_EQ(series_column_units().size(), TimeSeries::column_names().size());
+}
+
 // A Scene is immutable: threads may simulate one scene (one Model) at once,
 // each run with its own workspace, and get the run a single thread gets.
 TEST(Simulate, OneSceneFromTwoThreadsGivesTheSameRun) {

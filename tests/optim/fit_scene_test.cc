@@ -14,6 +14,8 @@
 
 #include "allocation_counter.h"
 #include "common/errors.h"
+#include "dynamics/cam_geometry.h"
+#include "dynamics/model.h"
 #include "io/config.h"
 #include "optim/identify/fit_residuals.h"
 #include "optim/identify/identify.h"
@@ -130,7 +132,8 @@ namespace {
 
 // A follower train's numbers are identifiable like the contact's (docs/model.md §12):
 // a link stiffness set through its typed field gives the run of the scene read
-// again with it, bit for bit, and the train's columns are signals.
+// again with it, bit for bit, without building the model or the geometry
+// again, and the train's columns are signals.
 TEST(FitScene, TrainParametersAndColumnsFitLikeTheContacts) {
   const Json scene_json = Json::parse(R"({
     "name": "train-fit", "study": "simulate",
@@ -159,17 +162,30 @@ TEST(FitScene, TrainParametersAndColumnsFitLikeTheContacts) {
   k.initial = 2e7;
   k.lower = 1e6;
   k.upper = 1e9;
-  const std::vector<FitParameter> parameters = {k};  // FitScene keeps a reference
+  FitParameter m;
+  m.name = m.path = "mechanism.follower.mass";
+  m.initial = 0.05;
+  m.lower = 0.01;
+  m.upper = 0.2;
+  const std::vector<FitParameter> parameters = {k, m};  // FitScene keeps a reference
   FitScene scene(e, parameters, source);
   FitScene rebuilt(e, parameters, source, /*from_json=*/true);
-  const FitRun stiff = scene.run({4e7});
+  // The model and the geometry are built once, at construction: the link's
+  // stiffness and the follower's mass are set in place (docs/architecture.md,
+  // "Model, parameters and workspaces").
+  const long geometries = cam_geometry_builds(), models = camdyn::model_builds();
+  const FitRun stiff = scene.run({4e7, 0.06});
+  const FitRun soft = scene.run({1e7, 0.06});
+  EXPECT_EQ(cam_geometry_builds(), geometries);
+  EXPECT_EQ(camdyn::model_builds(), models);
+  EXPECT_EQ(scene.model_builds(), 0);
   ASSERT_TRUE(stiff.ok) << stiff.error;
-  const FitRun expected = rebuilt.run({4e7});
+  ASSERT_TRUE(soft.ok) << soft.error;
+  const FitRun expected = rebuilt.run({4e7, 0.06});
   ASSERT_TRUE(expected.ok) << expected.error;
   ASSERT_EQ(stiff.signals.size(), 2u);
   EXPECT_EQ(stiff.signals, expected.signals);
-  const FitRun soft = scene.run({1e7});
-  ASSERT_TRUE(soft.ok) << soft.error;
+  EXPECT_EQ(soft.signals, rebuilt.run({1e7, 0.06}).signals);
   EXPECT_NE(soft.signals[1], stiff.signals[1]);  // the link force feels its stiffness
   EXPECT_EQ(scene.json_reads(), 0);
 

@@ -130,14 +130,68 @@ TEST(ModelParameters, FrictionSwitchedOnOrOffIsAChangeOfStructure) {
   EXPECT_FALSE(same_structure(spinning, model_parameters(roller, spinning)));
 }
 
-// A follower train's matrices and jump speed are made from the scene, from
-// masses and stiffnesses the parameter block does not carry: a model with a
-// train is built again, never set in place.
-TEST(ModelParameters, AModelWithAFollowerTrainIsBuiltAgain) {
-  const test::LinearTrainCase c = test::linear_train_case(1, true);
-  const Model model = build_model(c.scene, "test");
-  ASSERT_TRUE(model.train.has_coordinates());
-  EXPECT_FALSE(same_structure(model, model_parameters(c.scene, model)));
+/// Every number of a follower train changed, its structure kept.
+SceneConfig with_other_train(SceneConfig s) {
+  s.mechanism.follower.mass *= 1.1;
+  s.mechanism.follower.spring.preload *= 1.2;
+  for (TrainBodyConfig& b : s.mechanism.train) {
+    b.mass *= 0.9;
+    b.damping *= 1.5;  // from 0 to a value is one more element: structure
+    b.link.stiffness *= 1.7;
+    b.link.damping *= 0.6;
+    b.link.ratio *= 1.05;
+    b.link.lash *= 1.05;
+    b.spring.stiffness *= 0.95;
+    b.spring.preload *= 1.1;
+    if (b.spring.mass) *b.spring.mass *= 1.3;
+    if (b.spring.damping_ratio) *b.spring.damping_ratio *= 2.0;
+    if (b.seat) {
+      b.seat->stiffness *= 2.0;
+      b.seat->restitution = 0.5;
+    }
+  }
+  return s;
+}
+
+// A follower train's parameters (docs/model.md §12) set in place: the train
+// is built again on the model's states and the jump speeds made again, and
+// the model is the one build_model() makes, to the bit; a change of the
+// train's structure leaves the model as it was and asks for a build.
+void expect_train_in_place_equals_built(const std::string& file) {
+  SceneConfig base = load_scene(file, {"mechanism.cam.rpm=1500", "simulation.cycles=1.2", "simulation.discard_cycles=0",
+                                       "simulation.output_step_deg=2"});
+  const SceneConfig changed = with_other_train(base);
+  Model in_place = build_model(base, file);
+  ASSERT_TRUE(in_place.train.has_coordinates());
+  EXPECT_FALSE(same_structure(in_place, model_parameters(changed, in_place)));  // the block alone cannot
+  Workspace ws = make_workspace(in_place);
+  simulate(base, in_place, ws);
+  const long builds = model_builds();
+  ASSERT_TRUE(set_scene_parameters(in_place, changed, file));
+  EXPECT_EQ(model_builds(), builds);
+  const Model built = build_model(changed, file);
+  EXPECT_NE(in_place.train_jump_speed_rpm, build_model(base, file).train_jump_speed_rpm);
+  EXPECT_EQ(in_place.train_jump_speed_rpm, built.train_jump_speed_rpm);
+  EXPECT_EQ(in_place.rigid_jump_speed_rpm, built.rigid_jump_speed_rpm);
+  EXPECT_EQ(in_place.take_up.take_up, built.take_up.take_up);
+  EXPECT_EQ(in_place.take_up.opening_end, built.take_up.opening_end);
+  EXPECT_EQ(in_place.elements, built.elements);
+  EXPECT_EQ(in_place.layout.names, built.layout.names);
+  Workspace fresh;
+  expect_identical(simulate(changed, in_place, ws), simulate(changed, built, fresh), file);
+
+  SceneConfig lumps = changed;
+  SpringConfig& spring = lumps.mechanism.train.back().spring;
+  spring.lumps = spring.lump_count() + 1;  // other states
+  const Model before = in_place;
+  EXPECT_FALSE(set_scene_parameters(in_place, lumps, file));
+  EXPECT_EQ(in_place.layout.names, before.layout.names);
+  EXPECT_EQ(in_place.train_jump_speed_rpm, before.train_jump_speed_rpm);
+}
+
+TEST(ModelParameters, ATrainsParametersSetInPlaceGiveTheBuiltModel) {
+  for (const char* scene : {"pushrod_rocker.json", "dohc_bucket_lash.json"})
+    expect_train_in_place_equals_built(std::string(CAMDYN_SOURCE_DIR) + "/studies/valvetrain/" + scene);
 }
 
 /// The reason the config loader gives for `key=value` on the cycloidal scene.
