@@ -188,7 +188,7 @@ Model assemble_model(const CamGeometry& geometry, const SceneConfig& scene, cons
   assign_state_layout(model);
   model.train = build_follower_train(scene, file, model.layout);
   // A spring with mass is the train's lumped chain, not the follower's massless spring.
-  if (model.train.follower_spring_lumped) model.forces.spring = ReturnSpring{};
+  if (model.train.follower_spring_lumped) model.forces.spring() = ReturnSpring{};
   assign_take_up_window(scene, file, model);
   model.rigid_jump_speed_rpm = jump_speed_rpm(model);
   if (model.train.has_coordinates()) {
