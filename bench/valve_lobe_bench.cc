@@ -51,7 +51,7 @@ void BM_ValveLobeCertificate(benchmark::State& state) {
   const OptimizeStudy study = valve_study();
   const DesignSpace space(study.baseline, study.config.design, kStudy);
   const Model model = build_model(study.baseline, kStudy);
-  const RigidFollower f = rigid_follower(model, *study.config.constraints.min_contact_force);
+  const RigidFollower f = *rigid_follower(model, *study.config.constraints.min_contact_force);
   const MotionLaw kept = build_motion_law(
       space.scene_with_control_points(std::vector<double>(space.control_point_count(), 0.0)).mechanism.cam.motion_law,
       kStudy);

@@ -89,13 +89,20 @@ std::vector<std::size_t> all_pieces(const MotionLaw& law) {
 
 }  // namespace
 
-RigidFollower rigid_follower(const Model& model, double min_force) {
+std::optional<RigidFollower> rigid_follower(const Model& model, double min_force) {
+  return rigid_follower(model, min_force, follower_linear_parts(model));
+}
+
+std::optional<RigidFollower> rigid_follower(const Model& model, double min_force,
+                                            const std::optional<FollowerLinearParts>& linear) {
+  if (!linear) return std::nullopt;
+  const LinearPart total = linear->total();
   RigidFollower f;
   f.mass = model.mass;
-  f.stiffness = model.forces.spring.stiffness;
-  f.preload = model.forces.spring.preload;
-  f.damping = model.forces.damper.damping;
-  f.weight = model.forces.weight(model.mass);
+  f.stiffness = total.stiffness;
+  f.preload = linear->spring.load;  // F₀ + M g kept in the spring's and gravity's order
+  f.damping = total.damping;
+  f.weight = linear->others.load;
   f.min_force = min_force;
   if (model.follower.oscillating()) {
     // On an arm the same P is the torque Q about the pivot, and the normal

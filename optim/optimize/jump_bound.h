@@ -20,9 +20,11 @@
 
 #include <cstddef>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "dynamics/follower_forces.h"
 #include "geometry/motion_law.h"
 #include "optim/linear_program.h"
 
@@ -32,13 +34,14 @@ struct Model;
 
 namespace camdyn::optim {
 
-/// The follower as the rigid model sees it (translating: N, kg, m).
+/// The follower as the rigid model sees it (translating: N, kg, m): the sum
+/// of its force elements' linear parts (dynamics/follower_forces.h).
 struct RigidFollower {
   double mass = 0.0;       ///< M [kg]
-  double stiffness = 0.0;  ///< k [N/m]
+  double stiffness = 0.0;  ///< k of every element [N/m]
   double preload = 0.0;    ///< F₀: spring force at s = 0 [N]
-  double damping = 0.0;    ///< c [N s/m]
-  double weight = 0.0;     ///< M g, towards the cam [N]
+  double damping = 0.0;    ///< c of every element [N s/m]
+  double weight = 0.0;     ///< F₀ of the other elements: M g, towards the cam [N]
   double min_force = 0.0;  ///< P_min: the contact force to keep [N], ≥ 0
   /// A follower train (optim/optimize/train_rows.h): a design jump-free up to
   /// ω is checked at ω k / n, k = 1 … n (its response is not monotone in ω); 0: one mass.
@@ -59,8 +62,12 @@ struct RigidFollower {
 /// oscillating arm the same form holds in the arm angle (M the arm inertia,
 /// k and F₀ torsional, P the torque about the pivot [N m]); its min_force is
 /// then the torque P_min · 1.2 · (largest lever ∂g/∂q of the baseline cam),
-/// conservative (exact for P_min = 0).
-RigidFollower rigid_follower(const Model& model, double min_force);
+/// conservative (exact for P_min = 0). None, no rigid stage, when some
+/// follower element has no linear part (dynamics/follower_forces.h kNoLinearPart).
+std::optional<RigidFollower> rigid_follower(const Model& model, double min_force);
+/// The same with the follower forces' linear parts `linear` (follower_linear_parts(model)).
+std::optional<RigidFollower> rigid_follower(const Model& model, double min_force,
+                                            const std::optional<FollowerLinearParts>& linear);
 
 /// The speeds at which a design that is to be jump-free up to ω [rad/s] is
 /// checked: ω itself; with a damper (whose term c ω s' is not monotone in ω)

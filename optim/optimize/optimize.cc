@@ -768,9 +768,17 @@ SceneSpringSizing size_scene_spring(const SceneConfig& scene, const OptimizeStud
         "not sized on a train: a rate changes the held train's modes, so the force is not linear in it";
     return out;
   }
-  const double pmin = rigid_follower(model, rigid_min_contact_force(config)).min_force;
-  const SpringSizing s =
-      size_spring(*model.law, rigid_spring_load(model, pmin), top_speed(config) * kRadPerSecondPerRpm);
+  const std::optional<RigidFollower> follower = rigid_follower(model, rigid_min_contact_force(config));
+  const std::optional<RigidSpringLoad> load =
+      follower ? rigid_spring_load(model, follower->min_force) : std::optional<RigidSpringLoad>();
+  if (!load) {  // some follower element has no linear part
+    out.available = false;
+    out.reason = kNoLinearPart;
+    out.required_preload = out.required_stiffness = std::numeric_limits<double>::quiet_NaN();
+    out.stiffness_reason = kNoLinearPart;
+    return out;
+  }
+  const SpringSizing s = size_spring(*model.law, *load, top_speed(config) * kRadPerSecondPerRpm);
   out.required_preload = s.required_preload;
   out.required_stiffness = s.required_stiffness;
   return out;

@@ -987,9 +987,17 @@ TrainRowLimits stage_train_limits(const OptimizeStudyConfig& config) {
   return train_limits(floor, config.constraints);
 }
 
+/// The rigid follower of a model whose stage ran (run_rigid_stage refuses
+/// one without a linear part); throws InputError for one without.
+RigidFollower stage_follower(const Model& model, double min_force) {
+  const std::optional<RigidFollower> f = rigid_follower(model, min_force);
+  if (!f) throw InputError("", "mechanism.follower", std::string("the rigid-model stage: ") + kNoLinearPart);
+  return *f;
+}
+
 /// The one jump-free figure of `model`'s law at P_min on the stage's model [rpm].
 double model_jump_free_rpm(const Model& model, const OptimizeStudyConfig& config) {
-  const RigidFollower f = rigid_follower(model, rigid_min_contact_force(config));
+  const RigidFollower f = stage_follower(model, rigid_min_contact_force(config));
   return law_jump_free_rpm(model, *model.law, f, stage_train_limits(config), top_omega(config));
 }
 
@@ -1018,7 +1026,7 @@ void verify_design(const SceneConfig& scene, const OptimizeStudyConfig& config, 
     for (const double rpm : config.operating_rpm)
       d.verified_margin.push_back(sampled.worst_margin(f, rpm * kRadPerSecondPerRpm));
   }
-  const RigidFollower own_f = rigid_follower(model, rigid_min_contact_force(config));
+  const RigidFollower own_f = stage_follower(model, rigid_min_contact_force(config));
   d.jump_free_rpm = law_jump_free_rpm(model, law, own_f, limits, top_omega(config));
 }
 
@@ -1041,7 +1049,7 @@ std::vector<double> rigid_margin_curve(const SceneConfig& scene, double rpm, dou
   SceneConfig at = scene;
   at.mechanism.cam.rpm = rpm;
   const Model model = build_model(at, "");
-  const RigidFollower f = rigid_follower(model, min_force);
+  const RigidFollower f = stage_follower(model, min_force);
   std::vector<double> out;
   for (const double deg : angles_deg)
     out.push_back(
@@ -1066,7 +1074,12 @@ RigidStageResult run_rigid_stage(const SceneConfig& baseline, const OptimizeStud
   Certificate& cert = out.certificate;
   cert.min_contact_force = rigid_min_contact_force(config);
   const Model model = build_model(baseline, file);
-  RigidFollower f = rigid_follower(model, cert.min_contact_force);
+  const std::optional<RigidFollower> linear = rigid_follower(model, cert.min_contact_force);
+  if (!linear) {  // the stage's programmes are linear in the forces: none without a linear part
+    cert.reason = kNoLinearPart;
+    return out;
+  }
+  RigidFollower f = *linear;
   cert.margin_unit = coordinate_units(model).force;  // a torque about the pivot for an arm
   const bool on_train = model.train.has_coordinates();
   if (on_train) f.sampled_speeds = TrainRows::kSampledSpeeds;

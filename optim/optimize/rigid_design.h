@@ -113,6 +113,8 @@ struct RigidStageResult {
 
 /// Runs the stage on `baseline` (translating or oscillating follower). Throws
 /// NumericalError when CLP fails on a programme (not for an infeasible one).
+/// The certificate is not available (with the reason) when some follower
+/// force element has no linear part: the programmes are linear in the forces.
 RigidStageResult run_rigid_stage(const SceneConfig& baseline, const OptimizeStudyConfig& config,
                                  const DesignSpace& space, const std::string& file);
 

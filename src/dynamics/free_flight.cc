@@ -4,6 +4,8 @@
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
+#include <string>
 
 #include "common/constants.h"
 
@@ -67,23 +69,37 @@ double hermite_integral(double h, double g0, double r0, double g1, double r1) {
 
 }  // namespace
 
-bool flight_has_closed_form(const Model& model) {
+bool flight_has_closed_form(const Model& model) { return flight_has_closed_form(model, follower_linear_parts(model)); }
+
+bool flight_has_closed_form(const Model& model, const std::optional<FollowerLinearParts>& linear) {
   const StateLayout& l = model.layout;
   const int extra = (l.u ? 1 : 0) + (l.spin ? 1 : 0);
-  return !model.drive.shaft() && model.pair_form == PairForm::reduced && !l.v && model.forces.spring.stiffness >= 0.0 &&
-         model.mass > 0.0 && l.size == 2 + extra && !model.train.present();
+  return !model.drive.shaft() && model.pair_form == PairForm::reduced && !l.v && linear &&
+         linear->total().stiffness >= 0.0 && model.mass > 0.0 && l.size == 2 + extra && !model.train.present();
 }
 
 // ------------------------------------------------------------------ FreeFlight
 
-FreeFlight::FreeFlight(const Model& model)
-    : c_half_(0.5 * model.forces.damper.damping / model.mass),
-      omega2_(model.forces.spring.stiffness / model.mass),
+namespace {
+
+// The sum of the model's follower forces' linear parts; throws without one.
+LinearPart flight_forces(const Model& model) {
+  const std::optional<FollowerLinearParts> parts = follower_linear_parts(model);
+  if (!parts) throw std::invalid_argument(std::string("free flight in closed form: ") + kNoLinearPart);
+  return parts->total();
+}
+
+}  // namespace
+
+FreeFlight::FreeFlight(const Model& model) : FreeFlight(model, flight_forces(model)) {}
+
+// F₀ = the spring's preload + M g, summed in that order (follower_forces.h).
+FreeFlight::FreeFlight(const Model& model, const LinearPart& linear)
+    : c_half_(0.5 * linear.damping / model.mass),
+      omega2_(linear.stiffness / model.mass),
       b2_(omega2_ - c_half_ * c_half_),
-      load_((model.forces.spring.preload + model.forces.weight(model.mass)) / model.mass),
-      q_eq_(model.forces.spring.stiffness > 0.0
-                ? -(model.forces.spring.preload + model.forces.weight(model.mass)) / model.forces.spring.stiffness
-                : 0.0) {}
+      load_(linear.load / model.mass),
+      q_eq_(linear.stiffness > 0.0 ? -linear.load / linear.stiffness : 0.0) {}
 
 void FreeFlight::start(double t0, double q0, double v0) {
   t0_ = t0;
@@ -144,7 +160,8 @@ double FreeFlight::speed_bound(double q, double v, double h) const {
 
 // ----------------------------------------------------------------- FlightTrack
 
-FlightTrack::FlightTrack(const Model& model) : model_(model), newton_(model), flight_(model) {
+FlightTrack::FlightTrack(const Model& model)
+    : model_(model), newton_(model), flight_(model), damping_(flight_forces(model).damping) {
   newton_.tracking = Tracking::newton;
   r_max_ = bounding_radius(model.profile());
   const FollowerGeometry& f = model.follower;
@@ -178,7 +195,7 @@ bool FlightTrack::point(Workspace& ws, double t, double u_warm, FlightPoint& p) 
 }
 
 double FlightTrack::damper_work(double ta, double tb) const {
-  if (model_.forces.damper.damping == 0.0 || tb <= ta) return 0.0;
+  if (damping_ == 0.0 || tb <= ta) return 0.0;
   // Four-point Gauss–Legendre on c q̇²: q̇ is smooth over an interval of a few degrees.
   constexpr std::array<double, 4> x{-0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.8611363115940526};
   constexpr std::array<double, 4> w{0.3478548451374538, 0.6521451548625461, 0.6521451548625461, 0.3478548451374538};
@@ -189,7 +206,7 @@ double FlightTrack::damper_work(double ta, double tb) const {
     flight_.at(mid + half * x[i], q, v);
     sum += w[i] * v * v;
   }
-  return model_.forces.damper.damping * half * sum;
+  return damping_ * half * sum;
 }
 
 // The longest interval from p over which the gap provably stays above half

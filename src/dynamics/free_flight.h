@@ -18,14 +18,21 @@
 namespace camdyn {
 
 /// Whether the model's flight has the closed form: constant-speed drive, the
-/// reduced pair form, a non-negative spring, and no state besides q, q̇, the
-/// pair parameter and the roller spin.
+/// reduced pair form, follower forces with a linear part (follower_linear_parts;
+/// none while an element without one is present) of non-negative stiffness,
+/// and no state besides q, q̇, the pair parameter and the roller spin.
 bool flight_has_closed_form(const Model& model);
+/// The same with the follower forces' linear parts `linear` (follower_linear_parts(model)).
+bool flight_has_closed_form(const Model& model, const std::optional<FollowerLinearParts>& linear);
 
-/// q(t), q̇(t) of the free follower from a start (t₀, q₀, q̇₀).
+/// q(t), q̇(t) of the free follower from a start (t₀, q₀, q̇₀), under the sum
+/// of the follower forces' linear parts (F₀, k, c). Throws std::invalid_argument
+/// for a model without the closed form's forces (flight_has_closed_form).
 class FreeFlight {
  public:
   explicit FreeFlight(const Model& model);
+  /// Under the linear part `linear` of the follower's forces.
+  FreeFlight(const Model& model, const LinearPart& linear);
   void start(double t0, double q0, double v0);
   /// Position [m | rad] and rate at t ≥ t₀ [s].
   void at(double t, double& q, double& v) const;
@@ -33,7 +40,7 @@ class FreeFlight {
   double speed_bound(double q, double v, double h) const;
 
  private:
-  double c_half_ = 0.0;  // a = c / 2M [1/s]
+  double c_half_ = 0.0;  // a = c / 2M [1/s], of the forces' linear part F₀ + k q + c q̇
   double omega2_ = 0.0;  // ω² = k / M [1/s²]
   double b2_ = 0.0;      // ω² − a² [1/s²]
   double load_ = 0.0;    // (F₀ + M g) / M [m/s² | rad/s²]
@@ -78,17 +85,18 @@ class FlightTrack {
 
  private:
   bool point(Workspace& ws, double t, double u_warm, FlightPoint& p);
-  double damper_work(double ta, double tb) const;  ///< ∫ c q̇² dt over [ta, tb] [J]
+  double damper_work(double ta, double tb) const;  ///< ∫ c q̇² dt over [ta, tb], c the linear part's [J]
   double safe_interval(const FlightPoint& p) const;
   bool refine_landing(Workspace& ws, FlightPoint lo, FlightPoint hi, FlightPoint& landing);
 
   const Model& model_;
   Model newton_;  // the model with Newton tracking: the pair from the follower's position
   FreeFlight flight_;
-  double r_max_ = 0.0;   // radius of the profile's bounding circle [m]
-  double lever_ = 0.0;   // bound of |∂g/∂q| [m/m | m/rad]
-  double h_near_ = 0.0;  // interval near the cam, checked by the Hermite cubic [s]
-  double h_far_ = 0.0;   // longest interval [s]
+  double damping_ = 0.0;  // c of the forces' linear part [N s/m | N m s/rad]
+  double r_max_ = 0.0;    // radius of the profile's bounding circle [m]
+  double lever_ = 0.0;    // bound of |∂g/∂q| [m/m | m/rad]
+  double h_near_ = 0.0;   // interval near the cam, checked by the Hermite cubic [s]
+  double h_far_ = 0.0;    // longest interval [s]
   FlightPoint a_, b_;
   Evaluation ev_;
   long intervals_ = 0;

@@ -54,7 +54,9 @@ struct HeldTrain {
 };
 
 /// The model's held train. A model without a train has one coordinate (the
-/// follower) and one quantity, the contact force.
+/// follower) and one quantity, the contact force. The follower's forces are
+/// the sum of their linear parts: throws std::invalid_argument when some
+/// follower element has none (dynamics/train_jump_speed.h).
 HeldTrain held_train(const Model& model);
 
 /// A lift function on the response grid of R angles θ_i = 2π i / R: exact

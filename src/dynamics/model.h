@@ -99,6 +99,13 @@ struct Model : CamGeometry {
   bool exact_jacobian() const { return pair_form == PairForm::reduced; }
 };
 
+/// The linear parts of the model's follower forces (FollowerForces::linear_parts
+/// at the model's inertia): what every closed form reads; none when some
+/// element has none, and the closed forms are then off.
+inline std::optional<FollowerLinearParts> follower_linear_parts(const Model& model) {
+  return model.forces.linear_parts(model.mass);
+}
+
 /// Assembles the model of a scene. Throws InputError for a cam that cannot be
 /// made or a contact law that cannot be built; `file` names the config.
 /// Builds the scene's geometry (build_cam_geometry) first.

@@ -237,7 +237,7 @@ Model assemble_model(const CamGeometry& geometry, const SceneConfig& scene, cons
   assign_state_layout(model);
   model.train = build_follower_train(scene, file, model.layout);
   // A spring with mass is the train's lumped chain, not the follower's massless spring.
-  if (model.train.follower_spring_lumped) model.forces.spring = ReturnSpring{};
+  if (model.train.follower_spring_lumped) model.forces.spring() = ReturnSpring{};
   assign_train_figures(scene, file, model);
   list_elements(model);
   // Refuses what the solver could not run (docs/warnings.md), naming the field.
@@ -310,7 +310,7 @@ std::optional<FollowerTrain> train_of_same_structure(const Model& model, const S
 
 void set_train(Model& model, FollowerTrain train, const SceneConfig& scene, const std::string& file) {
   model.train = std::move(train);
-  if (model.train.follower_spring_lumped) model.forces.spring = ReturnSpring{};
+  if (model.train.follower_spring_lumped) model.forces.spring() = ReturnSpring{};
   try {
     assign_train_figures(scene, file, model);
     check_plausibility(scene, model, file);

@@ -48,7 +48,7 @@ bool quadrature_reported(const Model& m, int i) {
     case 0:
       return m.drive.works(m.omega);
     case 1:
-      return m.forces.damper.present() || m.drive.dissipates();
+      return m.forces.damper().present() || m.drive.dissipates();
     case 2:
       return force_form(m.contact.model) != ForceForm::elastic;
     case 3:

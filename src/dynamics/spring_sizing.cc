@@ -31,7 +31,8 @@ double min_quadratic(double a, double b, double w_max) {
 
 /// D(θ) of the file comment.
 double demand(const LawSample& s, const RigidSpringLoad& load, double omega_max) {
-  return load.min_force - load.weight - min_quadratic(load.mass * s.d2s, load.damping * s.ds, omega_max);
+  return load.min_force - load.weight - min_quadratic(load.mass * s.d2s, load.damping * s.ds, omega_max) -
+         load.other_stiffness * s.s;
 }
 
 /// The largest f over [a, b] near a sampled maximum: golden section.
@@ -88,13 +89,20 @@ SpringSizing size_spring(const MotionLaw& law, const RigidSpringLoad& load, doub
   return out;
 }
 
-RigidSpringLoad rigid_spring_load(const Model& model, double min_force) {
+std::optional<RigidSpringLoad> rigid_spring_load(const Model& model, double min_force) {
+  return rigid_spring_load(model, min_force, follower_linear_parts(model));
+}
+
+std::optional<RigidSpringLoad> rigid_spring_load(const Model& model, double min_force,
+                                                 const std::optional<FollowerLinearParts>& linear) {
+  if (!linear) return std::nullopt;
   RigidSpringLoad load;
   load.mass = model.mass;
-  load.damping = model.forces.damper.damping;
-  load.weight = model.forces.weight(model.mass);
-  load.stiffness = model.forces.spring.stiffness;
-  load.preload = model.forces.spring.preload;
+  load.damping = linear->others.damping;
+  load.weight = linear->others.load;
+  load.other_stiffness = linear->others.stiffness;
+  load.stiffness = linear->spring.stiffness;
+  load.preload = linear->spring.load;
   load.min_force = min_force;
   return load;
 }
@@ -123,8 +131,8 @@ struct TrainSpring {
 /// Every spring of the model, the follower's first.
 std::vector<TrainSpring> train_springs(const Model& model, int n) {
   std::vector<TrainSpring> out;
-  if (model.forces.spring.present()) {  // the follower's massless spring: f0[0] −= F₀
-    out.push_back({0, model.forces.spring.preload, Eigen::VectorXd::Zero(n)});
+  if (model.forces.spring().present()) {  // the follower's massless spring: f0[0] −= F₀
+    out.push_back({0, model.forces.spring().preload, Eigen::VectorXd::Zero(n)});
     out.back().d[0] = -1.0;
   }
   for (int b = 0; b < static_cast<int>(model.train.bodies.size()); ++b) {
@@ -185,7 +193,16 @@ std::vector<double> sizing_speeds(const HeldTrain& train, const GridSignal& law,
 }  // namespace
 
 HeldSpringSizing size_held_spring(const Model& model, double min_force, double omega_max) {
+  return size_held_spring(model, min_force, omega_max, follower_linear_parts(model));
+}
+
+HeldSpringSizing size_held_spring(const Model& model, double min_force, double omega_max,
+                                  const std::optional<FollowerLinearParts>& linear) {
   HeldSpringSizing out;
+  if (!linear) {
+    out.reason = kNoLinearPart;
+    return out;
+  }
   const HeldTrain train = held_train(model);
   std::vector<double> g;  // per held quantity, its change per unit preload [N/N | N/(N m)]
   const std::vector<TrainSpring> springs = train_springs(model, train.free_coordinates());

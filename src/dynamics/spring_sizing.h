@@ -6,6 +6,9 @@
 // P is linear in (k, F₀), so the feasible springs are the intersection of
 // half-planes k s(θ) + F₀ ≥ D(θ), with the demand
 //   D(θ) = P_min − M g − min over ω ∈ [0, ω_max] of (M ω² s'' + c ω s')
+// (M g, c: the sum of the linear parts of the follower's elements besides
+// the spring, dynamics/follower_forces.h; one of them with a rate k_o also
+// takes k_o s(θ) from the demand)
 // (a quadratic in ω: its minimum is at an end or at its vertex). With one of
 // (k, F₀) fixed the other is a closed-form maximum over θ, so no linear
 // programme is needed. Generalised coordinate of any follower: an arm's
@@ -16,6 +19,7 @@
 // (size_held_spring, docs/model.md §12 "Rigid figures of a train").
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include "dynamics/model.h"
@@ -23,14 +27,17 @@
 
 namespace camdyn {
 
-/// The follower as the rigid model sees it (translating: kg, N s/m, N/m, N).
+/// The follower as the rigid model sees it (translating: kg, N s/m, N/m, N):
+/// the return spring, sized, and the linear parts of its other force
+/// elements (dynamics/follower_forces.h), known.
 struct RigidSpringLoad {
-  double mass = 0.0;       ///< M [kg | kg m²]
-  double damping = 0.0;    ///< c [N s/m | N m s/rad]
-  double weight = 0.0;     ///< M g towards the cam [N]
-  double stiffness = 0.0;  ///< k of the spring in place [N/m | N m/rad]
-  double preload = 0.0;    ///< F₀ of the spring in place [N | N m]
-  double min_force = 0.0;  ///< P_min: the force to keep [N | N m], ≥ 0
+  double mass = 0.0;             ///< M [kg | kg m²]
+  double damping = 0.0;          ///< c of the other elements (the damper) [N s/m | N m s/rad]
+  double weight = 0.0;           ///< F₀ of the other elements: M g towards the cam [N | N m]
+  double other_stiffness = 0.0;  ///< k of the other elements (none of the three has one) [N/m | N m/rad]
+  double stiffness = 0.0;        ///< k of the spring in place [N/m | N m/rad]
+  double preload = 0.0;          ///< F₀ of the spring in place [N | N m]
+  double min_force = 0.0;        ///< P_min: the force to keep [N | N m], ≥ 0
 };
 
 struct SpringSizing {
@@ -47,8 +54,14 @@ struct SpringSizing {
 /// its own piece) and the largest demand refined by golden section.
 SpringSizing size_spring(const MotionLaw& law, const RigidSpringLoad& load, double omega_max, int samples = 2000);
 
-/// The load of `model` (its mass, damper, gravity and spring) with P_min = `min_force`.
-RigidSpringLoad rigid_spring_load(const Model& model, double min_force);
+/// The load of `model` (its mass, its spring and the sum of its other
+/// follower elements' linear parts: the damper, gravity) with P_min =
+/// `min_force`; none, no sizing, when some follower element has no linear
+/// part (dynamics/follower_forces.h kNoLinearPart).
+std::optional<RigidSpringLoad> rigid_spring_load(const Model& model, double min_force);
+/// The same with the follower forces' linear parts `linear` (follower_linear_parts(model)).
+std::optional<RigidSpringLoad> rigid_spring_load(const Model& model, double min_force,
+                                                 const std::optional<FollowerLinearParts>& linear);
 
 /// The preload of one spring of a follower train sized on the held train
 /// (dynamics/held_train.h): every held quantity (the cam contact, each link)
@@ -77,7 +90,11 @@ struct HeldSpringSizing {
 /// first, whose preload unloads no held quantity (a follower's spring pulls
 /// it off the links behind it; the valve's spring loads them all); not
 /// available (with the reason) without such a spring, or where its preload
-/// does not reach a quantity that falls below `min_force`.
+/// does not reach a quantity that falls below `min_force`, or when some
+/// follower element has no linear part (the held train has none).
 HeldSpringSizing size_held_spring(const Model& model, double min_force, double omega_max);
+/// The same with the follower forces' linear parts `linear` (follower_linear_parts(model)).
+HeldSpringSizing size_held_spring(const Model& model, double min_force, double omega_max,
+                                  const std::optional<FollowerLinearParts>& linear);
 
 }  // namespace camdyn

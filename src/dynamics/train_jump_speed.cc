@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <stdexcept>
+#include <string>
 
 #include "dynamics/held_train.h"
 #include "dynamics/rigid_jump_speed.h"
@@ -17,13 +19,13 @@ constexpr double kRpmPerRadPerSecond = 60.0 / (2.0 * std::numbers::pi);
 constexpr int kJumpSpeedAngles = 1024;  ///< of the held train's response grid (dynamics/held_train.h)
 
 /// The train's own elements (links held; seats, stops and clash left out)
-/// and the follower's massless spring, damper and weight into `lt`.
-void add_train_elements(const Model& model, LinearTrain& lt) {
+/// and the follower forces' linear part `follower` (its massless spring,
+/// damper and weight, F₀ = preload + M g summed in that order) into `lt`.
+void add_train_elements(const Model& model, const LinearPart& follower, LinearTrain& lt) {
   const int n = static_cast<int>(lt.M.rows());
-  const ReturnSpring& spring = model.forces.spring;
-  lt.K(0, 0) += spring.stiffness;
-  lt.C(0, 0) += model.forces.damper.damping;
-  lt.f0[0] -= spring.preload + model.forces.weight(model.mass);
+  lt.K(0, 0) += follower.stiffness;
+  lt.C(0, 0) += follower.damping;
+  lt.f0[0] -= follower.load;
   for (const TrainElement& e : model.train.elements) {
     if (e.role == TrainRole::seat || e.role == TrainRole::stop || e.role == TrainRole::clash) continue;
     Eigen::VectorXd c = Eigen::VectorXd::Zero(n);
@@ -63,6 +65,11 @@ LinearForce contact_force(double k_c, double c_c, double offset, double lever, i
 }  // namespace
 
 LinearTrain linear_train_without_contact(const Model& model) {
+  return linear_train_without_contact(model, follower_linear_parts(model));
+}
+
+LinearTrain linear_train_without_contact(const Model& model, const std::optional<FollowerLinearParts>& linear) {
+  if (!linear) throw std::invalid_argument(std::string("the held, linearised train: ") + kNoLinearPart);
   const int n = std::max(1, static_cast<int>(model.train.coordinates.size()));  // a model without a train: 1
   LinearTrain base;
   base.M = Eigen::MatrixXd::Zero(n, n);
@@ -70,7 +77,7 @@ LinearTrain linear_train_without_contact(const Model& model) {
     base.M(i, i) = i == 0 ? model.mass : model.train.coordinates[static_cast<std::size_t>(i)].mass;
   base.C = base.K = Eigen::MatrixXd::Zero(n, n);
   base.f0 = base.k_in = base.c_in = Eigen::VectorXd::Zero(n);
-  add_train_elements(model, base);
+  add_train_elements(model, linear->total(), base);
   return base;
 }
 
@@ -116,7 +123,10 @@ double rigid_jump_speed_rpm(const Model& model) {
 
 }  // namespace
 
-double train_jump_speed_rpm(const Model& model) {
+double train_jump_speed_rpm(const Model& model) { return train_jump_speed_rpm(model, follower_linear_parts(model)); }
+
+double train_jump_speed_rpm(const Model& model, const std::optional<FollowerLinearParts>& linear) {
+  if (!linear) return std::numeric_limits<double>::quiet_NaN();
   const double rigid_rpm = rigid_jump_speed_rpm(model);
   const double limit_rpm = std::isfinite(rigid_rpm) && rigid_rpm > 0.0 ? 20.0 * rigid_rpm : 1e5;
   const GridSignal law = grid_signal([&](double theta) { return model.law->eval(theta); }, kJumpSpeedAngles);

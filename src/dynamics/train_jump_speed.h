@@ -7,6 +7,8 @@
 // figure of docs/model.md §9.
 #pragma once
 
+#include <optional>
+
 #include "dynamics/linear_train_response.h"
 #include "dynamics/model.h"
 
@@ -21,14 +23,21 @@ LinearTrain linearised_train(const Model& model);
 
 /// The same train without the cam contact: coordinate 0's row holds the
 /// follower's inertia, spring, damper and weight and the train's forces on it
-/// (the held train of dynamics/held_train.h prescribes that coordinate).
+/// (the held train of dynamics/held_train.h prescribes that coordinate):
+/// the sum of the follower forces' linear parts (follower_linear_parts).
+/// Throws std::invalid_argument when some follower element has none (as do
+/// linearised_train and held_train, which build on it).
 LinearTrain linear_train_without_contact(const Model& model);
+/// The same with the follower forces' linear parts `linear` (follower_linear_parts(model)).
+LinearTrain linear_train_without_contact(const Model& model, const std::optional<FollowerLinearParts>& linear);
 
 /// The train's jump speed [rpm] for a model whose train has coordinates of
 /// its own (bodies or spring lumps); +inf when no held force reaches zero up
 /// to 20 times the rigid figure (or 100 000 rpm without one); 0 when the
-/// static train does not hold the contact.
+/// static train does not hold the contact; NaN, no figure, when some
+/// follower element has no linear part.
 double train_jump_speed_rpm(const Model& model);
+double train_jump_speed_rpm(const Model& model, const std::optional<FollowerLinearParts>& linear);
 
 /// The model's jump speed [rpm]: its train's (Model::train_jump_speed_rpm)
 /// where the train has coordinates of its own, else the rigid figure of

@@ -33,7 +33,7 @@ class TrainObserver {
       t.springs = t.springs || b.spring_end >= 0;
       t.bodies.push_back(b.name);
     }
-    t.springs = t.springs || model.forces.spring.present();
+    t.springs = t.springs || model.forces.spring().present();
     t.clash = std::any_of(train_.elements.begin(), train_.elements.end(),
                           [](const TrainElement& e) { return e.role == TrainRole::clash; });
     t.max_lift_error.assign(train_.bodies.size(), 0.0);
@@ -49,7 +49,7 @@ class TrainObserver {
   void fold(const Evaluation& e) {
     if (!train_.present()) return;
     TrainMetrics& t = *m_.train;
-    const ReturnSpring& spring = model_.forces.spring;  // the follower's massless spring, where it has one
+    const ReturnSpring& spring = model_.forces.spring();  // the follower's massless spring, where it has one
     if (spring.present()) t.peak_spring_force = std::max(t.peak_spring_force, std::abs(spring.force(e.y, e.v, 0.0)));
     double kinematic = model_.law->eval(e.theta).s;  // [m | rad]
     for (std::size_t i = 0; i < train_.bodies.size(); ++i) {

@@ -124,8 +124,8 @@ void check_parameters(const Model& model, const ModelParameters& p, const std::s
 
 /// Which of the optional force elements list_elements() lists.
 unsigned element_flags(const Model& m) {
-  return (m.forces.spring.present() ? 1u : 0u) | (m.forces.damper.present() ? 2u : 0u) |
-         (m.forces.gravity.present() ? 4u : 0u) | (m.drive.damping > 0.0 ? 8u : 0u);
+  return (m.forces.spring().present() ? 1u : 0u) | (m.forces.damper().present() ? 2u : 0u) |
+         (m.forces.gravity().present() ? 4u : 0u) | (m.drive.damping > 0.0 ? 8u : 0u);
 }
 
 }  // namespace
@@ -173,9 +173,9 @@ namespace {
 void assign_parameters(Model& model, const ModelParameters& p) {
   const bool oscillating = model.follower.oscillating();
   model.mass = p.mass;
-  model.forces.spring = {p.spring_stiffness, p.spring_preload};
-  model.forces.damper = {p.damping};
-  model.forces.gravity = {oscillating ? 0.0 : p.gravity};
+  model.forces.spring() = {p.spring_stiffness, p.spring_preload};
+  model.forces.damper() = {p.damping};
+  model.forces.gravity() = {oscillating ? 0.0 : p.gravity};
   model.contact.stiffness = p.contact_stiffness;
   model.contact.exponent = p.contact_exponent;
   model.contact.restitution = p.restitution;

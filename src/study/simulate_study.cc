@@ -111,9 +111,13 @@ int run_simulate_study(const Json& doc, const StudyContext& ctx) {
                 m.float_fraction.value_or(0.0), m.train->take_up_bounces, m.train->seat_bounces,
                 m.train->max_seat_bounce_height * 1e3);
   if (rigid_spring_sizing_applies(model)) {
-    const SpringSizing sizing = size_spring(*model.law, rigid_spring_load(model, 0.0), model.omega);
-    std::printf("  required spring preload %.6g %s at the rate given (rigid model, contact up to this speed)\n",
-                sizing.required_preload, coordinate_units(model).force);
+    if (const std::optional<RigidSpringLoad> load = rigid_spring_load(model, 0.0)) {
+      const SpringSizing sizing = size_spring(*model.law, *load, model.omega);
+      std::printf("  required spring preload %.6g %s at the rate given (rigid model, contact up to this speed)\n",
+                  sizing.required_preload, coordinate_units(model).force);
+    } else {
+      std::printf("  required spring preload: not available (%s)\n", kNoLinearPart);
+    }
   } else {  // the held train's (docs/model.md §12)
     const HeldSpringSizing sizing = size_held_spring(model, 0.0, model.omega);
     if (sizing.available)

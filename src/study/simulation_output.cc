@@ -185,7 +185,15 @@ Json held_spring_sizing_json(const Model& model) {
 
 Json spring_sizing_json(const Model& model) {
   if (rigid_figures_held(model)) return held_spring_sizing_json(model);
-  const SpringSizing s = size_spring(*model.law, rigid_spring_load(model, 0.0), model.omega);
+  const std::optional<RigidSpringLoad> load = rigid_spring_load(model, 0.0);
+  if (!load)
+    return Json{{"required_preload", nullptr},
+                {"required_preload_unit", coordinate_units(model).force},
+                {"required_preload_unavailable", kNoLinearPart},
+                {"required_stiffness", nullptr},
+                {"min_contact_force", 0.0},
+                {"up_to_rpm", model.omega * 60.0 / (2.0 * std::numbers::pi)}};
+  const SpringSizing s = size_spring(*model.law, *load, model.omega);
   const Json rate = std::isfinite(s.required_stiffness) ? Json(s.required_stiffness) : Json(nullptr);
   return Json{{"required_preload", s.required_preload},
               {"required_preload_unit", coordinate_units(model).force},

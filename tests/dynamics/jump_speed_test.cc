@@ -20,14 +20,14 @@ namespace {
 
 // min over θ (on a fine grid) of the positive root of m s'' ω² + c s' ω + hold = 0 [rpm].
 double closed_form_rpm(const Model& model) {
-  const double x0 = model.forces.spring.preload / model.forces.spring.stiffness;
+  const double x0 = model.forces.spring().preload / model.forces.spring().stiffness;
   double best = std::numeric_limits<double>::infinity();
   constexpr int kAngles = 72000;
   for (int i = 0; i < kAngles; ++i) {
     const LawSample s = model.law->eval(2 * std::numbers::pi * i / kAngles);
     if (!(s.d2s < 0.0)) continue;
-    const double a = -model.mass * s.d2s, b = model.forces.damper.damping * s.ds,
-                 hold = model.forces.spring.stiffness * (s.s + x0);
+    const double a = -model.mass * s.d2s, b = model.forces.damper().damping * s.ds,
+                 hold = model.forces.spring().stiffness * (s.s + x0);
     best = std::min(best, (b + std::sqrt(b * b + 4 * a * hold)) / (2 * a));
   }
   return best * 60 / (2 * std::numbers::pi);

@@ -105,7 +105,7 @@ TEST(SpringSizing, NoRateHoldsWhenThePreloadIsBelowTheForceToKeep) {
 TEST(SpringSizing, SizedPreloadPutsTheJumpSpeedAtTheSizingSpeed) {
   SceneConfig scene = test::cycloidal_cam_scene(1000.0);
   const Model model0 = build_model(scene, "test.json");
-  const SpringSizing s = size_spring(*model0.law, rigid_spring_load(model0, 0.0), kOmega);
+  const SpringSizing s = size_spring(*model0.law, *rigid_spring_load(model0, 0.0), kOmega);
   scene.mechanism.follower.spring.preload = s.required_preload;
   const Model model = build_model(scene, "test.json");
   EXPECT_NEAR(jump_speed_rpm(model), kOmega * 30.0 / kPi, test::kRigidJumpGrid * kOmega * 30.0 / kPi);

@@ -74,7 +74,7 @@ TEST(TrainStressLimit, ProbeSeesTheHeldTrainsPressure) {
   limits.held = &model;
   std::vector<double> angles;
   for (int i = 0; i < 720; ++i) angles.push_back(kTwoPi * i / 720.0);
-  const RigidFollower f = rigid_follower(model, 10.0);
+  const RigidFollower f = *rigid_follower(model, 10.0);
   EXPECT_TRUE(
       RigidLimitProbe(space, model.follower, model.direction, f, limits, angles).broken(a.design.control_points));
   limits.held = nullptr;  // the follower alone

@@ -504,8 +504,8 @@ struct RigidImpact {
 };
 
 RigidImpact next_rigid_impact(const Model& m, const RigidImpact& from, double e) {
-  const double w = std::sqrt(m.forces.spring.stiffness / m.mass), omega = m.omega;
-  const double y_eq = -m.forces.spring.preload / m.forces.spring.stiffness;
+  const double w = std::sqrt(m.forces.spring().stiffness / m.mass), omega = m.omega;
+  const double y_eq = -m.forces.spring().preload / m.forces.spring().stiffness;
   const double y0 = m.law->eval(from.theta).s, a = y0 - y_eq, b = from.v / w;
   auto y = [&](double t) { return y_eq + a * std::cos(w * t) + b * std::sin(w * t); };
   auto gap = [&](double t) { return y(t) - m.law->eval(from.theta + omega * t).s; };

@@ -110,7 +110,7 @@ TEST(RigidFiguresOutput, WithoutATrainTheSizingIsTheOneMassFigure) {
   const Model model = build_model(load_scene(kQuickstart), kQuickstart);
   ASSERT_FALSE(rigid_figures_held(model));
   const Json j = spring_sizing_json(model);
-  const SpringSizing s = size_spring(*model.law, rigid_spring_load(model, 0.0), model.omega);
+  const SpringSizing s = size_spring(*model.law, *rigid_spring_load(model, 0.0), model.omega);
   EXPECT_EQ(j.at("required_preload").get<double>(), s.required_preload);
   EXPECT_EQ(j.at("required_preload_unit"), "N");
   EXPECT_FALSE(j.contains("model"));

@@ -48,7 +48,7 @@ double rigid_bound_rpm(double damping) {
   SceneConfig s = load_scene(kQuickstart);
   s.mechanism.follower.damping = damping;
   const Model model = build_model(s, kQuickstart);
-  const optim::RigidFollower f = optim::rigid_follower(model, 0.0);
+  const optim::RigidFollower f = *optim::rigid_follower(model, 0.0);
   const optim::SampledLaw law(*model.law, 4000);
   auto ok = [&](double w) { return law.worst_margin(f, optim::check_speeds(w, f)) >= 0.0; };
   return optim::highest_feasible_speed(ok, 100.0, 1e4, 1e-6) * 30.0 / std::numbers::pi;
