@@ -12,8 +12,10 @@
 // * the quickstart's jump map over 800–1800 rpm (21 speeds, one range,
 //   2 transient revolutions, 2 samples, period 1, no refinement or
 //   coexistence check: a cheap map, so that the model's share shows);
-// * a speed_limit scan of the bucket tappet from 1000 rpm (16 speeds up to
-//   twice its train jump speed, tolerance 5 rpm, one thread).
+// * a speed_limit scan of each valve-train study (studies/valvetrain/: the
+//   bucket tappet and the pushrod-rocker train from 1000 rpm, 16 speeds,
+//   tolerance 5 rpm; the DOHC lash train from 2000 rpm, 12 speeds,
+//   tolerance 10 rpm), on one thread.
 //
 // The counters give the models assembled per iteration.
 //
@@ -33,7 +35,8 @@
 namespace {
 
 const std::string kQuickstart = std::string(CAMDYN_SOURCE_DIR) + "/studies/quickstart.json";
-const std::string kBucketTappet = std::string(CAMDYN_SOURCE_DIR) + "/studies/valvetrain/bucket_tappet.json";
+const std::string kValveTrains = std::string(CAMDYN_SOURCE_DIR) + "/studies/valvetrain/";
+const std::string kBucketTappet = kValveTrains + "bucket_tappet.json";
 constexpr int kSpeeds = 200;
 
 camdyn::StudyContext context(const std::string& config) {
@@ -104,12 +107,12 @@ void BM_JumpMapQuickstart(benchmark::State& state) {
 }
 BENCHMARK(BM_JumpMapQuickstart)->Arg(0)->Arg(1)->ArgName("in_place")->Unit(benchmark::kSecond)->Iterations(2);
 
-/// A speed_limit scan of the bucket tappet and its bisection, on one thread.
-void BM_SpeedLimitBucketTappet(benchmark::State& state) {
-  const camdyn::StudyContext ctx = context(kBucketTappet);
-  camdyn::Json doc = camdyn::load_config_json(kBucketTappet);
+/// A speed_limit scan of a valve-train study and its bisection, on one thread.
+void BM_SpeedLimitValveTrain(benchmark::State& state, const std::string& file, const char* scan) {
+  const camdyn::StudyContext ctx = context(file);
+  camdyn::Json doc = camdyn::load_config_json(file);
   doc["study"] = "speed_limit";
-  doc["speed_limit"] = camdyn::Json::parse(R"({"low_rpm": 1000, "scan": 16, "tolerance_rpm": 5})");
+  doc["speed_limit"] = camdyn::Json::parse(scan);
   camdyn::SpeedLimitStudy study = camdyn::read_speed_limit_study(doc, ctx);
   if (state.range(0) == 0) study.model = nullptr;
   long builds = 0;
@@ -120,7 +123,27 @@ void BM_SpeedLimitBucketTappet(benchmark::State& state) {
   }
   label(state, builds);
 }
-BENCHMARK(BM_SpeedLimitBucketTappet)->Arg(0)->Arg(1)->ArgName("in_place")->Unit(benchmark::kSecond)->Iterations(2);
+BENCHMARK_CAPTURE(BM_SpeedLimitValveTrain, bucket_tappet, kBucketTappet,
+                  R"({"low_rpm": 1000, "scan": 16, "tolerance_rpm": 5})")
+    ->Arg(0)
+    ->Arg(1)
+    ->ArgName("in_place")
+    ->Unit(benchmark::kSecond)
+    ->Iterations(2);
+BENCHMARK_CAPTURE(BM_SpeedLimitValveTrain, pushrod_rocker, kValveTrains + "pushrod_rocker.json",
+                  R"({"low_rpm": 1000, "scan": 16, "tolerance_rpm": 5})")
+    ->Arg(0)
+    ->Arg(1)
+    ->ArgName("in_place")
+    ->Unit(benchmark::kSecond)
+    ->Iterations(2);
+BENCHMARK_CAPTURE(BM_SpeedLimitValveTrain, dohc_bucket_lash, kValveTrains + "dohc_bucket_lash.json",
+                  R"({"low_rpm": 2000, "scan": 12, "tolerance_rpm": 10})")
+    ->Arg(0)
+    ->Arg(1)
+    ->ArgName("in_place")
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1);
 
 }  // namespace
 

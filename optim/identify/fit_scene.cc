@@ -7,44 +7,13 @@
 #include <utility>
 
 #include "common/errors.h"
+#include "dynamics/cam_geometry.h"
 #include "io/json_archive.h"
 #include "io/typed_archive.h"
-#include "study/model_parameters.h"
 
 namespace camdyn::optim {
 
 namespace {
-
-// The parameter block's fields (study/model_parameters.h), by config
-// path: set in place. Each is found in the scene through the loader's visit
-// (io/typed_archive.h), so only a field the scene may give is bound (an
-// optional block the scene lacks, or a field its choices leave out, is not).
-constexpr std::string_view kParameterPaths[] = {
-    "mechanism.follower.mass",
-    "mechanism.follower.inertia",
-    "mechanism.follower.spring.stiffness",
-    "mechanism.follower.spring.preload",
-    "mechanism.follower.damping",
-    "gravity",
-    "mechanism.contact.stiffness",
-    "mechanism.contact.restitution",
-    "mechanism.contact.damping",
-    "mechanism.contact.reference_velocity",
-    "mechanism.contact.friction.mu",
-    "mechanism.contact.friction.regularization_velocity",
-    "mechanism.follower.shape.inertia",
-    "mechanism.follower.guide_friction.mu",
-    "mechanism.follower.guide_friction.regularization_velocity",
-    "mechanism.follower.pivot_friction.mu",
-    "mechanism.follower.pivot_friction.pin_radius",
-    "mechanism.follower.pivot_friction.regularization_velocity",
-    "mechanism.cam.drive.inertia",
-    "mechanism.cam.drive.torsional_stiffness",
-    "mechanism.cam.drive.torsional_damping",
-    "mechanism.cam.drive.motor.stall_torque",
-    "mechanism.cam.drive.motor.no_load_rpm",
-    "mechanism.cam.drive.motor.inertia",
-};
 
 std::string values_text(const std::vector<FitParameter>& parameters, const std::vector<double>& values) {
   std::string at;
@@ -56,28 +25,22 @@ std::string values_text(const std::vector<FitParameter>& parameters, const std::
 }  // namespace
 
 std::optional<FieldBinding> bind_field(const std::string& path, SceneConfig& scene) {
-  FieldBinding b;
-  if (path == "mechanism.contact.exponent") {
-    // Stiffness from materials fixes the exponent: build_model checks it.
-    b.kind = scene.mechanism.contact.from_materials ? FieldKind::geometry : FieldKind::parameter;
-  } else if (path == "mechanism.follower.initial.velocity") {
-    b.kind = FieldKind::scene;
-  } else if (path == "mechanism.cam.base_radius" || path == "mechanism.follower.shape.radius") {
-    b.kind = FieldKind::geometry;
-    b.positive = true;
-  } else if (path.rfind("mechanism.train[", 0) == 0 || path.rfind("mechanism.follower.seat.", 0) == 0 ||
-             path.rfind("mechanism.follower.stop.", 0) == 0 || path == "mechanism.follower.lash" ||
-             path == "mechanism.follower.spring.mass" || path == "mechanism.follower.spring.damping_ratio") {
-    // The follower train's numbers (docs/model.md §12): set in place with the
-    // train built again on the model's states, or the model built again on the
-    // same geometry where a value changes the train's structure.
-    b.kind = FieldKind::parameter;
-  } else if (std::find(std::begin(kParameterPaths), std::end(kParameterPaths), path) == std::end(kParameterPaths)) {
-    return std::nullopt;
-  }
-  const std::optional<SceneField> field = try_find_scene_field(scene, path);
+  std::optional<SceneField> field = try_find_scene_field(scene, path);
   if (!field) return std::nullopt;
+  FieldBinding b;
   b.field = field->value;
+  if (path == "mechanism.follower.initial.velocity") {
+    b.kind = FieldKind::scene;
+  } else {
+    // A field the cam's geometry is built from (its CamGeometryKey changes
+    // with it) builds the geometry again; any other is set in place.
+    const double kept = *b.field;
+    const CamGeometryKey before(scene);
+    *b.field = kept == 0.0 ? 1.0 : 2.0 * kept;
+    b.kind = CamGeometryKey(scene) == before ? FieldKind::parameter : FieldKind::geometry;
+    *b.field = kept;
+  }
+  b.checked = std::move(*field);
   return b;
 }
 
@@ -132,6 +95,13 @@ void FitScene::set(const std::vector<double>& values) {
     return;
   }
   bool geometry_changed = !model_current_;
+  // Every value checked first (the loader's reason for one no config may
+  // give), so that a refused vector leaves the scene as the model has it.
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    const FieldBinding& b = *bindings_[i];
+    if (std::string reason = b.checked.reason(values[i]); !reason.empty())
+      throw InputError(source_.file, parameters_[i].path, std::move(reason));
+  }
   for (std::size_t i = 0; i < values.size(); ++i) {
     const FieldBinding& b = *bindings_[i];
     double& field = *b.field;
@@ -139,8 +109,6 @@ void FitScene::set(const std::vector<double>& values) {
       field = values[i];
       continue;
     }
-    if (b.positive && !(values[i] > 0.0))
-      throw InputError(source_.file, parameters_[i].path, positive().number(values[i]));
     geometry_changed = geometry_changed || field != values[i];
     field = values[i];
   }

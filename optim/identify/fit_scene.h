@@ -2,17 +2,21 @@
 // the fitted parameters: its typed scene, the model built from it once and a
 // workspace, owned by one worker at a time. Each fitted dotted path is bound
 // once, at construction, to a typed field of the scene:
-//   parameter  a field of the model's parameter block or of its follower
-//              train (study/model_parameters.h, set_scene_parameters): set in
-//              place, the model is not rebuilt (unless the value changes the
-//              model's structure: then it is built on the same geometry);
+//   parameter  any field the model is assembled from but its geometry (the
+//              mass, springs, contact law, friction, drive, cam speed, a
+//              follower train's numbers): set in place with
+//              set_scene_parameters (dynamics/model.h), the model is not
+//              rebuilt (unless the value changes the model's structure:
+//              then it is built on the same geometry);
 //   scene      read by simulate() from the scene only (the initial velocity);
-//   geometry   a field the cam's geometry depends on (base radius, roller
-//              radius): set in the typed scene, the geometry and the model are
-//              built again.
-// No JSON is read for these. A path with no typed field (an element of an
-// array, a motion-law constant, ...) falls back to the old route, counted in
-// json_reads(): the resolved scene's JSON with the values set, read again.
+//   geometry   a field the cam's geometry is built from (its CamGeometryKey:
+//              base radius, roller radius, offset, ...): set in the typed
+//              scene, the geometry and the model are built again.
+// Every value is checked first with the loader's checks of its field. No
+// JSON is read for these. A path with no typed field (an element of an
+// array, a motion-law constant, a field of a block the scene does not give,
+// ...) falls back to the old route, counted in json_reads(): the resolved
+// scene's JSON with the values set, read again.
 #pragma once
 
 #include <cstddef>
@@ -25,6 +29,7 @@
 #include "dynamics/model.h"
 #include "dynamics/simulation.h"
 #include "io/config.h"
+#include "io/typed_archive.h"
 #include "optim/identify/identify.h"
 
 namespace camdyn::optim {
@@ -35,7 +40,7 @@ enum class FieldKind { parameter, scene, geometry };
 struct FieldBinding {
   FieldKind kind = FieldKind::parameter;
   double* field = nullptr;  ///< in the scene it was bound in
-  bool positive = false;    ///< geometry: the config requires > 0
+  SceneField checked;       ///< the loader's checks of its value (io/typed_archive.h)
 };
 
 /// The typed field `path` (full dotted path) names in `scene`, found through

@@ -445,11 +445,11 @@ void state_derivative(const Model& model, const Evaluation& ev, double* state_do
 }
 
 void quadrature_derivative(const Evaluation& ev, double* q_dot) {
-  q_dot[0] = ev.power_drive;
-  q_dot[1] = ev.power_damper;
-  q_dot[2] = ev.power_hysteresis;
-  q_dot[3] = ev.power_friction;
-  q_dot[4] = ev.gap > 0.0 ? ev.gap : 0.0;  // smooth within a step: g = 0 is a root
+  q_dot[quadrature::drive_work] = ev.power_drive;
+  q_dot[quadrature::damper_work] = ev.power_damper;
+  q_dot[quadrature::hysteresis_work] = ev.power_hysteresis;
+  q_dot[quadrature::friction_work] = ev.power_friction;
+  q_dot[quadrature::separation] = ev.gap > 0.0 ? ev.gap : 0.0;  // smooth within a step: g = 0 is a root
 }
 
 void root_functions(const Model& model, const Workspace& ws, const Evaluation& ev, double* g) {

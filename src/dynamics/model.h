@@ -24,6 +24,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstddef>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -44,6 +45,15 @@
 #include "scene/scene.h"
 
 namespace camdyn {
+
+/// The index of each of a run's quadratures (Model::kQuadratures, docs/model.md §7).
+namespace quadrature {
+inline constexpr std::size_t drive_work = 0;       ///< W_drive [J]
+inline constexpr std::size_t damper_work = 1;      ///< W_damper [J]
+inline constexpr std::size_t hysteresis_work = 2;  ///< W_hysteresis [J]
+inline constexpr std::size_t friction_work = 3;    ///< W_friction [J]
+inline constexpr std::size_t separation = 4;       ///< ∫ max(g, 0) dt [m s]
+}  // namespace quadrature
 
 /// The mechanism: its design's geometry (dynamics/cam_geometry.h, built once
 /// and shared; a Model copies its pointers) and the bodies and force elements
@@ -73,7 +83,7 @@ struct Model : CamGeometry {
   /// for a train with coordinates of its own; speed-independent, so made once.
   double train_jump_speed_rpm = 0.0;
   /// jump_speed_rpm(*this) [rpm], made when the model is assembled and again
-  /// by set_parameters (NaN: not made, model_jump_speed_rpm makes it): every
+  /// by set_scene_parameters (NaN: not made, model_jump_speed_rpm makes it): every
   /// run's metrics carry it, and a Poincaré map's runs are one revolution.
   double rigid_jump_speed_rpm = std::numeric_limits<double>::quiet_NaN();
 
@@ -82,7 +92,8 @@ struct Model : CamGeometry {
   double penetration_limit = 0.0;  ///< a larger δ means the contact model no longer applies [m]
 
   StateLayout layout;  ///< which states this model has, where, and their names
-  /// W_drive, W_damper, W_hysteresis, W_friction [J], and ∫ max(g, 0) dt [m s].
+  /// W_drive, W_damper, W_hysteresis, W_friction [J], and ∫ max(g, 0) dt [m s]:
+  /// indexed by the names of `Quadrature`.
   static constexpr int kQuadratures = 5;
 
   std::vector<std::string> elements;  ///< force elements assembled
@@ -147,9 +158,24 @@ std::optional<FollowerTrain> train_of_same_structure(const Model& model, const S
 /// makes again what the train and the follower's parameters give: the
 /// take-up windows, the rigid and held-train jump speeds, and the checks of
 /// build_model(). The model is then the one build_model(scene, file) makes,
-/// to the bit (tests/study/model_parameters_test.cc). Identification sets a
-/// train's fitted parameters this way (study/model_parameters.h).
+/// to the bit (tests/study/scene_parameters_test.cc).
 void set_train(Model& model, FollowerTrain train, const SceneConfig& scene, const std::string& file);
+
+/// Sets every number of `scene` in place on a model built from a scene of the
+/// same structure and geometry (Pinocchio's model / data split): the cam's
+/// speed and initial angle, the mass, spring, damper, gravity, contact law,
+/// friction and drive with
+/// build_model()'s own assembly, and a follower train's masses, links,
+/// seats, lashes and springs with set_train(); the rigid jump speed made
+/// again. The model is then the one build_model(scene, file) makes, to the
+/// bit. Returns false, the model untouched, when `scene` changes the
+/// structure (a friction element or the spin state switched on or off, a
+/// train's bodies, lumps, elements or roots): build the model again. The
+/// values are not checked against the config's rules (the caller that sets
+/// them, identification, checks them with the loader's checks); the
+/// checks that need the train are made with it (set_train). Allocates
+/// nothing without a train unless the list of elements changes.
+bool set_scene_parameters(Model& model, const SceneConfig& scene, const std::string& file);
 
 /// Mutable per-run data, reused between runs.
 struct Workspace {

@@ -298,6 +298,31 @@ void list_elements(Model& model) {
   add_train_names(model.train, model.elements);
 }
 
+namespace {
+
+/// Which of the optional force elements list_elements() lists.
+unsigned element_flags(const Model& m) {
+  return (m.forces.spring().present() ? 1u : 0u) | (m.forces.damper().present() ? 2u : 0u) |
+         (m.forces.gravity().present() ? 4u : 0u) | (m.drive.damping > 0.0 ? 8u : 0u);
+}
+
+/// Whether the scene's numbers assemble the follower's elements and states
+/// the model has (assemble_elements decides them so): the same contact
+/// friction, roller spin, guide and pivot friction.
+bool same_follower_structure(const Model& model, const SceneConfig& scene) {
+  const FollowerConfig& f = scene.mechanism.follower;
+  const double mu = scene.mechanism.contact.friction.mu;
+  const bool roller = model.follower.rolls(), oscillating = model.follower.oscillating();
+  const bool spin = roller && f.shape.inertia > 0.0 && mu > 0.0;
+  const bool friction = mu > 0.0 && (!roller || spin);
+  const bool guide = !oscillating && f.guide_friction && f.guide_friction->mu > 0.0;
+  const bool pivot = oscillating && f.pivot_friction && f.pivot_friction->mu > 0.0;
+  return spin == model.friction.spin && friction == model.friction.present && guide == model.support.guide &&
+         pivot == model.support.pivot;
+}
+
+}  // namespace
+
 std::optional<FollowerTrain> train_of_same_structure(const Model& model, const SceneConfig& scene,
                                                      const std::string& file) {
   StateLayout layout = model.layout;  // its core states, the train's appended again
@@ -317,6 +342,32 @@ void set_train(Model& model, FollowerTrain train, const SceneConfig& scene, cons
   } catch (const InputError& e) {
     rethrow_naming_unit_slip(scene, file, e);
   }
+}
+
+bool set_scene_parameters(Model& model, const SceneConfig& scene, const std::string& file) {
+  if (!same_follower_structure(model, scene)) return false;
+  // The train first, so that a structure it changes leaves the model untouched.
+  std::optional<FollowerTrain> train;
+  if (model.train.present()) {
+    train = train_of_same_structure(model, scene, file);
+    if (!train) return false;
+  }
+  const unsigned elements_before = element_flags(model);
+  try {
+    // build_model's own assembly: the same numbers, to the bit.
+    model.theta0 = scene.mechanism.cam.initial_angle_deg * std::numbers::pi / 180.0;
+    assemble_elements(scene, file, model);
+    assign_cam_speed(scene, model);
+  } catch (const InputError& e) {
+    rethrow_naming_unit_slip(scene, file, e);
+  }
+  if (train) {
+    set_train(model, std::move(*train), scene, file);  // the jump speeds and the checks, with the new elements
+  } else {
+    model.rigid_jump_speed_rpm = jump_speed_rpm(model);  // the mass, spring and weight may have changed
+  }
+  if (element_flags(model) != elements_before) list_elements(model);
+  return true;
 }
 
 }  // namespace camdyn

@@ -173,8 +173,8 @@ class FlightSource final : public StateSource {
     }
     if (q) {
       std::copy(q_.begin(), q_.end(), q);
-      q[1] = p.damper_work;
-      q[4] = p.separation;
+      q[quadrature::damper_work] = p.damper_work;
+      q[quadrature::separation] = p.separation;
     }
   }
   bool ok() const { return ok_; }
@@ -497,8 +497,8 @@ Failure fly(const RunContext& run, SceneOde& ode, Integrator& integrator, LoopSt
   start.u = ev.pair.u;
   start.gap = std::max(ev.gap, 0.0);
   start.gap_rate = ev.gap_rate;
-  start.damper_work = loop.q[1];
-  start.separation = loop.q[4];
+  start.damper_work = loop.q[quadrature::damper_work];
+  start.separation = loop.q[quadrature::separation];
   track.start(start);
   observer.read_from(*loop.flight_source);
   ++run.result.solver.flights;
@@ -520,8 +520,8 @@ Failure fly(const RunContext& run, SceneOde& ode, Integrator& integrator, LoopSt
   loop.y[0] = end.q;
   loop.y[1] = end.v;
   if (model.layout.u) loop.y[*model.layout.u] = end.u;
-  loop.q[1] = end.damper_work;
-  loop.q[4] = end.separation;
+  loop.q[quadrature::damper_work] = end.damper_work;
+  loop.q[quadrature::separation] = end.separation;
   run.ws.u_warm = end.u;
   observer.read_from(*loop.integrator_source);
   loop.last_flight_short = landed && end.t - t_start < 1e-9 * (run.plan.max_step + end.t);
@@ -653,8 +653,8 @@ Failure run_scene(const RunContext& run) {
     if (loop.causes.cam == SeparationCause::rebound) decide_rebound(run, loop, SeparationCause::float_gap);
     observer.publish_extremes();
     if (!failure) {
-      observer.finish(run.plan.t_end, loop.q[4] - recorder.separation_integral_at_eval(),
-                      loop.q[0] - recorder.drive_work_at_eval());
+      observer.finish(run.plan.t_end, loop.q[quadrature::separation] - recorder.separation_integral_at_eval(),
+                      loop.q[quadrature::drive_work] - recorder.drive_work_at_eval());
       recorder.finish();
       if (!run.options.quadratures) forget_quadrature_figures(run.result);
       run.result.error.energy_residual = run.result.metrics.energy_residual;

@@ -17,9 +17,23 @@
 
 namespace camdyn {
 
+/// The index of each quantity StepExtremes follows (docs/model.md §8).
+namespace extreme {
+inline constexpr std::size_t gap = 0;                  ///< the cam gap [m]
+inline constexpr std::size_t contact_force = 1;        ///< the contact force [N]
+inline constexpr std::size_t least_contact_force = 2;  ///< minus the contact force where it is a margin [N]
+inline constexpr std::size_t penetration = 3;          ///< [m]
+inline constexpr std::size_t kinematic_error = 4;      ///< |q − s| [m | rad]
+inline constexpr std::size_t contact_stress = 5;       ///< the Hertz pressure [Pa]
+inline constexpr std::size_t cam_torque = 6;           ///< |drive torque| [N m]
+inline constexpr std::size_t face_excursion = 7;       ///< |contact offset on a flat face| [m]
+inline constexpr std::size_t float_gap = 8;            ///< the gap in float [m]
+inline constexpr std::size_t count = 9;
+}  // namespace extreme
+
 class StepExtremes {
  public:
-  static constexpr std::size_t kCount = 9;
+  static constexpr std::size_t kCount = extreme::count;
   /// gap [m], contact force [N], minus the contact force [N], penetration
   /// [m], kinematic error [m | rad], contact stress [Pa], |drive torque|
   /// [N m], |contact offset on a flat face| [m], the gap in float [m]: each followed as a maximum
@@ -60,5 +74,22 @@ class StepExtremes {
  private:
   Values best_;
 };
+
+/// The values of one time in the order of `extreme` (−∞ where the scene does not have one).
+inline StepExtremes::Values extremes_of(double gap, double contact_force, double least_contact_force,
+                                        double penetration, double kinematic_error, double contact_stress,
+                                        double cam_torque, double face_excursion, double float_gap) {
+  StepExtremes::Values v{};
+  v[extreme::gap] = gap;
+  v[extreme::contact_force] = contact_force;
+  v[extreme::least_contact_force] = least_contact_force;
+  v[extreme::penetration] = penetration;
+  v[extreme::kinematic_error] = kinematic_error;
+  v[extreme::contact_stress] = contact_stress;
+  v[extreme::cam_torque] = cam_torque;
+  v[extreme::face_excursion] = face_excursion;
+  v[extreme::float_gap] = float_gap;
+  return v;
+}
 
 }  // namespace camdyn

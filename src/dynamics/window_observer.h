@@ -194,24 +194,25 @@ class WindowObserver {
   void publish_extremes() {
     take_up_decisions();
     const StepExtremes::Values& best = extremes_.best();
-    m_.max_separation_gap = std::max({0.0, best[0], flight_gap_});
-    m_.peak_contact_force = std::max(0.0, best[1]);
-    m_.min_contact_force = std::isfinite(best[2]) ? -best[2] : 0.0;
-    m_.max_penetration = std::max(0.0, best[3]);
-    m_.max_kinematic_error = std::max(0.0, best[4]);
-    if (model_.hertz) m_.peak_contact_stress = std::max(0.0, best[5]);
-    m_.peak_cam_torque = std::max(0.0, best[6]);
-    if (!model_.follower.circle()) m_.max_face_excursion = std::max(0.0, best[7]);
-    if (model_.take_up.applies) m_.max_float_gap = std::max({0.0, best[8], rebound_max_gap_});
+    m_.max_separation_gap = std::max({0.0, best[extreme::gap], flight_gap_});
+    m_.peak_contact_force = std::max(0.0, best[extreme::contact_force]);
+    const double least = best[extreme::least_contact_force];
+    m_.min_contact_force = std::isfinite(least) ? -least : 0.0;
+    m_.max_penetration = std::max(0.0, best[extreme::penetration]);
+    m_.max_kinematic_error = std::max(0.0, best[extreme::kinematic_error]);
+    if (model_.hertz) m_.peak_contact_stress = std::max(0.0, best[extreme::contact_stress]);
+    m_.peak_cam_torque = std::max(0.0, best[extreme::cam_torque]);
+    if (!model_.follower.circle()) m_.max_face_excursion = std::max(0.0, best[extreme::face_excursion]);
+    if (model_.take_up.applies) m_.max_float_gap = std::max({0.0, best[extreme::float_gap], rebound_max_gap_});
     // A rebound that flew separated: its least contact force is 0.
     if (floated_in_rebound_) m_.min_contact_force = std::min(m_.min_contact_force, 0.0);
   }
 
   Evaluation& ev() { return ev_; }
   // The separation integral quadrature at the last observation [m s].
-  double separation_quadrature() const { return qs_[4]; }
+  double separation_quadrature() const { return qs_[quadrature::separation]; }
   // The drive work quadrature at the last observation [J].
-  double drive_work_quadrature() const { return qs_[0]; }
+  double drive_work_quadrature() const { return qs_[quadrature::drive_work]; }
   // Energy deviation [J] → energy residual [-].
   double residual(double deviation) const { return energy_scale_ > 0.0 ? deviation / energy_scale_ : 0.0; }
 
@@ -244,7 +245,8 @@ class WindowObserver {
     const double stress = model_.hertz ? contact_pressure(model_, *model_.hertz, e) : none;
     const double torque = std::abs(cam_drive_torque(e));
     const double excursion = model_.follower.circle() ? none : std::abs(e.contact_offset);
-    if (train_.lash(e)) return {none, e.normal_force, none, e.delta, kinematic_error, stress, torque, excursion, none};
+    if (train_.lash(e))
+      return extremes_of(none, e.normal_force, none, e.delta, kinematic_error, stress, torque, excursion, none);
     // The float gap where a seat makes it differ from the gap (without one
     // every separation floats). With a seat the least contact force is the
     // margin against float: over the law above the take-up windows, never
@@ -259,7 +261,7 @@ class WindowObserver {
     const bool margin = !applies || !in_take_up_windows(model_.take_up, law);
     const double float_gap = applies && floating ? e.gap : none;
     const double least = bounce || !margin || (e.gap > 0.0 && !floating) ? none : -e.normal_force;
-    return {e.gap, e.normal_force, least, e.delta, kinematic_error, stress, torque, excursion, float_gap};
+    return extremes_of(e.gap, e.normal_force, least, e.delta, kinematic_error, stress, torque, excursion, float_gap);
   }
 
   // T² [N² m²] of the drive torque at `e`.
@@ -310,13 +312,14 @@ class WindowObserver {
   // returns the deviation E(t) − E(0) [J].
   double fold_energy(const Evaluation& e) {
     const EnergyTerms terms = energy_terms(model_, e);
-    const double energy =
-        terms.kinetic + terms.spring + terms.gravity + terms.contact - qs_[0] + qs_[1] + qs_[2] + qs_[3];
+    const double energy = terms.kinetic + terms.spring + terms.gravity + terms.contact - qs_[quadrature::drive_work] +
+                          qs_[quadrature::damper_work] + qs_[quadrature::hysteresis_work] +
+                          qs_[quadrature::friction_work];
     if (!energy_initialised_) {
       energy0_ = energy;
       energy_initialised_ = true;
     }
-    energy_scale_ = std::max(energy_scale_, terms.kinetic + terms.spring + std::abs(qs_[0]));
+    energy_scale_ = std::max(energy_scale_, terms.kinetic + terms.spring + std::abs(qs_[quadrature::drive_work]));
     energy_max_dev_ = std::max(energy_max_dev_, std::abs(energy - energy0_));
     return energy - energy0_;
   }

@@ -83,7 +83,7 @@ constexpr std::int64_t kMaxTrainStates = 112;
 
 // Conditions on one value that depend on the scene's choices are checks of
 // that field (not `require`s), so that whatever checks a value without JSON
-// (io/typed_archive.h: set_parameters, identification) gets them too.
+// (io/typed_archive.h: identification's fitted values) gets them too.
 namespace {
 
 /// Below kMinContactExponent, K δ^n is a step from 0 to K at first touch:

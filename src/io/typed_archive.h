@@ -9,10 +9,9 @@
 //   * FieldLocator finds a numeric field of a SceneConfig by its dotted path
 //     through the same visit, with the checks the loader gives its value
 //     (find_scene_field()). A path the loader does not know is refused with
-//     the loader's "unknown key ... (did you mean ...)". set_parameters()
-//     (study/model_parameters.cc) checks its values with the checks it
-//     finds, and identification binds its fitted paths with it
-//     (optim/fit_scene.cc).
+//     the loader's "unknown key ... (did you mean ...)". Identification
+//     binds its fitted paths with it and checks their values with the
+//     checks it finds (optim/identify/fit_scene.cc).
 // The functions below are defined in io/config.cc, beside the visit functions.
 #pragma once
 

@@ -5,14 +5,13 @@
 // a test-only linear element is read through the sum by each closed form,
 // which then agrees with the same closed form on a scene whose own spring
 // carries that element's F₀ and k.
-#include "dynamics/follower_forces.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <optional>
 #include <stdexcept>
 
+#include "dynamics/follower_forces.h"
 #include "dynamics/free_flight.h"
 #include "dynamics/model.h"
 #include "dynamics/rigid_jump_speed.h"
@@ -26,7 +25,8 @@ namespace camdyn {
 namespace {
 namespace linear_part_test {  // its names kept apart from the other files of the unity build
 
-constexpr double kFollowerMass = 0.3, kSpringRate = 5000.0, kSpringPreload = 40.0, kDamperRate = 2.0, kGravityHere = 9.81;
+constexpr double kFollowerMass = 0.3, kSpringRate = 5000.0, kSpringPreload = 40.0, kDamperRate = 2.0,
+                 kGravityHere = 9.81;
 
 SceneConfig full_scene() {
   SceneConfig s = test::cycloidal_cam_scene(600.0);
@@ -49,7 +49,9 @@ struct CubicSpring {
   S force(const S& q, const S& /*q_dot*/, double /*inertia*/) const {
     return -(coefficient * q * q * q);
   }
-  void add_energy(double q, double /*inertia*/, StoredEnergy& e) const { e.spring += 0.25 * coefficient * q * q * q * q; }
+  void add_energy(double q, double /*inertia*/, StoredEnergy& e) const {
+    e.spring += 0.25 * coefficient * q * q * q * q;
+  }
   double power(double /*q_dot*/) const { return 0.0; }
   std::optional<LinearPart> linear(double /*inertia*/) const { return std::nullopt; }
 };

@@ -1,7 +1,7 @@
 // An identification's inner loop (optim/identify/fit_scene.h, optim/identify/fit_residuals.h):
 // values set in place give the runs the old route (the scene's JSON with the
 // values, read and built again: FitScene's from_json) gives, bit for bit; no JSON is read and no
-// model is built for parameters of the parameter block; setting them and
+// model is built for the fields the model is assembled from (set in place); setting them and
 // assembling the residuals allocates nothing.
 #include "optim/identify/fit_scene.h"
 
@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "allocation_counter.h"
@@ -19,6 +20,7 @@
 #include "io/config.h"
 #include "optim/identify/fit_residuals.h"
 #include "optim/identify/identify.h"
+#include "tests/dynamics/scenes.h"
 
 namespace camdyn::optim {
 namespace {
@@ -65,7 +67,7 @@ TEST(FitScene, ValuesSetInPlaceGiveTheRunsOfTheRebuiltSceneBitForBit) {
   }
 }
 
-TEST(FitScene, ParameterBlockPathsAreBoundToTypedFieldsOthersFallBack) {
+TEST(FitScene, TypedPathsAreBoundOthersFallBack) {
   SceneConfig scene = load_fit_problem(kCamRig).experiments[0].scene;
   for (const char* path : {"mechanism.contact.stiffness", "mechanism.contact.restitution", "mechanism.contact.exponent",
                            "mechanism.follower.damping", "mechanism.follower.spring.stiffness",
@@ -75,12 +77,55 @@ TEST(FitScene, ParameterBlockPathsAreBoundToTypedFieldsOthersFallBack) {
     EXPECT_EQ(b->kind, FieldKind::parameter) << path;
   }
   EXPECT_EQ(bind_field("mechanism.cam.base_radius", scene)->kind, FieldKind::geometry);
+  EXPECT_EQ(bind_field("mechanism.follower.shape.radius", scene)->kind, FieldKind::geometry);
+  EXPECT_EQ(bind_field("mechanism.follower.offset", scene)->kind, FieldKind::geometry);
+  EXPECT_EQ(bind_field("mechanism.cam.rpm", scene)->kind, FieldKind::parameter);
+  EXPECT_EQ(bind_field("mechanism.cam.initial_angle_deg", scene)->kind, FieldKind::parameter);
   EXPECT_EQ(bind_field("mechanism.follower.initial.velocity", scene)->kind, FieldKind::scene);
-  EXPECT_FALSE(bind_field("mechanism.cam.motion_law.segments[0].lift", scene));
+  // An array's element has its typed field too; the cam is built from it.
+  EXPECT_EQ(bind_field("mechanism.cam.motion_law.segments[0].lift", scene)->kind, FieldKind::geometry);
   EXPECT_FALSE(bind_field("mechanism.follower.guide_friction.mu", scene));  // no guide friction in the scene
 }
 
-TEST(FitScene, GeometryIsRebuiltFromTheTypedSceneAndOtherPathsFromJson) {
+/// The reason the config loader gives for `key=value` on `scene`.
+std::string loader_reason(const SceneConfig& scene, const std::string& key, const std::string& value) {
+  Json doc = to_json(scene);
+  set_config_value(doc, key, Json::parse(value));
+  try {
+    scene_from_json(doc, ConfigSource{"test", "."});
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.path(), key);
+    return e.reason();
+  }
+  ADD_FAILURE() << key << " = " << value << " was accepted";
+  return "";
+}
+
+// A fitted value is checked with the loader's own checks of its field, so a
+// value no config may give is refused with the loader's words.
+TEST(FitScene, ABadValueIsRefusedWithTheConfigLoadersReason) {
+  SceneConfig scene = test::cycloidal_cam_scene(1000.0, ContactModel::lankarani_nikravesh);
+  const std::pair<const char*, double> cases[] = {
+      {"mechanism.contact.restitution", 1.5},
+      {"mechanism.contact.exponent", 0.0},
+      // In the range (0, 5] but below the loader's minimum (a condition of its visit, not a range).
+      {"mechanism.contact.exponent", 0.4},
+      {"mechanism.contact.friction.mu", -0.1},
+      {"mechanism.contact.stiffness", -1.0},
+      {"mechanism.contact.reference_velocity", 0.0},
+      {"mechanism.follower.mass", 0.0},
+      {"mechanism.follower.damping", -2.0},
+      {"mechanism.follower.spring.stiffness", -1.0},
+      {"mechanism.cam.base_radius", -0.04},
+  };
+  for (const auto& [path, value] : cases) {
+    const std::optional<FieldBinding> b = bind_field(path, scene);
+    ASSERT_TRUE(b) << path;
+    EXPECT_EQ(b->checked.reason(value), loader_reason(scene, path, format_shortest(value))) << path;
+  }
+}
+
+TEST(FitScene, GeometryIsRebuiltFromTheTypedScene) {
   const IdentifyProblem geometry =
       load_fit_problem(kCamRig, {"parameters.cam.base_radius={\"lower\": 0.035, \"upper\": 0.045}"});
   FitScene typed(geometry.experiments[0], geometry.parameters, geometry.source);
@@ -95,12 +140,15 @@ TEST(FitScene, GeometryIsRebuiltFromTheTypedSceneAndOtherPathsFromJson) {
   values[2] = -0.04;
   EXPECT_THROW(typed.set(values), InputError);
 
+  // A motion-law constant is a typed field of the geometry: no JSON is read for it either.
   Json doc = load_config_json(kCamRig);
-  doc["parameters"]["cam.initial_angle_deg"] = Json{{"lower", -1.0}, {"upper", 1.0}};  // no typed field
-  const IdentifyProblem untyped = load_identify_problem(doc, config_source(kCamRig));
-  FitScene fallback(untyped.experiments[0], untyped.parameters, untyped.source);
-  fallback.set({1e10, 15.0, 0.5});
-  EXPECT_EQ(fallback.json_reads(), 1);
+  doc["parameters"]["cam.motion_law.segments[0].end_deg"] = Json{{"lower", 115.0}, {"upper", 125.0}};
+  const IdentifyProblem lift = load_identify_problem(doc, config_source(kCamRig));
+  FitScene law(lift.experiments[0], lift.parameters, lift.source);
+  law.set({1e10, 15.0, 121.0});
+  EXPECT_EQ(law.model_builds(), 1);
+  EXPECT_EQ(law.json_reads(), 0);
+  EXPECT_EQ(law.scene().mechanism.cam.motion_law.segments[0].end_deg, 121.0);
 }
 
 TEST(FitScene, SettingParametersAndAssemblingResidualsAllocatesNothing) {
@@ -188,6 +236,12 @@ TEST(FitScene, TrainParametersAndColumnsFitLikeTheContacts) {
   EXPECT_EQ(soft.signals, rebuilt.run({1e7, 0.06}).signals);
   EXPECT_NE(soft.signals[1], stiff.signals[1]);  // the link force feels its stiffness
   EXPECT_EQ(scene.json_reads(), 0);
+  // A value no config may give is refused with the loader's reason, and the scene stays usable.
+  const FitRun refused = scene.run({-1e7, 0.06});
+  EXPECT_FALSE(refused.ok);
+  EXPECT_TRUE(refused.input_error);
+  EXPECT_NE(refused.error.find("mechanism.train[0].link.stiffness"), std::string::npos) << refused.error;
+  EXPECT_EQ(scene.run({4e7, 0.06}).signals, stiff.signals);
 
   e.record.signals = {"cam_position"};  // no body 'cam' in this train
   try {

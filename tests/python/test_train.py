@@ -65,3 +65,15 @@ def test_column_unit_knows_the_documented_columns_and_no_others():
     assert camdyn.column_unit("tip_stop_force") == "N"
     assert camdyn.column_unit("no_such_column") is None
     assert camdyn.column_unit("_position") is None
+
+
+def test_units_come_from_the_compiled_module_and_know_an_arm():
+    # One table in C++ (dynamics/series_columns.h) names the columns and their units.
+    assert camdyn.TIMESERIES_UNITS == dict(camdyn._camdyn.series_column_units())
+    assert camdyn.TRAIN_COLUMN_UNITS == dict(camdyn._camdyn.train_column_units())
+    assert camdyn.TIMESERIES_UNITS["follower_acceleration"] == "m/s^2"
+    assert camdyn.column_unit("follower_position", oscillating=True) == "rad"
+    assert camdyn.column_unit("follower_velocity", oscillating=True) == "rad/s"
+    assert camdyn.column_unit("follower_seat_force", oscillating=True) == "N m"
+    assert camdyn.column_unit("valve_seat_force", oscillating=True) == "N"
+    assert camdyn.column_unit("valve_link_force") == "N"

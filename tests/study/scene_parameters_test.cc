@@ -1,8 +1,6 @@
-// The parameter block set in place (study/model_parameters.h) gives the
-// model build_model() makes from the scene with those values, to the last
+// A scene's numbers set in place (dynamics/model.h set_scene_parameters) give
+// the model build_model() makes from the scene with those values, to the last
 // bit, and a workspace reused across runs gives the runs of a fresh one.
-#include "study/model_parameters.h"
-
 #include <gtest/gtest.h>
 
 #include <string>
@@ -55,6 +53,8 @@ SceneConfig with_other_parameters(SceneConfig s) {
   if (f.guide_friction) *f.guide_friction = {0.2, 3e-4};
   if (f.pivot_friction) *f.pivot_friction = {0.2, 0.004, 3e-4};
   if (f.shape.type == FollowerShape::roller && f.shape.inertia > 0.0) f.shape.inertia = 2e-6;
+  s.mechanism.cam.rpm *= 1.1;
+  s.mechanism.cam.initial_angle_deg += 3.0;
   DriveConfig& d = s.mechanism.cam.drive;
   if (d.type == Drive::shaft) {
     d.inertia = 0.012;
@@ -71,9 +71,9 @@ void expect_in_place_equals_built(const SceneConfig& base, const std::string& wh
   Model in_place = build_model(base, "test");
   Workspace ws = make_workspace(in_place);
   simulate(base, in_place, ws);  // the reused workspace has run before
-  const ModelParameters p = model_parameters(changed, in_place);
-  ASSERT_TRUE(same_structure(in_place, p)) << what;
-  set_parameters(in_place, p, "test");
+  const long builds = model_builds();
+  ASSERT_TRUE(set_scene_parameters(in_place, changed, "test")) << what;
+  EXPECT_EQ(model_builds(), builds) << what;
   const Model built = build_model(changed, "test");
   EXPECT_EQ(in_place.mass, built.mass) << what;
   EXPECT_EQ(in_place.contact.stiffness, built.contact.stiffness) << what;
@@ -87,7 +87,7 @@ void expect_in_place_equals_built(const SceneConfig& base, const std::string& wh
   expect_identical(simulate(changed, in_place, ws), simulate(changed, built, fresh), what);
 }
 
-TEST(ModelParameters, SetInPlaceGivesTheBuiltModelForEveryContactLaw) {
+TEST(SceneParameters, SetInPlaceGivesTheBuiltModelForEveryContactLaw) {
   for (const ContactModel law : {ContactModel::hertz, ContactModel::hunt_crossley, ContactModel::lankarani_nikravesh,
                                  ContactModel::flores, ContactModel::kelvin_voigt}) {
     SceneConfig scene = test::cycloidal_cam_scene(1300.0, law);
@@ -99,7 +99,7 @@ TEST(ModelParameters, SetInPlaceGivesTheBuiltModelForEveryContactLaw) {
   }
 }
 
-TEST(ModelParameters, SetInPlaceGivesTheBuiltModelForAnyFollowerFrictionOrDrive) {
+TEST(SceneParameters, SetInPlaceGivesTheBuiltModelForAnyFollowerFrictionOrDrive) {
   for (const std::string& kind : test::follower_kinds()) {
     SceneConfig scene = test::fully_loaded_scene(kind, 1000.0, ContactModel::lankarani_nikravesh);
     scene.simulation.cycles = 1.1;
@@ -108,26 +108,28 @@ TEST(ModelParameters, SetInPlaceGivesTheBuiltModelForAnyFollowerFrictionOrDrive)
   }
 }
 
-TEST(ModelParameters, SetInPlaceGivesTheBuiltModelForADrop) {
+TEST(SceneParameters, SetInPlaceGivesTheBuiltModelForADrop) {
   expect_in_place_equals_built(test::drop_scene(ContactModel::lankarani_nikravesh, 0.8), "drop");
 }
 
-TEST(ModelParameters, FrictionSwitchedOnOrOffIsAChangeOfStructure) {
+TEST(SceneParameters, FrictionSwitchedOnOrOffIsAChangeOfStructure) {
   SceneConfig scene = test::follower_scene("translating_flat", 1000.0);
   scene.mechanism.follower.guide_friction = GuideFrictionConfig{0.0, 1e-4};
-  const Model model = build_model(scene, "test");
-  EXPECT_TRUE(same_structure(model, model_parameters(scene, model)));
+  Model model = build_model(scene, "test");
+  EXPECT_TRUE(set_scene_parameters(model, scene, "test"));
+  const std::vector<std::string> elements = model.elements;
   scene.mechanism.contact.friction.mu = 0.1;
-  EXPECT_FALSE(same_structure(model, model_parameters(scene, model)));
+  EXPECT_FALSE(set_scene_parameters(model, scene, "test"));
   scene.mechanism.contact.friction.mu = 0.0;
   scene.mechanism.follower.guide_friction->mu = 0.1;
-  EXPECT_FALSE(same_structure(model, model_parameters(scene, model)));
+  EXPECT_FALSE(set_scene_parameters(model, scene, "test"));
+  EXPECT_EQ(model.elements, elements);  // untouched
   SceneConfig roller = test::cycloidal_cam_scene(1000.0);
   roller.mechanism.contact.friction.mu = 0.1;
   roller.mechanism.follower.shape.inertia = 1e-6;
-  const Model spinning = build_model(roller, "test");
+  Model spinning = build_model(roller, "test");
   roller.mechanism.follower.shape.inertia = 0.0;  // a free roller: no spin state
-  EXPECT_FALSE(same_structure(spinning, model_parameters(roller, spinning)));
+  EXPECT_FALSE(set_scene_parameters(spinning, roller, "test"));
 }
 
 /// Every number of a follower train changed, its structure kept.
@@ -163,7 +165,6 @@ void expect_train_in_place_equals_built(const std::string& file) {
   const SceneConfig changed = with_other_train(base);
   Model in_place = build_model(base, file);
   ASSERT_TRUE(in_place.train.has_coordinates());
-  EXPECT_FALSE(same_structure(in_place, model_parameters(changed, in_place)));  // the block alone cannot
   Workspace ws = make_workspace(in_place);
   simulate(base, in_place, ws);
   const long builds = model_builds();
@@ -189,61 +190,9 @@ void expect_train_in_place_equals_built(const std::string& file) {
   EXPECT_EQ(in_place.train_jump_speed_rpm, before.train_jump_speed_rpm);
 }
 
-TEST(ModelParameters, ATrainsParametersSetInPlaceGiveTheBuiltModel) {
+TEST(SceneParameters, ATrainsParametersSetInPlaceGiveTheBuiltModel) {
   for (const char* scene : {"pushrod_rocker.json", "dohc_bucket_lash.json"})
     expect_train_in_place_equals_built(std::string(CAMDYN_SOURCE_DIR) + "/studies/valvetrain/" + scene);
-}
-
-/// The reason the config loader gives for `key=value` on the cycloidal scene.
-std::string loader_reason(const std::string& key, const std::string& value) {
-  Json doc = to_json(test::cycloidal_cam_scene(1000.0, ContactModel::lankarani_nikravesh));
-  set_config_value(doc, key, Json::parse(value));
-  try {
-    scene_from_json(doc, ConfigSource{"test", "."});
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.path(), key);
-    return e.reason();
-  }
-  ADD_FAILURE() << key << " = " << value << " was accepted";
-  return "";
-}
-
-TEST(ModelParameters, ABadValueIsAnInputErrorWithTheConfigLoadersReason) {
-  const SceneConfig scene = test::cycloidal_cam_scene(1000.0, ContactModel::lankarani_nikravesh);
-  Model model = build_model(scene, "test");
-  const ModelParameters good = model_parameters(scene, model);
-  struct Case {
-    const char* path;
-    double ModelParameters::*field;
-    double value;
-    const char* json;
-  };
-  const Case cases[] = {
-      {"mechanism.contact.restitution", &ModelParameters::restitution, 1.5, "1.5"},
-      {"mechanism.contact.exponent", &ModelParameters::contact_exponent, 0.0, "0"},
-      // In the range (0, 5] but below the loader's minimum (a condition of its visit, not a range).
-      {"mechanism.contact.exponent", &ModelParameters::contact_exponent, 0.4, "0.4"},
-      {"mechanism.contact.friction.mu", &ModelParameters::friction_mu, -0.1, "-0.1"},
-      {"mechanism.contact.stiffness", &ModelParameters::contact_stiffness, -1.0, "-1"},
-      {"mechanism.contact.reference_velocity", &ModelParameters::reference_velocity, 0.0, "0"},
-      {"mechanism.follower.mass", &ModelParameters::mass, 0.0, "0"},
-      {"mechanism.follower.damping", &ModelParameters::damping, -2.0, "-2"},
-      {"mechanism.follower.spring.stiffness", &ModelParameters::spring_stiffness, -1.0, "-1"},
-      {"mechanism.contact.damping", &ModelParameters::contact_damping, 5.0, "5"},
-  };
-  for (const Case& c : cases) {
-    ModelParameters bad = good;
-    bad.*c.field = c.value;
-    try {
-      set_parameters(model, bad, "test");
-      ADD_FAILURE() << c.path << " = " << c.value << " was accepted";
-    } catch (const InputError& e) {
-      EXPECT_EQ(e.path(), c.path);
-      EXPECT_EQ(e.reason(), loader_reason(c.path, c.json));
-    }
-  }
-  // A rejected value leaves the model as it was.
-  EXPECT_EQ(model.contact.restitution, scene.mechanism.contact.restitution);
 }
 
 TEST(Workspace, ReusedAcrossRunsGivesTheRunsOfAFreshOne) {
