@@ -123,27 +123,32 @@ void BM_SpeedLimitValveTrain(benchmark::State& state, const std::string& file, c
   }
   label(state, builds);
 }
-BENCHMARK_CAPTURE(BM_SpeedLimitValveTrain, bucket_tappet, kBucketTappet,
-                  R"({"low_rpm": 1000, "scan": 16, "tolerance_rpm": 5})")
-    ->Arg(0)
-    ->Arg(1)
-    ->ArgName("in_place")
-    ->Unit(benchmark::kSecond)
-    ->Iterations(2);
-BENCHMARK_CAPTURE(BM_SpeedLimitValveTrain, pushrod_rocker, kValveTrains + "pushrod_rocker.json",
-                  R"({"low_rpm": 1000, "scan": 16, "tolerance_rpm": 5})")
-    ->Arg(0)
-    ->Arg(1)
-    ->ArgName("in_place")
-    ->Unit(benchmark::kSecond)
-    ->Iterations(2);
-BENCHMARK_CAPTURE(BM_SpeedLimitValveTrain, dohc_bucket_lash, kValveTrains + "dohc_bucket_lash.json",
-                  R"({"low_rpm": 2000, "scan": 12, "tolerance_rpm": 10})")
-    ->Arg(0)
-    ->Arg(1)
-    ->ArgName("in_place")
-    ->Unit(benchmark::kSecond)
-    ->Iterations(1);
+/// The valve-train studies' scans: name, config, speed_limit block, iterations.
+struct ValveTrainScan {
+  const char* name;
+  std::string file;
+  const char* scan;
+  int iterations;
+};
+
+const bool kValveTrainScans = [] {
+  const ValveTrainScan scans[] = {
+      {"bucket_tappet", kBucketTappet, R"({"low_rpm": 1000, "scan": 16, "tolerance_rpm": 5})", 2},
+      {"pushrod_rocker", kValveTrains + "pushrod_rocker.json", R"({"low_rpm": 1000, "scan": 16, "tolerance_rpm": 5})",
+       2},
+      {"dohc_bucket_lash", kValveTrains + "dohc_bucket_lash.json",
+       R"({"low_rpm": 2000, "scan": 12, "tolerance_rpm": 10})", 1},
+  };
+  for (const ValveTrainScan& s : scans)
+    benchmark::RegisterBenchmark((std::string("BM_SpeedLimitValveTrain/") + s.name).c_str(),
+                                 [s](benchmark::State& state) { BM_SpeedLimitValveTrain(state, s.file, s.scan); })
+        ->Arg(0)
+        ->Arg(1)
+        ->ArgName("in_place")
+        ->Unit(benchmark::kSecond)
+        ->Iterations(s.iterations);
+  return true;
+}();
 
 }  // namespace
 
