@@ -173,6 +173,7 @@ CamGeometryKey::CamGeometryKey(const SceneConfig& scene)
       shape(scene.mechanism.follower.shape),
       pair_form(scene.mechanism.contact.pair_form) {
   motion_law.source.clear();  // which file the law came from does not change it
+  shape.inertia = 0.0;        // the roller's inertia is the model's (its spin), not the geometry's
 }
 
 std::shared_ptr<const CamGeometry> CamGeometryCache::get(const SceneConfig& scene, const std::string& file) {

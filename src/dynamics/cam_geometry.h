@@ -89,7 +89,7 @@ struct CamGeometryKey {
   double offset = 0.0;
   std::vector<double> pivot;
   double arm_length = 0.0;
-  ShapeConfig shape;
+  ShapeConfig shape;  ///< its inertia left out (0): the roller's spin is the model's
   PairFormChoice pair_form = PairFormChoice::automatic;
 
   explicit CamGeometryKey(const SceneConfig& scene);

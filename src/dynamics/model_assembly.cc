@@ -90,6 +90,33 @@ void check_contact_stress_limit(const MechanismConfig& mech, const Model& model,
                          check_text::num(mech.cam.rpm) + " rpm, above the limit " + check_text::num(*limit) + " Pa");
 }
 
+/// Which friction elements and states the scene's numbers give a follower of
+/// `fg`: assemble_elements builds them, and set_scene_parameters compares
+/// them with a model's.
+struct FollowerStructure {
+  bool spin = false;      ///< the roller's spin state
+  bool friction = false;  ///< sliding friction at the contact
+  bool guide = false;     ///< guide friction (translating)
+  bool pivot = false;     ///< pivot friction (oscillating)
+
+  bool operator==(const FollowerStructure&) const = default;
+};
+
+FollowerStructure follower_structure(const SceneConfig& scene, const FollowerGeometry& fg) {
+  const FollowerConfig& f = scene.mechanism.follower;
+  const double mu = scene.mechanism.contact.friction.mu;
+  const bool roller = fg.rolls(), oscillating = fg.oscillating();
+  FollowerStructure s;
+  // A roller without inertia rolls freely: friction can do no work, so neither
+  // the spin state nor the friction force is assembled (docs/model.md §4). A flat
+  // face or a mushroom slides: friction acts whenever μ > 0.
+  s.spin = roller && f.shape.inertia > 0.0 && mu > 0.0;
+  s.friction = mu > 0.0 && (!roller || s.spin);
+  s.guide = !oscillating && f.guide_friction && f.guide_friction->mu > 0.0;
+  s.pivot = oscillating && f.pivot_friction && f.pivot_friction->mu > 0.0;
+  return s;
+}
+
 /// The mass, spring, damper, gravity, contact law, friction and drive of the
 /// mechanism (the model's geometry is already built).
 void assemble_elements(const SceneConfig& scene, const std::string& file, Model& model) {
@@ -108,19 +135,16 @@ void assemble_elements(const SceneConfig& scene, const std::string& file, Model&
     model.hertz = HertzContact{effective_modulus(m->E1, m->nu1, m->E2, m->nu2), m->width.value_or(0.0)};
   const FrictionConfig& fc = mech.contact.friction;
   model.friction.law = friction_law(fc.mu, fc.regularization_velocity, fc.regularization);
-  const bool roller = fg.rolls();
-  model.friction.roller_inertia = roller ? f.shape.inertia : 0.0;
-  // A roller without inertia rolls freely: friction can do no work, so neither
-  // the spin state nor the friction force is assembled (docs/model.md §4). A flat
-  // face or a mushroom slides: friction acts whenever μ > 0.
-  model.friction.spin = roller && model.friction.roller_inertia > 0.0 && fc.mu > 0.0;
-  model.friction.present = fc.mu > 0.0 && (!roller || model.friction.spin);
-  if (!oscillating && f.guide_friction && f.guide_friction->mu > 0.0) {
+  model.friction.roller_inertia = fg.rolls() ? f.shape.inertia : 0.0;
+  const FollowerStructure structure = follower_structure(scene, fg);
+  model.friction.spin = structure.spin;
+  model.friction.present = structure.friction;
+  if (structure.guide) {
     model.support.guide = true;
     model.support.guide_law =
         friction_law(f.guide_friction->mu, f.guide_friction->regularization_velocity, fc.regularization);
   }
-  if (oscillating && f.pivot_friction && f.pivot_friction->mu > 0.0) {
+  if (structure.pivot) {
     model.support.pivot = true;
     model.support.pivot_law =
         friction_law(f.pivot_friction->mu, f.pivot_friction->regularization_velocity, fc.regularization);
@@ -306,19 +330,9 @@ unsigned element_flags(const Model& m) {
          (m.forces.gravity().present() ? 4u : 0u) | (m.drive.damping > 0.0 ? 8u : 0u);
 }
 
-/// Whether the scene's numbers assemble the follower's elements and states
-/// the model has (assemble_elements decides them so): the same contact
-/// friction, roller spin, guide and pivot friction.
-bool same_follower_structure(const Model& model, const SceneConfig& scene) {
-  const FollowerConfig& f = scene.mechanism.follower;
-  const double mu = scene.mechanism.contact.friction.mu;
-  const bool roller = model.follower.rolls(), oscillating = model.follower.oscillating();
-  const bool spin = roller && f.shape.inertia > 0.0 && mu > 0.0;
-  const bool friction = mu > 0.0 && (!roller || spin);
-  const bool guide = !oscillating && f.guide_friction && f.guide_friction->mu > 0.0;
-  const bool pivot = oscillating && f.pivot_friction && f.pivot_friction->mu > 0.0;
-  return spin == model.friction.spin && friction == model.friction.present && guide == model.support.guide &&
-         pivot == model.support.pivot;
+/// The follower structure the model was assembled with.
+FollowerStructure follower_structure(const Model& m) {
+  return {m.friction.spin, m.friction.present, m.support.guide, m.support.pivot};
 }
 
 }  // namespace
@@ -345,7 +359,7 @@ void set_train(Model& model, FollowerTrain train, const SceneConfig& scene, cons
 }
 
 bool set_scene_parameters(Model& model, const SceneConfig& scene, const std::string& file) {
-  if (!same_follower_structure(model, scene)) return false;
+  if (follower_structure(scene, model.follower) != follower_structure(model)) return false;
   // The train first, so that a structure it changes leaves the model untouched.
   std::optional<FollowerTrain> train;
   if (model.train.present()) {

@@ -39,25 +39,38 @@ inline constexpr std::array<SeriesColumn, 12> kSeriesColumns{{
 /// A train body's columns, by their suffix after the body's name.
 enum class TrainColumn { position, velocity, link_force, seat_force, stop_force, spring_force };
 
+/// In the order of TrainColumn.
 struct TrainColumnSuffix {
-  TrainColumn column;
   const char* suffix;
   const char* unit;      ///< a train body's coordinate is a length even after an arm
   const char* arm_unit;  ///< the follower's own seat, stop and spring force on an arm act along its angle
 };
 
 inline constexpr std::array<TrainColumnSuffix, 6> kTrainColumns{{
-    {TrainColumn::position, "_position", "m", "m"},
-    {TrainColumn::velocity, "_velocity", "m/s", "m/s"},
-    {TrainColumn::link_force, "_link_force", "N", "N"},
-    {TrainColumn::seat_force, "_seat_force", "N", "N m"},
-    {TrainColumn::stop_force, "_stop_force", "N", "N m"},
-    {TrainColumn::spring_force, "_spring_force", "N", "N m"},
+    {"_position", "m", "m"},
+    {"_velocity", "m/s", "m/s"},
+    {"_link_force", "N", "N"},
+    {"_seat_force", "N", "N m"},
+    {"_stop_force", "N", "N m"},
+    {"_spring_force", "N", "N m"},
 }};
 
 /// `<body><suffix>`: the name of a train body's column.
 inline std::string train_column_name(std::string_view body, TrainColumn c) {
   return std::string(body) + kTrainColumns[static_cast<std::size_t>(c)].suffix;
+}
+
+/// The train column whose suffix `name` ends in, after a body's name (the
+/// longest suffix that fits), or null.
+inline const TrainColumnSuffix* train_column_of(std::string_view name) {
+  const TrainColumnSuffix* best = nullptr;
+  for (const TrainColumnSuffix& c : kTrainColumns) {
+    const std::string_view suffix = c.suffix;
+    if (name.size() > suffix.size() && name.ends_with(suffix) &&
+        (!best || suffix.size() > std::string_view(best->suffix).size()))
+      best = &c;
+  }
+  return best;
 }
 
 /// The unit of the column `name`: a column every run has, else a train
@@ -68,13 +81,7 @@ inline std::string train_column_name(std::string_view body, TrainColumn c) {
 inline std::string series_column_unit(std::string_view name, bool oscillating = false) {
   for (const SeriesColumn& c : kSeriesColumns)
     if (name == c.name) return oscillating ? c.arm_unit : c.unit;
-  const TrainColumnSuffix* best = nullptr;
-  for (const TrainColumnSuffix& c : kTrainColumns) {
-    const std::string_view suffix = c.suffix;
-    if (name.size() > suffix.size() && name.ends_with(suffix) &&
-        (!best || suffix.size() > std::string_view(best->suffix).size()))
-      best = &c;
-  }
+  const TrainColumnSuffix* best = train_column_of(name);
   if (!best) return "";
   const bool follower = name.substr(0, name.size() - std::string_view(best->suffix).size()) == "follower";
   return oscillating && follower ? best->arm_unit : best->unit;

@@ -1,6 +1,5 @@
 #include "dynamics/window_observer.h"
 
-#include <algorithm>
 #include <numbers>
 
 #include "common/constants.h"
@@ -44,10 +43,7 @@ std::vector<std::string> series_column_names(const Model& model) {
   return names;
 }
 
-bool is_train_column_name(const std::string& name) {
-  return !series_column_unit(name).empty() && std::none_of(kSeriesColumns.begin(), kSeriesColumns.end(),
-                                                           [&](const SeriesColumn& c) { return name == c.name; });
-}
+bool is_train_column_name(const std::string& name) { return train_column_of(name) != nullptr; }
 
 void push_row(const Model& model, const Evaluation& ev, TimeSeries& series, double t) {
   series.time.push_back(t);

@@ -80,6 +80,9 @@ TEST(FitScene, TypedPathsAreBoundOthersFallBack) {
   EXPECT_EQ(bind_field("mechanism.follower.shape.radius", scene)->kind, FieldKind::geometry);
   EXPECT_EQ(bind_field("mechanism.follower.offset", scene)->kind, FieldKind::geometry);
   EXPECT_EQ(bind_field("mechanism.cam.rpm", scene)->kind, FieldKind::parameter);
+  // The roller's inertia is the model's (its spin), not the cam's: set in place.
+  ASSERT_TRUE(bind_field("mechanism.follower.shape.inertia", scene));
+  EXPECT_EQ(bind_field("mechanism.follower.shape.inertia", scene)->kind, FieldKind::parameter);
   EXPECT_EQ(bind_field("mechanism.cam.initial_angle_deg", scene)->kind, FieldKind::parameter);
   EXPECT_EQ(bind_field("mechanism.follower.initial.velocity", scene)->kind, FieldKind::scene);
   // An array's element has its typed field too; the cam is built from it.
