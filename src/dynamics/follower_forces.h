@@ -132,7 +132,8 @@ struct FollowerLinearParts {
 
 /// Why a closed form is off: the words every "not available" of one says.
 inline constexpr const char* kNoLinearPart =
-    "a force element on the follower has no linear, time-invariant part, so the closed form does not apply";
+    "a force element on the follower or its train has no linear, time-invariant part (a gas load), so the closed "
+    "form does not apply";
 
 /// The follower's force elements against the frame, in the order their
 /// forces are added: `Elements` each a FollowerForceElement, so an element

@@ -73,6 +73,38 @@ class TrainBuilder {
     return add(e, at);
   }
 
+  /// The gas load of body `body` on coordinate `c` (docs/model.md §12, "Gas
+  /// load"), its table checked: crank angles increasing within one cam turn,
+  /// pressures >= 0.
+  int add_gas(const GasLoadConfig& g, int body, int c, const std::string& at) {
+    GasLoad load{g.area, g.crank_ratio, g.tdc_deg, g.port_pressure, g.crank_deg, g.pressure_pa};
+    const auto line = [&](std::size_t i) {
+      return i < g.lines.size() ? " (" + g.pressure + " line " + std::to_string(g.lines[i]) + ")" : std::string();
+    };
+    if (load.crank_deg.size() < 2 || load.crank_deg.size() != load.pressure.size())
+      throw InputError(file_, at + ".pressure", "the pressure table needs at least 2 rows of crank_deg and pressure");
+    for (std::size_t i = 0; i < load.crank_deg.size(); ++i) {
+      if (i > 0 && !(load.crank_deg[i] > load.crank_deg[i - 1]))
+        throw InputError(file_, at + ".pressure", "crank_deg must increase from row to row" + line(i));
+      if (!(load.pressure[i] >= 0.0))
+        throw InputError(file_, at + ".pressure", "a pressure is an absolute pressure >= 0 [Pa]" + line(i));
+    }
+    if (!(load.crank_deg.back() - load.crank_deg.front() < load.period_deg()))
+      throw InputError(file_, at + ".pressure",
+                       "the table spans " + check_text::num(load.crank_deg.back() - load.crank_deg.front()) +
+                           " crank degrees, not less than one cam turn (360 x crank_ratio = " +
+                           check_text::num(load.period_deg()) + ")");
+    TrainElement e;
+    e.law = TrainElement::Law::gas;
+    e.role = TrainRole::gas;
+    e.body = body;
+    e.a = c;
+    e.ca = 1.0;  // pushes the body down, against its opening
+    e.gas = static_cast<int>(train_.gas_loads.size());
+    train_.gas_loads.push_back(std::move(load));
+    return add(e, at);
+  }
+
   /// The spring of body `body` on coordinate `c` (docs/model.md §12): massless
   /// (F₀ + k x) or lumped in `lumps` masses (`coils` without it), each of its
   /// segments with its share of the clash clearance. Returns its frame-end element.
@@ -174,6 +206,7 @@ void add_train_body(TrainBuilder& b, FollowerTrain& train, const TrainBodyConfig
   const bool spring = c.spring.stiffness > 0.0 || c.spring.preload > 0.0 || c.spring.massive();
   train.bodies.push_back(body);
   add_body_supports(b, train.bodies.back(), index, spring ? &c.spring : nullptr, c.seat, c.stop, at);
+  if (c.gas) train.bodies.back().gas = b.add_gas(*c.gas, index, body.coordinate, at + ".gas");
 }
 
 /// F, ∂F/∂d, ∂F/∂ḋ of an element at (d, ḋ).
@@ -208,8 +241,15 @@ ElementForce element_force(const TrainElement& e, double d, double d_rate, doubl
         f.force = e.contact.force(d, d_rate, v0);
       }
       break;
+    case TrainElement::Law::gas:  // given against the cam angle, not d: gas_force()
+      break;
   }
   return f;
+}
+
+/// A gas element's force at the cam angle θ [rad], and its ∂F/∂θ into `d_theta` if given.
+double gas_force(const FollowerTrain& train, const TrainElement& e, double theta, double* d_theta = nullptr) {
+  return train.gas_loads[static_cast<std::size_t>(e.gas)].force(theta, d_theta);
 }
 
 /// Compression d and its rate of an element at the state x.
@@ -261,6 +301,9 @@ void element_energy(const TrainElement& e, double d, double d_rate, double force
         out.power_hysteresis += (force - e.contact.elastic_force(d)) * d_rate;
       }
       break;
+    case TrainElement::Law::gas:
+      out.power_external -= force * d_rate;  // the bodies receive −c F: power −F ḋ
+      break;
   }
 }
 
@@ -281,12 +324,32 @@ void element_outputs(const TrainElement& e, double d, double force, TrainEvaluat
     case TrainRole::spring:
       out.spring_force[i] = force;
       break;
+    case TrainRole::gas:
+      out.gas_force[i] = force;
+      break;
     default:
       break;
   }
 }
 
 }  // namespace
+
+double GasLoad::force(double theta, double* d_theta) const {
+  // The crank angle within [φ₀, φ₀ + P), φ₀ the first row, P one cam turn.
+  const double period = period_deg(), first = crank_deg.front();
+  double phi = crank_ratio * (theta * (180.0 / std::numbers::pi) - tdc_deg);
+  phi = first + std::fmod(phi - first, period);
+  if (phi < first) phi += period;
+  // The segment [row i, row i + 1], the last one closing the cycle to the first row a period on.
+  const auto next = std::upper_bound(crank_deg.begin(), crank_deg.end(), phi);
+  const std::size_t i = static_cast<std::size_t>(next - crank_deg.begin()) - 1;
+  const bool closing = i + 1 == crank_deg.size();
+  const double x0 = crank_deg[i], x1 = closing ? first + period : crank_deg[i + 1];
+  const double p0 = pressure[i], p1 = closing ? pressure.front() : pressure[i + 1];
+  const double slope = (p1 - p0) / (x1 - x0);  // [Pa/deg]
+  if (d_theta) *d_theta = area * slope * crank_ratio * (180.0 / std::numbers::pi);
+  return area * (p0 + slope * (phi - x0) - port_pressure);
+}
 
 bool FollowerTrain::has_seat() const {
   return std::any_of(bodies.begin(), bodies.end(), [](const TrainBody& b) { return b.seat >= 0; });
@@ -360,6 +423,19 @@ PlacedLash place_lash(const MechanismConfig& mech, const std::string& file) {
   return placed;
 }
 
+/// A gas load's crank angle against the report's (`outputs.valvetrain`):
+/// one crank for the table and the plots, or an error naming both.
+void check_gas_crank(const SceneConfig& scene, std::size_t i, const std::string& file) {
+  const std::optional<GasLoadConfig>& gas = scene.mechanism.train[i].gas;
+  const std::optional<ValvetrainOutputConfig>& out = scene.outputs.valvetrain;
+  if (!gas || !out || (gas->crank_ratio == out->crank_ratio && gas->tdc_deg == out->tdc_deg)) return;
+  throw InputError(file, "mechanism.train[" + std::to_string(i) + "].gas",
+                   "crank_ratio " + check_text::num(gas->crank_ratio) + " and tdc_deg " +
+                       check_text::num(gas->tdc_deg) + " differ from outputs.valvetrain's (" +
+                       check_text::num(out->crank_ratio) + ", " + check_text::num(out->tdc_deg) +
+                       "): the pressure table and the report's crank angle must be one crank");
+}
+
 }  // namespace
 
 FollowerTrain build_follower_train(const SceneConfig& scene, const std::string& file, StateLayout& layout) {
@@ -382,8 +458,10 @@ FollowerTrain build_follower_train(const SceneConfig& scene, const std::string& 
   if (static_cast<int>(mech.train.size()) + 1 > TrainLimits::kMaxBodies)
     throw InputError(file, "mechanism.train",
                      "at most " + std::to_string(TrainLimits::kMaxBodies - 1) + " bodies after the follower");
-  for (std::size_t i = 0; i < mech.train.size(); ++i)
+  for (std::size_t i = 0; i < mech.train.size(); ++i) {
+    check_gas_crank(scene, i, file);
     add_train_body(b, train, mech.train[i], static_cast<int>(i) + 1, lash.link_lash[i]);
+  }
   derive_element_constants(train);
   return train;
 }
@@ -438,6 +516,9 @@ void add_train_names(const FollowerTrain& train, std::vector<std::string>& names
       case TrainRole::damper:
         names.push_back("damper:" + body);
         break;
+      case TrainRole::gas:
+        names.push_back("gas:" + body);
+        break;
       case TrainRole::clash:
       case TrainRole::spring_segment:
         break;
@@ -451,13 +532,15 @@ void prepare_train_workspace(const FollowerTrain& train, TrainWorkspace& ws) {
     if (e.root >= 0) ws.v0[static_cast<std::size_t>(e.root)] = e.contact.reference_velocity;
 }
 
-void evaluate_train(const FollowerTrain& train, const TrainWorkspace& ws, const double* x, TrainEvaluation& e) {
+void evaluate_train(const FollowerTrain& train, const TrainWorkspace& ws, double theta, const double* x,
+                    TrainEvaluation& e) {
   std::array<double, TrainLimits::kMaxCoordinates> force{};
-  e.kinetic = e.potential = e.power_damper = e.power_hysteresis = 0.0;
+  e.kinetic = e.potential = e.power_damper = e.power_hysteresis = e.power_external = 0.0;
   e.link_force.fill(0.0);
   e.seat_force.fill(0.0);
   e.stop_force.fill(0.0);
   e.spring_force.fill(0.0);
+  e.gas_force.fill(0.0);
   e.seated.fill(false);
   for (const TrainElement& el : train.elements) {
     double d = 0.0, d_rate = 0.0;
@@ -469,6 +552,9 @@ void evaluate_train(const FollowerTrain& train, const TrainWorkspace& ws, const 
       F = el.preload + el.stiffness * d + el.damping * d_rate;
       e.potential += el.preload * d + 0.5 * el.stiffness * d * d + el.rest_energy;
       e.power_damper += el.damping * d_rate * d_rate;
+    } else if (el.law == TrainElement::Law::gas) {
+      F = gas_force(train, el, theta);
+      element_energy(el, d, d_rate, F, e);
     } else {
       const auto root = static_cast<std::size_t>(el.root);
       F = element_force(el, d, d_rate, ws.v0[root], false).force;
@@ -503,14 +589,22 @@ void train_state_derivative(const FollowerTrain& train, const TrainEvaluation& e
   }
 }
 
-void add_train_jacobian(const FollowerTrain& train, const TrainWorkspace& ws, const double* x, int n,
-                        double* jacobian) {
+void add_train_jacobian(const FollowerTrain& train, const TrainWorkspace& ws, double theta, int cam_angle_state,
+                        const double* x, int n, double* jacobian) {
   const auto at = [&](int row, int col) -> double& {
     return jacobian[static_cast<std::size_t>(row) + static_cast<std::size_t>(n) * static_cast<std::size_t>(col)];
   };
   for (std::size_t c = 1; c < train.coordinates.size(); ++c)
     at(train.coordinates[c].position, train.coordinates[c].velocity) += 1.0;
   for (const TrainElement& el : train.elements) {
+    if (el.law == TrainElement::Law::gas) {  // F(θ): only a shaft's cam angle state moves it
+      if (cam_angle_state < 0) continue;
+      double d_theta = 0.0;
+      gas_force(train, el, theta, &d_theta);
+      const TrainCoordinate& row = train.coordinates[static_cast<std::size_t>(el.a)];
+      at(row.velocity, cam_angle_state) -= el.ca * d_theta / row.mass;
+      continue;
+    }
     double d = 0.0, d_rate = 0.0;
     compression(el, x, d, d_rate);
     const double v0 = el.root >= 0 ? ws.v0[static_cast<std::size_t>(el.root)] : 0.0;
@@ -535,15 +629,16 @@ namespace {
 
 /// Static force on every train coordinate at x (velocities zero) and its
 /// stiffness ∂force/∂position over the coordinates 1… (index c − 1).
-void static_forces(const FollowerTrain& train, const TrainWorkspace& ws, const double* x, Eigen::VectorXd& force,
-                   Eigen::MatrixXd& stiffness) {
+void static_forces(const FollowerTrain& train, const TrainWorkspace& ws, double theta, const double* x,
+                   Eigen::VectorXd& force, Eigen::MatrixXd& stiffness) {
   force.setZero();
   stiffness.setZero();
   for (const TrainElement& el : train.elements) {
     double d = 0.0, d_rate = 0.0;
     compression(el, x, d, d_rate);
     const double v0 = el.root >= 0 ? ws.v0[static_cast<std::size_t>(el.root)] : 1.0;
-    const ElementForce f = element_force(el, d, 0.0, v0, true);
+    ElementForce f = element_force(el, d, 0.0, v0, true);
+    if (el.law == TrainElement::Law::gas) f.force = gas_force(train, el, theta);
     const int ends[2] = {el.a, el.b};
     const double coefficients[2] = {el.ca, el.cb};
     for (int p = 0; p < 2; ++p) {
@@ -571,7 +666,7 @@ void kinematic_positions(const FollowerTrain& train, double* x) {
 
 }  // namespace
 
-bool train_static_state(const FollowerTrain& train, const TrainWorkspace& ws, double* x) {
+bool train_static_state(const FollowerTrain& train, const TrainWorkspace& ws, double theta, double* x) {
   kinematic_positions(train, x);
   const int n = static_cast<int>(train.coordinates.size()) - 1;
   if (n == 0) return true;
@@ -580,7 +675,7 @@ bool train_static_state(const FollowerTrain& train, const TrainWorkspace& ws, do
   double scale = 0.0;  // [N/m], for the convergence test and the regularisation
   for (const TrainElement& el : train.elements) scale = std::max(scale, el.stiffness + el.contact.stiffness);
   for (int it = 0; it < 100; ++it) {
-    static_forces(train, ws, x, force, stiffness);
+    static_forces(train, ws, theta, x, force, stiffness);
     if (force.cwiseAbs().maxCoeff() < 1e-12 * std::max(1.0, scale * 1e-6)) return true;
     stiffness.diagonal().array() -= 1e-12 * scale;  // a coordinate held by an open one-sided element only
     step = stiffness.fullPivLu().solve(-force);

@@ -52,7 +52,7 @@ RunFailure initial_state(const SceneConfig& scene, const Model& model, Workspace
     auto excess = [&](double y_trial) {
       s[0] = y_trial;
       ws.u_warm = u_guess;
-      if (model.train.has_coordinates()) train_static_state(model.train, ws.train, s.data());
+      if (model.train.has_coordinates()) train_static_state(model.train, ws.train, model.theta(0.0), s.data());
       evaluate(probe, ws, 0.0, s.data(), ev);
       return ev.acceleration - target;
     };
@@ -87,7 +87,7 @@ RunFailure initial_state(const SceneConfig& scene, const Model& model, Workspace
       s[0] = 0.5 * (lo + hi);
     }
   }
-  if (model.train.has_coordinates()) train_static_state(model.train, ws.train, s.data());
+  if (model.train.has_coordinates()) train_static_state(model.train, ws.train, model.theta(0.0), s.data());
 
   ws.u_warm = u_guess;
   const long resets = ws.tracking_resets;

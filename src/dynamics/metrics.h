@@ -20,6 +20,8 @@ struct TrainMetrics {
   long seat_impacts = 0;                  ///< seat onsets with approach in the window
   double peak_spring_force = 0.0;         ///< [N], largest force at the frame end of any spring
   long coil_clashes = 0;                  ///< coil clash onsets in the window
+  bool gas = false;                       ///< whether some body has a gas load
+  double peak_gas_force = 0.0;            ///< [N], largest |A (p − p_port)| of any gas load
   /// Valve-train verdicts (docs/valvetrain.md), with a seat (`lash`): take-up
   /// bounces (cam or link gaps opening in the take-up windows) and seat
   /// bounces (a body leaving its seat after seating) in the window, the
@@ -150,6 +152,7 @@ void for_each_train_metric(const TrainMetrics& t, F&& f) {
     f("seat_impacts", static_cast<double>(t.seat_impacts), true, "–");
   }
   if (t.springs) f("peak_spring_force", t.peak_spring_force, false, "N");
+  if (t.gas) f("peak_gas_force", t.peak_gas_force, false, "N");
   if (t.clash) f("coil_clashes", static_cast<double>(t.coil_clashes), true, "–");
   if (t.lash) {
     f("take_up_bounces", static_cast<double>(t.take_up_bounces), true, "–");
@@ -164,7 +167,7 @@ void for_each_train_metric(const TrainMetrics& t, F&& f) {
 /// leaves its cell empty).
 inline std::vector<std::string> train_metric_names() {
   TrainMetrics all;
-  all.links = all.seats = all.springs = all.clash = all.lash = true;
+  all.links = all.seats = all.springs = all.gas = all.clash = all.lash = true;
   std::vector<std::string> names;
   for_each_train_metric(all, [&](const char* name, double, bool, const char*) { names.emplace_back(name); });
   return names;

@@ -353,7 +353,7 @@ void prepare_workspace(const Model& model, Workspace& ws) {
 
 void evaluate(const Model& model, Workspace& ws, double t, const double* state, Evaluation& ev) {
   const PairSolution ps = solve_pair(model, ws, t, state);
-  if (model.train.present()) evaluate_train(model.train, ws.train, state, ev.train);
+  if (model.train.present()) evaluate_train(model.train, ws.train, cam_angle(model, t, state), state, ev.train);
   Core<double> o;
   core(model, ws, t, state, ps, ps.u, ev.train.follower_force, o);
 
@@ -402,9 +402,11 @@ void evaluate(const Model& model, Workspace& ws, double t, const double* state, 
   ev.power_damper = model.forces.power(o.v) + model.drive.damper_power(o.drive.motor_speed, o.omega_c);
   ev.power_hysteresis = o.delta > 0.0 ? (o.normal_force - model.contact.elastic_force(o.delta)) * o.delta_rate : 0.0;
   ev.power_friction = -o.friction_force * o.slip - (o.guide + o.pivot) * o.v;
+  ev.power_external = 0.0;
   if (model.train.present()) {
     ev.power_damper += ev.train.power_damper;
     ev.power_hysteresis += ev.train.power_hysteresis;
+    ev.power_external = ev.train.power_external;
   }
 }
 
@@ -418,7 +420,7 @@ void state_jacobian(const Model& model, Workspace& ws, double t, const double* s
   double train_force = 0.0;
   if (model.train.present()) {
     TrainEvaluation& te = ws.train_scratch;
-    evaluate_train(model.train, ws.train, state, te);
+    evaluate_train(model.train, ws.train, cam_angle(model, t, state), state, te);
     train_force = te.follower_force;
   }
   Jet x[StateLayout::kCore];
@@ -436,7 +438,10 @@ void state_jacobian(const Model& model, Workspace& ws, double t, const double* s
   if (nc < n) std::fill(jacobian, jacobian + static_cast<std::size_t>(n) * static_cast<std::size_t>(n), 0.0);
   for (int j = 0; j < nc; ++j)
     for (int i = 0; i < nc; ++i) jacobian[i + n * j] = x_dot[i].d[j];
-  if (model.train.present()) add_train_jacobian(model.train, ws.train, state, n, jacobian);
+  if (model.train.present()) {
+    const int cam_angle_state = model.drive.shaft() ? *model.layout.cam_angle : -1;
+    add_train_jacobian(model.train, ws.train, cam_angle(model, t, state), cam_angle_state, state, n, jacobian);
+  }
 }
 
 void state_derivative(const Model& model, const Evaluation& ev, double* state_dot) {
@@ -450,6 +455,7 @@ void quadrature_derivative(const Evaluation& ev, double* q_dot) {
   q_dot[quadrature::hysteresis_work] = ev.power_hysteresis;
   q_dot[quadrature::friction_work] = ev.power_friction;
   q_dot[quadrature::separation] = ev.gap > 0.0 ? ev.gap : 0.0;  // smooth within a step: g = 0 is a root
+  q_dot[quadrature::external_work] = ev.power_external;
 }
 
 void root_functions(const Model& model, const Workspace& ws, const Evaluation& ev, double* g) {

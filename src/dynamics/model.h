@@ -53,6 +53,7 @@ inline constexpr std::size_t damper_work = 1;      ///< W_damper [J]
 inline constexpr std::size_t hysteresis_work = 2;  ///< W_hysteresis [J]
 inline constexpr std::size_t friction_work = 3;    ///< W_friction [J]
 inline constexpr std::size_t separation = 4;       ///< ∫ max(g, 0) dt [m s]
+inline constexpr std::size_t external_work = 5;    ///< W_external [J]: the gas loads' work on the bodies
 }  // namespace quadrature
 
 /// The mechanism: its design's geometry (dynamics/cam_geometry.h, built once
@@ -92,9 +93,9 @@ struct Model : CamGeometry {
   double penetration_limit = 0.0;  ///< a larger δ means the contact model no longer applies [m]
 
   StateLayout layout;  ///< which states this model has, where, and their names
-  /// W_drive, W_damper, W_hysteresis, W_friction [J], and ∫ max(g, 0) dt [m s]:
-  /// indexed by the names of `Quadrature`.
-  static constexpr int kQuadratures = 5;
+  /// W_drive, W_damper, W_hysteresis, W_friction [J], ∫ max(g, 0) dt [m s]
+  /// and W_external [J]: indexed by the names in `quadrature`.
+  static constexpr int kQuadratures = 6;
 
   std::vector<std::string> elements;  ///< force elements assembled
 
@@ -112,8 +113,11 @@ struct Model : CamGeometry {
 
 /// The linear parts of the model's follower forces (FollowerForces::linear_parts
 /// at the model's inertia): what every closed form reads; none when some
-/// element has none, and the closed forms are then off.
+/// element has none, or the train has a force given against time or the cam
+/// angle (a gas load, FollowerTrain::time_dependent), and the closed forms
+/// are then off.
 inline std::optional<FollowerLinearParts> follower_linear_parts(const Model& model) {
+  if (model.train.time_dependent()) return std::nullopt;
   return model.forces.linear_parts(model.mass);
 }
 
@@ -238,6 +242,7 @@ struct Evaluation {
   double v_rate = 0.0;       ///< v̇ (general pair form, differential tracking)
   DriveRates<double> drive;  ///< shaft twist and torque, motor speed and torque, accelerations (dynamics/shaft_drive.h)
   double power_drive = 0.0, power_damper = 0.0, power_hysteresis = 0.0, power_friction = 0.0;  ///< [W]
+  double power_external = 0.0;  ///< delivered by the train's gas loads [W]
   TrainEvaluation train;  ///< the train's forces and rates (only with model.train.present())
 };
 

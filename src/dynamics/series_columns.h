@@ -37,7 +37,7 @@ inline constexpr std::array<SeriesColumn, 12> kSeriesColumns{{
 }};
 
 /// A train body's columns, by their suffix after the body's name.
-enum class TrainColumn { position, velocity, link_force, seat_force, stop_force, spring_force };
+enum class TrainColumn { position, velocity, link_force, seat_force, stop_force, spring_force, gas_force };
 
 /// In the order of TrainColumn.
 struct TrainColumnSuffix {
@@ -46,13 +46,14 @@ struct TrainColumnSuffix {
   const char* arm_unit;  ///< the follower's own seat, stop and spring force on an arm act along its angle
 };
 
-inline constexpr std::array<TrainColumnSuffix, 6> kTrainColumns{{
+inline constexpr std::array<TrainColumnSuffix, 7> kTrainColumns{{
     {"_position", "m", "m"},
     {"_velocity", "m/s", "m/s"},
     {"_link_force", "N", "N"},
     {"_seat_force", "N", "N m"},
     {"_stop_force", "N", "N m"},
     {"_spring_force", "N", "N m"},
+    {"_gas_force", "N", "N"},
 }};
 
 /// `<body><suffix>`: the name of a train body's column.

@@ -42,7 +42,8 @@ using RootDirections = std::array<int, 2 + TrainLimits::kMaxRoots>;
 // them, by index): the drive's work only where the cam turns or a motor
 // drives it, the damper's only with a damper, the contact hysteresis only for
 // a dissipative law, the friction work only with friction, the separation
-// integral always. The others have a zero integrand.
+// integral always, the external work only with a gas load. The others have a
+// zero integrand.
 bool quadrature_reported(const Model& m, int i) {
   switch (i) {
     case 0:
@@ -53,6 +54,8 @@ bool quadrature_reported(const Model& m, int i) {
       return force_form(m.contact.model) != ForceForm::elastic;
     case 3:
       return m.friction.present || m.support.present();
+    case 5:
+      return m.train.time_dependent();
     default:
       return true;
   }
@@ -672,10 +675,11 @@ Failure run_scene(const RunContext& run) {
 }  // namespace
 
 std::vector<std::string> integrated_quadratures(const Model& model) {
-  static constexpr const char* kNames[] = {"drive_work", "damper_work", "hysteresis_work", "friction_work"};
+  static constexpr const char* kNames[] = {"drive_work",    "damper_work", "hysteresis_work",
+                                           "friction_work", nullptr,       "external_work"};
   std::vector<std::string> names;
-  for (int i = 0; i < 4; ++i)
-    if (quadrature_reported(model, i)) names.emplace_back(kNames[i]);
+  for (int i = 0; i < Model::kQuadratures; ++i)
+    if (kNames[i] && quadrature_reported(model, i)) names.emplace_back(kNames[i]);
   return names;
 }
 

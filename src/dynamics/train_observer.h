@@ -31,6 +31,7 @@ class TrainObserver {
       t.links = t.links || b.link >= 0;
       t.seats = t.seats || b.seat >= 0;
       t.springs = t.springs || b.spring_end >= 0;
+      t.gas = t.gas || b.gas >= 0;
       t.bodies.push_back(b.name);
     }
     t.springs = t.springs || model.forces.spring().present();
@@ -59,6 +60,7 @@ class TrainObserver {
       if (b.link >= 0 && !train_.rests_on_seat(e.train, static_cast<int>(i)))
         min_link_ = std::min(min_link_, e.train.link_force[i]);
       if (b.spring_end >= 0) t.peak_spring_force = std::max(t.peak_spring_force, std::abs(e.train.spring_force[i]));
+      if (b.gas >= 0) t.peak_gas_force = std::max(t.peak_gas_force, std::abs(e.train.gas_force[i]));
       if (causes_.seat_bouncing[i])
         t.max_seat_bounce_height =
             std::max(t.max_seat_bounce_height, e.train.position[i] - lift_step(train_, i).seat.value_or(0.0));

@@ -22,6 +22,7 @@ void for_each_train_column(const FollowerTrain& train, const TrainEvaluation& e,
     if (b.seat >= 0) f(train_column_name(b.name, TrainColumn::seat_force), e.seat_force[i]);
     if (b.stop >= 0) f(train_column_name(b.name, TrainColumn::stop_force), e.stop_force[i]);
     if (b.spring_end >= 0) f(train_column_name(b.name, TrainColumn::spring_force), e.spring_force[i]);
+    if (b.gas >= 0) f(train_column_name(b.name, TrainColumn::gas_force), e.gas_force[i]);
   }
 }
 

@@ -314,12 +314,13 @@ class WindowObserver {
     const EnergyTerms terms = energy_terms(model_, e);
     const double energy = terms.kinetic + terms.spring + terms.gravity + terms.contact - qs_[quadrature::drive_work] +
                           qs_[quadrature::damper_work] + qs_[quadrature::hysteresis_work] +
-                          qs_[quadrature::friction_work];
+                          qs_[quadrature::friction_work] - qs_[quadrature::external_work];
     if (!energy_initialised_) {
       energy0_ = energy;
       energy_initialised_ = true;
     }
-    energy_scale_ = std::max(energy_scale_, terms.kinetic + terms.spring + std::abs(qs_[quadrature::drive_work]));
+    energy_scale_ = std::max(energy_scale_, terms.kinetic + terms.spring + std::abs(qs_[quadrature::drive_work]) +
+                                                std::abs(qs_[quadrature::external_work]));
     energy_max_dev_ = std::max(energy_max_dev_, std::abs(energy - energy0_));
     return energy - energy0_;
   }

@@ -572,6 +572,15 @@ void visit(A& a, LinkConfig& l) {
 }
 
 template <class A>
+void visit(A& a, GasLoadConfig& g) {
+  a.field("area", g.area, positive());
+  a.path_field("pressure", g.pressure, non_empty());
+  a.field("crank_ratio", g.crank_ratio, positive());
+  a.field("tdc_deg", g.tdc_deg, closed_open(0.0, 360.0));
+  a.field("port_pressure", g.port_pressure, non_negative());
+}
+
+template <class A>
 void visit(A& a, TrainBodyConfig& b) {
   a.field("name", b.name, train_body_name());
   a.field("mass", b.mass, positive());
@@ -582,6 +591,7 @@ void visit(A& a, TrainBodyConfig& b) {
   // Absent = no spring; written only when the body has one.
   if (a.given("spring", b.spring != SpringConfig{})) a.field("spring", b.spring);
   visit_travel_limits(a, b.seat, b.stop);
+  if (a.given("gas", b.gas.has_value())) a.field("gas", b.gas);
 }
 
 namespace {
@@ -921,6 +931,9 @@ SceneConfig scene_from_json(const Json& json, const ConfigSource& source) {
   visit(reader, scene);
   reader.finish();
   if (scene.mechanism.cam.motion_law.table) load_table_rows(*scene.mechanism.cam.motion_law.table);
+  for (std::size_t i = 0; i < scene.mechanism.train.size(); ++i)
+    if (scene.mechanism.train[i].gas)
+      load_gas_table_rows(*scene.mechanism.train[i].gas, "mechanism.train[" + std::to_string(i) + "].gas.pressure");
   // Defaults that depend on other fields (see SimulationConfig).
   SimulationConfig& s = scene.simulation;
   if (scene.mechanism.cam.rpm > 0) {
@@ -939,6 +952,14 @@ void load_table_rows(TableConfig& table) {
   table.angle_deg = csv[table.angle_column];
   table.lift = csv[table.lift_column];
   table.lines = csv.lines;
+}
+
+void load_gas_table_rows(GasLoadConfig& gas, const std::string& at) {
+  if (gas.pressure.empty()) return;
+  const CsvColumns csv = read_csv(gas.pressure, {"crank_deg", "pressure"}, 2, at);
+  gas.crank_deg = csv["crank_deg"];
+  gas.pressure_pa = csv["pressure"];
+  gas.lines = csv.lines;
 }
 
 Json to_json(const SceneConfig& scene) {

@@ -58,6 +58,11 @@ SceneConfig scene_from_json(const Json& json, const ConfigSource& source);
 /// scene_from_json. Throws InputError naming the CSV file and line.
 void load_table_rows(TableConfig& table);
 
+/// Reads a gas load's pressure table (`gas.pressure`, columns `crank_deg`
+/// and `pressure`, at least 2 rows) into its rows; `at` is its dotted path
+/// for messages. The loader calls it for every train body with a gas load.
+void load_gas_table_rows(GasLoadConfig& gas, const std::string& at);
+
 /// The fully resolved config (every field, defaults filled in).
 Json to_json(const SceneConfig& scene);
 

@@ -241,6 +241,7 @@ void add_train_revolution_plots(const SceneConfig& scene, const Model& model, co
   add_force_plot(model, ts, rev, axis, markers, "_link_force", "link forces of the train", report);
   add_force_plot(model, ts, rev, axis, markers, "_spring_force", "spring forces of the train at their frame ends",
                  report);
+  add_force_plot(model, ts, rev, axis, markers, "_gas_force", "gas loads A (p − p_port) on the train", report);
 }
 
 }  // namespace camdyn

@@ -210,7 +210,7 @@ double clash_engagement(const Model& model, double x) {
   prepare_train_workspace(model.train, ws);
   std::vector<double> y(static_cast<std::size_t>(model.layout.size), 0.0);
   y[0] = x;
-  EXPECT_TRUE(train_static_state(model.train, ws, y.data()));
+  EXPECT_TRUE(train_static_state(model.train, ws, model.theta(0.0), y.data()));
   double largest = -std::numeric_limits<double>::infinity();
   for (const TrainElement& e : model.train.elements) {
     if (e.role != TrainRole::clash) continue;

@@ -63,9 +63,10 @@ inline LinearTrainCase linear_train_case(int bodies, bool follower_spring_mass =
        {1.5, 2e7, 100.0, 0.0, true},
        valve_coils > 0 ? spring(30000.0, 300.0, 0.04, valve_coils, 0.03) : spring(30000.0, 300.0),
        {},
+       {},
        {}},
-      {"tip", 0.03, 0.0, {1.0, 5e7, 50.0, 0.0, true}, spring(8000.0, 80.0), {}, {}},
-      {"end", 0.02, 0.5, {0.8, 3e7, 60.0, 0.0, true}, spring(4000.0, 40.0), {}, {}}};
+      {"tip", 0.03, 0.0, {1.0, 5e7, 50.0, 0.0, true}, spring(8000.0, 80.0), {}, {}, {}},
+      {"end", 0.02, 0.5, {0.8, 3e7, 60.0, 0.0, true}, spring(4000.0, 40.0), {}, {}, {}}};
   s.mechanism.train.assign(chain.begin(), chain.begin() + bodies);
   s.simulation.cycles = 5;
   s.simulation.discard_cycles = 2;

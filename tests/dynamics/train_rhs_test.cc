@@ -37,7 +37,7 @@ SceneConfig train_scene() {
   SeatConfig stop = seat;
   stop.position = 0.05;
   f.stop = stop;
-  TrainBodyConfig valve{"valve", 0.06, 1.0, {1.5, 2e7, 50.0, 1e-5, true}, {}, {}, {}};
+  TrainBodyConfig valve{"valve", 0.06, 1.0, {1.5, 2e7, 50.0, 1e-5, true}, {}, {}, {}, {}};
   valve.spring.stiffness = 30000.0;
   valve.spring.preload = 200.0;
   SeatConfig valve_seat;
@@ -47,7 +47,7 @@ SceneConfig train_scene() {
   valve_seat.exponent = 1.0;
   valve_seat.damping = 2000.0;
   valve.seat = valve_seat;
-  TrainBodyConfig tip{"tip", 0.02, 0.0, {1.0, 5e7, 20.0, 0.0, false}, {}, {}, {}};
+  TrainBodyConfig tip{"tip", 0.02, 0.0, {1.0, 5e7, 20.0, 0.0, false}, {}, {}, {}, {}};
   tip.spring.stiffness = 5000.0;
   tip.spring.preload = 20.0;
   s.mechanism.train = {valve, tip};
