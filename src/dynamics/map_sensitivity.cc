@@ -120,10 +120,14 @@ class SensitivityOde final : public OdeSystem {
 };
 
 // The root functions at (t, y) and the closing rates that set approach
-// speeds: the cam gap's ġ (root 0) and the train gaps' (their roots).
+// speeds, by root: the cam gap's ġ and the train gaps' (none for the clamp switch).
 struct RootSample {
-  std::array<double, 2 + TrainLimits::kMaxRoots> g{}, rate{};
+  std::array<double, Model::kMaxRoots> g{}, rate{};
 };
+
+// The approach speed (SensitivityOde::parameter) a closing gap resets: the
+// cam contact's (0) or train root r's (1 + r).
+int approach_parameter(const RootSlot& slot) { return slot.role == RootRole::train_gap ? 1 + slot.index : 0; }
 
 // The root functions' partials at an event, by central differences over
 // the state (steps kRootStep × each state's scale), the time and the
@@ -154,7 +158,7 @@ class SensitivityRun {
   // sensitivities' jump, the restart. Empty, or why the run cannot be trusted.
   std::string handle_event(double t) {
     ++events_;
-    std::array<int, 2 + TrainLimits::kMaxRoots> directions{};
+    std::array<int, Model::kMaxRoots> directions{};
     integrator_.root_info(directions.data());
     int fired = -1;
     for (int r = 0; r < model_.root_count(); ++r) {
@@ -174,22 +178,27 @@ class SensitivityRun {
     // dt_e/dx(0): the event time's sensitivity (a row).
     const Eigen::RowVectorXd tau = -(d.g_x.transpose() * s_ + d.g_p.transpose() * w) / crossing;
     const bool closing = directions[static_cast<std::size_t>(fired)] < 0;
-    const int base = model_.contact_root_count();
+    const RootSlot slot = model_.root_slot(fired);
     const Evaluation ev = ode_.evaluated(t, y_.data());
-    if (fired == 0) {
-      if (closing) {
-        count_onset(-ev.gap_rate);
-        reset_approach(0, -ev.gap_rate, model_.contact.reference_velocity, d, f_minus, tau);
-      } else {
-        lash_open_ = model_.train.present() && model_.train.rests_on_seat(ev.train, 0);
-        separated_ = !lash_open_;
-      }
-    } else if (fired >= base && closing) {
-      const int root = fired - base;
-      const TrainElement& e = train_element_of_root(model_.train, root);
-      if (e.law == TrainElement::Law::contact)
-        reset_approach(1 + root, -ev.train.gap_rate[static_cast<std::size_t>(root)], e.contact.reference_velocity, d,
-                       f_minus, tau);
+    switch (slot.role) {
+      case RootRole::contact_gap:
+        if (closing) {
+          count_onset(-ev.gap_rate);
+          reset_approach(approach_parameter(slot), -ev.gap_rate, model_.contact.reference_velocity, d, f_minus, tau);
+        } else {
+          lash_open_ = model_.train.present() && model_.train.rests_on_seat(ev.train, 0);
+          separated_ = !lash_open_;
+        }
+        break;
+      case RootRole::contact_clamp:  // the force switches on or off: the saltation alone
+        break;
+      case RootRole::train_gap:
+        if (!closing) break;
+        if (const TrainElement& e = train_element_of_root(model_.train, slot.index);
+            e.law == TrainElement::Law::contact)
+          reset_approach(approach_parameter(slot), -ev.train.gap_rate[static_cast<std::size_t>(slot.index)],
+                         e.contact.reference_velocity, d, f_minus, tau);
+        break;
     }
     if (ode_.rhs(t, y_.data(), f_plus.data()) != 0) return "the right-hand side failed after an event";
     s_ += (f_plus - f_minus) * tau;  // the saltation matrix (H = I: the state is continuous)
@@ -205,10 +214,20 @@ class SensitivityRun {
     RootSample out;
     const Evaluation& ev = ode_.evaluated(t, y);
     root_functions(model_, ws_, ev, out.g.data());
-    const auto base = static_cast<std::size_t>(model_.contact_root_count());
-    out.rate[0] = ev.gap_rate;
-    for (std::size_t r = 0; r < static_cast<std::size_t>(model_.train.roots); ++r)
-      out.rate[base + r] = ev.train.gap_rate[r];
+    for (int r = 0; r < model_.root_count(); ++r) {
+      const RootSlot slot = model_.root_slot(r);
+      double& rate = out.rate[static_cast<std::size_t>(r)];
+      switch (slot.role) {
+        case RootRole::contact_gap:
+          rate = ev.gap_rate;
+          break;
+        case RootRole::contact_clamp:  // no closing rate
+          break;
+        case RootRole::train_gap:
+          rate = ev.train.gap_rate[static_cast<std::size_t>(slot.index)];
+          break;
+      }
+    }
     return out;
   }
 

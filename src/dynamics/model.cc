@@ -459,10 +459,20 @@ void quadrature_derivative(const Evaluation& ev, double* q_dot) {
 }
 
 void root_functions(const Model& model, const Workspace& ws, const Evaluation& ev, double* g) {
-  g[0] = ev.gap;
-  if (model.contact.has_clamp_switch()) g[1] = model.contact.clamp_switch(ev.delta, ev.delta_rate, ws.v0);
-  const int base = model.contact_root_count();
-  for (int k = 0; k < model.train.roots; ++k) g[base + k] = ev.train.gap[static_cast<std::size_t>(k)];
+  for (int r = 0; r < model.root_count(); ++r) {
+    const RootSlot slot = model.root_slot(r);
+    switch (slot.role) {
+      case RootRole::contact_gap:
+        g[r] = ev.gap;
+        break;
+      case RootRole::contact_clamp:
+        g[r] = model.contact.clamp_switch(ev.delta, ev.delta_rate, ws.v0);
+        break;
+      case RootRole::train_gap:
+        g[r] = ev.train.gap[static_cast<std::size_t>(slot.index)];
+        break;
+    }
+  }
 }
 
 EnergyTerms energy_terms(const Model& model, const Evaluation& ev) {

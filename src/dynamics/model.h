@@ -24,6 +24,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cassert>
 #include <cstddef>
 #include <limits>
 #include <memory>
@@ -39,6 +40,7 @@
 #include "dynamics/follower_forces.h"
 #include "dynamics/follower_train.h"
 #include "dynamics/friction_elements.h"
+#include "dynamics/root_roles.h"
 #include "dynamics/separation_cause.h"
 #include "dynamics/shaft_drive.h"
 #include "dynamics/state_layout.h"
@@ -102,13 +104,40 @@ struct Model : CamGeometry {
   /// Nominal cam angle at time t [rad]: the cam's with constant-speed drive,
   /// the motor's (without the shaft's twist) with a shaft.
   double theta(double t) const { return theta0 + omega * t; }
-  /// Root functions of the cam contact: its gap, plus the force clamp switch where the law has one.
-  int contact_root_count() const { return contact.has_clamp_switch() ? 2 : 1; }
-  /// Number of root functions: the cam contact's, then the train's gaps.
-  int root_count() const { return contact_root_count() + train.roots; }
+  /// Number of root functions (docs/model.md §6): the cam contact's, then the train's gaps.
+  int root_count() const { return contact_roots() + train.roots; }
+  /// What root function r (0 ≤ r < root_count()) watches. The owners declare
+  /// their roots in this order: the cam contact its gap, then its force clamp
+  /// switch where the law has one; the train its gaps, root 0 first.
+  RootSlot root_slot(int r) const {
+    assert(r >= 0 && r < root_count());
+    if (r == 0) return {RootRole::contact_gap, 0};
+    if (r == 1 && contact.has_clamp_switch()) return {RootRole::contact_clamp, 0};
+    return {RootRole::train_gap, r - contact_roots()};
+  }
+  /// The number of the root function with this role and index within its
+  /// owner (root_slot()'s inverse), −1 where the model has none.
+  int root_of(RootRole role, int index = 0) const {
+    switch (role) {
+      case RootRole::contact_gap:
+        return index == 0 ? 0 : -1;
+      case RootRole::contact_clamp:
+        return index == 0 && contact.has_clamp_switch() ? 1 : -1;
+      case RootRole::train_gap:
+        return index >= 0 && index < train.roots ? contact_roots() + index : -1;
+    }
+    return -1;
+  }
+  /// The most root functions a model has: the cam contact's two and the train's most
+  /// (the size of the arrays a run's root values and directions are kept in).
+  static constexpr int kMaxRoots = 2 + TrainLimits::kMaxRoots;
   /// Whether state_jacobian() is available (the reduced pair forms; the general
   /// one leaves the Jacobian to the integrator's difference quotients).
   bool exact_jacobian() const { return pair_form == PairForm::reduced; }
+
+ private:
+  /// Root functions the cam contact declares: its gap, and the clamp switch where the law has one.
+  int contact_roots() const { return contact.has_clamp_switch() ? 2 : 1; }
 };
 
 /// The linear parts of the model's follower forces (FollowerForces::linear_parts
@@ -266,8 +295,9 @@ void quadrature_derivative(const Evaluation& ev, double* q_dot);
 /// Only for model.exact_jacobian().
 void state_jacobian(const Model& model, Workspace& ws, double t, const double* state, double* jacobian);
 
-/// Root functions: [0] gap g, [1] force clamp switch (where the law has one),
-/// then the gaps of the train's one-sided elements.
+/// The root functions into g[0 .. root_count()), each by its role
+/// (Model::root_slot(), dynamics/root_roles.h): the cam contact's gap g [m],
+/// its force clamp switch (where the law has one), the train elements' gaps −d [m].
 void root_functions(const Model& model, const Workspace& ws, const Evaluation& ev, double* g);
 
 /// Mechanical energy terms at an evaluation [J].

@@ -35,8 +35,8 @@ using Failure = RunFailure;
 using Clock = std::chrono::steady_clock;
 // Fewest states for which a banded linear solver is tried.
 constexpr int kMinBandedStates = 10;
-// The directions of the roots the integrator found: the cam contact's, then the train's.
-using RootDirections = std::array<int, 2 + TrainLimits::kMaxRoots>;
+// The directions of the roots the integrator found, by root (Model::root_slot()).
+using RootDirections = std::array<int, Model::kMaxRoots>;
 
 // The quadratures a model reports (docs/model.md §7; Quadratures holds all of
 // them, by index): the drive's work only where the cam turns or a motor
@@ -389,9 +389,10 @@ void record_train_opening(const RunContext& run, const Evaluation& ev, double t,
   run.result.events.push_back({t, ev.theta * kRadToDeg, false, ev.gap_rate, false, ev.v, false, false, below});
 }
 
-// A root the integrator stopped at (docs/model.md §6): records a contact onset
-// (an impact when the follower was separated) or a separation, and the
-// train's gaps. Returns whether the right-hand side changed, so that the
+// The roots the integrator stopped at (docs/model.md §6), in the model's
+// order, each by its role: the cam contact's gap records a contact onset (an
+// impact when the follower was separated) or a separation, and the train's
+// gaps theirs. Returns whether the right-hand side changed, so that the
 // integrator must restart.
 bool handle_root(const RunContext& run, const Integrator& integrator, const Evaluation& ev, double t,
                  RootDirections& root_dirs, LoopState& loop) {
@@ -399,22 +400,29 @@ bool handle_root(const RunContext& run, const Integrator& integrator, const Eval
   bool restart = false;
   integrator.root_info(root_dirs.data());
   ++run.result.solver.events;
-  if (root_dirs[0] < 0) {  // gap closing: contact onset
-    record_onset(run, ev, t, loop);
-    restart = true;
-  } else if (root_dirs[0] > 0) {  // gap opening: separation (lash while the follower rests on a seat)
-    record_separation(run, ev, t, loop);
-    restart = true;
-  }
-  if (model.contact_root_count() > 1 && root_dirs[1] != 0 && ev.delta > 0.0) restart = true;  // force clamp switches
-  // The train's gaps: a force switches on or off (its damping term jumps).
-  const int base = model.contact_root_count();
-  for (int k = 0; k < model.train.roots; ++k) {
-    const int dir = root_dirs[static_cast<std::size_t>(base) + static_cast<std::size_t>(k)];
+  for (int r = 0; r < model.root_count(); ++r) {
+    const int dir = root_dirs[static_cast<std::size_t>(r)];
     if (dir == 0) continue;
-    if (dir < 0) record_train_onset(run, ev, t, k, loop);
-    if (dir > 0) record_train_opening(run, ev, t, k, loop);
-    restart = true;
+    const RootSlot slot = model.root_slot(r);
+    switch (slot.role) {
+      case RootRole::contact_gap:
+        if (dir < 0)  // gap closing: contact onset
+          record_onset(run, ev, t, loop);
+        else  // gap opening: separation (lash while the follower rests on a seat)
+          record_separation(run, ev, t, loop);
+        restart = true;
+        break;
+      case RootRole::contact_clamp:  // the force clamp switches
+        if (ev.delta > 0.0) restart = true;
+        break;
+      case RootRole::train_gap:  // a force switches on or off (its damping term jumps)
+        if (dir < 0)
+          record_train_onset(run, ev, t, slot.index, loop);
+        else
+          record_train_opening(run, ev, t, slot.index, loop);
+        restart = true;
+        break;
+    }
   }
   return restart;
 }

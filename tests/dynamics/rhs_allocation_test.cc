@@ -19,7 +19,7 @@ namespace {
 long allocations_in_rhs_calls(const Model& model, Workspace& ws, const double* y, double t0 = 0.0,
                               bool jacobian = false) {
   Evaluation ev;
-  double y_dot[StateLayout::kMax], q_dot[Model::kQuadratures], g[2 + TrainLimits::kMaxRoots];
+  double y_dot[StateLayout::kMax], q_dot[Model::kQuadratures], g[Model::kMaxRoots];
   double jac[StateLayout::kMax * StateLayout::kMax];
   const long before = camdyn::test::allocation_count();
   for (int i = 0; i < 100; ++i) {
