@@ -29,10 +29,10 @@ enum class TrainRole { link, seat, stop, spring, spring_segment, clash, damper, 
 /// cam turn (360 crank_ratio crank degrees), on an area A against the
 /// pressure behind the body p_port.
 struct GasLoad {
-  double area = 0.0;           ///< A [m²]
-  double crank_ratio = 2.0;    ///< crank turns per cam turn [-]
-  double tdc_deg = 0.0;        ///< cam angle where the crank angle is 0 [deg]
-  double port_pressure = 0.0;  ///< p_port [Pa]
+  double area = 0.0;                        ///< A [m²]
+  double crank_ratio = 2.0;                 ///< crank turns per cam turn [-]
+  double tdc_deg = 0.0;                     ///< cam angle where the crank angle is 0 [deg]
+  double port_pressure = 0.0;               ///< p_port [Pa]
   std::vector<double> crank_deg, pressure;  ///< rows: increasing, within one period [deg], [Pa]
 
   /// One cam turn in crank degrees.
@@ -83,8 +83,8 @@ struct TrainBody {
   std::string name;  ///< "follower" for coordinate 0
   int coordinate = 0;
   int link = -1, seat = -1, stop = -1, spring_end = -1, gas = -1;  ///< element indices (−1: none)
-  double ratio = 1.0;                                    ///< the link's lever ratio (1 for the follower)
-  double lash = 0.0;                                     ///< the link's lash [m]
+  double ratio = 1.0;                                              ///< the link's lever ratio (1 for the follower)
+  double lash = 0.0;                                               ///< the link's lash [m]
   int spring_coils = 0, spring_lumps = 0;  ///< its spring with mass: active coils, lumped masses (0: none)
 };
 
@@ -106,7 +106,7 @@ struct TrainEvaluation {
   std::array<double, TrainLimits::kMaxRoots> gap{}, gap_rate{};  ///< −d, −ḋ of each one-sided element [m], [m/s]
   double kinetic = 0.0, potential = 0.0;                         ///< [J], bodies and lumps, all elements
   double power_damper = 0.0, power_hysteresis = 0.0;             ///< dissipated [W]
-  double power_external = 0.0;  ///< delivered to the bodies by the gas loads [W]
+  double power_external = 0.0;                                   ///< delivered to the bodies by the gas loads [W]
 };
 
 /// Per-run data of the train: each contact element's approach speed v₀ [m/s].

@@ -8,7 +8,9 @@
 
 namespace camdyn {
 
-bool rigid_figures_held(const Model& model) { return model.train.has_coordinates(); }
+bool rigid_figures_held(const Model& model) {
+  return model.train.has_coordinates() && follower_linear_parts(model).has_value();
+}
 
 std::vector<double> held_contact_generalised_force(const Model& model, double omega, int angles) {
   return held_contact_generalised_force(model, *model.law, omega, angles);

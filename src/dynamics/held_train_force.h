@@ -19,7 +19,8 @@
 namespace camdyn {
 
 /// Whether the model's rigid figures are the held train's (a train with
-/// coordinates of its own) rather than the one-mass figure.
+/// coordinates of its own and linear parts) rather than the one-mass figure
+/// (which is NaN, not available, without linear parts: a gas load).
 bool rigid_figures_held(const Model& model);
 
 /// The held train's cam contact force as the cam's generalised force on the

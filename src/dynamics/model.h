@@ -272,7 +272,7 @@ struct Evaluation {
   DriveRates<double> drive;  ///< shaft twist and torque, motor speed and torque, accelerations (dynamics/shaft_drive.h)
   double power_drive = 0.0, power_damper = 0.0, power_hysteresis = 0.0, power_friction = 0.0;  ///< [W]
   double power_external = 0.0;  ///< delivered by the train's gas loads [W]
-  TrainEvaluation train;  ///< the train's forces and rates (only with model.train.present())
+  TrainEvaluation train;        ///< the train's forces and rates (only with model.train.present())
 };
 
 /// Evaluates the model. With Newton tracking the pair is solved from

@@ -82,6 +82,10 @@ void check_contact_stress_limit(const MechanismConfig& mech, const Model& model,
   const std::string at = "mechanism.cam.limits.max_contact_stress";
   const LineContact contact = require_line_contact(mech.contact, file, at);
   const PressurePeak peak = peak_rigid_contact_pressure(model, contact, model.omega);
+  if (std::isnan(peak.pressure))
+    throw InputError(
+        file, at,
+        std::string("cannot be checked: the rigid-model contact pressure is not available: ") + kNoLinearPart);
   if (peak.pressure > *limit)
     throw InputError(file, at,
                      std::string(rigid_figures_held(model) ? "the held train's " : "the ") +

@@ -41,17 +41,25 @@ using RootDirections = std::array<int, Model::kMaxRoots>;
 // The quadratures a model reports (docs/model.md §7; Quadratures holds all of
 // them, by index): the drive's work only where the cam turns or a motor
 // drives it, the damper's only with a damper, the contact hysteresis only for
-// a dissipative law, the friction work only with friction, the separation
-// integral always, the external work only with a gas load. The others have a
+// a dissipative law (the cam contact's, a train seat's or stop's, a damped
+// one-sided link's), the friction work only with friction, the separation
+// integral always, the external work only with a gas load. A train's spring
+// segments and body dampers count as dampers. The others have a
 // zero integrand.
 bool quadrature_reported(const Model& m, int i) {
   switch (i) {
     case 0:
       return m.drive.works(m.omega);
     case 1:
-      return m.forces.damper().present() || m.drive.dissipates();
+      return m.forces.damper().present() || m.drive.dissipates() ||
+             std::any_of(m.train.elements.begin(), m.train.elements.end(),
+                         [](const TrainElement& e) { return e.law == TrainElement::Law::spring && e.damping > 0.0; });
     case 2:
-      return force_form(m.contact.model) != ForceForm::elastic;
+      return force_form(m.contact.model) != ForceForm::elastic ||
+             std::any_of(m.train.elements.begin(), m.train.elements.end(), [](const TrainElement& e) {
+               return (e.law == TrainElement::Law::one_sided && e.damping > 0.0) ||
+                      (e.law == TrainElement::Law::contact && force_form(e.contact.model) != ForceForm::elastic);
+             });
     case 3:
       return m.friction.present || m.support.present();
     case 5:

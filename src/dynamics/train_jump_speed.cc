@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <numbers>
 #include <stdexcept>
@@ -137,6 +138,14 @@ double train_jump_speed_rpm(const Model& model, const std::optional<FollowerLine
 
 double model_jump_speed_rpm(const Model& model) {
   return model.train.has_coordinates() ? model.train_jump_speed_rpm : rigid_jump_speed_rpm(model);
+}
+
+std::string jump_speed_text(double rpm, int digits) {
+  if (std::isnan(rpm)) return std::string("not available (") + kNoLinearPart + ")";
+  if (!std::isfinite(rpm)) return "none (the law never decelerates)";
+  char buffer[48];
+  std::snprintf(buffer, sizeof buffer, "%.*g rpm", digits, rpm);
+  return buffer;
 }
 
 const char* jump_speed_name(const Model& model) {

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <optional>
+#include <string>
 
 #include "dynamics/linear_train_response.h"
 #include "dynamics/model.h"
@@ -43,6 +44,12 @@ double train_jump_speed_rpm(const Model& model, const std::optional<FollowerLine
 /// where the train has coordinates of its own, else the rigid figure of
 /// docs/model.md §9 (dynamics/rigid_jump_speed.h).
 double model_jump_speed_rpm(const Model& model);
+
+/// A jump speed [rpm] for messages: `digits` significant digits and " rpm";
+/// "none (the law never decelerates)" for +inf; for NaN (the closed form is
+/// off: an element without a linear part, such as a gas load) "not
+/// available" with the reason.
+std::string jump_speed_text(double rpm, int digits);
 
 /// What model_jump_speed_rpm is, for messages: "train jump speed (held, linearised)"
 /// or "rigid-model jump speed".

@@ -350,11 +350,11 @@ struct LinkConfig {
 /// `crank_deg`, `pressure`) and repeated every cam turn (360 × crank_ratio
 /// crank degrees).
 struct GasLoadConfig {
-  double area = 0.0;                    ///< A [m²], > 0
-  std::string pressure;                 ///< the table's CSV file, relative to the config (resolved on load)
-  double crank_ratio = 2.0;             ///< crank turns per cam turn [-], > 0
-  double tdc_deg = 0.0;                 ///< cam angle where the crank angle is 0 [deg], in [0, 360)
-  double port_pressure = 1.01325e5;     ///< p_port, the pressure behind the body [Pa], >= 0
+  double area = 0.0;                 ///< A [m²], > 0
+  std::string pressure;              ///< the table's CSV file, relative to the config (resolved on load)
+  double crank_ratio = 2.0;          ///< crank turns per cam turn [-], > 0
+  double tdc_deg = 0.0;              ///< cam angle where the crank angle is 0 [deg], in [0, 360)
+  double port_pressure = 1.01325e5;  ///< p_port, the pressure behind the body [Pa], >= 0
   /// The table's rows, read from `pressure` by the loader (io/config.h
   /// load_table_rows), not serialised: crank angle [deg], pressure [Pa], and
   /// the 1-based line of each row in the file (for messages).
@@ -366,13 +366,13 @@ struct GasLoadConfig {
 
 /// One body of `mechanism.train`, after the follower.
 struct TrainBodyConfig {
-  std::string name;                ///< column prefix in timeseries.csv; unique, not "follower"
-  double mass = 0.0;               ///< [kg], > 0
-  double damping = 0.0;            ///< viscous damper to the frame [N s/m], >= 0
-  LinkConfig link;                 ///< from the body before it
-  SpringConfig spring;             ///< return spring to the frame (optional: zero stiffness and preload)
-  std::optional<SeatConfig> seat;  ///< lower end of travel
-  std::optional<SeatConfig> stop;  ///< upper end of travel
+  std::string name;                  ///< column prefix in timeseries.csv; unique, not "follower"
+  double mass = 0.0;                 ///< [kg], > 0
+  double damping = 0.0;              ///< viscous damper to the frame [N s/m], >= 0
+  LinkConfig link;                   ///< from the body before it
+  SpringConfig spring;               ///< return spring to the frame (optional: zero stiffness and preload)
+  std::optional<SeatConfig> seat;    ///< lower end of travel
+  std::optional<SeatConfig> stop;    ///< upper end of travel
   std::optional<GasLoadConfig> gas;  ///< a gas load against its opening
 
   bool operator==(const TrainBodyConfig&) const = default;

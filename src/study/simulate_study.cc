@@ -49,13 +49,11 @@ class Progress {
 // the largest pressure angle and the smallest radius of curvature.
 void print_design_check(const Model& model) {
   const CamGeometryReport& g = model.geometry;
-  const double jump = model_jump_speed_rpm(model);  // [rpm]; +inf: the law never decelerates
-  char speed[48] = "none (the law never decelerates)";
-  if (std::isfinite(jump)) std::snprintf(speed, sizeof speed, "%.4g rpm", jump);
+  const std::string speed = jump_speed_text(model_jump_speed_rpm(model), 4);
   std::fprintf(stderr,
                "  design check: %s %s, max pressure angle %.3g deg at %.4g deg, "
                "min radius of curvature %.3g m at %.4g deg\n",
-               jump_speed_name(model), speed, g.max_pressure_angle_deg, g.max_pressure_angle_at_deg,
+               jump_speed_name(model), speed.c_str(), g.max_pressure_angle_deg, g.max_pressure_angle_at_deg,
                g.min_radius_of_curvature, g.min_radius_of_curvature_at_deg);
 }
 
@@ -101,8 +99,8 @@ int run_simulate_study(const Json& doc, const StudyContext& ctx) {
                         : place == "float"                ? "follower SEPARATES"
                         : place == "link"                 ? "train SEPARATES at a link"
                                                           : "follower stays in contact";
-  std::printf("%s: %s, %.6g rpm (%s %.6g rpm)\n", scene.name.c_str(), verdict, scene.mechanism.cam.rpm,
-              jump_speed_name(model), m.jump_speed_rpm);
+  std::printf("%s: %s, %.6g rpm (%s %s)\n", scene.name.c_str(), verdict, scene.mechanism.cam.rpm,
+              jump_speed_name(model), jump_speed_text(m.jump_speed_rpm, 6).c_str());
   if (!result.metrics_note.empty()) std::printf("  steady state: %s\n", result.metrics_note.c_str());
   std::printf("  separation_fraction %.4g, impacts %ld, peak_contact_force %.6g N, min_contact_force %.6g N\n",
               m.separation_fraction, m.impact_count, m.peak_contact_force, m.min_contact_force);

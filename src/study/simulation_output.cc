@@ -310,7 +310,7 @@ double wrap_deg(double deg) {
 std::string angle_text(double deg, const std::optional<CrankScale>& crank) { return verdict_angle_text(deg, crank); }
 
 std::string rpm_text(double rpm) {
-  return std::isfinite(rpm) ? format_number(rpm, 5) + " rpm" : "none (the law never decelerates)";
+  return std::isfinite(rpm) ? format_number(rpm, 5) + " rpm" : jump_speed_text(rpm, 5);
 }
 
 /// Index of the smallest contact force at or after `from` [s] where the cam
@@ -768,7 +768,8 @@ Report simulation_report(const SceneConfig& scene, const Model& model, const Sim
   report.subtitle = "simulate — " + follower + " follower, contact model " + to_string(scene.mechanism.contact.model);
   report.verdict = simulation_verdict(scene, model, result);
   report.facts = {{"cam speed", format(scene.mechanism.cam.rpm, "rpm")},
-                  {jump_speed_name(model), format(m.jump_speed_rpm, "rpm")},
+                  {jump_speed_name(model), std::isnan(m.jump_speed_rpm) ? jump_speed_text(m.jump_speed_rpm, 6)
+                                                                        : format(m.jump_speed_rpm, "rpm")},
                   {"simulated", format(result.end_time, "s")},
                   {"metrics from", format(result.evaluated_from, "s")},
                   {"integrator", result.solver.method + ", rtol " + format(result.solver.rtol)},

@@ -315,6 +315,11 @@ Json speed_limit_json(const SpeedLimitStudy& study, const SpeedLimitResult& r) {
 
 namespace {
 
+/// The rigid (or held-train) jump speed for the report: 5 digits, or why there is none.
+std::string rigid_text(double rpm) {
+  return std::isfinite(rpm) ? format_number(rpm, 5) + " rpm" : jump_speed_text(rpm, 5);
+}
+
 /// The words for SpeedLimitResult::limit_cause.
 std::string limit_cause_text(const std::string& cause) {
   if (cause == "float") return "the follower floats off the cam above the ramps (a jump)";
@@ -351,7 +356,7 @@ Report speed_limit_report(const SpeedLimitStudy& study, const SpeedLimitResult& 
               r.limited ? "stays on the cam up to " + format_number(r.speed_limit_rpm, 5) + " rpm, separates at " +
                               format_number(r.first_failure_rpm, 5) + " rpm"
                         : "stays on the cam at every speed up to " + format_number(r.speed_limit_rpm, 5) + " rpm",
-              {r.jump_speed_name + " " + format_number(r.rigid_jump_speed_rpm, 5) + " rpm"}};
+              {r.jump_speed_name + " " + rigid_text(r.rigid_jump_speed_rpm)}};
   if (r.limited) rep.verdict->details.push_back("what fails there: " + limit_cause_text(r.limit_cause));
   if (r.lash)
     rep.verdict->details.push_back(
@@ -362,7 +367,7 @@ Report speed_limit_report(const SpeedLimitStudy& study, const SpeedLimitResult& 
       {"speed limit (simulated)", r.limited ? format_number(r.speed_limit_rpm, 5) + " rpm (fails at " +
                                                   format_number(r.first_failure_rpm, 5) + " rpm)"
                                             : "none found up to " + format_number(r.speed_limit_rpm, 5) + " rpm"},
-      {r.jump_speed_name, format_number(r.rigid_jump_speed_rpm, 5) + " rpm"},
+      {r.jump_speed_name, rigid_text(r.rigid_jump_speed_rpm)},
       {"simulations", std::to_string(r.checks.size()) + " in " + format_number(r.run_time_s, 3) + " s"}};
   rep.appendix.push_back(table);
   rep.plots.push_back(Plot{"Separation against speed", "cam speed [rpm]", "separation fraction [-]", {sep}});
@@ -394,12 +399,12 @@ int run_speed_limit_study(const Json& doc, const StudyContext& ctx) {
     std::printf("%s: the follower leaves the cam already at %.6g rpm (the lowest speed checked)\n",
                 study.scene.name.c_str(), r.first_failure_rpm);
   else if (r.limited)
-    std::printf("%s: stays on the cam up to %.6g rpm (simulated; leaves it at %.6g rpm); %s %.6g rpm\n",
+    std::printf("%s: stays on the cam up to %.6g rpm (simulated; leaves it at %.6g rpm); %s %s\n",
                 study.scene.name.c_str(), r.speed_limit_rpm, r.first_failure_rpm, r.jump_speed_name.c_str(),
-                r.rigid_jump_speed_rpm);
+                jump_speed_text(r.rigid_jump_speed_rpm, 6).c_str());
   else
-    std::printf("%s: stays on the cam at every speed checked, up to %.6g rpm; %s %.6g rpm\n", study.scene.name.c_str(),
-                r.speed_limit_rpm, r.jump_speed_name.c_str(), r.rigid_jump_speed_rpm);
+    std::printf("%s: stays on the cam at every speed checked, up to %.6g rpm; %s %s\n", study.scene.name.c_str(),
+                r.speed_limit_rpm, r.jump_speed_name.c_str(), jump_speed_text(r.rigid_jump_speed_rpm, 6).c_str());
   std::printf("  %zu simulations, %.3g s; report: %s\n", r.checks.size(), r.run_time_s,
               std::filesystem::absolute(ctx.out_dir / "report.html").lexically_normal().c_str());
   return 0;

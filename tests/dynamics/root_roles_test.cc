@@ -25,7 +25,7 @@ SceneConfig seated_valve_scene(ContactModel law) {
   seat.stiffness = 1e9;
   seat.exponent = 1.5;
   s.mechanism.follower.seat = seat;
-  TrainBodyConfig valve{"valve", 0.06, 1.0, {1.5, 2e7, 50.0, 1e-5, true}, {}, {}, {}};
+  TrainBodyConfig valve{"valve", 0.06, 1.0, {1.5, 2e7, 50.0, 1e-5, true}, {}, {}, {}, {}};
   valve.spring.stiffness = 30000.0;
   valve.spring.preload = 200.0;
   SeatConfig valve_seat;

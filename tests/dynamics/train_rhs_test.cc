@@ -69,26 +69,31 @@ std::vector<double> engaged_state(const SceneConfig& scene, const Model& model, 
   return y;
 }
 
-TEST(FollowerTrainRhs, ExactJacobianMatchesCentralDifferences) {
-  const SceneConfig scene = train_scene();
+/// The exact Jacobian of `scene`'s model at `t` against central differences
+/// (a shaft's cam at the nominal angle and speed).
+void expect_jacobian_matches_differences(const SceneConfig& scene, double t) {
   const Model model = build_model(scene, "test");
   ASSERT_TRUE(model.exact_jacobian());
   Workspace ws = make_workspace(model);
   std::vector<double> y = engaged_state(scene, model, ws);
+  if (model.layout.cam_angle) {
+    y[static_cast<std::size_t>(*model.layout.cam_angle)] = model.theta(t);
+    y[static_cast<std::size_t>(*model.layout.cam_speed)] = model.omega;
+  }
   const int n = model.layout.size;
   ASSERT_GT(n, model.layout.core_size + 10);
   std::vector<double> jacobian(static_cast<std::size_t>(n * n));
-  state_jacobian(model, ws, 0.0, y.data(), jacobian.data());
+  state_jacobian(model, ws, t, y.data(), jacobian.data());
   Evaluation ev;
   std::vector<double> up(static_cast<std::size_t>(n)), down(static_cast<std::size_t>(n));
   for (int j = 0; j < n; ++j) {
     const double h = 1e-6 * std::max(1e-3, std::abs(y[static_cast<std::size_t>(j)]));  // above the roundoff of q̈ ~ 1e5
     std::vector<double> x = y;
     x[static_cast<std::size_t>(j)] += h;
-    evaluate(model, ws, 0.0, x.data(), ev);
+    evaluate(model, ws, t, x.data(), ev);
     state_derivative(model, ev, up.data());
     x[static_cast<std::size_t>(j)] -= 2.0 * h;
-    evaluate(model, ws, 0.0, x.data(), ev);
+    evaluate(model, ws, t, x.data(), ev);
     state_derivative(model, ev, down.data());
     for (int i = 0; i < n; ++i) {
       const double fd = (up[static_cast<std::size_t>(i)] - down[static_cast<std::size_t>(i)]) / (2.0 * h);
@@ -98,6 +103,29 @@ TEST(FollowerTrainRhs, ExactJacobianMatchesCentralDifferences) {
           << model.layout.names[static_cast<std::size_t>(j)];
     }
   }
+}
+
+TEST(FollowerTrainRhs, ExactJacobianMatchesCentralDifferences) {
+  expect_jacobian_matches_differences(train_scene(), 0.0);
+}
+
+// A gas load on the valve (docs/model.md §12, "Gas load"), its pressure
+// changing with the cam angle: with a shaft, the cam angle is a state, and
+// the load's ∂F/∂θ enters the valve's row.
+TEST(FollowerTrainRhs, ExactJacobianWithAGasLoadOnAShaft) {
+  SceneConfig scene = train_scene();
+  GasLoadConfig gas;
+  gas.area = 7e-4;
+  gas.pressure = "table";
+  gas.crank_deg = {100.0, 300.0, 500.0};  // crank 0 (t = 0) inside the segment that closes the cycle
+  gas.pressure_pa = {1e5, 6e5, 3e5};
+  scene.mechanism.train[0].gas = gas;
+  DriveConfig& d = scene.mechanism.cam.drive;
+  d.type = Drive::shaft;
+  d.inertia = 0.01;
+  d.torsional_stiffness = 2e4;
+  d.torsional_damping = 0.5;
+  expect_jacobian_matches_differences(scene, 0.0);
 }
 
 TEST(FollowerTrainRhs, AllocatesNothing) {

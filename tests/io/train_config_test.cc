@@ -450,5 +450,53 @@ TEST(TrainConfig, ATrainsNumbersAreFoundByTheirDottedPath) {
             "is not given in this scene");
 }
 
+// ---------------------------------------------------------------- gas loads
+
+const std::string kPressureTable = std::string(CAMDYN_SOURCE_DIR) + "/studies/valvetrain/cylinder_pressure.csv";
+
+/// The valve of scene_with_train() under a gas load (docs/config.md, "`gas`: a gas load").
+Json scene_with_gas() {
+  Json doc = scene_with_train();
+  body(doc, 1)["gas"] = Json{{"area", 7e-4}, {"pressure", kPressureTable}, {"tdc_deg", 100}};
+  return doc;
+}
+
+TEST(TrainConfig, AGasLoadReadsItsTableAndWritesBack) {
+  const SceneConfig s = load(scene_with_gas());
+  ASSERT_TRUE(s.mechanism.train[1].gas);
+  const GasLoadConfig& g = *s.mechanism.train[1].gas;
+  EXPECT_EQ(g.area, 7e-4);
+  EXPECT_EQ(g.crank_ratio, 2.0);
+  EXPECT_EQ(g.tdc_deg, 100.0);
+  EXPECT_EQ(g.port_pressure, 1.01325e5);
+  ASSERT_EQ(g.crank_deg.size(), 72u);
+  EXPECT_EQ(g.crank_deg.front(), 0.0);
+  EXPECT_EQ(g.crank_deg.back(), 710.0);
+  EXPECT_EQ(g.pressure_pa.front(), 95000.0);
+  EXPECT_EQ(g.lines.front(), 3);  // after the comment and the header
+  expect_train_round_trip(s);
+  EXPECT_FALSE(to_json(load(scene_with_train()))["mechanism"]["train"][1].contains("gas"));
+}
+
+TEST(TrainConfig, GasLoadChecksNameTheirPath) {
+  const std::vector<BadTrain> cases = {
+      {"area", [](Json& d) { body(d, 1)["gas"]["area"] = 0.0; }, "mechanism.train[1].gas.area", "> 0"},
+      {"unknown key", [](Json& d) { body(d, 1)["gas"]["aera"] = 1e-3; }, "mechanism.train[1].gas.aera", "area"},
+      {"crank ratio", [](Json& d) { body(d, 1)["gas"]["crank_ratio"] = -2; }, "mechanism.train[1].gas.crank_ratio",
+       "> 0"},
+      {"tdc", [](Json& d) { body(d, 1)["gas"]["tdc_deg"] = 360; }, "mechanism.train[1].gas.tdc_deg", "360"},
+      {"no table", [](Json& d) { body(d, 1)["gas"]["pressure"] = "/nonexistent/p.csv"; },
+       "mechanism.train[1].gas.pressure", "cannot open"},
+  };
+  for (const BadTrain& c : cases) {
+    SCOPED_TRACE(c.what);
+    Json doc = scene_with_gas();
+    c.edit(doc);
+    const InputError e = input_error_of([&] { load(doc); });
+    EXPECT_EQ(e.path(), c.path) << e.reason();
+    EXPECT_NE(e.reason().find(c.reason), std::string::npos) << e.reason();
+  }
+}
+
 }  // namespace
 }  // namespace camdyn
