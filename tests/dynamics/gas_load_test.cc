@@ -43,7 +43,8 @@ TEST(GasLoad, PressureIsLinearBetweenRowsAndRepeatsEveryCamTurn) {
   EXPECT_NEAR(force_at_cam_deg(290.0), 1e-3 * (closing - 1e5), 1e-6);
   // Every cam turn the same, forwards and backwards.
   for (double cam_deg : {35.0, 60.0, 123.0, 290.0})
-    for (int turns : {-2, 1, 7}) EXPECT_NEAR(force_at_cam_deg(cam_deg + 360.0 * turns), force_at_cam_deg(cam_deg), 1e-6);
+    for (int turns : {-2, 1, 7})
+      EXPECT_NEAR(force_at_cam_deg(cam_deg + 360.0 * turns), force_at_cam_deg(cam_deg), 1e-6);
   // ∂F/∂θ against central differences inside each segment.
   for (double cam_deg : {20.0, 100.0, 250.0, 340.0}) {
     double d_theta = 0.0;
