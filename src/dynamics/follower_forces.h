@@ -20,6 +20,7 @@
 #include <tuple>
 #include <type_traits>
 
+#include "dynamics/spring_stress.h"
 #include "scene/scene.h"
 
 namespace camdyn {
@@ -49,8 +50,9 @@ struct StoredEnergy {
 
 /// The return spring: F₀ + k q pushing the follower towards the cam.
 struct ReturnSpring {
-  double stiffness = 0.0;  ///< k [N/m | N m/rad], >= 0
-  double preload = 0.0;    ///< F₀: force [N] or torque [N m] at q = 0, >= 0
+  double stiffness = 0.0;          ///< k [N/m | N m/rad], >= 0
+  double preload = 0.0;            ///< F₀: force [N] or torque [N m] at q = 0, >= 0
+  double stress_per_newton = 0.0;  ///< its wire's shear stress per newton [Pa/N] (0: wire not given)
 
   bool present() const { return stiffness > 0.0 || preload > 0.0; }
   const char* name(bool oscillating) const { return oscillating ? "torsional_spring" : "spring"; }
@@ -211,7 +213,10 @@ using FollowerForces = BasicFollowerForces<ReturnSpring, ViscousDamper, Follower
 inline FollowerForces follower_forces(const SceneConfig& scene) {
   const FollowerConfig& f = scene.mechanism.follower;
   FollowerForces forces;
-  forces.spring() = {f.spring.stiffness, f.spring.preload};
+  const double stress = f.spring.wire_diameter && f.spring.mean_diameter
+                            ? wahl_stress_per_newton(*f.spring.wire_diameter, *f.spring.mean_diameter)
+                            : 0.0;
+  forces.spring() = {f.spring.stiffness, f.spring.preload, stress};
   forces.damper() = {f.damping};
   forces.gravity() = {f.motion == FollowerMotion::oscillating ? 0.0 : scene.gravity};
   return forces;

@@ -8,6 +8,7 @@
 #include "common/errors.h"
 #include "dynamics/dual.h"
 #include "dynamics/kinematic_lift.h"
+#include "dynamics/spring_stress.h"
 #include "geometry/check_text.h"
 
 namespace camdyn {
@@ -171,6 +172,8 @@ void add_body_supports(TrainBuilder& b, TrainBody& body, int index, const Spring
       body.spring_coils = spring->coils.value_or(1);
       body.spring_lumps = spring->lump_count();
     }
+    if (spring->wire_diameter && spring->mean_diameter)
+      body.spring_stress_per_newton = wahl_stress_per_newton(*spring->wire_diameter, *spring->mean_diameter);
   }
 }
 
@@ -541,6 +544,7 @@ void evaluate_train(const FollowerTrain& train, const TrainWorkspace& ws, double
   e.stop_force.fill(0.0);
   e.spring_force.fill(0.0);
   e.gas_force.fill(0.0);
+  e.spring_peak_force.fill(0.0);
   e.seated.fill(false);
   for (const TrainElement& el : train.elements) {
     double d = 0.0, d_rate = 0.0;
@@ -552,6 +556,10 @@ void evaluate_train(const FollowerTrain& train, const TrainWorkspace& ws, double
       F = el.preload + el.stiffness * d + el.damping * d_rate;
       e.potential += el.preload * d + 0.5 * el.stiffness * d * d + el.rest_energy;
       e.power_damper += el.damping * d_rate * d_rate;
+      if (el.role == TrainRole::spring_segment || el.role == TrainRole::spring) {
+        double& peak = e.spring_peak_force[static_cast<std::size_t>(el.body)];
+        peak = std::max(peak, std::abs(F));
+      }
     } else if (el.law == TrainElement::Law::gas) {
       F = gas_force(train, el, theta);
       element_energy(el, d, d_rate, F, e);

@@ -86,6 +86,7 @@ struct TrainBody {
   double ratio = 1.0;                                              ///< the link's lever ratio (1 for the follower)
   double lash = 0.0;                                               ///< the link's lash [m]
   int spring_coils = 0, spring_lumps = 0;  ///< its spring with mass: active coils, lumped masses (0: none)
+  double spring_stress_per_newton = 0.0;   ///< its spring wire's shear stress per newton [Pa/N] (0: not given)
 };
 
 /// Fixed capacities, so that evaluations and runs allocate nothing.
@@ -101,8 +102,10 @@ struct TrainEvaluation {
   std::array<double, TrainLimits::kMaxCoordinates> rate{};          ///< velocity of every coordinate
   std::array<double, TrainLimits::kMaxCoordinates> acceleration{};  ///< of every coordinate but the follower's
   std::array<double, TrainLimits::kMaxBodies> position{}, velocity{}, link_force{}, seat_force{}, stop_force{},
-      spring_force{}, gas_force{};                     ///< per body: [m], [m/s], [N] (spring: at its frame end)
-  std::array<bool, TrainLimits::kMaxBodies> seated{};  ///< resting on its seat (seat compressed)
+      spring_force{}, gas_force{};  ///< per body: [m], [m/s], [N] (spring: at its frame end)
+  std::array<double, TrainLimits::kMaxBodies>
+      spring_peak_force{};                                       ///< per body: largest |F| of its spring's segments [N]
+  std::array<bool, TrainLimits::kMaxBodies> seated{};            ///< resting on its seat (seat compressed)
   std::array<double, TrainLimits::kMaxRoots> gap{}, gap_rate{};  ///< −d, −ḋ of each one-sided element [m], [m/s]
   double kinetic = 0.0, potential = 0.0;                         ///< [J], bodies and lumps, all elements
   double power_damper = 0.0, power_hysteresis = 0.0;             ///< dissipated [W]

@@ -65,6 +65,9 @@ struct Metrics {
   /// The largest Hertz pressure of the dynamic contact force [Pa]; only where
   /// the contact has materials (`contact.stiffness.from_materials`), absent otherwise.
   std::optional<double> peak_contact_stress;
+  /// The largest shear stress in a spring's wire, Wahl-corrected [Pa]; only
+  /// where a spring gives `wire_diameter` and `mean_diameter`, absent otherwise.
+  std::optional<double> peak_spring_stress;
   /// The contact point's largest distance from the face centre [m]; only
   /// for a flat face, absent otherwise.
   std::optional<double> max_face_excursion;
@@ -113,6 +116,7 @@ void visit(A& a, M& m) {
   a.field("rms_cam_torque", m.rms_cam_torque, MetricInfo{"N m"});
   a.field("mean_drive_power", m.mean_drive_power, MetricInfo{"W", true});
   a.field("peak_contact_stress", m.peak_contact_stress, MetricInfo{"Pa"});
+  a.field("peak_spring_stress", m.peak_spring_stress, MetricInfo{"Pa"});
   a.field("max_face_excursion", m.max_face_excursion, MetricInfo{"m"});
   a.field("float_fraction", m.float_fraction, MetricInfo{"–"});
   a.field("max_float_gap", m.max_float_gap, MetricInfo{"m"});

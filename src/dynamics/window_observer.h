@@ -50,6 +50,24 @@ class StateSource {
 // balance over the whole run (§7), folded in from dense-output samples. Its
 // evaluation and dense-output buffers are the run's scratch: the loop and the
 // series recorder read the evaluation it leaves behind.
+/// Whether some spring of the model gives its wire (`peak_spring_stress`).
+inline bool has_spring_stress(const Model& m) {
+  return m.forces.spring().stress_per_newton > 0.0 ||
+         std::any_of(m.train.bodies.begin(), m.train.bodies.end(),
+                     [](const TrainBody& b) { return b.spring_stress_per_newton > 0.0; });
+}
+
+/// The largest wire shear stress of the model's springs at `e` [Pa]
+/// (docs/model.md §12, "Spring stress"): the follower's massless spring at
+/// its force, each train spring at its most loaded segment.
+inline double spring_stress(const Model& m, const Evaluation& e) {
+  const ReturnSpring& s = m.forces.spring();
+  double tau = s.stress_per_newton * std::abs(s.force(e.y, e.v, m.mass));
+  for (std::size_t i = 0; i < m.train.bodies.size(); ++i)
+    tau = std::max(tau, m.train.bodies[i].spring_stress_per_newton * e.train.spring_peak_force[i]);
+  return tau;
+}
+
 class WindowObserver {
  public:
   WindowObserver(const Model& model, Workspace& ws, StateSource& source, const RunState& y0, const RunQuadratures& q0,
@@ -63,7 +81,9 @@ class WindowObserver {
         every_step_(every_step),
         causes_(causes),
         m_(m),
-        train_(model, causes, m) {}
+        train_(model, causes, m) {
+    if (has_spring_stress(model)) m_.peak_spring_stress = 0.0;
+  }
 
   // Evaluates the model at a dense-output time into ev() and folds it into the
   // metrics; returns the energy deviation E(t) − E(0) [J]. Before the first
@@ -305,7 +325,9 @@ class WindowObserver {
 
   // Folds the train at the evaluation `e` at t [s] into its records.
   void fold_train(double t, const Evaluation& e) {
-    if (t >= t_eval_) train_.fold(e);
+    if (t < t_eval_) return;
+    train_.fold(e);
+    if (m_.peak_spring_stress) m_.peak_spring_stress = std::max(*m_.peak_spring_stress, spring_stress(model_, e));
   }
 
   // Folds the energy of `e` with the quadratures qs_ into the balance;

@@ -167,6 +167,17 @@ Check no_spring_mass_on_an_arm() {
   return check;
 }
 
+/// A torsional (arm) spring's wire: the Wahl stress is a helical
+/// compression spring's, so an arm's spring takes no wire dimensions.
+Check no_wire_on_an_arm() {
+  Check check;
+  check.number = [](double) -> std::string {
+    return "the spring stress is modelled for a helical spring on a translating follower or a train body; an "
+           "oscillating follower's spring is torsional";
+  };
+  return check;
+}
+
 /// A train body's name prefixes its timeseries.csv columns (`<name>_position`):
 /// a plain identifier whose columns are not the follower's or the law's.
 Check train_body_name() {
@@ -401,6 +412,17 @@ void visit(A& a, CarriedSpring& c) {
   if (a.given("lumps", s.lumps.has_value())) a.field("lumps", s.lumps, coil_count());
   if (a.given("damping_ratio", s.damping_ratio.has_value())) a.field("damping_ratio", s.damping_ratio, non_negative());
   if (a.given("clash", s.clash.has_value())) a.field("clash", s.clash);
+  if (a.given("wire_diameter", s.wire_diameter.has_value()))
+    a.field("wire_diameter", s.wire_diameter, positive(), c.torsional ? no_wire_on_an_arm() : Check{});
+  if (a.given("mean_diameter", s.mean_diameter.has_value()))
+    a.field("mean_diameter", s.mean_diameter, positive(), c.torsional ? no_wire_on_an_arm() : Check{});
+  a.require(s.wire_diameter.has_value() == s.mean_diameter.has_value(),
+            s.wire_diameter ? "mean_diameter" : "wire_diameter",
+            "missing: the spring stress needs both 'wire_diameter' and 'mean_diameter' [m]");
+  if (s.wire_diameter && s.mean_diameter)
+    a.require(*s.mean_diameter > *s.wire_diameter, "mean_diameter",
+              "must be larger than wire_diameter (" + format_shortest(*s.wire_diameter) + " m), got " +
+                  format_shortest(*s.mean_diameter));
 }
 }  // namespace
 

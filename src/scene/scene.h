@@ -300,6 +300,10 @@ struct SpringConfig {
   std::optional<int> lumps;              ///< lumped masses, >= 1 (default: coils)
   std::optional<double> damping_ratio;   ///< of the first fixed-fixed surge mode [-], >= 0 (default 0.02)
   std::optional<CoilClashConfig> clash;  ///< coil clash (only with mass > 0)
+  /// The wire's diameter d and the coils' mean diameter D [m] (both or
+  /// neither, D > d): the wire's shear stress with the Wahl factor
+  /// (`peak_spring_stress`, docs/model.md §12 "Spring stress").
+  std::optional<double> wire_diameter, mean_diameter;
 
   static constexpr double kDefaultDampingRatio = 0.02;
   /// Whether the spring has mass (is lumped).

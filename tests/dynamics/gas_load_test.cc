@@ -9,6 +9,7 @@
 #include <numbers>
 #include <string>
 
+#include "converged_run.h"
 #include "dynamics/free_flight.h"
 #include "dynamics/model.h"
 #include "dynamics/rigid_jump_speed.h"
@@ -89,13 +90,7 @@ GasLoadConfig gas_config(std::vector<double> crank_deg, std::vector<double> pres
   return g;
 }
 
-SimulationResult run(const SceneConfig& scene) {
-  const Model model = build_model(scene, "test");
-  Workspace ws = make_workspace(model);
-  SimulationResult r = simulate(scene, model, ws);
-  EXPECT_TRUE(r.solver.converged()) << r.solver.message;
-  return r;
-}
+using test::converged_run;
 
 const std::vector<double>& column(const SimulationResult& r, const std::string& name) {
   const auto it = std::find(r.series.train_names.begin(), r.series.train_names.end(), name);
@@ -112,7 +107,7 @@ TEST(GasLoad, ConstantPressureMovesTheValveAsAPreloadDoes) {
   SceneConfig preload = valve_scene(1500.0);
   const double force = 7e-4 * (4e5 - 1e5);  // [N]
   preload.mechanism.train[0].spring.preload += force;
-  const SimulationResult a = run(gas), b = run(preload);
+  const SimulationResult a = converged_run(gas), b = converged_run(preload);
   const std::vector<double>&xa = column(a, "valve_position"), &xb = column(b, "valve_position");
   ASSERT_EQ(xa.size(), xb.size());
   double largest = 0.0, lift = 0.0;  // [m]
@@ -137,7 +132,7 @@ TEST(GasLoad, AtQuasiStaticSpeedShiftsTheLinkAndSeatForcesByTheLoad) {
   SceneConfig gas = plain;
   gas.mechanism.train[0].gas = gas_config({0.0, 360.0}, {4e5, 4e5});
   const double load = 7e-4 * (4e5 - 1e5), k = plain.mechanism.train[0].spring.stiffness;  // [N], [N/m]
-  const SimulationResult a = run(gas), b = run(plain);
+  const SimulationResult a = converged_run(gas), b = converged_run(plain);
   const std::vector<double>&link_a = column(a, "valve_link_force"), &link_b = column(b, "valve_link_force");
   const std::vector<double>&seat_a = column(a, "valve_seat_force"), &seat_b = column(b, "valve_seat_force");
   const std::vector<double>&x_a = column(a, "valve_position"), &x_b = column(b, "valve_position");
@@ -173,7 +168,7 @@ TEST(GasLoad, TheEnergyBalanceCountsItsWork) {
   SceneConfig gas = valve_scene(1500.0);
   // Blowdown: 6 bar at the valve's opening (cam 0–180°: crank 0–360°), then near the port's.
   gas.mechanism.train[0].gas = gas_config({0.0, 60.0, 200.0, 360.0, 500.0}, {6e5, 4e5, 1.5e5, 1.1e5, 3e5});
-  const SimulationResult with = run(gas), without = run(valve_scene(1500.0));
+  const SimulationResult with = converged_run(gas), without = converged_run(valve_scene(1500.0));
   const Model model = build_model(gas, "test");
   const std::vector<std::string> quadratures = integrated_quadratures(model);
   EXPECT_NE(std::find(quadratures.begin(), quadratures.end(), "external_work"), quadratures.end());

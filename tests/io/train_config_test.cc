@@ -236,6 +236,16 @@ std::vector<BadTrain> spring_errors() {
          follower_of(d)["spring"]["lumps"] = 8;
        },
        "mechanism.follower.spring.coils", "missing"},
+      {"wire without a mean diameter", [](Json& d) { body(d, 1)["spring"]["wire_diameter"] = 0.004; },
+       "mechanism.train[1].spring.mean_diameter", "needs both"},
+      {"mean diameter within the wire",
+       [](Json& d) {
+         body(d, 1)["spring"]["wire_diameter"] = 0.004;
+         body(d, 1)["spring"]["mean_diameter"] = 0.003;
+       },
+       "mechanism.train[1].spring.mean_diameter", "larger than wire_diameter"},
+      {"no wire", [](Json& d) { follower_of(d)["spring"]["wire_diameter"] = 0; },
+       "mechanism.follower.spring.wire_diameter", "must be > 0"},
   };
 }
 
@@ -399,6 +409,13 @@ TEST(TrainConfig, AnArmsTorsionalSpringHasNoMassButItsTrainsSpringsMay) {
   EXPECT_TRUE(s.mechanism.train[0].spring.massive());
   expect_train_round_trip(s);
 
+  Json wire = doc;  // an arm's torsional spring has no helical wire
+  wire["mechanism"]["follower"]["spring"]["wire_diameter"] = 0.004;
+  wire["mechanism"]["follower"]["spring"]["mean_diameter"] = 0.024;
+  const InputError w = input_error_of([&] { load(wire); });
+  EXPECT_EQ(w.path(), "mechanism.follower.spring.wire_diameter");
+  EXPECT_NE(w.reason().find("torsional"), std::string::npos) << w.reason();
+
   doc["mechanism"]["follower"]["spring"]["mass"] = 0.02;
   doc["mechanism"]["follower"]["spring"]["coils"] = 4;
   const InputError e = input_error_of([&] { load(doc); });
@@ -459,6 +476,17 @@ Json scene_with_gas() {
   Json doc = scene_with_train();
   body(doc, 1)["gas"] = Json{{"area", 7e-4}, {"pressure", kPressureTable}, {"tdc_deg", 100}};
   return doc;
+}
+
+TEST(TrainConfig, ASpringsWireLoadsAndWritesBackOnlyWhenGiven) {
+  Json doc = scene_with_train();
+  body(doc, 1)["spring"]["wire_diameter"] = 0.004;
+  body(doc, 1)["spring"]["mean_diameter"] = 0.024;
+  const SceneConfig s = load(doc);
+  EXPECT_EQ(s.mechanism.train[1].spring.wire_diameter, std::optional<double>(0.004));
+  EXPECT_EQ(s.mechanism.train[1].spring.mean_diameter, std::optional<double>(0.024));
+  expect_train_round_trip(s);
+  EXPECT_FALSE(to_json(load(scene_with_train()))["mechanism"]["train"][1]["spring"].contains("wire_diameter"));
 }
 
 TEST(TrainConfig, AGasLoadReadsItsTableAndWritesBack) {

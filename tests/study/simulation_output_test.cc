@@ -46,12 +46,13 @@ TEST(SimulationOutput, SummaryListsEveryMetricOnceInVisitOrder) {
   const SceneRun run(test::cycloidal_cam_scene(700.0));
   const Json summary = summary_json(run.scene, run.model, run.result);
   // Every metric but those the scene does not have (a roller without materials:
-  // no contact stress, no face excursion; no seat: no float fraction and gap), in visit order.
+  // no contact stress, no face excursion; no seat: no float fraction and gap;
+  // no spring wire: no spring stress), in visit order.
   std::vector<std::string> applying;
   for_each_metric(run.result.metrics, [&](const char* name, const auto& value, const MetricInfo&) {
     if (metric_value(value)) applying.emplace_back(name);
   });
-  EXPECT_EQ(applying.size() + 4, metric_names().size());
+  EXPECT_EQ(applying.size() + 5, metric_names().size());
   EXPECT_EQ(keys(summary["metrics"]), applying);
   EXPECT_TRUE(summary["metrics"]["impact_count"].is_number_integer());
   EXPECT_EQ(summary["metrics"]["peak_contact_force"].get<double>(), run.result.metrics.peak_contact_force);
