@@ -2,16 +2,17 @@
 // factor against its closed form, and `peak_spring_stress` against the
 // spring's largest force, for a massless follower spring and a spring with
 // mass on a train body.
+#include "dynamics/spring_stress.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 
+#include "converged_run.h"
 #include "dynamics/model.h"
 #include "dynamics/simulation.h"
-#include "dynamics/spring_stress.h"
-#include "converged_run.h"
 #include "scenes.h"
 
 namespace camdyn {
